@@ -1,0 +1,233 @@
+"""Forward kinematics and Jacobians of a robot's arm, single (Pinocchio) and batched (NumPy).
+
+`Kinematics` holds the Pinocchio model reduced to the arm joints (the gripper joints locked
+at their planning positions). Single configurations go through Pinocchio's C++; batches of
+configurations go through a vectorised NumPy evaluation of the same joint tree, which is
+what reaches millions of configurations per second from Python.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from manip import quaternion as quat
+from manip.errors import InvalidInputError, UnknownNameError
+from manip.pose import Pose
+from manip.robot_config import RobotConfig
+
+_AXES = {"X": np.array([1.0, 0.0, 0.0]), "Y": np.array([0.0, 1.0, 0.0]), "Z": np.array([0.0, 0.0, 1.0])}
+
+
+@dataclass(frozen=True)
+class _JointSpec:
+    """One joint of the reduced model in a form NumPy can evaluate in batch."""
+
+    parent: int          # index of the parent joint (0 = universe)
+    R_placement: np.ndarray  # (3, 3) rotation of the joint frame in its parent joint frame
+    p_placement: np.ndarray  # (3,)
+    axis: np.ndarray     # (3,) unit axis in the joint frame
+    revolute: bool
+    q_index: int         # index into q
+
+
+def _joint_spec(model: pin.Model, j: int) -> _JointSpec:
+    jm = model.joints[j]
+    name = jm.shortname()
+    if name.startswith("JointModelR") and name[-1] in _AXES:
+        axis, revolute = _AXES[name[-1]], True
+    elif name.startswith("JointModelP") and name[-1] in _AXES:
+        axis, revolute = _AXES[name[-1]], False
+    elif name == "JointModelRevoluteUnaligned":
+        axis, revolute = np.asarray(jm.extract().axis, dtype=float), True
+    elif name == "JointModelPrismaticUnaligned":
+        axis, revolute = np.asarray(jm.extract().axis, dtype=float), False
+    else:
+        raise InvalidInputError(
+            f"joint '{model.names[j]}' is of type {name}; manip supports revolute and prismatic joints"
+        )
+    M = model.jointPlacements[j]
+    return _JointSpec(int(model.parents[j]), M.rotation.copy(), M.translation.copy(), axis, revolute, jm.idx_q)
+
+
+def _axis_rotation(axis: np.ndarray, angle: np.ndarray) -> np.ndarray:
+    """Rodrigues' formula: rotations (N, 3, 3) by `angle` (N,) about the unit `axis` (3,)."""
+    x, y, z = axis
+    c, s = np.cos(angle), np.sin(angle)
+    t = 1.0 - c
+    R = np.empty((angle.shape[0], 3, 3))
+    R[:, 0, 0] = t * x * x + c
+    R[:, 0, 1] = t * x * y - s * z
+    R[:, 0, 2] = t * x * z + s * y
+    R[:, 1, 0] = t * x * y + s * z
+    R[:, 1, 1] = t * y * y + c
+    R[:, 1, 2] = t * y * z - s * x
+    R[:, 2, 0] = t * x * z - s * y
+    R[:, 2, 1] = t * y * z + s * x
+    R[:, 2, 2] = t * z * z + c
+    return R
+
+
+class Kinematics:
+    """Forward kinematics and frame Jacobians of a robot's arm joints.
+
+    Args:
+        config: the robot configuration; joints not in `config.arm_joints` are locked at
+            the gripper's planning positions (or zero).
+    """
+
+    def __init__(self, config: RobotConfig):
+        self.config = config
+        full = pin.buildModelFromUrdf(str(config.urdf_path))
+        missing = [j for j in config.arm_joints if not full.existJointName(j)]
+        if missing:
+            raise UnknownNameError("joint", missing[0], [n for n in full.names[1:]])
+        q_lock = pin.neutral(full)
+        locked = []
+        for jid in range(1, full.njoints):
+            name = full.names[jid]
+            if name in config.arm_joints:
+                continue
+            locked.append(jid)
+            if config.gripper is not None and name in config.gripper.joints:
+                q_lock[full.joints[jid].idx_q] = config.gripper.planning_positions[config.gripper.joints.index(name)]
+        self.full_model = full
+        self.locked_configuration = q_lock
+        self.model = pin.buildReducedModel(full, locked, q_lock) if locked else full
+        self.data = self.model.createData()
+        order = [self.model.getJointId(j) for j in config.arm_joints]
+        # The reduced model keeps the URDF order; manip requires the config to list joints in
+        # that same order so that q maps to the model without a permutation.
+        q_idx = [self.model.joints[j].idx_q for j in order]
+        if q_idx != list(range(len(order))):
+            raise InvalidInputError(
+                f"arm_joints must be listed in the URDF's tree order: {list(self.model.names[1:])}"
+            )
+        self.joint_names: tuple[str, ...] = tuple(config.arm_joints)
+        self.dof = len(self.joint_names)
+        self.lower = config.lower_limits.copy()
+        self.upper = config.upper_limits.copy()
+        urdf_lo = self.model.lowerPositionLimit
+        urdf_hi = self.model.upperPositionLimit
+        if np.any(self.lower < urdf_lo - 1e-9) or np.any(self.upper > urdf_hi + 1e-9):
+            raise InvalidInputError(f"{config.name}: configured joint limits exceed the URDF's")
+        self._joints = [_joint_spec(self.model, j) for j in range(1, self.model.njoints)]
+        self.frame_names: tuple[str, ...] = tuple(f.name for f in self.model.frames)
+        self._frame_ids = {f.name: i for i, f in enumerate(self.model.frames)}
+
+    # ------------------------------------------------------------------ validation
+    def frame_id(self, link: str) -> int:
+        """Pinocchio frame index of `link`; raises UnknownNameError listing the frames."""
+        try:
+            return self._frame_ids[link]
+        except KeyError:
+            raise UnknownNameError("frame", link, [n for n in self.frame_names if n != "universe"]) from None
+
+    def check_q(self, q: np.ndarray, name: str = "q") -> np.ndarray:
+        """`q` as a float array (dof,) or (N, dof); raises on wrong shape or non-finite values."""
+        q = np.asarray(q, dtype=float)
+        if q.ndim not in (1, 2) or q.shape[-1] != self.dof:
+            raise InvalidInputError(
+                f"{name} must have shape ({self.dof},) or (N, {self.dof}) for joints {list(self.joint_names)}; got {q.shape}"
+            )
+        if not np.all(np.isfinite(q)):
+            raise InvalidInputError(f"{name} has non-finite values: {q}")
+        return q
+
+    def within_limits(self, q: np.ndarray, tolerance: float = 0.0) -> np.ndarray:
+        """True where every joint of `q` (..., dof) lies within the limits (+/- tolerance)."""
+        return np.all((q >= self.lower - tolerance) & (q <= self.upper + tolerance), axis=-1)
+
+    def limit_violations(self, q: np.ndarray, tolerance: float = 0.0) -> list[str]:
+        """Human-readable list of the joints of a single `q` outside their limits."""
+        out = []
+        for name, v, lo, hi in zip(self.joint_names, q, self.lower, self.upper):
+            if v < lo - tolerance or v > hi + tolerance:
+                out.append(f"{name}={v:.6f} not in [{lo:.4f}, {hi:.4f}]")
+        return out
+
+    # ------------------------------------------------------------------ single
+    def frame_transform(self, q: np.ndarray, frame_id: int) -> pin.SE3:
+        """Pinocchio SE3 of one frame for one configuration (no validation: hot path)."""
+        pin.forwardKinematics(self.model, self.data, q)
+        return pin.updateFramePlacement(self.model, self.data, frame_id)
+
+    def frame_jacobian(self, q: np.ndarray, frame_id: int) -> np.ndarray:
+        """(6, dof) Jacobian [linear; angular] in the world-aligned frame at the link origin.
+
+        Call `frame_transform(q, frame_id)` first (it computes the kinematics).
+        """
+        pin.computeJointJacobians(self.model, self.data, q)
+        return pin.getFrameJacobian(self.model, self.data, frame_id, pin.LOCAL_WORLD_ALIGNED)
+
+    # ------------------------------------------------------------------ batched
+    def joint_transforms(self, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """World rotations (N, J+1, 3, 3) and positions (N, J+1, 3) of every joint frame.
+
+        Index 0 is the universe (identity). Q: (N, dof).
+        """
+        n = Q.shape[0]
+        nj = len(self._joints) + 1
+        R = np.empty((n, nj, 3, 3))
+        p = np.empty((n, nj, 3))
+        R[:, 0] = np.eye(3)
+        p[:, 0] = 0.0
+        for j, spec in enumerate(self._joints, start=1):
+            Rp, pp = R[:, spec.parent], p[:, spec.parent]
+            Rj = Rp @ spec.R_placement
+            pj = pp + Rp @ spec.p_placement
+            qj = Q[:, spec.q_index]
+            if spec.revolute:
+                Rj = Rj @ _axis_rotation(spec.axis, qj)
+            else:
+                pj = pj + (Rj @ spec.axis) * qj[:, None]
+            R[:, j] = Rj
+            p[:, j] = pj
+        return R, p
+
+    def frame_transforms(self, Q: np.ndarray, frame_ids: list[int]) -> tuple[np.ndarray, np.ndarray]:
+        """World rotations (N, F, 3, 3) and positions (N, F, 3) of frames, for Q (N, dof)."""
+        R, p = self.joint_transforms(Q)
+        Rs, ps = [], []
+        for fid in frame_ids:
+            f = self.model.frames[fid]
+            Rj, pj = R[:, f.parentJoint], p[:, f.parentJoint]
+            Rs.append(Rj @ f.placement.rotation)
+            ps.append(pj + Rj @ f.placement.translation)
+        return np.stack(Rs, axis=1), np.stack(ps, axis=1)
+
+    def frame_jacobians(self, Q: np.ndarray, frame_id: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Batched frame pose and (N, 6, dof) world-aligned Jacobians [linear; angular].
+
+        Returns:
+            (R (N, 3, 3), p (N, 3), J (N, 6, dof)) of the frame.
+        """
+        R, p = self.joint_transforms(Q)
+        f = self.model.frames[frame_id]
+        Rf = R[:, f.parentJoint] @ f.placement.rotation
+        pf = p[:, f.parentJoint] + R[:, f.parentJoint] @ f.placement.translation
+        J = np.zeros((Q.shape[0], 6, self.dof))
+        # joints supporting the frame: walk up from its parent joint
+        j = f.parentJoint
+        while j > 0:
+            spec = self._joints[j - 1]
+            a = R[:, j] @ spec.axis
+            if spec.revolute:
+                J[:, :3, spec.q_index] = np.cross(a, pf - p[:, j])
+                J[:, 3:, spec.q_index] = a
+            else:
+                J[:, :3, spec.q_index] = a
+            j = spec.parent
+        return Rf, pf, J
+
+    def fk(self, q: np.ndarray, link: str) -> Pose:
+        """Pose of `link` in the base frame for q (dof,) -> Pose or (N, dof) -> batched Pose."""
+        q = self.check_q(q)
+        fid = self.frame_id(link)
+        if q.ndim == 1:
+            M = self.frame_transform(q, fid)
+            return Pose(M.translation.copy(), quat.from_matrix(M.rotation))
+        R, p = self.frame_transforms(q, [fid])
+        return Pose(p[:, 0], quat.from_matrix(R[:, 0]))
