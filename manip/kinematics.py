@@ -31,6 +31,7 @@ class _JointSpec:
     axis: np.ndarray     # (3,) unit axis in the joint frame
     revolute: bool
     q_index: int         # index into q
+    aligned_axis: int = -1  # 0/1/2 when the axis is +X/+Y/+Z (the fast path), else -1
 
 
 def _joint_spec(model: pin.Model, j: int) -> _JointSpec:
@@ -49,7 +50,10 @@ def _joint_spec(model: pin.Model, j: int) -> _JointSpec:
             f"joint '{model.names[j]}' is of type {name}; manip supports revolute and prismatic joints"
         )
     M = model.jointPlacements[j]
-    return _JointSpec(int(model.parents[j]), M.rotation.copy(), M.translation.copy(), axis, revolute, jm.idx_q)
+    aligned = next((i for i in range(3) if np.array_equal(axis, np.eye(3)[i])), -1)
+    return _JointSpec(
+        int(model.parents[j]), M.rotation.copy(), M.translation.copy(), axis, revolute, jm.idx_q, aligned
+    )
 
 
 def _axis_rotation(axis: np.ndarray, angle: np.ndarray) -> np.ndarray:
@@ -166,37 +170,61 @@ class Kinematics:
     def joint_transforms(self, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """World rotations (N, J+1, 3, 3) and positions (N, J+1, 3) of every joint frame.
 
-        Index 0 is the universe (identity). Q: (N, dof).
+        Index 0 is the universe (identity). Q: (N, dof). The arrays are views of
+        joint-major storage, so `R[:, j]` is contiguous.
         """
         n = Q.shape[0]
         nj = len(self._joints) + 1
-        R = np.empty((n, nj, 3, 3))
-        p = np.empty((n, nj, 3))
-        R[:, 0] = np.eye(3)
-        p[:, 0] = 0.0
+        R = np.empty((nj, n, 3, 3))
+        p = np.empty((nj, n, 3))
+        R[0] = np.eye(3)
+        p[0] = 0.0
+        C = np.cos(Q)
+        S = np.sin(Q)
         for j, spec in enumerate(self._joints, start=1):
-            Rp, pp = R[:, spec.parent], p[:, spec.parent]
-            Rj = Rp @ spec.R_placement
-            pj = pp + Rp @ spec.p_placement
-            qj = Q[:, spec.q_index]
-            if spec.revolute:
-                Rj = Rj @ _axis_rotation(spec.axis, qj)
+            # A = R_parent @ R_placement and the joint origin, as one (3N, 3) @ (3, 3) GEMM each
+            if spec.parent == 0:
+                A = np.broadcast_to(spec.R_placement, (n, 3, 3))
+                p[j] = spec.p_placement
             else:
-                pj = pj + (Rj @ spec.axis) * qj[:, None]
-            R[:, j] = Rj
-            p[:, j] = pj
-        return R, p
+                Rp = R[spec.parent].reshape(-1, 3)
+                A = (Rp @ spec.R_placement).reshape(n, 3, 3)
+                np.add(p[spec.parent], (Rp @ spec.p_placement).reshape(n, 3), out=p[j])
+            qj = Q[:, spec.q_index]
+            if not spec.revolute:
+                R[j] = A
+                p[j] += (A @ spec.axis) * qj[:, None]
+            elif spec.aligned_axis >= 0:
+                # A @ Rot(e_k, q) only mixes the two columns orthogonal to the axis e_k
+                k = spec.aligned_axis
+                a, b = (k + 1) % 3, (k + 2) % 3
+                c, s = C[:, spec.q_index, None], S[:, spec.q_index, None]
+                Rj = R[j]
+                Rj[:, :, k] = A[:, :, k]
+                Rj[:, :, a] = c * A[:, :, a] + s * A[:, :, b]
+                Rj[:, :, b] = c * A[:, :, b] - s * A[:, :, a]
+            else:
+                R[j] = A @ _axis_rotation(spec.axis, qj)
+        return R.transpose(1, 0, 2, 3), p.transpose(1, 0, 2)
 
     def frame_transforms(self, Q: np.ndarray, frame_ids: list[int]) -> tuple[np.ndarray, np.ndarray]:
         """World rotations (N, F, 3, 3) and positions (N, F, 3) of frames, for Q (N, dof)."""
         R, p = self.joint_transforms(Q)
-        Rs, ps = [], []
-        for fid in frame_ids:
-            f = self.model.frames[fid]
-            Rj, pj = R[:, f.parentJoint], p[:, f.parentJoint]
-            Rs.append(Rj @ f.placement.rotation)
-            ps.append(pj + Rj @ f.placement.translation)
-        return np.stack(Rs, axis=1), np.stack(ps, axis=1)
+        n = Q.shape[0]
+        Rs = np.empty((len(frame_ids), n, 3, 3))
+        ps = np.empty((len(frame_ids), n, 3))
+        for i, fid in enumerate(frame_ids):
+            Rs[i], ps[i] = self._frame_from_joint(R, p, fid)
+        return Rs.transpose(1, 0, 2, 3), ps.transpose(1, 0, 2)
+
+    def _frame_from_joint(self, R: np.ndarray, p: np.ndarray, frame_id: int) -> tuple[np.ndarray, np.ndarray]:
+        """(R (N, 3, 3), p (N, 3)) of a frame from the joint transforms of `joint_transforms`."""
+        f = self.model.frames[frame_id]
+        n = R.shape[0]
+        Rj = np.ascontiguousarray(R[:, f.parentJoint]).reshape(-1, 3)
+        Rf = (Rj @ f.placement.rotation).reshape(n, 3, 3)
+        pf = p[:, f.parentJoint] + (Rj @ f.placement.translation).reshape(n, 3)
+        return Rf, pf
 
     def frame_jacobians(self, Q: np.ndarray, frame_id: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Batched frame pose and (N, 6, dof) world-aligned Jacobians [linear; angular].
@@ -206,17 +234,20 @@ class Kinematics:
         """
         R, p = self.joint_transforms(Q)
         f = self.model.frames[frame_id]
-        Rf = R[:, f.parentJoint] @ f.placement.rotation
-        pf = p[:, f.parentJoint] + R[:, f.parentJoint] @ f.placement.translation
+        Rf, pf = self._frame_from_joint(R, p, frame_id)
         J = np.zeros((Q.shape[0], 6, self.dof))
         # joints supporting the frame: walk up from its parent joint
         j = f.parentJoint
         while j > 0:
             spec = self._joints[j - 1]
-            a = R[:, j] @ spec.axis
+            a = R[:, j, :, spec.aligned_axis] if spec.aligned_axis >= 0 else R[:, j] @ spec.axis
             if spec.revolute:
-                J[:, :3, spec.q_index] = np.cross(a, pf - p[:, j])
-                J[:, 3:, spec.q_index] = a
+                d = pf - p[:, j]
+                col = J[:, :, spec.q_index]
+                col[:, 0] = a[:, 1] * d[:, 2] - a[:, 2] * d[:, 1]
+                col[:, 1] = a[:, 2] * d[:, 0] - a[:, 0] * d[:, 2]
+                col[:, 2] = a[:, 0] * d[:, 1] - a[:, 1] * d[:, 0]
+                col[:, 3:] = a
             else:
                 J[:, :3, spec.q_index] = a
             j = spec.parent

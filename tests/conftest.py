@@ -1,0 +1,20 @@
+"""Shared fixtures: the robot is loaded once per test session."""
+
+from __future__ import annotations
+
+import pytest
+
+from manip.kinematics import Kinematics
+from manip.robot_config import RobotConfig, load_robot_config
+
+
+@pytest.fixture(scope="session")
+def franka_config() -> RobotConfig:
+    """The Franka Panda configuration of robots/franka."""
+    return load_robot_config("franka")
+
+
+@pytest.fixture(scope="session")
+def franka_kinematics(franka_config: RobotConfig) -> Kinematics:
+    """Kinematics of the Franka's 7 arm joints (fingers locked at their planning positions)."""
+    return Kinematics(franka_config)
