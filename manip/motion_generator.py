@@ -1,0 +1,505 @@
+"""`MotionGenerator`: the public entry point for kinematics, collision checking and planning.
+
+The pipeline of every plan (each stage timed in `PlanResult.timings`):
+
+1. validate the start (limits with a 1e-6 rad tolerance, self and world collision);
+2. goals: joint goals are checked; pose goals become several collision-free IK solutions;
+3. path: the straight joint-space line when it is valid, else RRT-Connect towards all goal
+   configurations at once;
+4. optimise: shortcutting, then a clearance-aware smoothing of the waypoints;
+5. timing: ruckig state-to-state segments under velocity, acceleration and jerk limits;
+6. validate: the timed trajectory is checked densely (consecutive checked configurations at
+   most `resolution` rad apart) against the exact collision model and every limit. Only a
+   trajectory that passes is returned with `success=True`.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from collections.abc import Sequence
+
+import numpy as np
+
+from manip.collision import CollisionChecker, WorldConfig
+from manip.errors import InvalidInputError
+from manip.ik import IKResult, IKSolver
+from manip.kinematics import Kinematics
+from manip.planning.optimize import smooth_path
+from manip.planning.result import PlanResult, PlanStatus
+from manip.planning.rrt_connect import rrt_connect
+from manip.planning.shortcut import shortcut
+from manip.pose import Pose
+from manip.robot_config import RobotConfig, load_robot_config
+from manip.timing import time_parameterize
+from manip.trajectory import Trajectory
+
+logger = logging.getLogger(__name__)
+
+#: A start this far outside a joint limit [rad] is accepted (and kept as given).
+START_LIMIT_TOLERANCE = 1e-6
+
+
+class MotionGenerator:
+    """Kinematics, collision checking and motion planning for one robot.
+
+    Args:
+        robot: a robot name under `robots/` ("franka") or a path to a robot.yaml.
+        world: obstacles in the robot base frame (a WorldConfig or a cuRobo-style dict).
+        padding: extra clearance [m] kept from the world (default: the robot config's).
+        time_budget: default planning time budget [s] per call.
+        interpolation_dt: default trajectory sample period [s] (1/60 s, the simulator's).
+        resolution: collision-check resolution along motions [rad] (joint-space L-inf).
+        seed: default random seed of IK restarts and sampling-based planning.
+    """
+
+    def __init__(
+        self,
+        robot: str | RobotConfig = "franka",
+        world: WorldConfig | dict | None = None,
+        *,
+        padding: float | None = None,
+        time_budget: float = 5.0,
+        interpolation_dt: float = 1.0 / 60.0,
+        resolution: float = 0.01,
+        seed: int = 0,
+    ):
+        self.config = robot if isinstance(robot, RobotConfig) else load_robot_config(robot)
+        self.kinematics = Kinematics(self.config)
+        self.checker = CollisionChecker(self.config, self.kinematics, None, padding=padding)
+        self._ik = IKSolver(self.kinematics, seed=seed)
+        self.time_budget = _positive(time_budget, "time_budget")
+        self.interpolation_dt = _positive(interpolation_dt, "interpolation_dt")
+        self.resolution = _positive(resolution, "resolution")
+        self.seed = int(seed)
+        self.velocity_scale = 1.0
+        self.acceleration_scale = 1.0
+        if world is not None:
+            self.update_world(world)
+
+    # ------------------------------------------------------------------ robot facts
+    @property
+    def joint_names(self) -> list[str]:
+        """The planned (arm) joints, in the order of every q."""
+        return list(self.kinematics.joint_names)
+
+    @property
+    def robot_dof(self) -> int:
+        """Number of planned joints."""
+        return self.kinematics.dof
+
+    @property
+    def default_joint_positions(self) -> np.ndarray:
+        """(dof,) the ready (retract) configuration [rad]."""
+        return self.config.default_joint_positions.copy()
+
+    @property
+    def lower_limits(self) -> np.ndarray:
+        """(dof,) lower position limits [rad]."""
+        return self.config.lower_limits.copy()
+
+    @property
+    def upper_limits(self) -> np.ndarray:
+        """(dof,) upper position limits [rad]."""
+        return self.config.upper_limits.copy()
+
+    @property
+    def velocity_limits(self) -> np.ndarray:
+        """(dof,) velocity limits [rad/s]."""
+        return self.config.velocity_limits.copy()
+
+    @property
+    def acceleration_limits(self) -> np.ndarray:
+        """(dof,) acceleration limits [rad/s^2]."""
+        return self.config.acceleration_limits.copy()
+
+    @property
+    def jerk_limits(self) -> np.ndarray:
+        """(dof,) jerk limits [rad/s^3]."""
+        return self.config.jerk_limits.copy()
+
+    @property
+    def ee_link(self) -> str:
+        """The default link of pose goals and `fk`."""
+        return self.config.ee_link
+
+    @property
+    def base_link(self) -> str:
+        """The frame every pose and obstacle is expressed in."""
+        return self.config.base_link
+
+    # ------------------------------------------------------------------ kinematics
+    def fk(self, q: np.ndarray | Sequence[float], link: str | None = None) -> Pose:
+        """Pose of `link` (default `ee_link`) in the base frame.
+
+        Args:
+            q: (dof,) -> a single Pose, or (N, dof) -> a batched Pose [rad].
+            link: any frame of the URDF.
+        """
+        return self.kinematics.fk(q, link or self.ee_link)
+
+    def ik(
+        self,
+        goal: Pose,
+        link: str | None = None,
+        seed_q: np.ndarray | None = None,
+        *,
+        collision_free: bool = False,
+        **kwargs,
+    ) -> IKResult:
+        """Joint positions placing `link` (default `ee_link`) at `goal`.
+
+        A single Pose gives an IKResult; a batched Pose gives the batch result of
+        `IKSolver.solve_batch`. With `collision_free=True` only configurations free of
+        collisions with the world and the robot itself count as solutions (single goals).
+        Other keyword arguments go to the IKSolver.
+        """
+        if not isinstance(goal, Pose):
+            raise InvalidInputError(f"goal must be a manip.Pose; got {type(goal).__name__}")
+        link = link or self.ee_link
+        self.kinematics.frame_id(link)
+        if seed_q is not None:
+            seed_q = self.kinematics.check_q(seed_q, "seed_q")
+        if goal.is_batch:
+            return self._ik.solve_batch(goal, link, seed_q=seed_q, **kwargs)
+        if collision_free:
+            kwargs.setdefault("validity_fn", self._valid_batch)
+        return self._ik.solve(goal, link, seed_q=seed_q, **kwargs)
+
+    # ------------------------------------------------------------------ world
+    @property
+    def world(self) -> WorldConfig:
+        """The planner's current obstacles (a copy)."""
+        return self.checker.world
+
+    def update_world(self, world: WorldConfig | dict) -> None:
+        """Replace every obstacle with those of `world` (a WorldConfig or cuRobo-style dict)."""
+        if isinstance(world, dict):
+            world = WorldConfig.from_dict(world)
+        if not isinstance(world, WorldConfig):
+            raise InvalidInputError(f"world must be a WorldConfig or a dict; got {type(world).__name__}")
+        self.checker.set_world(world)
+
+    def add_obstacle(self, obstacle) -> None:
+        """Add one obstacle (Cuboid, Sphere, Cylinder, Capsule or Mesh)."""
+        self.checker.add_obstacle(obstacle)
+
+    def remove_obstacle(self, name: str) -> None:
+        """Remove the obstacle called `name` (UnknownNameError lists the names)."""
+        self.checker.remove_obstacle(name)
+
+    def check_collision(self, q: np.ndarray | Sequence[float]) -> bool:
+        """True when `q` (dof,) collides with the world, an attached object or itself."""
+        return bool(self.checker.in_collision(self.kinematics.check_q(q)))
+
+    def distance(self, q: np.ndarray | Sequence[float]) -> float:
+        """Signed distance [m] of `q` (dof,) to the world and to itself (< 0: penetration)."""
+        return float(self.checker.distance(self.kinematics.check_q(q)))
+
+    def attach_object(self, name_or_shape, q: np.ndarray | Sequence[float] | None = None, link: str | None = None, **kwargs):
+        """Carry an obstacle (or a new shape) with `link` (default the end-effector).
+
+        The named obstacle leaves the world and moves rigidly with the link from its pose at
+        configuration `q` (default: the default configuration).
+        """
+        qq = self.default_joint_positions if q is None else self.kinematics.check_q(q)
+        return self.checker.attach_object(name_or_shape, q=qq, link=link or self.ee_link, **kwargs)
+
+    def detach_object(self, q: np.ndarray | Sequence[float] | None = None, **kwargs):
+        """Put attached objects back into the world at their pose at configuration `q`."""
+        qq = self.default_joint_positions if q is None else self.kinematics.check_q(q)
+        return self.checker.detach_object(qq, **kwargs)
+
+    def update_world_from_sim(self, world, robot, ignore: Sequence[str] = ()) -> WorldConfig:
+        """Read every collision object of a `manip.sim` World into the planner's world.
+
+        Objects are expressed in the robot's base frame. The robot itself and objects whose
+        name or prim path starts with an entry of `ignore` are skipped. Attached objects
+        stay attached. Returns the new WorldConfig.
+        """
+        from manip.sim_bridge import world_config_from_sim  # duck-typed reader, no sim import
+
+        cfg = world_config_from_sim(world, robot, ignore)
+        self.update_world(cfg)
+        return cfg
+
+    # ------------------------------------------------------------------ planning
+    def plan_joints(self, start_q, goal_q, **options) -> PlanResult:
+        """Plan a collision-free, time-parameterised motion from `start_q` to `goal_q`.
+
+        Args:
+            start_q: (dof,) start configuration [rad] (at rest).
+            goal_q: (dof,) goal configuration [rad].
+            **options: `time_budget` [s], `seed`, `dt` [s], `velocity_scale`,
+                `acceleration_scale` (0..1].
+        """
+        t0 = time.perf_counter()
+        ctx = _Context(self, options, t0)
+        start = ctx.start(start_q)
+        goal = self.kinematics.check_q(goal_q, "goal_q")
+        if goal.ndim != 1:
+            raise InvalidInputError(f"goal_q must have shape ({self.robot_dof},); got {goal.shape}")
+        if ctx.failed:
+            return ctx.result()
+        problem = self._goal_problem(goal)
+        if problem:
+            return ctx.fail(PlanStatus.INVALID_GOAL, problem)
+        return self._plan_to_configs(ctx, start, goal[None, :])
+
+    def plan_pose(self, start_q, goal: Pose, link: str | None = None, *, linear: bool = False, **options) -> PlanResult:
+        """Plan a motion that brings `link` (default `ee_link`) to the pose `goal`.
+
+        Args:
+            start_q: (dof,) start configuration [rad].
+            goal: a single Pose in the base frame.
+            link: any frame of the URDF.
+            linear: move the link along the straight line from its start pose to the goal,
+                interpolating the orientation (keep it by giving the start orientation).
+            **options: as `plan_joints`.
+        """
+        if not isinstance(goal, Pose) or goal.is_batch:
+            raise InvalidInputError("goal must be a single manip.Pose (use plan_goalset for several)")
+        if linear:
+            return self._plan_linear(start_q, goal, link or self.ee_link, options)
+        return self.plan_goalset(start_q, Pose.stack([goal]), link, **options)
+
+    def plan_goalset(self, start_q, goals: Pose, link: str | None = None, **options) -> PlanResult:
+        """Plan to whichever of several poses (a batched Pose) is best reached.
+
+        Collision-free IK solutions of every pose are planned to at once; the result's
+        `goal_index` says which pose was reached.
+        """
+        t0 = time.perf_counter()
+        ctx = _Context(self, options, t0)
+        link = link or self.ee_link
+        self.kinematics.frame_id(link)
+        if not isinstance(goals, Pose):
+            raise InvalidInputError(f"goals must be a manip.Pose; got {type(goals).__name__}")
+        if not goals.is_batch:
+            goals = Pose.stack([goals])
+        start = ctx.start(start_q)
+        if ctx.failed:
+            return ctx.result()
+        t_ik = time.perf_counter()
+        configs, owners = [], []
+        for i, g in enumerate(goals):
+            sols = self._ik.solve_many(
+                g, link, n=options.get("ik_solutions", 6), seed_q=start, validity_fn=self._valid_batch,
+            )
+            for q in sols:
+                configs.append(q)
+                owners.append(i)
+        ctx.timings["ik"] = time.perf_counter() - t_ik
+        if not configs:
+            return ctx.fail(PlanStatus.IK_FAIL, "no collision-free IK solution within the joint limits")
+        configs = np.asarray(configs)
+        order = np.argsort(np.linalg.norm(configs - start, axis=1), kind="stable")
+        result = self._plan_to_configs(ctx, start, configs[order])
+        if result.success:
+            reached = result.goal_q
+            k = int(order[np.argmin(np.linalg.norm(configs[order] - reached, axis=1))])
+            achieved = self.kinematics.fk(reached, link)
+            dp, dr = achieved.distance(goals[owners[k]])
+            result = _replace(result, position_error=float(dp), rotation_error=float(dr), goal_index=owners[k])
+        return result
+
+    def plan_batch(self, start_qs, goals, link: str | None = None, **options) -> list[PlanResult]:
+        """Plan several problems: `goals` is (N, dof) joint goals or a batched Pose."""
+        start_qs = np.atleast_2d(self.kinematics.check_q(start_qs, "start_qs"))
+        if isinstance(goals, Pose):
+            goal_list = list(goals) if goals.is_batch else [goals]
+        else:
+            goal_list = list(np.atleast_2d(self.kinematics.check_q(goals, "goals")))
+        if len(start_qs) == 1 and len(goal_list) > 1:
+            start_qs = np.repeat(start_qs, len(goal_list), axis=0)
+        if len(start_qs) != len(goal_list):
+            raise InvalidInputError(f"plan_batch needs as many starts as goals; got {len(start_qs)} and {len(goal_list)}")
+        out = []
+        for s, g in zip(start_qs, goal_list):
+            if isinstance(g, Pose):
+                out.append(self.plan_pose(s, g, link, **options))
+            else:
+                out.append(self.plan_joints(s, g, **options))
+        return out
+
+    # ------------------------------------------------------------------ internals
+    def _valid_batch(self, Q: np.ndarray) -> np.ndarray:
+        return ~self.checker.in_collision_batch(np.atleast_2d(Q))
+
+    def _motion_valid(self, q0: np.ndarray, q1: np.ndarray) -> bool:
+        return bool(self.checker.motion_valid(q0, q1, resolution=self.resolution))
+
+    def _goal_problem(self, goal: np.ndarray) -> str:
+        bad = self.kinematics.limit_violations(goal)
+        if bad:
+            return "goal outside the joint limits: " + "; ".join(bad)
+        if self.checker.in_collision(goal):
+            return "goal in collision: " + str(self.checker.collision_report(goal))
+        return ""
+
+    def _plan_to_configs(self, ctx: "_Context", start: np.ndarray, goals: np.ndarray) -> PlanResult:
+        """Path, optimisation, timing and validation to the best reachable of `goals` (G, dof)."""
+        t = time.perf_counter()
+        path = None
+        for g in goals[:3]:
+            if self._motion_valid(start, g):
+                path = np.stack([start, g])
+                break
+        iterations = 0
+        if path is None:
+            path, iterations = rrt_connect(
+                start, goals, self.kinematics.lower, self.kinematics.upper, self._motion_valid, ctx.rng, ctx.deadline,
+            )
+        ctx.timings["plan"] = time.perf_counter() - t
+        if path is None:
+            status = PlanStatus.TIMEOUT if time.perf_counter() > ctx.deadline else PlanStatus.PLAN_FAIL
+            return ctx.fail(status, f"no collision-free path found ({iterations} iterations)")
+        goal_q = path[-1].copy()
+        t = time.perf_counter()
+        if len(path) > 2:
+            path = shortcut(path, self._motion_valid, ctx.rng, ctx.deadline)
+            path = smooth_path(path, self.checker, self._motion_valid, ctx.deadline)
+        ctx.timings["optimize"] = time.perf_counter() - t
+        return self._time_and_validate(ctx, path, goal_q, iterations)
+
+    def _time_and_validate(self, ctx: "_Context", path: np.ndarray, goal_q: np.ndarray, attempts: int) -> PlanResult:
+        t = time.perf_counter()
+        traj = None
+        reason = ""
+        for mode in ("blend", "exact"):
+            timed = time_parameterize(
+                path,
+                self.config.velocity_limits * ctx.velocity_scale,
+                self.config.acceleration_limits * ctx.acceleration_scale,
+                self.config.jerk_limits * ctx.acceleration_scale,
+                dt=ctx.dt,
+                joint_names=self.joint_names,
+                lower_limits=self.kinematics.lower - START_LIMIT_TOLERANCE,
+                upper_limits=self.kinematics.upper + START_LIMIT_TOLERANCE,
+                mode=mode,
+            )
+            if not timed.success:
+                reason = timed.message
+                continue
+            tv = time.perf_counter()
+            ok, why = self._validate(timed.trajectory, path[0], goal_q)
+            ctx.timings["validate"] = ctx.timings.get("validate", 0.0) + time.perf_counter() - tv
+            if ok:
+                traj = timed.trajectory
+                break
+            reason = why
+        ctx.timings["timing"] = time.perf_counter() - t - ctx.timings.get("validate", 0.0)
+        if traj is None:
+            return ctx.fail(PlanStatus.TRAJOPT_FAIL, f"no valid timed trajectory: {reason}", path=path, goal_q=goal_q)
+        ctx.timings["total"] = time.perf_counter() - ctx.t0
+        return PlanResult(
+            success=True, status=PlanStatus.SUCCESS, trajectory=traj, path=path, goal_q=goal_q,
+            timings=dict(ctx.timings), position_error=0.0, rotation_error=0.0, attempts=max(1, attempts),
+            message="",
+        )
+
+    def _validate(self, traj: Trajectory, start: np.ndarray, goal: np.ndarray) -> tuple[bool, str]:
+        """Dense collision check of the timed trajectory and its limits."""
+        if np.max(np.abs(traj.positions[0] - start)) > 1e-9 or np.max(np.abs(traj.positions[-1] - goal)) > 1e-6:
+            return False, "trajectory does not start at the start or end at the goal"
+        dense = traj.dense_positions(self.resolution)
+        if not self.checker.path_valid(dense, resolution=self.resolution)[0]:
+            return False, "timed trajectory collides"
+        return True, ""
+
+    def _plan_linear(self, start_q, goal: Pose, link: str, options: dict) -> PlanResult:
+        """Straight-line motion of `link` from its current pose to `goal`."""
+        t0 = time.perf_counter()
+        ctx = _Context(self, options, t0)
+        self.kinematics.frame_id(link)
+        start = ctx.start(start_q)
+        if ctx.failed:
+            return ctx.result()
+        t = time.perf_counter()
+        from manip.planning.linear import linear_path  # local: only linear motions need it
+
+        path, why = linear_path(
+            self.kinematics, self._ik, start, goal, link,
+            step=options.get("linear_step", 0.005), valid_batch=self._valid_batch, motion_valid=self._motion_valid,
+        )
+        ctx.timings["ik"] = time.perf_counter() - t
+        if path is None:
+            return ctx.fail(PlanStatus.LINEAR_PATH_FAIL, why)
+        result = self._time_and_validate(ctx, path, path[-1].copy(), 1)
+        if result.success:
+            dp, dr = self.kinematics.fk(result.goal_q, link).distance(goal)
+            result = _replace(result, position_error=float(dp), rotation_error=float(dr))
+        return result
+
+
+class _Context:
+    """Per-call planning state: options, deadline, random generator, timings, failure."""
+
+    def __init__(self, mg: MotionGenerator, options: dict, t0: float):
+        known = {"time_budget", "seed", "dt", "velocity_scale", "acceleration_scale", "ik_solutions", "linear_step"}
+        unknown = set(options) - known
+        if unknown:
+            raise InvalidInputError(f"unknown planning option(s) {sorted(unknown)}; valid: {sorted(known)}")
+        self.mg = mg
+        self.t0 = t0
+        self.deadline = t0 + _positive(options.get("time_budget", mg.time_budget), "time_budget")
+        self.rng = np.random.default_rng(options.get("seed", mg.seed))
+        self.dt = _positive(options.get("dt", mg.interpolation_dt), "dt")
+        self.velocity_scale = _fraction(options.get("velocity_scale", mg.velocity_scale), "velocity_scale")
+        self.acceleration_scale = _fraction(options.get("acceleration_scale", mg.acceleration_scale), "acceleration_scale")
+        self.timings: dict[str, float] = {}
+        self._failure: PlanResult | None = None
+
+    @property
+    def failed(self) -> bool:
+        return self._failure is not None
+
+    def result(self) -> PlanResult:
+        assert self._failure is not None
+        return self._failure
+
+    def start(self, start_q) -> np.ndarray:
+        """Validated start; records an INVALID_START_* failure instead of raising."""
+        mg = self.mg
+        q = mg.kinematics.check_q(start_q, "start_q")
+        if q.ndim != 1:
+            raise InvalidInputError(f"start_q must have shape ({mg.robot_dof},); got {q.shape}")
+        bad = mg.kinematics.limit_violations(q, START_LIMIT_TOLERANCE)
+        if bad:
+            self.fail(PlanStatus.INVALID_START_JOINT_LIMITS, "start outside the joint limits: " + "; ".join(bad))
+            return q
+        if mg.checker.in_collision(q):
+            report = mg.checker.collision_report(q)
+            status = (
+                PlanStatus.INVALID_START_SELF_COLLISION if report.kind == "self" else PlanStatus.INVALID_START_WORLD_COLLISION
+            )
+            self.fail(status, f"start in collision: {report}")
+        return q
+
+    def fail(self, status: PlanStatus, message: str, path=None, goal_q=None) -> PlanResult:
+        self.timings["total"] = time.perf_counter() - self.t0
+        logger.info("planning failed: %s (%s)", status.name, message)
+        self._failure = PlanResult(
+            success=False, status=status, path=path, goal_q=goal_q, timings=dict(self.timings), message=message,
+        )
+        return self._failure
+
+
+def _replace(result: PlanResult, **changes) -> PlanResult:
+    from dataclasses import replace
+
+    return replace(result, **changes)
+
+
+def _positive(value: float, name: str) -> float:
+    v = float(value)
+    if not np.isfinite(v) or v <= 0:
+        raise InvalidInputError(f"{name} must be a positive finite number; got {value!r}")
+    return v
+
+
+def _fraction(value: float, name: str) -> float:
+    v = float(value)
+    if not (0.0 < v <= 1.0):
+        raise InvalidInputError(f"{name} must be in (0, 1]; got {value!r}")
+    return v

@@ -1,0 +1,114 @@
+"""RRT-Connect (Kuffner & LaValle, 2000) in joint space, with several goal roots.
+
+The planner only sees two callables: a straight-segment validity check and a time source,
+so it works with any collision checker. Trees grow towards uniform samples; each extension
+is checked as a straight segment (the checker decides the resolution).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+
+import numpy as np
+
+MotionCheck = Callable[[np.ndarray, np.ndarray], bool]
+
+
+class _Tree:
+    """Nodes (K, dof) with parent indices; grows by doubling its arrays."""
+
+    def __init__(self, roots: np.ndarray):
+        roots = np.atleast_2d(roots)
+        cap = max(256, 2 * len(roots))
+        self.nodes = np.empty((cap, roots.shape[1]))
+        self.parents = np.empty(cap, dtype=int)
+        self.n = len(roots)
+        self.nodes[: self.n] = roots
+        self.parents[: self.n] = -1
+
+    def add(self, q: np.ndarray, parent: int) -> int:
+        if self.n == len(self.nodes):
+            self.nodes = np.concatenate([self.nodes, np.empty_like(self.nodes)])
+            self.parents = np.concatenate([self.parents, np.empty_like(self.parents)])
+        self.nodes[self.n] = q
+        self.parents[self.n] = parent
+        self.n += 1
+        return self.n - 1
+
+    def nearest(self, q: np.ndarray) -> int:
+        d = self.nodes[: self.n] - q
+        return int(np.argmin(np.einsum("ij,ij->i", d, d)))
+
+    def branch(self, i: int) -> list[np.ndarray]:
+        """Configurations from node i back to its root."""
+        out = []
+        while i >= 0:
+            out.append(self.nodes[i].copy())
+            i = int(self.parents[i])
+        return out
+
+
+def _steer(q_from: np.ndarray, q_to: np.ndarray, step: float) -> tuple[np.ndarray, bool]:
+    d = q_to - q_from
+    dist = float(np.linalg.norm(d))
+    if dist <= step:
+        return q_to.copy(), True
+    return q_from + d * (step / dist), False
+
+
+def rrt_connect(
+    start: np.ndarray,
+    goals: np.ndarray,
+    lower: np.ndarray,
+    upper: np.ndarray,
+    motion_valid: MotionCheck,
+    rng: np.random.Generator,
+    deadline: float,
+    step_size: float = 0.6,
+    max_iterations: int = 20000,
+) -> tuple[np.ndarray | None, int]:
+    """Find a collision-free piecewise-linear path from `start` to any of `goals`.
+
+    Args:
+        start: (dof,) valid start configuration.
+        goals: (G, dof) valid goal configurations (all roots of the goal tree).
+        lower, upper: (dof,) joint limits for sampling [rad].
+        motion_valid: `f(q0, q1) -> bool` for the straight segment q0 -> q1.
+        rng: the random generator (determinism).
+        deadline: `time.perf_counter()` value after which the search gives up.
+        step_size: maximum extension length (joint-space L2) [rad].
+        max_iterations: bound on sampling iterations.
+
+    Returns:
+        (path (K, dof) from start to a goal, or None; iterations used).
+    """
+    trees = [_Tree(start[None, :]), _Tree(goals)]
+    a, b = 0, 1  # tree `a` extends towards the sample, `b` connects to it
+    for it in range(1, max_iterations + 1):
+        if time.perf_counter() > deadline:
+            return None, it
+        q_rand = rng.uniform(lower, upper)
+        ta, tb = trees[a], trees[b]
+        i_near = ta.nearest(q_rand)
+        q_new, _ = _steer(ta.nodes[i_near], q_rand, step_size)
+        if motion_valid(ta.nodes[i_near], q_new):
+            i_new = ta.add(q_new, i_near)
+            # connect: grow tree b towards q_new until reached or blocked
+            j = tb.nearest(q_new)
+            while True:
+                q_step, reached = _steer(tb.nodes[j], q_new, step_size)
+                if not motion_valid(tb.nodes[j], q_step):
+                    break
+                j = tb.add(q_step, j)
+                if reached:
+                    branch_a = ta.branch(i_new)[::-1]   # root_a ... q_new
+                    branch_b = tb.branch(j)             # q_new ... root_b
+                    path = branch_a + branch_b[1:]
+                    if a == 1:
+                        path = path[::-1]
+                    return np.asarray(path), it
+                if time.perf_counter() > deadline:
+                    return None, it
+        a, b = b, a
+    return None, max_iterations
