@@ -34,13 +34,13 @@ HOME_FINGERS = [0.04, 0.04]
 
 # Drives: MuJoCo `position` actuators, tau = kp (q_target - q) - kv qdot, clamped to the
 # URDF effort. kv is integrated implicitly with the implicit / implicitfast integrators.
-ARM_KP = [4500.0, 4500.0, 3500.0, 3500.0, 2000.0, 2000.0, 2000.0]   # [N m / rad]
-ARM_KV = [60.0, 60.0, 45.0, 45.0, 20.0, 20.0, 20.0]                 # [N m s / rad]
+ARM_KP = [6000.0, 6000.0, 5000.0, 5000.0, 3000.0, 3000.0, 3000.0]   # [N m / rad]
+ARM_KV = [80.0, 80.0, 60.0, 60.0, 30.0, 30.0, 30.0]                 # [N m s / rad]
 ARM_ARMATURE = 0.1       # [kg m^2] reflected rotor inertia (not in the URDF)
 ARM_DAMPING = 0.0        # [N m s / rad] passive joint damping (the drive's kv does the work)
-FINGER_KP = 2000.0       # [N / m]
-FINGER_KV = 40.0         # [N s / m]
-FINGER_FORCE = 40.0      # [N] per finger: the grip force once a finger stalls on an object
+FINGER_KP = 1500.0       # [N / m]
+FINGER_KV = 10.0         # [N s / m]
+FINGER_FORCE = 70.0      # [N] per finger: the grip force once a finger stalls on an object
 FINGER_ARMATURE = 0.01   # [kg]
 FINGER_DAMPING = 0.0     # [N s / m]
 FINGER_FRICTION = "1.2 0.02 0.0001"   # sliding, torsional [m], rolling [m]
@@ -201,11 +201,11 @@ def generate(urdf_path: Path, srdf_path: Path) -> str:
   and panda_hand_tcp (0.1034 m along the hand z axis). One position actuator per joint,
   named after its joint: tau = kp (target - q) - kv qdot, clamped to the URDF effort.
   The fingers are independent (no equality): each has its own actuator.
-  Tuned for timestep 0.002 s and the implicitfast integrator.
+  Tuned for timestep <= 0.002 s; stable with the Euler and implicitfast integrators
+  (implicitfast recommended). No <option>, floor or light here: the World supplies them.
 -->
 <mujoco model="franka">
   <compiler angle="radian" meshdir="assets" autolimits="true"/>
-  <option timestep="0.002" integrator="implicitfast"/>
 
   <default>
     <default class="panda">
@@ -226,7 +226,7 @@ def generate(urdf_path: Path, srdf_path: Path) -> str:
       </default>
       <default class="finger_pad">
         <geom type="box" group="3" rgba="0.1 0.1 0.1 1" condim="6" priority="1"
-              friction="{FINGER_FRICTION}" solref="0.01 1" solimp="0.95 0.99 0.001 0.5 2"/>
+              friction="{FINGER_FRICTION}" solref="0.005 1" solimp="0.97 0.995 0.001 0.5 2"/>
       </default>
     </default>
   </default>
