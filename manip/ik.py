@@ -1,0 +1,796 @@
+"""Inverse kinematics: damped least squares (Levenberg-Marquardt) with joint limits and restarts.
+
+`IKSolver.solve` finds one configuration for one goal with Pinocchio's C++ kinematics per
+iteration; `IKSolver.solve_batch` iterates all goals of a batched Pose at once in NumPy
+(`Kinematics.frame_jacobians`), re-seeding only the ones that have not converged;
+`IKSolver.solve_many` returns several distinct solutions of one goal, nearest the seed first.
+
+The iteration (for one goal) is
+
+    e  = [p_goal - p(q);  log(R_goal R(q)^T)]                 (6,), world-aligned
+    dq = J^T (J J^T + lambda I)^-1 e,   lambda = damping * |e|^2 + 1e-9
+    q  <- clip(q + dq, lower, upper)
+
+with J the (6, 7) world-aligned frame Jacobian. The damping that grows with the squared
+error is Sugihara's choice (T. Sugihara, "Solvability-unconcerned inverse kinematics by the
+Levenberg-Marquardt method", IEEE T-RO 2011): long, careful steps far from the goal,
+Gauss-Newton (quadratic) convergence close to it. The clip keeps every iterate within the
+joint limits, so the answer never needs clamping afterwards. An attempt stops when the
+error is below the internal tolerance (1e-5 m / 1e-5 rad, tighter than the success
+tolerances), when it stalls, or after `max_iterations`; the next attempt starts from a
+uniformly random configuration within the limits.
+
+Every claimed success is re-checked with an independent forward kinematics (Pinocchio's
+full model, fingers included, a different code path from the solver's) and against the
+joint limits; a solution that fails the check is discarded, never reported.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from enum import Enum
+from typing import NamedTuple
+
+import numpy as np
+import pinocchio as pin
+
+from manip import quaternion as quat
+from manip.errors import InvalidInputError
+from manip.kinematics import Kinematics
+from manip.pose import Pose
+
+logger = logging.getLogger(__name__)
+
+#: A validity check for candidate solutions: Q (K, dof) -> (K,) bool (True = acceptable).
+ValidityFn = Callable[[np.ndarray], np.ndarray]
+
+_INTERNAL_TOLERANCE = 1e-5  # [m] and [rad]: an attempt converges below this
+_STALL_ITERATIONS = 8       # an attempt stops when its error has not improved for this many iterations
+_MIN_DAMPING = 1e-9
+_MIN_LANES = 64             # the batch solver adds parallel restarts for unsolved goals below this many lanes
+
+
+class IKStatus(Enum):
+    """Outcome of an IK query. `hint` says what to change when it is not SUCCESS."""
+
+    SUCCESS = "SUCCESS"
+    NOT_CONVERGED = "NOT_CONVERGED"
+    OUT_OF_REACH = "OUT_OF_REACH"
+    REJECTED_BY_VALIDITY = "REJECTED_BY_VALIDITY"
+    TIME_LIMIT = "TIME_LIMIT"
+
+    @property
+    def hint(self) -> str:
+        """What the status means and what to change."""
+        return _HINTS[self]
+
+
+_HINTS = {
+    IKStatus.SUCCESS: "a configuration within the joint limits reaches the goal within the tolerances",
+    IKStatus.NOT_CONVERGED: (
+        "no configuration within the joint limits reached the goal in max_attempts restarts: "
+        "check that the pose is reachable (position and orientation), or raise max_attempts"
+    ),
+    IKStatus.OUT_OF_REACH: (
+        "the goal position is farther from the arm's first joint than the arm can reach: "
+        "move the goal closer to the robot (or the robot closer to the goal)"
+    ),
+    IKStatus.REJECTED_BY_VALIDITY: (
+        "solutions were found but validity_fn rejected every one (e.g. all in collision): "
+        "raise max_attempts, or relax the goal or the validity check"
+    ),
+    IKStatus.TIME_LIMIT: "time_limit ran out before a solution was found: raise time_limit",
+}
+
+
+@dataclass(frozen=True)
+class IKResult:
+    """Result of one IK query.
+
+    Attributes:
+        success: True when `q` reaches the goal within the tolerances and the joint limits.
+        q: (dof,) the solution, or the best configuration found when `success` is False
+            (always within the joint limits).
+        position_error: distance [m] between the goal and the link's position at `q`.
+        rotation_error: angle [rad] between the goal and the link's orientation at `q`.
+        status: why it succeeded or failed (see `IKStatus.hint`).
+        iterations: solver iterations over all attempts.
+        solve_time: wall time [s].
+        attempts: attempts made (the first from the seed, then random restarts).
+    """
+
+    success: bool
+    q: np.ndarray
+    position_error: float
+    rotation_error: float
+    status: IKStatus
+    iterations: int
+    solve_time: float
+    attempts: int
+
+
+@dataclass(frozen=True)
+class BatchIKResult:
+    """Result of a batched IK query (N goals). Index it to get one goal's `IKResult`.
+
+    Attributes:
+        success: (N,) bool.
+        q: (N, dof) solutions (the best configuration found where `success` is False).
+        position_error: (N,) [m].
+        rotation_error: (N,) [rad].
+        status: N `IKStatus` values.
+        iterations: (N,) solver iterations spent on each goal.
+        attempts: (N,) attempts made for each goal.
+        solve_time: wall time [s] of the whole batch.
+    """
+
+    success: np.ndarray
+    q: np.ndarray
+    position_error: np.ndarray
+    rotation_error: np.ndarray
+    status: tuple[IKStatus, ...]
+    iterations: np.ndarray
+    attempts: np.ndarray
+    solve_time: float
+
+    def __len__(self) -> int:
+        return self.q.shape[0]
+
+    def __getitem__(self, i: int) -> IKResult:
+        return IKResult(
+            success=bool(self.success[i]),
+            q=self.q[i],
+            position_error=float(self.position_error[i]),
+            rotation_error=float(self.rotation_error[i]),
+            status=self.status[i],
+            iterations=int(self.iterations[i]),
+            solve_time=self.solve_time,
+            attempts=int(self.attempts[i]),
+        )
+
+    @property
+    def success_rate(self) -> float:
+        """Fraction of goals solved."""
+        return float(np.mean(self.success)) if len(self) else 0.0
+
+
+def _log3_batch(E: np.ndarray) -> np.ndarray:
+    """Rotation vectors (N, 3) of rotation matrices E (N, 3, 3), robust up to pi.
+
+    theta = arccos((tr E - 1) / 2) and the axis from the skew part, E - E^T = 2 sin(theta) [axis]x;
+    rotations near pi (where sin(theta) vanishes) go through the quaternion instead.
+    """
+    v = 0.5 * np.stack([E[:, 2, 1] - E[:, 1, 2], E[:, 0, 2] - E[:, 2, 0], E[:, 1, 0] - E[:, 0, 1]], axis=1)
+    cos = np.clip(0.5 * (E[:, 0, 0] + E[:, 1, 1] + E[:, 2, 2] - 1.0), -1.0, 1.0)
+    theta = np.arccos(cos)
+    sin = np.sqrt(np.maximum(1.0 - cos * cos, 0.0))
+    # theta / sin(theta) -> 1 + theta^2 / 6 as theta -> 0
+    factor = np.where(theta < 1e-4, 1.0 + theta * theta / 6.0, theta / np.maximum(sin, 1e-300))
+    out = v * factor[:, None]
+    near_pi = theta > np.pi - 1e-2
+    if near_pi.any():
+        qe = quat.from_matrix(E[near_pi])  # w >= 0
+        s = np.linalg.norm(qe[:, 1:], axis=1)
+        out[near_pi] = qe[:, 1:] * (2.0 * np.arctan2(s, qe[:, 0]) / s)[:, None]
+    return out
+
+
+class _Attempts(NamedTuple):
+    found: list[np.ndarray]
+    best_q: np.ndarray
+    best_error: tuple[float, float]
+    iterations: int
+    attempts: int
+    status: IKStatus
+
+
+class _LazyRng:
+    """A np.random.Generator created on first use (most solves never restart)."""
+
+    def __init__(self, seed: int):
+        self._seed = seed
+        self._rng: np.random.Generator | None = None
+
+    def uniform(self, low: np.ndarray, high: np.ndarray, size: tuple[int, ...] | None = None) -> np.ndarray:
+        if self._rng is None:
+            self._rng = np.random.default_rng(self._seed)
+        return self._rng.uniform(low, high, size)
+
+
+def _freeze(a: np.ndarray) -> np.ndarray:
+    a.setflags(write=False)
+    return a
+
+
+class IKSolver:
+    """Levenberg-Marquardt inverse kinematics with joint limits and random restarts.
+
+    Goals are poses of a link (any frame of the model) in the robot's base frame.
+
+    Args:
+        kinematics: the robot's kinematics.
+        position_tolerance: success threshold on the position error [m].
+        rotation_tolerance: success threshold on the rotation error [rad].
+        max_iterations: iterations per attempt.
+        max_attempts: attempts per goal: the first from the seed, the others from uniformly
+            random configurations within the joint limits.
+        seed: seed of the random restarts; the same inputs and seed give the same answer.
+        damping: Levenberg-Marquardt damping gain (lambda = damping * |e|^2).
+        max_step: largest change of one joint per iteration [rad].
+
+    Raises:
+        InvalidInputError: if a parameter is not positive.
+    """
+
+    def __init__(
+        self,
+        kinematics: Kinematics,
+        *,
+        position_tolerance: float = 1e-3,
+        rotation_tolerance: float = 0.01,
+        max_iterations: int = 60,
+        max_attempts: int = 50,
+        seed: int = 0,
+        damping: float = 0.1,
+        max_step: float = 0.5,
+    ):
+        if not isinstance(kinematics, Kinematics):
+            raise InvalidInputError(f"kinematics must be a manip.Kinematics, got {type(kinematics).__name__}")
+        for name, value in (
+            ("position_tolerance", position_tolerance),
+            ("rotation_tolerance", rotation_tolerance),
+            ("max_iterations", max_iterations),
+            ("max_attempts", max_attempts),
+            ("damping", damping),
+            ("max_step", max_step),
+        ):
+            if not np.isfinite(value) or value <= 0:
+                raise InvalidInputError(f"{name} must be a positive number, got {value}")
+        self.kinematics = kinematics
+        self.position_tolerance = float(position_tolerance)
+        self.rotation_tolerance = float(rotation_tolerance)
+        self.max_iterations = int(max_iterations)
+        self.max_attempts = int(max_attempts)
+        self.seed = int(seed)
+        self.damping = float(damping)
+        self.max_step = float(max_step)
+        self._tol_p = min(_INTERNAL_TOLERANCE, self.position_tolerance)
+        self._tol_r = min(_INTERNAL_TOLERANCE, self.rotation_tolerance)
+        self._model = kinematics.model
+        self._data = kinematics.model.createData()
+        # Independent check: the full model (fingers at their planning positions), its own data.
+        self._check_model = kinematics.full_model
+        self._check_data = kinematics.full_model.createData()
+        self._check_q_index = np.array(
+            [kinematics.full_model.joints[kinematics.full_model.getJointId(j)].idx_q for j in kinematics.joint_names]
+        )
+        self._reach_cache: dict[int, tuple[np.ndarray, float]] = {}
+        self._check_frame_ids: dict[int, int] = {}
+
+    # ------------------------------------------------------------------ public API
+    def solve(
+        self,
+        goal: Pose,
+        link: str | None = None,
+        seed_q: np.ndarray | None = None,
+        *,
+        validity_fn: ValidityFn | None = None,
+        num_solutions: int = 1,
+        seed: int | None = None,
+        time_limit: float | None = None,
+    ) -> IKResult:
+        """Solve IK for one goal pose.
+
+        Args:
+            goal: single Pose of `link` in the base frame.
+            link: frame to place at the goal (default: the robot's `ee_link`).
+            seed_q: (dof,) start of the first attempt and the reference for "nearest"
+                (default: the robot's default configuration). Clipped to the limits as a start.
+            validity_fn: optional Q (K, dof) -> (K,) bool; solutions it rejects do not count.
+            num_solutions: keep restarting until this many solutions are found (or
+                `max_attempts` run out) and return the one nearest `seed_q`.
+            seed: seed of the random restarts (default: the solver's).
+            time_limit: optional wall-time budget [s].
+
+        Returns:
+            IKResult; `q` is the solution nearest `seed_q` among those found.
+
+        Raises:
+            InvalidInputError: goal not a single Pose, bad seed_q, bad num_solutions.
+            UnknownNameError: unknown link (the message lists the frames).
+        """
+        t0 = time.perf_counter()
+        self._check_goal(goal, batched=False)
+        fid = self.kinematics.frame_id(link if link is not None else self.kinematics.config.ee_link)
+        q_ref = self._check_seed(seed_q, None)
+        if num_solutions < 1:
+            raise InvalidInputError(f"num_solutions must be >= 1, got {num_solutions}")
+        rng = _LazyRng(self.seed if seed is None else seed)
+        R_goal = goal.rotation
+        p_goal = goal.position
+
+        if self._out_of_reach(fid, p_goal[None])[0]:
+            ep, er = self._pose_error(q_ref, fid, R_goal, p_goal)
+            return IKResult(False, _freeze(q_ref.copy()), ep, er, IKStatus.OUT_OF_REACH, 0, time.perf_counter() - t0, 0)
+
+        lo, hi = self.kinematics.lower, self.kinematics.upper
+        out = self._run_attempts(
+            fid, R_goal, p_goal, np.clip(q_ref, lo, hi), self.max_attempts, rng, validity_fn, num_solutions, t0, time_limit
+        )
+        elapsed = time.perf_counter() - t0
+        if out.found:
+            sols = np.array(out.found)
+            q = sols[np.argmin(np.linalg.norm(sols - q_ref, axis=1))]
+            ep, er = self._pose_error(q, fid, R_goal, p_goal)
+            return IKResult(True, _freeze(q.copy()), ep, er, IKStatus.SUCCESS, out.iterations, elapsed, out.attempts)
+        logger.debug("IK failed (%s) after %d attempts", out.status.name, out.attempts)
+        return IKResult(
+            False, _freeze(out.best_q.copy()), out.best_error[0], out.best_error[1], out.status,
+            out.iterations, elapsed, out.attempts,
+        )
+
+    def solve_batch(
+        self,
+        goals: Pose,
+        link: str | None = None,
+        seed_q: np.ndarray | None = None,
+        *,
+        validity_fn: ValidityFn | None = None,
+        seed: int | None = None,
+        time_limit: float | None = None,
+    ) -> BatchIKResult:
+        """Solve IK for every goal of a batched Pose at once (vectorised NumPy).
+
+        Each goal's first attempt starts from `seed_q`; goals that stall or run out of
+        iterations restart from random configurations until `max_attempts`. The first
+        verified solution of each goal is returned (use `solve` with `num_solutions` or
+        `solve_many` for the nearest of several).
+
+        Args:
+            goals: batched Pose (N goals) of `link` in the base frame.
+            link: frame to place at the goals (default: the robot's `ee_link`).
+            seed_q: (dof,) or (N, dof) starts of the first attempts (default: the default
+                configuration).
+            validity_fn: optional Q (K, dof) -> (K,) bool; rejected solutions restart.
+            seed: seed of the random restarts (default: the solver's).
+            time_limit: optional wall-time budget [s] for the whole batch.
+
+        Returns:
+            BatchIKResult with (N,) arrays.
+
+        Raises:
+            InvalidInputError: goals not a batched Pose, bad seed_q.
+            UnknownNameError: unknown link.
+        """
+        t0 = time.perf_counter()
+        self._check_goal(goals, batched=True)
+        fid = self.kinematics.frame_id(link if link is not None else self.kinematics.config.ee_link)
+        n = len(goals)
+        q_ref = self._check_seed(seed_q, n)
+        rng = np.random.default_rng(self.seed if seed is None else seed)
+        out = self._batch_core(
+            goals.rotation, goals.position, fid, np.broadcast_to(q_ref, (n, self.kinematics.dof)),
+            rng, validity_fn, self.max_attempts, t0, time_limit,
+        )
+        q, success, ep, er, iters, attempts, status = out
+        return BatchIKResult(
+            success=_freeze(success), q=_freeze(q), position_error=_freeze(ep), rotation_error=_freeze(er),
+            status=tuple(status), iterations=_freeze(iters), attempts=_freeze(attempts),
+            solve_time=time.perf_counter() - t0,
+        )
+
+    def solve_many(
+        self,
+        goal: Pose,
+        link: str | None = None,
+        n: int = 8,
+        seed_q: np.ndarray | None = None,
+        *,
+        validity_fn: ValidityFn | None = None,
+        num_seeds: int | None = None,
+        min_distance: float = 0.05,
+        seed: int | None = None,
+    ) -> np.ndarray:
+        """Several distinct solutions of one goal, nearest `seed_q` first.
+
+        Runs `num_seeds` attempts in one vectorised batch (the first from `seed_q`, the
+        others from random configurations, each restarted up to 3 times), keeps the
+        verified solutions that `validity_fn` accepts, and drops near-duplicates.
+
+        Args:
+            goal: single Pose of `link` in the base frame.
+            link: frame to place at the goal (default: the robot's `ee_link`).
+            n: largest number of solutions to return.
+            seed_q: (dof,) reference configuration (default: the default configuration).
+            validity_fn: optional Q (K, dof) -> (K,) bool filter (e.g. collision-free).
+            num_seeds: parallel attempts (default max(4 n, 16)).
+            min_distance: two solutions closer than this [rad, max over joints] count as one.
+            seed: seed of the random starts (default: the solver's).
+
+        Returns:
+            (K, dof) solutions, K <= n (K = 0 when none was found), sorted by Euclidean
+            joint-space distance to `seed_q`.
+
+        Raises:
+            InvalidInputError: goal not a single Pose, bad seed_q, n or num_seeds < 1.
+            UnknownNameError: unknown link.
+        """
+        self._check_goal(goal, batched=False)
+        fid = self.kinematics.frame_id(link if link is not None else self.kinematics.config.ee_link)
+        q_ref = self._check_seed(seed_q, None)
+        if n < 1:
+            raise InvalidInputError(f"n must be >= 1, got {n}")
+        m = max(4 * n, 16) if num_seeds is None else int(num_seeds)
+        if m < 1:
+            raise InvalidInputError(f"num_seeds must be >= 1, got {num_seeds}")
+        rng = np.random.default_rng(self.seed if seed is None else seed)
+        dof = self.kinematics.dof
+        if self._out_of_reach(fid, goal.position[None])[0]:
+            return np.empty((0, dof))
+        starts = rng.uniform(self.kinematics.lower, self.kinematics.upper, (m, dof))
+        starts[0] = np.clip(q_ref, self.kinematics.lower, self.kinematics.upper)
+        R_goal = np.broadcast_to(goal.rotation, (m, 3, 3))
+        p_goal = np.broadcast_to(goal.position, (m, 3))
+        q, success, *_ = self._batch_core(
+            R_goal, p_goal, fid, starts, rng, validity_fn, 3, time.perf_counter(), None
+        )
+        sols = q[success]
+        sols = sols[np.argsort(np.linalg.norm(sols - q_ref, axis=1), kind="stable")]
+        kept: list[np.ndarray] = []
+        for s in sols:
+            if all(np.max(np.abs(s - k)) >= min_distance for k in kept):
+                kept.append(s)
+                if len(kept) == n:
+                    break
+        return np.array(kept).reshape(-1, dof)
+
+    # ------------------------------------------------------------------ validation
+    def _check_goal(self, goal: object, batched: bool) -> None:
+        if not isinstance(goal, Pose):
+            raise InvalidInputError(
+                f"goal must be a manip.Pose (position [m], quaternion (w, x, y, z)); got {type(goal).__name__}"
+            )
+        if batched and not goal.is_batch:
+            raise InvalidInputError("solve_batch needs a batched Pose (position (N, 3)); use solve for one goal")
+        if not batched and goal.is_batch:
+            raise InvalidInputError(
+                f"solve needs a single Pose; got a batch of {len(goal)} (use solve_batch, or index the batch)"
+            )
+
+    def _check_seed(self, seed_q: np.ndarray | None, n: int | None) -> np.ndarray:
+        k = self.kinematics
+        if seed_q is None:
+            return k.config.default_joint_positions.astype(float).copy()
+        q = k.check_q(seed_q, "seed_q")
+        if n is None and q.ndim != 1:
+            raise InvalidInputError(f"seed_q must have shape ({k.dof},) for joints {list(k.joint_names)}; got {q.shape}")
+        if n is not None and q.ndim == 2 and q.shape[0] != n:
+            raise InvalidInputError(f"seed_q must have shape ({k.dof},) or ({n}, {k.dof}) for {n} goals; got {q.shape}")
+        return q.copy()
+
+    # ------------------------------------------------------------------ reach bound
+    def _reach(self, fid: int) -> tuple[np.ndarray, float]:
+        """(anchor (3,), radius [m]): the frame's origin always lies within the ball.
+
+        The anchor is the origin of the first joint of the chain (fixed in the base frame);
+        the radius sums the lengths of the fixed offsets after it (triangle inequality,
+        rotations preserve lengths). Chains with prismatic joints get an infinite radius.
+        """
+        if fid not in self._reach_cache:
+            model = self._model
+            frame = model.frames[fid]
+            radius = float(np.linalg.norm(frame.placement.translation))
+            j = frame.parentJoint
+            anchor = np.zeros(3)
+            specs = self.kinematics._joints
+            if j == 0:
+                anchor, radius = frame.placement.translation.copy(), 0.0
+            while j > 0:
+                spec = specs[j - 1]
+                if not spec.revolute:
+                    radius = np.inf
+                if spec.parent == 0:
+                    anchor = spec.p_placement.copy()
+                else:
+                    radius += float(np.linalg.norm(spec.p_placement))
+                j = spec.parent
+            self._reach_cache[fid] = (anchor, radius)
+        return self._reach_cache[fid]
+
+    def _out_of_reach(self, fid: int, p_goal: np.ndarray) -> np.ndarray:
+        anchor, radius = self._reach(fid)
+        return np.linalg.norm(p_goal - anchor, axis=-1) > radius + self.position_tolerance
+
+    # ------------------------------------------------------------------ single solve
+    def _run_attempts(
+        self,
+        fid: int,
+        R_goal: np.ndarray,
+        p_goal: np.ndarray,
+        q_first: np.ndarray,
+        max_attempts: int,
+        rng: _LazyRng | np.random.Generator,
+        validity_fn: ValidityFn | None,
+        num_solutions: int,
+        t0: float,
+        time_limit: float | None,
+    ) -> _Attempts:
+        """Attempts from q_first, then from random configurations, until enough solutions."""
+        lo, hi = self.kinematics.lower, self.kinematics.upper
+        found: list[np.ndarray] = []
+        best_q, best_cost, best_err = q_first, np.inf, (np.inf, np.inf)
+        iterations = attempts = rejected = 0
+        timed_out = False
+        for attempt in range(max_attempts):
+            if time_limit is not None and time.perf_counter() - t0 > time_limit:
+                timed_out = True
+                break
+            q0 = q_first if attempt == 0 else rng.uniform(lo, hi)
+            q, ep, er, its = self._attempt(q0, fid, R_goal, p_goal)
+            iterations += its
+            attempts += 1
+            if ep <= self.position_tolerance and er <= self.rotation_tolerance and self._verify(q, fid, R_goal, p_goal):
+                if validity_fn is None or bool(np.asarray(validity_fn(q[None])).reshape(-1)[0]):
+                    found.append(q)
+                    if len(found) >= num_solutions:
+                        break
+                    continue
+                rejected += 1
+            cost = ep / self.position_tolerance + er / self.rotation_tolerance
+            if cost < best_cost:
+                best_q, best_cost, best_err = q, cost, (ep, er)
+        if found:
+            status = IKStatus.SUCCESS
+        elif timed_out:
+            status = IKStatus.TIME_LIMIT
+        elif rejected:
+            status = IKStatus.REJECTED_BY_VALIDITY
+        else:
+            status = IKStatus.NOT_CONVERGED
+        if not np.isfinite(best_err[0]):
+            best_err = self._pose_error(best_q, fid, R_goal, p_goal)
+        return _Attempts(found, best_q, best_err, iterations, attempts, status)
+
+    def _attempt(self, q: np.ndarray, fid: int, R_goal: np.ndarray, p_goal: np.ndarray) -> tuple[np.ndarray, float, float, int]:
+        """One LM descent from q. Returns (q, position error, rotation error, iterations)."""
+        model, data = self._model, self._data
+        lo, hi = self.kinematics.lower, self.kinematics.upper
+        tol_p, tol_r = self._tol_p, self._tol_r
+        damping, max_step = self.damping, self.max_step
+        eye6 = np.eye(6)
+        e = np.empty(6)
+        best = np.inf
+        best_it = 0
+        it = 0
+        while True:
+            J = pin.computeFrameJacobian(model, data, q, fid, pin.LOCAL_WORLD_ALIGNED)
+            M = data.oMf[fid]
+            e[:3] = p_goal - M.translation
+            e[3:] = pin.log3(R_goal @ M.rotation.T)
+            ep = np.sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2])
+            er = np.sqrt(e[3] * e[3] + e[4] * e[4] + e[5] * e[5])
+            if (ep <= tol_p and er <= tol_r) or it >= self.max_iterations:
+                break
+            err2 = ep * ep + er * er
+            if err2 < best * 0.98:
+                best, best_it = err2, it
+            elif it - best_it >= _STALL_ITERATIONS:
+                break
+            lam = (damping * err2 + _MIN_DAMPING) * eye6
+            dq = J.T @ np.linalg.solve(J @ J.T + lam, e)
+            blocked = ((q <= lo) & (dq < 0)) | ((q >= hi) & (dq > 0))
+            if blocked.any():
+                # joints held at a limit take no part in this step; the others compensate
+                J = J.copy()
+                J[:, blocked] = 0.0
+                dq = J.T @ np.linalg.solve(J @ J.T + lam, e)
+            step = np.abs(dq).max()
+            if step > max_step:
+                dq *= max_step / step
+            q = np.clip(q + dq, lo, hi)
+            it += 1
+        return q, float(ep), float(er), it
+
+    def _pose_error(self, q: np.ndarray, fid: int, R_goal: np.ndarray, p_goal: np.ndarray) -> tuple[float, float]:
+        M = self.kinematics.frame_transform(q, fid)
+        return float(np.linalg.norm(p_goal - M.translation)), float(np.linalg.norm(pin.log3(R_goal @ M.rotation.T)))
+
+    def _verify(self, q: np.ndarray, fid: int, R_goal: np.ndarray, p_goal: np.ndarray) -> bool:
+        """Independent check of one solution: joint limits and the full model's FK."""
+        return bool(self._verify_batch(q[None], fid, R_goal[None], p_goal[None])[0])
+
+    def _verify_batch(self, Q: np.ndarray, fid: int, R_goal: np.ndarray, p_goal: np.ndarray) -> np.ndarray:
+        """Independent check of solutions Q (K, dof) for goals (K, 3, 3), (K, 3): (K,) bool.
+
+        Uses Pinocchio's full model (fingers included, its own data), not the solver's
+        reduced model or batched NumPy kinematics, and the rotation angle from the trace
+        (cos(theta) = (tr(R_goal^T R) - 1) / 2), not the solver's logarithm.
+        """
+        k = self.kinematics
+        ok = np.all((Q >= k.lower) & (Q <= k.upper), axis=1)
+        model, data = self._check_model, self._check_data
+        cfid = self._check_frame_ids.get(fid)
+        if cfid is None:
+            cfid = self._check_frame_ids[fid] = model.getFrameId(self._model.frames[fid].name)
+        q_full = k.locked_configuration.copy()
+        idx = self._check_q_index
+        R = np.empty((Q.shape[0], 3, 3))
+        p = np.empty((Q.shape[0], 3))
+        for i in range(Q.shape[0]):
+            q_full[idx] = Q[i]
+            pin.forwardKinematics(model, data, q_full)
+            M = pin.updateFramePlacement(model, data, cfid)
+            R[i] = M.rotation
+            p[i] = M.translation
+        ep = np.linalg.norm(p - p_goal, axis=1)
+        cos = np.clip(0.5 * (np.einsum("nij,nij->n", R_goal, R) - 1.0), -1.0, 1.0)
+        er = np.arccos(cos)
+        good = ok & (ep <= self.position_tolerance) & (er <= self.rotation_tolerance)
+        for i in np.flatnonzero(~good):
+            logger.warning(
+                "IK discarded a solution that failed the independent check (%.3g m, %.3g rad, limits: %s)",
+                ep[i], er[i], k.limit_violations(Q[i]) or "ok",
+            )
+        return good
+
+    # ------------------------------------------------------------------ batch solve
+    def _batch_core(
+        self,
+        R_goal: np.ndarray,
+        p_goal: np.ndarray,
+        fid: int,
+        q_start: np.ndarray,
+        rng: np.random.Generator,
+        validity_fn: ValidityFn | None,
+        max_attempts: int,
+        t0: float,
+        time_limit: float | None,
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, list[IKStatus]]:
+        """Vectorised LM over "lanes": one attempt each, several lanes per goal when few remain.
+
+        Every goal starts with one lane from its `q_start`. A lane that ends without a
+        verified, valid solution restarts from a random configuration while its goal has
+        attempts left; when fewer than `_MIN_LANES` lanes are running, the goals still
+        unsolved get extra lanes (parallel random restarts), so stragglers cost a few
+        small NumPy iterations rather than many sequential attempts. A goal is done at its
+        first verified solution.
+        """
+        k = self.kinematics
+        n, dof = q_start.shape
+        lo, hi = k.lower, k.upper
+        q0 = np.clip(q_start, lo, hi).astype(float)
+        success = np.zeros(n, dtype=bool)
+        done = np.zeros(n, dtype=bool)
+        rejected = np.zeros(n, dtype=bool)
+        ep_out = np.full(n, np.inf)
+        er_out = np.full(n, np.inf)
+        best_cost = np.full(n, np.inf)
+        q_out = q0.copy()
+        iters = np.zeros(n, dtype=int)
+        attempts = np.zeros(n, dtype=int)
+        status: list[IKStatus] = [IKStatus.NOT_CONVERGED] * n
+
+        far = self._out_of_reach(fid, p_goal)
+        for i in np.flatnonzero(far):
+            status[i] = IKStatus.OUT_OF_REACH
+        done |= far
+        if far.any():
+            Rf, pf = k.frame_transforms(q0[far], [fid])
+            ep_out[far] = np.linalg.norm(p_goal[far] - pf[:, 0], axis=1)
+            er_out[far] = np.linalg.norm(_log3_batch(R_goal[far] @ np.swapaxes(Rf[:, 0], 1, 2)), axis=1)
+
+        # lane state
+        goal = np.flatnonzero(~far)
+        Q = q0[goal]
+        attempts[goal] = 1
+        it_attempt = np.zeros(goal.size, dtype=int)
+        best_err = np.full(goal.size, np.inf)
+        best_it = np.zeros(goal.size, dtype=int)
+
+        tol_p, tol_r = self._tol_p, self._tol_r
+        eye6 = np.eye(6)
+        while goal.size:
+            if time_limit is not None and time.perf_counter() - t0 > time_limit:
+                for i in np.unique(goal):
+                    status[i] = IKStatus.TIME_LIMIT
+                break
+            R, p, J = k.frame_jacobians(Q, fid)
+            e = np.empty((goal.size, 6))
+            e[:, :3] = p_goal[goal] - p
+            e[:, 3:] = _log3_batch(R_goal[goal] @ np.swapaxes(R, 1, 2))
+            ep = np.sqrt(np.einsum("ij,ij->i", e[:, :3], e[:, :3]))
+            er = np.sqrt(np.einsum("ij,ij->i", e[:, 3:], e[:, 3:]))
+            err2 = ep * ep + er * er
+
+            improved = err2 < best_err * 0.98
+            best_err[improved] = err2[improved]
+            best_it[improved] = it_attempt[improved]
+            ended = (
+                ((ep <= tol_p) & (er <= tol_r))
+                | (it_attempt - best_it >= _STALL_ITERATIONS)
+                | (it_attempt >= self.max_iterations)
+            )
+            restart = np.zeros(goal.size, dtype=bool)
+            if ended.any():
+                e_idx = np.flatnonzero(ended)
+                good = e_idx[(ep[e_idx] <= self.position_tolerance) & (er[e_idx] <= self.rotation_tolerance)]
+                if good.size:
+                    good = good[self._verify_batch(Q[good], fid, R_goal[goal[good]], p_goal[goal[good]])]
+                if good.size and validity_fn is not None:
+                    ok = np.asarray(validity_fn(Q[good]), dtype=bool).reshape(-1)
+                    rejected[goal[good[~ok]]] = True
+                    good = good[ok]
+                # first solution of each goal (several lanes of one goal may finish together)
+                g, first = np.unique(goal[good], return_index=True)
+                good_first = good[first]
+                success[g] = True
+                done[g] = True
+                q_out[g] = Q[good_first]
+                ep_out[g], er_out[g] = ep[good_first], er[good_first]
+                for i in g:
+                    status[i] = IKStatus.SUCCESS
+                failed = np.setdiff1d(e_idx, good, assume_unique=True)
+                cost = ep[failed] / self.position_tolerance + er[failed] / self.rotation_tolerance
+                for lane, c in zip(failed, cost):  # few per iteration
+                    gi = goal[lane]
+                    if c < best_cost[gi] and not success[gi]:
+                        best_cost[gi] = c
+                        q_out[gi] = Q[lane]
+                        ep_out[gi], er_out[gi] = ep[lane], er[lane]
+                    if attempts[gi] < max_attempts and not done[gi]:
+                        attempts[gi] += 1
+                        restart[lane] = True
+
+            step = ~ended & ~done[goal]
+            if step.any():
+                s = np.flatnonzero(step)
+                Js = J[s]
+                JsT = np.swapaxes(Js, 1, 2)
+                lam = self.damping * err2[s] + _MIN_DAMPING
+                es = e[s][:, :, None]
+                dq = (JsT @ np.linalg.solve(Js @ JsT + lam[:, None, None] * eye6, es))[:, :, 0]
+                Qs = Q[s]
+                blocked = ((Qs <= lo) & (dq < 0)) | ((Qs >= hi) & (dq > 0))
+                b = np.flatnonzero(blocked.any(axis=1))
+                if b.size:
+                    # joints held at a limit take no part in the step; the others compensate
+                    Jb = Js[b] * ~blocked[b][:, None, :]
+                    Ab = Jb @ np.swapaxes(Jb, 1, 2) + lam[b, None, None] * eye6
+                    dq[b] = (np.swapaxes(Jb, 1, 2) @ np.linalg.solve(Ab, es[b]))[:, :, 0]
+                big = np.abs(dq).max(axis=1)
+                scale = np.where(big > self.max_step, self.max_step / np.maximum(big, 1e-300), 1.0)
+                Q[s] = np.clip(Qs + dq * scale[:, None], lo, hi)
+                iters[goal[s]] += 1
+                it_attempt[s] += 1
+            restart &= ~done[goal]
+            if restart.any():
+                r = np.flatnonzero(restart)
+                Q[r] = rng.uniform(lo, hi, (r.size, dof))
+                it_attempt[r] = 0
+                best_err[r] = np.inf
+                best_it[r] = 0
+            keep = step | restart
+            goal, Q = goal[keep], Q[keep]
+            it_attempt, best_err, best_it = it_attempt[keep], best_err[keep], best_it[keep]
+
+            # parallel restarts for the stragglers
+            if goal.size < _MIN_LANES:
+                open_goals = np.flatnonzero(~done & (attempts < max_attempts))
+                if open_goals.size:
+                    per_goal = max(1, (_MIN_LANES - goal.size) // open_goals.size)
+                    extra = np.minimum(per_goal, max_attempts - attempts[open_goals])
+                    new_goal = np.repeat(open_goals, extra)
+                    attempts[open_goals] += extra
+                    goal = np.concatenate([goal, new_goal])
+                    Q = np.concatenate([Q, rng.uniform(lo, hi, (new_goal.size, dof))])
+                    it_attempt = np.concatenate([it_attempt, np.zeros(new_goal.size, dtype=int)])
+                    best_err = np.concatenate([best_err, np.full(new_goal.size, np.inf)])
+                    best_it = np.concatenate([best_it, np.zeros(new_goal.size, dtype=int)])
+
+        for i in np.flatnonzero(~done):
+            if status[i] is IKStatus.NOT_CONVERGED and rejected[i]:
+                status[i] = IKStatus.REJECTED_BY_VALIDITY
+        return q_out, success, ep_out, er_out, iters, attempts, status
