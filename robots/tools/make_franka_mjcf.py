@@ -137,7 +137,8 @@ def generate(urdf_path: Path, srdf_path: Path) -> str:
         jh = joints["panda_hand_joint"]
         xyz8, rpy8 = _origin(j8.find("origin"))
         xyzh, rpyh = _origin(jh.find("origin"))
-        assert not any(rpy8) and not any(xyzh), "panda_link8 offset expected to be a pure translation"
+        if any(rpy8) or any(xyzh):
+            raise RuntimeError("expected panda_joint8 to be a pure translation and panda_hand_joint a pure rotation")
         L.append(f"{pad}<!-- panda_link8 ({_f(xyz8)} from panda_link7) fused: the hand frame is "
                  f"panda_link8 rotated by rpy {_f(rpyh)} -->")
         L.append(f'{pad}<body name="panda_hand"{_pose_attrs(xyz8, rpyh)}>')
