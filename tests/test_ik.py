@@ -1,0 +1,316 @@
+"""Inverse kinematics on the real Franka model: success, limits, nearest-to-seed, failures, errors."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from manip.errors import InvalidInputError, ManipError, UnknownNameError
+from manip.ik import BatchIKResult, IKResult, IKSolver, IKStatus
+from manip.kinematics import Kinematics
+from manip.pose import Pose
+
+HAND = "panda_hand"
+POS_TOL, ROT_TOL = 1e-3, 0.01
+
+
+@pytest.fixture(scope="module")
+def solver(franka_kinematics: Kinematics) -> IKSolver:
+    return IKSolver(franka_kinematics, seed=0)
+
+
+def random_configs(k: Kinematics, n: int, seed: int) -> np.ndarray:
+    return np.random.default_rng(seed).uniform(k.lower, k.upper, (n, k.dof))
+
+
+def assert_reaches(k: Kinematics, q: np.ndarray, goal: Pose, link: str = HAND) -> None:
+    """An independent check of a claimed solution: limits and the Pose of `Kinematics.fk`."""
+    assert k.within_limits(q), k.limit_violations(q)
+    dp, dr = k.fk(q, link).distance(goal)
+    assert dp <= POS_TOL and dr <= ROT_TOL, (dp, dr)
+
+
+# ---------------------------------------------------------------------- single solves
+def test_random_reachable_poses_are_solved_within_limits(solver: IKSolver, franka_kinematics: Kinematics):
+    k = franka_kinematics
+    Q = random_configs(k, 40, seed=11)
+    for q_true in Q:
+        goal = k.fk(q_true, HAND)
+        r = solver.solve(goal, HAND)
+        assert isinstance(r, IKResult)
+        assert r.success and r.status is IKStatus.SUCCESS, (q_true, r)
+        assert r.q.shape == (k.dof,)
+        assert r.position_error <= POS_TOL and r.rotation_error <= ROT_TOL
+        assert r.attempts >= 1 and r.iterations >= 0 and r.solve_time > 0
+        assert_reaches(k, r.q, goal)
+        # the reported errors are the errors at the returned q
+        dp, dr = k.fk(r.q, HAND).distance(goal)
+        assert r.position_error == pytest.approx(float(dp), abs=1e-9)
+        assert r.rotation_error == pytest.approx(float(dr), abs=1e-6)
+
+
+def test_converges_much_tighter_than_the_success_tolerance(solver: IKSolver, franka_kinematics: Kinematics):
+    k = franka_kinematics
+    errors = []
+    for q_true in random_configs(k, 20, seed=12):
+        r = solver.solve(k.fk(q_true, HAND), HAND)
+        assert r.success
+        errors.append((r.position_error, r.rotation_error))
+    assert np.max(errors) <= 1e-4
+
+
+def test_goals_at_joint_limits_give_solutions_within_limits(solver: IKSolver, franka_kinematics: Kinematics):
+    k = franka_kinematics
+    rng = np.random.default_rng(3)
+    for j in range(k.dof):
+        for bound in (k.lower, k.upper):
+            q_true = rng.uniform(k.lower, k.upper)
+            q_true[j] = bound[j]
+            goal = k.fk(q_true, HAND)
+            r = solver.solve(goal, HAND)
+            assert r.success, (j, r.status)
+            assert_reaches(k, r.q, goal)
+
+
+@pytest.mark.parametrize("link", ["panda_hand_tcp", "panda_link7", "panda_link8"])
+def test_other_links(solver: IKSolver, franka_kinematics: Kinematics, link: str):
+    k = franka_kinematics
+    for q_true in random_configs(k, 5, seed=5):
+        goal = k.fk(q_true, link)
+        r = solver.solve(goal, link)
+        assert r.success
+        assert_reaches(k, r.q, goal, link)
+
+
+def test_default_link_is_the_ee_link(solver: IKSolver, franka_kinematics: Kinematics):
+    k = franka_kinematics
+    q_true = random_configs(k, 1, seed=8)[0]
+    r = solver.solve(k.fk(q_true, k.config.ee_link))
+    assert r.success
+    assert_reaches(k, r.q, k.fk(q_true, k.config.ee_link), k.config.ee_link)
+
+
+def test_seed_near_a_solution_returns_that_solution(solver: IKSolver, franka_kinematics: Kinematics):
+    k = franka_kinematics
+    rng = np.random.default_rng(21)
+    margin = 0.1 * (k.upper - k.lower)
+    for _ in range(10):
+        q_true = rng.uniform(k.lower + margin, k.upper - margin)
+        seed_q = q_true + rng.normal(scale=0.03, size=k.dof)
+        r = solver.solve(k.fk(q_true, HAND), HAND, seed_q=seed_q)
+        assert r.success
+        assert r.attempts == 1
+        assert np.max(np.abs(r.q - q_true)) < 0.05
+
+
+def test_more_solutions_never_move_the_answer_away_from_the_seed(solver: IKSolver, franka_kinematics: Kinematics):
+    k = franka_kinematics
+    for i, q_true in enumerate(random_configs(k, 6, seed=31)):
+        goal = k.fk(q_true, HAND)
+        seed_q = k.config.default_joint_positions
+        one = solver.solve(goal, HAND, seed_q=seed_q, seed=i)
+        many = solver.solve(goal, HAND, seed_q=seed_q, num_solutions=6, seed=i)
+        assert one.success and many.success
+        # same random stream: the first solution is among the six, the nearest is returned
+        assert np.linalg.norm(many.q - seed_q) <= np.linalg.norm(one.q - seed_q) + 1e-12
+        assert_reaches(k, many.q, goal)
+
+
+def test_same_seed_same_answer(franka_kinematics: Kinematics):
+    k = franka_kinematics
+    goals = [k.fk(q, HAND) for q in random_configs(k, 5, seed=41)]
+    a = [IKSolver(k, seed=3).solve(g, HAND, seed_q=np.zeros(7)).q for g in goals]
+    b = [IKSolver(k, seed=3).solve(g, HAND, seed_q=np.zeros(7)).q for g in goals]
+    np.testing.assert_array_equal(np.array(a), np.array(b))
+
+
+def test_far_goal_fails_cleanly_with_out_of_reach(solver: IKSolver, franka_kinematics: Kinematics):
+    k = franka_kinematics
+    r = solver.solve(Pose(np.array([2.0, 0.0, 0.5])), HAND)
+    assert not r.success
+    assert r.status is IKStatus.OUT_OF_REACH
+    assert "closer" in r.status.hint
+    assert k.within_limits(r.q)
+    assert r.position_error > 1.0
+
+
+def test_unreachable_goal_within_the_reach_bound_is_not_converged(franka_kinematics: Kinematics):
+    k = franka_kinematics
+    s = IKSolver(k, max_attempts=10)
+    # below the base, pointing up: inside the reach ball, not reachable
+    r = s.solve(Pose(np.array([0.0, 0.0, -0.4])), HAND)
+    assert not r.success
+    assert r.status is IKStatus.NOT_CONVERGED
+    assert r.attempts == 10
+    assert k.within_limits(r.q)
+    dp, dr = k.fk(r.q, HAND).distance(Pose(np.array([0.0, 0.0, -0.4])))
+    assert r.position_error == pytest.approx(float(dp), abs=1e-9)
+    assert r.position_error > POS_TOL or r.rotation_error > ROT_TOL
+
+
+def test_too_few_iterations_is_not_converged(franka_kinematics: Kinematics):
+    k = franka_kinematics
+    s = IKSolver(k, max_iterations=1, max_attempts=1)
+    q_true = np.array([1.5, 0.5, -1.0, -1.0, 1.0, 2.5, -1.0])
+    r = s.solve(k.fk(q_true, HAND), HAND)
+    assert not r.success and r.status is IKStatus.NOT_CONVERGED and r.attempts == 1
+
+
+def test_validity_fn_is_respected(solver: IKSolver, franka_kinematics: Kinematics):
+    k = franka_kinematics
+    calls = []
+
+    def first_joint_positive(Q: np.ndarray) -> np.ndarray:
+        calls.append(Q.shape)
+        return Q[:, 0] > 0.0
+
+    for q_true in random_configs(k, 5, seed=51):
+        q_true[0] = abs(q_true[0])
+        goal = k.fk(q_true, HAND)
+        r = solver.solve(goal, HAND, seed_q=np.array([-1.0, 0, 0, -2.0, 0, 2.0, 0]), validity_fn=first_joint_positive)
+        assert r.success and r.q[0] > 0
+        assert_reaches(k, r.q, goal)
+    assert calls and all(shape[1] == k.dof for shape in calls)
+
+
+def test_validity_fn_rejecting_everything(franka_kinematics: Kinematics):
+    k = franka_kinematics
+    s = IKSolver(k, max_attempts=3)
+    goal = k.fk(k.config.default_joint_positions, HAND)
+    r = s.solve(goal, HAND, validity_fn=lambda Q: np.zeros(len(Q), dtype=bool))
+    assert not r.success and r.status is IKStatus.REJECTED_BY_VALIDITY
+
+
+def test_time_limit(solver: IKSolver, franka_kinematics: Kinematics):
+    goal = franka_kinematics.fk(random_configs(franka_kinematics, 1, seed=1)[0], HAND)
+    r = solver.solve(goal, HAND, time_limit=0.0)
+    assert not r.success and r.status is IKStatus.TIME_LIMIT
+
+
+def test_a_wrong_solution_is_never_reported(franka_kinematics: Kinematics, monkeypatch: pytest.MonkeyPatch):
+    """If the descent claims convergence at a wrong q, the independent check discards it."""
+    k = franka_kinematics
+    s = IKSolver(k, max_attempts=4)
+    goal = k.fk(random_configs(k, 1, seed=2)[0], HAND)
+    lying = lambda q0, fid, R, p: (np.clip(q0, k.lower, k.upper), 0.0, 0.0, 1)  # noqa: E731
+    monkeypatch.setattr(s, "_attempt", lying)
+    r = s.solve(goal, HAND)
+    assert not r.success and r.status is IKStatus.NOT_CONVERGED
+
+
+def test_result_is_frozen(solver: IKSolver, franka_kinematics: Kinematics):
+    r = solver.solve(franka_kinematics.fk(franka_kinematics.config.default_joint_positions, HAND), HAND)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        r.success = False  # type: ignore[misc]
+    with pytest.raises(ValueError):
+        r.q[0] = 1.0
+
+
+# ---------------------------------------------------------------------- solve_many
+def test_solve_many_distinct_sorted_and_valid(solver: IKSolver, franka_kinematics: Kinematics):
+    k = franka_kinematics
+    q_true = np.array([0.3, 0.2, -0.4, -2.0, 0.5, 2.0, 0.3])
+    goal = k.fk(q_true, HAND)
+    seed_q = k.config.default_joint_positions
+    sols = solver.solve_many(goal, HAND, n=6, seed_q=seed_q)
+    assert sols.ndim == 2 and sols.shape[1] == k.dof
+    assert 2 <= sols.shape[0] <= 6
+    d = np.linalg.norm(sols - seed_q, axis=1)
+    assert np.all(np.diff(d) >= 0)
+    for i in range(len(sols)):
+        assert_reaches(k, sols[i], goal)
+        for j in range(i):
+            assert np.max(np.abs(sols[i] - sols[j])) >= 0.05
+    only_positive = solver.solve_many(goal, HAND, n=6, seed_q=seed_q, validity_fn=lambda Q: Q[:, 6] > 0.0)
+    assert np.all(only_positive[:, 6] > 0)
+
+
+def test_solve_many_out_of_reach_is_empty(solver: IKSolver):
+    sols = solver.solve_many(Pose(np.array([0.0, 2.0, 0.0])), HAND, n=4)
+    assert sols.shape == (0, 7)
+
+
+# ---------------------------------------------------------------------- batch
+def test_batch_solves_reachable_and_flags_unreachable(solver: IKSolver, franka_kinematics: Kinematics):
+    k = franka_kinematics
+    Q = random_configs(k, 150, seed=61)
+    goals = k.fk(Q, HAND)
+    goals = Pose.stack([goals, Pose(np.array([0.0, 0.0, 2.5]))])
+    b = solver.solve_batch(goals, HAND)
+    assert isinstance(b, BatchIKResult) and len(b) == 151
+    assert b.q.shape == (151, k.dof)
+    assert b.success[:150].all()
+    assert not b.success[150] and b.status[150] is IKStatus.OUT_OF_REACH
+    assert all(s is IKStatus.SUCCESS for s in b.status[:150])
+    assert np.all(b.position_error[:150] <= POS_TOL) and np.all(b.rotation_error[:150] <= ROT_TOL)
+    assert k.within_limits(b.q).all()
+    # independent check of every claimed success, and the reported errors
+    dp, dr = k.fk(b.q, HAND).distance(goals)
+    np.testing.assert_allclose(b.position_error, dp, atol=1e-9)
+    assert np.all(dp[:150] <= POS_TOL) and np.all(dr[:150] <= ROT_TOL)
+    r0 = b[0]
+    assert isinstance(r0, IKResult) and r0.success and r0.q.shape == (k.dof,)
+    assert b.success_rate == pytest.approx(150 / 151)
+
+
+def test_batch_with_unreachable_in_ball_goal_and_validity(franka_kinematics: Kinematics):
+    k = franka_kinematics
+    s = IKSolver(k)
+    Q = random_configs(k, 20, seed=71)
+    Q[:, 0] = np.abs(Q[:, 0])
+    goals = Pose.stack([k.fk(Q, HAND), Pose(np.array([0.0, 0.0, -0.4]))])
+    b = s.solve_batch(goals, HAND, validity_fn=lambda X: X[:, 0] > 0)
+    assert b.success[:20].all() and np.all(b.q[:20, 0] > 0)
+    assert not b.success[20] and b.status[20] is IKStatus.NOT_CONVERGED
+    assert b.attempts[20] == s.max_attempts
+    assert k.within_limits(b.q[20])
+    b2 = s.solve_batch(goals[:3], HAND, validity_fn=lambda X: np.zeros(len(X), dtype=bool))
+    assert all(st is IKStatus.REJECTED_BY_VALIDITY for st in b2.status)
+
+
+def test_batch_per_goal_seeds_and_determinism(solver: IKSolver, franka_kinematics: Kinematics):
+    k = franka_kinematics
+    Q = random_configs(k, 30, seed=81)
+    goals = k.fk(Q, HAND)
+    b = solver.solve_batch(goals, HAND, seed_q=Q)  # seeded at the answer: converged at once
+    assert b.success.all() and np.all(b.attempts == 1)
+    np.testing.assert_allclose(b.q, Q, atol=1e-9)
+    c1 = solver.solve_batch(goals, HAND, seed=5)
+    c2 = solver.solve_batch(goals, HAND, seed=5)
+    np.testing.assert_array_equal(c1.q, c2.q)
+
+
+# ---------------------------------------------------------------------- bad input
+def test_bad_input_raises_manip_errors(solver: IKSolver, franka_kinematics: Kinematics):
+    k = franka_kinematics
+    goal = k.fk(k.config.default_joint_positions, HAND)
+    batch = k.fk(random_configs(k, 3, seed=0), HAND)
+    with pytest.raises(InvalidInputError, match="manip.Pose"):
+        solver.solve((0.4, 0.0, 0.4), HAND)  # type: ignore[arg-type]
+    with pytest.raises(InvalidInputError, match="solve_batch"):
+        solver.solve(batch, HAND)
+    with pytest.raises(InvalidInputError, match="batched Pose"):
+        solver.solve_batch(goal, HAND)
+    with pytest.raises(InvalidInputError, match="non-finite"):
+        solver.solve(goal, HAND, seed_q=np.array([0, 0, 0, np.nan, 0, 0, 0.0]))
+    with pytest.raises(InvalidInputError, match="panda_joint7"):
+        solver.solve(goal, HAND, seed_q=np.zeros(6))
+    with pytest.raises(InvalidInputError, match=r"\(3, 7\)"):
+        solver.solve_batch(batch, HAND, seed_q=np.zeros((2, 7)))
+    with pytest.raises(UnknownNameError, match="panda_hand") as exc:
+        solver.solve(goal, "panda_palm")
+    assert isinstance(exc.value, ManipError) and "panda_link7" in str(exc.value)
+    with pytest.raises(InvalidInputError, match="num_solutions"):
+        solver.solve(goal, HAND, num_solutions=0)
+    with pytest.raises(InvalidInputError, match="n must be"):
+        solver.solve_many(goal, HAND, n=0)
+
+
+@pytest.mark.parametrize(
+    "kwargs", [{"position_tolerance": 0.0}, {"rotation_tolerance": -1.0}, {"max_attempts": 0}, {"max_iterations": 0}]
+)
+def test_bad_solver_parameters(franka_kinematics: Kinematics, kwargs: dict):
+    with pytest.raises(InvalidInputError, match=next(iter(kwargs))):
+        IKSolver(franka_kinematics, **kwargs)
