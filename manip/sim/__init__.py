@@ -1,0 +1,82 @@
+"""manip.sim: a MuJoCo world with the names and behaviour of Isaac Sim's core API.
+
+An Isaac Sim tutorial script ports by changing its imports::
+
+    from manip.sim import World, DynamicCuboid
+    world = World()
+    world.scene.add_default_ground_plane()
+    cube = world.scene.add(DynamicCuboid(prim_path="/World/cube", name="cube", position=[0, 0, 1.0],
+                                         size=0.05))
+    world.reset()
+    for _ in range(100):
+        world.step(render=False)
+    print(cube.get_world_pose())
+
+Quaternions are (w, x, y, z); units are SI. See `manip.sim.world` for time stepping,
+`manip.sim.articulation` for the drives, `manip.sim.recording` for offscreen video.
+"""
+
+from __future__ import annotations
+
+import os as _os
+import sys as _sys
+
+# The offscreen GL backend is fixed when mujoco is imported: choose one for headless machines.
+if "mujoco" not in _sys.modules and not _os.environ.get("MUJOCO_GL"):
+    if not (_os.environ.get("DISPLAY") or _os.environ.get("WAYLAND_DISPLAY")) and _sys.platform.startswith("linux"):
+        import ctypes.util as _cu
+
+        _backend = "egl" if _cu.find_library("EGL") else ("osmesa" if _cu.find_library("OSMesa") else None)
+        if _backend is not None:
+            _os.environ["MUJOCO_GL"] = _backend
+            _os.environ.setdefault("PYOPENGL_PLATFORM", _backend)
+
+from manip.articulation_action import ArticulationAction
+from manip.sim.app import SimulationApp
+from manip.sim.articulation import DOF_PROPERTIES_DTYPE, Articulation, ArticulationController, Robot, SingleArticulation
+from manip.sim.objects import (
+    DynamicCapsule,
+    DynamicCone,
+    DynamicCuboid,
+    DynamicCylinder,
+    DynamicSphere,
+    FixedCapsule,
+    FixedCone,
+    FixedCuboid,
+    FixedCylinder,
+    FixedSphere,
+    GeometryPrim,
+    GroundPlane,
+    PhysicsMaterial,
+    RigidPrim,
+    VisualCapsule,
+    VisualCone,
+    VisualCuboid,
+    VisualCylinder,
+    VisualSphere,
+    XFormPrim,
+)
+from manip.sim.recording import CameraView, OffscreenRenderingError
+from manip.sim.rotations import (
+    euler_angles_to_quat,
+    euler_angles_to_rot_matrix,
+    quat_to_euler_angles,
+    quat_to_rot_matrix,
+    rot_matrix_to_euler_angles,
+    rot_matrix_to_quat,
+)
+from manip.sim.scene import CollisionObject, Scene
+from manip.sim.stage import (
+    SimulationError,
+    add_reference_to_stage,
+    create_new_stage,
+    get_assets_root_path,
+    get_current_stage,
+    is_prim_path_valid,
+)
+from manip.sim.types import DynamicState, JointsState, XFormPrimState
+from manip.sim.world import World
+
+SingleXFormPrim = XFormPrim
+SingleRigidPrim = RigidPrim
+SingleGeometryPrim = GeometryPrim

@@ -1,0 +1,165 @@
+"""`SimulationApp`: headless by default, or MuJoCo's interactive viewer following the World.
+
+`SimulationApp({"headless": False})` opens `mujoco.viewer.launch_passive` on the World's
+model when it is compiled (and reopens it when a reset recompiles a changed stage); every
+render of the World (`world.step(render=True)`, `world.render()`, `app.update()`) syncs
+it, paced to real time. Headless runs need no display.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from typing import TYPE_CHECKING, Any
+
+from manip.errors import InvalidInputError
+from manip.sim.stage import SimulationError
+
+if TYPE_CHECKING:
+    from manip.sim.world import World
+
+logger = logging.getLogger(__name__)
+
+_APP: SimulationApp | None = None
+
+DEFAULT_CONFIG = {"headless": True, "width": 1280, "height": 720, "realtime": True}
+
+
+class SimulationApp:
+    """The application (Isaac's `SimulationApp`).
+
+    Args:
+        launch_config: {"headless": bool (default True), "realtime": bool (default True,
+            pace the viewer to real time)}; other Isaac keys (width, height, renderer, ...)
+            are accepted and ignored.
+        experience: ignored (Isaac's .kit file).
+    """
+
+    def __init__(self, launch_config: dict | None = None, experience: str = ""):
+        global _APP
+        cfg = dict(DEFAULT_CONFIG)
+        if launch_config is not None:
+            if not isinstance(launch_config, dict):
+                raise InvalidInputError(f"launch_config must be a dict; got {type(launch_config).__name__}")
+            cfg.update(launch_config)
+        self.config = cfg
+        self.headless = bool(cfg["headless"])
+        self._viewer: Any = None
+        self._viewer_model = None
+        self._closed = False
+        self._last_sync = None
+        _APP = self
+        from manip.sim.world import World
+
+        w = World.instance()
+        if w is not None and w._sim is not None:
+            self._open_viewer(w)
+
+    @property
+    def app(self) -> SimulationApp:
+        return self
+
+    def is_running(self) -> bool:
+        """False once closed, or once the viewer window was closed by the user."""
+        if self._closed:
+            return False
+        if self._viewer is not None:
+            return bool(self._viewer.is_running())
+        return True
+
+    def is_exiting(self) -> bool:
+        return not self.is_running()
+
+    def update(self) -> None:
+        """Render the World (viewer sync) without stepping physics."""
+        from manip.sim.world import World
+
+        w = World.instance()
+        if w is not None and w._sim is not None:
+            w.render()
+
+    def close(self) -> None:
+        """Close the viewer (if any) and the World's recording."""
+        global _APP
+        from manip.sim.world import World
+
+        w = World.instance()
+        if w is not None:
+            w.stop_recording()
+        self._close_viewer()
+        self._closed = True
+        if _APP is self:
+            _APP = None
+
+    def set_setting(self, name: str, value) -> None:
+        self.config[name] = value
+
+    # ------------------------------------------------------------------ viewer
+    def _open_viewer(self, world: World) -> None:
+        if self.headless or self._closed:
+            return
+        self._close_viewer()
+        try:
+            import mujoco.viewer
+
+            self._viewer = mujoco.viewer.launch_passive(world._sim.model, world._sim.data,
+                                                        show_left_ui=False, show_right_ui=False)
+        except Exception as exc:
+            raise SimulationError(
+                f"cannot open the MuJoCo viewer ({exc}); it needs a display (DISPLAY/WAYLAND_DISPLAY). "
+                "Run headless (SimulationApp({'headless': True}), the default) on machines without one."
+            ) from exc
+        self._viewer_model = world._sim.model
+        world.get_camera_view().apply(self._viewer.cam)
+
+    def _close_viewer(self) -> None:
+        if self._viewer is not None:
+            try:
+                self._viewer.close()
+            except Exception:  # already closed by the user
+                pass
+        self._viewer = None
+        self._viewer_model = None
+
+    def _sync(self, world: World) -> None:
+        if self._viewer is None:
+            return
+        if world._sim.model is not self._viewer_model:
+            self._open_viewer(world)
+        if not self._viewer.is_running():
+            return
+        world._sim.ensure_kinematics()
+        self._viewer.sync()
+        if self.config.get("realtime", True):
+            now = time.perf_counter()
+            if self._last_sync is not None:
+                wait = world.get_rendering_dt() - (now - self._last_sync)
+                if wait > 0:
+                    time.sleep(wait)
+            self._last_sync = time.perf_counter()
+
+
+def get_app() -> SimulationApp | None:
+    """The running SimulationApp, if any."""
+    return _APP
+
+
+# Hooks called by the World.
+def _world_compiled(world: World) -> None:
+    if _APP is not None and not _APP.headless:
+        _APP._open_viewer(world)
+
+
+def _world_rendered(world: World) -> None:
+    if _APP is not None and _APP._viewer is not None:
+        _APP._sync(world)
+
+
+def _world_cleared(world: World) -> None:
+    if _APP is not None:
+        _APP._close_viewer()
+
+
+def _camera_changed(world: World) -> None:
+    if _APP is not None and _APP._viewer is not None:
+        world.get_camera_view().apply(_APP._viewer.cam)

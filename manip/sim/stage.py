@@ -1,0 +1,259 @@
+"""The stage: every prim (shape, transform, referenced model file) that the World compiles.
+
+Isaac Sim keeps a USD stage; here the stage is a small registry of prims, each knowing how
+to add itself to a `mujoco.MjSpec`. Creating an object puts its prim on the stage (as
+creating a prim in Isaac does); `World.reset()` compiles the stage into a MuJoCo model.
+MuJoCo names are prefixed by the prim path: the cube at `/World/cube` is the body
+`/World/cube`, a Franka referenced at `/World/Franka` has joints `/World/Franka/panda_joint1`...
+"""
+
+from __future__ import annotations
+
+import logging
+from pathlib import Path
+from typing import Any, Callable, Protocol
+
+import mujoco
+import numpy as np
+
+from manip.errors import InvalidInputError, ManipError
+from manip.robot_config import robots_root
+
+logger = logging.getLogger(__name__)
+
+
+class SimulationError(ManipError):
+    """A misuse of the simulation API (wrong order of calls, a model that does not compile)."""
+
+
+def validate_prim_path(prim_path: str) -> str:
+    """Check that `prim_path` looks like `/World/name` (absolute, no empty or blank segment)."""
+    if not isinstance(prim_path, str) or not prim_path.startswith("/") or prim_path.endswith("/"):
+        raise InvalidInputError(f"prim_path must be an absolute path like '/World/cube'; got {prim_path!r}")
+    parts = prim_path[1:].split("/")
+    if any(not p or p != p.strip() for p in parts):
+        raise InvalidInputError(f"prim_path {prim_path!r} has an empty or blank segment")
+    return prim_path
+
+
+class SimHandle:
+    """The compiled model and its data, shared by every bound object.
+
+    After physics steps the positions are current but the derived kinematics (body and
+    geom poses, velocities) are stale; getters call `ensure_kinematics()`, which runs
+    MuJoCo's position and velocity kinematics at most once per step.
+    """
+
+    def __init__(self, model: mujoco.MjModel, data: mujoco.MjData):
+        self.model = model
+        self.data = data
+        self.kinematics_stale = True
+
+    def ensure_kinematics(self) -> None:
+        if self.kinematics_stale:
+            mujoco.mj_kinematics(self.model, self.data)
+            mujoco.mj_comPos(self.model, self.data)
+            mujoco.mj_comVel(self.model, self.data)
+            self.kinematics_stale = False
+
+    def mark_stale(self) -> None:
+        self.kinematics_stale = True
+
+
+class StagePrim(Protocol):
+    """What the stage needs from a prim."""
+
+    prim_path: str
+
+    def _build(self, spec: mujoco.MjSpec) -> None: ...
+
+    def _bind(self, sim: SimHandle) -> None: ...
+
+
+class ReferencePrim:
+    """A model file (MJCF or URDF) referenced on the stage under `prim_path`.
+
+    Every MuJoCo name of the file is prefixed by `prim_path + "/"`. Before compiling, the
+    prim's pose places the file's world frame; joints without an actuator get one (a drive
+    with zero gains), as every joint of an Isaac articulation has a drive.
+    """
+
+    def __init__(self, file_path: Path, prim_path: str):
+        self.file_path = file_path
+        self.prim_path = prim_path
+        self.prefix = prim_path + "/"
+        self.position = np.zeros(3)
+        self.orientation = np.array([1.0, 0.0, 0.0, 0.0])
+        self.home_qpos: dict[str, np.ndarray] = {}  # joint name (unprefixed) -> qpos of the 'home' key
+        # Filled by _bind:
+        self.core: Any = None
+
+    def _load_spec(self) -> mujoco.MjSpec:
+        try:
+            child = mujoco.MjSpec.from_file(str(self.file_path))
+        except Exception as exc:  # mujoco raises ValueError with the parser's message
+            raise SimulationError(f"cannot load {self.file_path} for prim {self.prim_path}: {exc}") from exc
+        return child
+
+    def _build(self, spec: mujoco.MjSpec) -> None:
+        child = self._load_spec()
+        # Make asset paths absolute: after attaching, relative paths would resolve against
+        # the parent's (non-existent) folder.
+        base = Path(child.modelfiledir or self.file_path.parent)
+        meshdir = base / (child.meshdir or "")
+        texdir = base / (child.texturedir or "")
+        for mesh in child.meshes:
+            if mesh.file and not Path(mesh.file).is_absolute():
+                mesh.file = str((meshdir / mesh.file).resolve())
+        for tex in child.textures:
+            if tex.file and not Path(tex.file).is_absolute():
+                tex.file = str((texdir / tex.file).resolve())
+        child.meshdir = ""
+        child.texturedir = ""
+        # Keyframes: remember 'home' (default joint state), drop all (their sizes would not
+        # match the assembled model).
+        self.home_qpos = {}
+        keys = list(child.keys)
+        home = next((k for k in keys if k.name == "home"), None)
+        if home is not None:
+            probe = child.copy().compile()
+            qpos = np.asarray(home.qpos, dtype=float)
+            if qpos.size == probe.nq:
+                for j in range(probe.njnt):
+                    if probe.jnt_type[j] in (mujoco.mjtJoint.mjJNT_HINGE, mujoco.mjtJoint.mjJNT_SLIDE):
+                        self.home_qpos[probe.joint(j).name] = qpos[probe.jnt_qposadr[j]].copy()
+        for k in keys:
+            child.delete(k)
+        actuated = {a.target for a in child.actuators if a.trntype == mujoco.mjtTrn.mjTRN_JOINT}
+        for joint in child.joints:
+            if joint.type in (mujoco.mjtJoint.mjJNT_HINGE, mujoco.mjtJoint.mjJNT_SLIDE) and joint.name not in actuated:
+                if not joint.name:
+                    continue
+                child.add_actuator(name=joint.name, target=joint.name, trntype=mujoco.mjtTrn.mjTRN_JOINT)
+        frame = spec.worldbody.add_frame(pos=self.position.tolist(), quat=self.orientation.tolist())
+        spec.attach(child, prefix=self.prefix, frame=frame)
+
+    def _bind(self, sim: SimHandle) -> None:
+        from manip.sim.articulation import ArticulationCore
+
+        self.core = ArticulationCore(self, sim)
+
+
+class Stage:
+    """The prims the World compiles, by prim path (insertion order is kept)."""
+
+    def __init__(self) -> None:
+        self._prims: dict[str, Any] = {}
+        self._wrappers: list[Any] = []  # objects bound after each compile (Articulations)
+        self.version = 0
+        self._callbacks: dict[str, Callable] = {}
+
+    def add_prim(self, prim: Any) -> None:
+        path = validate_prim_path(prim.prim_path)
+        if path in self._prims:
+            raise InvalidInputError(
+                f"a prim already exists at {path!r} ({type(self._prims[path]).__name__}); use another prim_path "
+                f"or remove it first"
+            )
+        for existing in self._prims:
+            if path.startswith(existing + "/") and isinstance(self._prims[existing], ReferencePrim):
+                raise InvalidInputError(
+                    f"{path!r} lies inside the referenced model at {existing!r}; objects must be created outside it"
+                )
+        self._prims[path] = prim
+        self._changed("PRIM_ADDED", path)
+
+    def remove_prim(self, prim_path: str) -> None:
+        if prim_path in self._prims:
+            del self._prims[prim_path]
+            self._wrappers = [w for w in self._wrappers if w.prim_path != prim_path]
+            self._changed("PRIM_REMOVED", prim_path)
+
+    def get_prim(self, prim_path: str) -> Any | None:
+        return self._prims.get(prim_path)
+
+    def prims(self) -> list[Any]:
+        return list(self._prims.values())
+
+    def prim_paths(self) -> list[str]:
+        return list(self._prims)
+
+    def register_wrapper(self, wrapper: Any) -> None:
+        if wrapper not in self._wrappers:
+            self._wrappers.append(wrapper)
+
+    def wrappers(self) -> list[Any]:
+        return list(self._wrappers)
+
+    def find_reference(self, prim_path: str) -> ReferencePrim | None:
+        prim = self._prims.get(prim_path)
+        return prim if isinstance(prim, ReferencePrim) else None
+
+    def _changed(self, kind: str, path: str) -> None:
+        self.version += 1
+        for fn in list(self._callbacks.values()):
+            fn(StageEvent(kind, path))
+
+    def clear(self) -> None:
+        self._prims.clear()
+        self._wrappers.clear()
+        self._changed("CLEARED", "/")
+
+
+class StageEvent:
+    """What a stage callback receives: `type` ("PRIM_ADDED", "PRIM_REMOVED", "CLEARED",
+    "COMPILED") and the prim `path`."""
+
+    def __init__(self, type: str, path: str):
+        self.type = type
+        self.path = path
+
+    def __repr__(self) -> str:
+        return f"StageEvent({self.type!r}, {self.path!r})"
+
+
+_STAGE = Stage()
+
+
+def get_current_stage() -> Stage:
+    """The stage that objects and references are created on."""
+    return _STAGE
+
+
+def create_new_stage() -> Stage:
+    """Empty the stage (all prims and wrappers are forgotten). Returns it."""
+    _STAGE.clear()
+    return _STAGE
+
+
+def is_prim_path_valid(prim_path: str) -> bool:
+    """Whether a prim exists at `prim_path` on the current stage."""
+    return prim_path in _STAGE._prims
+
+
+def get_assets_root_path() -> str:
+    """The folder of the project's robot assets (`robots/`); each robot's MuJoCo model is
+    `<root>/<name>/<name>.xml` (e.g. `franka/franka.xml`, `jetbot/jetbot.xml`)."""
+    return str(robots_root())
+
+
+def add_reference_to_stage(usd_path: str | Path, prim_path: str) -> ReferencePrim:
+    """Load an MJCF (.xml) or URDF (.urdf) file into the stage under `prim_path`.
+
+    Named `usd_path` like Isaac's; here the file is a MuJoCo model. Its names are prefixed
+    by `prim_path + "/"` once compiled by `World.reset()`.
+
+    Raises:
+        FileNotFoundError: the file does not exist.
+        InvalidInputError: the prim path is malformed or taken, or the file type is not
+            .xml/.mjcf/.urdf.
+    """
+    path = Path(usd_path).expanduser()
+    if not path.is_file():
+        raise FileNotFoundError(f"add_reference_to_stage: no file at {path}")
+    if path.suffix.lower() not in (".xml", ".mjcf", ".urdf"):
+        raise InvalidInputError(f"add_reference_to_stage: expected an MJCF (.xml) or URDF (.urdf) file; got {path}")
+    validate_prim_path(prim_path)
+    prim = ReferencePrim(path.resolve(), prim_path)
+    _STAGE.add_prim(prim)
+    return prim
