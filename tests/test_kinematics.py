@@ -1,0 +1,158 @@
+"""Forward kinematics and Jacobians: batched NumPy == Pinocchio, finite differences, errors."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from manip.errors import InvalidInputError, UnknownNameError
+from manip.kinematics import Kinematics
+from manip.pose import Pose
+
+LINKS = ["panda_link1", "panda_link4", "panda_link7", "panda_hand", "panda_hand_tcp", "panda_leftfinger"]
+
+
+def random_configs(k: Kinematics, n: int, seed: int) -> np.ndarray:
+    return np.random.default_rng(seed).uniform(k.lower, k.upper, (n, k.dof))
+
+
+def test_model_is_the_seven_arm_joints(franka_kinematics: Kinematics, franka_config):
+    k = franka_kinematics
+    assert k.dof == 7 and k.model.nq == 7
+    assert k.joint_names == tuple(f"panda_joint{i}" for i in range(1, 8))
+    np.testing.assert_array_equal(k.lower, franka_config.lower_limits)
+    np.testing.assert_array_equal(k.upper, franka_config.upper_limits)
+
+
+def test_batched_frames_equal_pinocchio(franka_kinematics: Kinematics):
+    k = franka_kinematics
+    Q = random_configs(k, 25, seed=1)
+    fids = [k.frame_id(link) for link in LINKS]
+    R, p = k.frame_transforms(Q, fids)
+    assert R.shape == (25, len(LINKS), 3, 3) and p.shape == (25, len(LINKS), 3)
+    for i, q in enumerate(Q):
+        pin.framesForwardKinematics(k.model, k.data, q)
+        for f, fid in enumerate(fids):
+            np.testing.assert_allclose(R[i, f], k.data.oMf[fid].rotation, atol=1e-12)
+            np.testing.assert_allclose(p[i, f], k.data.oMf[fid].translation, atol=1e-12)
+
+
+def test_joint_transforms_start_at_identity(franka_kinematics: Kinematics):
+    k = franka_kinematics
+    Q = random_configs(k, 4, seed=2)
+    R, p = k.joint_transforms(Q)
+    assert R.shape == (4, k.model.njoints, 3, 3) and p.shape == (4, k.model.njoints, 3)
+    np.testing.assert_array_equal(R[:, 0], np.broadcast_to(np.eye(3), (4, 3, 3)))
+    np.testing.assert_array_equal(p[:, 0], 0.0)
+    for i, q in enumerate(Q):
+        pin.forwardKinematics(k.model, k.data, q)
+        for j in range(1, k.model.njoints):
+            np.testing.assert_allclose(R[i, j], k.data.oMi[j].rotation, atol=1e-12)
+            np.testing.assert_allclose(p[i, j], k.data.oMi[j].translation, atol=1e-12)
+
+
+def test_fk_single_and_batched_agree(franka_kinematics: Kinematics):
+    k = franka_kinematics
+    Q = random_configs(k, 10, seed=3)
+    for link in LINKS:
+        batch = k.fk(Q, link)
+        assert isinstance(batch, Pose) and batch.is_batch and len(batch) == 10
+        for i, q in enumerate(Q):
+            single = k.fk(q, link)
+            assert not single.is_batch
+            assert single.isclose(batch[i], position_tol=1e-12, rotation_tol=1e-7)
+
+
+def test_fk_of_the_ready_configuration(franka_kinematics: Kinematics, franka_config):
+    # The Panda's ready pose: tool centre 0.307 m ahead of the base at 0.487 m, pointing down,
+    # the hand flange 0.1034 m above it.
+    q = franka_config.default_joint_positions
+    tcp = franka_kinematics.fk(q, "panda_hand_tcp")
+    hand = franka_kinematics.fk(q, "panda_hand")
+    np.testing.assert_allclose(tcp.position, [0.307, 0.0, 0.487], atol=2e-3)
+    np.testing.assert_allclose(tcp.rotation[:, 2], [0.0, 0.0, -1.0], atol=1e-3)
+    np.testing.assert_allclose(hand.position - tcp.position, [0.0, 0.0, 0.1034], atol=1e-3)
+
+
+def test_jacobians_equal_pinocchio(franka_kinematics: Kinematics):
+    k = franka_kinematics
+    Q = random_configs(k, 10, seed=4)
+    for link in ("panda_hand", "panda_link5", "panda_hand_tcp"):
+        fid = k.frame_id(link)
+        R, p, J = k.frame_jacobians(Q, fid)
+        assert J.shape == (10, 6, 7)
+        for i, q in enumerate(Q):
+            M = k.frame_transform(q, fid)
+            np.testing.assert_allclose(R[i], M.rotation, atol=1e-12)
+            np.testing.assert_allclose(p[i], M.translation, atol=1e-12)
+            np.testing.assert_allclose(J[i], k.frame_jacobian(q, fid), atol=1e-12)
+
+
+def test_jacobian_matches_finite_differences(franka_kinematics: Kinematics):
+    k = franka_kinematics
+    fid = k.frame_id("panda_hand_tcp")
+    h = 1e-6
+    for q in random_configs(k, 5, seed=5):
+        _, _, J = k.frame_jacobians(q[None], fid)
+        J_fd = np.empty((6, 7))
+        for j in range(7):
+            dq = np.zeros(7)
+            dq[j] = h
+            Rp, pp = k.frame_transforms((q + dq)[None], [fid])
+            Rm, pm = k.frame_transforms((q - dq)[None], [fid])
+            J_fd[:3, j] = (pp[0, 0] - pm[0, 0]) / (2 * h)
+            # world angular velocity: log(R(q + h) R(q - h)^T) / 2h
+            J_fd[3:, j] = pin.log3(Rp[0, 0] @ Rm[0, 0].T) / (2 * h)
+        np.testing.assert_allclose(J[0], J_fd, atol=1e-7)
+
+
+def test_large_batches(franka_kinematics: Kinematics):
+    k = franka_kinematics
+    Q = random_configs(k, 20_000, seed=6)
+    fid = k.frame_id("panda_hand")
+    R, p = k.frame_transforms(Q, [fid])
+    idx = [0, 1234, 19_999]
+    for i in idx:
+        M = k.frame_transform(Q[i], fid)
+        np.testing.assert_allclose(p[i, 0], M.translation, atol=1e-12)
+    # rotations stay orthonormal
+    RtR = np.einsum("nji,njk->nik", R[:, 0], R[:, 0])
+    assert np.abs(RtR - np.eye(3)).max() < 1e-12
+
+
+def test_unknown_frame_lists_the_frames(franka_kinematics: Kinematics):
+    with pytest.raises(UnknownNameError) as exc:
+        franka_kinematics.frame_id("panda_gripper")
+    msg = str(exc.value)
+    assert "panda_gripper" in msg and "panda_hand" in msg and "panda_link7" in msg
+    with pytest.raises(KeyError):
+        franka_kinematics.fk(np.zeros(7), "tool0")
+
+
+@pytest.mark.parametrize(
+    "q, match",
+    [
+        (np.zeros(6), "panda_joint1"),
+        (np.zeros((3, 8)), r"\(7,\)"),
+        (np.zeros((2, 2, 7)), "shape"),
+        (np.array([0, 0, 0, np.nan, 0, 0, 0]), "non-finite"),
+        (np.array([0, 0, 0, np.inf, 0, 0, 0]), "non-finite"),
+    ],
+)
+def test_bad_configurations(franka_kinematics: Kinematics, q: np.ndarray, match: str):
+    with pytest.raises(InvalidInputError, match=match):
+        franka_kinematics.fk(q, "panda_hand")
+
+
+def test_limits_helpers(franka_kinematics: Kinematics):
+    k = franka_kinematics
+    inside = (k.lower + k.upper) / 2
+    outside = inside.copy()
+    outside[3] = k.upper[3] + 0.1
+    assert k.within_limits(inside) and not k.within_limits(outside)
+    np.testing.assert_array_equal(k.within_limits(np.stack([inside, outside])), [True, False])
+    assert k.within_limits(outside, tolerance=0.2)
+    assert k.limit_violations(inside) == []
+    (msg,) = k.limit_violations(outside)
+    assert "panda_joint4" in msg
