@@ -1,0 +1,75 @@
+"""manip's MotionGenerator behind the same interface as the peers (`benchmarks.peers`).
+
+Set-up per problem (untimed, reported as `setup_time_s`): the problem's world is loaded with
+`mg.update_world(WorldConfig.from_dict(problem.world))`. Timed (`plan_time_s`, wall clock
+around one call): `plan_joints` or `plan_pose(..., link="panda_hand")`, i.e. IK, path,
+optimisation, ruckig timing and manip's own validation.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Any
+
+import numpy as np
+
+from benchmarks.peers import PlannerOutput
+from manip.benchmarking.mbm import goal_pose
+
+
+class ManipPlanner:
+    """`manip.MotionGenerator("franka")` as a benchmark planner.
+
+    Args:
+        time_budget: planning budget per problem [s] (None: the MotionGenerator's default).
+        **options: further keyword options of `MotionGenerator(...)`.
+    """
+
+    name = "manip"
+
+    def __init__(self, time_budget: float | None = None, **options: Any):
+        try:
+            from manip import MotionGenerator, WorldConfig
+        except ImportError:  # the lead exports these from manip/__init__.py
+            from manip.collision import WorldConfig
+            from manip.motion_generator import MotionGenerator
+        self._WorldConfig = WorldConfig
+        if time_budget is not None:
+            options["time_budget"] = time_budget
+        self.mg = MotionGenerator("franka", **options)
+        self._world: dict | None = None
+
+    def plan(self, problem: Any, goal_kind: str = "joint", seed: int = 0) -> PlannerOutput:
+        """Plan `problem` to its joint goal ("joint") or its panda_hand pose goal ("pose")."""
+        t0 = time.perf_counter()
+        if self._world is not problem.world:
+            self.mg.update_world(self._WorldConfig.from_dict(problem.world))
+            self._world = problem.world
+        setup = time.perf_counter() - t0
+        start = np.asarray(problem.start, dtype=float)
+        if goal_kind == "joint":
+            t1 = time.perf_counter()
+            r = self.mg.plan_joints(start, np.asarray(problem.goal, dtype=float), seed=seed)
+        elif goal_kind == "pose":
+            g = goal_pose(problem)  # FK, not part of planning
+            t1 = time.perf_counter()
+            r = self.mg.plan_pose(start, g, link="panda_hand", seed=seed)
+        else:
+            raise ValueError(f"goal_kind must be 'joint' or 'pose'; got {goal_kind!r}")
+        plan_time = time.perf_counter() - t1
+        tr = r.trajectory if r.success else None
+        return PlannerOutput(
+            success=bool(r.success),
+            status=r.status.name,
+            plan_time_s=plan_time,
+            times=None if tr is None else np.asarray(tr.times),
+            positions=None if tr is None else np.asarray(tr.positions),
+            velocities=None if tr is None else np.asarray(tr.velocities),
+            accelerations=None if tr is None else np.asarray(tr.accelerations),
+            jerks=None if tr is None else np.asarray(tr.jerks),
+            claims_jerk_limits=True,
+            setup_time_s=setup,
+            stage_times_s=dict(r.timings),
+            goal_configuration=None if r.goal_q is None else np.asarray(r.goal_q),
+            n_waypoints=0 if r.path is None else len(r.path),
+        )
