@@ -80,3 +80,5 @@ from manip.sim.world import World
 SingleXFormPrim = XFormPrim
 SingleRigidPrim = RigidPrim
 SingleGeometryPrim = GeometryPrim
+from manip.sim.controllers import BaseController, DifferentialController, WheelBasePoseController
+from manip.sim.robots import Franka, ParallelGripper, WheeledRobot, franka_model_path, jetbot_model_path

@@ -51,6 +51,8 @@ DOF_PROPERTIES_DTYPE = np.dtype(
 )
 
 CONTROL_MODES = ("position", "velocity", "effort")
+_HINGE = int(mujoco.mjtJoint.mjJNT_HINGE)
+_SLIDE = int(mujoco.mjtJoint.mjJNT_SLIDE)
 _LIMIT_TOLERANCE = 1e-3  # [rad or m] how far set_joint_positions may lie outside the limits
 
 
@@ -94,14 +96,14 @@ class ArticulationCore:
         names = [m.joint(j).name for j in range(m.njnt)]
         jids = [
             j for j in range(m.njnt)
-            if names[j].startswith(prefix) and m.jnt_type[j] in (mujoco.mjtJoint.mjJNT_HINGE, mujoco.mjtJoint.mjJNT_SLIDE)
+            if names[j].startswith(prefix) and int(m.jnt_type[j]) in (_HINGE, _SLIDE)
         ]
         self.joint_ids = np.array(jids, dtype=int)
         self.dof_names = [names[j][len(prefix):] for j in jids]
         self.n = len(jids)
         self.qadr = m.jnt_qposadr[self.joint_ids].astype(int)
         self.dadr = m.jnt_dofadr[self.joint_ids].astype(int)
-        self.types = np.where(m.jnt_type[self.joint_ids] == mujoco.mjtJoint.mjJNT_HINGE, 1, 2).astype(np.int32)
+        self.types = np.where(m.jnt_type[self.joint_ids] == _HINGE, 1, 2).astype(np.int32)
         self.has_limits = m.jnt_limited[self.joint_ids].astype(bool)
         rng = m.jnt_range[self.joint_ids]
         self.lower = np.where(self.has_limits, rng[:, 0], -np.inf)
@@ -114,7 +116,7 @@ class ArticulationCore:
         self.free_dadr = -1
         if self.root_ids.size == 1:
             j = m.body_jntadr[self.root_ids[0]]
-            if j >= 0 and m.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE:
+            if j >= 0 and int(m.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_FREE):
                 self.free_qadr = int(m.jnt_qposadr[j])
                 self.free_dadr = int(m.jnt_dofadr[j])
         # Pose of each root body relative to the prim frame (fixed at compile time).
@@ -130,7 +132,7 @@ class ArticulationCore:
         # Actuators, one per DoF.
         act_of_joint = {}
         for a in range(m.nu):
-            if m.actuator_trntype[a] == mujoco.mjtTrn.mjTRN_JOINT:
+            if int(m.actuator_trntype[a]) == int(mujoco.mjtTrn.mjTRN_JOINT):
                 act_of_joint.setdefault(int(m.actuator_trnid[a, 0]), a)
         missing = [self.dof_names[i] for i, j in enumerate(jids) if j not in act_of_joint]
         if missing:
@@ -138,7 +140,7 @@ class ArticulationCore:
         self.act = np.array([act_of_joint[j] for j in jids], dtype=int)
         kp = np.zeros(self.n)
         kd = np.zeros(self.n)
-        affine = m.actuator_biastype[self.act] == mujoco.mjtBias.mjBIAS_AFFINE
+        affine = m.actuator_biastype[self.act] == int(mujoco.mjtBias.mjBIAS_AFFINE)
         kp[affine] = -m.actuator_biasprm[self.act[affine], 1]
         kd[affine] = -m.actuator_biasprm[self.act[affine], 2]
         gear = m.actuator_gear[self.act, 0]

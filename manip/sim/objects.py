@@ -170,7 +170,7 @@ class XFormPrim:
         self._body_id = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, self.prim_path)
         self._mocap_id = int(m.body_mocapid[self._body_id])
         jnt = m.body_jntadr[self._body_id]
-        if jnt >= 0 and m.jnt_type[jnt] == mujoco.mjtJoint.mjJNT_FREE:
+        if jnt >= 0 and int(m.jnt_type[jnt]) == int(mujoco.mjtJoint.mjJNT_FREE):
             self._qadr = int(m.jnt_qposadr[jnt])
             self._dadr = int(m.jnt_dofadr[jnt])
 

@@ -21,13 +21,13 @@ if TYPE_CHECKING:
 logger = logging.getLogger(__name__)
 
 _GEOM_SHAPES = {
-    mujoco.mjtGeom.mjGEOM_BOX: "cuboid",
-    mujoco.mjtGeom.mjGEOM_SPHERE: "sphere",
-    mujoco.mjtGeom.mjGEOM_CYLINDER: "cylinder",
-    mujoco.mjtGeom.mjGEOM_CAPSULE: "capsule",
-    mujoco.mjtGeom.mjGEOM_ELLIPSOID: "ellipsoid",
-    mujoco.mjtGeom.mjGEOM_MESH: "mesh",
-    mujoco.mjtGeom.mjGEOM_PLANE: "plane",
+    int(mujoco.mjtGeom.mjGEOM_BOX): "cuboid",
+    int(mujoco.mjtGeom.mjGEOM_SPHERE): "sphere",
+    int(mujoco.mjtGeom.mjGEOM_CYLINDER): "cylinder",
+    int(mujoco.mjtGeom.mjGEOM_CAPSULE): "capsule",
+    int(mujoco.mjtGeom.mjGEOM_ELLIPSOID): "ellipsoid",
+    int(mujoco.mjtGeom.mjGEOM_MESH): "mesh",
+    int(mujoco.mjtGeom.mjGEOM_PLANE): "plane",
 }
 
 
@@ -210,7 +210,7 @@ class Scene:
         signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
         for g in geoms:
             c, h = m.geom_aabb[g, :3], m.geom_aabb[g, 3:]
-            if m.geom_type[g] == mujoco.mjtGeom.mjGEOM_PLANE:
+            if int(m.geom_type[g]) == int(mujoco.mjtGeom.mjGEOM_PLANE):
                 h = np.array([m.geom_size[g, 0], m.geom_size[g, 1], 0.0])
             R = d.geom_xmat[g].reshape(3, 3)
             pts = d.geom_xpos[g] + (c + signs * h) @ R.T

@@ -120,7 +120,7 @@ class ReferencePrim:
             qpos = np.asarray(home.qpos, dtype=float)
             if qpos.size == probe.nq:
                 for j in range(probe.njnt):
-                    if probe.jnt_type[j] in (mujoco.mjtJoint.mjJNT_HINGE, mujoco.mjtJoint.mjJNT_SLIDE):
+                    if int(probe.jnt_type[j]) in (int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE)):
                         self.home_qpos[probe.joint(j).name] = qpos[probe.jnt_qposadr[j]].copy()
         for k in keys:
             child.delete(k)
