@@ -82,3 +82,8 @@ SingleRigidPrim = RigidPrim
 SingleGeometryPrim = GeometryPrim
 from manip.sim.controllers import BaseController, DifferentialController, WheelBasePoseController
 from manip.sim.robots import Franka, ParallelGripper, WheeledRobot, franka_model_path, jetbot_model_path
+from manip.sim.sample import BaseSample
+from manip.sim.tasks import BaseTask, PickPlace, find_unique_string_name
+from manip.sim.views import RigidPrimView, XFormPrimView
+
+__all__ = [name for name in dir() if not name.startswith("_")]

@@ -147,6 +147,7 @@ class Stage:
         self._wrappers: list[Any] = []  # objects bound after each compile (Articulations)
         self.version = 0
         self._callbacks: dict[str, Callable] = {}
+        self.sim: SimHandle | None = None  # set by the World while a compiled model exists
 
     def add_prim(self, prim: Any) -> None:
         path = validate_prim_path(prim.prim_path)
@@ -179,8 +180,11 @@ class Stage:
         return list(self._prims)
 
     def register_wrapper(self, wrapper: Any) -> None:
+        """Remember `wrapper` to bind it after each compile (at once if compiled already)."""
         if wrapper not in self._wrappers:
             self._wrappers.append(wrapper)
+            if self.sim is not None:
+                wrapper._bind(self.sim)
 
     def wrappers(self) -> list[Any]:
         return list(self._wrappers)
@@ -195,6 +199,7 @@ class Stage:
             fn(StageEvent(kind, path))
 
     def clear(self) -> None:
+        self.sim = None
         self._prims.clear()
         self._wrappers.clear()
         self._changed("CLEARED", "/")

@@ -214,6 +214,7 @@ class World:
         for w in self._stage.wrappers():
             w._unbind()
         self._sim = None
+        self._stage.sim = None
 
     def _compile(self) -> None:
         self.stop_recording()
@@ -245,6 +246,7 @@ class World:
         for w in self._stage.wrappers():
             w._bind(sim)
         self._sim = sim
+        self._stage.sim = sim
         self._compiled_version = self._stage.version
         self._warned_dirty = False
         self._stage._changed("COMPILED", "/")

@@ -1,0 +1,194 @@
+"""Vectorised views over many prims: `XFormPrimView`, `RigidPrimView`.
+
+A view matches MuJoCo bodies whose name (= prim path) fully matches the regular expression
+`prim_paths_expr` (Isaac's expressions like "/World/Cube_.*" are regular expressions too),
+in model order. It resolves its prims when the World compiles; methods used before the
+first reset raise `SimulationError`.
+"""
+
+from __future__ import annotations
+
+import logging
+import re
+
+import mujoco
+import numpy as np
+
+from manip import quaternion as quat
+from manip.errors import InvalidInputError
+from manip.sim import _validate as V
+from manip.sim.stage import SimHandle, SimulationError, get_current_stage
+
+logger = logging.getLogger(__name__)
+
+
+class XFormPrimView:
+    """Poses of every prim matching `prim_paths_expr`.
+
+    Args:
+        prim_paths_expr: regular expression on prim paths, e.g. "/World/Cube_[0-9]+".
+        name: scene name.
+        positions, orientations: (N, 3), (N, 4) poses applied at the first binding (optional).
+    """
+
+    def __init__(self, prim_paths_expr: str, name: str = "xform_prim_view", positions=None, translations=None,
+                 orientations=None, scales=None, visibilities=None, reset_xform_properties: bool = True):
+        try:
+            self._regex = re.compile(prim_paths_expr)
+        except re.error as exc:
+            raise InvalidInputError(f"prim_paths_expr {prim_paths_expr!r} is not a valid regular expression: {exc}")
+        self.prim_paths_expr = prim_paths_expr
+        self.prim_path = prim_paths_expr
+        self._name = name
+        if positions is not None and translations is not None:
+            raise InvalidInputError("give either positions or translations, not both")
+        self._initial = (positions if positions is not None else translations, orientations)
+        self._sim: SimHandle | None = None
+        self._bodies = np.zeros(0, dtype=int)
+        self._paths: list[str] = []
+        get_current_stage().register_wrapper(self)
+
+    @property
+    def name(self) -> str:
+        return self._name
+
+    def _bind(self, sim: SimHandle) -> None:
+        m = sim.model
+        ids = [b for b in range(1, m.nbody) if self._regex.fullmatch(m.body(b).name)]
+        if not ids:
+            logger.warning("view %r: no prim matches %r", self._name, self.prim_paths_expr)
+        self._sim = sim
+        self._bodies = np.array(ids, dtype=int)
+        self._paths = [m.body(b).name for b in ids]
+        jnt = m.body_jntadr[self._bodies]
+        free = np.array([j >= 0 and int(m.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_FREE) for j in jnt], dtype=bool)
+        self._free = free
+        self._qadr = np.where(free, m.jnt_qposadr[np.maximum(jnt, 0)], -1)
+        self._dadr = np.where(free, m.jnt_dofadr[np.maximum(jnt, 0)], -1)
+        self._mocap = m.body_mocapid[self._bodies].copy()
+        p, q = self._initial
+        if p is not None or q is not None:
+            self.set_world_poses(p, q)
+            self._initial = (None, None)
+
+    def _unbind(self) -> None:
+        self._sim = None
+
+    def initialize(self, physics_sim_view=None) -> None:
+        """Nothing to do (bound when the World compiles)."""
+
+    def post_reset(self) -> None:
+        """Nothing to do: the prims restore their own default states."""
+
+    def is_valid(self) -> bool:
+        return self._sim is not None
+
+    def _need(self) -> SimHandle:
+        if self._sim is None:
+            raise SimulationError(f"view {self._name!r} is used before world.reset() compiled the world")
+        return self._sim
+
+    @property
+    def count(self) -> int:
+        """Number of matched prims (0 before the first reset)."""
+        return len(self._bodies)
+
+    @property
+    def prim_paths(self) -> list[str]:
+        return list(self._paths)
+
+    def _idx(self, indices) -> np.ndarray:
+        if indices is None:
+            return np.arange(self.count)
+        idx = np.asarray(indices, dtype=int).ravel()
+        if np.any(idx < 0) or np.any(idx >= self.count):
+            raise InvalidInputError(f"indices {idx.tolist()} out of range for a view of {self.count} prims")
+        return idx
+
+    def get_world_poses(self, indices=None) -> tuple[np.ndarray, np.ndarray]:
+        """Positions (K, 3) [m] and orientations (K, 4) (w, x, y, z)."""
+        sim = self._need()
+        idx = self._idx(indices)
+        sim.ensure_kinematics()
+        b = self._bodies[idx]
+        return sim.data.xpos[b].copy(), sim.data.xquat[b].copy()
+
+    def set_world_poses(self, positions=None, orientations=None, indices=None) -> None:
+        """Teleport free bodies and mocap prims (Visual/Fixed objects); articulation links raise."""
+        sim = self._need()
+        idx = self._idx(indices)
+        p = V.batch(positions, idx.size, 3, "positions") if positions is not None else None
+        q = quat.normalize(V.batch(orientations, idx.size, 4, "orientations")) if orientations is not None else None
+        movable = self._free[idx] | (self._mocap[idx] >= 0)
+        if not np.all(movable):
+            bad = [self._paths[i] for i in idx[~movable]]
+            raise SimulationError(f"cannot set the pose of {bad}: they are parts of articulations or fixed bodies")
+        d = sim.data
+        for k, i in enumerate(idx):
+            if self._free[i]:
+                a = self._qadr[i]
+                if p is not None:
+                    d.qpos[a:a + 3] = p[k]
+                if q is not None:
+                    d.qpos[a + 3:a + 7] = q[k]
+            else:
+                mid = self._mocap[i]
+                if p is not None:
+                    d.mocap_pos[mid] = p[k]
+                if q is not None:
+                    d.mocap_quat[mid] = q[k]
+        sim.mark_stale()
+
+    def get_local_poses(self, indices=None):
+        """Same as get_world_poses (no parent transforms)."""
+        return self.get_world_poses(indices)
+
+    def set_local_poses(self, translations=None, orientations=None, indices=None) -> None:
+        self.set_world_poses(translations, orientations, indices)
+
+
+class RigidPrimView(XFormPrimView):
+    """`XFormPrimView` plus velocities and masses of rigid bodies."""
+
+    def __init__(self, prim_paths_expr: str, name: str = "rigid_prim_view", positions=None, translations=None,
+                 orientations=None, scales=None, visibilities=None, reset_xform_properties: bool = True, **kwargs):
+        super().__init__(prim_paths_expr, name, positions, translations, orientations, scales, visibilities,
+                         reset_xform_properties)
+
+    def get_velocities(self, indices=None) -> np.ndarray:
+        """(K, 6): linear [m/s] then angular [rad/s] velocity of each body origin, world frame."""
+        sim = self._need()
+        idx = self._idx(indices)
+        sim.ensure_kinematics()
+        out = np.zeros((idx.size, 6))
+        res = np.zeros(6)
+        for k, i in enumerate(idx):
+            mujoco.mj_objectVelocity(sim.model, sim.data, mujoco.mjtObj.mjOBJ_BODY, int(self._bodies[i]), res, 0)
+            out[k, :3], out[k, 3:] = res[3:], res[:3]
+        return out
+
+    def get_linear_velocities(self, indices=None) -> np.ndarray:
+        return self.get_velocities(indices)[:, :3]
+
+    def get_angular_velocities(self, indices=None) -> np.ndarray:
+        return self.get_velocities(indices)[:, 3:]
+
+    def set_velocities(self, velocities, indices=None) -> None:
+        """Set (K, 6) linear + angular world velocities of free bodies."""
+        sim = self._need()
+        idx = self._idx(indices)
+        v = V.batch(velocities, idx.size, 6, "velocities")
+        if not np.all(self._free[idx]):
+            raise SimulationError("only free rigid bodies (Dynamic objects) have settable velocities")
+        d = sim.data
+        for k, i in enumerate(idx):
+            a, da = self._qadr[i], self._dadr[i]
+            qb = d.qpos[a + 3:a + 7]
+            d.qvel[da:da + 3] = v[k, :3]
+            d.qvel[da + 3:da + 6] = quat.to_matrix(qb / np.linalg.norm(qb)).T @ v[k, 3:]
+        sim.mark_stale()
+
+    def get_masses(self, indices=None) -> np.ndarray:
+        """(K,) [kg]."""
+        sim = self._need()
+        return sim.model.body_mass[self._bodies[self._idx(indices)]].copy()
