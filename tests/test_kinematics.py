@@ -116,6 +116,14 @@ def test_large_batches(franka_kinematics: Kinematics):
     for i in idx:
         M = k.frame_transform(Q[i], fid)
         np.testing.assert_allclose(p[i, 0], M.translation, atol=1e-12)
+    # chunked evaluation of large batches equals the small-batch evaluation
+    Rj, pj = k.joint_transforms(Q)
+    Rj_small, pj_small = k.joint_transforms(Q[idx])
+    np.testing.assert_array_equal(Rj[idx], Rj_small)
+    np.testing.assert_array_equal(pj[idx], pj_small)
+    Rf, pf, J = k.frame_jacobians(Q, fid)
+    np.testing.assert_array_equal(J[idx], k.frame_jacobians(Q[idx], fid)[2])
+    np.testing.assert_array_equal(pf, p[:, 0])
     # rotations stay orthonormal
     RtR = np.einsum("nji,njk->nik", R[:, 0], R[:, 0])
     assert np.abs(RtR - np.eye(3)).max() < 1e-12
