@@ -11,26 +11,37 @@ starts and ends with zero acceleration, so the acceleration is continuous across
 
 Two modes:
 
-* ``"exact"``: stop at every corner of the path. Each segment is rest-to-rest with
-  `Synchronization.Phase`, so all joints move in proportion and the motion stays on
-  the straight segment (the deviation is measured and reported, ~1e-12 rad).
-  Collinear waypoints are merged first, so straight runs are not interrupted.
-* ``"blend"`` (default): pass through interior waypoints with a non-zero velocity along
-  the bisector of the corner (heuristic below), which rounds the corners and is faster.
-  The motion then leaves the straight segments; every segment whose deviation (L-inf
-  distance from its straight segment [rad]) exceeds `deviation_tolerance`, or whose
-  position range leaves the position limits, has its end velocities halved, and after a
-  few halvings zeroed (which gives an exact segment), until all segments pass. Several
-  global speed levels are tried and the fastest valid result is kept; stopping
-  everywhere (the exact result) is one of them, so blending is never slower than exact.
-  The caller should collision-check the timed samples (or `at_time` densely) and fall
-  back to ``mode="exact"`` if they collide.
+* ``"exact"``: stop at every corner of the path. Each segment is rest-to-rest along its
+  straight line, timed as a 1-D ruckig problem in the arc length with the joint limits
+  projected onto the line (ruckig's own `Synchronization.Phase` falls back to time
+  synchronisation, which leaves the line, whenever the slowest joint's scaled profile
+  would break another joint's limit). The motion is on the segments up to round-off and
+  time-optimal for each straight segment. Repeated and collinear waypoints are merged
+  first, so straight runs are not interrupted.
+* ``"blend"`` (default): first, waypoints within half of `deviation_tolerance` of the
+  chord of their neighbours are dropped (Douglas-Peucker; dense paths from an optimiser
+  become a few waypoints). The motion then passes through the remaining interior
+  waypoints with a non-zero velocity along the bisector of the corner (heuristic below),
+  which is faster but leaves the straight segments. Every segment whose deviation from
+  the input path exceeds `deviation_tolerance`, or whose position range leaves the
+  position limits, has the speed caps of its ends lowered (zero after a few reductions,
+  which gives an exact segment) until all segments pass. Stopping everywhere is also
+  tried and the faster result kept, so blending is never slower than exact. The caller
+  should collision-check the timed motion (its samples or `at_time` densely) and fall
+  back to ``mode="exact"`` if it collides.
+
+Deviation is the joint-space Euclidean distance [rad] between the motion and the input
+path (the polyline through the given waypoints), an upper bound of the L-inf distance;
+it is measured every <= 10 ms with the sampling error bounded and subtracted from the
+tolerance, and reported as `TimingResult.max_deviation`.
 
 Waypoint velocity heuristic (blend): at an interior waypoint with unit incoming and
 outgoing directions `u_in`, `u_out` and turning angle `theta`, the velocity is zero if
-`theta > stop_angle`, else along `(u_in + u_out)` with speed
-`min(vmax along it, sqrt(amax along it * min(L_in, L_out))) * (1 + cos theta) / 2`
-(`L` the adjacent segment lengths) times the speed level.
+`theta > stop_angle`, else along the bisector `u_in + u_out`, with the speed capped by
+the velocity limits along it and by `sqrt(a tol / 2) / sin(theta / 2)` (the sideways
+speed that can be removed within half the tolerance at half the acceleration `a`
+along it), then limited by forward/backward reachability passes
+(`v_i^2 <= v_{i-1}^2 + a L / 2`) so neighbouring speeds are consistent.
 
 Speed and duration control: `velocity_scale`, `acceleration_scale` and `jerk_scale`
 scale the limits (MoveIt-style scaling factors in (0, 1]); `duration` stretches the
@@ -62,7 +73,7 @@ logger = logging.getLogger(__name__)
 _LIMIT_MARGIN = 1e-9
 # A segment whose ends are at rest is "exact" when it stays this close to its line [rad].
 _EXACT_DEVIATION = 1e-9
-# Blend mode: halvings of a waypoint's velocity before it is set to zero.
+# Blend mode: reductions of a waypoint's speed cap before it is set to zero.
 _MAX_HALVINGS = 4
 # Blend mode: global speed levels tried (0 = stop everywhere = exact). Measured on random
 # and smooth 7-DoF paths, lower levels (0.8 ... 0.2) beat 1.0 by < 1 % on average.
@@ -95,10 +106,10 @@ class TimingResult:
         mode: "exact" or "blend".
         minimum_duration: duration of the fastest trajectory found for this mode and these
             (scaled) limits [s], before stretching to `duration` / a multiple of `dt`.
-        max_deviation: largest L-inf distance between the timed motion and the input
-            path (the polyline through the given waypoints) [rad], measured at the samples
-            and every <= 10 ms; ~0 in exact mode, <= `deviation_tolerance` in blend mode
-            (by construction; measurement between points can miss a little).
+        max_deviation: largest joint-space distance between the timed motion and the
+            input path (the polyline through the given waypoints) [rad], Euclidean (an
+            upper bound of the L-inf distance), measured at the samples and every
+            <= 10 ms; ~0 in exact mode, <= `deviation_tolerance` in blend mode.
         waypoints: (K', dof) the waypoints used (duplicates and collinear points removed) [rad].
         waypoint_velocities: (K', dof) velocity at each waypoint [rad/s] (after time scaling).
         segment_durations: (K' - 1,) time between consecutive waypoints [s] (after scaling).
@@ -294,8 +305,26 @@ class _SegmentSolver:
         return _Segment(duration, knots, p, v, a, j, pos_min, pos_max)
 
 
-def _deviation(seg: _Segment, w0: np.ndarray, w1: np.ndarray) -> float:
-    """L-inf distance of the segment's motion from the straight segment w0-w1 [rad].
+def _polyline_distances(q: np.ndarray, path: np.ndarray) -> np.ndarray:
+    """(N,) Euclidean distance of each row of `q` (N, dof) to the polyline `path` (P, dof) [rad].
+
+    Euclidean (exact through the orthogonal projection, and symmetric enough for the
+    triangle inequalities the blend relies on); it bounds the L-inf distance from above.
+    """
+    if len(path) < 2:
+        return np.linalg.norm(q - path[0], axis=1)
+    a = path[:-1]  # (S, dof)
+    d = np.diff(path, axis=0)
+    dd = np.einsum("sd,sd->s", d, d)
+    rel = q[:, None, :] - a[None, :, :]  # (N, S, dof)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        lam = np.where(dd > 0, np.einsum("nsd,sd->ns", rel, d) / dd, 0.0)
+    lam = np.clip(lam, 0.0, 1.0)
+    return np.linalg.norm(rel - lam[:, :, None] * d[None, :, :], axis=2).min(axis=1)
+
+
+def _deviation(seg: _Segment, sub_path: np.ndarray) -> float:
+    """Distance of the segment's motion from the stretch `sub_path` of the input path [rad].
 
     Sampled every <= `_DEVIATION_STEP`; `_plan_segments` adds the sampling error bound.
     """
@@ -304,47 +333,29 @@ def _deviation(seg: _Segment, w0: np.ndarray, w1: np.ndarray) -> float:
     n = max(8, int(np.ceil(seg.duration / _DEVIATION_STEP)) + 1)
     ts = np.linspace(0.0, seg.duration, n)
     q = evaluate_pieces(seg.knots, seg.p, seg.v, seg.a, seg.j, ts)[0]
-    return _distance_to_segment(q, w0, w1)
+    return float(_polyline_distances(q, sub_path).max())
 
 
 def _path_deviation(profile: PiecewiseJerkProfile, path: np.ndarray, times: np.ndarray) -> float:
-    """Max over time of the L-inf distance from the motion to the polyline `path` [rad].
+    """Max over time of the distance from the motion to the polyline `path` [rad].
 
-    Measured at `times` and every <= `_DEVIATION_STEP`; the distance to the polyline is
-    the smallest, over its segments, L-inf residual of the Euclidean projection (an upper
-    bound of the exact L-inf distance).
+    Measured at `times` and every <= `_DEVIATION_STEP` (see `_polyline_distances`).
     """
     if len(path) < 2 or profile.duration == 0:
         return 0.0
     n = int(np.ceil(profile.duration / _DEVIATION_STEP)) + 1
     ts = np.union1d(times, np.linspace(0.0, profile.duration, n))
-    q = profile.evaluate(ts)[0]  # (N, dof)
-    a = path[:-1]  # (S, dof)
-    d = np.diff(path, axis=0)
-    dd = np.einsum("sd,sd->s", d, d)
-    rel = q[:, None, :] - a[None, :, :]  # (N, S, dof)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        lam = np.where(dd > 0, np.einsum("nsd,sd->ns", rel, d) / dd, 0.0)
-    lam = np.clip(lam, 0.0, 1.0)
-    res = np.abs(rel - lam[:, :, None] * d[None, :, :]).max(axis=2)  # (N, S)
-    return float(res.min(axis=1).max())
-
-
-def _distance_to_segment(q: np.ndarray, w0: np.ndarray, w1: np.ndarray) -> float:
-    d = w1 - w0
-    dd = float(d @ d)
-    rel = q - w0
-    lam = np.clip(rel @ d / dd, 0.0, 1.0) if dd > 0 else np.zeros(len(q))
-    return float(np.max(np.abs(rel - lam[:, None] * d[None, :]))) if len(q) else 0.0
+    return float(_polyline_distances(profile.evaluate(ts)[0], path).max())
 
 
 # ---------------------------------------------------------------------------- heuristics
 def _douglas_peucker(w: np.ndarray, tolerance: float) -> np.ndarray:
     """Indices of the waypoints to keep so every dropped one is within `tolerance` of its chord.
 
-    Distance: L-inf norm of the residual of the Euclidean projection onto the chord, an
-    upper bound of the L-inf distance; the distance to a segment is convex, so the whole
-    dropped stretch of the polyline (not only its vertices) is within `tolerance`.
+    Euclidean distance; the distance to a segment is convex, so the whole dropped stretch
+    of the polyline (not only its vertices) is within `tolerance` of the chord, and
+    (the projection onto the chord being continuous and onto) every point of the chord is
+    within `tolerance` of that stretch.
     """
     keep = np.zeros(len(w), dtype=bool)
     keep[[0, -1]] = True
@@ -353,12 +364,7 @@ def _douglas_peucker(w: np.ndarray, tolerance: float) -> np.ndarray:
         a, b = stack.pop()
         if b - a < 2:
             continue
-        inner = w[a + 1 : b]
-        d = w[b] - w[a]
-        dd = float(d @ d)
-        rel = inner - w[a]
-        lam = np.clip(rel @ d / dd, 0.0, 1.0) if dd > 0 else np.zeros(len(inner))
-        dist = np.max(np.abs(rel - lam[:, None] * d[None, :]), axis=1)
+        dist = _polyline_distances(w[a + 1 : b], w[[a, b]])
         m = int(np.argmax(dist))
         if dist[m] > tolerance:
             keep[a + 1 + m] = True
@@ -435,6 +441,7 @@ class _Plan:
 def _plan_segments(
     solver: _SegmentSolver,
     w: np.ndarray,
+    sub_paths: list[np.ndarray],
     blend: _Blend | None,
     level: float,
     lower: np.ndarray | None,
@@ -443,15 +450,16 @@ def _plan_segments(
 ) -> _Plan:
     """Solve all segments, repairing those that deviate or leave the position limits.
 
-    A bad segment halves the speed caps of its two waypoints (zero after
-    `_MAX_HALVINGS`), the reachability passes are re-run so neighbours slow down
+    A bad segment lowers the speed caps of its two waypoints (by sqrt(tolerance /
+    deviation), deviation growing about as speed^2, else by half; zero after
+    `_MAX_HALVINGS` reductions), the reachability passes are re-run so neighbours slow down
     consistently, and the segments whose end velocities changed are solved again.
     Terminates: every round lowers a cap, and all-zero velocities give exact segments.
     """
     k = len(w)
     # Sampling every h misses at most M h^2 / 8 of a maximum, where M bounds the second
-    # derivative of the residual: |q''_d| + |lambda'' d_d| <= 2 ||amax||.
-    margin = 0.25 * float(np.linalg.norm(solver.amax_used)) * _DEVIATION_STEP**2
+    # derivative of the distance to a line: ||(I - u u^T) q''|| <= ||amax||.
+    margin = 0.125 * float(np.linalg.norm(solver.amax_used)) * _DEVIATION_STEP**2
     tolerance = max(0.0, tolerance - margin)
     caps = np.zeros(k) if blend is None else blend.caps * level
     halvings = np.zeros(k, dtype=int)
@@ -462,11 +470,11 @@ def _plan_segments(
         for i in sorted(todo):
             if vel[i].any() or vel[i + 1].any():
                 seg = solver.solve(w[i], vel[i], w[i + 1], vel[i + 1])
-                seg.deviation = _deviation(seg, w[i], w[i + 1])
+                seg.deviation = _deviation(seg, sub_paths[i])
             else:
                 seg = solver.solve_line(w[i], w[i + 1])  # on the line by construction
             segs[i] = seg
-        reduce: set[int] = set()
+        reduce: dict[int, float] = {}
         for i in range(k - 1):
             seg = segs[i]
             assert seg is not None
@@ -483,13 +491,21 @@ def _plan_segments(
                     f"rest-to-rest segment {i} left its straight line by {seg.deviation:.3g} rad "
                     "or the position limits (numerical failure)"
                 )
-            reduce.update(wi for wi in (i, i + 1) if vel[wi].any())
+            # deviation grows about as speed^2: aim just below the tolerance
+            ratio = 0.5
+            if seg.deviation > tolerance > 0:
+                ratio = float(np.clip(0.9 * np.sqrt(tolerance / seg.deviation), 0.1, 0.9))
+            for wi in (i, i + 1):
+                if vel[wi].any():
+                    reduce[wi] = min(reduce.get(wi, 1.0), ratio)
         if not reduce:
             break
         assert blend is not None
-        for wi in reduce:
+        for wi, ratio in reduce.items():
             halvings[wi] += 1
-            caps[wi] = 0.0 if halvings[wi] > _MAX_HALVINGS else caps[wi] * 0.5
+            # relative to the actual speed (the cap may be above it, limited by reachability)
+            speed = float(np.linalg.norm(vel[wi]))
+            caps[wi] = 0.0 if halvings[wi] > _MAX_HALVINGS else min(caps[wi], speed) * ratio
         new_vel = blend.velocities(caps)
         changed = np.flatnonzero(np.any(new_vel != vel, axis=1))
         vel = new_vel
@@ -561,8 +577,8 @@ def time_parameterize(
             the limits widened by the same amount.
         mode: "blend" (default, round corners, faster) or "exact" (stop at every corner,
             stay on the straight segments).
-        deviation_tolerance: blend mode: max L-inf distance of the motion from each
-            straight segment [rad].
+        deviation_tolerance: blend mode: max distance of the motion from the input path
+            [rad] (joint-space Euclidean, which bounds the L-inf distance).
         stop_angle: blend mode: corners turning by more than this stop the motion [rad].
         velocity_scale: factor in (0, 1] applied to the velocity limits.
         acceleration_scale: factor in (0, 1] applied to the acceleration limits.
@@ -623,12 +639,13 @@ def time_parameterize(
             )
 
     wp = _simplify(w)
-    blend_tolerance = deviation_tolerance
+    keep = np.arange(len(wp))
     if mode == "blend" and len(wp) > 2:
         # Dense paths (e.g. from trajectory optimisation): drop waypoints within half the
-        # tolerance of their chord, keep the other half for rounding the corners.
-        wp = wp[_douglas_peucker(wp, 0.5 * deviation_tolerance)]
-        blend_tolerance = 0.5 * deviation_tolerance
+        # tolerance of their chord; the rest of the tolerance is for rounding corners.
+        keep = _douglas_peucker(wp, 0.5 * deviation_tolerance)
+    sub_paths = [wp[keep[i] : keep[i + 1] + 1] for i in range(len(keep) - 1)]
+    wp = wp[keep]
     solver = _SegmentSolver(vmax, amax, jmax)
 
     def fail(status: TimingStatus, msg: str, min_dur: float = float("nan")) -> TimingResult:
@@ -645,14 +662,15 @@ def time_parameterize(
         else:
             levels = (0.0,) if mode == "exact" else _SPEED_LEVELS
             blend = (
-                _blend_data(wp, solver.vmax_used, solver.amax_used, stop_angle, blend_tolerance)
+                _blend_data(wp, solver.vmax_used, solver.amax_used, stop_angle, 0.5 * deviation_tolerance)
                 if mode == "blend"
                 else None
             )
             best = None
             for level in levels:
                 plan = _plan_segments(
-                    solver, wp, None if level == 0.0 else blend, level, lower, upper, blend_tolerance
+                    solver, wp, sub_paths, None if level == 0.0 else blend, level, lower, upper,
+                    deviation_tolerance,
                 )
                 if best is None or plan.duration < best.duration:
                     best = plan
