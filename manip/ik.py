@@ -28,6 +28,7 @@ joint limits; a solution that fails the check is discarded, never reported.
 from __future__ import annotations
 
 import logging
+import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -48,7 +49,7 @@ logger = logging.getLogger(__name__)
 ValidityFn = Callable[[np.ndarray], np.ndarray]
 
 _INTERNAL_TOLERANCE = 1e-5  # [m] and [rad]: an attempt converges below this
-_STALL_ITERATIONS = 8       # an attempt stops when its error has not improved for this many iterations
+_STALL_ITERATIONS = 5       # an attempt stops when its error has not improved for this many iterations
 _MIN_DAMPING = 1e-9
 _MIN_LANES = 64             # the batch solver adds parallel restarts for unsolved goals below this many lanes
 
@@ -234,8 +235,8 @@ class IKSolver:
         max_iterations: int = 60,
         max_attempts: int = 50,
         seed: int = 0,
-        damping: float = 0.1,
-        max_step: float = 0.5,
+        damping: float = 0.03,
+        max_step: float = 1.0,
     ):
         if not isinstance(kinematics, Kinematics):
             raise InvalidInputError(f"kinematics must be a manip.Kinematics, got {type(kinematics).__name__}")
@@ -570,8 +571,8 @@ class IKSolver:
             M = data.oMf[fid]
             e[:3] = p_goal - M.translation
             e[3:] = pin.log3(R_goal @ M.rotation.T)
-            ep = np.sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2])
-            er = np.sqrt(e[3] * e[3] + e[4] * e[4] + e[5] * e[5])
+            ep = math.sqrt(e[:3] @ e[:3])
+            er = math.sqrt(e[3:] @ e[3:])
             if (ep <= tol_p and er <= tol_r) or it >= self.max_iterations:
                 break
             err2 = ep * ep + er * er
@@ -590,7 +591,7 @@ class IKSolver:
             step = np.abs(dq).max()
             if step > max_step:
                 dq *= max_step / step
-            q = np.clip(q + dq, lo, hi)
+            q = np.minimum(np.maximum(q + dq, lo), hi)
             it += 1
         return q, float(ep), float(er), it
 
