@@ -51,8 +51,8 @@ def smooth_path(rng, cfg, k, length=3.0):
 def polyline_distance(q, path):
     """Independent L-inf distance of each row of q (N, dof) to the polyline `path`:
     the exact L-inf distance to a segment is min over lambda in [0, 1] of a convex
-    function; found here by dense search over lambda (upper bound, 2001 values)."""
-    lam = np.linspace(0.0, 1.0, 2001)
+    function; found here by dense search over lambda (upper bound, 501 values)."""
+    lam = np.linspace(0.0, 1.0, 501)
     best = np.full(len(q), np.inf)
     for a, b in zip(path[:-1], path[1:]):
         pts = a[None, :] + lam[:, None] * (b - a)[None, :]  # (L, dof)
@@ -118,7 +118,7 @@ def test_exact_mode_stays_on_the_straight_segments(cfg):
         r = time_parameterize_for_robot(path, cfg, mode="exact")
         traj, t, q = check_valid(r, path, cfg)
         # deviation measured independently: on the polyline up to the lambda search step
-        step = np.abs(np.diff(path, axis=0)).max() / 2000
+        step = np.abs(np.diff(path, axis=0)).max() / 500
         assert polyline_distance(q[::20], path).max() <= step
         assert r.max_deviation < 1e-9
         # stops (v = 0) at every waypoint: each waypoint is reached at rest
@@ -155,21 +155,22 @@ def test_blend_within_deviation_tolerance_and_faster(cfg):
             rb = time_parameterize_for_robot(path, cfg, mode="blend", deviation_tolerance=tol)
             re = time_parameterize_for_robot(path, cfg, mode="exact")
             _, _, q = check_valid(rb, path, cfg)
-            assert polyline_distance(q[::4], path).max() <= tol
+            assert polyline_distance(q[::20], path).max() <= tol
             assert rb.max_deviation <= tol
             assert rb.minimum_duration <= re.minimum_duration
 
 
 def test_blend_much_faster_on_dense_smooth_path(cfg):
     rng = np.random.default_rng(4)
-    path = smooth_path(rng, cfg, 30)
-    rb = time_parameterize_for_robot(path, cfg)
-    re = time_parameterize_for_robot(path, cfg, mode="exact")
-    _, _, q = check_valid(rb, path, cfg)
-    assert rb.trajectory.duration < 0.5 * re.trajectory.duration
-    assert rb.max_deviation <= 0.05
-    assert polyline_distance(q[::4], path).max() <= 0.05
-    assert len(rb.waypoints) < len(path)  # dense waypoints were thinned within tolerance
+    for _ in range(3):
+        path = smooth_path(rng, cfg, 30)
+        rb = time_parameterize_for_robot(path, cfg)
+        re = time_parameterize_for_robot(path, cfg, mode="exact")
+        _, _, q = check_valid(rb, path, cfg)
+        assert rb.trajectory.duration < 0.5 * re.trajectory.duration
+        assert rb.max_deviation <= 0.05
+        assert polyline_distance(q[::20], path).max() <= 0.05
+        assert len(rb.waypoints) < len(path)  # dense waypoints were thinned within tolerance
 
 
 def test_gentle_corner_is_blended(cfg):
