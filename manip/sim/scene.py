@@ -252,10 +252,15 @@ class Scene:
             dynamic = bool(m.body_dofnum[b] > 0 or m.body_weldid[b] != 0) and m.body_mocapid[b] < 0
             obj = by_geom.get(g)
             if obj is not None:
+                # The object's frame is its body frame (MuJoCo recentres meshes, so a cone's
+                # geom frame sits at its centroid, not at the centre of its height).
                 dims = obj._shape_dimensions()
+                pose = Pose(d.xpos[b].copy(), d.xquat[b].copy())
                 verts = faces = None
                 if obj._shape == "cone":
                     verts, faces = _mesh_arrays(m, int(m.geom_dataid[g]))
+                    Rg, Rb = d.geom_xmat[g].reshape(3, 3), d.xmat[b].reshape(3, 3)
+                    verts = (verts @ Rg.T + d.geom_xpos[g] - d.xpos[b]) @ Rb
                 out.append(CollisionObject(names.get(id(obj), obj.prim_path), obj.prim_path, obj._shape, dims, pose,
                                            False, None, body, dynamic, verts, faces))
                 continue

@@ -1,0 +1,384 @@
+"""World, Scene and objects: physics behaviour, lifecycle, callbacks, errors."""
+
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+import pytest
+
+from manip.errors import InvalidInputError, UnknownNameError
+from manip.sim import (
+    ArticulationAction,
+    BaseTask,
+    DynamicCuboid,
+    DynamicSphere,
+    FixedCuboid,
+    Franka,
+    PhysicsMaterial,
+    PickPlace,
+    RigidPrimView,
+    SimulationError,
+    VisualCuboid,
+    World,
+    XFormPrimView,
+)
+
+
+def test_dropped_cube_comes_to_rest_at_half_its_size():
+    world = World()
+    world.scene.add_default_ground_plane()
+    cube = world.scene.add(DynamicCuboid("/World/cube", name="cube", position=[0.0, 0.0, 1.0], size=0.05))
+    world.reset()
+    zs = []
+    for _ in range(120):
+        world.step(render=False)
+        zs.append(cube.get_world_pose()[0][2])
+    # Free fall first: after 0.25 s it fell g t^2 / 2 = 0.31 m (within one step of drift).
+    assert zs[14] == pytest.approx(1.0 - 0.5 * 9.81 * 0.25**2, abs=0.01)
+    p, q = cube.get_world_pose()
+    assert p[2] == pytest.approx(0.025, abs=1e-3)
+    assert np.allclose(p[:2], 0.0, atol=1e-6)
+    assert np.linalg.norm(cube.get_linear_velocity()) < 1e-3
+    assert np.allclose(np.abs(q), [1, 0, 0, 0], atol=1e-6)
+
+
+def test_defaults_are_isaacs_and_render_steps_several_physics_steps():
+    world = World()
+    assert world.get_physics_dt() == pytest.approx(1 / 60)
+    assert world.get_rendering_dt() == pytest.approx(1 / 60)
+    assert world.physics_substeps == 9
+    world.set_simulation_dt(physics_dt=1 / 120, rendering_dt=1 / 30)
+    steps = []
+    world.add_physics_callback("count", lambda dt: steps.append(dt))
+    world.scene.add(DynamicSphere("/World/ball", name="ball", radius=0.05))
+    world.reset()
+    assert world.model.opt.timestep == pytest.approx(1 / 120 / 5)
+    world.step(render=True)
+    assert len(steps) == 4 and all(dt == pytest.approx(1 / 120) for dt in steps)
+    world.step(render=False)
+    assert len(steps) == 5
+    assert world.current_time_step_index == 5
+    assert world.current_time == pytest.approx(5 / 120)
+
+
+def test_physics_callbacks_fire_once_per_step_with_step_size():
+    world = World()
+    calls = []
+    world.add_physics_callback("cb", lambda step_size: calls.append((step_size, world.current_time_step_index)))
+    world.scene.add(DynamicCuboid("/World/c", name="c", size=0.1))
+    world.reset()
+    for _ in range(10):
+        world.step(render=True)
+    assert [c[0] for c in calls] == [pytest.approx(1 / 60)] * 10
+    assert [c[1] for c in calls] == list(range(10))  # before each physics step
+    assert world.physics_callback_exists("cb")
+    with pytest.raises(InvalidInputError, match="already exists"):
+        world.add_physics_callback("cb", lambda s: None)
+    world.remove_physics_callback("cb")
+    world.step()
+    assert len(calls) == 10
+    with pytest.raises(UnknownNameError):
+        world.remove_physics_callback("cb")
+
+
+def test_pause_stop_play_and_timeline_events():
+    world = World()
+    events = []
+    world.add_timeline_callback("tl", lambda e: events.append(e.type))
+    cube = world.scene.add(DynamicCuboid("/World/c", name="c", position=[0, 0, 1.0], size=0.1))
+    world.reset()
+    world.step()
+    world.pause()
+    z = cube.get_world_pose()[0][2]
+    world.step()
+    assert cube.get_world_pose()[0][2] == z and world.current_time_step_index == 1
+    world.play()
+    world.step()
+    assert cube.get_world_pose()[0][2] < z
+    world.stop()
+    assert world.is_stopped() and world.current_time == 0 and world.current_time_step_index == 0
+    world.play()  # physics restarts from the initial state
+    assert cube.get_world_pose()[0][2] == pytest.approx(1.0)
+    assert events == ["PLAY", "PAUSE", "PLAY", "STOP", "PLAY"]
+
+
+def test_reset_restores_default_states():
+    world = World()
+    world.scene.add_default_ground_plane()
+    cube = world.scene.add(DynamicCuboid("/World/c", name="c", position=[0.3, 0.0, 0.5], size=0.05))
+    franka = world.scene.add(Franka("/World/Franka", name="franka"))
+    world.reset()
+    q0 = franka.get_joint_positions()
+    franka.apply_action(ArticulationAction(joint_positions=q0 + 0.2 * np.r_[np.ones(7), 0, 0] * 0.5))
+    cube.set_linear_velocity([1.0, 0.0, 0.0])
+    for _ in range(30):
+        world.step(render=False)
+    assert not np.allclose(cube.get_world_pose()[0], [0.3, 0.0, 0.5])
+    world.reset()
+    assert world.current_time == 0 and world.current_time_step_index == 0
+    assert np.allclose(cube.get_world_pose()[0], [0.3, 0.0, 0.5])
+    assert np.allclose(cube.get_linear_velocity(), 0.0)
+    assert np.allclose(franka.get_joint_positions(), q0)
+    assert np.allclose(franka.get_applied_action().joint_positions, q0)
+    # A new default state is used by the next reset.
+    cube.set_default_state(position=[0.0, 0.4, 0.2])
+    world.reset()
+    assert np.allclose(cube.get_world_pose()[0], [0.0, 0.4, 0.2])
+
+
+def test_adding_after_a_reset_then_resetting_again():
+    world = World()
+    world.scene.add_default_ground_plane()
+    a = world.scene.add(DynamicCuboid("/World/a", name="a", position=[0, 0, 0.5], size=0.05))
+    world.reset()
+    nbody = world.model.nbody
+    b = world.scene.add(DynamicCuboid("/World/b", name="b", position=[0.5, 0, 0.5], size=0.05))
+    assert b.get_world_pose()[0][0] == 0.5  # not compiled yet: the pending pose
+    world.reset()
+    assert world.model.nbody == nbody + 1
+    for _ in range(60):
+        world.step(render=False)
+    assert b.get_world_pose()[0][2] == pytest.approx(0.025, abs=2e-3)
+    assert a.get_world_pose()[0][2] == pytest.approx(0.025, abs=2e-3)
+    world.scene.remove_object("b")
+    world.reset()
+    assert world.model.nbody == nbody
+    assert not world.scene.object_exists("b") and world.scene.get_object("b") is None
+
+
+def test_name_and_prim_path_errors():
+    world = World()
+    world.scene.add(DynamicCuboid("/World/c", name="c"))
+    with pytest.raises(InvalidInputError, match="already in the scene"):
+        world.scene.add(DynamicCuboid("/World/c2", name="c"))
+    with pytest.raises(InvalidInputError, match="already exists"):
+        DynamicCuboid("/World/c", name="other")
+    with pytest.raises(InvalidInputError, match="absolute"):
+        DynamicCuboid("World/x")
+    with pytest.raises(InvalidInputError, match="not both"):
+        DynamicCuboid("/World/y", position=[0, 0, 0], translation=[0, 0, 0])
+    with pytest.raises(InvalidInputError):
+        VisualCuboid("/World/z", mass=1.0)
+    with pytest.raises(InvalidInputError, match="finite"):
+        DynamicCuboid("/World/w", position=[0, np.nan, 0])
+    assert world.scene.get_object("missing") is None
+    with pytest.raises(InvalidInputError):
+        world.scene.remove_object("missing")
+
+
+def test_a_second_world_is_the_same_instance(caplog):
+    w1 = World()
+    with caplog.at_level(logging.WARNING):
+        w2 = World(physics_dt=0.01)
+    assert w2 is w1 and World.instance() is w1
+    assert w1.get_physics_dt() == pytest.approx(1 / 60)
+    assert "ignored" in caplog.text
+
+
+def test_families_fixed_visual_dynamic_and_materials():
+    world = World()
+    world.scene.add_default_ground_plane()
+    table = world.scene.add(FixedCuboid("/World/table", name="table", position=[0, 0, 0.1], size=0.2))
+    ghost = world.scene.add(VisualCuboid("/World/ghost", name="ghost", position=[0.5, 0, 0.1], size=0.2))
+    on_table = world.scene.add(DynamicCuboid("/World/a", name="a", position=[0, 0, 0.4], size=0.05))
+    through = world.scene.add(DynamicCuboid("/World/b", name="b", position=[0.5, 0, 0.4], size=0.05))
+    world.reset()
+    for _ in range(90):
+        world.step(render=False)
+    assert np.allclose(table.get_world_pose()[0], [0, 0, 0.1])
+    assert on_table.get_world_pose()[0][2] == pytest.approx(0.225, abs=2e-3)  # rests on the fixed box
+    assert through.get_world_pose()[0][2] == pytest.approx(0.025, abs=2e-3)  # falls through the visual box
+    # Fixed and visual objects are moved by set_world_pose.
+    ghost.set_world_pose(position=[1.0, 1.0, 1.0])
+    assert np.allclose(ghost.get_world_pose()[0], [1, 1, 1])
+    # Friction from a physics material: a sliding cube stops sooner on a rough floor.
+    assert on_table.get_mass() == pytest.approx(0.02)
+
+
+def _slide_distance(friction: float) -> float:
+    World.clear_instance()
+    from manip.sim import create_new_stage
+
+    create_new_stage()
+    world = World()
+    world.scene.add_default_ground_plane(static_friction=friction, dynamic_friction=friction)
+    cube = world.scene.add(DynamicCuboid("/World/c", name="c", position=[0, 0, 0.025], size=0.05,
+                                         physics_material=PhysicsMaterial(dynamic_friction=friction),
+                                         linear_velocity=[1.0, 0, 0]))
+    world.reset()
+    for _ in range(120):
+        world.step(render=False)
+    return float(cube.get_world_pose()[0][0])
+
+
+def test_friction_decides_how_far_a_cube_slides():
+    # v^2 / (2 mu g): 0.51 m at mu = 0.1, 0.051 m at mu = 1.
+    low, high = _slide_distance(0.1), _slide_distance(1.0)
+    assert low == pytest.approx(1.0 / (2 * 0.1 * 9.81), rel=0.1)
+    assert high == pytest.approx(1.0 / (2 * 1.0 * 9.81), rel=0.2)
+
+
+def test_collision_objects_and_aabb():
+    world = World()
+    world.scene.add_default_ground_plane()
+    world.scene.add(Franka("/World/Franka", name="franka"))
+    world.scene.add(FixedCuboid("/World/box", name="box", position=[0.5, 0.1, 0.2], size=0.1, scale=[1, 2, 3]))
+    world.scene.add(VisualCuboid("/World/ghost", name="ghost", position=[0.5, 0.5, 0.2], size=0.1))
+    from manip.sim import FixedCylinder, DynamicCone
+
+    world.scene.add(FixedCylinder("/World/cyl", name="cyl", position=[-0.5, 0, 0.3], radius=0.05, height=0.4))
+    world.scene.add(DynamicCone("/World/cone", name="cone", position=[-0.5, 0.5, 0.05], radius=0.05, height=0.1))
+    with pytest.raises(SimulationError):
+        world.scene.get_collision_objects()
+    world.reset()
+    objs = {o.name: o for o in world.scene.get_collision_objects()}
+    assert "ghost" not in objs
+    box = objs["box"]
+    assert box.shape == "cuboid" and np.allclose(box.dimensions, [0.1, 0.2, 0.3])
+    assert np.allclose(box.position, [0.5, 0.1, 0.2]) and not box.is_robot and not box.is_dynamic
+    assert objs["cyl"].shape == "cylinder" and np.allclose(objs["cyl"].dimensions, [0.05, 0.4])
+    cone = objs["cone"]
+    assert cone.shape == "cone" and cone.is_dynamic and cone.vertices.shape[1] == 3
+    assert objs["default_ground_plane"].shape == "plane"
+    robot = [o for o in objs.values() if o.is_robot]
+    assert len(robot) >= 10 and all(o.robot_prim_path == "/World/Franka" for o in robot)
+    assert all(o.vertices is not None and o.faces.shape[1] == 3 for o in robot if o.shape == "mesh")
+    # Cone mesh: apex at +h/2 in the shape frame, base disc at -h/2.
+    z = cone.pose.transform_points(cone.vertices)[:, 2] - cone.position[2]
+    assert z.max() == pytest.approx(0.05, abs=1e-6) and z.min() == pytest.approx(-0.05, abs=1e-6)
+    aabb = world.scene.compute_object_AABB("box")
+    assert np.allclose(aabb, [[0.45, 0.0, 0.05], [0.55, 0.2, 0.35]], atol=1e-9)
+
+
+def test_views_match_objects():
+    world = World()
+    cubes = [world.scene.add(DynamicCuboid(f"/World/Cube_{i}", name=f"cube{i}", position=[i * 0.2, 0, 0.5],
+                                           size=0.05)) for i in range(3)]
+    view = world.scene.add(RigidPrimView("/World/Cube_[0-9]+", name="cubes"))
+    with pytest.raises(SimulationError):
+        view.get_world_poses()
+    world.reset()
+    assert view.count == 3
+    p, q = view.get_world_poses()
+    assert np.allclose(p[:, 0], [0, 0.2, 0.4])
+    view.set_world_poses(positions=np.array([[0, 1, 1], [0, 2, 1], [0, 3, 1]]), indices=[0, 1, 2])
+    assert np.allclose(cubes[2].get_world_pose()[0], [0, 3, 1])
+    view.set_velocities(np.tile([0.0, 0, 0, 0, 0, 1.0], (3, 1)))
+    assert np.allclose(view.get_velocities()[:, 5], 1.0)
+    assert np.allclose(cubes[0].get_angular_velocity(), [0, 0, 1])
+    assert np.allclose(view.get_masses(), 0.02)
+    links = XFormPrimView("/World/NoSuchThing.*")
+    assert links.count == 0
+
+
+class CountingTask(BaseTask):
+    def __init__(self):
+        super().__init__("counting")
+        self.pre_steps = []
+        self.resets = 0
+        self.setups = 0
+
+    def set_up_scene(self, scene):
+        super().set_up_scene(scene)
+        self.setups += 1
+        self._task_objects["ball"] = scene.add(DynamicSphere("/World/ball", name="ball", radius=0.02))
+
+    def pre_step(self, time_step_index, simulation_time):
+        self.pre_steps.append((time_step_index, simulation_time))
+
+    def post_reset(self):
+        self.resets += 1
+
+    def get_observations(self):
+        return {"ball": {"position": self._task_objects["ball"].get_world_pose()[0]}}
+
+
+def test_tasks_are_set_up_once_and_stepped():
+    world = World()
+    task = CountingTask()
+    world.add_task(task)
+    with pytest.raises(InvalidInputError):
+        world.add_task(CountingTask())
+    world.reset()
+    world.reset()
+    assert task.setups == 1 and task.resets == 2
+    for _ in range(3):
+        world.step()
+    assert task.pre_steps == [(0, 0.0), (1, pytest.approx(1 / 60)), (2, pytest.approx(2 / 60))]
+    assert "ball" in world.get_observations()
+    assert world.get_task("counting") is task
+    with pytest.raises(UnknownNameError):
+        world.get_task("nope")
+
+
+def test_pick_place_task_scene_and_observations():
+    world = World()
+    world.add_task(PickPlace(cube_initial_position=[0.45, 0.1, 0.025], target_position=[0.3, -0.3, 0.025]))
+    world.reset()
+    obs = world.get_observations()
+    params = world.get_task("franka_pick_place").get_params()
+    cube_name, robot_name = params["cube_name"]["value"], params["robot_name"]["value"]
+    assert set(obs[cube_name]) == {"position", "orientation", "target_position"}
+    assert set(obs[robot_name]) == {"joint_positions", "end_effector_position"}
+    assert np.allclose(obs[cube_name]["position"], [0.45, 0.1, 0.025])
+    assert obs[robot_name]["joint_positions"].shape == (9,)
+    assert np.allclose(obs[robot_name]["joint_positions"][7:], 0.04)
+    cube = world.scene.get_object(cube_name)
+    assert cube.get_size() == pytest.approx(0.05) and 0.01 <= cube.get_mass() <= 0.05
+    for _ in range(30):
+        world.step(render=False)
+    assert cube.get_world_pose()[0][2] == pytest.approx(0.025, abs=1e-3)  # rests on the ground
+    assert not world.is_done()
+    world.get_task("franka_pick_place").set_params(cube_position=[0.3, -0.3, 0.025])
+    assert world.is_done()
+
+
+def _trajectory() -> np.ndarray:
+    World.clear_instance()
+    from manip.sim import create_new_stage
+
+    create_new_stage()
+    world = World()
+    world.scene.add_default_ground_plane()
+    franka = world.scene.add(Franka("/World/Franka", name="franka"))
+    cube = world.scene.add(DynamicCuboid("/World/c", name="c", position=[0.4, 0.0, 0.3], size=0.05,
+                                         angular_velocity=[1.0, 2.0, 0.5]))
+    world.reset()
+    target = franka.get_joint_positions() + np.r_[0.3, 0.2, -0.2, 0.3, 0.2, -0.2, 0.3, -0.02, -0.02]
+    franka.apply_action(ArticulationAction(joint_positions=target))
+    out = []
+    for _ in range(60):
+        world.step(render=False)
+        out.append(np.concatenate([franka.get_joint_positions(), *cube.get_world_pose()]))
+    return np.array(out)
+
+
+def test_determinism_same_script_same_trajectory():
+    a, b = _trajectory(), _trajectory()
+    assert np.array_equal(a, b)
+
+
+def test_recording_writes_an_mp4(tmp_path):
+    pytest.importorskip("imageio_ffmpeg")
+    from manip.sim import OffscreenRenderingError
+
+    world = World()
+    world.scene.add_default_ground_plane()
+    world.scene.add(DynamicCuboid("/World/c", name="c", position=[0, 0, 0.5], size=0.1, color=[1, 0, 0]))
+    world.reset()
+    path = tmp_path / "drop.mp4"
+    try:
+        world.start_recording(path, width=160, height=120, fps=30)
+    except OffscreenRenderingError as exc:  # pragma: no cover - machines without EGL/OSMesa
+        pytest.skip(str(exc))
+    for _ in range(30):
+        world.step(render=True)
+    assert world.stop_recording() == path
+    import imageio.v2 as imageio
+
+    reader = imageio.get_reader(str(path))
+    frames = [f for f in reader]
+    assert len(frames) == 16  # the first frame, then one every 2 steps of 1/60 s
+    assert frames[0].shape == (120, 160, 3)
+    assert not np.array_equal(frames[0], frames[-1])  # the cube fell
