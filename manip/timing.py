@@ -58,13 +58,16 @@ import logging
 import time
 from dataclasses import dataclass
 from enum import Enum
-from typing import Literal, Sequence
+from typing import TYPE_CHECKING, Any, Literal, Sequence
 
 import numpy as np
 import ruckig
 
 from manip.errors import InvalidInputError
 from manip.trajectory import PiecewiseJerkProfile, Trajectory, evaluate_pieces
+
+if TYPE_CHECKING:
+    from manip.robot_config import RobotConfig
 
 logger = logging.getLogger(__name__)
 
@@ -735,7 +738,9 @@ def time_parameterize(
     )
 
 
-def time_parameterize_for_robot(path: np.ndarray | Sequence[Sequence[float]], config, **options) -> TimingResult:
+def time_parameterize_for_robot(
+    path: np.ndarray | Sequence[Sequence[float]], config: RobotConfig, **options: Any
+) -> TimingResult:
     """`time_parameterize` with the limits and joint names of a `RobotConfig`.
 
     Args:
