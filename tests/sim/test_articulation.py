@@ -1,0 +1,238 @@
+"""Articulations and drives: tracking, teleporting, action semantics, gains, modes, errors."""
+
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+import pytest
+
+from manip.errors import InvalidInputError, UnknownNameError
+from manip.sim import (
+    ArticulationAction,
+    Franka,
+    Robot,
+    SimulationError,
+    World,
+    add_reference_to_stage,
+    get_assets_root_path,
+)
+
+ARM_TARGET = np.array([0.3, -0.4, 0.2, -2.0, 0.3, 1.9, 0.5])
+
+
+@pytest.fixture
+def franka_world():
+    world = World()
+    world.scene.add_default_ground_plane()
+    franka = world.scene.add(Franka("/World/Franka", name="franka"))
+    world.reset()
+    return world, franka
+
+
+def _ramp(world, franka, target, seconds=1.0):
+    """Smooth position targets from the current positions to `target` (7,), then hold."""
+    start = franka.get_joint_positions()[:7]
+    n = int(seconds * 60)
+    for i in range(n):
+        s = 0.5 - 0.5 * np.cos(np.pi * (i + 1) / n)
+        franka.apply_action(ArticulationAction(joint_positions=[*(start + s * (target - start)), None, None]))
+        world.step(render=False)
+
+
+def test_franka_tracks_a_reachable_joint_target(franka_world):
+    world, franka = franka_world
+    _ramp(world, franka, ARM_TARGET)
+    for _ in range(60):
+        world.step(render=False)
+    err = np.abs(franka.get_joint_positions()[:7] - ARM_TARGET)
+    assert err.max() < 0.02
+    assert np.abs(franka.get_joint_velocities()).max() < 0.01
+
+
+def test_set_joint_positions_teleports_and_holds(franka_world):
+    world, franka = franka_world
+    q = np.r_[ARM_TARGET, 0.02, 0.02]
+    franka.set_joint_positions(q)
+    assert np.array_equal(franka.get_joint_positions(), q)
+    assert np.allclose(franka.get_applied_action().joint_positions, q)  # targets follow
+    ee = franka.end_effector.get_world_pose()[0]
+    for _ in range(120):
+        world.step(render=False)
+    assert np.abs(franka.get_joint_positions() - q).max() < 0.01
+    assert np.linalg.norm(franka.end_effector.get_world_pose()[0] - ee) < 0.01
+    # Subsets by index.
+    franka.set_joint_positions([0.01, 0.01], joint_indices=[7, 8])
+    assert np.allclose(franka.gripper.get_joint_positions(), 0.01)
+
+
+def test_action_none_entries_keep_targets_and_efforts_default_to_zero(franka_world):
+    world, franka = franka_world
+    before = franka.get_applied_action()
+    franka.apply_action(ArticulationAction(joint_positions=[None] * 7 + [0.01, None]))
+    after = franka.get_applied_action()
+    assert after.joint_positions[7] == 0.01
+    assert np.array_equal(np.delete(after.joint_positions, 7), np.delete(before.joint_positions, 7))
+    # A field left None is untouched.
+    franka.apply_action(ArticulationAction(joint_velocities=np.full(9, 0.1)))
+    assert np.allclose(franka.get_applied_action().joint_positions, after.joint_positions)
+    assert np.allclose(franka.get_applied_action().joint_velocities, 0.1)
+    # Efforts: NaN -> 0.
+    franka.apply_action(ArticulationAction(joint_efforts=[1.0] + [None] * 8))
+    assert np.array_equal(franka.get_applied_action().joint_efforts, np.r_[1.0, np.zeros(8)])
+    # joint_indices address a subset.
+    franka.apply_action(ArticulationAction(joint_positions=[0.1, 0.2], joint_indices=[0, 6]))
+    t = franka.get_applied_action().joint_positions
+    assert t[0] == 0.1 and t[6] == 0.2 and t[7] == 0.01
+
+
+def test_gripper_forward_is_full_length_and_moves_the_fingers(franka_world):
+    world, franka = franka_world
+    a = franka.gripper.forward("close")
+    assert a.get_length() == 9
+    assert np.all(np.isnan(a.joint_positions[:7])) and np.array_equal(a.joint_positions[7:], [0.0, 0.0])
+    franka.gripper.close()
+    for _ in range(30):
+        world.step(render=False)
+    assert np.all(franka.gripper.get_joint_positions() < 0.002)
+    franka.gripper.open()
+    for _ in range(30):
+        world.step(render=False)
+    assert np.allclose(franka.gripper.get_joint_positions(), 0.04, atol=0.002)
+    with pytest.raises(InvalidInputError):
+        franka.gripper.forward("squeeze")
+
+
+def test_bad_actions_raise_and_leave_the_state_unchanged(franka_world):
+    world, franka = franka_world
+    ctrl = franka.get_articulation_controller()
+    before = ctrl.get_applied_action()
+    q = franka.get_joint_positions()
+    with pytest.raises(InvalidInputError, match="9 DoF"):
+        ctrl.apply_action(ArticulationAction(joint_positions=np.zeros(7)))
+    with pytest.raises(InvalidInputError, match="out of range"):
+        ctrl.apply_action(ArticulationAction(joint_positions=[0.0], joint_indices=[9]))
+    with pytest.raises(InvalidInputError):
+        ArticulationAction(joint_positions=[np.inf] * 9)
+    with pytest.raises(InvalidInputError, match="finite"):
+        franka.set_joint_positions(np.r_[np.nan, q[1:]])
+    with pytest.raises(InvalidInputError, match="outside the joint limits"):
+        franka.set_joint_positions(np.r_[5.0, q[1:]])
+    with pytest.raises(InvalidInputError, match="entries"):
+        franka.set_joint_positions(q[:3])
+    with pytest.raises(InvalidInputError):
+        ctrl.apply_action({"joint_positions": q})
+    after = ctrl.get_applied_action()
+    for f in ("joint_positions", "joint_velocities", "joint_efforts"):
+        assert np.array_equal(getattr(before, f), getattr(after, f))
+    assert np.array_equal(franka.get_joint_positions(), q)
+
+
+def test_getters_before_the_first_reset_return_none_with_a_warning(caplog):
+    world = World()
+    franka = world.scene.add(Franka("/World/Franka", name="franka"))
+    with caplog.at_level(logging.WARNING):
+        assert franka.num_dof is None
+        assert franka.dof_names is None
+        assert franka.get_joint_positions() is None
+        assert franka.dof_properties is None
+    assert "before the first World.reset()" in caplog.text
+    with pytest.raises(SimulationError, match="reset"):
+        franka.set_joint_positions(np.zeros(9))
+    with pytest.raises(SimulationError):
+        franka.get_articulation_controller().apply_action(ArticulationAction(joint_positions=np.zeros(9)))
+    world.reset()
+    assert franka.num_dof == 9
+
+
+def test_dof_names_index_and_properties(franka_world):
+    world, franka = franka_world
+    assert franka.dof_names == [f"panda_joint{i}" for i in range(1, 8)] + ["panda_finger_joint1", "panda_finger_joint2"]
+    assert franka.get_dof_index("panda_finger_joint2") == 8
+    with pytest.raises(UnknownNameError, match="panda_joint1"):
+        franka.get_dof_index("joint_x")
+    props = franka.dof_properties
+    assert props.dtype.names == ("type", "hasLimits", "lower", "upper", "driveMode", "maxVelocity", "maxEffort",
+                                 "stiffness", "damping")
+    assert list(props["type"]) == [1] * 7 + [2, 2]
+    assert np.all(props["hasLimits"]) and np.all(props["driveMode"] == 1)
+    assert props["lower"][3] == pytest.approx(-3.0718) and props["upper"][7] == pytest.approx(0.04)
+    assert props["maxEffort"][0] == pytest.approx(87) and props["maxEffort"][6] == pytest.approx(12)
+    assert props["maxVelocity"][0] == pytest.approx(2.175)
+    kps, kds = franka.get_articulation_controller().get_gains()
+    assert np.allclose(props["stiffness"], kps) and np.allclose(props["damping"], kds) and np.all(kps > 0)
+
+
+def test_gains_and_modes_change_the_physics(franka_world):
+    world, franka = franka_world
+    ctrl = franka.get_articulation_controller()
+    kps, kds = ctrl.get_gains()
+    ctrl.switch_control_mode("effort")
+    assert np.all(franka.dof_properties["driveMode"] == 0)
+    q0 = franka.get_joint_positions()
+    for _ in range(30):
+        world.step(render=False)
+    assert np.abs(franka.get_joint_positions() - q0)[:7].max() > 0.05  # the arm sags without drives
+    ctrl.switch_control_mode("position")
+    assert np.allclose(ctrl.get_gains()[0], kps)
+    ctrl.set_gains(kps=kps * 2, kds=kds)
+    assert np.allclose(franka.dof_properties["stiffness"], kps * 2)
+    ctrl.set_max_efforts([50.0], joint_indices=[0])
+    assert ctrl.get_max_efforts()[0] == 50.0
+    with pytest.raises(InvalidInputError):
+        ctrl.set_gains(kps=-kps)
+    with pytest.raises(InvalidInputError):
+        ctrl.switch_control_mode("torque")
+    world.reset()  # post_reset restores the default gains and limits
+    assert np.allclose(ctrl.get_gains()[0], kps) and ctrl.get_max_efforts()[0] == pytest.approx(87)
+    assert np.allclose(franka.get_joint_positions(), q0)
+
+
+def test_effort_and_velocity_modes_on_a_slider(slider_file):
+    world = World(gravity=(0.0, 0.0, 0.0))
+    add_reference_to_stage(slider_file, "/World/Slider")
+    robot = world.scene.add(Robot("/World/Slider", name="slider"))
+    world.reset()
+    ctrl = robot.get_articulation_controller()
+    assert robot.dof_properties["driveMode"][0] == 0  # no actuator in the file: no drive gains
+    # Effort: F = 2 N on 1 kg for 0.5 s -> v = 1 m/s, x = 0.25 m.
+    ctrl.apply_action(ArticulationAction(joint_efforts=[2.0]))
+    for _ in range(30):
+        world.step(render=False)
+    assert robot.get_joint_velocities()[0] == pytest.approx(1.0, rel=1e-6)
+    # Semi-implicit Euler over 270 substeps of 1/540 s: x = a dt^2 n (n + 1) / 2.
+    n, dt = 30 * world.physics_substeps, world.model.opt.timestep
+    assert robot.get_joint_positions()[0] == pytest.approx(2.0 * dt * dt * n * (n + 1) / 2, rel=1e-9)
+    # Velocity drive: kd = 50 N s/m, target 0.3 m/s -> converges with time constant m/kd = 0.02 s.
+    ctrl.apply_action(ArticulationAction(joint_efforts=[0.0], joint_velocities=[0.3]))
+    ctrl.set_gains(kps=[0.0], kds=[50.0])
+    assert robot.dof_properties["driveMode"][0] == 2
+    for _ in range(30):
+        world.step(render=False)
+    assert robot.get_joint_velocities()[0] == pytest.approx(0.3, abs=1e-6)
+    # Position drive: kp = 100 N/m, kd = 20 N s/m (critically damped) settles at the target.
+    ctrl.set_gains(kps=[100.0], kds=[20.0])
+    ctrl.apply_action(ArticulationAction(joint_positions=[0.5], joint_velocities=[0.0]))
+    for _ in range(120):
+        world.step(render=False)
+    assert robot.get_joint_positions()[0] == pytest.approx(0.5, abs=1e-3)
+    assert robot.get_applied_joint_efforts()[0] == pytest.approx(0.0, abs=0.1)
+
+
+def test_robot_pose_and_unknown_prim():
+    world = World()
+    with pytest.raises(SimulationError, match="add_reference_to_stage"):
+        Robot("/World/Nothing")
+    with pytest.raises(FileNotFoundError):
+        add_reference_to_stage("/no/such/file.xml", "/World/X")
+    path = get_assets_root_path() + "/franka/franka.xml"
+    add_reference_to_stage(path, "/World/Franka")
+    robot = world.scene.add(Robot("/World/Franka", name="franka", position=[1.0, 0.5, 0.0]))
+    world.reset()
+    p, q = robot.get_world_pose()
+    assert np.allclose(p, [1.0, 0.5, 0.0]) and np.allclose(q, [1, 0, 0, 0])
+    robot.set_world_pose(position=[0.0, 0.0, 0.1])
+    assert np.allclose(robot.get_world_pose()[0], [0.0, 0.0, 0.1])
+    world.reset()
+    assert np.allclose(robot.get_world_pose()[0], [1.0, 0.5, 0.0])
+    assert robot.num_bodies == 11
