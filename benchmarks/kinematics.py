@@ -51,6 +51,7 @@ def machine() -> dict:
         "numpy": np.__version__,
         "pinocchio": pin.__version__,
         "date": dt.datetime.now().strftime("%Y-%m-%d %H:%M"),
+        "load_average_1min": os.getloadavg()[0] if hasattr(os, "getloadavg") else None,
     }
 
 
@@ -217,7 +218,7 @@ def table(res: dict) -> str:
     w = max(len(r[0]) for r in rows)
     lines = [
         f"Machine: {m['cpu']}, {m['cores']} cores; Python {m['python']}, NumPy {m['numpy']}, "
-        f"Pinocchio {m['pinocchio']}; {m['date']}",
+        f"Pinocchio {m['pinocchio']}; {m['date']}; load average at start {m['load_average_1min']:.1f}",
         "",
         f"| {'measure'.ljust(w)} | result |",
         f"|{'-' * (w + 2)}|--------|",

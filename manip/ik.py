@@ -51,6 +51,7 @@ ValidityFn = Callable[[np.ndarray], np.ndarray]
 _INTERNAL_TOLERANCE = 1e-5  # [m] and [rad]: an attempt converges below this
 _STALL_ITERATIONS = 5       # an attempt stops when its error has not improved for this many iterations
 _MIN_DAMPING = 1e-9
+_CHOLESKY_MIN_BATCH = 256  # batches at least this large use the vectorised Cholesky solve
 _MIN_LANES = 64             # the batch solver adds parallel restarts for unsolved goals below this many lanes
 
 
@@ -199,6 +200,39 @@ class _LazyRng:
         if self._rng is None:
             self._rng = np.random.default_rng(self._seed)
         return self._rng.uniform(low, high, size)
+
+
+def _solve_spd(A: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """x (N, m, 1) solving A x = b for symmetric positive definite A (N, m, m), b (N, m, 1).
+
+    Large batches use a Cholesky factorisation vectorised over the batch (each scalar
+    operation runs on N values at once: ~3x faster than LAPACK per 6x6 matrix at N = 1000);
+    rows it cannot factor (a pivot <= 0 from rounding) and small batches go to np.linalg.solve.
+    """
+    n_batch, m = A.shape[0], A.shape[1]
+    if n_batch < _CHOLESKY_MIN_BATCH:
+        return np.linalg.solve(A, b)
+    M = np.ascontiguousarray(np.moveaxis(A, 0, -1))  # (m, m, N)
+    L = np.zeros_like(M)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        for j in range(m):
+            d = M[j, j] - np.einsum("kn,kn->n", L[j, :j], L[j, :j]) if j else M[j, j].copy()
+            L[j, j] = np.sqrt(d)
+            if j + 1 < m:
+                s = M[j + 1 :, j] - (np.einsum("ikn,kn->in", L[j + 1 :, :j], L[j, :j]) if j else 0.0)
+                L[j + 1 :, j] = s / L[j, j]
+        bt = b[:, :, 0].T
+        y = np.empty((m, n_batch))
+        for i in range(m):
+            y[i] = (bt[i] - (np.einsum("kn,kn->n", L[i, :i], y[:i]) if i else 0.0)) / L[i, i]
+        x = np.empty_like(y)
+        for i in reversed(range(m)):
+            x[i] = (y[i] - (np.einsum("kn,kn->n", L[i + 1 :, i], x[i + 1 :]) if i + 1 < m else 0.0)) / L[i, i]
+    x = x.T[:, :, None]
+    bad = ~np.all(np.isfinite(x[:, :, 0]), axis=1)
+    if bad.any():
+        x[bad] = np.linalg.solve(A[bad], b[bad])
+    return x
 
 
 def _freeze(a: np.ndarray) -> np.ndarray:
@@ -686,6 +720,7 @@ class IKSolver:
         # lane state
         goal = np.flatnonzero(~far)
         Q = q0[goal]
+        Rg, pg = R_goal[goal], p_goal[goal]  # per-lane goals
         attempts[goal] = 1
         it_attempt = np.zeros(goal.size, dtype=int)
         best_err = np.full(goal.size, np.inf)
@@ -700,8 +735,8 @@ class IKSolver:
                 break
             R, p, J = k.frame_jacobians(Q, fid)
             e = np.empty((goal.size, 6))
-            e[:, :3] = p_goal[goal] - p
-            e[:, 3:] = _log3_batch(R_goal[goal] @ np.swapaxes(R, 1, 2))
+            e[:, :3] = pg - p
+            e[:, 3:] = _log3_batch(Rg @ np.swapaxes(R, 1, 2))
             ep = np.sqrt(np.einsum("ij,ij->i", e[:, :3], e[:, :3]))
             er = np.sqrt(np.einsum("ij,ij->i", e[:, 3:], e[:, 3:]))
             err2 = ep * ep + er * er
@@ -719,7 +754,7 @@ class IKSolver:
                 e_idx = np.flatnonzero(ended)
                 good = e_idx[(ep[e_idx] <= self.position_tolerance) & (er[e_idx] <= self.rotation_tolerance)]
                 if good.size:
-                    good = good[self._verify_batch(Q[good], fid, R_goal[goal[good]], p_goal[goal[good]])]
+                    good = good[self._verify_batch(Q[good], fid, Rg[good], pg[good])]
                 if good.size and validity_fn is not None:
                     ok = np.asarray(validity_fn(Q[good]), dtype=bool).reshape(-1)
                     rejected[goal[good[~ok]]] = True
@@ -747,12 +782,12 @@ class IKSolver:
 
             step = ~ended & ~done[goal]
             if step.any():
-                s = np.flatnonzero(step)
+                s = slice(None) if step.all() else np.flatnonzero(step)
                 Js = J[s]
                 JsT = np.swapaxes(Js, 1, 2)
                 lam = self.damping * err2[s] + _MIN_DAMPING
                 es = e[s][:, :, None]
-                dq = (JsT @ np.linalg.solve(Js @ JsT + lam[:, None, None] * eye6, es))[:, :, 0]
+                dq = (JsT @ _solve_spd(Js @ JsT + lam[:, None, None] * eye6, es))[:, :, 0]
                 Qs = Q[s]
                 blocked = ((Qs <= lo) & (dq < 0)) | ((Qs >= hi) & (dq > 0))
                 b = np.flatnonzero(blocked.any(axis=1))
@@ -760,7 +795,7 @@ class IKSolver:
                     # joints held at a limit take no part in the step; the others compensate
                     Jb = Js[b] * ~blocked[b][:, None, :]
                     Ab = Jb @ np.swapaxes(Jb, 1, 2) + lam[b, None, None] * eye6
-                    dq[b] = (np.swapaxes(Jb, 1, 2) @ np.linalg.solve(Ab, es[b]))[:, :, 0]
+                    dq[b] = (np.swapaxes(Jb, 1, 2) @ _solve_spd(Ab, es[b]))[:, :, 0]
                 big = np.abs(dq).max(axis=1)
                 scale = np.where(big > self.max_step, self.max_step / np.maximum(big, 1e-300), 1.0)
                 Q[s] = np.clip(Qs + dq * scale[:, None], lo, hi)
@@ -774,8 +809,9 @@ class IKSolver:
                 best_err[r] = np.inf
                 best_it[r] = 0
             keep = step | restart
-            goal, Q = goal[keep], Q[keep]
-            it_attempt, best_err, best_it = it_attempt[keep], best_err[keep], best_it[keep]
+            if not keep.all():
+                goal, Q, Rg, pg = goal[keep], Q[keep], Rg[keep], pg[keep]
+                it_attempt, best_err, best_it = it_attempt[keep], best_err[keep], best_it[keep]
 
             # parallel restarts for the stragglers
             if goal.size < _MIN_LANES:
@@ -786,6 +822,8 @@ class IKSolver:
                     new_goal = np.repeat(open_goals, extra)
                     attempts[open_goals] += extra
                     goal = np.concatenate([goal, new_goal])
+                    Rg = np.concatenate([Rg, R_goal[new_goal]])
+                    pg = np.concatenate([pg, p_goal[new_goal]])
                     Q = np.concatenate([Q, rng.uniform(lo, hi, (new_goal.size, dof))])
                     it_attempt = np.concatenate([it_attempt, np.zeros(new_goal.size, dtype=int)])
                     best_err = np.concatenate([best_err, np.full(new_goal.size, np.inf)])
