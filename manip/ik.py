@@ -14,11 +14,21 @@ The iteration (for one goal) is
 with J the (6, 7) world-aligned frame Jacobian. The damping that grows with the squared
 error is Sugihara's choice (T. Sugihara, "Solvability-unconcerned inverse kinematics by the
 Levenberg-Marquardt method", IEEE T-RO 2011): long, careful steps far from the goal,
-Gauss-Newton (quadratic) convergence close to it. The clip keeps every iterate within the
-joint limits, so the answer never needs clamping afterwards. An attempt stops when the
-error is below the internal tolerance (1e-5 m / 1e-5 rad, tighter than the success
-tolerances), when it stalls, or after `max_iterations`; the next attempt starts from a
-uniformly random configuration within the limits.
+Gauss-Newton (quadratic) convergence close to it. Joints sitting at a limit whose step
+points outwards are removed from J for that step (their columns zeroed), so the other
+joints make up for them instead of the step being lost to the clip. The clip keeps every
+iterate within the joint limits, so the answer never needs clamping afterwards. The step
+is scaled so no joint moves more than `max_step`. An attempt stops when the error is below
+the internal tolerance (1e-5 m / 1e-5 rad, much tighter than the success tolerances), when
+it has not improved for a few iterations, or after `max_iterations`; the next attempt
+starts from a uniformly random configuration within the limits.
+
+The batch solver runs one "lane" per attempt; once most goals are solved, the remaining
+ones get several lanes at once (parallel random restarts), so a few hard goals cost a few
+small NumPy iterations instead of many sequential attempts.
+
+mink (a QP per step) was measured for comparison in benchmarks/kinematics.py: same success
+rate, several times slower per solve on this problem.
 
 Every claimed success is re-checked with an independent forward kinematics (Pinocchio's
 full model, fingers included, a different code path from the solver's) and against the
