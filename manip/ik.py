@@ -441,9 +441,9 @@ class IKSolver:
     ) -> np.ndarray:
         """Several distinct solutions of one goal, nearest `seed_q` first.
 
-        Runs `num_seeds` attempts in one vectorised batch (the first from `seed_q`, the
-        others from random configurations, each restarted up to 3 times), keeps the
-        verified solutions that `validity_fn` accepts, and drops near-duplicates.
+        Runs up to `num_seeds` attempts (the first from `seed_q`, the others from random
+        configurations) until `n` distinct solutions are found, keeping the verified
+        solutions that `validity_fn` accepts and dropping near-duplicates.
 
         Args:
             goal: single Pose of `link` in the base frame.
@@ -451,7 +451,7 @@ class IKSolver:
             n: largest number of solutions to return.
             seed_q: (dof,) reference configuration (default: the default configuration).
             validity_fn: optional Q (K, dof) -> (K,) bool filter (e.g. collision-free).
-            num_seeds: parallel attempts (default max(4 n, 16)).
+            num_seeds: most attempts made (default max(4 n, 16)).
             min_distance: two solutions closer than this [rad, max over joints] count as one.
             seed: seed of the random starts (default: the solver's).
 
@@ -471,26 +471,28 @@ class IKSolver:
         m = max(4 * n, 16) if num_seeds is None else int(num_seeds)
         if m < 1:
             raise InvalidInputError(f"num_seeds must be >= 1, got {num_seeds}")
-        rng = np.random.default_rng(self.seed if seed is None else seed)
-        dof = self.kinematics.dof
+        rng = _LazyRng(self.seed if seed is None else seed)
+        k = self.kinematics
         if self._out_of_reach(fid, goal.position[None])[0]:
-            return np.empty((0, dof))
-        starts = rng.uniform(self.kinematics.lower, self.kinematics.upper, (m, dof))
-        starts[0] = np.clip(q_ref, self.kinematics.lower, self.kinematics.upper)
-        R_goal = np.broadcast_to(goal.rotation, (m, 3, 3))
-        p_goal = np.broadcast_to(goal.position, (m, 3))
-        q, success, *_ = self._batch_core(
-            R_goal, p_goal, fid, starts, rng, validity_fn, 3, time.perf_counter(), None
-        )
-        sols = q[success]
-        sols = sols[np.argsort(np.linalg.norm(sols - q_ref, axis=1), kind="stable")]
+            return np.empty((0, k.dof))
+        R_goal, p_goal = goal.rotation, goal.position
         kept: list[np.ndarray] = []
-        for s in sols:
-            if all(np.max(np.abs(s - k)) >= min_distance for k in kept):
-                kept.append(s)
-                if len(kept) == n:
-                    break
-        return np.array(kept).reshape(-1, dof)
+        for attempt in range(m):
+            q0 = np.clip(q_ref, k.lower, k.upper) if attempt == 0 else rng.uniform(k.lower, k.upper)
+            q, ep, er, _ = self._attempt(q0, fid, R_goal, p_goal)
+            if ep > self.position_tolerance or er > self.rotation_tolerance:
+                continue
+            if any(np.max(np.abs(q - other)) < min_distance for other in kept):
+                continue
+            if not self._verify(q, fid, R_goal, p_goal):
+                continue
+            if validity_fn is not None and not bool(np.asarray(validity_fn(q[None])).reshape(-1)[0]):
+                continue
+            kept.append(q)
+            if len(kept) == n:
+                break
+        sols = np.array(kept).reshape(-1, k.dof)
+        return sols[np.argsort(np.linalg.norm(sols - q_ref, axis=1), kind="stable")]
 
     # ------------------------------------------------------------------ validation
     def _check_goal(self, goal: object, batched: bool) -> None:
