@@ -9,6 +9,8 @@ it, paced to real time. Headless runs need no display.
 from __future__ import annotations
 
 import logging
+import os
+import sys
 import time
 from typing import TYPE_CHECKING, Any
 
@@ -99,6 +101,12 @@ class SimulationApp:
         if self.headless or self._closed:
             return
         self._close_viewer()
+        if sys.platform.startswith("linux") and not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+            # MuJoCo's viewer aborts the process when GLFW cannot open a window: check first.
+            raise SimulationError(
+                "cannot open the MuJoCo viewer: no display (DISPLAY/WAYLAND_DISPLAY unset). Run headless "
+                "(SimulationApp({'headless': True}), the default) or record a video instead."
+            )
         try:
             import mujoco.viewer
 
