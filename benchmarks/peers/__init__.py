@@ -118,9 +118,11 @@ _NOT_HERE: dict[str, str] = {
         "package registries; its published figures are quoted in BENCHMARKS.md instead"
     ),
     "mplib": (
-        "not runnable here: mplib's wheels require numpy < 2 while manip uses numpy 2, and it "
-        "is not installed in manip's environment; see benchmarks/peers/README.md for what was "
-        "tried in a separate venv"
+        "not included: mplib 0.2.1 needs numpy < 2 (manip uses numpy 2), so it cannot share "
+        "manip's process; it installs and plans in a separate venv, but its Python API exposes "
+        "no edge collision-check resolution (OMPL's default, 1 % of the joint-space extent, "
+        "about 0.13 rad), so it cannot be run under the 0.01 rad rule of the other planners; "
+        "see benchmarks/peers/README.md"
     ),
 }
 
