@@ -62,7 +62,7 @@ _INTERNAL_TOLERANCE = 1e-5  # [m] and [rad]: an attempt converges below this
 _STALL_ITERATIONS = 5       # an attempt stops when its error has not improved for this many iterations
 _MIN_DAMPING = 1e-9
 _CHOLESKY_MIN_BATCH = 256  # batches at least this large use the vectorised Cholesky solve
-_MIN_LANES = 64             # the batch solver adds parallel restarts for unsolved goals below this many lanes
+_MIN_LANES = 256            # the batch solver adds parallel restarts for unsolved goals below this many lanes
 
 
 class IKStatus(Enum):
@@ -277,7 +277,7 @@ class IKSolver:
         position_tolerance: float = 1e-3,
         rotation_tolerance: float = 0.01,
         max_iterations: int = 60,
-        max_attempts: int = 50,
+        max_attempts: int = 100,
         seed: int = 0,
         damping: float = 0.03,
         max_step: float = 1.0,
@@ -701,9 +701,9 @@ class IKSolver:
         Every goal starts with one lane from its `q_start`. A lane that ends without a
         verified, valid solution restarts from a random configuration while its goal has
         attempts left; when fewer than `_MIN_LANES` lanes are running, the goals still
-        unsolved get extra lanes (parallel random restarts), so stragglers cost a few
-        small NumPy iterations rather than many sequential attempts. A goal is done at its
-        first verified solution.
+        unsolved (whose seeded attempt has failed) get extra lanes (parallel random
+        restarts), so stragglers cost a few NumPy iterations rather than many sequential
+        attempts. A goal is done at its first verified solution.
         """
         k = self.kinematics
         n, dof = q_start.shape
@@ -719,6 +719,7 @@ class IKSolver:
         iters = np.zeros(n, dtype=int)
         attempts = np.zeros(n, dtype=int)
         status: list[IKStatus] = [IKStatus.NOT_CONVERGED] * n
+        seed_over = np.zeros(n, dtype=bool)  # the goal's seeded first attempt has ended
 
         far = self._out_of_reach(fid, p_goal)
         for i in np.flatnonzero(far):
@@ -781,6 +782,7 @@ class IKSolver:
                 for i in g:
                     status[i] = IKStatus.SUCCESS
                 failed = np.setdiff1d(e_idx, good, assume_unique=True)
+                seed_over[goal[failed]] = True
                 cost = ep[failed] / self.position_tolerance + er[failed] / self.rotation_tolerance
                 for lane, c in zip(failed, cost):  # few per iteration
                     gi = goal[lane]
@@ -827,7 +829,8 @@ class IKSolver:
 
             # parallel restarts for the stragglers
             if goal.size < _MIN_LANES:
-                open_goals = np.flatnonzero(~done & (attempts < max_attempts))
+                # only goals whose first (seeded) attempt failed: a seeded solution stays the answer
+                open_goals = np.flatnonzero(~done & seed_over & (attempts < max_attempts))
                 if open_goals.size:
                     per_goal = max(1, (_MIN_LANES - goal.size) // open_goals.size)
                     extra = np.minimum(per_goal, max_attempts - attempts[open_goals])
