@@ -130,8 +130,40 @@ class Recorder:
         logger.info("wrote %d frames to %s", self.frames, self.path)
 
 
+def _switch_to_headless_backend() -> bool:
+    """If mujoco was imported before MUJOCO_GL was set (so it chose GLFW, which needs a
+    display), point its renderer at EGL or OSMesa instead. Returns whether it switched."""
+    if os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY") or os.environ.get("MUJOCO_GL"):
+        return False
+    backend = choose_gl_backend()
+    if backend is None:
+        return False
+    try:
+        from mujoco.rendering.classic import gl_context
+
+        if backend == "egl":
+            from mujoco.egl import GLContext
+        else:
+            from mujoco.osmesa import GLContext
+        gl_context.GLContext = GLContext
+    except Exception as exc:  # PyOpenGL bound to another platform, missing module...
+        logger.debug("cannot switch MuJoCo's renderer to %s: %s", backend, exc)
+        return False
+    os.environ["MUJOCO_GL"] = backend
+    logger.info("no display: MuJoCo renders offscreen through %s", backend)
+    return True
+
+
 def make_renderer(model: mujoco.MjModel, width: int, height: int) -> mujoco.Renderer:
     """A `mujoco.Renderer`, or OffscreenRenderingError saying what to install."""
+    try:
+        from mujoco.rendering.classic import gl_context
+
+        cls = getattr(gl_context, "GLContext", None)
+        if cls is not None and "glfw" in cls.__module__:
+            _switch_to_headless_backend()  # GLFW without a display would fail (or abort)
+    except ImportError:
+        pass
     try:
         return mujoco.Renderer(model, height=height, width=width)
     except Exception as exc:  # GL context creation raises various errors
