@@ -44,7 +44,10 @@ class CollisionObject:
             cylinder/capsule/cone (2,) radius, height (capsule: length of the cylindrical
             part, as USD; a cone's axis is z, base at -height/2); ellipsoid (3,) semi-axes;
             mesh and plane (0,).
-        pose: world pose of the shape's centre frame (a plane's normal is its z axis).
+        pose: world pose of the shape: for objects made with the shape classes, the
+            object's own frame (cuboid/sphere/cylinder/capsule centre, cone mid-height);
+            for geoms of referenced models, the MuJoCo geom frame (for meshes, MuJoCo's
+            recentred mesh frame, in which `vertices` are given). A plane's normal is its z axis.
         is_robot: the geom belongs to an articulation (a referenced model with joints).
         robot_prim_path: prim path of that articulation, else None.
         body_name: MuJoCo body the geom is attached to.
