@@ -7,7 +7,6 @@ from typing import Any
 
 import numpy as np
 
-from manip.errors import InvalidInputError
 from manip.sim import _validate as V
 from manip.sim.objects import DynamicCuboid
 from manip.sim.robots import Franka
