@@ -246,3 +246,28 @@ def test_solves_a_motionbenchmaker_problem(name, peers, verifier):
     assert verifier.check_problem(problem).valid
     out = peers[name].plan(problem, "joint", seed=0)
     _check_output(out, problem, verifier)
+
+
+@pytest.mark.skipif(AVAILABLE["ompl"] != "ok", reason=f"ompl: {AVAILABLE['ompl']}")
+def test_ompl_time_parameterization_respects_the_limits(peers):
+    """Stop-at-waypoint TOPP-RA, short segments included: velocity and acceleration (given
+    and second divided differences of the positions) stay within the Franka limits."""
+    from benchmarks.peers.ompl_peer import StopAtWaypointsPath
+
+    peer = peers["ompl"]
+    rng = np.random.default_rng(7)
+    for _ in range(8):
+        K = int(rng.integers(2, 6))
+        W = rng.uniform(0.8 * peer.lower, 0.8 * peer.upper, size=(K, 7))
+        frac = np.where(rng.uniform(size=(K - 1, 1)) < 0.3, rng.uniform(1e-4, 1e-2, (K - 1, 1)), rng.uniform(0.05, 1.0, (K - 1, 1)))
+        W[1:] = W[:-1] + (W[1:] - W[:-1]) * frac
+        times, P, V, A = peer._time_parameterize(StopAtWaypointsPath(W))
+        np.testing.assert_allclose(P[0], W[0], atol=1e-12)
+        np.testing.assert_allclose(P[-1], W[-1], atol=1e-9)
+        dt = np.diff(times)
+        v_fd = np.diff(P, axis=0) / dt[:, None]
+        a_fd = np.diff(v_fd, axis=0) / (0.5 * (dt[1:] + dt[:-1]))[:, None]
+        assert np.max(np.abs(V) / peer.vlim) <= 1.0
+        assert np.max(np.abs(v_fd) / peer.vlim) <= 1.0
+        assert np.max(np.abs(A) / peer.alim) <= 1.0
+        assert np.max(np.abs(a_fd) / peer.alim) <= 1.0

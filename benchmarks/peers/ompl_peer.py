@@ -12,7 +12,7 @@ Timed: a damped-least-squares IK (pinocchio, random restarts, collision-checked)
 goals; `RRTConnect` (OMPL's default range) with a Python validity callback; OMPL's
 `PathSimplifier` (`SimpleSetup.simplifySolution`); TOPP-RA (`toppra`, seidel solver,
 constant-acceleration output) under the Franka velocity and acceleration limits along a path
-that stops at each waypoint (a cubic blend per straight segment, so the time-parameterised
+that stops at each waypoint (a cubic blend along each straight segment, so the time-parameterised
 motion stays on the checked polyline); sampling every 0.01 s.
 
 OMPL's random generator is process-global: `seed` is applied once, when the first peer is
@@ -69,15 +69,18 @@ def _seed_ompl_once(seed: int) -> None:
 class StopAtWaypointsPath(toppra.interpolator.AbstractGeometricPath):
     """A joint-space polyline as a C^1 geometric path that rests at every waypoint.
 
-    Segment i (path parameter s in [s_i, s_i+1], s = cumulative L2 length [rad]) is
-    q(s) = q_i + (q_i+1 - q_i) h(u), u = (s - s_i) / L_i, h(u) = 3u^2 - 2u^3: it stays on the
-    straight segment (what the planner collision-checked) and dq/ds = 0 at the waypoints.
+    Segment i (path parameter s in [s_i, s_i+1], of parameter length S_i = max(L_i, min_length)
+    where L_i is its L2 length [rad]) is q(s) = q_i + (q_i+1 - q_i) h(u), u = (s - s_i) / S_i,
+    h(u) = 3u^2 - 2u^3: it stays on the straight segment (what the planner collision-checked)
+    and dq/ds = 0 at the waypoints (the joint velocity is zero there). `min_length` keeps very short segments from producing
+    huge path curvatures (and TOPP-RA failures).
 
     Args:
-        waypoints: (K, n) configurations, K >= 2, consecutive ones distinct.
+        waypoints: (K, n) configurations, K >= 2; repeated consecutive ones are dropped.
+        min_length: smallest parameter length of a segment [rad].
     """
 
-    def __init__(self, waypoints: np.ndarray) -> None:
+    def __init__(self, waypoints: np.ndarray, min_length: float = 0.05) -> None:
         W = np.asarray(waypoints, dtype=float)
         d = np.diff(W, axis=0)
         L = np.linalg.norm(d, axis=1)
@@ -87,8 +90,9 @@ class StopAtWaypointsPath(toppra.interpolator.AbstractGeometricPath):
         L = np.linalg.norm(d, axis=1)
         if len(W) < 2:
             raise InvalidInputError("a path needs at least two distinct waypoints")
-        self._W, self._d, self._L = W, d, L
-        self._s = np.concatenate([[0.0], np.cumsum(L)])
+        S = np.maximum(L, min_length)
+        self._W, self._d, self._L = W, d, S
+        self._s = np.concatenate([[0.0], np.cumsum(S)])
 
     @property
     def dof(self) -> int:
@@ -118,6 +122,17 @@ class StopAtWaypointsPath(toppra.interpolator.AbstractGeometricPath):
             out = self._d[i] * ((6 * u - 6 * u**2) / L)[:, None]
         elif order == 2:
             out = self._d[i] * ((6 - 12 * u) / L**2)[:, None]
+            # At an interior waypoint dq/ds = 0 and d2q/ds2 jumps from -6 d_prev / S_prev^2
+            # to 6 d_next / S_next^2. The joint acceleration there is d2q/ds2 * sd^2 on either
+            # side, so report, per joint, the side of larger magnitude: a TOPP-RA gridpoint
+            # at the waypoint then bounds the arriving motion as well as the leaving one.
+            k = np.searchsorted(self._s, s)
+            at = (k > 0) & (k < len(self._s) - 1)
+            at &= np.isclose(s, self._s[np.clip(k, 0, len(self._s) - 1)], rtol=0, atol=1e-12)
+            for j in np.flatnonzero(at):
+                left = -6 * self._d[k[j] - 1] / self._L[k[j] - 1] ** 2
+                right = out[j]
+                out[j] = np.where(np.abs(left) > np.abs(right), left, right)
         else:
             raise InvalidInputError(f"order must be 0, 1 or 2; got {order}")
         return out[0] if np.ndim(path_positions) == 0 else out
@@ -340,16 +355,11 @@ class OMPLPeer:
 
     def _time_parameterize(self, path: StopAtWaypointsPath) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """TOPP-RA under the velocity and acceleration limits; samples every 0.01 s."""
-        # The path's second derivative jumps at each waypoint (the joint velocity is zero
-        # there, the acceleration q'' sd^2 is not): a gridpoint just before each interior
-        # waypoint makes TOPP-RA bound the arriving side too, not only the leaving one.
         knots = path.knots
         grid = [knots[:1]]
         for k, (a, b) in enumerate(zip(knots[:-1], knots[1:])):
-            n = max(10, int(np.ceil((b - a) / self.grid_step)))
+            n = max(40, int(np.ceil((b - a) / self.grid_step)))
             seg = np.linspace(a, b, n + 1)[1:]
-            if k < len(knots) - 2:
-                seg = np.concatenate([seg[:-1], [b - 1e-6 * (b - a), b]])
             grid.append(seg)
         gridpoints = np.concatenate(grid)
         v, a = self.limit_scale * self.vlim, self.limit_scale * self.alim
