@@ -1,0 +1,827 @@
+"""`CollisionChecker`: exact robot-vs-world and self-collision checks, fast in batches.
+
+Answers are those of coal on the robot's URDF collision geometry (meshes), the same as
+Pinocchio's `computeCollisions` over the same pairs with the same security margin. Speed
+comes from a vectorised NumPy broadphase that can only say "free":
+
+1. batched forward kinematics of the configurations (`Kinematics.joint_transforms`);
+2. one bounding ball per robot part vs every obstacle (closed-form signed distances to
+   boxes, spheres, capsules, cylinders; meshes through their bounding box) and per
+   enabled self-collision pair;
+3. for the (configuration, part, obstacle) and (configuration, part pair) triples still
+   flagged, the part's automatic sphere cover (`manip.collision.spheres`), which contains
+   the part's surface;
+4. coal's exact narrowphase for what remains, most-penetrating candidates first, stopping
+   at the first collision of each configuration.
+
+A ball cover that contains the surface means: if no ball comes within the padding of an
+obstacle, no point of the surface does, so coal would say "free" too. Configurations are
+never declared free by the spheres unless that is certain.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+from typing import Literal, NamedTuple, Sequence
+
+import coal
+import numpy as np
+
+from manip.collision.robot_geometry import RobotGeometry, RobotPart, sphere_cover
+from manip.collision.shapes import Capsule, Cuboid, Cylinder, Mesh, Obstacle, Sphere, coal_geometry
+from manip.collision.world import WorldConfig
+from manip.errors import InvalidInputError, UnknownNameError
+from manip.kinematics import Kinematics
+from manip.pose import Pose
+from manip.robot_config import RobotConfig
+
+logger = logging.getLogger(__name__)
+
+ContactKind = Literal["world", "self", "attached_world", "attached_self"]
+
+
+@dataclass(frozen=True)
+class Contact:
+    """One colliding (or closest) pair.
+
+    Attributes:
+        kind: "world" (robot link vs obstacle), "self" (link vs link), "attached_world"
+            (attached object vs obstacle) or "attached_self" (attached object vs link).
+        a: the robot link or attached object.
+        b: the obstacle or the other link.
+        distance: signed distance [m] between the two (negative = penetration depth,
+            approximate for meshes; see `CollisionChecker.distance`).
+    """
+
+    kind: ContactKind
+    a: str
+    b: str
+    distance: float
+
+
+@dataclass(frozen=True)
+class CollisionReport:
+    """What collides in one configuration (padding included).
+
+    Attributes:
+        in_collision: True if any pair collides.
+        contacts: every colliding pair, deepest first.
+    """
+
+    in_collision: bool
+    contacts: tuple[Contact, ...]
+
+    @property
+    def world_collision(self) -> bool:
+        """True if the robot or an attached object touches an obstacle."""
+        return any(c.kind in ("world", "attached_world") for c in self.contacts)
+
+    @property
+    def self_collision(self) -> bool:
+        """True if two links (or an attached object and a link) touch."""
+        return any(c.kind in ("self", "attached_self") for c in self.contacts)
+
+
+@dataclass(frozen=True)
+class DistanceReport:
+    """Signed distances [m] of one configuration (without padding).
+
+    Attributes:
+        distance: min(world_distance, self_distance).
+        world_distance: smallest distance between the robot (and attached objects) and
+            the obstacles; +inf with no obstacles.
+        self_distance: smallest distance over the enabled self-collision pairs.
+        closest: the pair achieving `distance` (None if there is none).
+    """
+
+    distance: float
+    world_distance: float
+    self_distance: float
+    closest: Contact | None
+
+
+class PathCheck(NamedTuple):
+    """Result of `CollisionChecker.path_valid`."""
+
+    valid: bool
+    first_invalid_segment: int | None
+
+
+@dataclass(frozen=True, eq=False)
+class AttachedObject:
+    """An obstacle carried by a link.
+
+    Attributes:
+        obstacle: the shape (its `pose` is where it was when attached, base frame).
+        link: the carrying link.
+        pose_in_link: the shape's pose in the link frame.
+        allowed_links: links never checked against it (those rigidly attached to the same
+            joint as `link`, plus any given by the caller).
+    """
+
+    obstacle: Obstacle
+    link: str
+    pose_in_link: Pose
+    allowed_links: tuple[str, ...]
+
+
+@dataclass(frozen=True, eq=False)
+class _Part:
+    """A geometry moving with the robot: a robot part or an attached object."""
+
+    name: str           # robot link or attached object name
+    attached: bool
+    joint: int
+    R: np.ndarray       # (3, 3) geometry frame in joint frame
+    p: np.ndarray       # (3,)
+    geometry: object    # coal geometry for boolean checks
+    hull: object        # coal geometry for distances (convex hull of meshes)
+    centres: np.ndarray  # (K, 3) in joint frame
+    radii: np.ndarray   # (K,)
+
+
+def _hull(geometry):
+    """Convex hull of a coal mesh (for fast signed distances), or the geometry itself."""
+    if hasattr(geometry, "num_tris") and hasattr(geometry, "buildConvexHull"):
+        try:
+            if geometry.convex is None:
+                geometry.buildConvexHull(True, "Qt")
+            if geometry.convex is not None:
+                return geometry.convex
+        except Exception:  # pragma: no cover - qhull failure on degenerate meshes
+            logger.debug("convex hull failed; distances use the mesh itself")
+    return geometry
+
+
+def _tf(R: np.ndarray, p: np.ndarray) -> coal.Transform3s:
+    return coal.Transform3s(R, p)
+
+
+def _sd_local(L: np.ndarray, h: np.ndarray, rho: np.ndarray, cyl: np.ndarray | None) -> np.ndarray:
+    """Signed distance of local points L (..., 3) to rounded boxes (half extents h, rounding rho)
+    or, where `cyl`, to cylinders (radius h[..., 0], half height h[..., 2])."""
+    a = np.abs(L)
+    q = a - h
+    out = np.sqrt((np.maximum(q, 0.0) ** 2).sum(-1)) + np.minimum(q.max(-1), 0.0) - rho
+    if cyl is not None:
+        rxy = np.sqrt(L[..., 0] ** 2 + L[..., 1] ** 2)
+        q0 = rxy - h[..., 0]
+        q1 = a[..., 2] - h[..., 2]
+        sc = np.sqrt(np.maximum(q0, 0.0) ** 2 + np.maximum(q1, 0.0) ** 2) + np.minimum(np.maximum(q0, q1), 0.0)
+        out = np.where(cyl, sc, out)
+    return out
+
+
+def _coarse_to_fine(n: int) -> np.ndarray:
+    """Indices 0..n ordered endpoints first, then by halving strides (bisection order)."""
+    idx = np.arange(n + 1)
+    level = np.zeros(n + 1, dtype=np.int64)
+    inner = idx[1:n]
+    if inner.size:
+        # trailing zero bits of the index: large strides first
+        tz = np.zeros(inner.size, dtype=np.int64)
+        x = inner.copy()
+        for b in range(1, 64):
+            m = (x & 1) == 0
+            if not m.any():
+                break
+            tz[m] += 1
+            x[m] >>= 1
+        level[1:n] = 64 - tz
+    return idx[np.argsort(level, kind="stable")]
+
+
+class CollisionChecker:
+    """Collision checking of a robot's configurations against a world of obstacles and itself.
+
+    Args:
+        config: the robot configuration (URDF geometry, SRDF disabled pairs, padding).
+        kinematics: the robot's `Kinematics` (built from `config` if None).
+        world: the obstacles (a `WorldConfig` or a dict in cuRobo's world format).
+        padding: clearance [m] >= 0 the robot (and attached objects) must keep from the
+            obstacles: a pair closer than this counts as a collision. Default: the
+            config's `collision_padding`.
+        self_padding: clearance [m] >= 0 between link pairs (default 0).
+        sphere_tolerance: how far the automatic sphere covers may stick out of the links'
+            meshes [m] (a speed knob only; answers do not depend on it).
+    """
+
+    def __init__(
+        self,
+        config: RobotConfig,
+        kinematics: Kinematics | None = None,
+        world: WorldConfig | dict | None = None,
+        padding: float | None = None,
+        self_padding: float = 0.0,
+        sphere_tolerance: float = 0.02,
+    ):
+        self.config = config
+        self.kinematics = kinematics if kinematics is not None else Kinematics(config)
+        self.robot = RobotGeometry(config, self.kinematics, sphere_tolerance=sphere_tolerance)
+        self._padding = self._check_padding(config.collision_padding if padding is None else padding, "padding")
+        self._self_padding = self._check_padding(self_padding, "self_padding")
+        self._world = WorldConfig()
+        self._attached: dict[str, AttachedObject] = {}
+        self._obstacle_cache: dict[int, tuple] = {}
+        self._rebuild_parts()
+        self.set_world(world if world is not None else WorldConfig())
+
+    # ------------------------------------------------------------------ configuration
+    @staticmethod
+    def _check_padding(value: float, what: str) -> float:
+        try:
+            v = float(value)
+        except (TypeError, ValueError) as exc:
+            raise InvalidInputError(f"{what} must be a number >= 0 [m]; got {value!r}") from exc
+        if not math.isfinite(v) or v < 0:
+            raise InvalidInputError(f"{what} must be a finite number >= 0 [m]; got {value!r}")
+        return v
+
+    @property
+    def padding(self) -> float:
+        """Clearance [m] kept from the world."""
+        return self._padding
+
+    @padding.setter
+    def padding(self, value: float) -> None:
+        self._padding = self._check_padding(value, "padding")
+        self._req_world.security_margin = self._padding
+
+    @property
+    def self_padding(self) -> float:
+        """Clearance [m] kept between links."""
+        return self._self_padding
+
+    @self_padding.setter
+    def self_padding(self, value: float) -> None:
+        self._self_padding = self._check_padding(value, "self_padding")
+        self._req_self.security_margin = self._self_padding
+
+    @property
+    def world(self) -> WorldConfig:
+        """A copy of the current world (attached objects are not in it)."""
+        return self._world.copy()
+
+    @property
+    def attached_objects(self) -> dict[str, AttachedObject]:
+        """The objects carried by the robot, by name (a copy)."""
+        return dict(self._attached)
+
+    def set_world(self, world: WorldConfig | dict | None) -> None:
+        """Replace the obstacles (a `WorldConfig` or cuRobo's world dict); attached objects stay."""
+        if world is None:
+            world = WorldConfig()
+        elif isinstance(world, dict):
+            world = WorldConfig.from_dict(world)
+        elif not isinstance(world, WorldConfig):
+            raise InvalidInputError(f"world must be a WorldConfig or a dict in cuRobo's world format; got {type(world).__name__}")
+        clash = [n for n in world.names if n in self._attached]
+        if clash:
+            raise InvalidInputError(f"obstacle name(s) {clash} are used by attached objects; detach them or rename")
+        self._world = world.copy()
+        self._rebuild_world()
+
+    def add_obstacle(self, obstacle: Obstacle) -> None:
+        """Add one obstacle to the world (names must be unique)."""
+        if isinstance(obstacle, Obstacle) and obstacle.name in self._attached:
+            raise InvalidInputError(f"'{obstacle.name}' is the name of an attached object")
+        self._world.add(obstacle)
+        self._rebuild_world()
+
+    def remove_obstacle(self, name: str) -> Obstacle:
+        """Remove and return the obstacle `name` (UnknownNameError lists the names)."""
+        ob = self._world.remove(name)
+        self._rebuild_world()
+        return ob
+
+    def update_obstacle_pose(self, name: str, pose: Pose | Sequence[float]) -> None:
+        """Move the obstacle `name` to `pose` (base frame)."""
+        ob = self._world.get(name)
+        self._world.replace(ob.with_pose(pose))
+        self._rebuild_world()
+
+    def set_gripper_positions(self, positions: Sequence[float] | np.ndarray | None) -> None:
+        """Finger positions [m] the collision model assumes (None = the planning positions).
+
+        Attached objects keep their pose relative to their link.
+        """
+        self.robot.set_gripper_positions(None if positions is None else np.asarray(positions, dtype=float))
+        self._rebuild_parts()
+
+    # ------------------------------------------------------------------ internal tables
+    def _rebuild_parts(self) -> None:
+        parts: list[_Part] = []
+        self._robot_part_links: list[str] = []
+        for rp in self.robot.parts:
+            parts.append(_Part(rp.link, False, rp.joint, rp.R, rp.p, rp.geometry, _hull(rp.geometry), rp.centres, rp.radii))
+        n_robot = len(parts)
+        pairs = list(self.robot.self_pairs)
+        kin = self.kinematics
+        for name, att in self._attached.items():
+            f = kin.model.frames[kin.frame_id(att.link)]
+            T_joint_obj = Pose.from_matrix(f.placement.homogeneous) @ att.pose_in_link
+            local = att.obstacle.with_pose(Pose(np.zeros(3)))
+            geom = coal_geometry(local)
+            C, r = sphere_cover(geom)
+            Rj = T_joint_obj.rotation
+            pj = T_joint_obj.position
+            parts.append(_Part(name, True, f.parentJoint, Rj, pj, geom, _hull(geom), C @ Rj.T + pj, r))
+            ai = len(parts) - 1
+            for i in range(n_robot):
+                if parts[i].name not in att.allowed_links:
+                    pairs.append((i, ai))
+        self._parts = parts
+        G = len(parts)
+        K = max(len(p.radii) for p in parts)
+        self._pj = np.array([p.joint for p in parts])
+        self._pC = np.zeros((G, K, 3))
+        self._pr = np.full((G, K), -np.inf)
+        self._pbc = np.zeros((G, 3))
+        self._pbr = np.zeros(G)
+        for g, p in enumerate(parts):
+            k = len(p.radii)
+            self._pC[g, :k] = p.centres
+            self._pr[g, :k] = p.radii
+            lo = (p.centres - p.radii[:, None]).min(axis=0)
+            hi = (p.centres + p.radii[:, None]).max(axis=0)
+            c = (lo + hi) / 2.0
+            self._pbc[g] = c
+            self._pbr[g] = (np.linalg.norm(p.centres - c, axis=1) + p.radii).max()
+        self._pairs = np.array(pairs, dtype=np.int64).reshape(-1, 2)
+        self._pair_attached = np.array([parts[a].attached or parts[b].attached for a, b in pairs], dtype=bool)
+        self._req_self = coal.CollisionRequest()
+        self._req_self.security_margin = self._self_padding
+
+    def _rebuild_world(self) -> None:
+        obs = self._world.obstacles
+        O = len(obs)
+        self._obs = obs
+        self._oR = np.zeros((O, 3, 3))
+        self._oc = np.zeros((O, 3))
+        self._oh = np.zeros((O, 3))
+        self._orho = np.zeros(O)
+        self._ocyl = np.zeros(O, dtype=bool)
+        self._ogeom = []
+        self._otf = []
+        for i, ob in enumerate(obs):
+            R = ob.pose.rotation
+            self._oR[i] = R
+            c_local, h = ob.local_aabb()
+            self._oc[i] = ob.pose.position + R @ c_local
+            if isinstance(ob, Sphere):
+                self._oh[i] = 0.0
+                self._orho[i] = ob.radius
+            elif isinstance(ob, Capsule):
+                self._oh[i] = [0.0, 0.0, ob.height / 2.0]
+                self._orho[i] = ob.radius
+            elif isinstance(ob, Cylinder):
+                self._oh[i] = [ob.radius, ob.radius, ob.height / 2.0]
+                self._ocyl[i] = True
+            else:  # cuboid, mesh (bounding box)
+                self._oh[i] = h
+            key = id(ob)
+            if key not in self._obstacle_cache:  # keep coal geometries of unchanged obstacles
+                self._obstacle_cache[key] = (ob, coal_geometry(ob))
+            self._ogeom.append(self._obstacle_cache[key][1])
+            self._otf.append(_tf(R, ob.pose.position))
+        live = {id(o) for o in obs}
+        self._obstacle_cache = {k: v for k, v in self._obstacle_cache.items() if k in live}
+        self._any_cyl = bool(self._ocyl.any())
+        self._req_world = coal.CollisionRequest()
+        self._req_world.security_margin = self._padding
+
+    # ------------------------------------------------------------------ geometry helpers
+    def _sd_all(self, X: np.ndarray) -> np.ndarray:
+        """Signed distances (M, O) of points X (M, 3) to every obstacle's broadphase shape."""
+        d = X[:, None, :] - self._oc[None]
+        L = np.einsum("moj,oji->moi", d, self._oR)
+        return _sd_local(L, self._oh[None], self._orho[None], self._ocyl[None] if self._any_cyl else None)
+
+    def _sd_pairs(self, X: np.ndarray, o: np.ndarray) -> np.ndarray:
+        """Signed distances (M,) of points X (M, 3) to obstacles o (M,)."""
+        d = X - self._oc[o]
+        L = np.einsum("mj,mji->mi", d, self._oR[o])
+        return _sd_local(L, self._oh[o], self._orho[o], self._ocyl[o] if self._any_cyl else None)
+
+    def _fk(self, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        return self.kinematics.joint_transforms(Q)
+
+    def _part_tf(self, R: np.ndarray, p: np.ndarray, n: int, g: int) -> coal.Transform3s:
+        part = self._parts[g]
+        Rj, pj = R[n, part.joint], p[n, part.joint]
+        return _tf(Rj @ part.R, pj + Rj @ part.p)
+
+    # ------------------------------------------------------------------ broadphase
+    def _candidates(self, Q: np.ndarray, R: np.ndarray, p: np.ndarray, world: bool = True, self_: bool = True):
+        """Pairs the spheres cannot clear, as arrays sorted by configuration, deepest first.
+
+        Returns:
+            list of (n (T,), kind (T,) 0=world/1=self, i (T,), j (T,)) where for world
+            i = part, j = obstacle, and for self (i, j) = parts.
+        """
+        N = Q.shape[0]
+        G = len(self._parts)
+        pj = self._pj
+        # bounding-ball centres (N, G, 3)
+        Rg = R[:, pj]  # (N, G, 3, 3)
+        bc = np.einsum("ngij,gj->ngi", Rg, self._pbc) + p[:, pj]
+        ns, kinds, ii, jj, depth = [], [], [], [], []
+        O = len(self._obs)
+        if world and O:
+            sd = self._sd_all(bc.reshape(-1, 3)).reshape(N, G, O)
+            n, g, o = np.nonzero(sd < self._pbr[None, :, None] + self._padding + 1e-9)
+            if n.size:
+                C = np.einsum("tij,tkj->tki", Rg[n, g], self._pC[g]) + p[n, pj[g]][:, None, :]
+                K = C.shape[1]
+                s = self._sd_pairs(C.reshape(-1, 3), np.repeat(o, K)).reshape(-1, K) - self._pr[g]
+                m = s.min(axis=1)
+                keep = m < self._padding + 1e-9
+                ns.append(n[keep]); kinds.append(np.zeros(keep.sum(), dtype=np.int64))
+                ii.append(g[keep]); jj.append(o[keep]); depth.append(m[keep])
+        P = self._pairs.shape[0]
+        if self_ and P:
+            a, b = self._pairs[:, 0], self._pairs[:, 1]
+            diff = bc[:, a] - bc[:, b]
+            dist2 = np.einsum("npi,npi->np", diff, diff)  # (N, P)
+            reach = (self._pbr[a] + self._pbr[b])[None] + self._self_padding + 1e-9
+            n, k = np.nonzero(dist2 < reach * reach)
+            if n.size:
+                ga, gb = a[k], b[k]
+                CA = np.einsum("tij,tkj->tki", Rg[n, ga], self._pC[ga]) + p[n, pj[ga]][:, None, :]
+                CB = np.einsum("tij,tkj->tki", Rg[n, gb], self._pC[gb]) + p[n, pj[gb]][:, None, :]
+                # each part's balls against the other's bounding ball first
+                pad = self._self_padding + 1e-9
+                rA, rB = self._pr[ga], self._pr[gb]
+                okA = np.linalg.norm(CA - bc[n, gb][:, None, :], axis=-1) - rA < self._pbr[gb][:, None] + pad
+                okB = np.linalg.norm(CB - bc[n, ga][:, None, :], axis=-1) - rB < self._pbr[ga][:, None] + pad
+                live = okA.any(axis=1) & okB.any(axis=1)
+                n, ga, gb, CA, CB, rA, rB = n[live], ga[live], gb[live], CA[live], CB[live], rA[live], rB[live]
+                okA, okB = okA[live], okB[live]
+                rA = np.where(okA, rA, -np.inf)
+                rB = np.where(okB, rB, -np.inf)
+                d = np.linalg.norm(CA[:, :, None, :] - CB[:, None, :, :], axis=-1)
+                d = d - rA[:, :, None] - rB[:, None, :]
+                m = d.reshape(d.shape[0], -1).min(axis=1)
+                keep = m < pad
+                ns.append(n[keep]); kinds.append(np.ones(keep.sum(), dtype=np.int64))
+                ii.append(ga[keep]); jj.append(gb[keep]); depth.append(m[keep])
+        if not ns:
+            e = np.zeros(0, dtype=np.int64)
+            return e, e, e, e
+        n = np.concatenate(ns); kind = np.concatenate(kinds); i = np.concatenate(ii); j = np.concatenate(jj)
+        order = np.lexsort((np.concatenate(depth), n))
+        return n[order], kind[order], i[order], j[order]
+
+    def _exact(self, R, p, n: int, kind: int, i: int, j: int, tfs: dict) -> bool:
+        key = (n, i)
+        tfa = tfs.get(key)
+        if tfa is None:
+            tfa = tfs[key] = self._part_tf(R, p, n, i)
+        res = coal.CollisionResult()
+        if kind == 0:
+            return bool(coal.collide(self._parts[i].geometry, tfa, self._ogeom[j], self._otf[j], self._req_world, res))
+        key = (n, j)
+        tfb = tfs.get(key)
+        if tfb is None:
+            tfb = tfs[key] = self._part_tf(R, p, n, j)
+        return bool(coal.collide(self._parts[i].geometry, tfa, self._parts[j].geometry, tfb, self._req_self, res))
+
+    def _check(self, Q: np.ndarray, stop_at_first: bool = False) -> np.ndarray:
+        R, p = self._fk(Q)
+        out = np.zeros(Q.shape[0], dtype=bool)
+        n, kind, i, j = self._candidates(Q, R, p)
+        tfs: dict = {}
+        for t in range(n.size):
+            nn = int(n[t])
+            if out[nn]:
+                continue
+            if self._exact(R, p, nn, int(kind[t]), int(i[t]), int(j[t]), tfs):
+                out[nn] = True
+                if stop_at_first:
+                    break
+        return out
+
+    # ------------------------------------------------------------------ public checks
+    def in_collision(self, q: np.ndarray) -> bool:
+        """True if configuration q (dof,) collides with the world (within the padding) or itself."""
+        q = self.kinematics.check_q(q)
+        if q.ndim != 1:
+            raise InvalidInputError(f"in_collision takes one configuration ({self.kinematics.dof},); use in_collision_batch for {q.shape}")
+        return bool(self._check(q[None])[0])
+
+    def in_collision_batch(self, Q: np.ndarray) -> np.ndarray:
+        """(N,) bool: `in_collision` of each row of Q (N, dof), computed together."""
+        Q = self.kinematics.check_q(Q, "Q")
+        if Q.ndim == 1:
+            Q = Q[None]
+        if Q.shape[0] == 0:
+            return np.zeros(0, dtype=bool)
+        return self._check(Q)
+
+    def any_in_collision(self, Q: np.ndarray) -> bool:
+        """True if any row of Q (N, dof) collides (stops at the first collision found)."""
+        Q = self.kinematics.check_q(Q, "Q")
+        if Q.ndim == 1:
+            Q = Q[None]
+        return bool(Q.shape[0] and self._check(Q, stop_at_first=True).any())
+
+    def in_collision_exact(self, q: np.ndarray) -> bool:
+        """`in_collision` without any broadphase: coal on every pair (slow; a reference)."""
+        q = self.kinematics.check_q(q)
+        if q.ndim != 1:
+            raise InvalidInputError(f"q must have shape ({self.kinematics.dof},); got {q.shape}")
+        R, p = self._fk(q[None])
+        tfs: dict = {}
+        for g in range(len(self._parts)):
+            for o in range(len(self._obs)):
+                if self._exact(R, p, 0, 0, g, o, tfs):
+                    return True
+        for a, b in self._pairs:
+            if self._exact(R, p, 0, 1, int(a), int(b), tfs):
+                return True
+        return False
+
+    def motion_valid(self, q0: np.ndarray, q1: np.ndarray, resolution: float = 0.01, chunk: int = 32) -> bool:
+        """True if the straight joint-space segment q0 -> q1 is collision-free.
+
+        Checks q0, q1 and evenly spaced configurations between them such that consecutive
+        checked configurations differ by at most `resolution` [rad] on every joint (L-inf),
+        in bisection order (coarse first), stopping at the first collision.
+
+        Args:
+            q0, q1: (dof,) endpoints.
+            resolution: largest joint step between checked configurations [rad] > 0.
+            chunk: size of the first (coarse) batch.
+        """
+        q0 = self.kinematics.check_q(q0, "q0")
+        q1 = self.kinematics.check_q(q1, "q1")
+        if q0.ndim != 1 or q1.ndim != 1:
+            raise InvalidInputError(f"q0 and q1 must have shape ({self.kinematics.dof},)")
+        if not (resolution > 0 and math.isfinite(resolution)):
+            raise InvalidInputError(f"resolution must be a positive number [rad]; got {resolution!r}")
+        steps = max(1, int(math.ceil(float(np.abs(q1 - q0).max()) / resolution - 1e-12)))
+        order = _coarse_to_fine(steps)
+        t = order / steps
+        Q = q0[None] + t[:, None] * (q1 - q0)[None]
+        first = Q[:chunk]
+        if self._check(first, stop_at_first=True).any():
+            return False
+        rest = Q[chunk:]
+        return not (rest.shape[0] and self._check(rest, stop_at_first=True).any())
+
+    def path_valid(self, path: np.ndarray, resolution: float = 0.01) -> PathCheck:
+        """Check a piecewise-linear joint path (K, dof) densely (see `motion_valid`).
+
+        Returns:
+            PathCheck(valid, first_invalid_segment): segment s joins path[s] and path[s+1];
+            for a single-configuration path a collision gives segment 0.
+        """
+        path = self.kinematics.check_q(path, "path")
+        if path.ndim != 2 or path.shape[0] < 1:
+            raise InvalidInputError(f"path must have shape (K, {self.kinematics.dof}) with K >= 1; got {path.shape}")
+        if not (resolution > 0 and math.isfinite(resolution)):
+            raise InvalidInputError(f"resolution must be a positive number [rad]; got {resolution!r}")
+        if path.shape[0] == 1:
+            bad = bool(self._check(path)[0])
+            return PathCheck(not bad, 0 if bad else None)
+        seg_q, seg_id = [], []
+        for s in range(path.shape[0] - 1):
+            a, b = path[s], path[s + 1]
+            steps = max(1, int(math.ceil(float(np.abs(b - a).max()) / resolution - 1e-12)))
+            t = np.arange(steps + 1) / steps
+            seg_q.append(a[None] + t[:, None] * (b - a)[None])
+            seg_id.append(np.full(steps + 1, s))
+        Q = np.concatenate(seg_q)
+        ids = np.concatenate(seg_id)
+        # coarse pass (every 8th sample) first: a colliding path usually fails there cheaply
+        coarse = np.arange(0, Q.shape[0], 8)
+        hit = self._check(Q[coarse])
+        if hit.any():
+            first = int(ids[coarse[np.argmax(hit)]])
+            before = ids < first
+            if before.any():
+                hit2 = self._check(Q[before])
+                if hit2.any():
+                    return PathCheck(False, int(ids[before][np.argmax(hit2)]))
+            return PathCheck(False, first)
+        rest = np.setdiff1d(np.arange(Q.shape[0]), coarse)
+        if rest.size:
+            hit = self._check(Q[rest])
+            if hit.any():
+                return PathCheck(False, int(ids[rest][np.argmax(hit)]))
+        return PathCheck(True, None)
+
+    # ------------------------------------------------------------------ reports and distances
+    def _pair_distance(self, geom_a, tf_a, geom_b, tf_b) -> float:
+        res = coal.DistanceResult()
+        return float(coal.distance(geom_a, tf_a, geom_b, tf_b, coal.DistanceRequest(), res))
+
+    def collision_report(self, q: np.ndarray) -> CollisionReport:
+        """Every colliding pair of configuration q (dof,), with signed distances, deepest first."""
+        q = self.kinematics.check_q(q)
+        if q.ndim != 1:
+            raise InvalidInputError(f"q must have shape ({self.kinematics.dof},); got {q.shape}")
+        Q = q[None]
+        R, p = self._fk(Q)
+        n, kind, i, j = self._candidates(Q, R, p)
+        tfs: dict = {}
+        contacts = []
+        for t in range(n.size):
+            k, a, b = int(kind[t]), int(i[t]), int(j[t])
+            if not self._exact(R, p, 0, k, a, b, tfs):
+                continue
+            pa = self._parts[a]
+            if k == 0:
+                d = self._pair_distance(pa.hull, tfs[(0, a)], self._ogeom[b], self._otf[b])
+                contacts.append(Contact("attached_world" if pa.attached else "world", pa.name, self._obs[b].name, d))
+            else:
+                pb = self._parts[b]
+                d = self._pair_distance(pa.hull, tfs[(0, a)], pb.hull, tfs[(0, b)])
+                if pb.attached:
+                    pa, pb = pb, pa
+                contacts.append(Contact("attached_self" if pa.attached else "self", pa.name, pb.name, d))
+        contacts.sort(key=lambda c: c.distance)
+        return CollisionReport(bool(contacts), tuple(contacts))
+
+    def distance_report(self, q: np.ndarray) -> DistanceReport:
+        """Smallest signed distances [m] of q (dof,) to the world and to itself (no padding).
+
+        Meshes of the robot enter through their convex hulls (exact for convex link meshes
+        such as the Panda's; otherwise a lower bound), which gives penetration depths (EPA)
+        where mesh-vs-mesh queries cannot; obstacles are exact. Pairs whose bounding balls
+        prove them farther than the best found are skipped (branch and bound).
+        """
+        q = self.kinematics.check_q(q)
+        if q.ndim != 1:
+            raise InvalidInputError(f"q must have shape ({self.kinematics.dof},); got {q.shape}")
+        R, p = self._fk(q[None])
+        pj = self._pj
+        bc = np.einsum("gij,gj->gi", R[0, pj], self._pbc) + p[0, pj]
+        tfs: dict = {}
+
+        def tf(g: int):
+            if (0, g) not in tfs:
+                tfs[(0, g)] = self._part_tf(R, p, 0, g)
+            return tfs[(0, g)]
+
+        best_w, pair_w = math.inf, None
+        O = len(self._obs)
+        if O:
+            lb = (self._sd_all(bc) - self._pbr[:, None]).ravel()
+            for flat in np.argsort(lb):
+                if lb[flat] >= best_w:
+                    break
+                g, o = divmod(int(flat), O)
+                d = self._pair_distance(self._parts[g].hull, tf(g), self._ogeom[o], self._otf[o])
+                if d < best_w:
+                    best_w, pair_w = d, (g, o)
+        best_s, pair_s = math.inf, None
+        if self._pairs.shape[0]:
+            a, b = self._pairs[:, 0], self._pairs[:, 1]
+            lb = np.linalg.norm(bc[a] - bc[b], axis=1) - self._pbr[a] - self._pbr[b]
+            for k in np.argsort(lb):
+                if lb[k] >= best_s:
+                    break
+                ga, gb = int(a[k]), int(b[k])
+                d = self._pair_distance(self._parts[ga].hull, tf(ga), self._parts[gb].hull, tf(gb))
+                if d < best_s:
+                    best_s, pair_s = d, (ga, gb)
+        closest = None
+        if pair_w is not None and best_w <= best_s:
+            pa = self._parts[pair_w[0]]
+            closest = Contact("attached_world" if pa.attached else "world", pa.name, self._obs[pair_w[1]].name, best_w)
+        elif pair_s is not None:
+            pa, pb = self._parts[pair_s[0]], self._parts[pair_s[1]]
+            if pb.attached:
+                pa, pb = pb, pa
+            closest = Contact("attached_self" if pa.attached else "self", pa.name, pb.name, best_s)
+        return DistanceReport(min(best_w, best_s), best_w, best_s, closest)
+
+    def distance(self, q: np.ndarray) -> float:
+        """Signed distance [m] of q (dof,): min over world and self pairs (negative = penetration)."""
+        return self.distance_report(q).distance
+
+    def world_clearance_batch(self, Q: np.ndarray) -> np.ndarray:
+        """(N,) lower bound [m] of each configuration's signed distance to the world (no padding).
+
+        Uses the sphere covers (closed form, vectorised): never larger than the true
+        distance; +inf without obstacles. Cheap enough for finite-difference gradients.
+        """
+        Q = self.kinematics.check_q(Q, "Q")
+        if Q.ndim == 1:
+            Q = Q[None]
+        N = Q.shape[0]
+        O = len(self._obs)
+        if O == 0:
+            return np.full(N, np.inf)
+        R, p = self._fk(Q)
+        pj = self._pj
+        C = np.einsum("ngij,gkj->ngki", R[:, pj], self._pC) + p[:, pj][:, :, None, :]  # (N, G, K, 3)
+        G, K = self._pC.shape[:2]
+        sd = self._sd_all(C.reshape(-1, 3)).reshape(N, G, K, O) - self._pr[None, :, :, None]
+        return sd.reshape(N, -1).min(axis=1)
+
+    # ------------------------------------------------------------------ attached objects
+    def attach_object(
+        self,
+        obstacle: str | Obstacle,
+        q: np.ndarray | None = None,
+        link: str | None = None,
+        pose_in_link: Pose | Sequence[float] | None = None,
+        allowed_links: Sequence[str] = (),
+    ) -> AttachedObject:
+        """Carry an object with a link (a grasp): it leaves the world and moves with the link.
+
+        Args:
+            obstacle: the name of an obstacle of the world (removed from it), or a shape.
+            q: (dof,) the configuration at the grasp: the object keeps its current pose
+                relative to the link at q. Needed unless `pose_in_link` is given.
+            link: the carrying link; default the config's `ee_link` (panda_hand).
+            pose_in_link: the object's pose in the link frame (overrides q).
+            allowed_links: links never checked against the object, in addition to the
+                links rigidly attached to the same joint as `link` (hand, fingers, ...).
+
+        Returns:
+            The `AttachedObject`. It is checked against the world (with the padding) and
+            against the other links (with the self padding).
+        """
+        kin = self.kinematics
+        link = link or self.config.ee_link
+        fid = kin.frame_id(link)
+        if isinstance(obstacle, str):
+            shape = self._world.get(obstacle)
+            in_world = True
+        elif isinstance(obstacle, Obstacle) and type(obstacle) is not Obstacle:
+            shape = obstacle
+            in_world = False
+            if shape.name in self._world:
+                raise InvalidInputError(f"an obstacle named '{shape.name}' is in the world; attach it by name")
+        else:
+            raise InvalidInputError(f"obstacle must be an obstacle name or a shape; got {type(obstacle).__name__}")
+        if shape.name in self._attached:
+            raise InvalidInputError(f"'{shape.name}' is already attached")
+        if pose_in_link is not None:
+            from manip.collision.shapes import as_pose
+            rel = as_pose(pose_in_link, f"attach '{shape.name}'")
+        else:
+            if q is None:
+                raise InvalidInputError("attach_object needs q (the grasp configuration) or pose_in_link")
+            q = kin.check_q(q)
+            rel = kin.fk(q, link).inverse() @ shape.pose
+        joint = kin.model.frames[fid].parentJoint
+        rigid = {p.link for p in self.robot.parts if p.joint == joint}
+        unknown = [n for n in allowed_links if n not in self.robot.link_names]
+        if unknown:
+            raise UnknownNameError("link", unknown[0], self.robot.link_names)
+        att = AttachedObject(shape, link, rel, tuple(sorted(rigid | set(allowed_links))))
+        if in_world:
+            self._world.remove(shape.name)
+            self._rebuild_world()
+        self._attached[shape.name] = att
+        self._rebuild_parts()
+        return att
+
+    def detach_object(self, q: np.ndarray, name: str | None = None) -> list[Obstacle]:
+        """Put attached object(s) back into the world at their pose for configuration q.
+
+        Args:
+            q: (dof,) the configuration at release.
+            name: the object to detach; None detaches all.
+
+        Returns:
+            The obstacles added to the world (base-frame poses at q).
+        """
+        q = self.kinematics.check_q(q)
+        if name is not None and name not in self._attached:
+            raise UnknownNameError("attached object", name, self._attached)
+        names = [name] if name is not None else list(self._attached)
+        out = []
+        for nm in names:
+            att = self._attached.pop(nm)
+            T = self.kinematics.fk(q, att.link) @ att.pose_in_link
+            ob = att.obstacle.with_pose(T)
+            self._world.add(ob)
+            out.append(ob)
+        self._rebuild_parts()
+        self._rebuild_world()
+        return out
+
+    # ------------------------------------------------------------------ introspection
+    @property
+    def num_spheres(self) -> int:
+        """Number of balls in the robot's (and attached objects') sphere covers."""
+        return int(np.isfinite(self._pr).sum())
+
+    def spheres(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, list[str]]:
+        """The sphere covers at q (dof,): centres (S, 3) [m], radii (S,) [m], owner names (S,)."""
+        q = self.kinematics.check_q(q)
+        R, p = self._fk(q[None])
+        cs, rs, names = [], [], []
+        for g, part in enumerate(self._parts):
+            Rj, pj = R[0, part.joint], p[0, part.joint]
+            cs.append(part.centres @ Rj.T + pj)
+            rs.append(part.radii)
+            names += [part.name] * len(part.radii)
+        return np.concatenate(cs), np.concatenate(rs), names

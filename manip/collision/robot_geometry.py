@@ -1,0 +1,190 @@
+"""The robot's collision geometry: URDF collision shapes, their sphere covers, self-collision pairs.
+
+The geometry comes from the URDF's `<collision>` elements (meshes or primitives), loaded
+with Pinocchio and reduced like `Kinematics` (the gripper joints locked at given finger
+positions, by default the planning positions). Each geometry object becomes a `RobotPart`
+with its coal geometry, the arm joint that carries it (an index into
+`Kinematics.joint_transforms`), its placement in that joint's frame, and an automatically
+generated sphere cover (`manip.collision.spheres.cover_with_spheres`).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import logging
+from dataclasses import dataclass
+
+import coal
+import numpy as np
+import pinocchio as pin
+
+from manip.collision.spheres import cover_with_spheres
+from manip.errors import InvalidInputError
+from manip.kinematics import Kinematics
+from manip.robot_config import RobotConfig
+
+logger = logging.getLogger(__name__)
+
+_COVER_CACHE: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
+
+
+@dataclass(frozen=True, eq=False)
+class RobotPart:
+    """One collision geometry carried by an arm joint.
+
+    Attributes:
+        name: geometry name (e.g. "panda_link3_0").
+        link: the link (frame) it belongs to.
+        joint: index of the carrying joint in `Kinematics.joint_transforms` (0 = base).
+        R: (3, 3) rotation of the geometry frame in the joint frame.
+        p: (3,) position of the geometry frame in the joint frame [m].
+        geometry: the coal collision geometry (in the geometry frame).
+        centres: (K, 3) sphere centres in the JOINT frame [m].
+        radii: (K,) sphere radii [m]; the balls contain the geometry's surface.
+    """
+
+    name: str
+    link: str
+    joint: int
+    R: np.ndarray
+    p: np.ndarray
+    geometry: object
+    centres: np.ndarray
+    radii: np.ndarray
+
+    @property
+    def bounding_sphere(self) -> tuple[np.ndarray, float]:
+        """(centre (3,) in the joint frame, radius) of one ball holding all the part's balls."""
+        lo = (self.centres - self.radii[:, None]).min(axis=0)
+        hi = (self.centres + self.radii[:, None]).max(axis=0)
+        c = (lo + hi) / 2.0
+        return c, float((np.linalg.norm(self.centres - c, axis=1) + self.radii).max())
+
+
+def geometry_triangles(geometry) -> tuple[np.ndarray, np.ndarray] | None:
+    """(vertices (V, 3), faces (F, 3)) of a closed triangle surface that contains the surface of
+    a coal geometry (exact for meshes and boxes, circumscribed for round shapes), or None for
+    a sphere (whose cover is itself)."""
+    if isinstance(geometry, coal.Box):
+        h = np.asarray(geometry.halfSide, dtype=float)
+        V = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float) * h
+        F = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],
+                      [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]])
+        return V, F
+    if isinstance(geometry, (coal.Cylinder, coal.Capsule)):
+        r = float(geometry.radius)
+        hz = float(geometry.halfLength) + (r if isinstance(geometry, coal.Capsule) else 0.0)
+        n = 24
+        rc = r / np.cos(np.pi / n)  # circumscribed polygon
+        a = 2 * np.pi * np.arange(n) / n
+        ring = np.stack([rc * np.cos(a), rc * np.sin(a)], axis=1)
+        V = np.concatenate([np.c_[ring, np.full(n, -hz)], np.c_[ring, np.full(n, hz)], [[0, 0, -hz], [0, 0, hz]]])
+        F = []
+        for i in range(n):
+            j = (i + 1) % n
+            F += [[i, j, n + j], [i, n + j, n + i], [2 * n, j, i], [2 * n + 1, n + i, n + j]]
+        return V, np.array(F)
+    if isinstance(geometry, coal.Sphere):
+        return None
+    if hasattr(geometry, "num_tris") and hasattr(geometry, "vertices"):
+        V = np.array(geometry.vertices(), dtype=float).reshape(-1, 3)
+        F = np.array([[t[0], t[1], t[2]] for t in (geometry.tri_indices(i) for i in range(geometry.num_tris))],
+                     dtype=np.int64).reshape(-1, 3)
+        return V, F
+    # anything else (convex, height fields, ...): its local bounding box
+    geometry.computeLocalAABB()
+    aabb = geometry.aabb_local
+    lo, hi = np.asarray(aabb.min_, dtype=float), np.asarray(aabb.max_, dtype=float)
+    V, F = geometry_triangles(coal.Box(*(hi - lo)))  # type: ignore[misc]
+    return V + (lo + hi) / 2.0, F
+
+
+def sphere_cover(geometry, tolerance: float = 0.02, max_spheres: int = 32) -> tuple[np.ndarray, np.ndarray]:
+    """Sphere cover (centres (K, 3), radii (K,)) of a coal geometry in its own frame (cached)."""
+    if isinstance(geometry, coal.Sphere):
+        return np.zeros((1, 3)), np.array([float(geometry.radius)])
+    tri = geometry_triangles(geometry)
+    assert tri is not None
+    V, F = tri
+    key = (hashlib.sha1(V.tobytes() + F.astype(np.int64).tobytes()).hexdigest(), tolerance, max_spheres)
+    if key not in _COVER_CACHE:
+        _COVER_CACHE[key] = cover_with_spheres(V, F, tolerance=tolerance, max_spheres=max_spheres)
+    C, R = _COVER_CACHE[key]
+    return C.copy(), R.copy()
+
+
+class RobotGeometry:
+    """The robot's collision parts and self-collision pairs.
+
+    Args:
+        config: the robot configuration (URDF, SRDF disabled pairs, gripper).
+        kinematics: the arm's `Kinematics` (its joint indices are used).
+        gripper_positions: finger joint positions [m] the geometry assumes; default the
+            config's planning positions.
+        sphere_tolerance: how far the automatic sphere covers may stick out of the meshes [m].
+    """
+
+    def __init__(self, config: RobotConfig, kinematics: Kinematics, gripper_positions: np.ndarray | None = None,
+                 sphere_tolerance: float = 0.02):
+        self.config = config
+        self.kinematics = kinematics
+        self.sphere_tolerance = float(sphere_tolerance)
+        full = kinematics.full_model
+        self._full_geom = pin.buildGeomFromUrdf(full, str(config.urdf_path), pin.COLLISION,
+                                                package_dirs=list(config.package_dirs))
+        self.set_gripper_positions(gripper_positions)
+
+    def set_gripper_positions(self, positions: np.ndarray | None) -> None:
+        """Rebuild the parts with the fingers at `positions` [m] (None = planning positions)."""
+        kin, config = self.kinematics, self.config
+        full = kin.full_model
+        q_lock = kin.locked_configuration.copy()
+        if config.gripper is not None:
+            g = config.gripper
+            pos = g.planning_positions if positions is None else np.asarray(positions, dtype=float)
+            if pos.shape != (len(g.joints),) or not np.all(np.isfinite(pos)):
+                raise InvalidInputError(f"gripper positions must be {len(g.joints)} finite values for {list(g.joints)}; got {positions!r}")
+            for name, v in zip(g.joints, pos):
+                jid = full.getJointId(name)
+                lo, hi = full.lowerPositionLimit[full.joints[jid].idx_q], full.upperPositionLimit[full.joints[jid].idx_q]
+                if v < lo - 1e-9 or v > hi + 1e-9:
+                    raise InvalidInputError(f"gripper joint {name}={v} outside its limits [{lo}, {hi}]")
+                q_lock[full.joints[jid].idx_q] = v
+            self.gripper_positions = pos.copy()
+        elif positions is not None:
+            raise InvalidInputError(f"robot '{config.name}' has no gripper configured")
+        else:
+            self.gripper_positions = np.zeros(0)
+        locked = [j for j in range(1, full.njoints) if full.names[j] not in config.arm_joints]
+        if locked:
+            model, geom = pin.buildReducedModel(full, self._full_geom, locked, q_lock)
+        else:
+            model, geom = full, self._full_geom
+        joint_names = list(kin.model.names)
+        parts: list[RobotPart] = []
+        for go in geom.geometryObjects:
+            link = model.frames[go.parentFrame].name
+            joint = joint_names.index(model.names[go.parentJoint])
+            C, R = sphere_cover(go.geometry, self.sphere_tolerance)
+            Rg = go.placement.rotation.copy()
+            pg = go.placement.translation.copy()
+            parts.append(RobotPart(go.name, link, joint, Rg, pg, go.geometry, C @ Rg.T + pg, R))
+        self.parts: list[RobotPart] = parts
+        self.geometry_model = geom
+        self.model = model
+        disabled = {frozenset(p) for p in config.disabled_collision_pairs}
+        pairs = []
+        for a in range(len(parts)):
+            for b in range(a + 1, len(parts)):
+                la, lb = parts[a].link, parts[b].link
+                if la == lb or frozenset((la, lb)) in disabled:
+                    continue
+                pairs.append((a, b))
+        self.self_pairs: list[tuple[int, int]] = pairs
+        logger.debug("robot geometry: %d parts, %d spheres, %d self pairs", len(parts),
+                     sum(len(p.radii) for p in parts), len(pairs))
+
+    @property
+    def link_names(self) -> list[str]:
+        """Links that carry collision geometry, in part order (unique)."""
+        return list(dict.fromkeys(p.link for p in self.parts))

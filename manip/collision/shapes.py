@@ -1,0 +1,380 @@
+"""Obstacle shapes of the planner's world: cuboids, spheres, cylinders, capsules, meshes.
+
+Every shape is a frozen dataclass with a `name` and a `pose` (a `Pose` of the shape's
+local frame in the robot base frame). Sizes are in metres. The local frames follow coal's
+(and cuRobo's) conventions: a cuboid is centred on its frame with edges along its axes; a
+cylinder and a capsule are centred on their frame with their axis along local z.
+
+A pose may be given as a `Pose`, as a position [x, y, z] (identity rotation) or as
+cuRobo's 7-vector [x, y, z, qw, qx, qy, qz].
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import ClassVar, Sequence
+
+import numpy as np
+
+from manip import quaternion as quat
+from manip.errors import InvalidInputError
+from manip.pose import Pose
+
+PoseLike = "Pose | Sequence[float] | np.ndarray"
+
+
+def as_pose(value: Pose | Sequence[float] | np.ndarray | None, what: str) -> Pose:
+    """A `Pose` from a Pose, a position (3,) or a cuRobo pose [x, y, z, qw, qx, qy, qz] (7,).
+
+    Raises:
+        InvalidInputError: any other shape, or non-finite values.
+    """
+    if value is None:
+        return Pose(np.zeros(3))
+    if isinstance(value, Pose):
+        if value.is_batch:
+            raise InvalidInputError(f"{what}: expected a single pose, got a batch of {len(value)}")
+        return value
+    try:
+        v = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise InvalidInputError(f"{what}: a pose must be a Pose, [x, y, z] or [x, y, z, qw, qx, qy, qz]; got {value!r}") from exc
+    if v.shape == (3,):
+        return Pose(v)
+    if v.shape == (7,):
+        if not np.all(np.isfinite(v)):
+            raise InvalidInputError(f"{what}: pose has non-finite values: {v.tolist()}")
+        return Pose.from_xyz_wxyz(v)
+    raise InvalidInputError(f"{what}: a pose must be a Pose, [x, y, z] or [x, y, z, qw, qx, qy, qz]; got shape {v.shape}")
+
+
+def _positive(value: float, what: str) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError) as exc:
+        raise InvalidInputError(f"{what} must be a positive number [m]; got {value!r}") from exc
+    if not np.isfinite(v) or v <= 0.0:
+        raise InvalidInputError(f"{what} must be a positive finite number [m]; got {value!r}")
+    return v
+
+
+def _check_name(name: object, kind: str) -> str:
+    if not isinstance(name, str) or not name:
+        raise InvalidInputError(f"{kind}: name must be a non-empty string; got {name!r}")
+    return name
+
+
+@dataclass(frozen=True, eq=False)
+class Obstacle:
+    """Base class of the world's shapes (do not instantiate)."""
+
+    kind: ClassVar[str] = ""
+
+    name: str
+    pose: Pose
+
+    def with_pose(self, pose: Pose | Sequence[float]) -> Obstacle:
+        """A copy of this shape at another pose (base frame)."""
+        return dataclasses.replace(self, pose=as_pose(pose, f"{self.kind} '{self.name}'"))
+
+    def with_name(self, name: str) -> Obstacle:
+        """A copy of this shape with another name."""
+        return dataclasses.replace(self, name=name)
+
+    def local_aabb(self) -> tuple[np.ndarray, np.ndarray]:
+        """(centre (3,), half extents (3,)) of the shape's bounding box in its own frame [m]."""
+        raise NotImplementedError
+
+    def to_dict(self) -> dict:
+        """This shape's entry in cuRobo's world format (without the name)."""
+        raise NotImplementedError
+
+    def _pose_list(self) -> list[float]:
+        return [float(x) for x in self.pose.to_xyz_wxyz()]
+
+
+@dataclass(frozen=True, eq=False)
+class Cuboid(Obstacle):
+    """A box.
+
+    Args:
+        name: unique name in the world.
+        dims: (3,) full edge lengths along the local x, y, z axes [m].
+        pose: the box centre's pose in the base frame.
+    """
+
+    kind: ClassVar[str] = "cuboid"
+
+    dims: np.ndarray = field(default=None)  # type: ignore[assignment]
+
+    def __init__(self, name: str, dims: Sequence[float] | np.ndarray, pose: Pose | Sequence[float] | None = None):
+        object.__setattr__(self, "name", _check_name(name, "cuboid"))
+        d = np.asarray(dims, dtype=float) if dims is not None else np.zeros(0)
+        if d.shape != (3,) or not np.all(np.isfinite(d)) or np.any(d <= 0):
+            raise InvalidInputError(f"cuboid '{name}': dims must be 3 positive full edge lengths [x, y, z] in m; got {dims!r}")
+        d.setflags(write=False)
+        object.__setattr__(self, "dims", d)
+        object.__setattr__(self, "pose", as_pose(pose, f"cuboid '{name}'"))
+
+    def local_aabb(self) -> tuple[np.ndarray, np.ndarray]:
+        return np.zeros(3), self.dims / 2.0
+
+    def to_dict(self) -> dict:
+        return {"dims": [float(x) for x in self.dims], "pose": self._pose_list()}
+
+
+@dataclass(frozen=True, eq=False)
+class Sphere(Obstacle):
+    """A ball.
+
+    Args:
+        name: unique name in the world.
+        radius: [m] > 0.
+        pose: the centre as a Pose or a position [x, y, z] in the base frame.
+    """
+
+    kind: ClassVar[str] = "sphere"
+
+    radius: float = 0.0
+
+    def __init__(self, name: str, radius: float, pose: Pose | Sequence[float] | None = None):
+        object.__setattr__(self, "name", _check_name(name, "sphere"))
+        object.__setattr__(self, "radius", _positive(radius, f"sphere '{name}': radius"))
+        object.__setattr__(self, "pose", as_pose(pose, f"sphere '{name}'"))
+
+    @property
+    def position(self) -> np.ndarray:
+        """(3,) centre in the base frame [m]."""
+        return self.pose.position
+
+    def local_aabb(self) -> tuple[np.ndarray, np.ndarray]:
+        return np.zeros(3), np.full(3, self.radius)
+
+    def to_dict(self) -> dict:
+        return {"radius": self.radius, "position": [float(x) for x in self.pose.position]}
+
+
+@dataclass(frozen=True, eq=False)
+class Cylinder(Obstacle):
+    """A solid cylinder with its axis along local z, centred on its frame.
+
+    Args:
+        name: unique name in the world.
+        radius: [m] > 0.
+        height: full length along the axis [m] > 0.
+        pose: the centre's pose in the base frame.
+    """
+
+    kind: ClassVar[str] = "cylinder"
+
+    radius: float = 0.0
+    height: float = 0.0
+
+    def __init__(self, name: str, radius: float, height: float, pose: Pose | Sequence[float] | None = None):
+        object.__setattr__(self, "name", _check_name(name, "cylinder"))
+        object.__setattr__(self, "radius", _positive(radius, f"cylinder '{name}': radius"))
+        object.__setattr__(self, "height", _positive(height, f"cylinder '{name}': height"))
+        object.__setattr__(self, "pose", as_pose(pose, f"cylinder '{name}'"))
+
+    def local_aabb(self) -> tuple[np.ndarray, np.ndarray]:
+        return np.zeros(3), np.array([self.radius, self.radius, self.height / 2.0])
+
+    def to_dict(self) -> dict:
+        return {"radius": self.radius, "height": self.height, "pose": self._pose_list()}
+
+
+@dataclass(frozen=True, eq=False)
+class Capsule(Obstacle):
+    """A capsule (a segment swept by a ball) with its axis along local z, centred on its frame.
+
+    Args:
+        name: unique name in the world.
+        radius: [m] > 0.
+        height: length of the segment between the two sphere centres [m] >= 0 (the total
+            length is `height + 2 * radius`; coal's convention).
+        pose: the segment midpoint's pose in the base frame.
+
+    cuRobo's form (`radius`, `base`, `tip` points in a frame at `pose`) is accepted by
+    `Capsule.from_base_tip`.
+    """
+
+    kind: ClassVar[str] = "capsule"
+
+    radius: float = 0.0
+    height: float = 0.0
+
+    def __init__(self, name: str, radius: float, height: float, pose: Pose | Sequence[float] | None = None):
+        object.__setattr__(self, "name", _check_name(name, "capsule"))
+        object.__setattr__(self, "radius", _positive(radius, f"capsule '{name}': radius"))
+        try:
+            h = float(height)
+        except (TypeError, ValueError) as exc:
+            raise InvalidInputError(f"capsule '{name}': height must be a number >= 0 [m]; got {height!r}") from exc
+        if not np.isfinite(h) or h < 0:
+            raise InvalidInputError(f"capsule '{name}': height (segment length) must be finite and >= 0 [m]; got {height!r}")
+        object.__setattr__(self, "height", h)
+        object.__setattr__(self, "pose", as_pose(pose, f"capsule '{name}'"))
+
+    @classmethod
+    def from_base_tip(
+        cls,
+        name: str,
+        radius: float,
+        base: Sequence[float],
+        tip: Sequence[float],
+        pose: Pose | Sequence[float] | None = None,
+    ) -> Capsule:
+        """cuRobo's capsule: sphere centres `base` and `tip` (3,) given in the frame `pose`."""
+        a = np.asarray(base, dtype=float)
+        b = np.asarray(tip, dtype=float)
+        if a.shape != (3,) or b.shape != (3,) or not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
+            raise InvalidInputError(f"capsule '{name}': base and tip must be finite points [x, y, z]; got {base!r}, {tip!r}")
+        frame = as_pose(pose, f"capsule '{name}'")
+        axis = b - a
+        length = float(np.linalg.norm(axis))
+        if length < 1e-12:
+            q = np.array([1.0, 0.0, 0.0, 0.0])
+        else:
+            z = np.array([0.0, 0.0, 1.0])
+            u = axis / length
+            c = float(np.dot(z, u))
+            if c < -1.0 + 1e-12:
+                q = np.array([0.0, 1.0, 0.0, 0.0])
+            else:
+                q = quat.normalize(np.concatenate([[1.0 + c], np.cross(z, u)]))
+        local = Pose((a + b) / 2.0, q)
+        return cls(name, radius, length, frame @ local)
+
+    def local_aabb(self) -> tuple[np.ndarray, np.ndarray]:
+        return np.zeros(3), np.array([self.radius, self.radius, self.height / 2.0 + self.radius])
+
+    def to_dict(self) -> dict:
+        return {"radius": self.radius, "height": self.height, "pose": self._pose_list()}
+
+
+@dataclass(frozen=True, eq=False)
+class Mesh(Obstacle):
+    """A triangle mesh (a surface; coal checks its triangles).
+
+    Args:
+        name: unique name in the world.
+        file_path: an STL/OBJ/DAE/PLY file (read with coal's mesh loader), or None when
+            `vertices` and `faces` are given.
+        pose: the mesh frame's pose in the base frame.
+        scale: (3,) scale applied to the file's coordinates (e.g. 0.001 for millimetres).
+        vertices: (V, 3) vertex positions [m] in the mesh frame (before `scale`).
+        faces: (F, 3) vertex indices of the triangles.
+    """
+
+    kind: ClassVar[str] = "mesh"
+
+    file_path: str | None = None
+    scale: np.ndarray = field(default=None)  # type: ignore[assignment]
+    vertices: np.ndarray = field(default=None, repr=False)  # type: ignore[assignment]
+    faces: np.ndarray = field(default=None, repr=False)  # type: ignore[assignment]
+
+    def __init__(
+        self,
+        name: str,
+        file_path: str | Path | None = None,
+        pose: Pose | Sequence[float] | None = None,
+        scale: float | Sequence[float] = 1.0,
+        vertices: np.ndarray | None = None,
+        faces: np.ndarray | None = None,
+    ):
+        object.__setattr__(self, "name", _check_name(name, "mesh"))
+        object.__setattr__(self, "pose", as_pose(pose, f"mesh '{name}'"))
+        s = np.broadcast_to(np.asarray(scale, dtype=float), (3,)).copy() if np.ndim(scale) in (0, 1) else None
+        if s is None or not np.all(np.isfinite(s)) or np.any(s <= 0):
+            raise InvalidInputError(f"mesh '{name}': scale must be a positive number or 3 positive numbers; got {scale!r}")
+        s.setflags(write=False)
+        object.__setattr__(self, "scale", s)
+        if file_path is not None:
+            path = Path(file_path)
+            if not path.is_file():
+                raise InvalidInputError(f"mesh '{name}': file not found: {path}")
+            V, F = _load_mesh_file(path, name)
+            object.__setattr__(self, "file_path", str(path))
+        else:
+            if vertices is None or faces is None:
+                raise InvalidInputError(f"mesh '{name}': give a file_path, or both vertices (V, 3) and faces (F, 3)")
+            V = np.asarray(vertices, dtype=float)
+            F = np.asarray(faces)
+            object.__setattr__(self, "file_path", None)
+        if V.ndim != 2 or V.shape[1] != 3 or V.shape[0] < 3 or not np.all(np.isfinite(V)):
+            raise InvalidInputError(f"mesh '{name}': vertices must be a finite (V, 3) array with V >= 3; got shape {V.shape}")
+        if F.ndim != 2 or F.shape[1] != 3 or F.shape[0] < 1 or not np.issubdtype(F.dtype, np.integer):
+            raise InvalidInputError(f"mesh '{name}': faces must be an integer (F, 3) array of vertex indices; got {F.shape} {F.dtype}")
+        if F.min() < 0 or F.max() >= V.shape[0]:
+            raise InvalidInputError(f"mesh '{name}': face indices must lie in [0, {V.shape[0] - 1}]")
+        V = V.copy()
+        F = F.astype(np.int64)
+        V.setflags(write=False)
+        F.setflags(write=False)
+        object.__setattr__(self, "vertices", V)
+        object.__setattr__(self, "faces", F)
+
+    @property
+    def scaled_vertices(self) -> np.ndarray:
+        """(V, 3) vertices in the mesh frame after scaling [m]."""
+        return self.vertices * self.scale
+
+    def local_aabb(self) -> tuple[np.ndarray, np.ndarray]:
+        V = self.scaled_vertices
+        lo, hi = V.min(axis=0), V.max(axis=0)
+        return (lo + hi) / 2.0, (hi - lo) / 2.0
+
+    def to_dict(self) -> dict:
+        d: dict = {"pose": self._pose_list()}
+        if self.file_path is not None:
+            d["file_path"] = self.file_path
+        else:
+            d["vertices"] = self.vertices.tolist()
+            d["faces"] = self.faces.tolist()
+        if not np.allclose(self.scale, 1.0):
+            d["scale"] = [float(x) for x in self.scale]
+        return d
+
+
+def _load_mesh_file(path: Path, name: str) -> tuple[np.ndarray, np.ndarray]:
+    import coal
+
+    try:
+        bvh = coal.MeshLoader().load(str(path), np.ones(3))
+    except Exception as exc:  # coal raises plain RuntimeErrors for unreadable files
+        raise InvalidInputError(f"mesh '{name}': could not read {path} ({exc}); coal reads STL, OBJ, DAE, PLY") from exc
+    V = np.array(bvh.vertices(), dtype=float).reshape(-1, 3)
+    F = np.array([[t[0], t[1], t[2]] for t in (bvh.tri_indices(i) for i in range(bvh.num_tris))], dtype=np.int64)
+    return V, F.reshape(-1, 3)
+
+
+SHAPE_TYPES: dict[str, type[Obstacle]] = {
+    "cuboid": Cuboid,
+    "sphere": Sphere,
+    "cylinder": Cylinder,
+    "capsule": Capsule,
+    "mesh": Mesh,
+}
+
+
+def coal_geometry(shape: Obstacle):
+    """A new coal collision geometry of `shape` in its local frame."""
+    import coal
+
+    if isinstance(shape, Cuboid):
+        return coal.Box(*[float(x) for x in shape.dims])
+    if isinstance(shape, Sphere):
+        return coal.Sphere(shape.radius)
+    if isinstance(shape, Cylinder):
+        return coal.Cylinder(shape.radius, shape.height)
+    if isinstance(shape, Capsule):
+        return coal.Capsule(shape.radius, shape.height)
+    if isinstance(shape, Mesh):
+        bvh = coal.BVHModelOBBRSS()
+        bvh.beginModel(shape.faces.shape[0], shape.vertices.shape[0])
+        bvh.addSubModel(np.ascontiguousarray(shape.scaled_vertices), np.ascontiguousarray(shape.faces))
+        bvh.endModel()
+        return bvh
+    raise InvalidInputError(f"unsupported shape type {type(shape).__name__}; valid: {', '.join(SHAPE_TYPES)}")

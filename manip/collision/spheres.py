@@ -1,0 +1,248 @@
+"""Automatic sphere covers of triangle meshes (no hand fitting).
+
+`cover_with_spheres(vertices, faces)` returns balls whose union contains every point of the
+mesh's surface. Construction (all deterministic):
+
+1. Subdivide each triangle until its edges are at most `resolution` long.
+2. Pick ball centres: k-means (farthest-point initialisation) on points inside the mesh
+   (a grid filtered by a ray-parity test), so that the balls slice the body like beads on
+   its medial axis instead of sitting on the surface and bulging outwards.
+3. Assign every sub-triangle to the centre whose ball needs the smallest radius to hold
+   it, move each centre to the (approximate) minimal enclosing ball of its sub-triangles'
+   vertices, repeat; each radius is the largest distance from its centre to an assigned
+   vertex.
+
+A ball contains a triangle when it contains its three vertices (balls are convex), so the
+union covers the surface exactly, whatever the sampling. The number of balls grows until
+the cover sticks out of the mesh by at most `tolerance` (measured on points of the balls'
+surfaces that lie outside the mesh) or `max_spheres` is reached.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+# An irrational-looking ray direction: rays parallel to mesh edges or faces are unlikely.
+_RAY = np.array([0.5377, 0.3119, 0.7834]) / np.linalg.norm([0.5377, 0.3119, 0.7834])
+
+
+def subdivide(vertices: np.ndarray, faces: np.ndarray, resolution: float) -> tuple[np.ndarray, np.ndarray]:
+    """Split every triangle into n^2 similar triangles so that every edge is <= resolution.
+
+    Returns:
+        (points (P, 3), triangles (T, 3) indices into points); points may repeat.
+    """
+    V = np.asarray(vertices, dtype=float)
+    tris = V[np.asarray(faces)]  # (F, 3, 3)
+    edges = np.stack([np.linalg.norm(tris[:, 1] - tris[:, 0], axis=1),
+                      np.linalg.norm(tris[:, 2] - tris[:, 1], axis=1),
+                      np.linalg.norm(tris[:, 0] - tris[:, 2], axis=1)], axis=1).max(axis=1)
+    n_per = np.maximum(1, np.ceil(edges / resolution).astype(int))
+    pts_out, tri_out = [], []
+    offset = 0
+    for n in np.unique(n_per):
+        sel = tris[n_per == n]
+        # barycentric grid of (n+1)(n+2)/2 points
+        ij = [(i, j) for i in range(n + 1) for j in range(n + 1 - i)]
+        index = {p: k for k, p in enumerate(ij)}
+        bary = np.array([[1.0 - (i + j) / n, i / n, j / n] for i, j in ij])  # (G, 3)
+        local = []
+        for i in range(n):
+            for j in range(n - i):
+                local.append((index[(i, j)], index[(i + 1, j)], index[(i, j + 1)]))
+                if i + j < n - 1:
+                    local.append((index[(i + 1, j)], index[(i + 1, j + 1)], index[(i, j + 1)]))
+        local = np.array(local)
+        G = bary.shape[0]
+        P = np.einsum("gk,fkd->fgd", bary, sel).reshape(-1, 3)
+        T = (np.arange(sel.shape[0])[:, None, None] * G + local[None]).reshape(-1, 3) + offset
+        pts_out.append(P)
+        tri_out.append(T)
+        offset += P.shape[0]
+    return np.concatenate(pts_out), np.concatenate(tri_out)
+
+
+def inside_mesh(points: np.ndarray, vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """(M,) True for points inside a closed mesh (ray-parity test, Moller-Trumbore)."""
+    tris = np.asarray(vertices, dtype=float)[np.asarray(faces)]
+    v0, e1, e2 = tris[:, 0], tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0]
+    h = np.cross(_RAY, e2)  # (F, 3)
+    a = np.einsum("fd,fd->f", e1, h)
+    ok = np.abs(a) > 1e-12
+    v0, e1, e2, h, a = v0[ok], e1[ok], e2[ok], h[ok], a[ok]
+    inside = np.zeros(points.shape[0], dtype=bool)
+    for start in range(0, points.shape[0], 512):
+        P = points[start:start + 512]
+        s = P[:, None, :] - v0[None]  # (M, F, 3)
+        u = np.einsum("mfd,fd->mf", s, h) / a
+        qv = np.cross(s, e1[None])
+        v = (qv @ _RAY) / a
+        t = np.einsum("mfd,fd->mf", qv, e2) / a
+        hit = (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)
+        inside[start:start + 512] = (hit.sum(axis=1) % 2) == 1
+    return inside
+
+
+def _farthest_point_init(X: np.ndarray, k: int) -> np.ndarray:
+    c = [int(np.argmin(np.linalg.norm(X - X.mean(axis=0), axis=1)))]
+    d = np.linalg.norm(X - X[c[0]], axis=1)
+    for _ in range(1, k):
+        i = int(np.argmax(d))
+        c.append(i)
+        d = np.minimum(d, np.linalg.norm(X - X[i], axis=1))
+    return X[c].copy()
+
+
+def _kmeans(X: np.ndarray, k: int, iterations: int = 20) -> np.ndarray:
+    C = _farthest_point_init(X, k)
+    for _ in range(iterations):
+        lab = np.argmin(((X[:, None, :] - C[None]) ** 2).sum(-1), axis=1)
+        newC = np.array([X[lab == i].mean(axis=0) if np.any(lab == i) else C[i] for i in range(k)])
+        if np.allclose(newC, C, atol=1e-7):
+            break
+        C = newC
+    return C
+
+
+def _fit(points: np.ndarray, tris: np.ndarray, centres: np.ndarray, rounds: int = 2) -> tuple[np.ndarray, np.ndarray]:
+    """Assign sub-triangles to centres, recentre, and return (centres, radii) covering all.
+
+    Each sub-triangle goes to the centre whose ball needs the smallest radius to hold its
+    three vertices; each centre then moves to the middle of its vertices' bounding box.
+    """
+    tv = points[tris]  # (T, 3, 3)
+    C = centres.copy()
+    for r in range(rounds + 1):
+        need = np.sqrt(((tv[:, :, None, :] - C[None, None]) ** 2).sum(-1)).max(axis=1)  # (T, k)
+        lab = np.argmin(need, axis=1)
+        used = np.unique(lab)
+        C = C[used]
+        lab = np.searchsorted(used, lab)
+        if r == rounds:
+            break
+        lo = np.full(C.shape, np.inf)
+        hi = np.full(C.shape, -np.inf)
+        for v in range(3):
+            np.minimum.at(lo, lab, tv[:, v])
+            np.maximum.at(hi, lab, tv[:, v])
+        C = (lo + hi) / 2.0
+    radii = np.zeros(C.shape[0])
+    for v in range(3):
+        np.maximum.at(radii, lab, np.sqrt(((tv[:, v] - C[lab]) ** 2).sum(-1)))
+    return C, radii
+
+
+def _fibonacci_sphere(n: int) -> np.ndarray:
+    i = np.arange(n) + 0.5
+    phi = np.arccos(1 - 2 * i / n)
+    theta = np.pi * (1 + 5**0.5) * i
+    return np.stack([np.cos(theta) * np.sin(phi), np.sin(theta) * np.sin(phi), np.cos(phi)], axis=1)
+
+
+def protrusion(centres: np.ndarray, radii: np.ndarray, vertices: np.ndarray, faces: np.ndarray,
+               surface: np.ndarray, closed: bool, directions: int = 96) -> float:
+    """How far [m] the union of balls sticks out of the mesh (sampled on the balls' surfaces)."""
+    D = _fibonacci_sphere(directions)
+    S = (centres[:, None, :] + radii[:, None, None] * D[None]).reshape(-1, 3)
+    # keep points on the union's boundary only
+    d_other = np.sqrt(((S[:, None, :] - centres[None]) ** 2).sum(-1)) - radii[None]
+    S = S[(d_other < -1e-9).sum(axis=1) == 0]
+    if S.shape[0] == 0:
+        return 0.0
+    if closed:
+        S = S[~inside_mesh(S, vertices, faces)]
+        if S.shape[0] == 0:
+            return 0.0
+    best = np.full(S.shape[0], np.inf)
+    for start in range(0, surface.shape[0], 2048):
+        chunk = surface[start:start + 2048]
+        best = np.minimum(best, np.sqrt(((S[:, None, :] - chunk[None]) ** 2).sum(-1)).min(axis=1))
+    return float(best.max())
+
+
+def is_closed(faces: np.ndarray) -> bool:
+    """True when every edge of the mesh is shared by exactly two triangles."""
+    F = np.asarray(faces)
+    e = np.sort(np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1)
+    _, counts = np.unique(e, axis=0, return_counts=True)
+    return bool(np.all(counts == 2))
+
+
+def _greedy_cover(tv: np.ndarray, cand: np.ndarray, rho: np.ndarray, delta: float, max_spheres: int) -> list[int]:
+    """Greedy set cover: indices of candidate balls (radius rho + delta) covering triangles tv."""
+    need = np.sqrt(((tv[None, :, :, :] - cand[:, None, None, :]) ** 2).sum(-1)).max(axis=2)  # (M, T)
+    covers = need <= (rho + delta)[:, None]
+    uncovered = np.ones(tv.shape[0], dtype=bool)
+    chosen: list[int] = []
+    while uncovered.any() and len(chosen) < max_spheres:
+        gain = covers[:, uncovered].sum(axis=1)
+        best = int(np.argmax(gain))
+        if gain[best] == 0:
+            break
+        chosen.append(best)
+        uncovered &= ~covers[best]
+    return chosen
+
+
+def cover_with_spheres(
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    tolerance: float = 0.02,
+    max_spheres: int = 32,
+    resolution: float | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Balls whose union contains the whole surface of a triangle mesh.
+
+    Centres are chosen among interior grid points by a greedy set cover: a centre c at
+    distance rho(c) from the surface gets radius rho(c) + tolerance, which sticks out of a
+    closed mesh by at most `tolerance` (any point of the ball outside the mesh lies within
+    `tolerance` of where the ray from c crosses the surface). Surface parts left uncovered
+    (thin features, or `max_spheres` reached) are given to the ball that needs to grow least.
+
+    Args:
+        vertices: (V, 3) [m].
+        faces: (F, 3) vertex indices.
+        tolerance: how far the balls may stick out of the mesh [m].
+        max_spheres: upper bound on the number of balls.
+        resolution: longest sub-triangle edge [m] of the subdivision on which coverage is
+            enforced; default min(tolerance / 1.5, extent / 20).
+
+    Returns:
+        (centres (K, 3) [m], radii (K,) [m]) in the mesh frame; the union of the balls
+        contains every point of every triangle.
+    """
+    V = np.asarray(vertices, dtype=float)
+    F = np.asarray(faces, dtype=np.int64)
+    extent = float((V.max(axis=0) - V.min(axis=0)).max())
+    if extent <= 0:
+        return V[:1].copy(), np.array([1e-9])
+    res = resolution if resolution is not None else min(tolerance / 1.5, extent / 20.0)
+    points, tris = subdivide(V, F, res)
+    closed = is_closed(F)
+    lo, hi = V.min(axis=0), V.max(axis=0)
+    step = min(extent / 12.0, max(tolerance, extent / 40.0))
+    axes = [np.arange(lo[d] + step / 2, hi[d], step) if hi[d] - lo[d] > step else np.array([(lo[d] + hi[d]) / 2]) for d in range(3)]
+    grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+    cand = grid[inside_mesh(grid, V, F)] if closed else np.zeros((0, 3))
+    if cand.shape[0] == 0:  # open or very thin mesh: centres on the surface itself
+        cand = np.unique(np.round(points / step) * step, axis=0)
+    upts = np.unique(points, axis=0)
+    rho = np.full(cand.shape[0], np.inf)
+    for s in range(0, upts.shape[0], 2048):
+        rho = np.minimum(rho, np.sqrt(((cand[:, None, :] - upts[None, s:s + 2048]) ** 2).sum(-1)).min(axis=1))
+    # the greedy runs on a coarser subdivision; exact coverage is enforced on the fine one below
+    cpts, ctris = subdivide(V, F, max(res, 2.0 * tolerance, extent / 15.0))
+    chosen = _greedy_cover(cpts[ctris], cand, rho, tolerance, max_spheres)
+    if not chosen:
+        chosen = [int(np.argmax(rho))]
+    C = cand[chosen]
+    R0 = rho[chosen] + tolerance
+    tv = points[tris]
+    need = np.zeros((tv.shape[0], C.shape[0]))
+    for v in range(3):
+        need = np.maximum(need, np.sqrt(((tv[:, v, None, :] - C[None]) ** 2).sum(-1)))
+    lab = np.argmin(need - R0[None], axis=1)
+    R = R0.copy()
+    np.maximum.at(R, lab, need[np.arange(tv.shape[0]), lab])
+    keep = np.unique(lab)
+    return C[keep], R[keep]
