@@ -402,7 +402,10 @@ class MotionGenerator:
         """Dense collision check of the timed trajectory and its limits."""
         if np.max(np.abs(traj.positions[0] - start)) > 1e-9 or np.max(np.abs(traj.positions[-1] - goal)) > 1e-6:
             return False, "trajectory does not start at the start or end at the goal"
-        dense = traj.dense_positions(self.resolution)
+        # sample the exact profile so that consecutive samples are at most `resolution` apart
+        vmax = float(np.max(traj.max_abs_velocity()))
+        n = max(2, int(np.ceil(traj.duration * vmax / self.resolution)) + 1)
+        dense, _, _ = traj.at_time(np.linspace(0.0, traj.duration, n))
         if not self.checker.path_valid(dense, resolution=self.resolution)[0]:
             return False, "timed trajectory collides"
         return True, ""
@@ -471,7 +474,7 @@ class _Context:
         if mg.checker.in_collision(q):
             report = mg.checker.collision_report(q)
             status = (
-                PlanStatus.INVALID_START_SELF_COLLISION if report.kind == "self" else PlanStatus.INVALID_START_WORLD_COLLISION
+                PlanStatus.INVALID_START_WORLD_COLLISION if report.world_collision else PlanStatus.INVALID_START_SELF_COLLISION
             )
             self.fail(status, f"start in collision: {report}")
         return q

@@ -165,12 +165,15 @@ class TutorialMotionGen:
 
     def convert_solution_to_actions(self, solution: dict, robot) -> list[ArticulationAction]:
         """One ArticulationAction per time step of a `motion_generate` solution."""
-        traj = Trajectory.from_samples(
-            np.asarray(solution["positions"], dtype=float),
-            np.asarray(solution["velocities"], dtype=float),
-            np.asarray(solution["accelerations"], dtype=float),
-            np.asarray(solution["jerks"], dtype=float),
-            dt=float(solution["interpolation_dt"]),
+        positions = np.asarray(solution["positions"], dtype=float)
+        dt = float(solution["interpolation_dt"])
+        traj = Trajectory(
+            times=np.arange(len(positions)) * dt,
+            positions=positions,
+            velocities=np.asarray(solution["velocities"], dtype=float),
+            accelerations=np.asarray(solution["accelerations"], dtype=float),
+            jerks=np.asarray(solution["jerks"], dtype=float),
+            dt=dt,
             joint_names=solution["joint_names"],
         )
         return traj.to_articulation_actions(robot)

@@ -56,7 +56,7 @@ def linear_path(
     q = start
     for i in range(n):
         target = Pose(positions[i], quats[i])
-        res = ik_solver.solve(target, link, seed_q=q, max_attempts=1)
+        res = ik_solver.solve(target, link, seed_q=q)
         if not res.success:
             return None, f"IK fails on the line at {s[i] * 100:.0f}% ({res.status.name})"
         if np.max(np.abs(res.q - q)) > MAX_JOINT_JUMP:

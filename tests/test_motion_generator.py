@@ -1,0 +1,200 @@
+"""MotionGenerator: inputs, statuses, pose/linear/goal-set planning, attach, determinism.
+
+Every successful trajectory is checked by the independent verifier of
+`manip.benchmarking.verify` (exact meshes, dense, limits), not by the planner's own checks.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from manip import InvalidInputError, Pose, UnknownNameError
+from manip.benchmarking.verify import default_verifier
+from manip.collision import Cuboid, WorldConfig
+from manip.motion_generator import MotionGenerator
+from manip.planning import PlanStatus
+
+READY = np.array([0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785])
+DOWN = np.array([0.0, 1.0, 0.0, 0.0])  # hand z axis pointing down (rotation pi about x)
+
+#: A table top in front of the robot and a wall between two reach targets.
+TABLE_WALL = {
+    "cuboid": {
+        "table": {"dims": [0.8, 1.2, 0.04], "pose": [0.55, 0.0, -0.02, 1, 0, 0, 0]},
+        "wall": {"dims": [0.3, 0.04, 0.45], "pose": [0.5, 0.0, 0.225, 1, 0, 0, 0]},
+    }
+}
+
+
+@pytest.fixture(scope="module")
+def mg() -> MotionGenerator:
+    return MotionGenerator("franka", WorldConfig.from_dict(TABLE_WALL))
+
+
+def _verify(mg: MotionGenerator, result, goal_q=None, goal_pose=None, link="panda_hand"):
+    traj = result.trajectory
+    v = default_verifier().verify_trajectory(
+        mg.world.to_dict(),
+        traj.times,
+        traj.positions,
+        traj.velocities,
+        traj.accelerations,
+        traj.jerks,
+        start_q=traj.positions[0],
+        goal_q=goal_q,
+        goal_pose=goal_pose,
+        check_jerk=True,
+    )
+    assert v.valid, v.reasons
+
+
+def _left_right(mg: MotionGenerator) -> tuple[np.ndarray, np.ndarray]:
+    """Two configurations with the hand on either side of the wall."""
+    left = mg.ik(Pose([0.45, 0.3, 0.25], DOWN), seed_q=READY, collision_free=True)
+    right = mg.ik(Pose([0.45, -0.3, 0.25], DOWN), seed_q=READY, collision_free=True)
+    assert left.success and right.success
+    return left.q, right.q
+
+
+def test_robot_facts(mg):
+    assert mg.joint_names == [f"panda_joint{i}" for i in range(1, 8)]
+    assert mg.robot_dof == 7
+    np.testing.assert_allclose(mg.default_joint_positions, READY)
+    assert mg.ee_link == "panda_hand"
+    assert np.all(mg.lower_limits < mg.upper_limits)
+    assert mg.velocity_limits.shape == (7,)
+
+
+def test_plan_joints_around_wall_is_valid(mg):
+    left, right = _left_right(mg)
+    r = mg.plan_joints(left, right, seed=1)
+    assert r.success, r.message
+    assert r.status is PlanStatus.SUCCESS
+    traj = r.trajectory
+    np.testing.assert_allclose(traj.positions[0], left, atol=1e-9)
+    np.testing.assert_allclose(traj.positions[-1], right, atol=1e-6)
+    np.testing.assert_allclose(traj.velocities[[0, -1]], 0.0, atol=1e-9)
+    assert traj.joint_names == tuple(mg.joint_names)
+    assert {"plan", "timing", "validate", "total"} <= set(r.timings)
+    _verify(mg, r, goal_q=right)
+
+
+def test_plan_pose_reaches_goal_within_tolerance(mg):
+    goal = Pose([0.45, -0.3, 0.3], DOWN)
+    left, _ = _left_right(mg)
+    r = mg.plan_pose(left, goal, seed=0)
+    assert r.success, r.message
+    assert r.position_error <= 1e-3 and r.rotation_error <= 0.01
+    reached = mg.fk(r.trajectory.positions[-1])
+    dp, dr = reached.distance(goal)
+    assert dp <= 1e-3 and dr <= 0.01
+    _verify(mg, r, goal_pose=goal)
+
+
+def test_linear_motion_keeps_a_straight_line_and_orientation(mg):
+    _, right = _left_right(mg)
+    start_pose = mg.fk(right, "panda_hand_tcp")
+    goal = Pose(start_pose.position - [0.0, 0.0, 0.12], start_pose.quaternion)
+    r = mg.plan_pose(right, goal, link="panda_hand_tcp", linear=True)
+    assert r.success, r.message
+    poses = mg.fk(r.trajectory.positions, "panda_hand_tcp")
+    # distance of every sample from the line, and the orientation drift
+    d = poses.position - start_pose.position
+    off_line = np.linalg.norm(d[:, :2], axis=1)
+    assert off_line.max() < 2e-3
+    _, rot = poses.distance(Pose(np.tile(start_pose.position, (len(poses), 1)), np.tile(start_pose.quaternion, (len(poses), 1))))
+    assert rot.max() < 0.01
+    assert r.position_error <= 1e-3
+
+
+def test_goalset_picks_a_reachable_pose(mg):
+    left, _ = _left_right(mg)
+    unreachable = Pose([2.0, 0.0, 0.3], DOWN)
+    reachable = Pose([0.45, -0.3, 0.3], DOWN)
+    r = mg.plan_goalset(left, Pose.stack([unreachable, reachable]), seed=0)
+    assert r.success, r.message
+    assert r.goal_index == 1
+
+
+def test_unreachable_pose_is_ik_fail(mg):
+    r = mg.plan_pose(READY, Pose([2.0, 0.0, 0.3], DOWN))
+    assert not r.success and r.status is PlanStatus.IK_FAIL
+    assert r.trajectory is None
+
+
+def test_start_statuses(mg):
+    # a hair outside a limit is accepted
+    start = READY.copy()
+    start[3] = mg.upper_limits[3] + 5e-7
+    assert mg.plan_joints(start, READY).status is not PlanStatus.INVALID_START_JOINT_LIMITS
+    start[3] = mg.upper_limits[3] + 1e-3
+    assert mg.plan_joints(start, READY).status is PlanStatus.INVALID_START_JOINT_LIMITS
+    # hand inside the wall
+    inside = mg.ik(Pose([0.5, 0.0, 0.25], DOWN), seed_q=READY)
+    assert inside.success
+    assert mg.plan_joints(inside.q, READY).status is PlanStatus.INVALID_START_WORLD_COLLISION
+    # the arm folded into itself (link 7 / hand against link 1-2)
+    folded = np.array([0.0, 1.5, 0.0, -3.0, 0.0, 3.7, 0.0])
+    free = MotionGenerator("franka")
+    assert free.check_collision(folded)
+    assert free.plan_joints(folded, READY).status is PlanStatus.INVALID_START_SELF_COLLISION
+
+
+def test_invalid_goal_status(mg):
+    inside = mg.ik(Pose([0.5, 0.0, 0.25], DOWN), seed_q=READY)
+    left, _ = _left_right(mg)
+    assert mg.plan_joints(left, inside.q).status is PlanStatus.INVALID_GOAL
+    beyond = READY.copy()
+    beyond[0] = 3.5
+    assert mg.plan_joints(left, beyond).status is PlanStatus.INVALID_GOAL
+
+
+@pytest.mark.parametrize(
+    "call, match",
+    [
+        (lambda m: m.plan_joints(np.zeros(6), READY), r"start_q must have shape"),
+        (lambda m: m.plan_joints(READY, np.full(7, np.nan)), r"non-finite"),
+        (lambda m: m.plan_joints(READY, READY, speed=2), r"unknown planning option"),
+        (lambda m: m.plan_joints(READY, READY, velocity_scale=1.5), r"velocity_scale"),
+        (lambda m: m.plan_pose(READY, [0.4, 0, 0.4, 1, 0, 0, 0]), r"manip.Pose"),
+        (lambda m: m.fk(READY, link="gripper"), r"frame 'gripper' not found; available: .*panda_hand"),
+    ],
+)
+def test_bad_input_raises(mg, call, match):
+    with pytest.raises((InvalidInputError, UnknownNameError), match=match):
+        call(mg)
+
+
+def test_same_seed_same_plan(mg):
+    left, right = _left_right(mg)
+    a = mg.plan_joints(left, right, seed=7)
+    b = mg.plan_joints(left, right, seed=7)
+    assert a.success and b.success
+    np.testing.assert_array_equal(a.trajectory.positions, b.trajectory.positions)
+
+
+def test_attach_and_detach_object():
+    mg = MotionGenerator("franka", {"cuboid": {"shelf": {"dims": [0.4, 0.4, 0.02], "pose": [0.5, 0.0, 0.30, 1, 0, 0, 0]}}})
+    # the hand 10 cm above the shelf top is free; a 20 cm box hanging below it is not
+    q = mg.ik(Pose([0.5, 0.0, 0.31 + 0.1 + 0.1034], DOWN), seed_q=READY).q
+    assert not mg.check_collision(q)
+    box_pose = mg.fk(q, "panda_hand_tcp") @ Pose([0.0, 0.0, 0.05])
+    mg.attach_object(Cuboid("box", [0.05, 0.05, 0.2], box_pose), q=q)
+    assert mg.check_collision(q)
+    mg.detach_object(q)
+    assert "box" in mg.world.names
+    placed = mg.world.get("box").pose
+    assert placed.isclose(box_pose, 1e-9, 1e-9)
+    assert mg.check_collision(q)  # the box is back in the world, intersecting the hand region
+    mg.remove_obstacle("box")
+    assert not mg.check_collision(q)
+
+
+def test_velocity_scale_slows_the_motion(mg):
+    left, right = _left_right(mg)
+    fast = mg.plan_joints(left, right, seed=3)
+    slow = mg.plan_joints(left, right, seed=3, velocity_scale=0.5, acceleration_scale=0.5)
+    assert fast.success and slow.success
+    assert slow.trajectory.duration > fast.trajectory.duration * 1.3
+    assert np.all(np.abs(slow.trajectory.velocities) <= 0.5 * mg.velocity_limits + 1e-9)
