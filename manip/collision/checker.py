@@ -29,7 +29,7 @@ from typing import Literal, NamedTuple, Sequence
 import coal
 import numpy as np
 
-from manip.collision.robot_geometry import RobotGeometry, RobotPart, sphere_cover
+from manip.collision.robot_geometry import COARSE_MAX_SPHERES, COARSE_TOLERANCE, RobotGeometry, sphere_cover
 from manip.collision.shapes import Capsule, Cuboid, Cylinder, Mesh, Obstacle, Sphere, coal_geometry
 from manip.collision.world import WorldConfig
 from manip.errors import InvalidInputError, UnknownNameError
@@ -140,6 +140,8 @@ class _Part:
     hull: object        # coal geometry for distances (convex hull of meshes)
     centres: np.ndarray  # (K, 3) in joint frame
     radii: np.ndarray   # (K,)
+    coarse_centres: np.ndarray  # (k, 3) in joint frame
+    coarse_radii: np.ndarray    # (k,)
 
 
 def _hull(geometry):
@@ -248,6 +250,7 @@ class CollisionChecker:
     def padding(self, value: float) -> None:
         self._padding = self._check_padding(value, "padding")
         self._req_world.security_margin = self._padding
+        self._update_static()
 
     @property
     def self_padding(self) -> float:
@@ -315,7 +318,8 @@ class CollisionChecker:
         parts: list[_Part] = []
         self._robot_part_links: list[str] = []
         for rp in self.robot.parts:
-            parts.append(_Part(rp.link, False, rp.joint, rp.R, rp.p, rp.geometry, _hull(rp.geometry), rp.centres, rp.radii))
+            parts.append(_Part(rp.link, False, rp.joint, rp.R, rp.p, rp.geometry, _hull(rp.geometry), rp.centres, rp.radii,
+                               rp.coarse_centres, rp.coarse_radii))
         n_robot = len(parts)
         pairs = list(self.robot.self_pairs)
         kin = self.kinematics
@@ -324,35 +328,46 @@ class CollisionChecker:
             T_joint_obj = Pose.from_matrix(f.placement.homogeneous) @ att.pose_in_link
             local = att.obstacle.with_pose(Pose(np.zeros(3)))
             geom = coal_geometry(local)
-            C, r = sphere_cover(geom)
+            C, r = sphere_cover(geom, self.robot.sphere_tolerance)
+            Cc, rc = sphere_cover(geom, COARSE_TOLERANCE, COARSE_MAX_SPHERES)
             Rj = T_joint_obj.rotation
             pj = T_joint_obj.position
-            parts.append(_Part(name, True, f.parentJoint, Rj, pj, geom, _hull(geom), C @ Rj.T + pj, r))
+            parts.append(_Part(name, True, f.parentJoint, Rj, pj, geom, _hull(geom), C @ Rj.T + pj, r, Cc @ Rj.T + pj, rc))
             ai = len(parts) - 1
             for i in range(n_robot):
                 if parts[i].name not in att.allowed_links:
                     pairs.append((i, ai))
         self._parts = parts
         G = len(parts)
-        K = max(len(p.radii) for p in parts)
         self._pj = np.array([p.joint for p in parts])
-        self._pC = np.zeros((G, K, 3))
-        self._pr = np.full((G, K), -np.inf)
+
+        def table(attr_c: str, attr_r: str) -> tuple[np.ndarray, np.ndarray]:
+            K = max(len(getattr(p, attr_r)) for p in parts)
+            C = np.zeros((G, K, 3))
+            r = np.full((G, K), -np.inf)  # padding balls never touch anything
+            for g, p in enumerate(parts):
+                k = len(getattr(p, attr_r))
+                C[g, :k] = getattr(p, attr_c)
+                r[g, :k] = getattr(p, attr_r)
+            return C, r
+
+        self._pC, self._pr = table("centres", "radii")
+        self._cC, self._cr = table("coarse_centres", "coarse_radii")
         self._pbc = np.zeros((G, 3))
         self._pbr = np.zeros(G)
         for g, p in enumerate(parts):
-            k = len(p.radii)
-            self._pC[g, :k] = p.centres
-            self._pr[g, :k] = p.radii
-            lo = (p.centres - p.radii[:, None]).min(axis=0)
-            hi = (p.centres + p.radii[:, None]).max(axis=0)
+            allc = np.concatenate([p.centres, p.coarse_centres])
+            allr = np.concatenate([p.radii, p.coarse_radii])
+            lo = (allc - allr[:, None]).min(axis=0)
+            hi = (allc + allr[:, None]).max(axis=0)
             c = (lo + hi) / 2.0
             self._pbc[g] = c
-            self._pbr[g] = (np.linalg.norm(p.centres - c, axis=1) + p.radii).max()
+            self._pbr[g] = (np.linalg.norm(allc - c, axis=1) + allr).max()
         self._pairs = np.array(pairs, dtype=np.int64).reshape(-1, 2)
         self._pair_attached = np.array([parts[a].attached or parts[b].attached for a, b in pairs], dtype=bool)
         self._req_self = coal.CollisionRequest()
         self._req_self.security_margin = self._self_padding
+        self._update_static()
 
     def _rebuild_world(self) -> None:
         obs = self._world.obstacles
@@ -391,6 +406,23 @@ class CollisionChecker:
         self._any_cyl = bool(self._ocyl.any())
         self._req_world = coal.CollisionRequest()
         self._req_world.security_margin = self._padding
+        self._update_static()
+
+    def _update_static(self) -> None:
+        """Parts fixed to the base (joint 0) vs the world: the same answer for every q."""
+        if not hasattr(self, "_obs") or not hasattr(self, "_parts"):
+            return
+        self._moving = np.nonzero(self._pj != 0)[0]
+        static = []
+        res = coal.CollisionResult()
+        for g in np.nonzero(self._pj == 0)[0]:
+            part = self._parts[int(g)]
+            tf = _tf(part.R, part.p)
+            for o in range(len(self._obs)):
+                res.clear()
+                if coal.collide(part.geometry, tf, self._ogeom[o], self._otf[o], self._req_world, res):
+                    static.append((int(g), o))
+        self._static_world = static
 
     # ------------------------------------------------------------------ geometry helpers
     def _sd_all(self, X: np.ndarray) -> np.ndarray:
@@ -414,59 +446,73 @@ class CollisionChecker:
         return _tf(Rj @ part.R, pj + Rj @ part.p)
 
     # ------------------------------------------------------------------ broadphase
+    @staticmethod
+    def _place(R: np.ndarray, p: np.ndarray, n: np.ndarray, joint: np.ndarray, C: np.ndarray) -> np.ndarray:
+        """Balls C (T, K, 3) given in joint frames, placed for configurations n (T,): (T, K, 3)."""
+        return np.matmul(C, R[n, joint].transpose(0, 2, 1)) + p[n, joint][:, None, :]
+
+    def _world_level(self, R, p, n, g, o, C, r, margin):
+        """Keep the (n, g, o) triples where some ball of table (C, r) of part g is within
+        `margin` of obstacle o; returns the kept triples and their smallest ball clearance."""
+        X = self._place(R, p, n, self._pj[g], C[g])
+        K = X.shape[1]
+        s = self._sd_pairs(X.reshape(-1, 3), np.repeat(o, K)).reshape(-1, K) - r[g]
+        m = s.min(axis=1)
+        keep = m < margin
+        return n[keep], g[keep], o[keep], m[keep]
+
+    def _self_level(self, R, p, n, ga, gb, CA, rA, CB, rB, margin):
+        """Keep the (n, ga, gb) triples where a ball of ga's table comes within `margin` of one of gb's."""
+        XA = self._place(R, p, n, self._pj[ga], CA[ga])
+        XB = self._place(R, p, n, self._pj[gb], CB[gb])
+        d2 = ((XA * XA).sum(-1)[:, :, None] + (XB * XB).sum(-1)[:, None, :]
+              - 2.0 * np.matmul(XA, XB.transpose(0, 2, 1)))
+        reach = rA[ga][:, :, None] + rB[gb][:, None, :]  # -inf for padding balls
+        d = np.sqrt(np.maximum(d2, 0.0)) - reach
+        m = d.reshape(d.shape[0], -1).min(axis=1)
+        keep = m < margin
+        return n[keep], ga[keep], gb[keep], m[keep]
+
     def _candidates(self, Q: np.ndarray, R: np.ndarray, p: np.ndarray, world: bool = True, self_: bool = True):
-        """Pairs the spheres cannot clear, as arrays sorted by configuration, deepest first.
+        """Pairs the balls cannot clear, sorted by configuration, deepest first.
+
+        Levels: one bounding ball per part, then the coarse covers, then the fine covers.
 
         Returns:
-            list of (n (T,), kind (T,) 0=world/1=self, i (T,), j (T,)) where for world
-            i = part, j = obstacle, and for self (i, j) = parts.
+            (n (T,), kind (T,) 0=world/1=self, i (T,), j (T,)): for world i = part and
+            j = obstacle; for self (i, j) = parts.
         """
         N = Q.shape[0]
-        G = len(self._parts)
         pj = self._pj
-        # bounding-ball centres (N, G, 3)
-        Rg = R[:, pj]  # (N, G, 3, 3)
-        bc = np.einsum("ngij,gj->ngi", Rg, self._pbc) + p[:, pj]
         ns, kinds, ii, jj, depth = [], [], [], [], []
         O = len(self._obs)
-        if world and O:
-            sd = self._sd_all(bc.reshape(-1, 3)).reshape(N, G, O)
-            n, g, o = np.nonzero(sd < self._pbr[None, :, None] + self._padding + 1e-9)
+        mv = self._moving
+        # bounding-ball centres (N, G, 3)
+        bc = np.matmul(R[:, pj], self._pbc[None, :, :, None])[..., 0] + p[:, pj]
+        if world and O and mv.size:
+            margin = self._padding + 1e-9
+            sd = self._sd_all(bc[:, mv].reshape(-1, 3)).reshape(N, mv.size, O)
+            n, g, o = np.nonzero(sd < self._pbr[mv][None, :, None] + margin)
+            g = mv[g]
             if n.size:
-                C = np.einsum("tij,tkj->tki", Rg[n, g], self._pC[g]) + p[n, pj[g]][:, None, :]
-                K = C.shape[1]
-                s = self._sd_pairs(C.reshape(-1, 3), np.repeat(o, K)).reshape(-1, K) - self._pr[g]
-                m = s.min(axis=1)
-                keep = m < self._padding + 1e-9
-                ns.append(n[keep]); kinds.append(np.zeros(keep.sum(), dtype=np.int64))
-                ii.append(g[keep]); jj.append(o[keep]); depth.append(m[keep])
+                n, g, o, _ = self._world_level(R, p, n, g, o, self._cC, self._cr, margin)
+            if n.size:
+                n, g, o, m = self._world_level(R, p, n, g, o, self._pC, self._pr, margin)
+                ns.append(n); kinds.append(np.zeros(n.size, dtype=np.int64)); ii.append(g); jj.append(o); depth.append(m)
         P = self._pairs.shape[0]
         if self_ and P:
+            margin = self._self_padding + 1e-9
             a, b = self._pairs[:, 0], self._pairs[:, 1]
             diff = bc[:, a] - bc[:, b]
             dist2 = np.einsum("npi,npi->np", diff, diff)  # (N, P)
-            reach = (self._pbr[a] + self._pbr[b])[None] + self._self_padding + 1e-9
+            reach = (self._pbr[a] + self._pbr[b])[None] + margin
             n, k = np.nonzero(dist2 < reach * reach)
+            ga, gb = a[k], b[k]
             if n.size:
-                ga, gb = a[k], b[k]
-                CA = np.einsum("tij,tkj->tki", Rg[n, ga], self._pC[ga]) + p[n, pj[ga]][:, None, :]
-                CB = np.einsum("tij,tkj->tki", Rg[n, gb], self._pC[gb]) + p[n, pj[gb]][:, None, :]
-                # each part's balls against the other's bounding ball first
-                pad = self._self_padding + 1e-9
-                rA, rB = self._pr[ga], self._pr[gb]
-                okA = np.linalg.norm(CA - bc[n, gb][:, None, :], axis=-1) - rA < self._pbr[gb][:, None] + pad
-                okB = np.linalg.norm(CB - bc[n, ga][:, None, :], axis=-1) - rB < self._pbr[ga][:, None] + pad
-                live = okA.any(axis=1) & okB.any(axis=1)
-                n, ga, gb, CA, CB, rA, rB = n[live], ga[live], gb[live], CA[live], CB[live], rA[live], rB[live]
-                okA, okB = okA[live], okB[live]
-                rA = np.where(okA, rA, -np.inf)
-                rB = np.where(okB, rB, -np.inf)
-                d = np.linalg.norm(CA[:, :, None, :] - CB[:, None, :, :], axis=-1)
-                d = d - rA[:, :, None] - rB[:, None, :]
-                m = d.reshape(d.shape[0], -1).min(axis=1)
-                keep = m < pad
-                ns.append(n[keep]); kinds.append(np.ones(keep.sum(), dtype=np.int64))
-                ii.append(ga[keep]); jj.append(gb[keep]); depth.append(m[keep])
+                n, ga, gb, _ = self._self_level(R, p, n, ga, gb, self._cC, self._cr, self._cC, self._cr, margin)
+            if n.size:
+                n, ga, gb, m = self._self_level(R, p, n, ga, gb, self._pC, self._pr, self._pC, self._pr, margin)
+                ns.append(n); kinds.append(np.ones(n.size, dtype=np.int64)); ii.append(ga); jj.append(gb); depth.append(m)
         if not ns:
             e = np.zeros(0, dtype=np.int64)
             return e, e, e, e
@@ -489,6 +535,8 @@ class CollisionChecker:
         return bool(coal.collide(self._parts[i].geometry, tfa, self._parts[j].geometry, tfb, self._req_self, res))
 
     def _check(self, Q: np.ndarray, stop_at_first: bool = False) -> np.ndarray:
+        if self._static_world:
+            return np.ones(Q.shape[0], dtype=bool)
         R, p = self._fk(Q)
         out = np.zeros(Q.shape[0], dtype=bool)
         n, kind, i, j = self._candidates(Q, R, p)
@@ -628,6 +676,9 @@ class CollisionChecker:
         n, kind, i, j = self._candidates(Q, R, p)
         tfs: dict = {}
         contacts = []
+        for g, o in self._static_world:
+            tfs[(0, g)] = self._part_tf(R, p, 0, g)
+            n, kind, i, j = np.r_[0, n], np.r_[0, kind], np.r_[g, i], np.r_[o, j]
         for t in range(n.size):
             k, a, b = int(kind[t]), int(i[t]), int(j[t])
             if not self._exact(R, p, 0, k, a, b, tfs):

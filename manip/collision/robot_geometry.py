@@ -12,7 +12,9 @@ from __future__ import annotations
 
 import hashlib
 import logging
+import os
 from dataclasses import dataclass
+from pathlib import Path
 
 import coal
 import numpy as np
@@ -25,6 +27,8 @@ from manip.robot_config import RobotConfig
 
 logger = logging.getLogger(__name__)
 
+COARSE_TOLERANCE = 0.05  # [m] protrusion of the coarse covers (first broadphase level)
+COARSE_MAX_SPHERES = 6
 _COVER_CACHE: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
 
 
@@ -41,6 +45,8 @@ class RobotPart:
         geometry: the coal collision geometry (in the geometry frame).
         centres: (K, 3) sphere centres in the JOINT frame [m].
         radii: (K,) sphere radii [m]; the balls contain the geometry's surface.
+        coarse_centres: (k, 3) a coarser cover (fewer, larger balls), joint frame [m].
+        coarse_radii: (k,) [m].
     """
 
     name: str
@@ -51,6 +57,8 @@ class RobotPart:
     geometry: object
     centres: np.ndarray
     radii: np.ndarray
+    coarse_centres: np.ndarray
+    coarse_radii: np.ndarray
 
     @property
     def bounding_sphere(self) -> tuple[np.ndarray, float]:
@@ -99,17 +107,54 @@ def geometry_triangles(geometry) -> tuple[np.ndarray, np.ndarray] | None:
     return V + (lo + hi) / 2.0, F
 
 
+_CACHE_VERSION = "cover-v2"
+
+
+def _cache_dir() -> Path | None:
+    """Folder of the on-disk cache of sphere covers: $MANIP_CACHE_DIR, else ~/.cache/manip
+    ($XDG_CACHE_HOME honoured); MANIP_CACHE_DIR=off disables it."""
+    env = os.environ.get("MANIP_CACHE_DIR")
+    if env is not None:
+        return None if env.lower() in ("", "0", "off", "none") else Path(env)
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "manip"
+
+
 def sphere_cover(geometry, tolerance: float = 0.02, max_spheres: int = 32) -> tuple[np.ndarray, np.ndarray]:
-    """Sphere cover (centres (K, 3), radii (K,)) of a coal geometry in its own frame (cached)."""
+    """Sphere cover (centres (K, 3), radii (K,)) of a coal geometry in its own frame.
+
+    Covers are cached in memory and on disk (`_cache_dir()`), keyed by the triangles and
+    the parameters; computing one takes 0.1-1 s for a robot link.
+    """
     if isinstance(geometry, coal.Sphere):
         return np.zeros((1, 3)), np.array([float(geometry.radius)])
     tri = geometry_triangles(geometry)
     assert tri is not None
     V, F = tri
-    key = (hashlib.sha1(V.tobytes() + F.astype(np.int64).tobytes()).hexdigest(), tolerance, max_spheres)
-    if key not in _COVER_CACHE:
-        _COVER_CACHE[key] = cover_with_spheres(V, F, tolerance=tolerance, max_spheres=max_spheres)
-    C, R = _COVER_CACHE[key]
+    digest = hashlib.sha1(V.tobytes() + F.astype(np.int64).tobytes()
+                          + f"{_CACHE_VERSION}/{tolerance!r}/{max_spheres}".encode()).hexdigest()
+    if digest not in _COVER_CACHE:
+        folder = _cache_dir()
+        file = folder / f"spheres-{digest}.npz" if folder is not None else None
+        C = R = None
+        if file is not None and file.is_file():
+            try:
+                with np.load(file) as z:
+                    C, R = z["centres"], z["radii"]
+            except Exception:  # a corrupt cache entry is recomputed
+                C = R = None
+        if C is None:
+            C, R = cover_with_spheres(V, F, tolerance=tolerance, max_spheres=max_spheres)
+            if file is not None:
+                try:
+                    folder.mkdir(parents=True, exist_ok=True)
+                    tmp = file.with_suffix(f".{os.getpid()}.tmp.npz")
+                    np.savez(tmp, centres=C, radii=R)
+                    os.replace(tmp, file)
+                except OSError as exc:
+                    logger.debug("sphere cache not written (%s)", exc)
+        _COVER_CACHE[digest] = (np.asarray(C, dtype=float), np.asarray(R, dtype=float))
+    C, R = _COVER_CACHE[digest]
     return C.copy(), R.copy()
 
 
@@ -166,9 +211,10 @@ class RobotGeometry:
             link = model.frames[go.parentFrame].name
             joint = joint_names.index(model.names[go.parentJoint])
             C, R = sphere_cover(go.geometry, self.sphere_tolerance)
+            Cc, Rc = sphere_cover(go.geometry, COARSE_TOLERANCE, COARSE_MAX_SPHERES)
             Rg = go.placement.rotation.copy()
             pg = go.placement.translation.copy()
-            parts.append(RobotPart(go.name, link, joint, Rg, pg, go.geometry, C @ Rg.T + pg, R))
+            parts.append(RobotPart(go.name, link, joint, Rg, pg, go.geometry, C @ Rg.T + pg, R, Cc @ Rg.T + pg, Rc))
         self.parts: list[RobotPart] = parts
         self.geometry_model = geom
         self.model = model

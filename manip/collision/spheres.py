@@ -168,19 +168,26 @@ def is_closed(faces: np.ndarray) -> bool:
     return bool(np.all(counts == 2))
 
 
+def _sqdist(A: np.ndarray, B: np.ndarray) -> np.ndarray:
+    """Squared distances (len(A), len(B)) between point sets, via one matrix product."""
+    d = (A * A).sum(1)[:, None] + (B * B).sum(1)[None] - 2.0 * (A @ B.T)
+    return np.maximum(d, 0.0)
+
+
 def _greedy_cover(tv: np.ndarray, cand: np.ndarray, rho: np.ndarray, delta: float, max_spheres: int) -> list[int]:
     """Greedy set cover: indices of candidate balls (radius rho + delta) covering triangles tv."""
-    need = np.sqrt(((tv[None, :, :, :] - cand[:, None, None, :]) ** 2).sum(-1)).max(axis=2)  # (M, T)
-    covers = need <= (rho + delta)[:, None]
-    uncovered = np.ones(tv.shape[0], dtype=bool)
+    T = tv.shape[0]
+    need2 = _sqdist(cand, tv.reshape(-1, 3)).reshape(cand.shape[0], T, 3).max(axis=2)  # (M, T)
+    covers = (need2 <= ((rho + delta) ** 2)[:, None]).astype(np.float32)
+    uncovered = np.ones(T, dtype=np.float32)
     chosen: list[int] = []
     while uncovered.any() and len(chosen) < max_spheres:
-        gain = covers[:, uncovered].sum(axis=1)
+        gain = covers @ uncovered
         best = int(np.argmax(gain))
         if gain[best] == 0:
             break
         chosen.append(best)
-        uncovered &= ~covers[best]
+        uncovered *= 1.0 - covers[best]
     return chosen
 
 
@@ -228,8 +235,9 @@ def cover_with_spheres(
         cand = np.unique(np.round(points / step) * step, axis=0)
     upts = np.unique(points, axis=0)
     rho = np.full(cand.shape[0], np.inf)
-    for s in range(0, upts.shape[0], 2048):
-        rho = np.minimum(rho, np.sqrt(((cand[:, None, :] - upts[None, s:s + 2048]) ** 2).sum(-1)).min(axis=1))
+    for s in range(0, upts.shape[0], 4096):
+        rho = np.minimum(rho, _sqdist(cand, upts[s:s + 4096]).min(axis=1))
+    rho = np.sqrt(rho)
     # the greedy runs on a coarser subdivision; exact coverage is enforced on the fine one below
     cpts, ctris = subdivide(V, F, max(res, 2.0 * tolerance, extent / 15.0))
     chosen = _greedy_cover(cpts[ctris], cand, rho, tolerance, max_spheres)
@@ -238,11 +246,9 @@ def cover_with_spheres(
     C = cand[chosen]
     R0 = rho[chosen] + tolerance
     tv = points[tris]
-    need = np.zeros((tv.shape[0], C.shape[0]))
-    for v in range(3):
-        need = np.maximum(need, np.sqrt(((tv[:, v, None, :] - C[None]) ** 2).sum(-1)))
+    need = np.sqrt(_sqdist(tv.reshape(-1, 3), C).reshape(tv.shape[0], 3, C.shape[0]).max(axis=1))  # (T, K)
     lab = np.argmin(need - R0[None], axis=1)
-    R = R0.copy()
+    R = np.zeros(C.shape[0])
     np.maximum.at(R, lab, need[np.arange(tv.shape[0]), lab])
     keep = np.unique(lab)
     return C[keep], R[keep]
