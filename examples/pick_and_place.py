@@ -1,0 +1,571 @@
+"""Franka pick-and-place in MuJoCo, every motion planned by the MotionGenerator.
+
+The Isaac Sim pick-and-place tutorial on a laptop: a Franka at the origin, a 5 cm cube on
+the ground and a place position. The robot waits until the robot and the cube are at
+rest, refreshes the planner's obstacles from the World, picks the cube (pre-grasp 15 cm
+above it, gripper pointing down and turned to the cube's yaw, straight-line descent,
+close, straight-line lift) and places it (pre-place, straight-line descent, open,
+straight-line retreat, back to the wait pose). Whenever the cube lies more than 3 cm from
+the place position and has come to rest, it is picked up and placed again.
+
+    python examples/pick_and_place.py                       # 3 episodes, headless
+    python examples/pick_and_place.py --episodes 10 --obstacles --seed 1
+    python examples/pick_and_place.py --perturb --video pick.mp4 --plot joints.png
+    python examples/pick_and_place.py --viewer              # interactive MuJoCo window
+
+The physics is honest: the cube moves only by contact and friction with the fingers (no
+welding, no teleporting; the script moves the cube itself only to start an episode and,
+with --perturb, to play the person who moves it away). The exit status is 0 only when
+every episode ends with the cube within 1 cm of the place position.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+
+from manip import ArticulationAction, Pose
+from manip import quaternion as quat
+from manip.collision import Cuboid
+from manip.motion_generator import MotionGenerator
+from manip.sim import FixedCuboid, PickPlace, SimulationApp, World
+
+# ---------------------------------------------------------------------------- the task
+CUBE_SIZE = 0.05  # [m]
+PLACE_POSITION = np.array([0.40, -0.35, CUBE_SIZE / 2])  # the PickPlace task's default target [m]
+PICK_AREA_X = (0.35, 0.65)  # [m] where episodes put the cube
+PICK_AREA_Y = (-0.35, 0.35)
+MIN_DISTANCE_TO_PLACE = 0.15  # [m] random cubes start at least this far from the place position
+REPICK_DISTANCE = 0.03  # [m] a resting cube farther than this from the place position is picked again
+SUCCESS_TOLERANCE = 0.01  # [m] placed = final cube centre within this of the place position
+
+APPROACH_HEIGHT = 0.15  # [m] pre-grasp / pre-place / lift height of the TCP above the grasp
+GRASP_HEIGHT = 0.003  # [m] TCP this far above the cube centre at the grasp
+RELEASE_HEIGHT = 0.003  # [m] cube bottom this far above the ground when the fingers open
+RETREAT_HEIGHT = 0.10  # [m] straight up after releasing
+SQUEEZE = 0.005  # [m] each finger's target is this far inside the cube face
+TCP = "panda_hand_tcp"
+LINEAR_STEP = 0.01  # [m] spacing of the IK points of straight-line motions (the result is checked densely)
+
+# Tries before an episode is declared failed.
+PLAN_TRIES = 3  # per motion, each from the current state with a new seed
+PICK_TRIES = 3  # pick-and-place cycles per episode (a dropped cube is picked again)
+
+# Waiting for rest.
+STATIC_LINEAR = 0.005  # [m/s] cube speed below which it counts as resting
+STATIC_ANGULAR = 0.05  # [rad/s]
+STATIC_JOINT = 0.02  # [rad/s] arm joint speed
+STATIC_STEPS = 6  # consecutive resting steps
+MAX_WAIT = 4.0  # [s] of simulated time
+SETTLE_TOLERANCE = 0.01  # [rad] tracking error accepted at the end of a motion
+
+
+def hand_down(yaw: float) -> np.ndarray:
+    """Quaternion (w, x, y, z) of the hand pointing down (hand z = world -z), turned by `yaw`
+    [rad] about world z: R = Rz(yaw) Rx(pi)."""
+    return quat.multiply(quat.from_axis_angle([0.0, 0.0, 1.0], yaw), np.array([0.0, 1.0, 0.0, 0.0]))
+
+
+def cube_yaw(q_cube: np.ndarray) -> float:
+    """Yaw [rad] of a resting cube: the heading of whichever of its axes lies closest to
+    horizontal-and-first, folded into [-pi/4, pi/4] (a cube is symmetric modulo 90 deg)."""
+    R = quat.to_matrix(q_cube)
+    up = int(np.argmax(np.abs(R[2, :])))  # the axis that points (most) vertically
+    side = R[:, (up + 1) % 3]
+    return fold_quarter(float(np.arctan2(side[1], side[0])))
+
+
+def fold_quarter(angle: float) -> float:
+    """`angle` [rad] modulo pi/2, in [-pi/4, pi/4)."""
+    return float((angle + np.pi / 4) % (np.pi / 2) - np.pi / 4)
+
+
+def grasp_yaw(cube_position: np.ndarray, cube_orientation: np.ndarray) -> float:
+    """Hand yaw [rad] for a top grasp: the cube's yaw modulo 90 deg, taken nearest to the
+    direction from the robot base to the cube (the least wrist twist for the arm)."""
+    azimuth = float(np.arctan2(cube_position[1], cube_position[0]))
+    return azimuth + fold_quarter(cube_yaw(cube_orientation) - azimuth)
+
+
+# ---------------------------------------------------------------------------- scene
+def obstacle_boxes(seed: int) -> list[tuple[str, np.ndarray, np.ndarray, float]]:
+    """A few fixed boxes between and around the pick area and the place position.
+
+    Returns:
+        [(name, centre (3,) [m], full edge lengths (3,) [m], yaw [rad])], jittered by `seed`.
+    """
+    rng = np.random.default_rng([seed, 7919])
+    layout = [  # name, centre x, y, size x, y, z
+        ("wall", 0.60, -0.27, 0.12, 0.05, 0.22),  # between the pick area and the place position
+        ("post", 0.36, -0.57, 0.08, 0.08, 0.35),  # behind the place position
+        ("block", 0.80, 0.05, 0.08, 0.25, 0.26),  # beyond the pick area
+    ]
+    out = []
+    for name, x, y, sx, sy, sz in layout:
+        c = np.array([x, y, 0.0]) + np.append(rng.uniform(-0.02, 0.02, 2), 0.0)
+        c[2] = sz / 2
+        out.append((name, c, np.array([sx, sy, sz]), float(rng.uniform(-0.25, 0.25))))
+    return out
+
+
+def _box_clearance(p: np.ndarray, boxes) -> float:
+    """Smallest horizontal distance [m] from point p (xy) to the footprints of `boxes`."""
+    best = np.inf
+    for _, c, dims, yaw in boxes:
+        d = p[:2] - c[:2]
+        cy, sy = np.cos(-yaw), np.sin(-yaw)
+        local = np.array([cy * d[0] - sy * d[1], sy * d[0] + cy * d[1]])
+        outside = np.maximum(np.abs(local) - dims[:2] / 2, 0.0)
+        best = min(best, float(np.linalg.norm(outside)))
+    return best
+
+
+def random_cube_pose(rng: np.random.Generator, boxes=()) -> tuple[np.ndarray, np.ndarray]:
+    """A random resting cube pose in the pick area: (position (3,) [m], quaternion (4,) wxyz).
+
+    At least MIN_DISTANCE_TO_PLACE from the place position and 10 cm (horizontally) from
+    the obstacles, so that the open gripper fits around the cube.
+    """
+    for _ in range(1000):
+        p = np.array([rng.uniform(*PICK_AREA_X), rng.uniform(*PICK_AREA_Y), CUBE_SIZE / 2])
+        yaw = rng.uniform(-np.pi, np.pi)
+        if np.linalg.norm(p[:2] - PLACE_POSITION[:2]) < MIN_DISTANCE_TO_PLACE:
+            continue
+        if boxes and _box_clearance(p, boxes) < 0.10:
+            continue
+        return p, quat.from_axis_angle([0.0, 0.0, 1.0], yaw)
+    raise RuntimeError("no free cube position in the pick area")  # unreachable with the built-in layout
+
+
+# ---------------------------------------------------------------------------- results
+@dataclass
+class EpisodeResult:
+    """What one episode did (all times in seconds)."""
+
+    index: int
+    placed: bool
+    error: float  # final distance of the cube centre to the place position [m] (from the simulator)
+    plan_time: float = 0.0  # wall time inside the MotionGenerator
+    motion_time: float = 0.0  # duration of the executed trajectories (simulated)
+    sim_time: float = 0.0  # simulated time of the whole episode
+    wall_time: float = 0.0  # wall time of the whole episode
+    picks: int = 0  # pick-and-place cycles started
+    plans: int = 0  # successful plans
+    failed_plans: int = 0
+    obstacle_contact_steps: int = 0  # physics steps in which anything touched an obstacle box
+    reason: str = ""  # why it failed (empty when placed)
+    log: list[str] = field(default_factory=list)
+
+
+class PlanningFailed(Exception):
+    """A motion could not be planned within PLAN_TRIES (carries the last status)."""
+
+
+class CubeDropped(Exception):
+    """The cube is no longer between the fingers."""
+
+
+# ---------------------------------------------------------------------------- the demo
+class PickAndPlace:
+    """The scene, the planner and the pick-and-place loop.
+
+    Args:
+        seed: seed of cube poses, obstacle jitter and planning.
+        obstacles: add fixed boxes the motions must avoid.
+        cube_mass: [kg].
+        viewer: open MuJoCo's interactive viewer (needs a display).
+        video: path of an MP4 to record (offscreen), or None.
+        verbose: print a progress line per phase.
+        record_joints: keep the arm's joint positions and velocities of the current episode
+            (for --plot).
+    """
+
+    def __init__(self, seed: int = 0, obstacles: bool = False, cube_mass: float = 0.05, viewer: bool = False,
+                 video: str | None = None, verbose: bool = True, record_joints: bool = False):
+        self.seed = int(seed)
+        self.verbose = verbose
+        self.record_joints = record_joints
+        self.render = viewer or video is not None
+        self.app = SimulationApp({"headless": not viewer})
+        World.clear_instance()
+        self.world = World(physics_dt=1.0 / 60.0)
+        self.task = PickPlace(target_position=PLACE_POSITION, cube_size=CUBE_SIZE, cube_mass=cube_mass,
+                              success_tolerance=SUCCESS_TOLERANCE)
+        self.world.add_task(self.task)
+        self.boxes = obstacle_boxes(seed) if obstacles else []
+        box_prims = []
+        for name, c, dims, yaw in self.boxes:
+            box_prims.append(FixedCuboid(f"/World/Obstacles/{name}", name=name, position=c, size=1.0,
+                                             scale=dims, orientation=quat.from_axis_angle([0, 0, 1], yaw),
+                                             color=[0.8, 0.45, 0.1]))
+            self.world.scene.add(box_prims[-1])
+        self.world.reset()
+        self._box_geoms = np.array([b.geom_id for b in box_prims], dtype=int)
+        self.world.set_camera_view(eye=[1.6, 1.2, 1.0], target=[0.45, -0.05, 0.1])
+        self.robot = self.task.robot
+        self.cube = self.task.cube
+        self.controller = self.robot.get_articulation_controller()
+        self.arm = np.arange(7)
+        self.mg = MotionGenerator("franka", seed=seed, time_budget=2.0)
+        self.wait_q = self.mg.default_joint_positions
+        self._pin_model = self.mg.kinematics.model
+        self._pin_data = self._pin_model.createData()
+        self.ground = [o.name for o in self.world.scene.get_collision_objects() if o.shape == "plane"]
+        self._plan_seed = self.seed * 100_003
+        if video is not None:
+            self.world.start_recording(video)
+        self._ep: EpisodeResult | None = None
+        self.joint_log: list[tuple[float, np.ndarray, np.ndarray]] = []
+
+    # ------------------------------------------------------------------ helpers
+    def say(self, text: str) -> None:
+        if self._ep is not None:
+            self._ep.log.append(text)
+        if self.verbose:
+            print(f"  [{self.world.current_time:7.2f} s] {text}", flush=True)
+
+    def step(self, action: ArticulationAction | None = None) -> None:
+        """One physics step (1/60 s), after applying `action` (arm joint targets) if given.
+
+        Like the real Panda's controller, the arm's drives also get a gravity-compensation
+        torque computed from the robot model (Pinocchio) at the measured configuration, so
+        the PD drives track without sagging under gravity.
+        """
+        g = pin.computeGeneralizedGravity(self._pin_model, self._pin_data, self.q())
+        if action is None:
+            action = ArticulationAction(joint_efforts=g, joint_indices=self.arm)
+        else:
+            action = ArticulationAction(joint_positions=action.joint_positions, joint_velocities=action.joint_velocities,
+                                        joint_efforts=g, joint_indices=action.joint_indices)
+        self.controller.apply_action(action)
+        self.world.step(render=self.render)
+        if self._box_geoms.size and self._ep is not None:
+            d = self.world.data
+            pairs = d.contact.geom[: d.ncon]
+            if pairs.size and np.isin(pairs, self._box_geoms).any():
+                self._ep.obstacle_contact_steps += 1
+        if self.record_joints:
+            self.joint_log.append((self.world.current_time, self.robot.get_joint_positions()[:7].copy(),
+                                   self.robot.get_joint_velocities()[:7].copy()))
+
+    def q(self) -> np.ndarray:
+        """Measured arm joint positions (7,) [rad]."""
+        return self.robot.get_joint_positions()[:7].copy()
+
+    def cube_pose(self) -> tuple[np.ndarray, np.ndarray]:
+        p, q = self.cube.get_world_pose()
+        return np.asarray(p, dtype=float), np.asarray(q, dtype=float)
+
+    def tcp_pose(self) -> Pose:
+        p, q = self.robot.end_effector.get_world_pose()
+        return Pose(np.asarray(p, dtype=float), np.asarray(q, dtype=float))
+
+    def fingers(self) -> np.ndarray:
+        return self.robot.gripper.get_joint_positions()
+
+    def is_static(self) -> bool:
+        v = np.linalg.norm(self.cube.get_linear_velocity())
+        w = np.linalg.norm(self.cube.get_angular_velocity())
+        qd = np.max(np.abs(self.robot.get_joint_velocities()[:7]))
+        return v < STATIC_LINEAR and w < STATIC_ANGULAR and qd < STATIC_JOINT
+
+    def wait_static(self) -> bool:
+        """Step until the robot and the cube are at rest (True), at most MAX_WAIT."""
+        calm = 0
+        for _ in range(int(MAX_WAIT * 60)):
+            calm = calm + 1 if self.is_static() else 0
+            if calm >= STATIC_STEPS:
+                return True
+            self.step()
+        return False
+
+    def sync_obstacles(self) -> None:
+        """The planner's world := the World's collision objects (robot, ground, cube ignored)."""
+        self.mg.update_world_from_sim(self.world, self.robot, ignore=[self.cube.prim_path, self.cube.name, *self.ground])
+
+    # ------------------------------------------------------------------ motions
+    def plan(self, phase: str, goal: Pose | np.ndarray, linear: bool = False, **options):
+        """Plan from the measured state (retried with new seeds); raises PlanningFailed."""
+        last = None
+        for attempt in range(PLAN_TRIES):
+            self._plan_seed += 1
+            start = self.q()
+            if isinstance(goal, Pose):
+                if linear:
+                    options.setdefault("linear_step", LINEAR_STEP)
+                r = self.mg.plan_pose(start, goal, link=TCP, linear=linear, seed=self._plan_seed, **options)
+            else:
+                r = self.mg.plan_joints(start, goal, seed=self._plan_seed, **options)
+            self._ep.plan_time += r.timings.get("total", 0.0)
+            if r.success:
+                self._ep.plans += 1
+                return r
+            self._ep.failed_plans += 1
+            last = r
+            self.say(f"{phase}: plan failed ({r.status.name}: {r.message}); retry {attempt + 1}/{PLAN_TRIES - 1}"
+                     if attempt + 1 < PLAN_TRIES else f"{phase}: plan failed ({r.status.name}: {r.message})")
+        raise PlanningFailed(f"{phase}: no plan after {PLAN_TRIES} tries ({last.status.name}: {last.message})")
+
+    def execute(self, result) -> None:
+        """Replay a planned trajectory, one ArticulationAction per physics step, then let the
+        arm settle on the final target."""
+        traj = result.trajectory
+        for action in traj.to_articulation_actions(self.robot, physics_dt=self.world.get_physics_dt()):
+            self.step(action)
+        self._ep.motion_time += traj.duration
+        goal = traj.positions[-1]
+        for _ in range(60):
+            if np.max(np.abs(self.q() - goal)) < SETTLE_TOLERANCE and np.max(np.abs(self.robot.get_joint_velocities()[:7])) < 0.05:
+                break
+            self.step()
+
+    def move(self, phase: str, goal: Pose | np.ndarray, linear: bool = False, **options) -> None:
+        r = self.plan(phase, goal, linear=linear, **options)
+        self.say(f"{phase:<12} planned in {r.timings['total'] * 1e3:6.1f} ms, motion {r.trajectory.duration:5.2f} s")
+        self.execute(r)
+
+    def gripper(self, width_each: float, phase: str) -> None:
+        """Drive both fingers to `width_each` [m] and step until they stop (stall or arrive)."""
+        idx = self.robot.gripper.joint_dof_indices
+        self.controller.apply_action(ArticulationAction(joint_positions=[width_each, width_each], joint_indices=idx))
+        prev = self.fingers()
+        still = 0
+        for k in range(90):
+            self.step()
+            f = self.fingers()
+            still = still + 1 if np.max(np.abs(f - prev)) < 2e-5 else 0
+            prev = f
+            if still >= 3 and k >= 5:
+                break
+        self.say(f"{phase:<12} fingers at {f[0] * 1e3:.1f} / {f[1] * 1e3:.1f} mm")
+
+    def holding(self) -> bool:
+        """The cube is between the fingertips (measured in the simulator)."""
+        p, _ = self.cube_pose()
+        tcp = self.tcp_pose()
+        local = tcp.inverse().transform_points(p[None])[0]
+        f = self.fingers()
+        return bool(np.all(np.abs(local) < [0.03, 0.02, 0.03]) and np.all(f > 0.015) and np.all(f < 0.035))
+
+    def release_position(self, hand_q: np.ndarray) -> np.ndarray:
+        """TCP position (3,) [m] that puts the held cube's centre RELEASE_HEIGHT above the
+        place position with the hand at orientation `hand_q` (wxyz). Uses where the cube
+        sits in the hand now (measured; it may have shifted while closing or moving)."""
+        p, _ = self.cube_pose()
+        in_tcp = self.tcp_pose().inverse().transform_points(p[None])[0]
+        return PLACE_POSITION + [0.0, 0.0, RELEASE_HEIGHT] - quat.to_matrix(hand_q) @ in_tcp
+
+    # ------------------------------------------------------------------ one pick and place
+    def pick_and_place(self) -> None:
+        """Pick the cube where it lies and put it at the place position (raises on failure)."""
+        mg = self.mg
+        self.sync_obstacles()
+        p, qc = self.cube_pose()
+        yaw = grasp_yaw(p, qc)
+        down = hand_down(yaw)
+        self.say(f"cube at ({p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}) m, yaw {np.degrees(cube_yaw(qc)):.0f} deg; "
+                 f"{len(mg.world)} obstacles")
+        grasp = Pose(p + [0.0, 0.0, GRASP_HEIGHT], down)
+        self.move("pre-grasp", Pose(grasp.position + [0.0, 0.0, APPROACH_HEIGHT], down))
+        self.move("descend", grasp, linear=True)
+        self.gripper(CUBE_SIZE / 2 - SQUEEZE, "close")
+        # The cube as the planner's attached object, where the simulator has it now.
+        p, qc = self.cube_pose()
+        T_base_world = Pose(*self.robot.get_world_pose()).inverse()
+        mg.attach_object(Cuboid("cube", [CUBE_SIZE] * 3, T_base_world @ Pose(p, qc)), q=self.q(), link="panda_hand")
+        try:
+            self.move("lift", Pose(self.tcp_pose().position + [0.0, 0.0, APPROACH_HEIGHT], down), linear=True)
+            if not self.holding():
+                raise CubeDropped("the cube is not between the fingers after the lift")
+            azimuth = float(np.arctan2(PLACE_POSITION[1], PLACE_POSITION[0]))
+            place_q = hand_down(azimuth)
+            self.move("pre-place", Pose(self.release_position(place_q) + [0.0, 0.0, APPROACH_HEIGHT], place_q))
+            if not self.holding():
+                raise CubeDropped("the cube fell out of the hand on the way to the place position")
+            self.move("descend", Pose(self.release_position(place_q), place_q), linear=True)
+        except Exception:
+            mg.detach_object(self.q())
+            mg.remove_obstacle("cube")
+            raise
+        self.gripper(self.robot.gripper.joint_opened_positions[0], "open")
+        mg.detach_object(self.q())
+        mg.remove_obstacle("cube")  # the target cube is never an obstacle
+        self.move("retreat", Pose(self.tcp_pose().position + [0.0, 0.0, RETREAT_HEIGHT], place_q), linear=True)
+        self.move("wait pose", self.wait_q)
+
+    def recover(self) -> None:
+        """After a failure: open the gripper, back off upwards if possible, go to the wait pose."""
+        self.gripper(self.robot.gripper.joint_opened_positions[0], "open")
+        self.sync_obstacles()
+        tcp = self.tcp_pose()
+        if tcp.position[2] < 0.15:
+            try:
+                self.move("back off", Pose(tcp.position + [0.0, 0.0, 0.10], tcp.quaternion), linear=True)
+            except PlanningFailed:
+                pass
+        self.move("wait pose", self.wait_q)
+
+    # ------------------------------------------------------------------ episodes
+    def error(self) -> float:
+        """Distance [m] of the cube centre to the place position, from the simulator."""
+        return float(np.linalg.norm(self.cube_pose()[0] - PLACE_POSITION))
+
+    def run_episode(self, index: int, perturb: bool = False) -> EpisodeResult:
+        """Reset, put the cube at the episode's random pose, pick and place until it rests at
+        the place position (and once more after a perturbation with `perturb`)."""
+        rng = np.random.default_rng([self.seed, index])
+        ep = self._ep = EpisodeResult(index=index, placed=False, error=float("nan"))
+        self.joint_log = []
+        t_wall = time.perf_counter()
+        self.world.reset()  # the robot at its default (= wait) configuration, the fingers open
+        t_sim = self.world.current_time
+        self._plan_seed = self.seed * 100_003 + index * 1009
+        p, qc = random_cube_pose(rng, self.boxes)
+        self.task.set_params(cube_position=p, cube_orientation=qc)
+        perturbations = 1 if perturb else 0
+        try:
+            while True:
+                if not self.wait_static():
+                    self.say("the scene did not come to rest; going on")
+                err = self.error()
+                if err <= REPICK_DISTANCE:
+                    if perturbations > 0:
+                        perturbations -= 1
+                        p, qc = random_cube_pose(rng, self.boxes)
+                        self.say(f"perturb: the cube is moved to ({p[0]:.3f}, {p[1]:.3f}) m")
+                        self.task.set_params(cube_position=p, cube_orientation=qc)
+                        continue
+                    break
+                if ep.picks >= PICK_TRIES:
+                    ep.reason = ep.reason or f"cube still {err * 100:.1f} cm away after {PICK_TRIES} picks"
+                    break
+                ep.picks += 1
+                if ep.picks > 1:
+                    self.say(f"the cube is {err * 100:.1f} cm from the place position: pick #{ep.picks}")
+                try:
+                    self.pick_and_place()
+                except (PlanningFailed, CubeDropped) as exc:
+                    ep.reason = str(exc)
+                    self.say(f"FAILED: {exc}")
+                    try:
+                        self.recover()
+                    except PlanningFailed as exc2:
+                        ep.reason = f"{exc}; recovery failed: {exc2}"
+                        self.say(f"FAILED: {exc2}")
+                        break
+        finally:
+            self._ep = None
+        ep.error = self.error()
+        ep.placed = ep.error < SUCCESS_TOLERANCE
+        if ep.placed:
+            ep.reason = ""
+        elif not ep.reason:
+            ep.reason = f"the cube rests {ep.error * 100:.1f} cm from the place position"
+        ep.sim_time = self.world.current_time - t_sim
+        ep.wall_time = time.perf_counter() - t_wall
+        return ep
+
+    def close(self) -> Path | None:
+        path = self.world.stop_recording()
+        self.app.close()
+        return path
+
+
+# ---------------------------------------------------------------------------- output
+def summary_table(results: list[EpisodeResult]) -> str:
+    head = f"{'episode':>7}  {'placed':>6}  {'error mm':>8}  {'picks':>5}  {'plan s':>6}  {'motion s':>8}  " \
+           f"{'sim s':>6}  {'wall s':>6}  {'x RT':>5}  reason"
+    lines = [head, "-" * len(head)]
+    for r in results:
+        rt = r.sim_time / r.wall_time if r.wall_time > 0 else float("nan")
+        lines.append(f"{r.index:>7}  {'yes' if r.placed else 'NO':>6}  {r.error * 1e3:8.2f}  {r.picks:>5}  "
+                     f"{r.plan_time:6.2f}  {r.motion_time:8.2f}  {r.sim_time:6.2f}  {r.wall_time:6.2f}  {rt:5.1f}  "
+                     f"{r.reason}")
+    return "\n".join(lines)
+
+
+def save_plot(path: str, log: list[tuple[float, np.ndarray, np.ndarray]], title: str) -> None:
+    """PNG of the arm's joint positions and velocities over time (matplotlib, the dev extra)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    t = np.array([e[0] for e in log])
+    q = np.array([e[1] for e in log])
+    qd = np.array([e[2] for e in log])
+    fig, (a1, a2) = plt.subplots(2, 1, sharex=True, figsize=(10, 6))
+    for j in range(q.shape[1]):
+        a1.plot(t, q[:, j], label=f"joint {j + 1}")
+        a2.plot(t, qd[:, j])
+    a1.set_ylabel("position [rad]")
+    a2.set_ylabel("velocity [rad/s]")
+    a2.set_xlabel("simulated time [s]")
+    a1.legend(ncol=7, fontsize=7, loc="upper center")
+    a1.set_title(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--episodes", type=int, default=3, help="number of episodes (random cube pose each)")
+    parser.add_argument("--seed", type=int, default=0, help="seed of cube poses, obstacles and planning")
+    parser.add_argument("--obstacles", action="store_true", help="add fixed boxes the motions must avoid")
+    parser.add_argument("--perturb", action="store_true",
+                        help="after each place, move the cube to a new random pose (it is picked again)")
+    parser.add_argument("--cube-mass", type=float, default=0.05, help="[kg] (0.01-0.05 in the tutorial)")
+    parser.add_argument("--viewer", action="store_true", help="open MuJoCo's interactive viewer (needs a display)")
+    parser.add_argument("--video", metavar="PATH", help="record an MP4 (offscreen, slower)")
+    parser.add_argument("--plot", metavar="PATH", help="PNG of the joint positions and velocities of the last episode")
+    parser.add_argument("--quiet", action="store_true", help="no per-phase progress lines")
+    args = parser.parse_args(argv)
+    if args.episodes < 1:
+        parser.error("--episodes must be >= 1")
+    if not 0.0 < args.cube_mass <= 0.5:
+        parser.error("--cube-mass must be in (0, 0.5] kg")
+
+    print(f"Franka pick-and-place: {args.episodes} episode(s), seed {args.seed}"
+          f"{', obstacles' if args.obstacles else ''}{', perturbations' if args.perturb else ''}")
+    if args.video:
+        print(f"recording a video to {args.video}")
+    else:
+        print("  (add --video out.mp4 to record a video, --viewer to watch in MuJoCo's window, --plot joints.png)")
+
+    demo = PickAndPlace(seed=args.seed, obstacles=args.obstacles, cube_mass=args.cube_mass, viewer=args.viewer,
+                        video=args.video, verbose=not args.quiet, record_joints=args.plot is not None)
+    results = []
+    try:
+        for i in range(args.episodes):
+            print(f"episode {i}:")
+            r = demo.run_episode(i, perturb=args.perturb)
+            results.append(r)
+            verdict = "placed" if r.placed else f"NOT placed: {r.reason}"
+            print(f"  -> {verdict}; error {r.error * 1e3:.1f} mm, planning {r.plan_time:.2f} s, "
+                  f"motion {r.motion_time:.2f} s, {r.sim_time / max(r.wall_time, 1e-9):.1f}x real time")
+            if args.viewer and not demo.app.is_running():
+                print("viewer closed: stopping")
+                break
+    finally:
+        video = demo.close()
+    print()
+    print(summary_table(results))
+    if video is not None:
+        print(f"video written to {video}")
+    if args.plot and demo.joint_log:
+        save_plot(args.plot, demo.joint_log, f"episode {results[-1].index}: arm joints")
+        print(f"plot written to {args.plot}")
+    k = sum(r.placed for r in results)
+    print(f"placed {k}/{args.episodes} episodes")
+    return 0 if k == args.episodes else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
