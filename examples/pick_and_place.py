@@ -34,7 +34,7 @@ from manip import ArticulationAction, Pose
 from manip import quaternion as quat
 from manip.collision import Cuboid
 from manip.motion_generator import MotionGenerator
-from manip.sim import FixedCuboid, PickPlace, SimulationApp, World
+from manip.sim import FixedCuboid, PickPlace, SimulationApp, World, create_new_stage
 
 # ---------------------------------------------------------------------------- the task
 CUBE_SIZE = 0.05  # [m]
@@ -193,7 +193,8 @@ class PickAndPlace:
         self.record_joints = record_joints
         self.render = viewer or video is not None
         self.app = SimulationApp({"headless": not viewer})
-        World.clear_instance()
+        World.clear_instance()  # a fresh World and stage (also when called again in one process)
+        create_new_stage()
         self.world = World(physics_dt=1.0 / 60.0)
         self.task = PickPlace(target_position=PLACE_POSITION, cube_size=CUBE_SIZE, cube_mass=cube_mass,
                               success_tolerance=SUCCESS_TOLERANCE)
