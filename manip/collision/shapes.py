@@ -18,11 +18,9 @@ from typing import ClassVar, Sequence
 
 import numpy as np
 
-from manip import quaternion as quat
 from manip.errors import InvalidInputError
 from manip.pose import Pose
 
-PoseLike = "Pose | Sequence[float] | np.ndarray"
 
 
 def as_pose(value: Pose | Sequence[float] | np.ndarray | None, what: str) -> Pose:
@@ -243,7 +241,8 @@ class Capsule(Obstacle):
             if c < -1.0 + 1e-12:
                 q = np.array([0.0, 1.0, 0.0, 0.0])
             else:
-                q = quat.normalize(np.concatenate([[1.0 + c], np.cross(z, u)]))
+                q = np.concatenate([[1.0 + c], np.cross(z, u)])  # half-way quaternion z -> u
+                q = q / np.linalg.norm(q)
         local = Pose((a + b) / 2.0, q)
         return cls(name, radius, length, frame @ local)
 
@@ -374,7 +373,8 @@ def coal_geometry(shape: Obstacle):
     if isinstance(shape, Mesh):
         bvh = coal.BVHModelOBBRSS()
         bvh.beginModel(shape.faces.shape[0], shape.vertices.shape[0])
-        bvh.addSubModel(np.ascontiguousarray(shape.scaled_vertices), np.ascontiguousarray(shape.faces))
+        bvh.addVertices(np.ascontiguousarray(shape.scaled_vertices, dtype=float))
+        bvh.addTriangles(np.ascontiguousarray(shape.faces, dtype=np.int64))
         bvh.endModel()
         return bvh
     raise InvalidInputError(f"unsupported shape type {type(shape).__name__}; valid: {', '.join(SHAPE_TYPES)}")
