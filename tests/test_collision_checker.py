@@ -123,7 +123,7 @@ def test_padding_agrees_with_coal_security_margin(franka_config, franka_kinemati
 def test_sphere_covers_contain_every_surface_point(checker):
     for part in checker.robot.parts:
         V, F = geometry_triangles(part.geometry)
-        pts, _ = subdivide(V, F, 0.003)
+        pts, _ = subdivide(V, F, 0.005)
         X = pts @ part.R.T + part.p  # joint frame, like the centres
         d = np.linalg.norm(X[:, None, :] - part.centres[None], axis=-1) - part.radii[None]
         assert d.min(axis=1).max() <= 1e-12, part.name
