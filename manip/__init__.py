@@ -1,31 +1,57 @@
-"""manip: CPU motion generation and an Isaac-Sim-style MuJoCo world for robot manipulation."""
+"""manip: CPU motion generation and an Isaac-Sim-style MuJoCo world for robot manipulation.
+
+Layers (each depends only on those above it in this list):
+kinematics / collision / trajectory timing -> planning -> MotionGenerator -> manip.sim.
+`manip.sim` (the simulator) is imported separately: `from manip.sim import World, ...`.
+"""
 
 from __future__ import annotations
 
 from manip.articulation_action import ArticulationAction
+from manip.collision import Capsule, CollisionChecker, Cuboid, Cylinder, Mesh, Sphere, WorldConfig
 from manip.errors import InvalidInputError, ManipError, RobotConfigError, UnknownNameError
+from manip.ik import BatchIKResult, IKResult, IKSolver, IKStatus
 from manip.kinematics import Kinematics
+from manip.motion_generator import MotionGenerator
+from manip.planning import PlanResult, PlanStatus
 from manip.pose import Pose
 from manip.robot_config import RobotConfig, available_robots, load_robot_config, robots_root
+from manip.timing import TimingResult, TimingStatus, time_parameterize, time_parameterize_for_robot
+from manip.trajectory import Trajectory
+from manip.tutorial_api import TutorialMotionGen, wxyz_to_xyzw, xyzw_to_wxyz
 
 __all__ = [
     "ArticulationAction",
+    "BatchIKResult",
+    "Capsule",
+    "CollisionChecker",
+    "Cuboid",
+    "Cylinder",
+    "IKResult",
+    "IKSolver",
+    "IKStatus",
     "InvalidInputError",
     "Kinematics",
     "ManipError",
+    "Mesh",
+    "MotionGenerator",
+    "PlanResult",
+    "PlanStatus",
     "Pose",
     "RobotConfig",
     "RobotConfigError",
+    "Sphere",
+    "TimingResult",
+    "TimingStatus",
+    "Trajectory",
+    "TutorialMotionGen",
     "UnknownNameError",
+    "WorldConfig",
     "available_robots",
     "load_robot_config",
     "robots_root",
+    "time_parameterize",
+    "time_parameterize_for_robot",
+    "wxyz_to_xyzw",
+    "xyzw_to_wxyz",
 ]
-
-# Later layers: imported when present so the package stays importable while they are built.
-try:
-    from manip.ik import IKResult, IKSolver, IKStatus  # noqa: F401
-
-    __all__ += ["IKResult", "IKSolver", "IKStatus"]
-except ImportError:  # pragma: no cover
-    pass

@@ -38,6 +38,9 @@ logger = logging.getLogger(__name__)
 
 #: A start this far outside a joint limit [rad] is accepted (and kept as given).
 START_LIMIT_TOLERANCE = 1e-6
+#: Largest joint-space deviation [rad] of a linear motion's timing from its dense IK path
+#: (about 1 mm at the hand).
+LINEAR_DEVIATION = 1e-3
 
 
 class MotionGenerator:
@@ -230,8 +233,10 @@ class MotionGenerator:
         Args:
             start_q: (dof,) start configuration [rad] (at rest).
             goal_q: (dof,) goal configuration [rad].
-            **options: `time_budget` [s], `seed`, `dt` [s], `velocity_scale`,
-                `acceleration_scale` (0..1].
+            **options: `time_budget` [s], `seed`, `dt` [s] (sample period),
+                `velocity_scale` and `acceleration_scale` in (0, 1] (the latter also scales
+                jerk), `duration` [s] (stretch the motion to this length; fails with
+                TRAJOPT_FAIL if it is shorter than feasible).
         """
         t0 = time.perf_counter()
         ctx = _Context(self, options, t0)
@@ -334,7 +339,7 @@ class MotionGenerator:
         if bad:
             return "goal outside the joint limits: " + "; ".join(bad)
         if self.checker.in_collision(goal):
-            return "goal in collision: " + str(self.checker.collision_report(goal))
+            return "goal in collision: " + _describe_contacts(self.checker.collision_report(goal))
         return ""
 
     def _plan_to_configs(self, ctx: "_Context", start: np.ndarray, goals: np.ndarray) -> PlanResult:
@@ -362,21 +367,30 @@ class MotionGenerator:
         ctx.timings["optimize"] = time.perf_counter() - t
         return self._time_and_validate(ctx, path, goal_q, iterations)
 
-    def _time_and_validate(self, ctx: "_Context", path: np.ndarray, goal_q: np.ndarray, attempts: int) -> PlanResult:
+    def _time_and_validate(
+        self, ctx: "_Context", path: np.ndarray, goal_q: np.ndarray, attempts: int, deviation: float = 0.05
+    ) -> PlanResult:
+        """Time the path (corners blended within `deviation` rad, else stopping at each) and validate."""
         t = time.perf_counter()
         traj = None
         reason = ""
         for mode in ("blend", "exact"):
             timed = time_parameterize(
                 path,
-                self.config.velocity_limits * ctx.velocity_scale,
-                self.config.acceleration_limits * ctx.acceleration_scale,
-                self.config.jerk_limits * ctx.acceleration_scale,
+                self.config.velocity_limits,
+                self.config.acceleration_limits,
+                self.config.jerk_limits,
                 dt=ctx.dt,
                 joint_names=self.joint_names,
-                lower_limits=self.kinematics.lower - START_LIMIT_TOLERANCE,
-                upper_limits=self.kinematics.upper + START_LIMIT_TOLERANCE,
+                lower_limits=self.kinematics.lower,
+                upper_limits=self.kinematics.upper,
+                position_tolerance=START_LIMIT_TOLERANCE,
                 mode=mode,
+                deviation_tolerance=deviation,
+                velocity_scale=ctx.velocity_scale,
+                acceleration_scale=ctx.acceleration_scale,
+                jerk_scale=ctx.acceleration_scale,
+                duration=ctx.duration,
             )
             if not timed.success:
                 reason = timed.message
@@ -428,7 +442,7 @@ class MotionGenerator:
         ctx.timings["ik"] = time.perf_counter() - t
         if path is None:
             return ctx.fail(PlanStatus.LINEAR_PATH_FAIL, why)
-        result = self._time_and_validate(ctx, path, path[-1].copy(), 1)
+        result = self._time_and_validate(ctx, path, path[-1].copy(), 1, deviation=LINEAR_DEVIATION)
         if result.success:
             dp, dr = self.kinematics.fk(result.goal_q, link).distance(goal)
             result = _replace(result, position_error=float(dp), rotation_error=float(dr))
@@ -439,7 +453,9 @@ class _Context:
     """Per-call planning state: options, deadline, random generator, timings, failure."""
 
     def __init__(self, mg: MotionGenerator, options: dict, t0: float):
-        known = {"time_budget", "seed", "dt", "velocity_scale", "acceleration_scale", "ik_solutions", "linear_step"}
+        known = {
+            "time_budget", "seed", "dt", "velocity_scale", "acceleration_scale", "duration", "ik_solutions", "linear_step",
+        }
         unknown = set(options) - known
         if unknown:
             raise InvalidInputError(f"unknown planning option(s) {sorted(unknown)}; valid: {sorted(known)}")
@@ -450,6 +466,7 @@ class _Context:
         self.dt = _positive(options.get("dt", mg.interpolation_dt), "dt")
         self.velocity_scale = _fraction(options.get("velocity_scale", mg.velocity_scale), "velocity_scale")
         self.acceleration_scale = _fraction(options.get("acceleration_scale", mg.acceleration_scale), "acceleration_scale")
+        self.duration = None if options.get("duration") is None else _positive(options["duration"], "duration")
         self.timings: dict[str, float] = {}
         self._failure: PlanResult | None = None
 
@@ -476,7 +493,7 @@ class _Context:
             status = (
                 PlanStatus.INVALID_START_WORLD_COLLISION if report.world_collision else PlanStatus.INVALID_START_SELF_COLLISION
             )
-            self.fail(status, f"start in collision: {report}")
+            self.fail(status, "start in collision: " + _describe_contacts(report))
         return q
 
     def fail(self, status: PlanStatus, message: str, path=None, goal_q=None) -> PlanResult:
@@ -486,6 +503,13 @@ class _Context:
             success=False, status=status, path=path, goal_q=goal_q, timings=dict(self.timings), message=message,
         )
         return self._failure
+
+
+def _describe_contacts(report) -> str:
+    """'a touches b (1.2 mm deep)' for the deepest few contacts of a CollisionReport."""
+    parts = [f"{c.a} touches {c.b} ({max(0.0, -c.distance) * 1e3:.1f} mm deep, {c.kind})" for c in report.contacts[:3]]
+    more = len(report.contacts) - 3
+    return "; ".join(parts) + (f"; and {more} more" if more > 0 else "")
 
 
 def _replace(result: PlanResult, **changes) -> PlanResult:
