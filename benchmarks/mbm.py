@@ -32,6 +32,7 @@ import logging
 import os
 import platform
 import re
+import shlex
 import subprocess
 import sys
 import time
@@ -225,9 +226,14 @@ def machine_info() -> dict[str, Any]:
                                 text=True, check=False).stdout.strip()
     except OSError:
         commit = ""
+    try:
+        load = [round(x, 2) for x in os.getloadavg()]
+    except OSError:  # pragma: no cover
+        load = []
     return {
         "cpu": cpu,
         "cores": os.cpu_count(),
+        "load_average_at_start": load,
         "platform": platform.platform(),
         "python": platform.python_version(),
         "packages": versions,
@@ -281,6 +287,77 @@ def markdown_tables(report: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
+SECTION = "## Motion generation (MotionBenchMaker)"
+
+PUBLISHED = """Published figures on the same problem family (quoted, NOT measured here; from the
+dataset's README and the papers):
+
+| system (published) | hardware | success | planning time |
+|---|---|---|---|
+| cuRobo v0.7.6 motion generation (MBM, 800 problems) | RTX 6000 Ada GPU | 800/800 | median 31 ms, mean 42 ms, p98 161 ms |
+| cuRobo v0.6 (paper), MBM + MpiNets (2600) | RTX 4090 GPU | 99.8 % | median 30 ms, mean 50 ms, p98 260 ms; motion time mean 1.59 s, path length mean 3.28 rad, max jerk mean 49 rad/s^3, max acc mean 6.8 rad/s^2 |
+| Tesseract (OMPL RRTConnect + TrajOpt), same 2600 | Ryzen 9 7950X | 98.5 % | mean 2.95 s, p98 22 s |
+| VAMP RRTConnect + simplification (geometric path only, no timing) | Ryzen 9 7950X, SIMD | 800/800 | median 109 us, mean 167 us |
+
+VAMP cannot be installed here (published only as a source package whose build downloads its
+dependencies) and mplib needs numpy < 2, so neither is measured; see benchmarks/peers/README.md.
+cuRobo counts a pose goal reached within 5 mm and 5 %; the verifier here asks 1 mm and 0.01 rad.
+"""
+
+METHOD = """How to read it: problems whose start or goal is infeasible for the example-robot-data Panda
+(fingers open at 0.04 m; limits, self or world collision, judged by the independent verifier)
+are counted and not planned; success = the planner returned a trajectory AND it passed the
+independent verification (`manip/benchmarking/verify.py`: exact meshes, every sample plus
+linear interpolation to <= 0.01 rad L-inf, position/velocity/acceleration limits with 1e-3
+relative slack for rounding, jerk limits for planners that claim them (manip), start within
+1e-6 rad, joint goal within 1e-3 rad or pose goal within 1 mm / 0.01 rad at panda_hand, at
+rest at both ends). "invalid returned" = trajectories a planner returned as successful that
+failed verification (counted as failures). Planning time = wall time from (start, goal) to an
+executable trajectory (IK for pose goals, path, smoothing, time parameterisation), over the
+verified successes; loading a scene's obstacles is not timed. Max jerk and max acceleration
+are the larger of the returned arrays and divided differences of the positions (TOP-RA's
+piecewise-constant accelerations make the peers' jerk a sampling-dependent metric, not a
+limit they claim). Ratios are peer / manip from the same run."""
+
+
+def markdown_section(report: dict[str, Any]) -> str:
+    """The BENCHMARKS.md section for a report."""
+    m = report["machine"]
+    pk = m.get("packages", {})
+    unavailable = report.get("unavailable_planners") or {}
+    lines = [
+        SECTION,
+        "",
+        f"`{report['command']}`",
+        "",
+        f"Machine: {m['cpu']}, {m['cores']} cores, shared with other jobs (load average at start "
+        f"{', '.join(str(x) for x in m.get('load_average_at_start', []))}); Python {m['python']}; "
+        + ", ".join(f"{k} {v}" for k, v in pk.items())
+        + f"; commit {m.get('commit', '?')}; {report['date']}; wall time {report['wall_time_s'] / 60:.0f} min.",
+        "",
+        f"Problems: {report['problems']} ({report['valid_problems']} valid), goal kinds: {', '.join(report['goal_kinds'])}.",
+        "",
+        markdown_tables(report),
+        "",
+    ]
+    if unavailable:
+        lines += ["Planners asked for but not run: " + "; ".join(f"{k}: {v}" for k, v in unavailable.items()), ""]
+    lines += [METHOD, "", PUBLISHED]
+    return "\n".join(lines)
+
+
+def write_markdown(report: dict[str, Any], path: Path) -> None:
+    """Replace (or append) this benchmark's section of BENCHMARKS.md; other sections are kept."""
+    section = markdown_section(report)
+    text = path.read_text() if path.exists() else "# Benchmarks\n\nEach section is written by its benchmark script.\n"
+    pattern = re.compile(r"^" + re.escape(SECTION) + r"\n.*?(?=^## |\Z)", re.S | re.M)
+    if pattern.search(text):
+        text = pattern.sub(lambda _: section.rstrip("\n") + "\n\n", text).rstrip("\n") + "\n"
+    else:
+        text = text.rstrip("\n") + "\n\n" + section.rstrip("\n") + "\n"
+    path.write_text(text)
+
+
 # ---------------------------------------------------------------------------- main
 def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -297,6 +374,10 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     ap.add_argument("--timeout", type=float, default=None, help="planning budget per problem [s] (planners' default if unset)")
     ap.add_argument("--json", type=Path, default=None, help="write the full report (and every run) here")
     ap.add_argument("--no-progress", action="store_true", help="no progress bar")
+    ap.add_argument("--write-md", action="store_true",
+                    help="replace the 'Motion generation (MotionBenchMaker)' section of BENCHMARKS.md")
+    ap.add_argument("--from-json", type=Path, default=None,
+                    help="do not plan: print (and with --write-md write) the report saved by --json")
     return ap.parse_args(argv)
 
 
@@ -316,6 +397,14 @@ def load_problems(args: argparse.Namespace) -> list[Any]:
 def main(argv: list[str] | None = None) -> int:
     args = parse_args(argv)
     logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
+    if args.from_json is not None:
+        with open(args.from_json) as f:
+            saved = json.load(f)
+        print(markdown_tables(saved))
+        if args.write_md:
+            write_markdown(saved, ROOT / "BENCHMARKS.md")
+        return 0
+    machine = machine_info()  # before planning: the load average at start
     try:
         from tqdm import tqdm
     except ImportError:  # pragma: no cover
@@ -361,8 +450,8 @@ def main(argv: list[str] | None = None) -> int:
     valid_by_scene = Counter(p.scene for p in valid)
     report: dict[str, Any] = {
         "date": _dt.datetime.now().astimezone().isoformat(timespec="seconds"),
-        "command": " ".join([Path(sys.argv[0]).name if argv is None else "benchmarks/mbm.py"] + (sys.argv[1:] if argv is None else argv)),
-        "machine": machine_info(),
+        "command": shlex.join(["python", "benchmarks/mbm.py"] + (sys.argv[1:] if argv is None else list(argv))),
+        "machine": machine,
         "dataset": None if _no_dataset(args) else str(args.dataset or default_dataset_path()),
         "goal_kinds": goals,
         "problems": len(problems),
@@ -398,6 +487,8 @@ def main(argv: list[str] | None = None) -> int:
         with open(args.json, "w") as f:
             json.dump(report, f, indent=1, default=float)
         print(f"\nwrote {args.json}")
+    if args.write_md:
+        write_markdown(report, ROOT / "BENCHMARKS.md")
     return 0
 
 
