@@ -85,6 +85,7 @@ def run_config(ex, name: str, episodes: int, seed: int, perturb: bool) -> dict:
         "failed_plans": int(sum(r.failed_plans for r in results)),
         "plans": int(sum(r.plans for r in results)),
         "contact_steps": int(sum(r.obstacle_contact_steps for r in results)),
+        "slip_max": float(max(r.slip for r in results)) if results else float("nan"),
         "plan_median": float(np.median(plan)),
         "plan_p95": float(np.percentile(plan, 95)),
         "sim_total": float(sim.sum()),
@@ -100,7 +101,7 @@ def run_config(ex, name: str, episodes: int, seed: int, perturb: bool) -> dict:
 
 def table(rows: list[dict], m: dict) -> str:
     head = ("| configuration | placed within 1 cm | final error median / p95 / max | picks | plans (failed) | "
-            "obstacle contacts | planning per episode median / p95 | episode sim / wall median | real-time factor "
+            "cube slip in hand (max) | obstacle contacts | planning per episode median / p95 | episode sim / wall median | real-time factor "
             "(all episodes / worst) |")
     lines = [
         f"Machine: {m['cpu']}, {m['cores']} cores; Python {m['python']}, MuJoCo {m['mujoco']}; {m['date']}; "
@@ -113,7 +114,7 @@ def table(rows: list[dict], m: dict) -> str:
         lines.append(
             f"| {r['name']} | {r['placed']}/{r['episodes']} ({100 * r['placed'] / max(r['episodes'], 1):.0f} %) | "
             f"{r['err_median'] * 1e3:.1f} / {r['err_p95'] * 1e3:.1f} / {r['err_max'] * 1e3:.1f} mm | {r['picks']} | "
-            f"{r['plans']} ({r['failed_plans']}) | {r['contact_steps']} steps | "
+            f"{r['plans']} ({r['failed_plans']}) | {r['slip_max'] * 1e3:.1f} mm | {r['contact_steps']} steps | "
             f"{r['plan_median']:.2f} / {r['plan_p95']:.2f} s | {r['sim_median']:.2f} / {r['wall_median']:.2f} s | "
             f"{r['rtf']:.1f}x / {r['rtf_min']:.1f}x |"
         )
@@ -135,6 +136,7 @@ def write_markdown(text: str, args: argparse.Namespace, path: Path) -> None:
         f"`{cmd} --write-md` (examples/pick_and_place.py headless: a 5 cm, 0.05 kg cube at a random position "
         "(x 0.35-0.65 m, y -0.35-0.35 m, >= 15 cm from the place position) and yaw per episode, held by friction "
         "only; placed = the cube's centre rests within 1 cm of the place position, read from the simulator; "
+        "'cube slip' = largest shift of the cube in the hand between the lift and the release; "
         "'obstacle contacts' = physics steps in which anything touched an obstacle box; wall time includes "
         "planning and physics, on a machine shared with other jobs). Targets: >= "
         f"{TARGET_SUCCESS * 100:.0f} % placed, >= {TARGET_RTF:g}x real time.\n\n" + text + "\n"

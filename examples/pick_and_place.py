@@ -49,9 +49,11 @@ APPROACH_HEIGHT = 0.15  # [m] pre-grasp / pre-place / lift height of the TCP abo
 GRASP_HEIGHT = 0.003  # [m] TCP this far above the cube centre at the grasp
 RELEASE_HEIGHT = 0.003  # [m] cube bottom this far above the ground when the fingers open
 RETREAT_HEIGHT = 0.10  # [m] straight up after releasing
-SQUEEZE = 0.005  # [m] each finger's target is this far inside the cube face
+FLOOR_CLEARANCE = 0.01  # [m] free-space motions keep the robot and the held cube this far above the ground
+SQUEEZE = 0.01  # [m] each finger's target is this far inside the cube face (~15 N grip per finger)
+CARRY_SCALE = 0.5  # velocity and acceleration scale of the motions that carry the cube
 TCP = "panda_hand_tcp"
-LINEAR_STEP = 0.01  # [m] spacing of the IK points of straight-line motions (the result is checked densely)
+LINEAR_STEP = 0.02  # [m] spacing of the IK points of straight-line motions (the result is checked densely)
 
 # Tries before an episode is declared failed.
 PLAN_TRIES = 3  # per motion, each from the current state with a new seed
@@ -114,6 +116,19 @@ def obstacle_boxes(seed: int) -> list[tuple[str, np.ndarray, np.ndarray, float]]
     return out
 
 
+def floor_guard() -> list[Cuboid]:
+    """The planner-only floor (robot base frame): four 10 cm thick boxes, top FLOOR_CLEARANCE
+    above the ground, around a hole x in [-0.3, 0.15] m, |y| <= 0.15 m where the base stands."""
+    x0, x1, hy, size, t = -0.3, 0.15, 0.15, 2.0, 0.1
+    z = FLOOR_CLEARANCE - t / 2
+    return [
+        Cuboid("floor_guard_front", [size - x1, 2 * size, t], Pose(np.array([(size + x1) / 2, 0.0, z]))),
+        Cuboid("floor_guard_back", [size + x0, 2 * size, t], Pose(np.array([(x0 - size) / 2, 0.0, z]))),
+        Cuboid("floor_guard_left", [x1 - x0, size - hy, t], Pose(np.array([(x0 + x1) / 2, (size + hy) / 2, z]))),
+        Cuboid("floor_guard_right", [x1 - x0, size - hy, t], Pose(np.array([(x0 + x1) / 2, -(size + hy) / 2, z]))),
+    ]
+
+
 def _box_clearance(p: np.ndarray, boxes) -> float:
     """Smallest horizontal distance [m] from point p (xy) to the footprints of `boxes`."""
     best = np.inf
@@ -159,6 +174,7 @@ class EpisodeResult:
     plans: int = 0  # successful plans
     failed_plans: int = 0
     obstacle_contact_steps: int = 0  # physics steps in which anything touched an obstacle box
+    slip: float = 0.0  # largest shift of the cube in the hand between the lift and the release [m]
     reason: str = ""  # why it failed (empty when placed)
     log: list[str] = field(default_factory=list)
 
@@ -207,7 +223,10 @@ class PickAndPlace:
                                              color=[0.8, 0.45, 0.1]))
             self.world.scene.add(box_prims[-1])
         self.world.reset()
-        self._box_geoms = np.array([b.geom_id for b in box_prims], dtype=int)
+        self._box_mask = None  # geoms of the obstacle boxes (to count contacts with them)
+        if box_prims:
+            self._box_mask = np.zeros(self.world.model.ngeom, dtype=bool)
+            self._box_mask[[b.geom_id for b in box_prims]] = True
         self.world.set_camera_view(eye=[1.6, 1.2, 1.0], target=[0.45, -0.05, 0.1])
         self.robot = self.task.robot
         self.cube = self.task.cube
@@ -222,6 +241,7 @@ class PickAndPlace:
         if video is not None:
             self.world.start_recording(video)
         self._ep: EpisodeResult | None = None
+        self._floor_on = False
         self.joint_log: list[tuple[float, np.ndarray, np.ndarray]] = []
 
     # ------------------------------------------------------------------ helpers
@@ -238,18 +258,14 @@ class PickAndPlace:
         torque computed from the robot model (Pinocchio) at the measured configuration, so
         the PD drives track without sagging under gravity.
         """
+        if action is not None:
+            self.controller.apply_action(action)
         g = pin.computeGeneralizedGravity(self._pin_model, self._pin_data, self.q())
-        if action is None:
-            action = ArticulationAction(joint_efforts=g, joint_indices=self.arm)
-        else:
-            action = ArticulationAction(joint_positions=action.joint_positions, joint_velocities=action.joint_velocities,
-                                        joint_efforts=g, joint_indices=action.joint_indices)
-        self.controller.apply_action(action)
+        self.robot.set_joint_efforts(g, joint_indices=self.arm)
         self.world.step(render=self.render)
-        if self._box_geoms.size and self._ep is not None:
+        if self._box_mask is not None and self._ep is not None:
             d = self.world.data
-            pairs = d.contact.geom[: d.ncon]
-            if pairs.size and np.isin(pairs, self._box_geoms).any():
+            if d.ncon and self._box_mask[d.contact.geom[: d.ncon]].any():
                 self._ep.obstacle_contact_steps += 1
         if self.record_joints:
             self.joint_log.append((self.world.current_time, self.robot.get_joint_positions()[:7].copy(),
@@ -289,6 +305,25 @@ class PickAndPlace:
     def sync_obstacles(self) -> None:
         """The planner's world := the World's collision objects (robot, ground, cube ignored)."""
         self.mg.update_world_from_sim(self.world, self.robot, ignore=[self.cube.prim_path, self.cube.name, *self.ground])
+        self._floor_on = False
+
+    def set_floor_guard(self, on: bool) -> None:
+        """Add (or remove) the planner's floor guard: boxes whose top is FLOOR_CLEARANCE above
+        the ground, everywhere but around the robot's base.
+
+        The ground itself is ignored (the grasp and the release happen at it, and the base
+        stands on it), but without a floor a free-space motion may sweep the hand or the
+        carried cube along the ground. The guard is on for free-space motions and off for
+        the vertical straight-line ones that go down to the cube or the place position.
+        """
+        if on == self._floor_on:
+            return
+        for box in floor_guard():
+            if on:
+                self.mg.add_obstacle(box)
+            else:
+                self.mg.remove_obstacle(box.name)
+        self._floor_on = on
 
     # ------------------------------------------------------------------ motions
     def plan(self, phase: str, goal: Pose | np.ndarray, linear: bool = False, **options):
@@ -297,10 +332,13 @@ class PickAndPlace:
         for attempt in range(PLAN_TRIES):
             self._plan_seed += 1
             start = self.q()
+            self.set_floor_guard(not linear)
             if isinstance(goal, Pose):
-                if linear:
-                    options.setdefault("linear_step", LINEAR_STEP)
-                r = self.mg.plan_pose(start, goal, link=TCP, linear=linear, seed=self._plan_seed, **options)
+                if linear and attempt == 0:  # coarse IK points first; the planner's default on retries
+                    r = self.mg.plan_pose(start, goal, link=TCP, linear=True, seed=self._plan_seed,
+                                          linear_step=LINEAR_STEP, **options)
+                else:
+                    r = self.mg.plan_pose(start, goal, link=TCP, linear=linear, seed=self._plan_seed, **options)
             else:
                 r = self.mg.plan_joints(start, goal, seed=self._plan_seed, **options)
             self._ep.plan_time += r.timings.get("total", 0.0)
@@ -354,12 +392,15 @@ class PickAndPlace:
         f = self.fingers()
         return bool(np.all(np.abs(local) < [0.03, 0.02, 0.03]) and np.all(f > 0.015) and np.all(f < 0.035))
 
+    def cube_in_tcp(self) -> np.ndarray:
+        """(3,) the cube's centre in the TCP frame [m] (measured)."""
+        return self.tcp_pose().inverse().transform_points(self.cube_pose()[0][None])[0]
+
     def release_position(self, hand_q: np.ndarray) -> np.ndarray:
         """TCP position (3,) [m] that puts the held cube's centre RELEASE_HEIGHT above the
         place position with the hand at orientation `hand_q` (wxyz). Uses where the cube
         sits in the hand now (measured; it may have shifted while closing or moving)."""
-        p, _ = self.cube_pose()
-        in_tcp = self.tcp_pose().inverse().transform_points(p[None])[0]
+        in_tcp = self.cube_in_tcp()
         return PLACE_POSITION + [0.0, 0.0, RELEASE_HEIGHT] - quat.to_matrix(hand_q) @ in_tcp
 
     # ------------------------------------------------------------------ one pick and place
@@ -381,15 +422,18 @@ class PickAndPlace:
         T_base_world = Pose(*self.robot.get_world_pose()).inverse()
         mg.attach_object(Cuboid("cube", [CUBE_SIZE] * 3, T_base_world @ Pose(p, qc)), q=self.q(), link="panda_hand")
         try:
-            self.move("lift", Pose(self.tcp_pose().position + [0.0, 0.0, APPROACH_HEIGHT], down), linear=True)
+            carry = {"velocity_scale": CARRY_SCALE, "acceleration_scale": CARRY_SCALE}
+            self.move("lift", Pose(self.tcp_pose().position + [0.0, 0.0, APPROACH_HEIGHT], down), linear=True, **carry)
             if not self.holding():
                 raise CubeDropped("the cube is not between the fingers after the lift")
+            in_hand = self.cube_in_tcp()
             azimuth = float(np.arctan2(PLACE_POSITION[1], PLACE_POSITION[0]))
             place_q = hand_down(azimuth)
-            self.move("pre-place", Pose(self.release_position(place_q) + [0.0, 0.0, APPROACH_HEIGHT], place_q))
+            self.move("pre-place", Pose(self.release_position(place_q) + [0.0, 0.0, APPROACH_HEIGHT], place_q), **carry)
             if not self.holding():
                 raise CubeDropped("the cube fell out of the hand on the way to the place position")
-            self.move("descend", Pose(self.release_position(place_q), place_q), linear=True)
+            self.move("descend", Pose(self.release_position(place_q), place_q), linear=True, **carry)
+            self._ep.slip = max(self._ep.slip, float(np.linalg.norm(self.cube_in_tcp() - in_hand)))
         except Exception:
             mg.detach_object(self.q())
             mg.remove_obstacle("cube")
