@@ -6,7 +6,8 @@ The pipeline of every plan (each stage timed in `PlanResult.timings`):
 2. goals: joint goals are checked; pose goals become several collision-free IK solutions;
 3. path: the straight joint-space line when it is valid, else RRT-Connect towards all goal
    configurations at once;
-4. optimise: shortcutting, then a clearance-aware smoothing of the waypoints;
+4. optimise: shortcutting (time-bounded), optionally a clearance-aware smoothing of the
+   waypoints (`optimize_clearance=True`); corners are then blended by the timing stage;
 5. timing: ruckig state-to-state segments under velocity, acceleration and jerk limits;
 6. validate: the timed trajectory is checked densely (consecutive checked configurations at
    most `resolution` rad apart) against the exact collision model and every limit. Only a
@@ -38,6 +39,10 @@ logger = logging.getLogger(__name__)
 
 #: A start this far outside a joint limit [rad] is accepted (and kept as given).
 START_LIMIT_TOLERANCE = 1e-6
+#: Plans tried when a path's timed trajectory fails the dense validation.
+MAX_ATTEMPTS = 4
+#: Random shortcut attempts on a searched path.
+SHORTCUT_ATTEMPTS = 30
 #: Largest joint-space deviation [rad] of a linear motion's timing from its dense IK path
 #: (about 1 mm at the hand).
 LINEAR_DEVIATION = 1e-3
@@ -236,7 +241,9 @@ class MotionGenerator:
             **options: `time_budget` [s], `seed`, `dt` [s] (sample period),
                 `velocity_scale` and `acceleration_scale` in (0, 1] (the latter also scales
                 jerk), `duration` [s] (stretch the motion to this length; fails with
-                TRAJOPT_FAIL if it is shorter than feasible).
+                TRAJOPT_FAIL if it is shorter than feasible), `optimize_clearance` (push
+                the path's waypoints away from obstacles after shortcutting; costs tens of
+                ms in cluttered scenes, off by default).
         """
         t0 = time.perf_counter()
         ctx = _Context(self, options, t0)
@@ -343,35 +350,52 @@ class MotionGenerator:
         return ""
 
     def _plan_to_configs(self, ctx: "_Context", start: np.ndarray, goals: np.ndarray) -> PlanResult:
-        """Path, optimisation, timing and validation to the best reachable of `goals` (G, dof)."""
+        """Path, optimisation, timing and validation to the best reachable of `goals` (G, dof).
+
+        A path whose timed trajectory fails the dense validation (a graze between the
+        configurations the search checked) is planned again, until the budget runs out.
+        """
+        result = None
+        for attempt in range(1, MAX_ATTEMPTS + 1):
+            result = self._plan_once(ctx, start, goals, attempt)
+            if result.success or result.status is not PlanStatus.TRAJOPT_FAIL or time.perf_counter() > ctx.deadline:
+                break
+            logger.info("attempt %d: %s; planning again", attempt, result.message)
+        return result
+
+    def _plan_once(self, ctx: "_Context", start: np.ndarray, goals: np.ndarray, attempt: int) -> PlanResult:
         t = time.perf_counter()
         path = None
-        for g in goals[:3]:
-            if self._motion_valid(start, g):
-                path = np.stack([start, g])
-                break
+        if attempt == 1:
+            for g in goals[:3]:
+                if self._motion_valid(start, g):
+                    path = np.stack([start, g])
+                    break
         iterations = 0
         if path is None:
             path, iterations = rrt_connect(
                 start, goals, self.kinematics.lower, self.kinematics.upper, self._motion_valid, ctx.rng, ctx.deadline,
             )
-        ctx.timings["plan"] = time.perf_counter() - t
+        ctx.timings["plan"] = ctx.timings.get("plan", 0.0) + time.perf_counter() - t
         if path is None:
             status = PlanStatus.TIMEOUT if time.perf_counter() > ctx.deadline else PlanStatus.PLAN_FAIL
-            return ctx.fail(status, f"no collision-free path found ({iterations} iterations)")
+            return ctx.fail(status, f"no collision-free path found ({iterations} iterations)", attempts=attempt)
         goal_q = path[-1].copy()
         t = time.perf_counter()
         if len(path) > 2:
-            path = shortcut(path, self._motion_valid, ctx.rng, ctx.deadline)
-            path = smooth_path(path, self.checker, self._motion_valid, ctx.deadline)
-        ctx.timings["optimize"] = time.perf_counter() - t
-        return self._time_and_validate(ctx, path, goal_q, iterations)
+            # a fixed number of attempts (not a time share) keeps plans deterministic
+            path = shortcut(path, self._motion_valid, ctx.rng, ctx.deadline, max_attempts=SHORTCUT_ATTEMPTS)
+            if ctx.optimize_clearance:
+                path = smooth_path(path, self.checker, self._motion_valid, ctx.deadline)
+        ctx.timings["optimize"] = ctx.timings.get("optimize", 0.0) + time.perf_counter() - t
+        return self._time_and_validate(ctx, path, goal_q, attempt)
 
     def _time_and_validate(
         self, ctx: "_Context", path: np.ndarray, goal_q: np.ndarray, attempts: int, deviation: float = 0.05
     ) -> PlanResult:
         """Time the path (corners blended within `deviation` rad, else stopping at each) and validate."""
         t = time.perf_counter()
+        validate_before = ctx.timings.get("validate", 0.0)
         traj = None
         reason = ""
         for mode in ("blend", "exact"):
@@ -402,13 +426,17 @@ class MotionGenerator:
                 traj = timed.trajectory
                 break
             reason = why
-        ctx.timings["timing"] = time.perf_counter() - t - ctx.timings.get("validate", 0.0)
+        ctx.timings["timing"] = ctx.timings.get("timing", 0.0) + time.perf_counter() - t - (
+            ctx.timings.get("validate", 0.0) - validate_before
+        )
         if traj is None:
-            return ctx.fail(PlanStatus.TRAJOPT_FAIL, f"no valid timed trajectory: {reason}", path=path, goal_q=goal_q)
+            return ctx.fail(
+                PlanStatus.TRAJOPT_FAIL, f"no valid timed trajectory: {reason}", path=path, goal_q=goal_q, attempts=attempts
+            )
         ctx.timings["total"] = time.perf_counter() - ctx.t0
         return PlanResult(
             success=True, status=PlanStatus.SUCCESS, trajectory=traj, path=path, goal_q=goal_q,
-            timings=dict(ctx.timings), position_error=0.0, rotation_error=0.0, attempts=max(1, attempts),
+            timings=dict(ctx.timings), position_error=0.0, rotation_error=0.0, attempts=attempts,
             message="",
         )
 
@@ -455,6 +483,7 @@ class _Context:
     def __init__(self, mg: MotionGenerator, options: dict, t0: float):
         known = {
             "time_budget", "seed", "dt", "velocity_scale", "acceleration_scale", "duration", "ik_solutions", "linear_step",
+            "optimize_clearance",
         }
         unknown = set(options) - known
         if unknown:
@@ -467,6 +496,7 @@ class _Context:
         self.velocity_scale = _fraction(options.get("velocity_scale", mg.velocity_scale), "velocity_scale")
         self.acceleration_scale = _fraction(options.get("acceleration_scale", mg.acceleration_scale), "acceleration_scale")
         self.duration = None if options.get("duration") is None else _positive(options["duration"], "duration")
+        self.optimize_clearance = bool(options.get("optimize_clearance", False))
         self.timings: dict[str, float] = {}
         self._failure: PlanResult | None = None
 
@@ -496,11 +526,12 @@ class _Context:
             self.fail(status, "start in collision: " + _describe_contacts(report))
         return q
 
-    def fail(self, status: PlanStatus, message: str, path=None, goal_q=None) -> PlanResult:
+    def fail(self, status: PlanStatus, message: str, path=None, goal_q=None, attempts: int = 1) -> PlanResult:
         self.timings["total"] = time.perf_counter() - self.t0
         logger.info("planning failed: %s (%s)", status.name, message)
         self._failure = PlanResult(
             success=False, status=status, path=path, goal_q=goal_q, timings=dict(self.timings), message=message,
+            attempts=attempts,
         )
         return self._failure
 

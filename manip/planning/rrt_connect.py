@@ -66,6 +66,9 @@ def rrt_connect(
     rng: np.random.Generator,
     deadline: float,
     step_size: float = 0.6,
+    short_step: float = 0.1,
+    local_fraction: float = 0.2,
+    local_sigma: float = 0.15,
     max_iterations: int = 20000,
 ) -> tuple[np.ndarray | None, int]:
     """Find a collision-free piecewise-linear path from `start` to any of `goals`.
@@ -78,6 +81,10 @@ def rrt_connect(
         rng: the random generator (determinism).
         deadline: `time.perf_counter()` value after which the search gives up.
         step_size: maximum extension length (joint-space L2) [rad].
+        short_step: extension length tried when a full step is blocked [rad].
+        local_fraction: share of samples drawn near an existing node of the growing tree
+            (Gaussian, `local_sigma` [rad]), which lets trees leave narrow pockets such as
+            a hand deep in a shelf.
         max_iterations: bound on sampling iterations.
 
     Returns:
@@ -88,11 +95,20 @@ def rrt_connect(
     for it in range(1, max_iterations + 1):
         if time.perf_counter() > deadline:
             return None, it
-        q_rand = rng.uniform(lower, upper)
         ta, tb = trees[a], trees[b]
+        if rng.random() < local_fraction:
+            # grow out of tight spots: sample close to a random node of the tree
+            q_rand = np.clip(ta.nodes[rng.integers(ta.n)] + rng.normal(0.0, local_sigma, len(lower)), lower, upper)
+        else:
+            q_rand = rng.uniform(lower, upper)
         i_near = ta.nearest(q_rand)
         q_new, _ = _steer(ta.nodes[i_near], q_rand, step_size)
-        if motion_valid(ta.nodes[i_near], q_new):
+        valid = motion_valid(ta.nodes[i_near], q_new)
+        if not valid:
+            # blocked: a short step in the same direction often still makes progress
+            q_new, _ = _steer(ta.nodes[i_near], q_new, short_step)
+            valid = motion_valid(ta.nodes[i_near], q_new)
+        if valid:
             i_new = ta.add(q_new, i_near)
             # connect: grow tree b towards q_new until reached or blocked
             j = tb.nearest(q_new)
