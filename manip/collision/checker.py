@@ -195,6 +195,47 @@ def _coarse_to_fine(n: int) -> np.ndarray:
     return idx[np.argsort(level, kind="stable")]
 
 
+def _expand(count: np.ndarray, start: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Ragged expansion: for rows with `count` (T,) items starting at `start` (T,) of a flat
+    table, (row index (total,), flat item index (total,))."""
+    total = int(count.sum())
+    row = np.repeat(np.arange(count.size), count)
+    offset = np.arange(total) - np.repeat(np.cumsum(count) - count, count)
+    return row, start[row] + offset
+
+
+class _SphereTable:
+    """The balls of all parts in flat arrays (ragged by part), centres in joint frames."""
+
+    def __init__(self, centres: list[np.ndarray], radii: list[np.ndarray], joints: np.ndarray):
+        self.count = np.array([len(r) for r in radii], dtype=np.int64)
+        self.start = np.cumsum(self.count) - self.count
+        self.centres = np.concatenate(centres).reshape(-1, 3)
+        self.radii = np.concatenate(radii).astype(float)
+        self.part = np.repeat(np.arange(len(radii)), self.count)
+        self.joint = np.asarray(joints)[self.part]
+
+    def centres_of(self, g: int) -> np.ndarray:
+        return self.centres[self.start[g]:self.start[g] + self.count[g]]
+
+    def radii_of(self, g: int) -> np.ndarray:
+        return self.radii[self.start[g]:self.start[g] + self.count[g]]
+
+    def pair_table(self, pairs: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """For part pairs (P, 2): (start (P,), count (P,), ball a (total,), ball b (total,))."""
+        ia, ib, count = [], [], []
+        for a, b in pairs:
+            A = np.arange(self.start[a], self.start[a] + self.count[a])
+            B = np.arange(self.start[b], self.start[b] + self.count[b])
+            ia.append(np.repeat(A, B.size))
+            ib.append(np.tile(B, A.size))
+            count.append(A.size * B.size)
+        count_a = np.array(count, dtype=np.int64)
+        empty = np.zeros(0, dtype=np.int64)
+        return (np.cumsum(count_a) - count_a, count_a,
+                np.concatenate(ia) if ia else empty, np.concatenate(ib) if ib else empty)
+
+
 class CollisionChecker:
     """Collision checking of a robot's configurations against a world of obstacles and itself.
 
@@ -363,8 +404,80 @@ class CollisionChecker:
             c = (lo + hi) / 2.0
             self._pbc[g] = c
             self._pbr[g] = (np.linalg.norm(allc - c, axis=1) + allr).max()
+        self._fine = _SphereTable([p.centres for p in parts], [p.radii for p in parts], self._pj)
+        self._coarse = _SphereTable([p.coarse_centres for p in parts], [p.coarse_radii for p in parts], self._pj)
+        # level 0 of the world check: one bounding ball per moving joint (all its parts)
+        joints = sorted({p.joint for p in parts if p.joint != 0})
+        self._l0_joint = np.array(joints, dtype=np.int64)
+        self._l0_c = np.zeros((len(joints), 3))
+        self._l0_r = np.zeros(len(joints))
+        members = []
+        for k, j in enumerate(joints):
+            gs = [g for g, p in enumerate(parts) if p.joint == j]
+            allc = np.concatenate([self._fine.centres_of(g) for g in gs] + [self._coarse.centres_of(g) for g in gs])
+            allr = np.concatenate([self._fine.radii_of(g) for g in gs] + [self._coarse.radii_of(g) for g in gs])
+            lo = (allc - allr[:, None]).min(axis=0)
+            hi = (allc + allr[:, None]).max(axis=0)
+            c = (lo + hi) / 2.0
+            self._l0_c[k] = c
+            self._l0_r[k] = (np.linalg.norm(allc - c, axis=1) + allr).max()
+            members.append(np.array(gs, dtype=np.int64))
+        self._l0_members = members
+        self._l0_count = np.array([m.size for m in members], dtype=np.int64)
+        self._l0_flat = np.concatenate(members) if members else np.zeros(0, dtype=np.int64)
+        self._l0_start = np.cumsum(self._l0_count) - self._l0_count
         self._pairs = np.array(pairs, dtype=np.int64).reshape(-1, 2)
-        self._pair_attached = np.array([parts[a].attached or parts[b].attached for a, b in pairs], dtype=bool)
+        # self-collision broadphase per body (a link's parts together, or an attached object):
+        # body pairs with at least one enabled part pair
+        body_of: dict[str, int] = {}
+        body_parts: list[list[int]] = []
+        for g, part in enumerate(parts):
+            key = ("attached:" if part.attached else "") + part.name
+            if key not in body_of:
+                body_of[key] = len(body_parts)
+                body_parts.append([])
+            body_parts[body_of[key]].append(g)
+        part_body = np.zeros(G, dtype=np.int64)
+        for b_, gs in enumerate(body_parts):
+            part_body[gs] = b_
+        bpairs: dict[tuple[int, int], list[int]] = {}
+        for k, (a_, b_) in enumerate(pairs):
+            bpairs.setdefault((int(part_body[a_]), int(part_body[b_])), []).append(k)
+        self._bpairs = np.array(list(bpairs), dtype=np.int64).reshape(-1, 2)
+        members = list(bpairs.values())
+        self._bp_count = np.array([len(m) for m in members], dtype=np.int64)
+        self._bp_start = np.cumsum(self._bp_count) - self._bp_count
+        self._bp_flat = np.array([k for m in members for k in m], dtype=np.int64)
+        nb = len(body_parts)
+        self._body_joint = np.array([parts[gs[0]].joint for gs in body_parts], dtype=np.int64)
+        self._bbc = np.zeros((nb, 3))
+        self._bbr = np.zeros(nb)
+        for b_, gs in enumerate(body_parts):
+            allc = np.concatenate([self._fine.centres_of(g) for g in gs] + [self._coarse.centres_of(g) for g in gs])
+            allr = np.concatenate([self._fine.radii_of(g) for g in gs] + [self._coarse.radii_of(g) for g in gs])
+            lo = (allc - allr[:, None]).min(axis=0)
+            hi = (allc + allr[:, None]).max(axis=0)
+            c = (lo + hi) / 2.0
+            self._bbc[b_] = c
+            self._bbr[b_] = (np.linalg.norm(allc - c, axis=1) + allr).max()
+        # ball pairs of the coarse covers of each body pair, as indices into self._coarse
+        body_balls = [np.concatenate([np.arange(self._coarse.start[g], self._coarse.start[g] + self._coarse.count[g])
+                                      for g in gs]) for gs in body_parts]
+        ia, ib, cnt = [], [], []
+        for a_, b_ in self._bpairs:
+            A, B = body_balls[a_], body_balls[b_]
+            ia.append(np.repeat(A, B.size))
+            ib.append(np.tile(B, A.size))
+            cnt.append(A.size * B.size)
+        cnt_a = np.array(cnt, dtype=np.int64)
+        empty = np.zeros(0, dtype=np.int64)
+        self._bc_count = cnt_a
+        self._bc_start = np.cumsum(cnt_a) - cnt_a
+        self._bc_a = np.concatenate(ia) if ia else empty
+        self._bc_b = np.concatenate(ib) if ib else empty
+        # geometry placements in joint frames, for batched transforms of the exact checks
+        self._gR = np.array([p.R for p in parts])
+        self._gp = np.array([p.p for p in parts])
         self._req_self = coal.CollisionRequest()
         self._req_self.security_margin = self._self_padding
         self._update_static()
@@ -404,6 +517,15 @@ class CollisionChecker:
         live = {id(o) for o in obs}
         self._obstacle_cache = {k: v for k, v in self._obstacle_cache.items() if k in live}
         self._any_cyl = bool(self._ocyl.any())
+        # grouped tables for the first broadphase level: local coordinates of points for all
+        # obstacles of a group with one matrix product, X @ Rcat - offset
+        self._groups = []
+        for cyl in (False, True):
+            idx = np.nonzero(self._ocyl == cyl)[0]
+            if idx.size:
+                Rcat = np.concatenate(list(self._oR[idx]), axis=1)  # (3, 3k)
+                off = np.einsum("kj,kji->ki", self._oc[idx], self._oR[idx]).reshape(-1)
+                self._groups.append((cyl, idx, Rcat, off, self._oh[idx].copy(), self._orho[idx].copy()))
         self._req_world = coal.CollisionRequest()
         self._req_world.security_margin = self._padding
         self._update_static()
@@ -431,6 +553,29 @@ class CollisionChecker:
         L = np.einsum("moj,oji->moi", d, self._oR)
         return _sd_local(L, self._oh[None], self._orho[None], self._ocyl[None] if self._any_cyl else None)
 
+    def _near_all(self, X: np.ndarray, reach: np.ndarray) -> np.ndarray:
+        """(M, O) bool: points X (M, 3) within `reach` (M,) of each obstacle's broadphase shape
+        (sd < reach, computed without square roots: outside distance^2 < (reach + rounding)^2)."""
+        M = X.shape[0]
+        out = np.empty((M, len(self._obs)), dtype=bool)
+        for cyl, idx, Rcat, off, h, rho in self._groups:
+            L = (X @ Rcat - off).reshape(M, idx.size, 3)
+            if cyl:
+                a = np.sqrt(L[..., 0] ** 2 + L[..., 1] ** 2) - h[:, 0]
+                b = np.abs(L[..., 2]) - h[:, 2]
+                np.maximum(a, 0.0, out=a)
+                np.maximum(b, 0.0, out=b)
+                d2 = a * a + b * b
+                lim = reach[:, None]
+            else:
+                q = np.abs(L)
+                q -= h
+                np.maximum(q, 0.0, out=q)
+                d2 = np.einsum("mki,mki->mk", q, q)
+                lim = reach[:, None] + rho
+            out[:, idx] = (d2 < lim * lim) & (lim > 0)
+        return out
+
     def _sd_pairs(self, X: np.ndarray, o: np.ndarray) -> np.ndarray:
         """Signed distances (M,) of points X (M, 3) to obstacles o (M,)."""
         d = X - self._oc[o]
@@ -446,73 +591,86 @@ class CollisionChecker:
         return _tf(Rj @ part.R, pj + Rj @ part.p)
 
     # ------------------------------------------------------------------ broadphase
-    @staticmethod
-    def _place(R: np.ndarray, p: np.ndarray, n: np.ndarray, joint: np.ndarray, C: np.ndarray) -> np.ndarray:
-        """Balls C (T, K, 3) given in joint frames, placed for configurations n (T,): (T, K, 3)."""
-        return np.matmul(C, R[n, joint].transpose(0, 2, 1)) + p[n, joint][:, None, :]
-
-    def _world_level(self, R, p, n, g, o, C, r, margin):
-        """Keep the (n, g, o) triples where some ball of table (C, r) of part g is within
+    def _world_level(self, R, p, n, g, o, table: "_SphereTable", margin: float):
+        """Keep the (n, g, o) triples where some ball of part g (from `table`) comes within
         `margin` of obstacle o; returns the kept triples and their smallest ball clearance."""
-        X = self._place(R, p, n, self._pj[g], C[g])
-        K = X.shape[1]
-        s = self._sd_pairs(X.reshape(-1, 3), np.repeat(o, K)).reshape(-1, K) - r[g]
-        m = s.min(axis=1)
+        t, sidx = _expand(table.count[g], table.start[g])
+        nt = n[t]
+        sj = table.joint[sidx]
+        X = np.einsum("tij,tj->ti", R[nt, sj], table.centres[sidx]) + p[nt, sj]
+        sd = self._sd_pairs(X, o[t]) - table.radii[sidx]
+        starts = np.cumsum(table.count[g]) - table.count[g]
+        m = np.minimum.reduceat(sd, starts)
         keep = m < margin
         return n[keep], g[keep], o[keep], m[keep]
 
-    def _self_level(self, R, p, n, ga, gb, CA, rA, CB, rB, margin):
-        """Keep the (n, ga, gb) triples where a ball of ga's table comes within `margin` of one of gb's."""
-        XA = self._place(R, p, n, self._pj[ga], CA[ga])
-        XB = self._place(R, p, n, self._pj[gb], CB[gb])
-        d2 = ((XA * XA).sum(-1)[:, :, None] + (XB * XB).sum(-1)[:, None, :]
-              - 2.0 * np.matmul(XA, XB.transpose(0, 2, 1)))
-        reach = rA[ga][:, :, None] + rB[gb][:, None, :]  # -inf for padding balls
-        d = np.sqrt(np.maximum(d2, 0.0)) - reach
-        m = d.reshape(d.shape[0], -1).min(axis=1)
+    def _world_level_placed(self, Xall, n, g, o, table: "_SphereTable", margin: float):
+        """`_world_level` with the table's balls already placed: Xall (N, S, 3)."""
+        t, sidx = _expand(table.count[g], table.start[g])
+        sd = self._sd_pairs(Xall[n[t], sidx], o[t]) - table.radii[sidx]
+        starts = np.cumsum(table.count[g]) - table.count[g]
+        m = np.minimum.reduceat(sd, starts)
         keep = m < margin
-        return n[keep], ga[keep], gb[keep], m[keep]
+        return n[keep], g[keep], o[keep], m[keep]
 
     def _candidates(self, Q: np.ndarray, R: np.ndarray, p: np.ndarray, world: bool = True, self_: bool = True):
         """Pairs the balls cannot clear, sorted by configuration, deepest first.
 
-        Levels: one bounding ball per part, then the coarse covers, then the fine covers.
+        World: one bounding ball per moving joint, then each part's coarse cover, then its
+        fine cover. Self: one bounding ball per part, then coarse, then fine covers.
 
         Returns:
             (n (T,), kind (T,) 0=world/1=self, i (T,), j (T,)): for world i = part and
             j = obstacle; for self (i, j) = parts.
         """
         N = Q.shape[0]
-        pj = self._pj
         ns, kinds, ii, jj, depth = [], [], [], [], []
         O = len(self._obs)
-        mv = self._moving
-        # bounding-ball centres (N, G, 3)
-        bc = np.matmul(R[:, pj], self._pbc[None, :, :, None])[..., 0] + p[:, pj]
-        if world and O and mv.size:
+        J = self._l0_joint.size
+        do_world = world and O and J
+        do_self = self_ and self._bpairs.shape[0]
+        if not (do_world or do_self):
+            e = np.zeros(0, dtype=np.int64)
+            return e, e, e, e
+        # coarse balls of every part, placed for every configuration: (N, S, 3)
+        cj = self._coarse.joint
+        Xc = np.einsum("nsij,sj->nsi", R[:, cj], self._coarse.centres) + p[:, cj]
+        if do_world:
             margin = self._padding + 1e-9
-            sd = self._sd_all(bc[:, mv].reshape(-1, 3)).reshape(N, mv.size, O)
-            n, g, o = np.nonzero(sd < self._pbr[mv][None, :, None] + margin)
-            g = mv[g]
+            X = np.einsum("njab,jb->nja", R[:, self._l0_joint], self._l0_c) + p[:, self._l0_joint]
+            reach = np.broadcast_to(self._l0_r + margin, (N, J)).reshape(-1)
+            n, jk, o = np.nonzero(self._near_all(X.reshape(-1, 3), reach).reshape(N, J, O))
             if n.size:
-                n, g, o, _ = self._world_level(R, p, n, g, o, self._cC, self._cr, margin)
+                t, flat = _expand(self._l0_count[jk], self._l0_start[jk])
+                n, g, o = n[t], self._l0_flat[flat], o[t]
+                n, g, o, _ = self._world_level_placed(Xc, n, g, o, self._coarse, margin)
             if n.size:
-                n, g, o, m = self._world_level(R, p, n, g, o, self._pC, self._pr, margin)
+                n, g, o, m = self._world_level(R, p, n, g, o, self._fine, margin)
                 ns.append(n); kinds.append(np.zeros(n.size, dtype=np.int64)); ii.append(g); jj.append(o); depth.append(m)
-        P = self._pairs.shape[0]
-        if self_ and P:
+        if do_self:
             margin = self._self_padding + 1e-9
-            a, b = self._pairs[:, 0], self._pairs[:, 1]
-            diff = bc[:, a] - bc[:, b]
-            dist2 = np.einsum("npi,npi->np", diff, diff)  # (N, P)
-            reach = (self._pbr[a] + self._pbr[b])[None] + margin
+            a, b = self._bpairs[:, 0], self._bpairs[:, 1]
+            bj = self._body_joint
+            cbody = np.einsum("nbij,bj->nbi", R[:, bj], self._bbc) + p[:, bj]  # (N, bodies, 3)
+            diff = cbody[:, a] - cbody[:, b]
+            dist2 = np.einsum("npi,npi->np", diff, diff)  # (N, body pairs)
+            reach = (self._bbr[a] + self._bbr[b])[None] + margin
             n, k = np.nonzero(dist2 < reach * reach)
-            ga, gb = a[k], b[k]
             if n.size:
-                n, ga, gb, _ = self._self_level(R, p, n, ga, gb, self._cC, self._cr, self._cC, self._cr, margin)
+                # coarse covers of the two bodies; what survives goes to coal part pair by part pair
+                t, e = _expand(self._bc_count[k], self._bc_start[k])
+                nt = n[t]
+                d = Xc[nt, self._bc_a[e]] - Xc[nt, self._bc_b[e]]
+                dist = np.sqrt(np.einsum("ti,ti->t", d, d)) - self._coarse.radii[self._bc_a[e]] - self._coarse.radii[self._bc_b[e]]
+                m = np.minimum.reduceat(dist, np.cumsum(self._bc_count[k]) - self._bc_count[k])
+                keep = m < margin
+                n, k, m = n[keep], k[keep], m[keep]
             if n.size:
-                n, ga, gb, m = self._self_level(R, p, n, ga, gb, self._pC, self._pr, self._pC, self._pr, margin)
-                ns.append(n); kinds.append(np.ones(n.size, dtype=np.int64)); ii.append(ga); jj.append(gb); depth.append(m)
+                t, flat = _expand(self._bp_count[k], self._bp_start[k])
+                pk = self._bp_flat[flat]
+                n, m = n[t], m[t]
+                ns.append(n); kinds.append(np.ones(n.size, dtype=np.int64))
+                ii.append(self._pairs[pk, 0]); jj.append(self._pairs[pk, 1]); depth.append(m)
         if not ns:
             e = np.zeros(0, dtype=np.int64)
             return e, e, e, e
@@ -540,15 +698,40 @@ class CollisionChecker:
         R, p = self._fk(Q)
         out = np.zeros(Q.shape[0], dtype=bool)
         n, kind, i, j = self._candidates(Q, R, p)
-        tfs: dict = {}
-        for t in range(n.size):
-            nn = int(n[t])
-            if out[nn]:
+        if n.size == 0:
+            return out
+        # world placements of both geometries of every candidate pair, in one go
+        ji = self._pj[i]
+        Ra = R[n, ji]
+        RA = np.matmul(Ra, self._gR[i])
+        pA = p[n, ji] + np.einsum("tij,tj->ti", Ra, self._gp[i])
+        selfp = kind == 1
+        jb = self._pj[np.where(selfp, j, 0)]
+        Rb = R[n, jb]
+        gb = np.where(selfp, j, 0)
+        RB = np.matmul(Rb, self._gR[gb])
+        pB = p[n, jb] + np.einsum("tij,tj->ti", Rb, self._gp[gb])
+        geoms = [pt.geometry for pt in self._parts]
+        ogeom, otf = self._ogeom, self._otf
+        req_w, req_s = self._req_world, self._req_self
+        res = coal.CollisionResult()
+        Tf = coal.Transform3s
+        collide = coal.collide
+        hit_configs: set[int] = set()
+        for nn, k, a, b, Ra_, pa_, Rb_, pb_ in zip(n.tolist(), kind.tolist(), i.tolist(), j.tolist(), RA, pA, RB, pB):
+            if nn in hit_configs:
                 continue
-            if self._exact(R, p, nn, int(kind[t]), int(i[t]), int(j[t]), tfs):
-                out[nn] = True
+            res.clear()
+            if k == 0:
+                hit = collide(geoms[a], Tf(Ra_, pa_), ogeom[b], otf[b], req_w, res)
+            else:
+                hit = collide(geoms[a], Tf(Ra_, pa_), geoms[b], Tf(Rb_, pb_), req_s, res)
+            if hit:
+                hit_configs.add(nn)
                 if stop_at_first:
                     break
+        if hit_configs:
+            out[list(hit_configs)] = True
         return out
 
     # ------------------------------------------------------------------ public checks
