@@ -34,7 +34,16 @@ from manip import ArticulationAction, Pose
 from manip import quaternion as quat
 from manip.collision import Cuboid
 from manip.motion_generator import MotionGenerator
-from manip.sim import FixedCuboid, PickPlace, SimulationApp, World, create_new_stage
+from manip.sim import (
+    FixedCuboid,
+    OffscreenRenderingError,
+    PickPlace,
+    SimulationApp,
+    SimulationError,
+    VisualCuboid,
+    World,
+    create_new_stage,
+)
 
 # ---------------------------------------------------------------------------- the task
 CUBE_SIZE = 0.05  # [m]
@@ -222,12 +231,16 @@ class PickAndPlace:
                                              scale=dims, orientation=quat.from_axis_angle([0, 0, 1], yaw),
                                              color=[0.8, 0.45, 0.1]))
             self.world.scene.add(box_prims[-1])
+        # A flat green square on the ground marks the place position (drawn only, no collision).
+        self.world.scene.add(VisualCuboid("/World/PlaceMarker", name="place_marker", size=1.0,
+                                          position=PLACE_POSITION * [1, 1, 0] + [0, 0, 0.0005],
+                                          scale=[CUBE_SIZE + 0.01, CUBE_SIZE + 0.01, 0.001], color=[0.1, 0.8, 0.2]))
         self.world.reset()
         self._box_mask = None  # geoms of the obstacle boxes (to count contacts with them)
         if box_prims:
             self._box_mask = np.zeros(self.world.model.ngeom, dtype=bool)
             self._box_mask[[b.geom_id for b in box_prims]] = True
-        self.world.set_camera_view(eye=[1.6, 1.2, 1.0], target=[0.45, -0.05, 0.1])
+        self.world.set_camera_view(eye=[1.5, -1.25, 1.1], target=[0.3, -0.1, 0.2])
         self.robot = self.task.robot
         self.cube = self.task.cube
         self.controller = self.robot.get_articulation_controller()
@@ -584,8 +597,12 @@ def main(argv: list[str] | None = None) -> int:
     else:
         print("  (add --video out.mp4 to record a video, --viewer to watch in MuJoCo's window, --plot joints.png)")
 
-    demo = PickAndPlace(seed=args.seed, obstacles=args.obstacles, cube_mass=args.cube_mass, viewer=args.viewer,
-                        video=args.video, verbose=not args.quiet, record_joints=args.plot is not None)
+    try:
+        demo = PickAndPlace(seed=args.seed, obstacles=args.obstacles, cube_mass=args.cube_mass, viewer=args.viewer,
+                            video=args.video, verbose=not args.quiet, record_joints=args.plot is not None)
+    except (SimulationError, OffscreenRenderingError) as exc:  # no display for --viewer, no GL/ffmpeg for --video
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
     results = []
     try:
         for i in range(args.episodes):
