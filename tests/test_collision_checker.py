@@ -287,3 +287,39 @@ def test_invalid_inputs(franka_config, franka_kinematics, checker):
         checker.attach_object(Sphere("x", 0.01))
     with pytest.raises(UnknownNameError):
         checker.attach_object("no_such_obstacle", q=np.zeros(7))
+
+
+def test_motion_valid_batch_matches_single_edges(checker, random_q):
+    free = random_q[:300][~checker.in_collision_batch(random_q[:300])][:40]
+    rng = np.random.default_rng(3)
+    Q0 = free
+    d = rng.uniform(-1, 1, Q0.shape)
+    Q1 = np.clip(Q0 + 0.8 * d / np.abs(d).max(axis=1, keepdims=True), checker.kinematics.lower, checker.kinematics.upper)
+    batch = checker.motion_valid_batch(Q0, Q1)
+    single = np.array([checker.motion_valid(a, b) for a, b in zip(Q0, Q1)])
+    np.testing.assert_array_equal(batch, single)
+    assert 0 < batch.sum() < batch.size  # both kinds present
+    # the definition: every configuration at <= 0.01 rad spacing is free
+    for a, b, ok in zip(Q0[:15], Q1[:15], batch[:15]):
+        steps = int(np.ceil(np.abs(b - a).max() / 0.01))
+        dense = a + np.linspace(0, 1, steps + 1)[:, None] * (b - a)
+        assert ok == (not checker.in_collision_batch(dense).any())
+
+
+def test_motion_valid_catches_a_short_contact(franka_config, franka_kinematics):
+    kin = franka_kinematics
+    q0 = franka_config.default_joint_positions.copy()
+    q1 = q0.copy()
+    q1[1] += 0.6  # the shoulder swings the fingertips fast (about 0.8 m/rad)
+    q_mid = (q0 + q1) / 2
+    # a 4 mm pebble just beyond the left fingertip at the mid configuration: touched over a
+    # few 0.01 rad steps only
+    tip = (kin.fk(q_mid, "panda_hand") @ Pose([0.0, 0.0476, 0.124])).position
+    cc = CollisionChecker(franka_config, kin, WorldConfig([Sphere("pebble", 0.004, tip)]))
+    assert not cc.in_collision(q0) and not cc.in_collision(q1)
+    steps = 60
+    Q = q0 + np.linspace(0, 1, steps + 1)[:, None] * (q1 - q0)
+    hits = cc.in_collision_batch(Q)
+    assert 0 < hits.sum() <= 8  # the contact spans a few samples only
+    assert not cc.motion_valid(q0, q1, resolution=0.01)
+    assert not cc.motion_valid_batch(q0[None], q1[None])[0]

@@ -21,6 +21,7 @@ never declared free by the spheres unless that is certain.
 
 from __future__ import annotations
 
+import functools
 import logging
 import math
 from dataclasses import dataclass
@@ -28,6 +29,7 @@ from typing import Literal, NamedTuple, Sequence
 
 import coal
 import numpy as np
+import pinocchio as pin
 
 from manip.collision.robot_geometry import COARSE_MAX_SPHERES, COARSE_TOLERANCE, RobotGeometry, sphere_cover
 from manip.collision.shapes import Capsule, Cuboid, Cylinder, Mesh, Obstacle, Sphere, coal_geometry
@@ -176,8 +178,9 @@ def _sd_local(L: np.ndarray, h: np.ndarray, rho: np.ndarray, cyl: np.ndarray | N
     return out
 
 
+@functools.lru_cache(maxsize=512)
 def _coarse_to_fine(n: int) -> np.ndarray:
-    """Indices 0..n ordered endpoints first, then by halving strides (bisection order)."""
+    """Indices 0..n ordered endpoints first, then by halving strides (bisection order); cached."""
     idx = np.arange(n + 1)
     level = np.zeros(n + 1, dtype=np.int64)
     inner = idx[1:n]
@@ -185,14 +188,16 @@ def _coarse_to_fine(n: int) -> np.ndarray:
         # trailing zero bits of the index: large strides first
         tz = np.zeros(inner.size, dtype=np.int64)
         x = inner.copy()
-        for b in range(1, 64):
+        for _ in range(64):
             m = (x & 1) == 0
             if not m.any():
                 break
             tz[m] += 1
             x[m] >>= 1
         level[1:n] = 64 - tz
-    return idx[np.argsort(level, kind="stable")]
+    out = idx[np.argsort(level, kind="stable")]
+    out.setflags(write=False)
+    return out
 
 
 def _expand(count: np.ndarray, start: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -263,6 +268,7 @@ class CollisionChecker:
         self.config = config
         self.kinematics = kinematics if kinematics is not None else Kinematics(config)
         self.robot = RobotGeometry(config, self.kinematics, sphere_tolerance=sphere_tolerance)
+        self._pin_data = self.kinematics.model.createData()
         self._padding = self._check_padding(config.collision_padding if padding is None else padding, "padding")
         self._self_padding = self._check_padding(self_padding, "self_padding")
         self._world = WorldConfig()
@@ -557,7 +563,8 @@ class CollisionChecker:
         """(M, O) bool: points X (M, 3) within `reach` (M,) of each obstacle's broadphase shape
         (sd < reach, computed without square roots: outside distance^2 < (reach + rounding)^2)."""
         M = X.shape[0]
-        out = np.empty((M, len(self._obs)), dtype=bool)
+        single = len(self._groups) == 1
+        out = None if single else np.empty((M, len(self._obs)), dtype=bool)
         for cyl, idx, Rcat, off, h, rho in self._groups:
             L = (X @ Rcat - off).reshape(M, idx.size, 3)
             if cyl:
@@ -568,12 +575,15 @@ class CollisionChecker:
                 d2 = a * a + b * b
                 lim = reach[:, None]
             else:
-                q = np.abs(L)
-                q -= h
-                np.maximum(q, 0.0, out=q)
-                d2 = np.einsum("mki,mki->mk", q, q)
+                np.abs(L, out=L)
+                L -= h
+                np.maximum(L, 0.0, out=L)
+                d2 = np.einsum("mki,mki->mk", L, L)
                 lim = reach[:, None] + rho
-            out[:, idx] = (d2 < lim * lim) & (lim > 0)
+            near = d2 < lim * np.abs(lim)  # lim <= 0 never counts as near
+            if single:
+                return near
+            out[:, idx] = near
         return out
 
     def _sd_pairs(self, X: np.ndarray, o: np.ndarray) -> np.ndarray:
@@ -583,7 +593,21 @@ class CollisionChecker:
         return _sd_local(L, self._oh[o], self._orho[o], self._ocyl[o] if self._any_cyl else None)
 
     def _fk(self, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        return self.kinematics.joint_transforms(Q)
+        """Joint frames (N, J+1, 3, 3), (N, J+1, 3): Pinocchio for up to 8 configurations,
+        the batched NumPy kinematics otherwise."""
+        if Q.shape[0] > 8:
+            return self.kinematics.joint_transforms(Q)
+        model, data = self.kinematics.model, self._pin_data
+        nj = model.njoints
+        R = np.empty((Q.shape[0], nj, 3, 3))
+        p = np.empty((Q.shape[0], nj, 3))
+        for k in range(Q.shape[0]):
+            pin.forwardKinematics(model, data, Q[k])
+            for j in range(nj):
+                M = data.oMi[j]
+                R[k, j] = M.rotation
+                p[k, j] = M.translation
+        return R, p
 
     def _part_tf(self, R: np.ndarray, p: np.ndarray, n: int, g: int) -> coal.Transform3s:
         part = self._parts[g]
@@ -638,7 +662,7 @@ class CollisionChecker:
         if do_world:
             margin = self._padding + 1e-9
             X = np.einsum("njab,jb->nja", R[:, self._l0_joint], self._l0_c) + p[:, self._l0_joint]
-            reach = np.broadcast_to(self._l0_r + margin, (N, J)).reshape(-1)
+            reach = np.tile(self._l0_r + margin, N)
             n, jk, o = np.nonzero(self._near_all(X.reshape(-1, 3), reach).reshape(N, J, O))
             if n.size:
                 t, flat = _expand(self._l0_count[jk], self._l0_start[jk])
@@ -796,11 +820,63 @@ class CollisionChecker:
         order = _coarse_to_fine(steps)
         t = order / steps
         Q = q0[None] + t[:, None] * (q1 - q0)[None]
-        first = Q[:chunk]
-        if self._check(first, stop_at_first=True).any():
+        if Q.shape[0] <= 2 * chunk:
+            return not self._check(Q, stop_at_first=True).any()
+        if self._check(Q[:chunk], stop_at_first=True).any():
             return False
-        rest = Q[chunk:]
-        return not (rest.shape[0] and self._check(rest, stop_at_first=True).any())
+        return not self._check(Q[chunk:], stop_at_first=True).any()
+
+    def motion_valid_batch(self, Q0: np.ndarray, Q1: np.ndarray, resolution: float = 0.01) -> np.ndarray:
+        """(M,) bool: `motion_valid` of the M straight segments Q0[m] -> Q1[m], checked together.
+
+        All segments' coarse samples (endpoints and midpoints) are checked in one batch first,
+        then the remaining samples of the segments still valid, so that several candidate
+        edges (RRT extensions, shortcuts) cost about one call.
+
+        Args:
+            Q0, Q1: (M, dof) segment endpoints.
+            resolution: largest joint step between checked configurations [rad] > 0.
+        """
+        Q0 = self.kinematics.check_q(Q0, "Q0")
+        Q1 = self.kinematics.check_q(Q1, "Q1")
+        if Q0.ndim == 1:
+            Q0 = Q0[None]
+        if Q1.ndim == 1:
+            Q1 = Q1[None]
+        if Q0.shape != Q1.shape:
+            raise InvalidInputError(f"Q0 and Q1 must have the same shape (M, {self.kinematics.dof}); got {Q0.shape} and {Q1.shape}")
+        if not (resolution > 0 and math.isfinite(resolution)):
+            raise InvalidInputError(f"resolution must be a positive number [rad]; got {resolution!r}")
+        return self._segments_valid(Q0, Q1, resolution)
+
+    def _segments_valid(self, Q0: np.ndarray, Q1: np.ndarray, resolution: float, coarse: int = 9) -> np.ndarray:
+        M = Q0.shape[0]
+        valid = np.ones(M, dtype=bool)
+        if M == 0:
+            return valid
+        D = Q1 - Q0
+        steps = np.maximum(1, np.ceil(np.abs(D).max(axis=1) / resolution - 1e-12).astype(np.int64))
+        first_q, first_seg, rest_q, rest_seg = [], [], [], []
+        for m in range(M):
+            order = _coarse_to_fine(int(steps[m]))
+            t = order / steps[m]
+            S = Q0[m] + t[:, None] * D[m]
+            first_q.append(S[:coarse])
+            first_seg.append(np.full(min(coarse, S.shape[0]), m))
+            if S.shape[0] > coarse:
+                rest_q.append(S[coarse:])
+                rest_seg.append(np.full(S.shape[0] - coarse, m))
+        seg = np.concatenate(first_seg)
+        hit = self._check(np.concatenate(first_q))
+        valid[np.unique(seg[hit])] = False
+        if rest_q and valid.any():
+            Qr = np.concatenate(rest_q)
+            seg = np.concatenate(rest_seg)
+            keep = valid[seg]
+            if keep.any():
+                hit = self._check(Qr[keep])
+                valid[np.unique(seg[keep][hit])] = False
+        return valid
 
     def path_valid(self, path: np.ndarray, resolution: float = 0.01) -> PathCheck:
         """Check a piecewise-linear joint path (K, dof) densely (see `motion_valid`).
@@ -817,32 +893,10 @@ class CollisionChecker:
         if path.shape[0] == 1:
             bad = bool(self._check(path)[0])
             return PathCheck(not bad, 0 if bad else None)
-        seg_q, seg_id = [], []
-        for s in range(path.shape[0] - 1):
-            a, b = path[s], path[s + 1]
-            steps = max(1, int(math.ceil(float(np.abs(b - a).max()) / resolution - 1e-12)))
-            t = np.arange(steps + 1) / steps
-            seg_q.append(a[None] + t[:, None] * (b - a)[None])
-            seg_id.append(np.full(steps + 1, s))
-        Q = np.concatenate(seg_q)
-        ids = np.concatenate(seg_id)
-        # coarse pass (every 8th sample) first: a colliding path usually fails there cheaply
-        coarse = np.arange(0, Q.shape[0], 8)
-        hit = self._check(Q[coarse])
-        if hit.any():
-            first = int(ids[coarse[np.argmax(hit)]])
-            before = ids < first
-            if before.any():
-                hit2 = self._check(Q[before])
-                if hit2.any():
-                    return PathCheck(False, int(ids[before][np.argmax(hit2)]))
-            return PathCheck(False, first)
-        rest = np.setdiff1d(np.arange(Q.shape[0]), coarse)
-        if rest.size:
-            hit = self._check(Q[rest])
-            if hit.any():
-                return PathCheck(False, int(ids[rest][np.argmax(hit)]))
-        return PathCheck(True, None)
+        ok = self._segments_valid(path[:-1], path[1:], resolution)
+        if ok.all():
+            return PathCheck(True, None)
+        return PathCheck(False, int(np.argmin(ok)))
 
     # ------------------------------------------------------------------ reports and distances
     def _pair_distance(self, geom_a, tf_a, geom_b, tf_b) -> float:
