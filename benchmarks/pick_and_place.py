@@ -66,7 +66,8 @@ def run_config(ex, name: str, episodes: int, seed: int, perturb: bool) -> dict:
             results.append(r)
             mark = "ok" if r.placed else f"FAILED ({r.reason})"
             print(f"  {name} episode {i:3d}: {mark}, error {r.error * 1e3:5.2f} mm, plan {r.plan_time:5.2f} s, "
-                  f"sim {r.sim_time:5.2f} s, wall {r.wall_time:5.2f} s", flush=True)
+                  f"sim {r.sim_time:5.2f} s, wall {r.wall_time:5.2f} s, slip {r.slip * 1e3:4.1f} mm"
+                  + (f", {r.obstacle_contact_steps} obstacle contact steps" if r.obstacle_contact_steps else ""), flush=True)
     finally:
         demo.close()
     wall = time.perf_counter() - t0

@@ -58,6 +58,7 @@ APPROACH_HEIGHT = 0.15  # [m] pre-grasp / pre-place / lift height of the TCP abo
 GRASP_HEIGHT = 0.003  # [m] TCP this far above the cube centre at the grasp
 RELEASE_HEIGHT = 0.003  # [m] cube bottom this far above the ground when the fingers open
 RETREAT_HEIGHT = 0.10  # [m] straight up after releasing
+PADDING = 0.01  # [m] clearance the planner keeps from obstacles
 FLOOR_CLEARANCE = 0.01  # [m] free-space motions keep the robot and the held cube this far above the ground
 SQUEEZE = 0.01  # [m] each finger's target is this far inside the cube face (~15 N grip per finger)
 CARRY_SCALE = 0.5  # velocity and acceleration scale of the motions that carry the cube
@@ -245,7 +246,9 @@ class PickAndPlace:
         self.cube = self.task.cube
         self.controller = self.robot.get_articulation_controller()
         self.arm = np.arange(7)
-        self.mg = MotionGenerator("franka", seed=seed, time_budget=2.0)
+        # 1 cm of clearance from the obstacles: the arm tracks its trajectories within a few
+        # mm, and MuJoCo collides with the convex hulls of the link meshes.
+        self.mg = MotionGenerator("franka", seed=seed, time_budget=2.0, padding=PADDING)
         self.wait_q = self.mg.default_joint_positions
         self._pin_model = self.mg.kinematics.model
         self._pin_data = self._pin_model.createData()
@@ -416,16 +419,35 @@ class PickAndPlace:
         in_tcp = self.cube_in_tcp()
         return PLACE_POSITION + [0.0, 0.0, RELEASE_HEIGHT] - quat.to_matrix(hand_q) @ in_tcp
 
+    def choose_grasp_yaw(self, p: np.ndarray, qc: np.ndarray) -> float:
+        """The hand yaw [rad] of the top grasp: `grasp_yaw`, or the same turned by 90, -90
+        or 180 deg (the cube is symmetric) when the hand would hit an obstacle there.
+
+        A yaw qualifies when both the grasp and the pre-grasp pose have a collision-free IK
+        solution; if none does, the preferred yaw is returned and planning reports why.
+        """
+        base = grasp_yaw(p, qc)
+        self.set_floor_guard(False)
+        for k in (0, 1, -1, 2):
+            yaw = base + k * np.pi / 2
+            grasp = Pose(p + [0.0, 0.0, GRASP_HEIGHT], hand_down(yaw))
+            pre = Pose(grasp.position + [0.0, 0.0, APPROACH_HEIGHT], grasp.quaternion)
+            if all(self.mg.ik(g, link=TCP, seed_q=self.q(), collision_free=True).success for g in (grasp, pre)):
+                if k:
+                    self.say(f"grasp turned by {90 * k} deg: the hand would hit an obstacle at the preferred yaw")
+                return yaw
+        return base
+
     # ------------------------------------------------------------------ one pick and place
     def pick_and_place(self) -> None:
         """Pick the cube where it lies and put it at the place position (raises on failure)."""
         mg = self.mg
         self.sync_obstacles()
         p, qc = self.cube_pose()
-        yaw = grasp_yaw(p, qc)
+        yaw = self.choose_grasp_yaw(p, qc)
         down = hand_down(yaw)
-        self.say(f"cube at ({p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}) m, yaw {np.degrees(cube_yaw(qc)):.0f} deg; "
-                 f"{len(mg.world)} obstacles")
+        self.say(f"cube at ({p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}) m, yaw {np.degrees(cube_yaw(qc)):.0f} deg, "
+                 f"hand yaw {np.degrees(yaw):.0f} deg; {len(mg.world)} obstacles")
         grasp = Pose(p + [0.0, 0.0, GRASP_HEIGHT], down)
         self.move("pre-grasp", Pose(grasp.position + [0.0, 0.0, APPROACH_HEIGHT], down))
         self.move("descend", grasp, linear=True)
@@ -474,9 +496,16 @@ class PickAndPlace:
         """Distance [m] of the cube centre to the place position, from the simulator."""
         return float(np.linalg.norm(self.cube_pose()[0] - PLACE_POSITION))
 
-    def run_episode(self, index: int, perturb: bool = False) -> EpisodeResult:
+    def run_episode(self, index: int, perturb: bool = False, cube_pose: tuple | None = None) -> EpisodeResult:
         """Reset, put the cube at the episode's random pose, pick and place until it rests at
-        the place position (and once more after a perturbation with `perturb`)."""
+        the place position (and once more after a perturbation with `perturb`).
+
+        Args:
+            index: episode number (with the seed, it fixes the random cube poses).
+            perturb: after the place, move the cube to a new random pose (picked again).
+            cube_pose: (position (3,) [m], quaternion (4,) wxyz) to start from instead of
+                the random pose.
+        """
         rng = np.random.default_rng([self.seed, index])
         ep = self._ep = EpisodeResult(index=index, placed=False, error=float("nan"))
         self.joint_log = []
@@ -485,6 +514,8 @@ class PickAndPlace:
         t_sim = self.world.current_time
         self._plan_seed = self.seed * 100_003 + index * 1009
         p, qc = random_cube_pose(rng, self.boxes)
+        if cube_pose is not None:
+            p, qc = cube_pose
         self.task.set_params(cube_position=p, cube_orientation=qc)
         perturbations = 1 if perturb else 0
         try:

@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from manip import Pose
 from manip import quaternion as quat
 from manip.sim import World, create_new_stage
 
@@ -143,6 +144,25 @@ def test_episode_with_obstacles_avoids_them():
     for _ in range(40):
         demo.step()
     assert demo._ep.obstacle_contact_steps > 0
+    demo.close()
+
+
+def test_grasp_is_turned_by_90_degrees_when_the_hand_would_hit_an_obstacle():
+    demo = pp.PickAndPlace(seed=1, obstacles=True, verbose=False)
+    _, c, dims, yaw = next(b for b in demo.boxes if b[0] == "wall")
+    R = quat.to_matrix(quat.from_axis_angle([0, 0, 1], yaw))
+    p = c * [1, 1, 0] + R @ [0.0, dims[1] / 2 + 0.07, 0.0] + [0.0, 0.0, pp.CUBE_SIZE / 2]  # 7 cm from the wall
+    qc = quat.from_axis_angle([0, 0, 1], yaw)  # faces parallel to the wall
+    demo.sync_obstacles()
+    preferred = pp.grasp_yaw(p, qc)
+    blocked = demo.mg.ik(Pose(p + [0, 0, pp.GRASP_HEIGHT], pp.hand_down(preferred)), link=pp.TCP,
+                         collision_free=True)
+    assert not blocked.success  # the hand's long side would be in the wall
+    r = demo.run_episode(0, cube_pose=(p, qc))
+    assert r.placed, r.reason
+    assert any("grasp turned by" in line for line in r.log)
+    assert r.obstacle_contact_steps == 0
+    assert_placed_in_simulator(demo)
     demo.close()
 
 
