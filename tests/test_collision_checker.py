@@ -323,3 +323,20 @@ def test_motion_valid_catches_a_short_contact(franka_config, franka_kinematics):
     assert 0 < hits.sum() <= 8  # the contact spans a few samples only
     assert not cc.motion_valid(q0, q1, resolution=0.01)
     assert not cc.motion_valid_batch(q0[None], q1[None])[0]
+
+
+def test_first_collision_is_the_first_colliding_sample(checker, random_q):
+    free = random_q[:200][~checker.in_collision_batch(random_q[:200])]
+    found = 0
+    for q0, q1 in zip(free[:20], free[20:40]):
+        t = checker.first_collision(q0, q1)
+        steps = checker.segment_steps(q0, q1)
+        dense = q0 + (np.arange(steps + 1) / steps)[:, None] * (q1 - q0)
+        hits = checker.in_collision_batch(dense)
+        if t is None:
+            assert not hits.any() and checker.motion_valid(q0, q1)
+        else:
+            found += 1
+            k = int(round(t * steps))
+            assert hits[k] and not hits[:k].any()
+    assert found > 0

@@ -826,6 +826,43 @@ class CollisionChecker:
             return False
         return not self._check(Q[chunk:], stop_at_first=True).any()
 
+    def first_collision(self, q0: np.ndarray, q1: np.ndarray, resolution: float = 0.01, chunk: int = 48) -> float | None:
+        """Advance along the straight segment q0 -> q1 until the first collision.
+
+        The segment is sampled like `motion_valid` and checked in order, in chunks.
+
+        Args:
+            q0, q1: (dof,) endpoints.
+            resolution: largest joint step between checked configurations [rad] > 0.
+            chunk: configurations checked per batch.
+
+        Returns:
+            None if the whole segment is free, else the parameter t in [0, 1] of the first
+            colliding sample (q0 + t (q1 - q0)); every sample before it is free, so the
+            configuration one sample earlier (t - 1/steps, see `segment_steps`) is a valid
+            place to stop (RRT-Connect's "connect" in one call).
+        """
+        q0 = self.kinematics.check_q(q0, "q0")
+        q1 = self.kinematics.check_q(q1, "q1")
+        if q0.ndim != 1 or q1.ndim != 1:
+            raise InvalidInputError(f"q0 and q1 must have shape ({self.kinematics.dof},)")
+        steps = self.segment_steps(q0, q1, resolution)
+        t_all = np.arange(steps + 1) / steps
+        d = q1 - q0
+        for s in range(0, steps + 1, chunk):
+            t = t_all[s:s + chunk]
+            hit = self._check(q0[None] + t[:, None] * d[None])
+            if hit.any():
+                return float(t[np.argmax(hit)])
+        return None
+
+    @staticmethod
+    def segment_steps(q0: np.ndarray, q1: np.ndarray, resolution: float = 0.01) -> int:
+        """Number of intervals `motion_valid` splits q0 -> q1 into: ceil(max|q1 - q0| / resolution), >= 1."""
+        if not (resolution > 0 and math.isfinite(resolution)):
+            raise InvalidInputError(f"resolution must be a positive number [rad]; got {resolution!r}")
+        return max(1, int(math.ceil(float(np.abs(np.asarray(q1) - np.asarray(q0)).max()) / resolution - 1e-12)))
+
     def motion_valid_batch(self, Q0: np.ndarray, Q1: np.ndarray, resolution: float = 0.01) -> np.ndarray:
         """(M,) bool: `motion_valid` of the M straight segments Q0[m] -> Q1[m], checked together.
 
