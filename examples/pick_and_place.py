@@ -30,10 +30,8 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
-from manip import ArticulationAction, Pose
+from manip import ArticulationAction, Cuboid, MotionGenerator, PlanStatus, Pose
 from manip import quaternion as quat
-from manip.collision import Cuboid
-from manip.motion_generator import MotionGenerator
 from manip.sim import (
     FixedCuboid,
     OffscreenRenderingError,
@@ -349,12 +347,16 @@ class PickAndPlace:
             self._plan_seed += 1
             start = self.q()
             self.set_floor_guard(not linear)
-            if isinstance(goal, Pose):
-                if linear and attempt == 0:  # coarse IK points first; the planner's default on retries
-                    r = self.mg.plan_pose(start, goal, link=TCP, linear=True, seed=self._plan_seed,
-                                          linear_step=LINEAR_STEP, **options)
-                else:
-                    r = self.mg.plan_pose(start, goal, link=TCP, linear=linear, seed=self._plan_seed, **options)
+            if isinstance(goal, Pose) and linear:
+                # Coarse IK points first (faster); the planner's finer default where the arm
+                # turns quickly along the line.
+                r = self.mg.plan_pose(start, goal, link=TCP, linear=True, seed=self._plan_seed,
+                                      linear_step=LINEAR_STEP, **options)
+                if r.status is PlanStatus.LINEAR_PATH_FAIL:
+                    self._ep.plan_time += r.timings.get("total", 0.0)
+                    r = self.mg.plan_pose(start, goal, link=TCP, linear=True, seed=self._plan_seed, **options)
+            elif isinstance(goal, Pose):
+                r = self.mg.plan_pose(start, goal, link=TCP, seed=self._plan_seed, **options)
             else:
                 r = self.mg.plan_joints(start, goal, seed=self._plan_seed, **options)
             self._ep.plan_time += r.timings.get("total", 0.0)
