@@ -74,6 +74,7 @@ STATIC_JOINT = 0.02  # [rad/s] arm joint speed
 STATIC_STEPS = 6  # consecutive resting steps
 MAX_WAIT = 4.0  # [s] of simulated time
 SETTLE_TOLERANCE = 0.01  # [rad] tracking error accepted at the end of a motion
+LIMIT_SLACK = 1e-3  # [rad] a measured joint this little beyond a limit is planned from the limit
 
 
 def hand_down(yaw: float) -> np.ndarray:
@@ -289,6 +290,20 @@ class PickAndPlace:
         """Measured arm joint positions (7,) [rad]."""
         return self.robot.get_joint_positions()[:7].copy()
 
+    def planning_start(self) -> np.ndarray:
+        """The measured arm configuration (7,) as a planning start [rad].
+
+        A joint that a plan drove to its limit may rest a few microradians beyond it (the
+        drive's overshoot), which the planner rejects as a start outside the limits: such
+        tiny excursions (< LIMIT_SLACK) are put back on the limit.
+        """
+        q = self.q()
+        lo, hi = self.mg.lower_limits, self.mg.upper_limits
+        out = np.maximum(lo - q, q - hi)
+        if np.any((out > 0) & (out < LIMIT_SLACK)):
+            q = np.where(out < LIMIT_SLACK, np.clip(q, lo, hi), q)
+        return q
+
     def cube_pose(self) -> tuple[np.ndarray, np.ndarray]:
         p, q = self.cube.get_world_pose()
         return np.asarray(p, dtype=float), np.asarray(q, dtype=float)
@@ -345,7 +360,7 @@ class PickAndPlace:
         last = None
         for attempt in range(PLAN_TRIES):
             self._plan_seed += 1
-            start = self.q()
+            start = self.planning_start()
             self.set_floor_guard(not linear)
             if isinstance(goal, Pose) and linear:
                 # Coarse IK points first (faster); the planner's finer default where the arm
@@ -434,7 +449,7 @@ class PickAndPlace:
             yaw = base + k * np.pi / 2
             grasp = Pose(p + [0.0, 0.0, GRASP_HEIGHT], hand_down(yaw))
             pre = Pose(grasp.position + [0.0, 0.0, APPROACH_HEIGHT], grasp.quaternion)
-            if all(self.mg.ik(g, link=TCP, seed_q=self.q(), collision_free=True).success for g in (grasp, pre)):
+            if all(self.mg.ik(g, link=TCP, seed_q=self.planning_start(), collision_free=True).success for g in (grasp, pre)):
                 if k:
                     self.say(f"grasp turned by {90 * k} deg: the hand would hit an obstacle at the preferred yaw")
                 return yaw
@@ -457,7 +472,7 @@ class PickAndPlace:
         # The cube as the planner's attached object, where the simulator has it now.
         p, qc = self.cube_pose()
         T_base_world = Pose(*self.robot.get_world_pose()).inverse()
-        mg.attach_object(Cuboid("cube", [CUBE_SIZE] * 3, T_base_world @ Pose(p, qc)), q=self.q(), link="panda_hand")
+        mg.attach_object(Cuboid("cube", [CUBE_SIZE] * 3, T_base_world @ Pose(p, qc)), q=self.planning_start(), link="panda_hand")
         try:
             carry = {"velocity_scale": CARRY_SCALE, "acceleration_scale": CARRY_SCALE}
             self.move("lift", Pose(self.tcp_pose().position + [0.0, 0.0, APPROACH_HEIGHT], down), linear=True, **carry)
@@ -472,11 +487,11 @@ class PickAndPlace:
             self.move("descend", Pose(self.release_position(place_q), place_q), linear=True, **carry)
             self._ep.slip = max(self._ep.slip, float(np.linalg.norm(self.cube_in_tcp() - in_hand)))
         except Exception:
-            mg.detach_object(self.q())
+            mg.detach_object(self.planning_start())
             mg.remove_obstacle("cube")
             raise
         self.gripper(self.robot.gripper.joint_opened_positions[0], "open")
-        mg.detach_object(self.q())
+        mg.detach_object(self.planning_start())
         mg.remove_obstacle("cube")  # the target cube is never an obstacle
         self.move("retreat", Pose(self.tcp_pose().position + [0.0, 0.0, RETREAT_HEIGHT], place_q), linear=True)
         self.move("wait pose", self.wait_q)
