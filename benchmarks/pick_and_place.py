@@ -67,7 +67,8 @@ def run_config(ex, name: str, episodes: int, seed: int, perturb: bool) -> dict:
             mark = "ok" if r.placed else f"FAILED ({r.reason})"
             print(f"  {name} episode {i:3d}: {mark}, error {r.error * 1e3:5.2f} mm, plan {r.plan_time:5.2f} s, "
                   f"sim {r.sim_time:5.2f} s, wall {r.wall_time:5.2f} s, slip {r.slip * 1e3:4.1f} mm"
-                  + (f", {r.obstacle_contact_steps} obstacle contact steps" if r.obstacle_contact_steps else ""), flush=True)
+                  + (f", {r.obstacle_contact_steps} obstacle contact steps" if r.obstacle_contact_steps else ""),
+                  flush=True)
     finally:
         demo.close()
     wall = time.perf_counter() - t0
@@ -102,8 +103,8 @@ def run_config(ex, name: str, episodes: int, seed: int, perturb: bool) -> dict:
 
 def table(rows: list[dict], m: dict) -> str:
     head = ("| configuration | placed within 1 cm | final error median / p95 / max | picks | plans (failed) | "
-            "cube slip in hand (max) | obstacle contacts | planning per episode median / p95 | episode sim / wall median | real-time factor "
-            "(all episodes / worst) |")
+            "cube slip in hand (max) | obstacle contacts | planning per episode median / p95 | "
+            "episode sim / wall median | real-time factor (all episodes / worst) |")
     lines = [
         f"Machine: {m['cpu']}, {m['cores']} cores; Python {m['python']}, MuJoCo {m['mujoco']}; {m['date']}; "
         f"load average at start {m['load']:.1f}",

@@ -15,8 +15,15 @@ the place position and has come to rest, it is picked up and placed again.
 
 The physics is honest: the cube moves only by contact and friction with the fingers (no
 welding, no teleporting; the script moves the cube itself only to start an episode and,
-with --perturb, to play the person who moves it away). The exit status is 0 only when
-every episode ends with the cube within 1 cm of the place position.
+with --perturb, to play the person who moves it away). Every motion is a MotionGenerator
+trajectory replayed as one ArticulationAction per 1/60 s step; the arm's PD drives also get
+gravity compensation from the robot model, as on the real Panda. The planner sees the
+World's objects except the robot, the ground and the cube, keeps 1 cm from obstacles, and a
+floor guard 1 cm above the ground keeps free-space motions off the floor. A failed plan is
+retried from the measured state with a new seed; a cube that is not between the fingers
+after the lift is picked up again; an episode fails after a bounded number of tries, with
+the reason printed. The exit status is 0 only when every episode ends with the cube within
+1 cm of the place position.
 """
 
 from __future__ import annotations
@@ -227,9 +234,8 @@ class PickAndPlace:
         self.boxes = obstacle_boxes(seed) if obstacles else []
         box_prims = []
         for name, c, dims, yaw in self.boxes:
-            box_prims.append(FixedCuboid(f"/World/Obstacles/{name}", name=name, position=c, size=1.0,
-                                             scale=dims, orientation=quat.from_axis_angle([0, 0, 1], yaw),
-                                             color=[0.8, 0.45, 0.1]))
+            box_prims.append(FixedCuboid(f"/World/Obstacles/{name}", name=name, position=c, size=1.0, scale=dims,
+                                         orientation=quat.from_axis_angle([0, 0, 1], yaw), color=[0.8, 0.45, 0.1]))
             self.world.scene.add(box_prims[-1])
         # A flat green square on the ground marks the place position (drawn only, no collision).
         self.world.scene.add(VisualCuboid("/World/PlaceMarker", name="place_marker", size=1.0,
@@ -333,7 +339,8 @@ class PickAndPlace:
 
     def sync_obstacles(self) -> None:
         """The planner's world := the World's collision objects (robot, ground, cube ignored)."""
-        self.mg.update_world_from_sim(self.world, self.robot, ignore=[self.cube.prim_path, self.cube.name, *self.ground])
+        ignore = [self.cube.prim_path, self.cube.name, *self.ground]
+        self.mg.update_world_from_sim(self.world, self.robot, ignore=ignore)
         self._floor_on = False
 
     def set_floor_guard(self, on: bool) -> None:
@@ -393,7 +400,8 @@ class PickAndPlace:
         self._ep.motion_time += traj.duration
         goal = traj.positions[-1]
         for _ in range(60):
-            if np.max(np.abs(self.q() - goal)) < SETTLE_TOLERANCE and np.max(np.abs(self.robot.get_joint_velocities()[:7])) < 0.05:
+            qd = self.robot.get_joint_velocities()[:7]
+            if np.max(np.abs(self.q() - goal)) < SETTLE_TOLERANCE and np.max(np.abs(qd)) < 0.05:
                 break
             self.step()
 
@@ -449,7 +457,8 @@ class PickAndPlace:
             yaw = base + k * np.pi / 2
             grasp = Pose(p + [0.0, 0.0, GRASP_HEIGHT], hand_down(yaw))
             pre = Pose(grasp.position + [0.0, 0.0, APPROACH_HEIGHT], grasp.quaternion)
-            if all(self.mg.ik(g, link=TCP, seed_q=self.planning_start(), collision_free=True).success for g in (grasp, pre)):
+            seed_q = self.planning_start()
+            if all(self.mg.ik(g, link=TCP, seed_q=seed_q, collision_free=True).success for g in (grasp, pre)):
                 if k:
                     self.say(f"grasp turned by {90 * k} deg: the hand would hit an obstacle at the preferred yaw")
                 return yaw
@@ -472,7 +481,8 @@ class PickAndPlace:
         # The cube as the planner's attached object, where the simulator has it now.
         p, qc = self.cube_pose()
         T_base_world = Pose(*self.robot.get_world_pose()).inverse()
-        mg.attach_object(Cuboid("cube", [CUBE_SIZE] * 3, T_base_world @ Pose(p, qc)), q=self.planning_start(), link="panda_hand")
+        cube = Cuboid("cube", [CUBE_SIZE] * 3, T_base_world @ Pose(p, qc))
+        mg.attach_object(cube, q=self.planning_start(), link="panda_hand")
         try:
             carry = {"velocity_scale": CARRY_SCALE, "acceleration_scale": CARRY_SCALE}
             self.move("lift", Pose(self.tcp_pose().position + [0.0, 0.0, APPROACH_HEIGHT], down), linear=True, **carry)
