@@ -107,7 +107,7 @@ def geometry_triangles(geometry) -> tuple[np.ndarray, np.ndarray] | None:
     return V + (lo + hi) / 2.0, F
 
 
-_CACHE_VERSION = "cover-v2"
+_CACHE_VERSION = "cover-v6"
 
 
 def _cache_dir() -> Path | None:
@@ -120,7 +120,7 @@ def _cache_dir() -> Path | None:
     return Path(base) / "manip"
 
 
-def sphere_cover(geometry, tolerance: float = 0.02, max_spheres: int = 32) -> tuple[np.ndarray, np.ndarray]:
+def sphere_cover(geometry, tolerance: float = 0.02, max_spheres: int = 48) -> tuple[np.ndarray, np.ndarray]:
     """Sphere cover (centres (K, 3), radii (K,)) of a coal geometry in its own frame.
 
     Covers are cached in memory and on disk (`_cache_dir()`), keyed by the triangles and

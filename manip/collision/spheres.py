@@ -1,21 +1,18 @@
 """Automatic sphere covers of triangle meshes (no hand fitting).
 
 `cover_with_spheres(vertices, faces)` returns balls whose union contains every point of the
-mesh's surface. Construction (all deterministic):
+mesh's surface. Construction (deterministic):
 
-1. Subdivide each triangle until its edges are at most `resolution` long.
-2. Pick ball centres: k-means (farthest-point initialisation) on points inside the mesh
-   (a grid filtered by a ray-parity test), so that the balls slice the body like beads on
-   its medial axis instead of sitting on the surface and bulging outwards.
-3. Assign every sub-triangle to the centre whose ball needs the smallest radius to hold
-   it, move each centre to the (approximate) minimal enclosing ball of its sub-triangles'
-   vertices, repeat; each radius is the largest distance from its centre to an assigned
-   vertex.
-
-A ball contains a triangle when it contains its three vertices (balls are convex), so the
-union covers the surface exactly, whatever the sampling. The number of balls grows until
-the cover sticks out of the mesh by at most `tolerance` (measured on points of the balls'
-surfaces that lie outside the mesh) or `max_spheres` is reached.
+1. Candidate centres: grid points inside the mesh (ray-parity test), each with rho = its
+   distance to the surface. A ball of radius rho + delta around such a point sticks out of
+   a closed mesh by at most delta.
+2. Greedy set cover of the (subdivided) triangles by those candidate balls, up to
+   `max_spheres` balls; if that is not enough, delta is doubled and the tighter of the
+   resulting covers (measured by `protrusion`) is kept.
+3. Exact coverage: every sub-triangle is given to the ball that needs to grow least to hold
+   its three vertices, and each radius is the largest distance to an assigned vertex. A ball
+   holding a triangle's vertices holds the triangle (balls are convex), so the union covers
+   the surface exactly, whatever the sampling.
 """
 
 from __future__ import annotations
@@ -83,55 +80,6 @@ def inside_mesh(points: np.ndarray, vertices: np.ndarray, faces: np.ndarray) -> 
     return inside
 
 
-def _farthest_point_init(X: np.ndarray, k: int) -> np.ndarray:
-    c = [int(np.argmin(np.linalg.norm(X - X.mean(axis=0), axis=1)))]
-    d = np.linalg.norm(X - X[c[0]], axis=1)
-    for _ in range(1, k):
-        i = int(np.argmax(d))
-        c.append(i)
-        d = np.minimum(d, np.linalg.norm(X - X[i], axis=1))
-    return X[c].copy()
-
-
-def _kmeans(X: np.ndarray, k: int, iterations: int = 20) -> np.ndarray:
-    C = _farthest_point_init(X, k)
-    for _ in range(iterations):
-        lab = np.argmin(((X[:, None, :] - C[None]) ** 2).sum(-1), axis=1)
-        newC = np.array([X[lab == i].mean(axis=0) if np.any(lab == i) else C[i] for i in range(k)])
-        if np.allclose(newC, C, atol=1e-7):
-            break
-        C = newC
-    return C
-
-
-def _fit(points: np.ndarray, tris: np.ndarray, centres: np.ndarray, rounds: int = 2) -> tuple[np.ndarray, np.ndarray]:
-    """Assign sub-triangles to centres, recentre, and return (centres, radii) covering all.
-
-    Each sub-triangle goes to the centre whose ball needs the smallest radius to hold its
-    three vertices; each centre then moves to the middle of its vertices' bounding box.
-    """
-    tv = points[tris]  # (T, 3, 3)
-    C = centres.copy()
-    for r in range(rounds + 1):
-        need = np.sqrt(((tv[:, :, None, :] - C[None, None]) ** 2).sum(-1)).max(axis=1)  # (T, k)
-        lab = np.argmin(need, axis=1)
-        used = np.unique(lab)
-        C = C[used]
-        lab = np.searchsorted(used, lab)
-        if r == rounds:
-            break
-        lo = np.full(C.shape, np.inf)
-        hi = np.full(C.shape, -np.inf)
-        for v in range(3):
-            np.minimum.at(lo, lab, tv[:, v])
-            np.maximum.at(hi, lab, tv[:, v])
-        C = (lo + hi) / 2.0
-    radii = np.zeros(C.shape[0])
-    for v in range(3):
-        np.maximum.at(radii, lab, np.sqrt(((tv[:, v] - C[lab]) ** 2).sum(-1)))
-    return C, radii
-
-
 def _fibonacci_sphere(n: int) -> np.ndarray:
     i = np.arange(n) + 0.5
     phi = np.arccos(1 - 2 * i / n)
@@ -168,16 +116,23 @@ def is_closed(faces: np.ndarray) -> bool:
     return bool(np.all(counts == 2))
 
 
+_MAX_FINE_TRIANGLES = 40000
+_MAX_COARSE_TRIANGLES = 2000
+_MAX_GRID_POINTS = 20000
+_MAX_CANDIDATES = 600
+
+
 def _sqdist(A: np.ndarray, B: np.ndarray) -> np.ndarray:
     """Squared distances (len(A), len(B)) between point sets, via one matrix product."""
     d = (A * A).sum(1)[:, None] + (B * B).sum(1)[None] - 2.0 * (A @ B.T)
     return np.maximum(d, 0.0)
 
 
-def _greedy_cover(tv: np.ndarray, cand: np.ndarray, rho: np.ndarray, delta: float, max_spheres: int) -> list[int]:
-    """Greedy set cover: indices of candidate balls (radius rho + delta) covering triangles tv."""
-    T = tv.shape[0]
-    need2 = _sqdist(cand, tv.reshape(-1, 3)).reshape(cand.shape[0], T, 3).max(axis=2)  # (M, T)
+def _greedy_cover(need2: np.ndarray, rho: np.ndarray, delta: float, max_spheres: int) -> tuple[list[int], int]:
+    """Greedy set cover of triangles by candidate balls of radius rho + delta, given the
+    squared radius (M, T) each candidate needs to hold each triangle: (chosen indices,
+    number of triangles left uncovered)."""
+    T = need2.shape[1]
     covers = (need2 <= ((rho + delta) ** 2)[:, None]).astype(np.float32)
     uncovered = np.ones(T, dtype=np.float32)
     chosen: list[int] = []
@@ -188,7 +143,7 @@ def _greedy_cover(tv: np.ndarray, cand: np.ndarray, rho: np.ndarray, delta: floa
             break
         chosen.append(best)
         uncovered *= 1.0 - covers[best]
-    return chosen
+    return chosen, int(uncovered.sum())
 
 
 def cover_with_spheres(
@@ -223,32 +178,67 @@ def cover_with_spheres(
     extent = float((V.max(axis=0) - V.min(axis=0)).max())
     if extent <= 0:
         return V[:1].copy(), np.array([1e-9])
+    tri = V[F]
+    area = float(0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1).sum())
     res = resolution if resolution is not None else min(tolerance / 1.5, extent / 20.0)
+    res = max(res, np.sqrt(2.0 * area / _MAX_FINE_TRIANGLES))  # bounded work for large meshes
     points, tris = subdivide(V, F, res)
     closed = is_closed(F)
     lo, hi = V.min(axis=0), V.max(axis=0)
-    step = min(extent / 12.0, max(tolerance, extent / 40.0))
+    box_volume = float(np.prod(np.maximum(hi - lo, 1e-9)))
+    step = max(min(extent / 12.0, max(tolerance, extent / 40.0)), (box_volume / _MAX_GRID_POINTS) ** (1.0 / 3.0))
     axes = [np.arange(lo[d] + step / 2, hi[d], step) if hi[d] - lo[d] > step else np.array([(lo[d] + hi[d]) / 2]) for d in range(3)]
     grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
     cand = grid[inside_mesh(grid, V, F)] if closed else np.zeros((0, 3))
     if cand.shape[0] == 0:  # open or very thin mesh: centres on the surface itself
         cand = np.unique(np.round(points / step) * step, axis=0)
+    if cand.shape[0] > _MAX_CANDIDATES:
+        cand = cand[np.linspace(0, cand.shape[0] - 1, _MAX_CANDIDATES).astype(np.int64)]
     upts = np.unique(points, axis=0)
     rho = np.full(cand.shape[0], np.inf)
     for s in range(0, upts.shape[0], 4096):
         rho = np.minimum(rho, _sqdist(cand, upts[s:s + 4096]).min(axis=1))
     rho = np.sqrt(rho)
     # the greedy runs on a coarser subdivision; exact coverage is enforced on the fine one below
-    cpts, ctris = subdivide(V, F, max(res, 2.0 * tolerance, extent / 15.0))
-    chosen = _greedy_cover(cpts[ctris], cand, rho, tolerance, max_spheres)
-    if not chosen:
-        chosen = [int(np.argmax(rho))]
-    C = cand[chosen]
-    R0 = rho[chosen] + tolerance
+    # (a coarse triangle must fit in a candidate ball to count, so not coarser than the balls)
+    coarse = min(max(2.0 * tolerance, extent / 15.0), 1.5 * (float(np.median(rho)) + tolerance))
+    coarse = max(res, coarse, np.sqrt(2.0 * area / _MAX_COARSE_TRIANGLES))
+    cpts, ctris = subdivide(V, F, coarse)
     tv = points[tris]
-    need = np.sqrt(_sqdist(tv.reshape(-1, 3), C).reshape(tv.shape[0], 3, C.shape[0]).max(axis=1))  # (T, K)
-    lab = np.argmin(need - R0[None], axis=1)
-    R = np.zeros(C.shape[0])
-    np.maximum.at(R, lab, need[np.arange(tv.shape[0]), lab])
-    keep = np.unique(lab)
-    return C[keep], R[keep]
+    surf = points if points.shape[0] <= 2000 else points[:: int(np.ceil(points.shape[0] / 2000))]
+
+    def finish(chosen: list[int], delta: float) -> tuple[np.ndarray, np.ndarray]:
+        if not chosen:
+            chosen = [int(np.argmax(rho))]
+        C = cand[chosen]
+        R0 = rho[chosen] + delta
+        need = np.sqrt(_sqdist(tv.reshape(-1, 3), C).reshape(tv.shape[0], 3, C.shape[0]).max(axis=1))  # (T, K)
+        lab = np.argmin(need - R0[None], axis=1)  # the ball that needs to grow least
+        R = np.zeros(C.shape[0])
+        np.maximum.at(R, lab, need[np.arange(tv.shape[0]), lab])
+        keep = np.unique(lab)
+        return C[keep], R[keep]
+
+    # When max_spheres balls cannot cover at `tolerance` (thin plates, sharp edges), compare
+    # inflating the balls found with covering at doubled protrusions; keep the tighter cover.
+    best, best_protrusion = None, np.inf
+    delta = tolerance
+    ctv = cpts[ctris]
+    need2 = _sqdist(cand, ctv.reshape(-1, 3)).reshape(cand.shape[0], ctv.shape[0], 3).max(axis=2)  # (M, T)
+    for _ in range(4):
+        chosen, left = _greedy_cover(need2, rho, delta, max_spheres)
+        C, R = finish(chosen, delta)
+        if left == 0:
+            if best is None:
+                best = (C, R)
+            else:
+                pr = protrusion(C, R, V, F, surf, closed)
+                if pr < best_protrusion:
+                    best = (C, R)
+            break
+        pr = protrusion(C, R, V, F, surf, closed)
+        if pr < best_protrusion:
+            best, best_protrusion = (C, R), pr
+        delta *= 2.0
+    assert best is not None
+    return best
