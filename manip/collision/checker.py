@@ -200,6 +200,9 @@ def _coarse_to_fine(n: int) -> np.ndarray:
     return out
 
 
+_CHUNK = 1024  # configurations per broadphase batch
+
+
 def _expand(count: np.ndarray, start: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Ragged expansion: for rows with `count` (T,) items starting at `start` (T,) of a flat
     table, (row index (total,), flat item index (total,))."""
@@ -387,19 +390,6 @@ class CollisionChecker:
         self._parts = parts
         G = len(parts)
         self._pj = np.array([p.joint for p in parts])
-
-        def table(attr_c: str, attr_r: str) -> tuple[np.ndarray, np.ndarray]:
-            K = max(len(getattr(p, attr_r)) for p in parts)
-            C = np.zeros((G, K, 3))
-            r = np.full((G, K), -np.inf)  # padding balls never touch anything
-            for g, p in enumerate(parts):
-                k = len(getattr(p, attr_r))
-                C[g, :k] = getattr(p, attr_c)
-                r[g, :k] = getattr(p, attr_r)
-            return C, r
-
-        self._pC, self._pr = table("centres", "radii")
-        self._cC, self._cr = table("coarse_centres", "coarse_radii")
         self._pbc = np.zeros((G, 3))
         self._pbr = np.zeros(G)
         for g, p in enumerate(parts):
@@ -719,6 +709,13 @@ class CollisionChecker:
     def _check(self, Q: np.ndarray, stop_at_first: bool = False) -> np.ndarray:
         if self._static_world:
             return np.ones(Q.shape[0], dtype=bool)
+        if Q.shape[0] > _CHUNK:  # bounded memory for large batches
+            out = np.zeros(Q.shape[0], dtype=bool)
+            for s in range(0, Q.shape[0], _CHUNK):
+                out[s:s + _CHUNK] = self._check(Q[s:s + _CHUNK], stop_at_first)
+                if stop_at_first and out[s:s + _CHUNK].any():
+                    break
+            return out
         R, p = self._fk(Q)
         out = np.zeros(Q.shape[0], dtype=bool)
         n, kind, i, j = self._candidates(Q, R, p)
@@ -1029,24 +1026,37 @@ class CollisionChecker:
         return self.distance_report(q).distance
 
     def world_clearance_batch(self, Q: np.ndarray) -> np.ndarray:
-        """(N,) lower bound [m] of each configuration's signed distance to the world (no padding).
+        """(N,) approximate signed clearance [m] of each configuration to the world (no padding).
 
-        Uses the sphere covers (closed form, vectorised): never larger than the true
-        distance; +inf without obstacles. Cheap enough for finite-difference gradients.
+        The smallest signed distance from the balls of the moving parts' sphere covers (and
+        attached objects) to the obstacles, in closed form and vectorised: a lower bound of
+        the true mesh distance when that is positive (the covers stick out of the meshes by
+        up to ~2 cm), <= 0 when a part touches an obstacle; +inf without obstacles. Parts fixed
+        to the base are left out (no configuration moves them). Cheap enough for
+        finite-difference gradients over a batch.
+
+        Args:
+            Q: (N, dof) or (dof,) configurations.
         """
         Q = self.kinematics.check_q(Q, "Q")
         if Q.ndim == 1:
             Q = Q[None]
         N = Q.shape[0]
         O = len(self._obs)
-        if O == 0:
+        moving = self._fine.joint != 0
+        if O == 0 or not moving.any():
             return np.full(N, np.inf)
-        R, p = self._fk(Q)
-        pj = self._pj
-        C = np.einsum("ngij,gkj->ngki", R[:, pj], self._pC) + p[:, pj][:, :, None, :]  # (N, G, K, 3)
-        G, K = self._pC.shape[:2]
-        sd = self._sd_all(C.reshape(-1, 3)).reshape(N, G, K, O) - self._pr[None, :, :, None]
-        return sd.reshape(N, -1).min(axis=1)
+        C = self._fine.centres[moving]
+        r = self._fine.radii[moving]
+        sj = self._fine.joint[moving]
+        out = np.empty(N)
+        for s in range(0, N, _CHUNK):
+            R, p = self._fk(Q[s:s + _CHUNK])
+            X = np.einsum("nsij,sj->nsi", R[:, sj], C) + p[:, sj]
+            n = X.shape[0]
+            sd = self._sd_all(X.reshape(-1, 3)).reshape(n, -1, O) - r[None, :, None]
+            out[s:s + n] = sd.reshape(n, -1).min(axis=1)
+        return out
 
     # ------------------------------------------------------------------ attached objects
     def attach_object(
@@ -1137,7 +1147,7 @@ class CollisionChecker:
     @property
     def num_spheres(self) -> int:
         """Number of balls in the robot's (and attached objects') sphere covers."""
-        return int(np.isfinite(self._pr).sum())
+        return int(self._fine.radii.size)
 
     def spheres(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, list[str]]:
         """The sphere covers at q (dof,): centres (S, 3) [m], radii (S,) [m], owner names (S,)."""
