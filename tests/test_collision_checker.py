@@ -129,6 +129,12 @@ def test_sphere_covers_contain_every_surface_point(checker):
         assert d.min(axis=1).max() <= 1e-12, part.name
         dc = np.linalg.norm(X[:, None, :] - part.coarse_centres[None], axis=-1) - part.coarse_radii[None]
         assert dc.min(axis=1).max() <= 1e-12, part.name
+        if isinstance(part.geometry, coal.Box):  # solids: the inside counts too
+            h = np.asarray(part.geometry.halfSide)
+            inner = np.random.default_rng(0).uniform(-h, h, (500, 3)) @ part.R.T + part.p
+            for Cs, rs in ((part.centres, part.radii), (part.coarse_centres, part.coarse_radii)):
+                d = np.linalg.norm(inner[:, None, :] - Cs[None], axis=-1) - rs[None]
+                assert d.min(axis=1).max() <= 1e-12, part.name
     # automatic, and not absurdly many
     assert 30 <= checker.num_spheres <= 400
 
@@ -342,3 +348,16 @@ def test_first_collision_is_the_first_colliding_sample(checker, random_q):
             k = int(round(t * steps))
             assert hits[k] and not hits[:k].any()
     assert found > 0
+
+
+def test_obstacle_inside_an_attached_box_collides(franka_config, franka_kinematics):
+    # coal treats primitives as solids: a pebble inside a held box touches it
+    kin = franka_kinematics
+    q = franka_config.default_joint_positions
+    T_box = kin.fk(q, "panda_hand") @ Pose([0.0, 0.0, 0.25])
+    cc = CollisionChecker(franka_config, kin)
+    cc.attach_object(Cuboid("crate", [0.16, 0.16, 0.16], T_box), q=q)
+    cc.add_obstacle(Sphere("pebble", 0.005, T_box.position))
+    assert cc.in_collision(q) and cc.in_collision_exact(q)
+    cc.remove_obstacle("pebble")
+    assert not cc.in_collision(q)

@@ -58,3 +58,13 @@ def test_cover_is_deterministic():
     b = cover_with_spheres(V, F)
     np.testing.assert_array_equal(a[0], b[0])
     np.testing.assert_array_equal(a[1], b[1])
+
+
+def test_solid_cover_holds_the_volume():
+    h = np.array([0.1, 0.04, 0.03])
+    V, F = _box(h)
+    C, R = cover_with_spheres(V, F, tolerance=0.01, max_spheres=32, solid=True)
+    pts = np.random.default_rng(0).uniform(-h, h, (5000, 3))
+    d = np.linalg.norm(pts[:, None, :] - C[None], axis=-1) - R[None]
+    assert d.min(axis=1).max() <= 1e-12
+    assert _covered(V, F, C, R)

@@ -107,7 +107,7 @@ def geometry_triangles(geometry) -> tuple[np.ndarray, np.ndarray] | None:
     return V + (lo + hi) / 2.0, F
 
 
-_CACHE_VERSION = "cover-v6"
+_CACHE_VERSION = "cover-v7"
 
 
 def _cache_dir() -> Path | None:
@@ -123,6 +123,8 @@ def _cache_dir() -> Path | None:
 def sphere_cover(geometry, tolerance: float = 0.02, max_spheres: int = 48) -> tuple[np.ndarray, np.ndarray]:
     """Sphere cover (centres (K, 3), radii (K,)) of a coal geometry in its own frame.
 
+    Triangle meshes are surfaces for coal, so their cover holds their surface; primitives
+    (boxes, cylinders, capsules) are solids, so theirs holds their whole bounding box.
     Covers are cached in memory and on disk (`_cache_dir()`), keyed by the triangles and
     the parameters; computing one takes 0.1-1 s for a robot link.
     """
@@ -131,8 +133,10 @@ def sphere_cover(geometry, tolerance: float = 0.02, max_spheres: int = 48) -> tu
     tri = geometry_triangles(geometry)
     assert tri is not None
     V, F = tri
+    # primitives (and anything not a triangle mesh) are solids: their inside counts for coal
+    solid = not (hasattr(geometry, "num_tris") and hasattr(geometry, "vertices"))
     digest = hashlib.sha1(V.tobytes() + F.astype(np.int64).tobytes()
-                          + f"{_CACHE_VERSION}/{tolerance!r}/{max_spheres}".encode()).hexdigest()
+                          + f"{_CACHE_VERSION}/{tolerance!r}/{max_spheres}/{solid}".encode()).hexdigest()
     if digest not in _COVER_CACHE:
         folder = _cache_dir()
         file = folder / f"spheres-{digest}.npz" if folder is not None else None
@@ -144,7 +148,7 @@ def sphere_cover(geometry, tolerance: float = 0.02, max_spheres: int = 48) -> tu
             except Exception:  # a corrupt cache entry is recomputed
                 C = R = None
         if C is None:
-            C, R = cover_with_spheres(V, F, tolerance=tolerance, max_spheres=max_spheres)
+            C, R = cover_with_spheres(V, F, tolerance=tolerance, max_spheres=max_spheres, solid=solid)
             if file is not None:
                 try:
                     folder.mkdir(parents=True, exist_ok=True)

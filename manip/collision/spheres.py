@@ -120,6 +120,20 @@ _MAX_FINE_TRIANGLES = 40000
 _MAX_COARSE_TRIANGLES = 2000
 _MAX_GRID_POINTS = 20000
 _MAX_CANDIDATES = 600
+_MAX_CELLS = 4000
+
+
+def _box_cells(lo: np.ndarray, hi: np.ndarray, spacing: float) -> np.ndarray:
+    """(K, 8, 3) corners of cube cells tiling the box [lo, hi] with edges <= spacing."""
+    edges = [np.linspace(lo[d], hi[d], max(1, int(np.ceil((hi[d] - lo[d]) / spacing))) + 1) for d in range(3)]
+    a = [np.stack([e[:-1], e[1:]], axis=1) for e in edges]  # (n_d, 2)
+    cells = []
+    for i in range(2):
+        for j in range(2):
+            for k in range(2):
+                X, Y, Z = np.meshgrid(a[0][:, i], a[1][:, j], a[2][:, k], indexing="ij")
+                cells.append(np.stack([X, Y, Z], axis=-1).reshape(-1, 3))
+    return np.stack(cells, axis=1)
 
 
 def _sqdist(A: np.ndarray, B: np.ndarray) -> np.ndarray:
@@ -152,8 +166,10 @@ def cover_with_spheres(
     tolerance: float = 0.02,
     max_spheres: int = 32,
     resolution: float | None = None,
+    solid: bool = False,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Balls whose union contains the whole surface of a triangle mesh.
+    """Balls whose union contains the whole surface of a triangle mesh (and, with `solid`,
+    its whole bounding box volume: for solid primitives, whose inside counts as colliding).
 
     Centres are chosen among interior grid points by a greedy set cover: a centre c at
     distance rho(c) from the surface gets radius rho(c) + tolerance, which sticks out of a
@@ -168,10 +184,11 @@ def cover_with_spheres(
         max_spheres: upper bound on the number of balls.
         resolution: longest sub-triangle edge [m] of the subdivision on which coverage is
             enforced; default min(tolerance / 1.5, extent / 20).
+        solid: also cover the mesh's bounding box (as cube cells, each held whole by one ball).
 
     Returns:
         (centres (K, 3) [m], radii (K,) [m]) in the mesh frame; the union of the balls
-        contains every point of every triangle.
+        contains every point of every triangle (and of the bounding box if `solid`).
     """
     V = np.asarray(vertices, dtype=float)
     F = np.asarray(faces, dtype=np.int64)
@@ -204,18 +221,32 @@ def cover_with_spheres(
     coarse = min(max(2.0 * tolerance, extent / 15.0), 1.5 * (float(np.median(rho)) + tolerance))
     coarse = max(res, coarse, np.sqrt(2.0 * area / _MAX_COARSE_TRIANGLES))
     cpts, ctris = subdivide(V, F, coarse)
-    tv = points[tris]
+    # items to cover: convex pieces (triangles, cube cells) held whole by one ball each
+    fine_items = [points[tris]]
+    coarse_items = [cpts[ctris]]
+    if solid:
+        cell = max(res, (box_volume / _MAX_CELLS) ** (1.0 / 3.0))
+        fine_items.append(_box_cells(lo, hi, cell))
+        coarse_items.append(_box_cells(lo, hi, max(cell, coarse)))
     surf = points if points.shape[0] <= 2000 else points[:: int(np.ceil(points.shape[0] / 2000))]
+
+    def need_of(items: list[np.ndarray], C: np.ndarray) -> np.ndarray:
+        """(K, items) squared radius a ball at C[k] needs to hold each item."""
+        out = []
+        for it in items:
+            v = it.shape[1]
+            out.append(_sqdist(C, it.reshape(-1, 3)).reshape(C.shape[0], it.shape[0], v).max(axis=2))
+        return np.concatenate(out, axis=1)
 
     def finish(chosen: list[int], delta: float) -> tuple[np.ndarray, np.ndarray]:
         if not chosen:
             chosen = [int(np.argmax(rho))]
         C = cand[chosen]
         R0 = rho[chosen] + delta
-        need = np.sqrt(_sqdist(tv.reshape(-1, 3), C).reshape(tv.shape[0], 3, C.shape[0]).max(axis=1))  # (T, K)
+        need = np.sqrt(need_of(fine_items, C)).T  # (items, K)
         lab = np.argmin(need - R0[None], axis=1)  # the ball that needs to grow least
         R = np.zeros(C.shape[0])
-        np.maximum.at(R, lab, need[np.arange(tv.shape[0]), lab])
+        np.maximum.at(R, lab, need[np.arange(need.shape[0]), lab])
         keep = np.unique(lab)
         return C[keep], R[keep]
 
@@ -223,8 +254,7 @@ def cover_with_spheres(
     # inflating the balls found with covering at doubled protrusions; keep the tighter cover.
     best, best_protrusion = None, np.inf
     delta = tolerance
-    ctv = cpts[ctris]
-    need2 = _sqdist(cand, ctv.reshape(-1, 3)).reshape(cand.shape[0], ctv.shape[0], 3).max(axis=2)  # (M, T)
+    need2 = need_of(coarse_items, cand)  # (M, items)
     for _ in range(4):
         chosen, left = _greedy_cover(need2, rho, delta, max_spheres)
         C, R = finish(chosen, delta)
