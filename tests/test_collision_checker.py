@@ -361,3 +361,19 @@ def test_obstacle_inside_an_attached_box_collides(franka_config, franka_kinemati
     assert cc.in_collision(q) and cc.in_collision_exact(q)
     cc.remove_obstacle("pebble")
     assert not cc.in_collision(q)
+
+
+def test_gripper_positions(franka_config, franka_kinematics):
+    kin = franka_kinematics
+    q = franka_config.default_joint_positions
+    # a 4 cm wide block between the open fingertips (8 cm apart): clear when open, hit when closed
+    block = Cuboid("block", [0.02, 0.04, 0.02], kin.fk(q, "panda_hand") @ Pose([0.0, 0.0, 0.1034]))
+    cc = CollisionChecker(franka_config, kin, WorldConfig([block]))
+    assert not cc.in_collision(q)
+    cc.set_gripper_positions([0.0, 0.0])
+    assert cc.in_collision(q)
+    assert {c.a for c in cc.collision_report(q).contacts} <= {"panda_leftfinger", "panda_rightfinger"}
+    cc.set_gripper_positions(None)
+    assert not cc.in_collision(q)
+    with pytest.raises(InvalidInputError, match="outside its limits"):
+        cc.set_gripper_positions([0.5, 0.5])
