@@ -37,8 +37,11 @@ from manip.trajectory import Trajectory
 
 logger = logging.getLogger(__name__)
 
-#: A start this far outside a joint limit [rad] is accepted (and kept as given).
-START_LIMIT_TOLERANCE = 1e-6
+#: A start this far outside a joint limit [rad] is accepted (and kept as given): simulated
+#: joints settle a few microradians past a limit the previous motion ended on.
+START_LIMIT_TOLERANCE = 1e-4
+#: Position-limit tolerance [rad] of trajectories whose start is inside the limits.
+LIMIT_TOLERANCE = 1e-6
 #: Plans tried when a path's timed trajectory fails the dense validation.
 MAX_ATTEMPTS = 4
 #: Random shortcut attempts on a searched path.
@@ -341,6 +344,10 @@ class MotionGenerator:
     def _motion_valid(self, q0: np.ndarray, q1: np.ndarray) -> bool:
         return bool(self.checker.motion_valid(q0, q1, resolution=self.resolution))
 
+    def _limit_excess(self, q: np.ndarray) -> float:
+        """How far [rad] `q` lies outside the joint limits (0 inside)."""
+        return float(max(0.0, np.max(self.kinematics.lower - q), np.max(q - self.kinematics.upper)))
+
     def _goal_problem(self, goal: np.ndarray) -> str:
         bad = self.kinematics.limit_violations(goal)
         if bad:
@@ -408,7 +415,7 @@ class MotionGenerator:
                 joint_names=self.joint_names,
                 lower_limits=self.kinematics.lower,
                 upper_limits=self.kinematics.upper,
-                position_tolerance=START_LIMIT_TOLERANCE,
+                position_tolerance=max(LIMIT_TOLERANCE, self._limit_excess(path[0])),
                 mode=mode,
                 deviation_tolerance=deviation,
                 velocity_scale=ctx.velocity_scale,
