@@ -165,16 +165,23 @@ def _tf(R: np.ndarray, p: np.ndarray) -> coal.Transform3s:
 
 def _sd_local(L: np.ndarray, h: np.ndarray, rho: np.ndarray, cyl: np.ndarray | None) -> np.ndarray:
     """Signed distance of local points L (..., 3) to rounded boxes (half extents h, rounding rho)
-    or, where `cyl`, to cylinders (radius h[..., 0], half height h[..., 2])."""
-    a = np.abs(L)
-    q = a - h
-    out = np.sqrt((np.maximum(q, 0.0) ** 2).sum(-1)) + np.minimum(q.max(-1), 0.0) - rho
-    if cyl is not None:
-        rxy = np.sqrt(L[..., 0] ** 2 + L[..., 1] ** 2)
-        q0 = rxy - h[..., 0]
-        q1 = a[..., 2] - h[..., 2]
-        sc = np.sqrt(np.maximum(q0, 0.0) ** 2 + np.maximum(q1, 0.0) ** 2) + np.minimum(np.maximum(q0, q1), 0.0)
-        out = np.where(cyl, sc, out)
+    or, where `cyl`, to cylinders (radius h[..., 0], half height h[..., 2]).
+
+    Written per component: reductions over a trailing axis of 3 are slow in NumPy.
+    """
+    x = np.abs(L[..., 0]) - h[..., 0]
+    y = np.abs(L[..., 1]) - h[..., 1]
+    z = np.abs(L[..., 2]) - h[..., 2]
+    inside = np.minimum(np.maximum(np.maximum(x, y), z), 0.0)
+    np.maximum(x, 0.0, out=x)
+    np.maximum(y, 0.0, out=y)
+    zc = np.maximum(z, 0.0)
+    out = np.sqrt(x * x + y * y + zc * zc) + inside - rho
+    if cyl is not None and np.any(cyl):
+        r = np.sqrt(L[..., 0] ** 2 + L[..., 1] ** 2) - h[..., 0]
+        inside_c = np.minimum(np.maximum(r, z), 0.0)
+        np.maximum(r, 0.0, out=r)
+        out = np.where(cyl, np.sqrt(r * r + zc * zc) + inside_c, out)
     return out
 
 
@@ -222,6 +229,16 @@ class _SphereTable:
         self.radii = np.concatenate(radii).astype(float)
         self.part = np.repeat(np.arange(len(radii)), self.count)
         self.joint = np.asarray(joints)[self.part]
+
+    def padded(self) -> tuple[np.ndarray, np.ndarray]:
+        """(centres (G, K, 3), radii (G, K)) padded to the largest part (padding radius -inf)."""
+        G, K = self.count.size, int(self.count.max())
+        C = np.zeros((G, K, 3))
+        r = np.full((G, K), -np.inf)
+        for g in range(G):
+            C[g, :self.count[g]] = self.centres_of(g)
+            r[g, :self.count[g]] = self.radii_of(g)
+        return C, r
 
     def centres_of(self, g: int) -> np.ndarray:
         return self.centres[self.start[g]:self.start[g] + self.count[g]]
@@ -401,7 +418,10 @@ class CollisionChecker:
             self._pbc[g] = c
             self._pbr[g] = (np.linalg.norm(allc - c, axis=1) + allr).max()
         self._fine = _SphereTable([p.centres for p in parts], [p.radii for p in parts], self._pj)
+        self._fineP = self._fine.padded()
+        self._coarseP = None  # set below
         self._coarse = _SphereTable([p.coarse_centres for p in parts], [p.coarse_radii for p in parts], self._pj)
+        self._coarseP = self._coarse.padded()
         # level 0 of the world check: one bounding ball per moving joint (all its parts)
         joints = sorted({p.joint for p in parts if p.joint != 0})
         self._l0_joint = np.array(joints, dtype=np.int64)
@@ -419,6 +439,16 @@ class CollisionChecker:
             self._l0_r[k] = (np.linalg.norm(allc - c, axis=1) + allr).max()
             members.append(np.array(gs, dtype=np.int64))
         self._l0_members = members
+        # coarse balls of each moving joint's parts together (padded), with the owning part
+        Kj = max([int(sum(self._coarse.count[g] for g in m)) for m in members], default=1)
+        self._jc_C = np.zeros((len(joints), Kj, 3))
+        self._jc_r = np.full((len(joints), Kj), -np.inf)
+        self._jc_part = np.zeros((len(joints), Kj), dtype=np.int64)
+        for k, m in enumerate(members):
+            c = np.concatenate([self._coarse.centres_of(g) for g in m])
+            self._jc_C[k, :len(c)] = c
+            self._jc_r[k, :len(c)] = np.concatenate([self._coarse.radii_of(g) for g in m])
+            self._jc_part[k, :len(c)] = np.concatenate([np.full(self._coarse.count[g], g) for g in m])
         self._l0_count = np.array([m.size for m in members], dtype=np.int64)
         self._l0_flat = np.concatenate(members) if members else np.zeros(0, dtype=np.int64)
         self._l0_start = np.cumsum(self._l0_count) - self._l0_count
@@ -568,7 +598,8 @@ class CollisionChecker:
                 np.abs(L, out=L)
                 L -= h
                 np.maximum(L, 0.0, out=L)
-                d2 = np.einsum("mki,mki->mk", L, L)
+                x, y, z = L[..., 0], L[..., 1], L[..., 2]
+                d2 = x * x + y * y + z * z
                 lim = reach[:, None] + rho
             near = d2 < lim * np.abs(lim)  # lim <= 0 never counts as near
             if single:
@@ -605,6 +636,23 @@ class CollisionChecker:
         return _tf(Rj @ part.R, pj + Rj @ part.p)
 
     # ------------------------------------------------------------------ broadphase
+    def _world_level_rel(self, R, p, n, g, o, padded: tuple[np.ndarray, np.ndarray], margin: float):
+        """Keep the (n, g, o) triples where some ball of part g (padded table) comes within
+        `margin` of obstacle o: the balls are mapped into the obstacle's frame with one 3x3
+        transform per triple. Returns the kept triples and their smallest ball clearance."""
+        C, r = padded
+        j = self._pj[g]
+        Rj = R[n, j]
+        RoT = self._oR[o].transpose(0, 2, 1)
+        M = np.matmul(RoT, Rj)
+        t = np.matmul(RoT, (p[n, j] - self._oc[o])[:, :, None])[:, :, 0]
+        L = np.matmul(C[g], M.transpose(0, 2, 1)) + t[:, None, :]  # (T, K, 3) in obstacle frames
+        cyl = self._ocyl[o][:, None] if self._any_cyl else None
+        sd = _sd_local(L, self._oh[o][:, None, :], self._orho[o][:, None], cyl) - r[g]
+        m = sd.min(axis=1)
+        keep = m < margin
+        return n[keep], g[keep], o[keep], m[keep]
+
     def _world_level(self, R, p, n, g, o, table: "_SphereTable", margin: float):
         """Keep the (n, g, o) triples where some ball of part g (from `table`) comes within
         `margin` of obstacle o; returns the kept triples and their smallest ball clearance."""
@@ -655,11 +703,25 @@ class CollisionChecker:
             reach = np.tile(self._l0_r + margin, N)
             n, jk, o = np.nonzero(self._near_all(X.reshape(-1, 3), reach).reshape(N, J, O))
             if n.size:
-                t, flat = _expand(self._l0_count[jk], self._l0_start[jk])
-                n, g, o = n[t], self._l0_flat[flat], o[t]
-                n, g, o, _ = self._world_level_placed(Xc, n, g, o, self._coarse, margin)
+                # coarse balls of the joint's parts, in the obstacle's frame; keep the parts
+                # with a ball within reach
+                jt = self._l0_joint[jk]
+                RoT = self._oR[o].transpose(0, 2, 1)
+                M = np.matmul(RoT, R[n, jt])
+                tr = np.matmul(RoT, (p[n, jt] - self._oc[o])[:, :, None])[:, :, 0]
+                L = np.matmul(self._jc_C[jk], M.transpose(0, 2, 1)) + tr[:, None, :]
+                cyl = self._ocyl[o][:, None] if self._any_cyl else None
+                sd = _sd_local(L, self._oh[o][:, None, :], self._orho[o][:, None], cyl) - self._jc_r[jk]
+                t, k = np.nonzero(sd < margin)
+                if t.size:
+                    g = self._jc_part[jk[t], k]
+                    G = len(self._parts)
+                    key = np.unique((n[t] * G + g) * O + o[t])
+                    n, g, o = key // (G * O), (key // O) % G, key % O
+                else:
+                    n = t
             if n.size:
-                n, g, o, m = self._world_level(R, p, n, g, o, self._fine, margin)
+                n, g, o, m = self._world_level_rel(R, p, n, g, o, self._fineP, margin)
                 ns.append(n); kinds.append(np.zeros(n.size, dtype=np.int64)); ii.append(g); jj.append(o); depth.append(m)
         if do_self:
             margin = self._self_padding + 1e-9
