@@ -1,22 +1,23 @@
 """`CollisionChecker`: exact robot-vs-world and self-collision checks, fast in batches.
 
-Answers are those of coal on the robot's URDF collision geometry (meshes), the same as
-Pinocchio's `computeCollisions` over the same pairs with the same security margin. Speed
-comes from a vectorised NumPy broadphase that can only say "free":
+Answers are those of coal on the robot's URDF collision geometry (meshes as triangle
+surfaces, primitives as solids), the same as Pinocchio's `computeCollisions` over the same
+pairs with the same security margin (the padding). Speed comes from a vectorised NumPy
+broadphase that can only say "free", never "colliding":
 
 1. batched forward kinematics of the configurations (`Kinematics.joint_transforms`);
-2. one bounding ball per robot part vs every obstacle (closed-form signed distances to
-   boxes, spheres, capsules, cylinders; meshes through their bounding box) and per
-   enabled self-collision pair;
-3. for the (configuration, part, obstacle) and (configuration, part pair) triples still
-   flagged, the part's automatic sphere cover (`manip.collision.spheres`), which contains
-   the part's surface;
-4. coal's exact narrowphase for what remains, most-penetrating candidates first, stopping
-   at the first collision of each configuration.
+2. world: one bounding ball per moving joint (all its parts) against every obstacle
+   (closed-form signed distances to boxes, spheres, capsules, cylinders; meshes through
+   their bounding box), then the coarse sphere covers of that joint's parts, then the fine
+   cover of each part still flagged; parts fixed to the base are checked once per world;
+3. self: one bounding ball per body (a link's parts, or an attached object) for the enabled
+   pairs, then the bodies' coarse covers;
+4. coal's exact narrowphase for the (configuration, pair) candidates left, most
+   penetrating first, stopping at the first collision of each configuration.
 
-A ball cover that contains the surface means: if no ball comes within the padding of an
-obstacle, no point of the surface does, so coal would say "free" too. Configurations are
-never declared free by the spheres unless that is certain.
+The covers (`manip.collision.spheres`) are generated automatically from the meshes and hold
+every point of the surfaces (of the volume for solid primitives): if no ball comes within
+the padding of an obstacle, no point of the geometry does, so coal would say "free" too.
 """
 
 from __future__ import annotations
@@ -32,7 +33,7 @@ import numpy as np
 import pinocchio as pin
 
 from manip.collision.robot_geometry import COARSE_MAX_SPHERES, COARSE_TOLERANCE, RobotGeometry, sphere_cover
-from manip.collision.shapes import Capsule, Cuboid, Cylinder, Mesh, Obstacle, Sphere, coal_geometry
+from manip.collision.shapes import Capsule, Cylinder, Obstacle, Sphere, coal_geometry
 from manip.collision.world import WorldConfig
 from manip.errors import InvalidInputError, UnknownNameError
 from manip.kinematics import Kinematics
@@ -246,20 +247,6 @@ class _SphereTable:
     def radii_of(self, g: int) -> np.ndarray:
         return self.radii[self.start[g]:self.start[g] + self.count[g]]
 
-    def pair_table(self, pairs: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """For part pairs (P, 2): (start (P,), count (P,), ball a (total,), ball b (total,))."""
-        ia, ib, count = [], [], []
-        for a, b in pairs:
-            A = np.arange(self.start[a], self.start[a] + self.count[a])
-            B = np.arange(self.start[b], self.start[b] + self.count[b])
-            ia.append(np.repeat(A, B.size))
-            ib.append(np.tile(B, A.size))
-            count.append(A.size * B.size)
-        count_a = np.array(count, dtype=np.int64)
-        empty = np.zeros(0, dtype=np.int64)
-        return (np.cumsum(count_a) - count_a, count_a,
-                np.concatenate(ia) if ia else empty, np.concatenate(ib) if ib else empty)
-
 
 class CollisionChecker:
     """Collision checking of a robot's configurations against a world of obstacles and itself.
@@ -419,9 +406,7 @@ class CollisionChecker:
             self._pbr[g] = (np.linalg.norm(allc - c, axis=1) + allr).max()
         self._fine = _SphereTable([p.centres for p in parts], [p.radii for p in parts], self._pj)
         self._fineP = self._fine.padded()
-        self._coarseP = None  # set below
         self._coarse = _SphereTable([p.coarse_centres for p in parts], [p.coarse_radii for p in parts], self._pj)
-        self._coarseP = self._coarse.padded()
         # level 0 of the world check: one bounding ball per moving joint (all its parts)
         joints = sorted({p.joint for p in parts if p.joint != 0})
         self._l0_joint = np.array(joints, dtype=np.int64)
@@ -449,9 +434,6 @@ class CollisionChecker:
             self._jc_C[k, :len(c)] = c
             self._jc_r[k, :len(c)] = np.concatenate([self._coarse.radii_of(g) for g in m])
             self._jc_part[k, :len(c)] = np.concatenate([np.full(self._coarse.count[g], g) for g in m])
-        self._l0_count = np.array([m.size for m in members], dtype=np.int64)
-        self._l0_flat = np.concatenate(members) if members else np.zeros(0, dtype=np.int64)
-        self._l0_start = np.cumsum(self._l0_count) - self._l0_count
         self._pairs = np.array(pairs, dtype=np.int64).reshape(-1, 2)
         # self-collision broadphase per body (a link's parts together, or an attached object):
         # body pairs with at least one enabled part pair
@@ -650,28 +632,6 @@ class CollisionChecker:
         cyl = self._ocyl[o][:, None] if self._any_cyl else None
         sd = _sd_local(L, self._oh[o][:, None, :], self._orho[o][:, None], cyl) - r[g]
         m = sd.min(axis=1)
-        keep = m < margin
-        return n[keep], g[keep], o[keep], m[keep]
-
-    def _world_level(self, R, p, n, g, o, table: "_SphereTable", margin: float):
-        """Keep the (n, g, o) triples where some ball of part g (from `table`) comes within
-        `margin` of obstacle o; returns the kept triples and their smallest ball clearance."""
-        t, sidx = _expand(table.count[g], table.start[g])
-        nt = n[t]
-        sj = table.joint[sidx]
-        X = np.einsum("tij,tj->ti", R[nt, sj], table.centres[sidx]) + p[nt, sj]
-        sd = self._sd_pairs(X, o[t]) - table.radii[sidx]
-        starts = np.cumsum(table.count[g]) - table.count[g]
-        m = np.minimum.reduceat(sd, starts)
-        keep = m < margin
-        return n[keep], g[keep], o[keep], m[keep]
-
-    def _world_level_placed(self, Xall, n, g, o, table: "_SphereTable", margin: float):
-        """`_world_level` with the table's balls already placed: Xall (N, S, 3)."""
-        t, sidx = _expand(table.count[g], table.start[g])
-        sd = self._sd_pairs(Xall[n[t], sidx], o[t]) - table.radii[sidx]
-        starts = np.cumsum(table.count[g]) - table.count[g]
-        m = np.minimum.reduceat(sd, starts)
         keep = m < margin
         return n[keep], g[keep], o[keep], m[keep]
 
