@@ -113,17 +113,19 @@ def measure(name: str, config, kin: Kinematics, world: WorldConfig, n: int, rng:
         "baseline_mixed_us": best_of(lambda: [ref(q) for q in Q[:400]]) / 400 * us,
         "baseline_free_us": best_of(lambda: [ref(q) for q in free[:400]]) / min(400, free.shape[0]) * us,
     }
-    # 2 rad edges from free configurations
-    valid_t, invalid_t = [], []
-    for q0 in free[:80]:
-        d = rng.uniform(-1, 1, 7)
-        q1 = np.clip(q0 + 2.0 * d / np.abs(d).max(), kin.lower, kin.upper)
-        t = time.perf_counter()
-        ok = cc.motion_valid(q0, q1, 0.01)
-        (valid_t if ok else invalid_t).append(time.perf_counter() - t)
-    r["edge_valid_ms"] = float(np.median(valid_t)) * 1e3 if valid_t else float("nan")
-    r["edge_invalid_ms"] = float(np.median(invalid_t)) * 1e3 if invalid_t else float("nan")
-    r["edges"] = f"{len(valid_t)}/{len(valid_t) + len(invalid_t)}"
+    # edges from free configurations: 2 rad (straight-line attempts, shortcuts) and 0.5 rad
+    # (RRT extensions), L-inf, checked at 0.01 rad
+    for length, key in ((2.0, "edge"), (0.5, "short")):
+        valid_t, invalid_t = [], []
+        for q0 in free[:80]:
+            d = rng.uniform(-1, 1, 7)
+            q1 = np.clip(q0 + length * d / np.abs(d).max(), kin.lower, kin.upper)
+            t = time.perf_counter()
+            ok = cc.motion_valid(q0, q1, 0.01)
+            (valid_t if ok else invalid_t).append(time.perf_counter() - t)
+        r[f"{key}_valid_ms"] = float(np.median(valid_t)) * 1e3 if valid_t else float("nan")
+        r[f"{key}_invalid_ms"] = float(np.median(invalid_t)) * 1e3 if invalid_t else float("nan")
+        r[f"{key}s"] = f"{len(valid_t)}/{len(valid_t) + len(invalid_t)}"
     return r
 
 
@@ -147,14 +149,16 @@ def main(argv: list[str] | None = None) -> int:
             print(f"(MotionBenchMaker scenes skipped: {exc})", file=sys.stderr)
     rows = [measure(name, config, kin, w, args.configs, rng) for name, w in scenes]
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores; us per configuration (best of 3)\n")
-    print("| scene | obst. | colliding | agree | batch mixed | batch free | single free | pin mixed | pin free | speed-up free | edge 2 rad valid / invalid [ms] (valid/all) |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    print("| scene | obst. | colliding | agree | batch mixed | batch free | single free | pin mixed | pin free | speed-up free "
+          "| edge 2 rad valid / invalid [ms] (valid/all) | edge 0.5 rad valid / invalid [ms] |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         print(f"| {r['scene']} | {r['obstacles']} | {r['colliding']:.0%} | {r['agree']:.2%} | "
               f"{r['batch_mixed_us']:.1f} | {r['batch_free_us']:.1f} | {r['single_free_us']:.0f} | "
               f"{r['baseline_mixed_us']:.0f} | {r['baseline_free_us']:.0f} | "
               f"{r['baseline_free_us'] / r['batch_free_us']:.0f}x | "
-              f"{r['edge_valid_ms']:.2f} / {r['edge_invalid_ms']:.2f} ({r['edges']}) |")
+              f"{r['edge_valid_ms']:.2f} / {r['edge_invalid_ms']:.2f} ({r['edges']}) | "
+              f"{r['short_valid_ms']:.2f} / {r['short_invalid_ms']:.2f} ({r['shorts']}) |")
     bad = [r["scene"] for r in rows if r["false_free"] or r["agree"] < 1.0]
     if bad:
         print(f"DISAGREEMENT with the baseline in: {bad}", file=sys.stderr)

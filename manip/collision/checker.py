@@ -635,7 +635,8 @@ class CollisionChecker:
         keep = m < margin
         return n[keep], g[keep], o[keep], m[keep]
 
-    def _candidates(self, Q: np.ndarray, R: np.ndarray, p: np.ndarray, world: bool = True, self_: bool = True):
+    def _candidates(self, Q: np.ndarray, R: np.ndarray, p: np.ndarray, world: bool = True, self_: bool = True,
+                    deepest_first: bool = False):
         """Pairs the balls cannot clear, sorted by configuration, deepest first.
 
         World: one bounding ball per moving joint, then each part's coarse cover, then its
@@ -643,7 +644,8 @@ class CollisionChecker:
 
         Returns:
             (n (T,), kind (T,) 0=world/1=self, i (T,), j (T,)): for world i = part and
-            j = obstacle; for self (i, j) = parts.
+            j = obstacle; for self (i, j) = parts. Sorted by configuration then depth, or
+            by depth alone with `deepest_first`.
         """
         N = Q.shape[0]
         ns, kinds, ii, jj, depth = [], [], [], [], []
@@ -711,7 +713,8 @@ class CollisionChecker:
             e = np.zeros(0, dtype=np.int64)
             return e, e, e, e
         n = np.concatenate(ns); kind = np.concatenate(kinds); i = np.concatenate(ii); j = np.concatenate(jj)
-        order = np.lexsort((np.concatenate(depth), n))
+        d = np.concatenate(depth)
+        order = np.argsort(d, kind="stable") if deepest_first else np.lexsort((d, n))
         return n[order], kind[order], i[order], j[order]
 
     def _exact(self, R, p, n: int, kind: int, i: int, j: int, tfs: dict) -> bool:
@@ -740,7 +743,8 @@ class CollisionChecker:
             return out
         R, p = self._fk(Q)
         out = np.zeros(Q.shape[0], dtype=bool)
-        n, kind, i, j = self._candidates(Q, R, p)
+        # to find any collision, the most penetrating ball pairs are the likeliest
+        n, kind, i, j = self._candidates(Q, R, p, deepest_first=stop_at_first)
         if n.size == 0:
             return out
         # world placements of both geometries of every candidate pair, in one go
