@@ -903,17 +903,18 @@ def _curve_deviation(spline: CubicSplinePath, w: np.ndarray, keep: np.ndarray) -
     return float(dist.max()) if dist.size else 0.0
 
 
-def _crossing_times(timing: PiecewiseJerkProfile, s_values: np.ndarray) -> np.ndarray:
-    """Times [s] at which the non-decreasing `s(t)` first reaches each of `s_values` (bisection)."""
-    lo = np.zeros(s_values.size)
-    hi = np.full(s_values.size, timing.duration)
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        below = timing.evaluate(mid)[0][:, 0] < s_values
-        lo = np.where(below, mid, lo)
-        hi = np.where(below, hi, mid)
-    hi[s_values <= 0] = 0.0
-    return hi
+def _crossing_times(timing: PiecewiseJerkProfile, s_values: np.ndarray, grid: np.ndarray) -> np.ndarray:
+    """Times [s] at which the non-decreasing `s(t)` reaches each of `s_values`.
+
+    Interpolated on the evaluations of `s` at the times `grid`, then refined by Newton steps.
+    """
+    s_grid = timing.evaluate(grid)[0][:, 0]
+    t = np.interp(s_values, s_grid, grid)
+    for _ in range(3):
+        s, sd = (x[:, 0] for x in timing.evaluate(t)[:2])
+        step = np.where(sd > 0, (s - s_values) / np.where(sd > 0, sd, 1.0), 0.0)
+        t = np.clip(t - step, 0.0, timing.duration)
+    return t
 
 
 def time_parameterize_dense(
@@ -1056,7 +1057,8 @@ def time_parameterize_dense(
         profile = PathProfile(spline, timing).time_scaled(factor)
         traj = Trajectory.from_profile(profile, dt, names)
         # -- verification (samples and a dense grid), exact limits
-        _, qd, qdd, qddd = profile.evaluate(profile.dense_times())
+        grid = profile.dense_times()
+        _, qd, qdd, qddd = profile.evaluate(grid)
         problems = []
         for arrs, lim_d, label in (
             ((traj.velocities, qd), vmax, "velocity"),
@@ -1077,8 +1079,8 @@ def time_parameterize_dense(
     if np.any(traj.velocities[[0, -1]] != 0) or np.any(traj.accelerations[[0, -1]] != 0):
         return fail(TimingStatus.LIMIT_VIOLATION, "verification failed: not at rest at both ends", t_min, deviation)
 
-    times = _crossing_times(profile.timing, spline.breaks)
-    times[-1] = profile.duration
+    times = _crossing_times(profile.timing, spline.breaks, grid)
+    times[[0, -1]] = 0.0, profile.duration
     sd = profile.timing.evaluate(times)[1]
     velocities = spline.evaluate(spline.breaks)[1] * sd
     velocities[[0, -1]] = 0.0
