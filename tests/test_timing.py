@@ -8,7 +8,14 @@ import ruckig
 
 from manip.errors import InvalidInputError
 from manip.robot_config import load_robot_config
-from manip.timing import TimingStatus, _SegmentSolver, time_parameterize, time_parameterize_for_robot
+from manip.timing import (
+    TimingStatus,
+    _SegmentSolver,
+    time_parameterize,
+    time_parameterize_dense,
+    time_parameterize_for_robot,
+)
+from manip.trajectory import PathProfile
 
 
 @pytest.fixture(scope="module")
@@ -61,6 +68,11 @@ def polyline_distance(q, path):
             dist = np.abs(chunk[:, None, :] - pts[None, :, :]).max(axis=2).min(axis=1)
             best[i0 : i0 + 200] = np.minimum(best[i0 : i0 + 200], dist)
     return best
+
+
+def grid_error(path):
+    """Largest overestimate of `polyline_distance` (its lambda grid step / 2 on the longest segment)."""
+    return float(np.linalg.norm(np.diff(path, axis=0), axis=1).max()) / 1000.0
 
 
 def check_valid(result, path, cfg, vscale=1.0, ascale=1.0, jscale=1.0):
@@ -305,3 +317,169 @@ def test_bad_inputs_raise(cfg):
         time_parameterize(good, 1.0, 1.0, 1.0, lower_limits=cfg.lower_limits)
     with pytest.raises(InvalidInputError, match="joint_names"):
         time_parameterize(good, 1.0, 1.0, 1.0, joint_names=["a"])
+
+
+# ---------------------------------------------------------------------------- dense paths
+DOWN = np.array([0.0, 1.0, 0.0, 0.0])  # hand z axis pointing down
+
+
+@pytest.fixture(scope="module")
+def line_path():
+    """30 IK solutions of the Franka's TCP on a 15 cm vertical line (a dense, curved joint path).
+
+    Returns (path (30, 7), kinematics, line start (3,), line end (3,)).
+    """
+    from manip import MotionGenerator, Pose
+
+    mg = MotionGenerator("franka")
+    start = mg.ik(Pose([0.45, -0.3, 0.3], DOWN), seed_q=np.asarray(mg.default_joint_positions))
+    assert start.success
+    p0 = mg.fk(start.q, "panda_hand_tcp")
+    pts = [start.q]
+    for z in np.linspace(0.0, -0.15, 30)[1:]:
+        r = mg.ik(Pose(p0.position + [0.0, 0.0, z], p0.quaternion), "panda_hand_tcp", seed_q=pts[-1])
+        assert r.success
+        pts.append(r.q)
+    return np.array(pts), mg.kinematics, p0.position, p0.position + [0.0, 0.0, -0.15]
+
+
+def dense(path, cfg, **options):
+    vmax, amax, jmax, lo, hi = limits(cfg)
+    return time_parameterize_dense(
+        path, vmax, amax, jmax, joint_names=list(cfg.arm_joints), lower_limits=lo, upper_limits=hi, **options
+    )
+
+
+def keeps_moving(traj, fraction=0.3):
+    """True iff the joint-space speed stays above `fraction` of its peak from 20 % to 80 % of the duration."""
+    t = np.linspace(0.0, traj.duration, 2001)
+    speed = np.linalg.norm(traj.at_time(t)[1], axis=1)
+    middle = (t >= 0.2 * traj.duration) & (t <= 0.8 * traj.duration)
+    return bool(speed[middle].min() > fraction * speed.max())
+
+
+def test_dense_line_path_flows_without_stopping(cfg, line_path):
+    path, kin, a, b = line_path
+    r = dense(path, cfg)
+    traj, dense_t, q = check_valid(r, path, cfg)
+    assert r.mode == "along_path"
+    assert isinstance(traj.profile, PathProfile)
+    assert keeps_moving(traj)
+    # the blend timing of the same path nearly stops at every point, and is much slower
+    rb = time_parameterize_for_robot(path, cfg, deviation_tolerance=1e-3)
+    assert rb.success and not keeps_moving(rb.trajectory)
+    assert traj.duration < 0.5 * rb.trajectory.duration
+    # the curve passes through the points and stays close to the polyline between them
+    assert r.max_deviation <= 1e-3
+    assert polyline_distance(q[::40], path).max() <= r.max_deviation + grid_error(path)
+    # ... and keeps the TCP on the line (much closer than the polyline would)
+    tcp = kin.fk(q[::5], "panda_hand_tcp").position
+    u = (b - a) / np.linalg.norm(b - a)
+    d = tcp - a
+    assert np.linalg.norm(d - (d @ u)[:, None] * u, axis=1).max() < 1e-5  # [m]
+    # waypoint bookkeeping
+    assert len(r.waypoints) == len(path) and len(r.segment_durations) == len(path) - 1
+    assert np.all(r.segment_durations > 0)
+    assert r.segment_durations.sum() == pytest.approx(traj.duration, rel=1e-9)
+    t_points = np.concatenate([[0.0], np.cumsum(r.segment_durations)])
+    qp, qdp, _ = traj.at_time(t_points)
+    np.testing.assert_allclose(qp, path, atol=1e-7)
+    np.testing.assert_allclose(qdp, r.waypoint_velocities, atol=1e-5)
+    np.testing.assert_array_equal(r.waypoint_velocities[[0, -1]], 0.0)
+
+
+def test_dense_smooth_curves_within_limits_and_faster_than_blend(cfg):
+    rng = np.random.default_rng(5)
+    for _ in range(3):
+        path = smooth_path(rng, cfg, 30, length=1.5)
+        r = dense(path, cfg)
+        traj, _, q = check_valid(r, path, cfg)
+        assert keeps_moving(traj)
+        rb = time_parameterize_for_robot(path, cfg, deviation_tolerance=1e-3)
+        assert traj.duration < 0.6 * rb.trajectory.duration
+        assert polyline_distance(q[::40], path).max() <= r.max_deviation + grid_error(path)
+
+
+def test_dense_straight_line_is_the_time_optimal_line(cfg):
+    a = np.array(cfg.default_joint_positions)
+    path = np.array([a, a + [0.4, -0.3, 0.2, 0.5, 0.0, 0.1, -0.6]])
+    r = dense(path, cfg)
+    re = time_parameterize_for_robot(path, cfg, mode="exact")
+    traj, _, q = check_valid(r, path, cfg)
+    assert r.minimum_duration == pytest.approx(re.minimum_duration, rel=1e-9)
+    assert traj.num_samples == re.trajectory.num_samples
+    np.testing.assert_allclose(traj.positions, re.trajectory.positions, atol=1e-9)
+    assert r.max_deviation < 1e-12
+    u = (path[1] - path[0]) / np.linalg.norm(path[1] - path[0])
+    d = q - path[0]
+    assert np.linalg.norm(d - (d @ u)[:, None] * u, axis=1).max() < 1e-9
+
+
+def test_dense_scales_and_duration(cfg, line_path):
+    path = line_path[0]
+    fast = dense(path, cfg)
+    slow = dense(path, cfg, velocity_scale=0.5, acceleration_scale=0.5, jerk_scale=0.5)
+    check_valid(slow, path, cfg, 0.5, 0.5, 0.5)
+    assert slow.minimum_duration > fast.minimum_duration
+    stretched = dense(path, cfg, duration=2.0)
+    traj, _, _ = check_valid(stretched, path, cfg)
+    assert traj.duration == pytest.approx(2.0, abs=traj.dt)
+    assert traj.duration >= 2.0
+    np.testing.assert_array_less(traj.max_abs_velocity(), 0.5 * fast.trajectory.max_abs_velocity())
+    short = dense(path, cfg, duration=0.5 * fast.minimum_duration)
+    assert not short.success and short.status is TimingStatus.DURATION_TOO_SHORT
+    assert short.minimum_duration == pytest.approx(fast.minimum_duration)
+
+
+def test_dense_fails_with_a_status_when_the_curve_cannot_be_used(cfg):
+    vmax, amax, jmax, lo, hi = limits(cfg)
+    a = np.array(cfg.default_joint_positions)
+    # a zig-zag: the spline strays from the polyline between the points
+    zig = np.array([a + [0.05 * i, 0.03 * (i % 2), 0, 0, 0, 0, 0] for i in range(10)])
+    r = dense(zig, cfg, deviation_tolerance=1e-4)
+    assert not r.success and r.status is TimingStatus.DEVIATION_TOO_LARGE and r.trajectory is None
+    assert r.max_deviation > 1e-4
+    assert dense(zig, cfg).success  # without a tolerance it is timed (slowly)
+    # a path that reaches joint 0's upper limit at a point while still rising: the curve overshoots
+    top = hi[0]
+    j0 = np.array([top - 0.3, top - 0.15, top - 0.05, top, top - 0.2, top - 0.5])
+    path = np.tile(a, (6, 1))
+    path[:, 0] = j0
+    path[:, 1] += np.linspace(0.0, 0.3, 6)
+    r = dense(path, cfg)
+    assert not r.success and r.status is TimingStatus.POSITION_LIMIT
+    assert "panda_joint1" in r.message
+    # without position limits it succeeds
+    r = time_parameterize_dense(path, vmax, amax, jmax)
+    assert r.success and r.trajectory.position_range()[1][0] > top
+
+
+def test_dense_repeated_points(cfg):
+    a = np.array(cfg.default_joint_positions)
+    b = a + [0.2, 0.1, 0, 0, 0, 0, 0]
+    c = b + [0.2, 0.0, 0.1, 0, 0, 0, 0]
+    r = dense(np.array([a, a, b, b, b, c, c]), cfg)
+    check_valid(r, np.array([a, c]), cfg)
+    np.testing.assert_array_equal(r.waypoints, [a, b, c])
+    still = dense(np.array([a, a, a]), cfg)
+    assert still.success and still.mode == "along_path"
+    assert still.trajectory.num_samples == 1
+    np.testing.assert_array_equal(still.trajectory.positions[0], a)
+
+
+def test_dense_bad_inputs_raise(cfg):
+    vmax, amax, jmax, lo, hi = limits(cfg)
+    a = np.array(cfg.default_joint_positions)
+    path = np.array([a, a + 0.1])
+    with pytest.raises(InvalidInputError, match="deviation_tolerance"):
+        time_parameterize_dense(path, vmax, amax, jmax, deviation_tolerance=-1.0)
+    with pytest.raises(InvalidInputError, match="shape"):
+        time_parameterize_dense(a, vmax, amax, jmax)
+    with pytest.raises(InvalidInputError, match="velocity_limits"):
+        time_parameterize_dense(path, vmax[:3], amax, jmax)
+    with pytest.raises(InvalidInputError, match="velocity_scale"):
+        time_parameterize_dense(path, vmax, amax, jmax, velocity_scale=1.5)
+    outside = path.copy()
+    outside[1, 2] = hi[2] + 0.1
+    with pytest.raises(InvalidInputError, match="outside the position limits"):
+        time_parameterize_dense(outside, vmax, amax, jmax, lower_limits=lo, upper_limits=hi)
