@@ -431,8 +431,11 @@ class PathProfile:
         """Per-joint extremes (the keys of `PiecewiseJerkProfile.extrema`).
 
         Positions are exact (the range of the curve, which `s` covers entirely);
-        velocity, acceleration and jerk maxima are evaluated every <= 0.25 ms and at every
-        knot of the timing profile (dense, not analytic).
+        velocity, acceleration and jerk maxima are the largest values at times every
+        <= h = 0.25 ms and at every knot of the timing profile, not analytic: with `J` the
+        largest jerk, the velocity maximum is within `J h^2 / 8` (about 4e-6 rad/s for
+        J = 500 rad/s^3) and the acceleration maximum within `J h / 2` of the true one.
+        (The timing guarantees the limits by construction, not by these values.)
         """
         return {k: v.copy() for k, v in self._extrema.items()}
 

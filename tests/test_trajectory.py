@@ -9,7 +9,7 @@ from manip.articulation_action import ArticulationAction
 from manip.errors import InvalidInputError, UnknownNameError
 from manip.robot_config import load_robot_config
 from manip.timing import time_parameterize_for_robot
-from manip.trajectory import PiecewiseJerkProfile, Trajectory, sample_times
+from manip.trajectory import CubicSplinePath, PathProfile, PiecewiseJerkProfile, Trajectory, sample_times
 
 
 @pytest.fixture(scope="module")
@@ -228,3 +228,128 @@ def test_sample_times():
     assert sample_times(0.3, 0.1)[-1] == 0.3
     np.testing.assert_allclose(sample_times(0.25, 0.1), [0, 0.1, 0.2, 0.25])
     np.testing.assert_array_equal(sample_times(0.0, 0.1), [0.0])
+
+
+# ---------------------------------------------------------------------------- spline paths
+def curved_points(k=12, dof=3, seed=0):
+    """k points of a smooth curve with unevenly spaced samples."""
+    rng = np.random.default_rng(seed)
+    u = np.sort(np.concatenate([[0.0, 1.0], rng.uniform(0.0, 1.0, k - 2)]))
+    c = rng.normal(size=(3, dof))
+    return c[0] * u[:, None] + 0.3 * c[1] * np.sin(3 * u[:, None]) + 0.2 * c[2] * np.cos(5 * u[:, None])
+
+
+def test_spline_passes_through_the_points_and_is_c2():
+    pts = curved_points()
+    sp = CubicSplinePath.fit(pts)
+    assert sp.dof == 3 and sp.coeffs.shape == (4, len(pts) - 1, 3)
+    np.testing.assert_allclose(sp.breaks[1:], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1)))
+    q = sp.evaluate(sp.breaks)[0]
+    np.testing.assert_allclose(q, pts, atol=1e-12)
+    np.testing.assert_array_equal(q[[0, -1]], pts[[0, -1]])
+    # left and right limits agree at the interior breaks for q, q', q''; q''' jumps except
+    # at the second and second-to-last points (not-a-knot)
+    eps = 1e-9
+    left = sp.evaluate(sp.breaks[1:-1] - eps)
+    right = sp.evaluate(sp.breaks[1:-1] + eps)
+    for k, tol in ((0, 1e-7), (1, 1e-6), (2, 1e-5)):
+        np.testing.assert_allclose(left[k], right[k], atol=tol)
+    np.testing.assert_allclose(left[3][[0, -1]], right[3][[0, -1]], rtol=1e-9)
+    assert np.abs(left[3][1:-1] - right[3][1:-1]).max() > 1e-3
+    # clamped outside [0, L]
+    np.testing.assert_array_equal(sp.evaluate([-1.0, sp.length + 1.0])[0], pts[[0, -1]])
+
+
+def test_spline_special_cases_and_bounds():
+    two = np.array([[0.0, 0.0], [3.0, 4.0]])
+    line = CubicSplinePath.fit(two)
+    q, d1, d2, d3 = line.evaluate(np.array([2.5]))
+    np.testing.assert_allclose(q, [[1.5, 2.0]])
+    np.testing.assert_allclose(d1, [[0.6, 0.8]])
+    np.testing.assert_array_equal(d2, 0.0)
+    three = np.array([[0.0, 0.0], [1.0, 1.0], [2.0, 0.0]])
+    par = CubicSplinePath.fit(three)
+    np.testing.assert_allclose(par.evaluate(par.breaks)[0], three, atol=1e-12)
+    np.testing.assert_allclose(par.coeffs[3], 0.0, atol=1e-12)  # a parabola
+    # per-piece bounds hold on dense samples and are attained
+    sp = CubicSplinePath.fit(curved_points(seed=1))
+    m1, m2, m3 = sp.piece_bounds()
+    s = np.linspace(0.0, sp.length, 20001)
+    q, d1, d2, d3 = sp.evaluate(s)
+    for m, d in ((m1, d1), (m2, d2), (m3, d3)):
+        assert np.all(m.max(axis=0) >= np.abs(d).max(axis=0) - 1e-12)
+        np.testing.assert_allclose(m.max(axis=0), np.abs(d).max(axis=0), rtol=1e-3)
+    lo, hi = sp.position_range()
+    assert np.all(lo <= q.min(axis=0)) and np.all(hi >= q.max(axis=0))
+    np.testing.assert_allclose(lo, q.min(axis=0), atol=1e-8)
+    np.testing.assert_allclose(hi, q.max(axis=0), atol=1e-8)
+    with pytest.raises(InvalidInputError, match="distinct"):
+        CubicSplinePath.fit(np.array([[0.0, 0.0], [0.0, 0.0], [1.0, 0.0]]))
+    with pytest.raises(InvalidInputError, match="K >= 2"):
+        CubicSplinePath.fit(np.array([[0.0, 0.0]]))
+
+
+@pytest.fixture(scope="module")
+def path_traj(cfg):
+    from manip.timing import time_parameterize_dense
+
+    a = np.array(cfg.default_joint_positions)
+    u = np.linspace(0.0, 1.0, 20)[:, None]
+    pts = a + u * [0.6, -0.3, 0.2, 0.5, 0.1, 0.2, -0.4] + 0.1 * np.sin(np.pi * u) * [1, 1, 0, -1, 0, 1, 0]
+    r = time_parameterize_dense(pts, cfg.velocity_limits, cfg.acceleration_limits, cfg.jerk_limits,
+                                joint_names=cfg.arm_joints)
+    assert r.success
+    return r.trajectory
+
+
+def test_path_profile_is_exact_and_consistent(path_traj):
+    traj = path_traj
+    assert isinstance(traj.profile, PathProfile) and traj.profile.dof == 7
+    q, qd, qdd = traj.at_time(traj.times)
+    np.testing.assert_array_equal(q, traj.positions)
+    np.testing.assert_array_equal(qd, traj.velocities)
+    np.testing.assert_array_equal(qdd, traj.accelerations)
+    # the chain rule: finite differences of the exact motion match its derivatives
+    h = 1e-6
+    t = np.linspace(0.01, traj.duration - 0.01, 301)
+    q0, v0, a0, j0 = traj.profile.evaluate(t)
+    q1, v1, a1, _ = traj.profile.evaluate(t + h)
+    qm, vm, am, _ = traj.profile.evaluate(t - h)
+    np.testing.assert_allclose((q1 - qm) / (2 * h), v0, atol=1e-6)
+    np.testing.assert_allclose((v1 - vm) / (2 * h), a0, atol=1e-3)
+    smooth = np.all(np.abs(j0) < 1e9, axis=1)  # away from jerk switches, central differences
+    np.testing.assert_allclose(((a1 - am) / (2 * h))[smooth], j0[smooth], atol=0.5)
+    # resampling evaluates the same motion
+    r = traj.resample(1e-3)
+    assert r.duration == traj.duration and r.profile is traj.profile
+    np.testing.assert_array_equal(r.positions[-1], traj.positions[-1])
+    # extrema: dense maxima, attained and not exceeded by a finer evaluation
+    e = traj.profile.extrema()
+    tt = np.linspace(0.0, traj.duration, 40001)
+    _, qd, qdd, qddd = traj.profile.evaluate(tt)
+    # sampled every h: velocity within J h^2 / 8 and acceleration within J h / 2 of the maximum
+    h, jerk = 2.5e-4, np.abs(qddd).max(axis=0)
+    vmax, amax = np.abs(qd).max(axis=0), np.abs(qdd).max(axis=0)
+    # (the finer grid here is also sampled: both are within these bounds of the true maxima)
+    assert np.all(np.abs(e["max_abs_velocity"] - vmax) <= jerk * h**2 / 8)
+    assert np.all(np.abs(e["max_abs_acceleration"] - amax) <= jerk * h / 2)
+    np.testing.assert_allclose(e["max_abs_jerk"], jerk, rtol=1e-2)
+    np.testing.assert_array_equal(traj.max_abs_velocity(), e["max_abs_velocity"])
+
+
+def test_path_profile_time_scaled_and_validation(path_traj):
+    p = path_traj.profile
+    s = p.time_scaled(2.0)
+    assert s.duration == pytest.approx(2 * p.duration)
+    t = np.linspace(0, p.duration, 101)
+    q, qd, qdd, j = p.evaluate(t)
+    q2, qd2, qdd2, j2 = s.evaluate(2 * t)
+    np.testing.assert_allclose(q2, q, atol=1e-12)
+    np.testing.assert_allclose(qd2, qd / 2, atol=1e-12)
+    np.testing.assert_allclose(qdd2, qdd / 4, atol=1e-10)
+    np.testing.assert_allclose(j2, j / 8, atol=1e-8)
+    with pytest.raises(InvalidInputError, match="one degree of freedom"):
+        PathProfile(p.path, PiecewiseJerkProfile(np.zeros((2, 2)), *(np.zeros((2, 1)),) * 4))
+    with pytest.raises(InvalidInputError, match="PathProfile with 3 joints"):
+        Trajectory(path_traj.times, path_traj.positions[:, :3], path_traj.velocities[:, :3],
+                   path_traj.accelerations[:, :3], path_traj.jerks[:, :3], path_traj.dt, ["a", "b", "c"], p)
