@@ -9,7 +9,7 @@ state-to-state segments (`Ruckig.calculate` with one target state; ruckig's wayp
 feature, `intermediate_positions`, calls a cloud service and is never used). Each segment
 starts and ends with zero acceleration, so the acceleration is continuous across segments.
 
-Two modes:
+Three modes:
 
 * ``"exact"``: stop at every corner of the path. Each segment is rest-to-rest along its
   straight line, timed as a 1-D ruckig problem in the arc length with the joint limits
@@ -29,6 +29,14 @@ Two modes:
   tried and the faster result kept, so blending is never slower than exact. The caller
   should collision-check the timed motion (its samples or `at_time` densely) and fall
   back to ``mode="exact"`` if it collides.
+* ``"along_path"`` (`time_parameterize_dense`, or `time_parameterize(mode="along_path")`):
+  for DENSE paths sampled from a smooth curve (incremental IK along a Cartesian line, an
+  optimiser's output), where the other modes slow down at nearly every point. A C2
+  not-a-knot cubic spline `q(s)` through all the points (s = chord length) is traversed by
+  ONE rest-to-rest ruckig profile `s(t)`, whose limits are chosen so the chain rule keeps
+  every joint within its limits; the motion flows along the whole path. Paths with sharp
+  corners make it slow everywhere (its speed is set by the worst stretch): use it for
+  smooth dense paths, with "blend" as the fallback.
 
 Deviation is the joint-space Euclidean distance [rad] between the motion and the input
 path (the polyline through the given waypoints), an upper bound of the L-inf distance;
@@ -125,7 +133,9 @@ class TimingResult:
         max_deviation: largest joint-space distance between the timed motion and the
             input path (the polyline through the given waypoints) [rad], Euclidean (an
             upper bound of the L-inf distance), measured at the samples and every
-            <= 10 ms; ~0 in exact mode, <= `deviation_tolerance` in blend mode.
+            <= 10 ms; ~0 in exact mode, <= `deviation_tolerance` in blend mode. In
+            along_path mode: how far the spline strays from the polyline between the
+            points it passes through (each piece vs. its chord, 17 samples per piece).
         waypoints: (K', dof) the waypoints used (duplicates and collinear points removed) [rad].
         waypoint_velocities: (K', dof) velocity at each waypoint [rad/s] (after time scaling).
         segment_durations: (K' - 1,) time between consecutive waypoints [s] (after scaling).
@@ -625,7 +635,7 @@ def time_parameterize(
     lower_limits: np.ndarray | Sequence[float] | None = None,
     upper_limits: np.ndarray | Sequence[float] | None = None,
     position_tolerance: float = 1e-6,
-    mode: Literal["blend", "exact"] = "blend",
+    mode: Literal["blend", "exact", "along_path"] = "blend",
     deviation_tolerance: float = 0.05,
     stop_angle: float = np.deg2rad(100.0),
     velocity_scale: float = 1.0,
@@ -647,10 +657,12 @@ def time_parameterize(
         position_tolerance: waypoints may lie this far outside the position limits [rad]
             (a start a hair outside a limit is accepted); the motion is checked against
             the limits widened by the same amount.
-        mode: "blend" (default, round corners, faster) or "exact" (stop at every corner,
-            stay on the straight segments).
-        deviation_tolerance: blend mode: max distance of the motion from the input path
-            [rad] (joint-space Euclidean, which bounds the L-inf distance).
+        mode: "blend" (default, round corners, faster), "exact" (stop at every corner,
+            stay on the straight segments) or "along_path" (one smooth motion along a
+            spline through dense points: `time_parameterize_dense`, which gets
+            `deviation_tolerance`; `stop_angle` is unused).
+        deviation_tolerance: blend and along_path modes: max distance of the motion from
+            the input path [rad] (joint-space Euclidean, which bounds the L-inf distance).
         stop_angle: blend mode: corners turning by more than this stop the motion [rad].
         velocity_scale: factor in (0, 1] applied to the velocity limits.
         acceleration_scale: factor in (0, 1] applied to the acceleration limits.
@@ -668,10 +680,17 @@ def time_parameterize(
             outside (0, 1], waypoints outside the position limits, unknown mode.
     """
     t_start = time.perf_counter()
-    if mode not in ("blend", "exact"):
-        raise InvalidInputError(f"mode must be 'blend' or 'exact'; got {mode!r}")
+    if mode not in ("blend", "exact", "along_path"):
+        raise InvalidInputError(f"mode must be 'blend', 'exact' or 'along_path'; got {mode!r}")
     if not (np.isfinite(deviation_tolerance) and deviation_tolerance >= 0):
         raise InvalidInputError(f"deviation_tolerance must be finite and >= 0 [rad]; got {deviation_tolerance}")
+    if mode == "along_path":
+        return time_parameterize_dense(
+            path, velocity_limits, acceleration_limits, jerk_limits, dt=dt, joint_names=joint_names,
+            lower_limits=lower_limits, upper_limits=upper_limits, position_tolerance=position_tolerance,
+            deviation_tolerance=deviation_tolerance, velocity_scale=velocity_scale,
+            acceleration_scale=acceleration_scale, jerk_scale=jerk_scale, duration=duration,
+        )
     w, vmax, amax, jmax, names, lower, upper = _check_inputs(
         path, velocity_limits, acceleration_limits, jerk_limits, dt, joint_names, lower_limits, upper_limits,
         position_tolerance, velocity_scale, acceleration_scale, jerk_scale, duration,

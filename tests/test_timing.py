@@ -483,3 +483,14 @@ def test_dense_bad_inputs_raise(cfg):
     outside[1, 2] = hi[2] + 0.1
     with pytest.raises(InvalidInputError, match="outside the position limits"):
         time_parameterize_dense(outside, vmax, amax, jmax, lower_limits=lo, upper_limits=hi)
+
+
+def test_along_path_mode_of_time_parameterize(cfg, line_path):
+    path = line_path[0]
+    r = time_parameterize_for_robot(path, cfg, mode="along_path", deviation_tolerance=1e-3)
+    direct = dense(path, cfg, deviation_tolerance=1e-3)
+    check_valid(r, path, cfg)
+    assert r.mode == "along_path" and r.minimum_duration == direct.minimum_duration
+    np.testing.assert_array_equal(r.trajectory.positions, direct.trajectory.positions)
+    tight = time_parameterize_for_robot(path, cfg, mode="along_path", deviation_tolerance=1e-6)
+    assert tight.status is TimingStatus.DEVIATION_TOO_LARGE
