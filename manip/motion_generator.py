@@ -42,10 +42,12 @@ logger = logging.getLogger(__name__)
 START_LIMIT_TOLERANCE = 1e-4
 #: Position-limit tolerance [rad] of trajectories whose start is inside the limits.
 LIMIT_TOLERANCE = 1e-6
+#: An advancing tree stops this many check steps before its first contact.
+ADVANCE_BACKOFF_STEPS = 3
+#: Edges of a coarse search path replaced by fine searches before giving up on the path.
+MAX_REPAIRS = 6
 #: Plans tried when a path's timed trajectory fails the dense validation.
 MAX_ATTEMPTS = 4
-#: Random shortcut attempts on a searched path.
-SHORTCUT_ATTEMPTS = 30
 #: Largest joint-space deviation [rad] of a linear motion's timing from its dense IK path
 #: (about 1 mm at the hand).
 LINEAR_DEVIATION = 1e-3
@@ -67,7 +69,10 @@ class MotionGenerator:
         padding: extra clearance [m] kept from the world (default: the robot config's).
         time_budget: default planning time budget [s] per call.
         interpolation_dt: default trajectory sample period [s] (1/60 s, the simulator's).
-        resolution: collision-check resolution along motions [rad] (joint-space L-inf).
+        resolution: collision-check resolution along motions [rad] (joint-space L-inf);
+            every returned path and trajectory is checked at least this densely.
+        search_resolution: coarser resolution of the path search's edge checks [rad]; the
+            found path is re-checked (and repaired) at `resolution`.
         seed: default random seed of IK restarts and sampling-based planning.
     """
 
@@ -80,6 +85,7 @@ class MotionGenerator:
         time_budget: float = 5.0,
         interpolation_dt: float = 1.0 / 60.0,
         resolution: float = 0.01,
+        search_resolution: float = 0.04,
         seed: int = 0,
     ):
         self.config = robot if isinstance(robot, RobotConfig) else load_robot_config(robot)
@@ -89,6 +95,7 @@ class MotionGenerator:
         self.time_budget = _positive(time_budget, "time_budget")
         self.interpolation_dt = _positive(interpolation_dt, "interpolation_dt")
         self.resolution = _positive(resolution, "resolution")
+        self.search_resolution = _positive(search_resolution, "search_resolution")
         self.seed = int(seed)
         self.velocity_scale = 1.0
         self.acceleration_scale = 1.0
@@ -348,12 +355,36 @@ class MotionGenerator:
     def _valid_batch(self, Q: np.ndarray) -> np.ndarray:
         return ~self.checker.in_collision_batch(np.atleast_2d(Q))
 
-    def _motion_valid(self, q0: np.ndarray, q1: np.ndarray) -> bool:
-        return bool(self.checker.motion_valid(q0, q1, resolution=self.resolution))
+    def _motion_valid(self, q0: np.ndarray, q1: np.ndarray, resolution: float | None = None) -> bool:
+        return bool(self.checker.motion_valid(q0, q1, resolution=resolution or self.resolution))
+
+    def _segments_valid(self, Q0: np.ndarray, Q1: np.ndarray) -> np.ndarray:
+        """(M,) validity of segments at the fine resolution, screened at the search one."""
+        ok = self._segments_screen(Q0, Q1)
+        if ok.any() and self.search_resolution > self.resolution:
+            ok[ok] = self.checker.motion_valid_batch(Q0[ok], Q1[ok], resolution=self.resolution)
+        return ok
+
+    def _segments_screen(self, Q0: np.ndarray, Q1: np.ndarray) -> np.ndarray:
+        """(M,) validity at the search resolution (a necessary condition, cheaper)."""
+        return self.checker.motion_valid_batch(Q0, Q1, resolution=max(self.resolution, self.search_resolution))
 
     def _limit_excess(self, q: np.ndarray) -> float:
         """How far [rad] `q` lies outside the joint limits (0 inside)."""
         return float(max(0.0, np.max(self.kinematics.lower - q), np.max(q - self.kinematics.upper)))
+
+    def _advance(self, q0: np.ndarray, q1: np.ndarray, resolution: float | None = None) -> np.ndarray | None:
+        """The farthest configuration on q0 -> q1 reachable without collision, kept a few
+        check steps short of the first contact (None if there is no room to move)."""
+        resolution = resolution or self.resolution
+        t = self.checker.first_collision(q0, q1, resolution=resolution)
+        if t is None:
+            return q1.copy()
+        steps = self.checker.segment_steps(q0, q1, resolution)
+        t_stop = t - ADVANCE_BACKOFF_STEPS / steps
+        if t_stop <= 0:
+            return None
+        return q0 + t_stop * (q1 - q0)
 
     def _goal_problem(self, goal: np.ndarray) -> str:
         bad = self.kinematics.limit_violations(goal)
@@ -387,9 +418,7 @@ class MotionGenerator:
                     break
         iterations = 0
         if path is None:
-            path, iterations = rrt_connect(
-                start, goals, self.kinematics.lower, self.kinematics.upper, self._motion_valid, ctx.rng, ctx.deadline,
-            )
+            path, iterations = self._search(ctx, start, goals)
         ctx.timings["plan"] = ctx.timings.get("plan", 0.0) + time.perf_counter() - t
         if path is None:
             status = PlanStatus.TIMEOUT if time.perf_counter() > ctx.deadline else PlanStatus.PLAN_FAIL
@@ -397,12 +426,39 @@ class MotionGenerator:
         goal_q = path[-1].copy()
         t = time.perf_counter()
         if len(path) > 2:
-            # a fixed number of attempts (not a time share) keeps plans deterministic
-            path = shortcut(path, self._motion_valid, ctx.rng, ctx.deadline, max_attempts=SHORTCUT_ATTEMPTS)
+            path = shortcut(path, self._segments_valid, ctx.rng, ctx.deadline, screen=self._segments_screen)
             if ctx.optimize_clearance:
                 path = smooth_path(path, self.checker, self._motion_valid, ctx.deadline)
         ctx.timings["optimize"] = ctx.timings.get("optimize", 0.0) + time.perf_counter() - t
         return self._time_and_validate(ctx, path, goal_q, attempt)
+
+    def _search(self, ctx: "_Context", start: np.ndarray, goals: np.ndarray) -> tuple[np.ndarray | None, int]:
+        """RRT-Connect with coarse edge checks, then every edge re-checked at the fine
+        resolution; an edge that fails is replaced by a fine-resolution search between its
+        endpoints (coarse-to-fine: most of the search space is far from obstacles)."""
+        coarse = max(self.resolution, self.search_resolution)
+        path, iterations = rrt_connect(
+            start, goals, self.kinematics.lower, self.kinematics.upper,
+            lambda a, b: self._motion_valid(a, b, coarse), ctx.rng, ctx.deadline,
+            advance=lambda a, b: self._advance(a, b, coarse),
+        )
+        for _ in range(MAX_REPAIRS):
+            if path is None or coarse == self.resolution:
+                break
+            ok = self._segments_valid(path[:-1], path[1:])
+            if ok.all():
+                break
+            s = int(np.argmin(ok))
+            sub, more = rrt_connect(
+                path[s], path[s + 1][None], self.kinematics.lower, self.kinematics.upper, self._motion_valid,
+                ctx.rng, ctx.deadline, advance=self._advance,
+            )
+            iterations += more
+            path = None if sub is None else np.concatenate([path[:s], sub, path[s + 2 :]])
+        else:
+            if path is not None and not self._segments_valid(path[:-1], path[1:]).all():
+                path = None
+        return path, iterations
 
     def _time_and_validate(
         self, ctx: "_Context", path: np.ndarray, goal_q: np.ndarray, attempts: int, deviation: float = 0.05,

@@ -13,6 +13,7 @@ from collections.abc import Callable
 import numpy as np
 
 MotionCheck = Callable[[np.ndarray, np.ndarray], bool]
+Advance = Callable[[np.ndarray, np.ndarray], "np.ndarray | None"]
 
 
 class _Tree:
@@ -65,13 +66,19 @@ def rrt_connect(
     motion_valid: MotionCheck,
     rng: np.random.Generator,
     deadline: float,
-    step_size: float = 0.6,
+    advance: Advance | None = None,
+    step_size: float = 1.5,
     short_step: float = 0.1,
     local_fraction: float = 0.2,
     local_sigma: float = 0.15,
     max_iterations: int = 20000,
 ) -> tuple[np.ndarray | None, int]:
     """Find a collision-free piecewise-linear path from `start` to any of `goals`.
+
+    Each iteration extends one tree towards a sample by at most `step_size` and then pulls
+    the other tree towards the new node as far as it can go ("connect"). With `advance`
+    (a checker that returns the farthest valid configuration along a segment) both moves
+    stop just before the first collision instead of failing, in one call each.
 
     Args:
         start: (dof,) valid start configuration.
@@ -80,8 +87,11 @@ def rrt_connect(
         motion_valid: `f(q0, q1) -> bool` for the straight segment q0 -> q1.
         rng: the random generator (determinism).
         deadline: `time.perf_counter()` value after which the search gives up.
+        advance: `f(q0, q1) -> q or None`: the farthest configuration towards q1 whose
+            segment from q0 is valid (None when no progress is possible). Optional.
         step_size: maximum extension length (joint-space L2) [rad].
-        short_step: extension length tried when a full step is blocked [rad].
+        short_step: extension length tried when a full step is blocked [rad] (without
+            `advance`).
         local_fraction: share of samples drawn near an existing node of the growing tree
             (Gaussian, `local_sigma` [rad]), which lets trees leave narrow pockets such as
             a hand deep in a shelf.
@@ -92,39 +102,41 @@ def rrt_connect(
     """
     trees = [_Tree(start[None, :]), _Tree(goals)]
     a, b = 0, 1  # tree `a` extends towards the sample, `b` connects to it
+
+    def extend(tree: _Tree, i: int, target: np.ndarray, limit: float | None) -> int | None:
+        """Grow `tree` from node i towards target (at most `limit` far); new node index or None."""
+        q_from = tree.nodes[i]
+        q_to = target if limit is None else _steer(q_from, target, limit)[0]
+        if motion_valid(q_from, q_to):
+            return tree.add(q_to, i)
+        if advance is not None:
+            q_stop = advance(q_from, q_to)
+        else:
+            q_stop = _steer(q_from, q_to, short_step)[0]
+            if not motion_valid(q_from, q_stop):
+                q_stop = None
+        if q_stop is None or np.linalg.norm(q_stop - q_from) < 1e-6:
+            return None
+        return tree.add(q_stop, i)
+
     for it in range(1, max_iterations + 1):
         if time.perf_counter() > deadline:
             return None, it
         ta, tb = trees[a], trees[b]
         if rng.random() < local_fraction:
-            # grow out of tight spots: sample close to a random node of the tree
             q_rand = np.clip(ta.nodes[rng.integers(ta.n)] + rng.normal(0.0, local_sigma, len(lower)), lower, upper)
         else:
             q_rand = rng.uniform(lower, upper)
-        i_near = ta.nearest(q_rand)
-        q_new, _ = _steer(ta.nodes[i_near], q_rand, step_size)
-        valid = motion_valid(ta.nodes[i_near], q_new)
-        if not valid:
-            # blocked: a short step in the same direction often still makes progress
-            q_new, _ = _steer(ta.nodes[i_near], q_new, short_step)
-            valid = motion_valid(ta.nodes[i_near], q_new)
-        if valid:
-            i_new = ta.add(q_new, i_near)
-            # connect: grow tree b towards q_new until reached or blocked
-            j = tb.nearest(q_new)
-            while True:
-                q_step, reached = _steer(tb.nodes[j], q_new, step_size)
-                if not motion_valid(tb.nodes[j], q_step):
-                    break
-                j = tb.add(q_step, j)
-                if reached:
-                    branch_a = ta.branch(i_new)[::-1]   # root_a ... q_new
-                    branch_b = tb.branch(j)             # q_new ... root_b
-                    path = branch_a + branch_b[1:]
-                    if a == 1:
-                        path = path[::-1]
-                    return np.asarray(path), it
-                if time.perf_counter() > deadline:
-                    return None, it
+        i_new = extend(ta, ta.nearest(q_rand), q_rand, step_size)
+        if i_new is not None:
+            q_new = ta.nodes[i_new]
+            j = extend(tb, tb.nearest(q_new), q_new, None)
+            if j is not None and np.array_equal(tb.nodes[j], q_new):
+                branch_a = ta.branch(i_new)[::-1]   # root_a ... q_new
+                branch_b = tb.branch(j)             # q_new ... root_b
+                path = branch_a + branch_b[1:]
+                if a == 1:
+                    path = path[::-1]
+                return np.asarray(path), it
         a, b = b, a
     return None, max_iterations

@@ -1,12 +1,17 @@
-"""Path shortening: random shortcuts, then removal of redundant waypoints."""
+"""Path shortening: batched random shortcuts and removal of redundant waypoints.
+
+Candidate straight segments are checked many at a time (`segments_valid(Q0, Q1) -> (M,)
+bool`), which costs about one collision-checker call per round instead of one per candidate.
+"""
 
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 
 import numpy as np
 
-from manip.planning.rrt_connect import MotionCheck
+SegmentsValid = Callable[[np.ndarray, np.ndarray], np.ndarray]
 
 
 def path_length(path: np.ndarray) -> float:
@@ -14,34 +19,52 @@ def path_length(path: np.ndarray) -> float:
     return float(np.sum(np.linalg.norm(np.diff(path, axis=0), axis=1)))
 
 
-def remove_redundant(path: np.ndarray, motion_valid: MotionCheck) -> np.ndarray:
+def remove_redundant(path: np.ndarray, segments_valid: SegmentsValid) -> np.ndarray:
     """Greedy pruning: from each kept waypoint, jump to the farthest one reachable directly."""
+    path = np.asarray(path, dtype=float)
     out = [path[0]]
     i = 0
     n = len(path)
     while i < n - 1:
-        j = n - 1
-        while j > i + 1 and not motion_valid(path[i], path[j]):
-            j -= 1
+        if i + 2 <= n - 1:
+            targets = np.arange(n - 1, i + 1, -1)  # farthest first
+            ok = segments_valid(np.repeat(path[i][None], len(targets), axis=0), path[targets])
+            j = int(targets[np.argmax(ok)]) if ok.any() else i + 1
+        else:
+            j = i + 1
         out.append(path[j])
         i = j
     return np.asarray(out)
 
 
+def _point_at(path: np.ndarray, cum: np.ndarray, seg: np.ndarray, s: float) -> tuple[int, np.ndarray]:
+    i = int(min(np.searchsorted(cum, s, side="right") - 1, len(seg) - 1))
+    return i, path[i] + (path[i + 1] - path[i]) * ((s - cum[i]) / max(seg[i], 1e-12))
+
+
 def shortcut(
     path: np.ndarray,
-    motion_valid: MotionCheck,
+    segments_valid: SegmentsValid,
     rng: np.random.Generator,
     deadline: float,
-    max_attempts: int = 100,
+    rounds: int = 8,
+    candidates: int = 12,
+    screen: SegmentsValid | None = None,
 ) -> np.ndarray:
-    """Shorten `path` (K, dof) by replacing random sub-paths with straight segments.
+    """Shorten `path` (K, dof) by replacing sub-paths with straight segments.
 
-    Each attempt picks two points on the path (anywhere along segments, not only at
-    waypoints) and keeps the straight segment between them when it is valid.
+    Each round draws `candidates` pairs of points anywhere along the path (not only at
+    waypoints), checks their straight segments in one batch and applies the valid one that
+    saves the most length. The points lie on already-valid segments, so the result stays
+    valid. Deterministic for a given generator state.
+
+    Args:
+        segments_valid: the validity the result must have (e.g. a fine-resolution check).
+        screen: an optional cheaper check run on every candidate first (e.g. a coarser
+            resolution); only the most promising screened candidates get `segments_valid`.
     """
-    path = remove_redundant(np.asarray(path, dtype=float), motion_valid)
-    for _ in range(max_attempts):
+    path = remove_redundant(np.asarray(path, dtype=float), segments_valid)
+    for _ in range(rounds):
         if len(path) <= 2 or time.perf_counter() > deadline:
             break
         seg = np.linalg.norm(np.diff(path, axis=0), axis=1)
@@ -49,17 +72,35 @@ def shortcut(
         total = cum[-1]
         if total <= 1e-9:
             break
-        s0, s1 = np.sort(rng.uniform(0.0, total, 2))
-        i0 = int(np.searchsorted(cum, s0, side="right") - 1)
-        i1 = int(np.searchsorted(cum, s1, side="right") - 1)
-        if i0 == i1:
+        pairs = np.sort(rng.uniform(0.0, total, (candidates, 2)), axis=1)
+        Q0, Q1, idx, saving = [], [], [], []
+        for s0, s1 in pairs:
+            i0, q0 = _point_at(path, cum, seg, s0)
+            i1, q1 = _point_at(path, cum, seg, s1)
+            if i0 == i1:
+                continue
+            gain = (s1 - s0) - float(np.linalg.norm(q1 - q0))
+            if gain <= 1e-6:
+                continue
+            Q0.append(q0)
+            Q1.append(q1)
+            idx.append((i0, i1))
+            saving.append(gain)
+        if not Q0:
             continue
-        i0, i1 = min(i0, len(seg) - 1), min(i1, len(seg) - 1)
-        q0 = path[i0] + (path[i0 + 1] - path[i0]) * ((s0 - cum[i0]) / max(seg[i0], 1e-12))
-        q1 = path[i1] + (path[i1 + 1] - path[i1]) * ((s1 - cum[i1]) / max(seg[i1], 1e-12))
-        if motion_valid(q0, q1):
-            path = np.concatenate([path[: i0 + 1], q0[None], q1[None], path[i1 + 1 :]])
-            # drop zero-length segments created at waypoints
-            keep = np.concatenate([[True], np.linalg.norm(np.diff(path, axis=0), axis=1) > 1e-9])
-            path = path[keep]
-    return remove_redundant(path, motion_valid)
+        Q0a, Q1a = np.asarray(Q0), np.asarray(Q1)
+        ok = (screen or segments_valid)(Q0a, Q1a)
+        best = None
+        for k in np.argsort(-np.where(ok, saving, -np.inf), kind="stable"):
+            if not ok[k]:
+                break
+            if screen is None or segments_valid(Q0a[k : k + 1], Q1a[k : k + 1])[0]:
+                best = int(k)
+                break
+        if best is None:
+            continue
+        i0, i1 = idx[best]
+        path = np.concatenate([path[: i0 + 1], Q0[best][None], Q1[best][None], path[i1 + 1 :]])
+        keep = np.concatenate([[True], np.linalg.norm(np.diff(path, axis=0), axis=1) > 1e-9])
+        path = path[keep]
+    return remove_redundant(path, segments_valid)
