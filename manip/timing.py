@@ -1009,7 +1009,9 @@ def time_parameterize_dense(
     """
     t_start = time.perf_counter()
     if deviation_tolerance is not None and not (np.isfinite(deviation_tolerance) and deviation_tolerance >= 0):
-        raise InvalidInputError(f"deviation_tolerance must be finite and >= 0 [rad] (or None); got {deviation_tolerance}")
+        raise InvalidInputError(
+            f"deviation_tolerance must be finite and >= 0 [rad] (or None); got {deviation_tolerance}"
+        )
     w, vmax, amax, jmax, names, lower, upper = _check_inputs(
         path, velocity_limits, acceleration_limits, jerk_limits, dt, joint_names, lower_limits, upper_limits,
         position_tolerance, velocity_scale, acceleration_scale, jerk_scale, duration,
