@@ -85,7 +85,7 @@ class MotionGenerator:
         time_budget: float = 5.0,
         interpolation_dt: float = 1.0 / 60.0,
         resolution: float = 0.01,
-        search_resolution: float = 0.04,
+        search_resolution: float = 0.08,
         seed: int = 0,
     ):
         self.config = robot if isinstance(robot, RobotConfig) else load_robot_config(robot)

@@ -47,8 +47,8 @@ def shortcut(
     segments_valid: SegmentsValid,
     rng: np.random.Generator,
     deadline: float,
-    rounds: int = 8,
-    candidates: int = 12,
+    rounds: int = 4,
+    candidates: int = 16,
     screen: SegmentsValid | None = None,
 ) -> np.ndarray:
     """Shorten `path` (K, dof) by replacing sub-paths with straight segments.
