@@ -81,6 +81,7 @@ SingleXFormPrim = XFormPrim
 SingleRigidPrim = RigidPrim
 SingleGeometryPrim = GeometryPrim
 from manip.sim.controllers import BaseController, DifferentialController, WheelBasePoseController
+from manip.sim.pick_place_controller import PickPlaceController
 from manip.sim.robots import Franka, ParallelGripper, WheeledRobot, franka_model_path, jetbot_model_path
 from manip.sim.sample import BaseSample
 from manip.sim.tasks import BaseTask, PickPlace, find_unique_string_name
