@@ -30,8 +30,9 @@ drives, see robots/franka/README.md). Differences from Isaac, all for that reaso
   (radius and azimuth in (-pi, pi], never wrapped), so that a move to the other side of
   the robot goes around the base instead of through it (Isaac: a straight line plus
   RMPflow's avoidance);
-- an IK solution more than `max_joint_step` away from the previous target, or a failed
-  solve, is not used: the previous target is held (logged; counted in `ik_failures`).
+- an IK solution more than `max_joint_step` away from the previous one (another branch of
+  the arm's redundancy), or a failed solve, is not used: the previous target is held
+  (logged; counted in `ik_failures`).
 
 Positions are world coordinates [m] of the end effector (`panda_hand_tcp`, the point
 between the fingertips, unless the Franka was built with another `end_effector_prim_name`);
@@ -115,8 +116,10 @@ class PickPlaceController(BaseController):
         end_effector_link: frame of the kinematics placed at the targets (default: the
             robot's end effector if the kinematics has that frame, else "panda_hand_tcp").
         robot: robot configuration name or `RobotConfig` of the kinematics (default "franka").
-        max_joint_step: largest accepted change of an arm joint target between two calls
-            [rad]; IK solutions farther away are not used (the target is held).
+        max_joint_step: largest accepted change [rad] of an arm joint's IK solution between
+            two calls (a larger one means the solver switched to another arm configuration):
+            such solutions are not used, the previous target is held. With the default
+            events_dt the targets move < 0.01 rad per call; raise it for much faster phases.
 
     Raises:
         InvalidInputError: bad events_dt, height or max_joint_step.
@@ -124,7 +127,7 @@ class PickPlaceController(BaseController):
 
     def __init__(self, name: str, gripper, robot_articulation, end_effector_initial_height: float | None = None,
                  events_dt=None, *, end_effector_link: str | None = None, robot: str | RobotConfig = "franka",
-                 max_joint_step: float = 0.1):
+                 max_joint_step: float = 0.2):
         super().__init__(name)
         self._gripper = gripper
         self._robot = robot_articulation
@@ -347,22 +350,20 @@ class PickPlaceController(BaseController):
             seed = self._q_above_pick if self._q_above_pick is not None else self._q_start
             goal = base_T_world @ Pose(p, orientation)
             r = self._ik.solve(goal, link=self._link, seed_q=seed)
-            if r.success:
+            if r.success and (self._q_above_pick is None
+                              or np.max(np.abs(r.q - self._q_above_pick)) <= self._max_joint_step):
                 self._q_above_pick = np.asarray(r.q, dtype=float)
-            elif self._failed_event != e:
-                self._failed_event = e
-                logger.warning("%s: phase 0: no IK solution above the pick position %s (%s)", self.name,
-                               np.round(p, 4), r.status.name)
-            if self._q_above_pick is None:
+            else:  # no solution, or the goal's solution jumped to another branch
                 self._ik_failures += 1
+                if self._failed_event != e:
+                    self._failed_event = e
+                    logger.warning("%s: phase 0: no IK solution above the pick position %s near the previous one "
+                                   "(%s); keeping the previous goal", self.name, np.round(p, 4), r.status.name)
+            if self._q_above_pick is None:
                 return self._action(n, self._q_target)
-            s = _mix(self._t + self._events_dt[0])  # the target reached at the end of this step
-            q = self._q_start + s * (self._q_above_pick - self._q_start)
-            if np.max(np.abs(q - self._q_target)) > self._max_joint_step:
-                self._ik_failures += 1  # the goal solution moved too far since the last call
-                q = self._q_target
-            self._q_target = q
-            return self._action(n, q)
+            s = _mix(self._t + self._events_dt[0])  # the profile's value at the end of this step
+            self._q_target = self._q_start + s * (self._q_above_pick - self._q_start)
+            return self._action(n, self._q_target)
         # Cartesian phases: the end-effector target of the end of this step.
         saved = self._t
         self._t = min(saved + self._events_dt[e], 1.0)
