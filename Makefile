@@ -24,9 +24,13 @@ test: $(STAMP)
 demo: $(STAMP)
 	$(PY) examples/pick_and_place.py --episodes 3
 
+# Benchmarks (results go to BENCHMARKS.md); the peers come with the bench extra.
 bench: $(STAMP)
 	$(PY) -m pip install -e ".[bench]"
-	$(PY) benchmarks/kinematics.py
+	$(PY) benchmarks/kinematics.py --write-md
+	$(PY) benchmarks/sim.py --write-md
+	$(PY) benchmarks/pick_and_place.py --episodes 100 --write-md
+	$(PY) benchmarks/mbm.py --goal both --planners manip,roboplan,ompl --write-md
 
 clean:
 	rm -rf $(VENV) build dist *.egg-info .pytest_cache

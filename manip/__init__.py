@@ -8,7 +8,17 @@ kinematics / collision / trajectory timing -> planning -> MotionGenerator -> man
 from __future__ import annotations
 
 from manip.articulation_action import ArticulationAction
-from manip.collision import Capsule, CollisionChecker, Cuboid, Cylinder, Mesh, Sphere, WorldConfig
+from manip.collision import (
+    Capsule,
+    CollisionChecker,
+    CollisionReport,
+    Cuboid,
+    Cylinder,
+    DistanceReport,
+    Mesh,
+    Sphere,
+    WorldConfig,
+)
 from manip.errors import InvalidInputError, ManipError, RobotConfigError, UnknownNameError
 from manip.ik import BatchIKResult, IKResult, IKSolver, IKStatus
 from manip.kinematics import Kinematics
@@ -16,8 +26,14 @@ from manip.motion_generator import MotionGenerator
 from manip.planning import PlanResult, PlanStatus
 from manip.pose import Pose
 from manip.robot_config import RobotConfig, available_robots, load_robot_config, robots_root
-from manip.timing import TimingResult, TimingStatus, time_parameterize, time_parameterize_for_robot
-from manip.trajectory import Trajectory
+from manip.timing import (
+    TimingResult,
+    TimingStatus,
+    time_parameterize,
+    time_parameterize_dense,
+    time_parameterize_for_robot,
+)
+from manip.trajectory import CubicSplinePath, PathProfile, PiecewiseJerkProfile, Trajectory
 from manip.tutorial_api import TutorialMotionGen, wxyz_to_xyzw, xyzw_to_wxyz
 
 __all__ = [
@@ -25,8 +41,11 @@ __all__ = [
     "BatchIKResult",
     "Capsule",
     "CollisionChecker",
+    "CollisionReport",
+    "CubicSplinePath",
     "Cuboid",
     "Cylinder",
+    "DistanceReport",
     "IKResult",
     "IKSolver",
     "IKStatus",
@@ -35,6 +54,8 @@ __all__ = [
     "ManipError",
     "Mesh",
     "MotionGenerator",
+    "PathProfile",
+    "PiecewiseJerkProfile",
     "PlanResult",
     "PlanStatus",
     "Pose",
@@ -51,6 +72,7 @@ __all__ = [
     "load_robot_config",
     "robots_root",
     "time_parameterize",
+    "time_parameterize_dense",
     "time_parameterize_for_robot",
     "wxyz_to_xyzw",
     "xyzw_to_wxyz",
