@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 import math
+import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -145,3 +148,11 @@ def test_bad_input_raises_and_leaves_the_state():
     action = controller.forward(CUBE_START, PLACE, q)
     assert np.all(np.isfinite(np.asarray(action.joint_positions, dtype=float)[:7]))
     assert np.all(np.isnan(np.asarray(action.joint_positions, dtype=float)[7:]))
+
+
+def test_example_runs_headless():
+    """The tutorial port (cube dropped at (0.3, 0.3), goal (-0.3, -0.3)) exits 0: placed within 2 cm."""
+    script = Path(__file__).resolve().parents[2] / "examples" / "pick_place_controller.py"
+    proc = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, f"{proc.stdout[-2000:]}\n{proc.stderr[-2000:]}"
+    assert "done picking and placing" in proc.stdout
