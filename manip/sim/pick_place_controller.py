@@ -170,10 +170,9 @@ class PickPlaceController(BaseController):
 
     def reset(self, end_effector_initial_height: float | None = None, events_dt=None) -> None:
         """Restart at phase 0 (unpaused); optionally change h1 [m] and events_dt (10,)."""
-        if end_effector_initial_height is not None:
-            self._h1 = _check_height(end_effector_initial_height)
-        if events_dt is not None:
-            self._events_dt = _check_events_dt(events_dt)
+        h1 = self._h1 if end_effector_initial_height is None else _check_height(end_effector_initial_height)
+        dts = self._events_dt if events_dt is None else _check_events_dt(events_dt)
+        self._h1, self._events_dt = h1, dts
         self._ik_failures = 0
         self._clear_state()
 
@@ -305,7 +304,8 @@ class PickPlaceController(BaseController):
         place = V.vec(placing_position, 3, "placing_position")
         q_now = np.asarray(current_joint_positions, dtype=float)
         if q_now.ndim != 1 or not np.all(np.isfinite(q_now)):
-            raise InvalidInputError(f"current_joint_positions must be a finite 1-D array; got {current_joint_positions!r}")
+            raise InvalidInputError(
+                f"current_joint_positions must be a finite 1-D array; got {current_joint_positions!r}")
         offset = np.zeros(3) if end_effector_offset is None else V.vec(end_effector_offset, 3, "end_effector_offset")
         if end_effector_orientation is None:
             orientation = HAND_DOWN.copy()
