@@ -18,7 +18,6 @@ import datetime as dt
 import json
 import os
 import platform
-import re
 import sys
 import time
 from pathlib import Path
@@ -33,17 +32,14 @@ from manip.robot_config import load_robot_config
 
 LINK = "panda_hand"
 ROOT = Path(__file__).resolve().parents[1]
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+
+from benchmarks.report import cpu_model, replace_section  # noqa: E402
 
 
 def machine() -> dict:
-    cpu = platform.processor() or "unknown"
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
+    cpu = cpu_model()
     return {
         "cpu": cpu,
         "cores": os.cpu_count(),
@@ -237,13 +233,7 @@ def write_markdown(res: dict, args: argparse.Namespace, path: Path) -> None:
         + table(res)
         + "\n"
     )
-    text = path.read_text() if path.exists() else "# Benchmarks\n\nEach section is written by its benchmark script.\n"
-    pattern = re.compile(r"^## Kinematics\n.*?(?=^## |\Z)", re.S | re.M)
-    if pattern.search(text):
-        text = pattern.sub(lambda _: section + "\n", text).rstrip("\n") + "\n"
-    else:
-        text = text.rstrip("\n") + "\n\n" + section
-    path.write_text(text)
+    replace_section(path, "## Kinematics", section)
 
 
 def main(argv: list[str] | None = None) -> int:

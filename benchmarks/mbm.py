@@ -36,7 +36,7 @@ import shlex
 import subprocess
 import sys
 import time
-from collections import Counter, defaultdict
+from collections import Counter
 from dataclasses import asdict, dataclass, field
 from importlib import metadata
 from pathlib import Path
@@ -47,6 +47,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
+
+from benchmarks.report import cpu_model, replace_section  # noqa: E402
 
 from manip.benchmarking.mbm import MBM_SCENES, default_dataset_path, goal_pose, load_mbm_problems  # noqa: E402
 from manip.benchmarking.scenes import SCENE_KINDS, make_problems  # noqa: E402
@@ -206,15 +208,7 @@ def ratios_vs_manip(report: dict[str, Any]) -> dict[str, Any]:
 
 # ---------------------------------------------------------------------------- report
 def machine_info() -> dict[str, Any]:
-    cpu = platform.processor() or ""
-    try:
-        with open("/proc/cpuinfo") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    cpu = line.split(":", 1)[1].strip()
-                    break
-    except OSError:
-        pass
+    cpu = cpu_model()
     versions = {}
     for pkg in ("manip", "pin", "coal", "ruckig", "numpy", "roboplan", "ompl", "toppra"):
         try:
@@ -348,14 +342,7 @@ def markdown_section(report: dict[str, Any]) -> str:
 
 def write_markdown(report: dict[str, Any], path: Path) -> None:
     """Replace (or append) this benchmark's section of BENCHMARKS.md; other sections are kept."""
-    section = markdown_section(report)
-    text = path.read_text() if path.exists() else "# Benchmarks\n\nEach section is written by its benchmark script.\n"
-    pattern = re.compile(r"^" + re.escape(SECTION) + r"\n.*?(?=^## |\Z)", re.S | re.M)
-    if pattern.search(text):
-        text = pattern.sub(lambda _: section.rstrip("\n") + "\n\n", text).rstrip("\n") + "\n"
-    else:
-        text = text.rstrip("\n") + "\n\n" + section.rstrip("\n") + "\n"
-    path.write_text(text)
+    replace_section(path, SECTION, markdown_section(report))
 
 
 # ---------------------------------------------------------------------------- main

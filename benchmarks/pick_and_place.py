@@ -19,7 +19,6 @@ import datetime as dt
 import importlib.util
 import os
 import platform
-import re
 import sys
 import time
 from pathlib import Path
@@ -27,6 +26,10 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+
+from benchmarks.report import cpu_model, replace_section  # noqa: E402
 TARGET_SUCCESS = 0.99
 TARGET_RTF = 10.0
 
@@ -43,14 +46,7 @@ def load_example():
 def machine() -> dict:
     import mujoco
 
-    cpu = platform.processor() or "unknown"
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
+    cpu = cpu_model()
     return {"cpu": cpu, "cores": os.cpu_count(), "python": platform.python_version(), "mujoco": mujoco.__version__,
             "date": dt.datetime.now().strftime("%Y-%m-%d %H:%M"),
             "load": os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")}
@@ -143,13 +139,7 @@ def write_markdown(text: str, args: argparse.Namespace, path: Path) -> None:
         "planning and physics, on a machine shared with other jobs). Targets: >= "
         f"{TARGET_SUCCESS * 100:.0f} % placed, >= {TARGET_RTF:g}x real time.\n\n" + text + "\n"
     )
-    doc = path.read_text() if path.exists() else "# Benchmarks\n\nEach section is written by its benchmark script.\n"
-    pattern = re.compile(r"^## Pick and place\n.*?(?=^## |\Z)", re.S | re.M)
-    if pattern.search(doc):
-        doc = pattern.sub(lambda _: section + "\n", doc).rstrip("\n") + "\n"
-    else:
-        doc = doc.rstrip("\n") + "\n\n" + section
-    path.write_text(doc)
+    replace_section(path, "## Pick and place", section)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -17,7 +17,6 @@ import argparse
 import datetime as dt
 import os
 import platform
-import re
 import sys
 import time
 from pathlib import Path
@@ -26,18 +25,15 @@ import mujoco
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+
+from benchmarks.report import cpu_model, replace_section  # noqa: E402
 TARGET_RTF = 20.0
 
 
 def machine() -> dict:
-    cpu = platform.processor() or "unknown"
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
+    cpu = cpu_model()
     return {"cpu": cpu, "cores": os.cpu_count(), "python": platform.python_version(), "mujoco": mujoco.__version__,
             "numpy": np.__version__, "date": dt.datetime.now().strftime("%Y-%m-%d %H:%M"),
             "load": os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")}
@@ -137,13 +133,7 @@ def write_markdown(res: dict, args: argparse.Namespace, path: Path) -> None:
         + table(res)
         + "\n"
     )
-    text = path.read_text() if path.exists() else "# Benchmarks\n\nEach section is written by its benchmark script.\n"
-    pattern = re.compile(r"^## Simulation\n.*?(?=^## |\Z)", re.S | re.M)
-    if pattern.search(text):
-        text = pattern.sub(lambda _: section + "\n", text).rstrip("\n") + "\n"
-    else:
-        text = text.rstrip("\n") + "\n\n" + section
-    path.write_text(text)
+    replace_section(path, "## Simulation", section)
 
 
 def main(argv: list[str] | None = None) -> int:

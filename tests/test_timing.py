@@ -198,7 +198,7 @@ def test_gentle_corner_is_blended(cfg):
 def test_blend_never_overshoots_a_position_limit(cfg):
     """Waypoints on joint 4's upper limit with a corner there: a bisector velocity would push
     past the limit; the result must stay within it."""
-    lo, hi = np.asarray(cfg.lower_limits), np.asarray(cfg.upper_limits)
+    hi = np.asarray(cfg.upper_limits)
     a = np.array(cfg.default_joint_positions)
     w0 = a.copy()
     w1 = a.copy()

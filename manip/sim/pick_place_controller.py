@@ -52,7 +52,6 @@ import math
 
 import numpy as np
 
-from manip import quaternion as quat
 from manip.articulation_action import ArticulationAction
 from manip.errors import InvalidInputError
 from manip.ik import IKSolver
