@@ -121,6 +121,7 @@ class Kinematics:
         if np.any(self.lower < urdf_lo - 1e-9) or np.any(self.upper > urdf_hi + 1e-9):
             raise InvalidInputError(f"{config.name}: configured joint limits exceed the URDF's")
         self._joints = [_joint_spec(self.model, j) for j in range(1, self.model.njoints)]
+        self._build_small_batch_tables()
         self.frame_names: tuple[str, ...] = tuple(f.name for f in self.model.frames)
         self._frame_ids = {f.name: i for i, f in enumerate(self.model.frames)}
 
@@ -177,13 +178,66 @@ class Kinematics:
         """
         n = Q.shape[0]
         if n <= _CHUNK:
-            return self._joint_transforms(Q)
+            return self._joint_transforms_small(Q)
         nj = len(self._joints) + 1
         R = np.empty((n, nj, 3, 3))
         p = np.empty((n, nj, 3))
         for s in range(0, n, _CHUNK):
-            R[s : s + _CHUNK], p[s : s + _CHUNK] = self._joint_transforms(Q[s : s + _CHUNK])
+            R[s : s + _CHUNK], p[s : s + _CHUNK] = self._joint_transforms_small(Q[s : s + _CHUNK])
         return R, p
+
+    def _build_small_batch_tables(self) -> None:
+        """Constant (J, 4, 4) tables such that a joint's transform in its parent joint frame is
+        `A + cos(q) Cc + sin(q) Ss + q D` (placement times Rodrigues' rotation / translation)."""
+        J = len(self._joints)
+        self._sb_A = np.zeros((J, 4, 4))
+        self._sb_C = np.zeros((J, 4, 4))
+        self._sb_S = np.zeros((J, 4, 4))
+        self._sb_D = np.zeros((J, 4, 4))
+        for k, spec in enumerate(self._joints):
+            Rp, pp = spec.R_placement, spec.p_placement
+            self._sb_A[k, :3, 3] = pp
+            self._sb_A[k, 3, 3] = 1.0
+            if spec.revolute:
+                x, y, z = spec.axis
+                K = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+                K2 = K @ K
+                self._sb_A[k, :3, :3] = Rp @ (np.eye(3) + K2)
+                self._sb_C[k, :3, :3] = -(Rp @ K2)
+                self._sb_S[k, :3, :3] = Rp @ K
+            else:
+                self._sb_A[k, :3, :3] = Rp
+                self._sb_D[k, :3, 3] = Rp @ spec.axis
+        self._sb_q = np.array([spec.q_index for spec in self._joints], dtype=np.int64)
+        self._sb_prismatic = not all(spec.revolute for spec in self._joints)
+        self._sb_parent = [spec.parent for spec in self._joints]
+        tables = [self._sb_A, self._sb_C, self._sb_S] + ([self._sb_D] if self._sb_prismatic else [])
+        self._sb_table = np.stack([t.reshape(J, 16) for t in tables], axis=1)  # (J, 3|4, 16)
+
+    def _joint_transforms_small(self, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """`joint_transforms` of one chunk with few NumPy calls (per-call overhead dominates small
+        batches): every joint's local transform in one broadcast, then one stacked (N, 4, 4)
+        product per joint."""
+        n = Q.shape[0]
+        qs = Q[:, self._sb_q].T  # (J, N)
+        # weights [1, cos q, sin q, (q)] times the stacked tables: (J, N, 4, 4), C-contiguous so
+        # that each joint's products run on contiguous stacks
+        W = np.empty(qs.shape + (self._sb_table.shape[1],))
+        W[..., 0] = 1.0
+        np.cos(qs, out=W[..., 1])
+        np.sin(qs, out=W[..., 2])
+        if self._sb_prismatic:
+            W[..., 3] = qs
+        B = np.matmul(W, self._sb_table).reshape(qs.shape + (4, 4))
+        T = np.empty((len(self._joints) + 1, n, 4, 4))
+        T[0] = np.eye(4)
+        for j, parent in enumerate(self._sb_parent, start=1):
+            if parent == 0:
+                T[j] = B[j - 1]
+            else:
+                np.matmul(T[parent], B[j - 1], out=T[j])
+        T = T.transpose(1, 0, 2, 3)
+        return T[:, :, :3, :3], T[:, :, :3, 3]
 
     def _joint_transforms(self, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """`joint_transforms` of one chunk, as views of joint-major storage (`R[:, j]` contiguous)."""

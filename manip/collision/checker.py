@@ -30,7 +30,6 @@ from typing import Literal, NamedTuple, Sequence
 
 import coal
 import numpy as np
-import pinocchio as pin
 
 from manip.collision.robot_geometry import COARSE_MAX_SPHERES, COARSE_TOLERANCE, RobotGeometry, sphere_cover
 from manip.collision.shapes import Capsule, Cylinder, Obstacle, Sphere, coal_geometry
@@ -275,7 +274,6 @@ class CollisionChecker:
         self.config = config
         self.kinematics = kinematics if kinematics is not None else Kinematics(config)
         self.robot = RobotGeometry(config, self.kinematics, sphere_tolerance=sphere_tolerance)
-        self._pin_data = self.kinematics.model.createData()
         self._padding = self._check_padding(config.collision_padding if padding is None else padding, "padding")
         self._self_padding = self._check_padding(self_padding, "self_padding")
         self._world = WorldConfig()
@@ -303,6 +301,7 @@ class CollisionChecker:
     @padding.setter
     def padding(self, value: float) -> None:
         self._padding = self._check_padding(value, "padding")
+        self._l0_reach = {}
         self._req_world.security_margin = self._padding
         self._update_static()
 
@@ -406,6 +405,7 @@ class CollisionChecker:
             self._pbr[g] = (np.linalg.norm(allc - c, axis=1) + allr).max()
         self._fine = _SphereTable([p.centres for p in parts], [p.radii for p in parts], self._pj)
         self._fineP = self._fine.padded()
+        self._l0_reach: dict[int, np.ndarray] = {}  # level-0 reach per batch size (cache)
         self._coarse = _SphereTable([p.coarse_centres for p in parts], [p.coarse_radii for p in parts], self._pj)
         # level 0 of the world check: one bounding ball per moving joint (all its parts)
         joints = sorted({p.joint for p in parts if p.joint != 0})
@@ -596,21 +596,8 @@ class CollisionChecker:
         return _sd_local(L, self._oh[o], self._orho[o], self._ocyl[o] if self._any_cyl else None)
 
     def _fk(self, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Joint frames (N, J+1, 3, 3), (N, J+1, 3): Pinocchio for up to 8 configurations,
-        the batched NumPy kinematics otherwise."""
-        if Q.shape[0] > 8:
-            return self.kinematics.joint_transforms(Q)
-        model, data = self.kinematics.model, self._pin_data
-        nj = model.njoints
-        R = np.empty((Q.shape[0], nj, 3, 3))
-        p = np.empty((Q.shape[0], nj, 3))
-        for k in range(Q.shape[0]):
-            pin.forwardKinematics(model, data, Q[k])
-            for j in range(nj):
-                M = data.oMi[j]
-                R[k, j] = M.rotation
-                p[k, j] = M.translation
-        return R, p
+        """Joint frames (N, J+1, 3, 3), (N, J+1, 3) (the batched NumPy kinematics)."""
+        return self.kinematics.joint_transforms(Q)
 
     def _part_tf(self, R: np.ndarray, p: np.ndarray, n: int, g: int) -> coal.Transform3s:
         part = self._parts[g]
@@ -635,6 +622,22 @@ class CollisionChecker:
         keep = m < margin
         return n[keep], g[keep], o[keep], m[keep]
 
+    def _world_level_fine(self, R, p, n, g, o, margin: float):
+        """`_world_level_rel` with the fine covers, ragged (each part's own balls, no padding)."""
+        j = self._pj[g]
+        RoT = self._oR[o].transpose(0, 2, 1)
+        M = np.matmul(RoT, R[n, j])  # (T, 3, 3) joint frame -> obstacle frame
+        tr = np.matmul(RoT, (p[n, j] - self._oc[o])[:, :, None])[:, :, 0]
+        count = self._fine.count[g]
+        row, ball = _expand(count, self._fine.start[g])
+        L = np.einsum("rij,rj->ri", M[row], self._fine.centres[ball]) + tr[row]
+        orow = o[row]
+        cyl = self._ocyl[orow] if self._any_cyl else None
+        sd = _sd_local(L, self._oh[orow], self._orho[orow], cyl) - self._fine.radii[ball]
+        m = np.minimum.reduceat(sd, np.cumsum(count) - count)
+        keep = m < margin
+        return n[keep], g[keep], o[keep], m[keep]
+
     def _candidates(self, Q: np.ndarray, R: np.ndarray, p: np.ndarray, world: bool = True, self_: bool = True,
                     deepest_first: bool = False):
         """Pairs the balls cannot clear, sorted by configuration, deepest first.
@@ -656,13 +659,14 @@ class CollisionChecker:
         if not (do_world or do_self):
             e = np.zeros(0, dtype=np.int64)
             return e, e, e, e
-        # coarse balls of every part, placed for every configuration: (N, S, 3)
-        cj = self._coarse.joint
-        Xc = np.einsum("nsij,sj->nsi", R[:, cj], self._coarse.centres) + p[:, cj]
         if do_world:
             margin = self._padding + 1e-9
             X = np.einsum("njab,jb->nja", R[:, self._l0_joint], self._l0_c) + p[:, self._l0_joint]
-            reach = np.tile(self._l0_r + margin, N)
+            reach = self._l0_reach.get(N)
+            if reach is None:
+                reach = np.tile(self._l0_r + margin, N)
+                if N <= 256:
+                    self._l0_reach[N] = reach
             n, jk, o = np.nonzero(self._near_all(X.reshape(-1, 3), reach).reshape(N, J, O))
             if n.size:
                 # coarse balls of the joint's parts, in the obstacle's frame; keep the parts
@@ -676,14 +680,15 @@ class CollisionChecker:
                 sd = _sd_local(L, self._oh[o][:, None, :], self._orho[o][:, None], cyl) - self._jc_r[jk]
                 t, k = np.nonzero(sd < margin)
                 if t.size:
-                    g = self._jc_part[jk[t], k]
-                    G = len(self._parts)
-                    key = np.unique((n[t] * G + g) * O + o[t])
-                    n, g, o = key // (G * O), (key // O) % G, key % O
+                    # (triple, part) pairs with a ball within reach, each once
+                    hit = np.zeros((n.size, len(self._parts)), dtype=bool)
+                    hit[t, self._jc_part[jk[t], k]] = True
+                    t, g = np.nonzero(hit)
+                    n, o = n[t], o[t]
                 else:
                     n = t
             if n.size:
-                n, g, o, m = self._world_level_rel(R, p, n, g, o, self._fineP, margin)
+                n, g, o, m = self._world_level_fine(R, p, n, g, o, margin)
                 ns.append(n); kinds.append(np.zeros(n.size, dtype=np.int64)); ii.append(g); jj.append(o); depth.append(m)
         if do_self:
             margin = self._self_padding + 1e-9
@@ -696,6 +701,8 @@ class CollisionChecker:
             n, k = np.nonzero(dist2 < reach * reach)
             if n.size:
                 # coarse covers of the two bodies; what survives goes to coal part pair by part pair
+                cj = self._coarse.joint
+                Xc = np.einsum("nsij,sj->nsi", R[:, cj], self._coarse.centres) + p[:, cj]  # (N, S, 3)
                 t, e = _expand(self._bc_count[k], self._bc_start[k])
                 nt = n[t]
                 d = Xc[nt, self._bc_a[e]] - Xc[nt, self._bc_b[e]]
