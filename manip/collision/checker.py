@@ -301,7 +301,6 @@ class CollisionChecker:
     @padding.setter
     def padding(self, value: float) -> None:
         self._padding = self._check_padding(value, "padding")
-        self._l0_reach = {}
         self._req_world.security_margin = self._padding
         self._update_static()
 
@@ -405,7 +404,7 @@ class CollisionChecker:
             self._pbr[g] = (np.linalg.norm(allc - c, axis=1) + allr).max()
         self._fine = _SphereTable([p.centres for p in parts], [p.radii for p in parts], self._pj)
         self._fineP = self._fine.padded()
-        self._l0_reach: dict[int, np.ndarray] = {}  # level-0 reach per batch size (cache)
+        self._l0_lims = {}
         self._coarse = _SphereTable([p.coarse_centres for p in parts], [p.coarse_radii for p in parts], self._pj)
         # level 0 of the world check: one bounding ball per moving joint (all its parts)
         joints = sorted({p.joint for p in parts if p.joint != 0})
@@ -483,6 +482,18 @@ class CollisionChecker:
         self._bc_start = np.cumsum(cnt_a) - cnt_a
         self._bc_a = np.concatenate(ia) if ia else empty
         self._bc_b = np.concatenate(ib) if ib else empty
+        # every ball centre the broadphase places for all configurations (level-0 joint balls,
+        # body balls, coarse balls), homogeneous, with flat indices into the product
+        # (N, 3 (J+1), S) of the stacked [R | p] rows of the joint frames and these centres
+        cen = np.concatenate([self._l0_c, self._bbc, self._coarse.centres])
+        jnt = np.concatenate([self._l0_joint, self._body_joint, self._coarse.joint])
+        S = cen.shape[0]
+        self._place_C = np.vstack([cen.T, np.ones((1, S))])  # (4, S)
+        self._place_idx = (3 * jnt[:, None] + np.arange(3)[None]) * S + np.arange(S)[:, None]  # (S, 3)
+        nl0, nb_ = self._l0_c.shape[0], self._bbc.shape[0]
+        self._place_l0 = slice(0, nl0)
+        self._place_body = slice(nl0, nl0 + nb_)
+        self._place_coarse = slice(nl0 + nb_, S)
         # geometry placements in joint frames, for batched transforms of the exact checks
         self._gR = np.array([p.R for p in parts])
         self._gp = np.array([p.p for p in parts])
@@ -534,6 +545,8 @@ class CollisionChecker:
                 Rcat = np.concatenate(list(self._oR[idx]), axis=1)  # (3, 3k)
                 off = np.einsum("kj,kji->ki", self._oc[idx], self._oR[idx]).reshape(-1)
                 self._groups.append((cyl, idx, Rcat, off, self._oh[idx].copy(), self._orho[idx].copy()))
+        self._group_hflat = {cyl: h.reshape(-1) for cyl, idx, Rcat, off, h, rho in self._groups}
+        self._l0_lims: dict = {}  # squared level-0 limits per (batch size, margin) (cache)
         self._req_world = coal.CollisionRequest()
         self._req_world.security_margin = self._padding
         self._update_static()
@@ -584,6 +597,46 @@ class CollisionChecker:
                 d2 = x * x + y * y + z * z
                 lim = reach[:, None] + rho
             near = d2 < lim * np.abs(lim)  # lim <= 0 never counts as near
+            if single:
+                return near
+            out[:, idx] = near
+        return out
+
+    def _near_l0(self, X: np.ndarray, N: int, margin: float) -> np.ndarray:
+        """`_near_all` of the level-0 joint balls of N configurations, X (N * J, 3), with
+        their radii plus `margin` as reach (same answers; fewer NumPy calls, limits cached)."""
+        M = X.shape[0]
+        lims = self._l0_lims.get((N, margin))
+        if lims is None:
+            reach = np.tile(self._l0_r + margin, N)[:, None]
+            lims = []
+            for cyl, idx, Rcat, off, h, rho in self._groups:
+                lim = reach if cyl else reach + rho
+                lims.append(lim * np.abs(lim))  # lim <= 0 never counts as near
+            if N <= 256:
+                self._l0_lims[(N, margin)] = lims
+        single = len(self._groups) == 1
+        out = None if single else np.empty((M, len(self._obs)), dtype=bool)
+        for (cyl, idx, Rcat, off, h, rho), lim2 in zip(self._groups, lims):
+            L = X @ Rcat
+            L -= off
+            if cyl:
+                L = L.reshape(M, idx.size, 3)
+                a = np.sqrt(np.einsum("mki,mki->mk", L[..., :2], L[..., :2]))
+                a -= h[:, 0]
+                b = np.abs(L[..., 2])
+                b -= h[:, 2]
+                np.maximum(a, 0.0, out=a)
+                np.maximum(b, 0.0, out=b)
+                d2 = a * a
+                d2 += b * b
+            else:
+                np.abs(L, out=L)
+                L -= self._group_hflat[cyl]
+                np.maximum(L, 0.0, out=L)
+                L = L.reshape(M, idx.size, 3)
+                d2 = np.einsum("mki,mki->mk", L, L)
+            near = d2 < lim2
             if single:
                 return near
             out[:, idx] = near
@@ -659,15 +712,13 @@ class CollisionChecker:
         if not (do_world or do_self):
             e = np.zeros(0, dtype=np.int64)
             return e, e, e, e
+        # all broadphase balls placed for every configuration, with one matrix product
+        RP = np.concatenate((R, p[..., None]), axis=3).reshape(N, -1, 4)
+        Xall = np.take(np.matmul(RP, self._place_C).reshape(N, -1), self._place_idx, axis=1)  # (N, S, 3)
         if do_world:
             margin = self._padding + 1e-9
-            X = np.einsum("njab,jb->nja", R[:, self._l0_joint], self._l0_c) + p[:, self._l0_joint]
-            reach = self._l0_reach.get(N)
-            if reach is None:
-                reach = np.tile(self._l0_r + margin, N)
-                if N <= 256:
-                    self._l0_reach[N] = reach
-            n, jk, o = np.nonzero(self._near_all(X.reshape(-1, 3), reach).reshape(N, J, O))
+            X = Xall[:, self._place_l0]
+            n, jk, o = np.nonzero(self._near_l0(X.reshape(-1, 3), N, margin).reshape(N, J, O))
             if n.size:
                 # coarse balls of the joint's parts, in the obstacle's frame; keep the parts
                 # with a ball within reach
@@ -693,16 +744,14 @@ class CollisionChecker:
         if do_self:
             margin = self._self_padding + 1e-9
             a, b = self._bpairs[:, 0], self._bpairs[:, 1]
-            bj = self._body_joint
-            cbody = np.einsum("nbij,bj->nbi", R[:, bj], self._bbc) + p[:, bj]  # (N, bodies, 3)
+            cbody = Xall[:, self._place_body]  # (N, bodies, 3)
             diff = cbody[:, a] - cbody[:, b]
             dist2 = np.einsum("npi,npi->np", diff, diff)  # (N, body pairs)
             reach = (self._bbr[a] + self._bbr[b])[None] + margin
             n, k = np.nonzero(dist2 < reach * reach)
             if n.size:
                 # coarse covers of the two bodies; what survives goes to coal part pair by part pair
-                cj = self._coarse.joint
-                Xc = np.einsum("nsij,sj->nsi", R[:, cj], self._coarse.centres) + p[:, cj]  # (N, S, 3)
+                Xc = Xall[:, self._place_coarse]  # (N, S, 3)
                 t, e = _expand(self._bc_count[k], self._bc_start[k])
                 nt = n[t]
                 d = Xc[nt, self._bc_a[e]] - Xc[nt, self._bc_b[e]]
