@@ -42,6 +42,8 @@ logger = logging.getLogger(__name__)
 START_LIMIT_TOLERANCE = 1e-4
 #: Position-limit tolerance [rad] of trajectories whose start is inside the limits.
 LIMIT_TOLERANCE = 1e-6
+#: Random IK starts tried for a pose goal when the first round finds no collision-free solution.
+IK_RETRY_SEEDS = 400
 #: An advancing tree stops this many check steps before its first contact.
 ADVANCE_BACKOFF_STEPS = 3
 #: Edges of a coarse search path replaced by fine searches before giving up on the path.
@@ -315,6 +317,13 @@ class MotionGenerator:
             sols = self._ik.solve_many(
                 g, link, n=options.get("ik_solutions", 6), seed_q=start, validity_fn=self._valid_batch,
             )
+            if len(sols) == 0:
+                # tight goals (a hand between obstacles, a joint on its limit) have few
+                # collision-free solutions: search many more random starts for one
+                sols = self._ik.solve_many(
+                    g, link, n=2, seed_q=start, validity_fn=self._valid_batch, num_seeds=IK_RETRY_SEEDS,
+                    seed=int(ctx.rng.integers(2**31)),
+                )
             for q in sols:
                 configs.append(q)
                 owners.append(i)
