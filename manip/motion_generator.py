@@ -2,16 +2,21 @@
 
 The pipeline of every plan (each stage timed in `PlanResult.timings`):
 
-1. validate the start (limits with a 1e-6 rad tolerance, self and world collision);
-2. goals: joint goals are checked; pose goals become several collision-free IK solutions;
+1. validate the start: joint limits (a start up to 1e-4 rad outside is accepted), self and
+   world collision; failures return INVALID_START_* statuses;
+2. goals: joint goals are checked (INVALID_GOAL); pose goals become several collision-free
+   IK solutions (IK_FAIL when there is none);
 3. path: the straight joint-space line when it is valid, else RRT-Connect towards all goal
-   configurations at once;
-4. optimise: shortcutting (time-bounded), optionally a clearance-aware smoothing of the
+   configurations at once, its edges checked at the coarse `search_resolution`; the path is
+   then re-checked at the fine `resolution` and failing edges are searched again finely;
+4. optimise: batched random shortcutting, optionally a clearance-aware smoothing of the
    waypoints (`optimize_clearance=True`); corners are then blended by the timing stage;
-5. timing: ruckig state-to-state segments under velocity, acceleration and jerk limits;
-6. validate: the timed trajectory is checked densely (consecutive checked configurations at
-   most `resolution` rad apart) against the exact collision model and every limit. Only a
-   trajectory that passes is returned with `success=True`.
+5. timing: ruckig state-to-state segments under velocity, acceleration and jerk limits
+   (linear motions: one time scaling along a spline through their IK points);
+6. validate: the returned samples are checked densely (their linear interpolation, with
+   consecutive checked configurations at most `resolution` rad apart) against the exact
+   collision model; limits were checked by the timing stage. Only a trajectory that passes
+   is returned with `success=True`; one that fails is planned again (MAX_ATTEMPTS).
 """
 
 from __future__ import annotations
