@@ -22,7 +22,7 @@ from manip.collision import (
 from manip.errors import InvalidInputError, ManipError, RobotConfigError, UnknownNameError
 from manip.ik import BatchIKResult, IKResult, IKSolver, IKStatus
 from manip.kinematics import Kinematics
-from manip.motion_generator import MotionGenerator
+from manip.motion_generator import MotionGenerator, TutorialMotionGen
 from manip.planning import PlanResult, PlanStatus
 from manip.pose import Pose
 from manip.robot_config import RobotConfig, available_robots, load_robot_config, robots_root
@@ -34,7 +34,7 @@ from manip.timing import (
     time_parameterize_for_robot,
 )
 from manip.trajectory import CubicSplinePath, PathProfile, PiecewiseJerkProfile, Trajectory
-from manip.tutorial_api import TutorialMotionGen, wxyz_to_xyzw, xyzw_to_wxyz
+from manip.tutorial_api import TutorialAPI, wxyz_to_xyzw, xyzw_to_wxyz
 
 __all__ = [
     "ArticulationAction",
@@ -65,6 +65,7 @@ __all__ = [
     "TimingResult",
     "TimingStatus",
     "Trajectory",
+    "TutorialAPI",
     "TutorialMotionGen",
     "UnknownNameError",
     "WorldConfig",

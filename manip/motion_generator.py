@@ -39,6 +39,7 @@ from manip.pose import Pose
 from manip.robot_config import RobotConfig, load_robot_config
 from manip.timing import time_parameterize, time_parameterize_dense
 from manip.trajectory import Trajectory
+from manip.tutorial_api import TutorialAPI
 
 logger = logging.getLogger(__name__)
 
@@ -67,7 +68,7 @@ LINEAR_DEVIATION = 1e-3
 LINEAR_SPLINE_DEVIATION = 1e-2
 
 
-class MotionGenerator:
+class MotionGenerator(TutorialAPI):
     """Kinematics, collision checking and motion planning for one robot.
 
     Args:
@@ -81,6 +82,9 @@ class MotionGenerator:
         search_resolution: coarser resolution of the path search's edge checks [rad]; the
             found path is re-checked (and repaired) at `resolution`.
         seed: default random seed of IK restarts and sampling-based planning.
+
+    The Isaac Sim tutorial wrapper's names (`init_motion_gen`, `motion_generate`, ...) come
+    from `TutorialAPI`; `TutorialMotionGen` also gives `fk` / `ik` the wrapper's lists.
     """
 
     def __init__(
@@ -572,6 +576,26 @@ class MotionGenerator:
             dp, dr = self.kinematics.fk(result.goal_q, link).distance(goal)
             result = _replace(result, position_error=float(dp), rotation_error=float(dr))
         return result
+
+
+class TutorialMotionGen(MotionGenerator):
+    """A MotionGenerator whose `fk` / `ik` follow the Isaac Sim tutorial wrapper.
+
+    `fk(joint_angles)` -> [x, y, z, qx, qy, qz, qw] of `ee_link`; `ik(pose_xyzw,
+    seed_joint_angles=None)` -> collision-free joint angles (a list) or None. Every other
+    name is MotionGenerator's, including the wrapper's names from `TutorialAPI`.
+    """
+
+    def fk(self, joint_angles, link: str | None = None) -> list[float]:  # type: ignore[override]
+        """[x, y, z, qx, qy, qz, qw] of `link` (default `ee_link`) at the joint angles (dof,)."""
+        q = self.kinematics.check_q(joint_angles, "joint_angles")
+        return self.kinematics.fk(q, link or self.ee_link).to_xyz_xyzw().tolist()
+
+    def ik(self, pose_xyzw, seed_joint_angles=None) -> list[float] | None:  # type: ignore[override]
+        """Collision-free joint angles placing `ee_link` at [x, y, z, qx, qy, qz, qw], or None."""
+        seed = self.default_joint_positions if seed_joint_angles is None else self.kinematics.check_q(seed_joint_angles)
+        res = self._ik.solve(Pose.from_xyz_xyzw(pose_xyzw), self.ee_link, seed_q=seed, validity_fn=self._valid_batch)
+        return res.q.tolist() if res.success else None
 
 
 class _Context:

@@ -2,7 +2,15 @@
 
 Scripts written against the tutorial's wrapper keep working: poses are lists
 [x, y, z, qx, qy, qz, qw], failures return None, solutions are dicts. New code should use
-`MotionGenerator` directly (typed results, statuses that say why).
+the typed API (`plan_pose`, `plan_joints`: results with statuses that say why).
+
+- `TutorialAPI` (a base of `MotionGenerator`): `init_motion_gen`, `motion_generate`,
+  `update_obstacle_from_world` / `update_obstacle_from_isaac_sim`,
+  `convert_solution_to_actions` / `convert_solution_to_isaac_sim_action`, `ik_batch`,
+  `set_constraint`, `reset_constraint`, `wxyz_to_xyzw`, `xyzw_to_wxyz` (and the tutorial's
+  spelling `wxzy_to_xyzw`).
+- `manip.motion_generator.TutorialMotionGen`: a `MotionGenerator` whose `fk` and `ik` also
+  follow the wrapper (lists in [x, y, z, qx, qy, qz, qw] order, None on failure).
 """
 
 from __future__ import annotations
@@ -15,7 +23,6 @@ import numpy as np
 from manip import quaternion as quat
 from manip.articulation_action import ArticulationAction
 from manip.errors import InvalidInputError
-from manip.motion_generator import MotionGenerator
 from manip.pose import Pose
 from manip.trajectory import Trajectory
 
@@ -32,66 +39,45 @@ def xyzw_to_wxyz(q: Sequence[float]) -> list[float]:
     return quat.xyzw_to_wxyz(np.asarray(q, dtype=float)).tolist()
 
 
-class TutorialMotionGen:
-    """The tutorial wrapper's interface over a `MotionGenerator`.
+class TutorialAPI:
+    """The tutorial wrapper's names on a MotionGenerator (mixed into `MotionGenerator`).
 
-    Args:
-        robot: robot name or config path ("franka").
-        world: obstacles (WorldConfig or cuRobo world dict), in the robot base frame.
-        **kwargs: passed to `MotionGenerator`.
+    Uses only the typed planning API and `kinematics` / `_ik`, never `fk` / `ik` (which
+    `TutorialMotionGen` redefines).
     """
 
-    def __init__(self, robot: str = "franka", world=None, **kwargs):
-        self.motion_gen = MotionGenerator(robot, world, **kwargs)
-        self._hold_vec_weight: np.ndarray | None = None
-
-    # names of the wrapper
-    @property
-    def joint_names(self) -> list[str]:
-        return self.motion_gen.joint_names
-
-    @property
-    def default_joint_positions(self) -> list[float]:
-        return self.motion_gen.default_joint_positions.tolist()
-
-    @property
-    def robot_dof(self) -> int:
-        return self.motion_gen.robot_dof
+    _hold_vec_weight: np.ndarray | None = None
 
     wxyz_to_xyzw = staticmethod(wxyz_to_xyzw)
     wxzy_to_xyzw = staticmethod(wxyz_to_xyzw)  # the tutorial's spelling
     xyzw_to_wxyz = staticmethod(xyzw_to_wxyz)
 
     def init_motion_gen(self) -> None:
-        """Warm up: one IK and one plan in free space (first-call costs paid here)."""
-        mg = self.motion_gen
-        q0 = mg.default_joint_positions
-        mg.ik(mg.fk(q0), seed_q=q0)
-        from manip.collision import WorldConfig
-
-        probe = MotionGenerator(mg.config, WorldConfig(), seed=mg.seed)
-        probe.plan_joints(q0, q0 + np.where(q0 < mg.upper_limits - 0.1, 0.05, -0.05))
-
-    def fk(self, joint_angles: Sequence[float]) -> list[float]:
-        """End-effector pose [x, y, z, qx, qy, qz, qw] of the arm joint angles."""
-        return self.motion_gen.fk(np.asarray(joint_angles, dtype=float)).to_xyz_xyzw().tolist()
-
-    def ik(self, pose_xyzw: Sequence[float], seed_joint_angles: Sequence[float] | None = None) -> list[float] | None:
-        """Joint angles reaching [x, y, z, qx, qy, qz, qw] (collision-free), or None."""
-        res = self.motion_gen.ik(Pose.from_xyz_xyzw(pose_xyzw), seed_q=seed_joint_angles, collision_free=True)
-        return res.q.tolist() if res.success else None
+        """Warm up: an IK solve and a short plan in free space (first-call costs paid here)."""
+        q0 = self.default_joint_positions
+        pose = self.kinematics.fk(q0, self.ee_link)
+        self._ik.solve(pose, self.ee_link, seed_q=q0)
+        step = np.where(q0 < self.upper_limits - 0.1, 0.05, -0.05)
+        if not self.checker.in_collision(q0) and not self.checker.in_collision(q0 + step):
+            self.plan_joints(q0, q0 + step)
 
     def ik_batch(self, poses_xyzw: Sequence[Sequence[float]]) -> list[list[float] | None]:
-        """`ik` of each pose; None where it fails."""
-        res = self.motion_gen.ik(Pose.from_xyz_xyzw(np.atleast_2d(np.asarray(poses_xyzw, dtype=float))))
-        return [q.tolist() if ok else None for ok, q in zip(res.success, res.q)]
+        """Joint angles for each [x, y, z, qx, qy, qz, qw] (collision-free); None where it fails."""
+        out: list[list[float] | None] = []
+        for pose in np.atleast_2d(np.asarray(poses_xyzw, dtype=float)):
+            res = self._ik.solve(
+                Pose.from_xyz_xyzw(pose), self.ee_link, seed_q=self.default_joint_positions,
+                validity_fn=lambda Q: ~self.checker.in_collision_batch(np.atleast_2d(Q)),
+            )
+            out.append(res.q.tolist() if res.success else None)
+        return out
 
     def set_constraint(self, hold_vec_weight: Sequence[float]) -> None:
-        """Hold parts of the end-effector pose during pose motions.
+        """Hold parts of the end-effector pose during pose motions of `motion_generate`.
 
-        `hold_vec_weight` is [roll, pitch, yaw, x, y, z] in the goal frame (1 = hold). Pose
+        `hold_vec_weight` is [roll, pitch, yaw, x, y, z] in the goal frame (> 0 = hold). Pose
         goals are then reached by a straight-line motion keeping the start orientation where
-        the rotation is held; a goal that changes a held component is refused (None).
+        the rotation is held; a goal that changes a held position axis is refused (None).
         """
         w = np.asarray(hold_vec_weight, dtype=float)
         if w.shape != (6,) or not np.all(np.isfinite(w)):
@@ -108,27 +94,27 @@ class TutorialMotionGen:
         goal_end_effector_pose: Sequence[float] | None = None,
         goal_joint_angles: Sequence[float] | None = None,
     ) -> dict | None:
-        """Plan to a pose [x, y, z, qx, qy, qz, qw] or to joint angles.
+        """Plan to a pose [x, y, z, qx, qy, qz, qw] of `ee_link` or to joint angles.
 
         Returns:
-            None on failure, else {"success", "joint_names", "positions", "velocities",
-            "accelerations", "jerks" (one list per time step), "interpolation_dt"}.
+            None on failure (the reason is logged), else {"success", "joint_names",
+            "positions", "velocities", "accelerations", "jerks" (one list per time step),
+            "interpolation_dt"}.
         """
-        mg = self.motion_gen
         start = np.asarray(start_joint_angles, dtype=float)
         if (goal_end_effector_pose is None) == (goal_joint_angles is None):
             raise InvalidInputError("give exactly one of goal_end_effector_pose or goal_joint_angles")
         if goal_joint_angles is not None:
-            result = mg.plan_joints(start, np.asarray(goal_joint_angles, dtype=float))
+            result = self.plan_joints(start, np.asarray(goal_joint_angles, dtype=float))
         else:
             goal = Pose.from_xyz_xyzw(goal_end_effector_pose)
             if self._hold_vec_weight is not None and np.any(self._hold_vec_weight > 0):
                 goal = self._constrained_goal(start, goal)
                 if goal is None:
                     return None
-                result = mg.plan_pose(start, goal, linear=True)
+                result = self.plan_pose(start, goal, linear=True)
             else:
-                result = mg.plan_pose(start, goal)
+                result = self.plan_pose(start, goal)
         if not result.success:
             logger.warning("motion_generate failed: %s (%s)", result.status.name, result.message)
             return None
@@ -146,7 +132,7 @@ class TutorialMotionGen:
     def _constrained_goal(self, start: np.ndarray, goal: Pose) -> Pose | None:
         """The goal with held rotation taken from the start; None if it moves a held axis."""
         w = self._hold_vec_weight
-        now = self.motion_gen.fk(start)
+        now = self.kinematics.fk(start, self.ee_link)
         if np.any(w[:3] > 0):
             goal = Pose(goal.position, now.quaternion)
         delta = now.inverse() @ goal  # goal expressed in the start's end-effector frame
@@ -157,9 +143,13 @@ class TutorialMotionGen:
         return goal
 
     def update_obstacle_from_world(self, world, robot_prim_path: str, ignore_prim_paths: Sequence[str] = ()) -> None:
-        """Read the simulated World's collision objects into the planner (robot base frame)."""
+        """Read the simulated World's collision objects into the planner (robot base frame).
+
+        Objects whose name or prim path starts with an entry of `ignore_prim_paths` are left
+        out, and so is the robot at `robot_prim_path`.
+        """
         robot = _find_robot(world, robot_prim_path)
-        self.motion_gen.update_world_from_sim(world, robot, ignore=list(ignore_prim_paths) + [robot_prim_path])
+        self.update_world_from_sim(world, robot, ignore=list(ignore_prim_paths))
 
     update_obstacle_from_isaac_sim = update_obstacle_from_world
 
@@ -183,7 +173,10 @@ class TutorialMotionGen:
 
 def _find_robot(world, prim_path: str):
     """The scene object whose prim path is `prim_path` (duck-typed over manip.sim's Scene)."""
-    for obj in world.scene.get_objects() if hasattr(world.scene, "get_objects") else []:
+    scene = world.scene
+    objects = [scene.get_object(name) for name in scene.get_object_names()]
+    for obj in objects:
         if getattr(obj, "prim_path", None) == prim_path:
             return obj
-    raise InvalidInputError(f"no robot with prim path '{prim_path}' in the world's scene")
+    paths = sorted(str(getattr(o, "prim_path", "?")) for o in objects)
+    raise InvalidInputError(f"no robot with prim path '{prim_path}' in the world's scene; prim paths: {paths}")
