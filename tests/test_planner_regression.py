@@ -6,7 +6,7 @@ start and goal at rest). The figure the project promises is >= 99.5 % success wi
 invalid trajectories; on a sample of n plans a planner that truly succeeds 99.5 % of the
 time fails at least twice with probability 1 - 0.995^n - n 0.005 0.995^(n-1) (1.9 % for
 n = 42, 1.0 % for n = 30), so each sample allows ONE failure and NO invalid trajectory.
-Planning is seeded, so a failure is reproducible unless it comes from the time budget.
+Planning is seeded and the time budget generous, so a failure is reproducible.
 """
 
 from __future__ import annotations
@@ -28,6 +28,9 @@ DATASET = default_dataset_path()
 MBM_PER_SCENE = 3  # first 3 valid problems of each of the 7 scenes -> 21 problems, 42 plans
 SEEDED_PER_KIND = 3  # 5 kinds -> 15 problems, 30 plans
 ALLOWED_FAILURES = 1  # see the module docstring
+#: Generous, so that results depend on the seed, not on how loaded the machine is (speed is
+#: measured by benchmarks/mbm.py, not here).
+TIME_BUDGET = 30.0
 
 
 @pytest.fixture(scope="module")
@@ -46,11 +49,11 @@ def _run(mg: MotionGenerator, problems) -> tuple[int, list[str], list[str]]:
         for kind in ("joint", "pose"):
             n += 1
             if kind == "joint":
-                r = mg.plan_joints(p.start, p.goal, seed=0)
+                r = mg.plan_joints(p.start, p.goal, seed=0, time_budget=TIME_BUDGET)
                 extra = {}
             else:
                 g = goal_pose(p)
-                r = mg.plan_pose(p.start, g, link="panda_hand", seed=0)
+                r = mg.plan_pose(p.start, g, link="panda_hand", seed=0, time_budget=TIME_BUDGET)
                 extra = {"goal_pose": g}
             if not r.success:
                 failures.append(f"{p.name} {kind}: {r.status.name} {r.message}")
