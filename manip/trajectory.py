@@ -32,6 +32,22 @@ def _readonly(a: np.ndarray) -> np.ndarray:
     return a
 
 
+def _quadratic_roots(qa: np.ndarray, qb: np.ndarray, qc: np.ndarray) -> list[np.ndarray]:
+    """Elementwise real roots of qa u^2 + qb u + qc = 0 (linear when qa = 0).
+
+    Returns two arrays; entries without a (second) real root are -1 or non-finite, which
+    callers drop by keeping finite roots inside their interval only.
+    """
+    with np.errstate(divide="ignore", invalid="ignore"):
+        disc = qb * qb - 4.0 * qa * qc
+        sq = np.sqrt(np.maximum(disc, 0.0))
+        quad = (qa != 0.0) & (disc >= 0.0)
+        return [
+            np.where(quad, (-qb + sq) / (2.0 * qa), np.where(qb != 0.0, -qc / qb, -1.0)),
+            np.where(quad, (-qb - sq) / (2.0 * qa), -1.0),
+        ]
+
+
 def evaluate_pieces(
     knots: np.ndarray, p0: np.ndarray, v0: np.ndarray, a0: np.ndarray, j: np.ndarray, ts: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -174,14 +190,7 @@ class PiecewiseJerkProfile:
         p1 = p0 + h * (v0 + h * (a0 / 2.0 + h * j / 6.0))
         cands = [p0, np.where(live, p1, p0)]
         qa, qb, qc = j / 2.0, a0, v0
-        with np.errstate(divide="ignore", invalid="ignore"):
-            disc = qb * qb - 4.0 * qa * qc
-            sq = np.sqrt(np.maximum(disc, 0.0))
-            quad = (qa != 0.0) & (disc >= 0.0)
-            roots = [
-                np.where(quad, (-qb + sq) / (2.0 * qa), np.where(qb != 0.0, -qc / qb, -1.0)),
-                np.where(quad, (-qb - sq) / (2.0 * qa), -1.0),
-            ]
+        roots = _quadratic_roots(qa, qb, qc)
         for r in roots:
             ok = live & np.isfinite(r) & (r > 0) & (r < h)
             rr = np.where(ok, r, 0.0)
@@ -335,14 +344,7 @@ class CubicSplinePath:
         cands = [c0, c0 + h * (c1 + h * (c2 + h * c3))]
         # roots of dq/ds = c1 + 2 c2 u + 3 c3 u^2 inside the piece
         qa, qb, qc = 3.0 * c3, 2.0 * c2, c1
-        with np.errstate(divide="ignore", invalid="ignore"):
-            disc = qb * qb - 4.0 * qa * qc
-            sq = np.sqrt(np.maximum(disc, 0.0))
-            quad = (qa != 0.0) & (disc >= 0.0)
-            roots = [
-                np.where(quad, (-qb + sq) / (2.0 * qa), np.where(qb != 0.0, -qc / qb, -1.0)),
-                np.where(quad, (-qb - sq) / (2.0 * qa), -1.0),
-            ]
+        roots = _quadratic_roots(qa, qb, qc)
         for r in roots:
             ok = np.isfinite(r) & (r > 0) & (r < h)
             rr = np.where(ok, r, 0.0)
