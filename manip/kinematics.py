@@ -10,8 +10,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import math
+
 import numpy as np
 import pinocchio as pin
+from numba import njit
 
 from manip import quaternion as quat
 from manip.errors import InvalidInputError, UnknownNameError
@@ -59,22 +62,38 @@ def _joint_spec(model: pin.Model, j: int) -> _JointSpec:
     )
 
 
-def _axis_rotation(axis: np.ndarray, angle: np.ndarray) -> np.ndarray:
-    """Rodrigues' formula: rotations (N, 3, 3) by `angle` (N,) about the unit `axis` (3,)."""
-    x, y, z = axis
-    c, s = np.cos(angle), np.sin(angle)
-    t = 1.0 - c
-    R = np.empty((angle.shape[0], 3, 3))
-    R[:, 0, 0] = t * x * x + c
-    R[:, 0, 1] = t * x * y - s * z
-    R[:, 0, 2] = t * x * z + s * y
-    R[:, 1, 0] = t * x * y + s * z
-    R[:, 1, 1] = t * y * y + c
-    R[:, 1, 2] = t * y * z - s * x
-    R[:, 2, 0] = t * x * z - s * y
-    R[:, 2, 1] = t * y * z + s * x
-    R[:, 2, 2] = t * z * z + c
-    return R
+@njit(cache=True, nogil=True)
+def _joint_frames(Q, q_index, parent, table):
+    """Batched forward kinematics: joint frames R (N, J+1, 3, 3), p (N, J+1, 3) of Q (N, dof).
+
+    A joint's transform in its parent's frame is `A + cos(q) C + sin(q) S (+ q D)`, with the
+    4x4 tables flattened in `table` (J, 3 or 4, 16); frame 0 is the base (identity).
+    """
+    N = Q.shape[0]
+    J = table.shape[0]
+    prismatic = table.shape[1] > 3
+    R = np.empty((N, J + 1, 3, 3))
+    p = np.empty((N, J + 1, 3))
+    B = np.empty(16)
+    for n in range(N):
+        for r in range(3):
+            p[n, 0, r] = 0.0
+            for c in range(3):
+                R[n, 0, r, c] = 1.0 if r == c else 0.0
+        for j in range(J):
+            q = Q[n, q_index[j]]
+            cq = math.cos(q)
+            sq = math.sin(q)
+            for e in range(16):
+                B[e] = table[j, 0, e] + cq * table[j, 1, e] + sq * table[j, 2, e]
+                if prismatic:
+                    B[e] += q * table[j, 3, e]
+            a = parent[j]
+            for r in range(3):
+                for c in range(3):
+                    R[n, j + 1, r, c] = R[n, a, r, 0] * B[c] + R[n, a, r, 1] * B[4 + c] + R[n, a, r, 2] * B[8 + c]
+                p[n, j + 1, r] = R[n, a, r, 0] * B[3] + R[n, a, r, 1] * B[7] + R[n, a, r, 2] * B[11] + p[n, a, r]
+    return R, p
 
 
 class Kinematics:
@@ -176,15 +195,7 @@ class Kinematics:
 
         Index 0 is the universe (identity). Q: (N, dof).
         """
-        n = Q.shape[0]
-        if n <= _CHUNK:
-            return self._joint_transforms_small(Q)
-        nj = len(self._joints) + 1
-        R = np.empty((n, nj, 3, 3))
-        p = np.empty((n, nj, 3))
-        for s in range(0, n, _CHUNK):
-            R[s : s + _CHUNK], p[s : s + _CHUNK] = self._joint_transforms_small(Q[s : s + _CHUNK])
-        return R, p
+        return _joint_frames(np.ascontiguousarray(Q, dtype=np.float64), self._sb_q, self._sb_parent_a, self._sb_table)
 
     def _build_small_batch_tables(self) -> None:
         """Constant (J, 4, 4) tables such that a joint's transform in its parent joint frame is
@@ -211,69 +222,9 @@ class Kinematics:
         self._sb_q = np.array([spec.q_index for spec in self._joints], dtype=np.int64)
         self._sb_prismatic = not all(spec.revolute for spec in self._joints)
         self._sb_parent = [spec.parent for spec in self._joints]
+        self._sb_parent_a = np.array(self._sb_parent, dtype=np.int64)
         tables = [self._sb_A, self._sb_C, self._sb_S] + ([self._sb_D] if self._sb_prismatic else [])
         self._sb_table = np.stack([t.reshape(J, 16) for t in tables], axis=1)  # (J, 3|4, 16)
-
-    def _joint_transforms_small(self, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """`joint_transforms` of one chunk with few NumPy calls (per-call overhead dominates small
-        batches): every joint's local transform in one broadcast, then one stacked (N, 4, 4)
-        product per joint."""
-        n = Q.shape[0]
-        qs = Q[:, self._sb_q].T  # (J, N)
-        # weights [1, cos q, sin q, (q)] times the stacked tables: (J, N, 4, 4), C-contiguous so
-        # that each joint's products run on contiguous stacks
-        W = np.empty(qs.shape + (self._sb_table.shape[1],))
-        W[..., 0] = 1.0
-        np.cos(qs, out=W[..., 1])
-        np.sin(qs, out=W[..., 2])
-        if self._sb_prismatic:
-            W[..., 3] = qs
-        B = np.matmul(W, self._sb_table).reshape(qs.shape + (4, 4))
-        T = np.empty((len(self._joints) + 1, n, 4, 4))
-        T[0] = np.eye(4)
-        for j, parent in enumerate(self._sb_parent, start=1):
-            if parent == 0:
-                T[j] = B[j - 1]
-            else:
-                np.matmul(T[parent], B[j - 1], out=T[j])
-        T = T.transpose(1, 0, 2, 3)
-        return T[:, :, :3, :3], T[:, :, :3, 3]
-
-    def _joint_transforms(self, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """`joint_transforms` of one chunk, as views of joint-major storage (`R[:, j]` contiguous)."""
-        n = Q.shape[0]
-        nj = len(self._joints) + 1
-        R = np.empty((nj, n, 3, 3))
-        p = np.empty((nj, n, 3))
-        R[0] = np.eye(3)
-        p[0] = 0.0
-        C = np.cos(Q)
-        S = np.sin(Q)
-        for j, spec in enumerate(self._joints, start=1):
-            # A = R_parent @ R_placement and the joint origin, as one (3N, 3) @ (3, 3) GEMM each
-            if spec.parent == 0:
-                A = np.broadcast_to(spec.R_placement, (n, 3, 3))
-                p[j] = spec.p_placement
-            else:
-                Rp = R[spec.parent].reshape(-1, 3)
-                A = (Rp @ spec.R_placement).reshape(n, 3, 3)
-                np.add(p[spec.parent], (Rp @ spec.p_placement).reshape(n, 3), out=p[j])
-            qj = Q[:, spec.q_index]
-            if not spec.revolute:
-                R[j] = A
-                p[j] += (A @ spec.axis) * qj[:, None]
-            elif spec.aligned_axis >= 0:
-                # A @ Rot(e_k, q) only mixes the two columns orthogonal to the axis e_k
-                k = spec.aligned_axis
-                a, b = (k + 1) % 3, (k + 2) % 3
-                c, s = C[:, spec.q_index, None], S[:, spec.q_index, None]
-                Rj = R[j]
-                Rj[:, :, k] = A[:, :, k]
-                Rj[:, :, a] = c * A[:, :, a] + s * A[:, :, b]
-                Rj[:, :, b] = c * A[:, :, b] - s * A[:, :, a]
-            else:
-                R[j] = A @ _axis_rotation(spec.axis, qj)
-        return R.transpose(1, 0, 2, 3), p.transpose(1, 0, 2)
 
     def frame_transforms(self, Q: np.ndarray, frame_ids: list[int]) -> tuple[np.ndarray, np.ndarray]:
         """World rotations (N, F, 3, 3) and positions (N, F, 3) of frames, for Q (N, dof)."""
@@ -282,7 +233,7 @@ class Kinematics:
         ps = np.empty((len(frame_ids), n, 3))
         # chunks keep the per-joint temporaries in cache (8x faster at N = 100,000)
         for s in range(0, n, _CHUNK):
-            R, p = self._joint_transforms(Q[s : s + _CHUNK])
+            R, p = self.joint_transforms(Q[s : s + _CHUNK])
             for i, fid in enumerate(frame_ids):
                 Rs[i, s : s + _CHUNK], ps[i, s : s + _CHUNK] = self._frame_from_joint(R, p, fid)
         return Rs.transpose(1, 0, 2, 3), ps.transpose(1, 0, 2)
@@ -308,7 +259,7 @@ class Kinematics:
             for s in range(0, n, _CHUNK):
                 Rf[s : s + _CHUNK], pf[s : s + _CHUNK], J[s : s + _CHUNK] = self.frame_jacobians(Q[s : s + _CHUNK], frame_id)
             return Rf, pf, J
-        R, p = self._joint_transforms(Q)
+        R, p = self.joint_transforms(Q)
         f = self.model.frames[frame_id]
         Rf, pf = self._frame_from_joint(R, p, frame_id)
         J = np.zeros((n, 6, self.dof))

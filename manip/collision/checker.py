@@ -31,6 +31,7 @@ from typing import Literal, NamedTuple, Sequence
 import coal
 import numpy as np
 
+from manip.collision import broadphase
 from manip.collision.robot_geometry import COARSE_MAX_SPHERES, COARSE_TOLERANCE, RobotGeometry, sphere_cover
 from manip.collision.shapes import Capsule, Cylinder, Obstacle, Sphere, coal_geometry
 from manip.collision.world import WorldConfig
@@ -210,15 +211,6 @@ def _coarse_to_fine(n: int) -> np.ndarray:
 _CHUNK = 1024  # configurations per broadphase batch
 
 
-def _expand(count: np.ndarray, start: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Ragged expansion: for rows with `count` (T,) items starting at `start` (T,) of a flat
-    table, (row index (total,), flat item index (total,))."""
-    total = int(count.sum())
-    row = np.repeat(np.arange(count.size), count)
-    offset = np.arange(total) - np.repeat(np.cumsum(count) - count, count)
-    return row, start[row] + offset
-
-
 class _SphereTable:
     """The balls of all parts in flat arrays (ragged by part), centres in joint frames."""
 
@@ -229,16 +221,6 @@ class _SphereTable:
         self.radii = np.concatenate(radii).astype(float)
         self.part = np.repeat(np.arange(len(radii)), self.count)
         self.joint = np.asarray(joints)[self.part]
-
-    def padded(self) -> tuple[np.ndarray, np.ndarray]:
-        """(centres (G, K, 3), radii (G, K)) padded to the largest part (padding radius -inf)."""
-        G, K = self.count.size, int(self.count.max())
-        C = np.zeros((G, K, 3))
-        r = np.full((G, K), -np.inf)
-        for g in range(G):
-            C[g, :self.count[g]] = self.centres_of(g)
-            r[g, :self.count[g]] = self.radii_of(g)
-        return C, r
 
     def centres_of(self, g: int) -> np.ndarray:
         return self.centres[self.start[g]:self.start[g] + self.count[g]]
@@ -392,47 +374,25 @@ class CollisionChecker:
         self._parts = parts
         G = len(parts)
         self._pj = np.array([p.joint for p in parts])
-        self._pbc = np.zeros((G, 3))
-        self._pbr = np.zeros(G)
-        for g, p in enumerate(parts):
-            allc = np.concatenate([p.centres, p.coarse_centres])
-            allr = np.concatenate([p.radii, p.coarse_radii])
-            lo = (allc - allr[:, None]).min(axis=0)
-            hi = (allc + allr[:, None]).max(axis=0)
-            c = (lo + hi) / 2.0
-            self._pbc[g] = c
-            self._pbr[g] = (np.linalg.norm(allc - c, axis=1) + allr).max()
         self._fine = _SphereTable([p.centres for p in parts], [p.radii for p in parts], self._pj)
-        self._fineP = self._fine.padded()
-        self._l0_lims = {}
         self._coarse = _SphereTable([p.coarse_centres for p in parts], [p.coarse_radii for p in parts], self._pj)
-        # level 0 of the world check: one bounding ball per moving joint (all its parts)
-        joints = sorted({p.joint for p in parts if p.joint != 0})
-        self._l0_joint = np.array(joints, dtype=np.int64)
-        self._l0_c = np.zeros((len(joints), 3))
-        self._l0_r = np.zeros(len(joints))
-        members = []
-        for k, j in enumerate(joints):
-            gs = [g for g, p in enumerate(parts) if p.joint == j]
+
+        def bounding_ball(gs: Sequence[int]) -> tuple[np.ndarray, float]:
+            """A ball holding every fine and coarse ball of the parts gs (joint frame)."""
             allc = np.concatenate([self._fine.centres_of(g) for g in gs] + [self._coarse.centres_of(g) for g in gs])
             allr = np.concatenate([self._fine.radii_of(g) for g in gs] + [self._coarse.radii_of(g) for g in gs])
-            lo = (allc - allr[:, None]).min(axis=0)
-            hi = (allc + allr[:, None]).max(axis=0)
-            c = (lo + hi) / 2.0
-            self._l0_c[k] = c
-            self._l0_r[k] = (np.linalg.norm(allc - c, axis=1) + allr).max()
-            members.append(np.array(gs, dtype=np.int64))
-        self._l0_members = members
-        # coarse balls of each moving joint's parts together (padded), with the owning part
-        Kj = max([int(sum(self._coarse.count[g] for g in m)) for m in members], default=1)
-        self._jc_C = np.zeros((len(joints), Kj, 3))
-        self._jc_r = np.full((len(joints), Kj), -np.inf)
-        self._jc_part = np.zeros((len(joints), Kj), dtype=np.int64)
-        for k, m in enumerate(members):
-            c = np.concatenate([self._coarse.centres_of(g) for g in m])
-            self._jc_C[k, :len(c)] = c
-            self._jc_r[k, :len(c)] = np.concatenate([self._coarse.radii_of(g) for g in m])
-            self._jc_part[k, :len(c)] = np.concatenate([np.full(self._coarse.count[g], g) for g in m])
+            c = ((allc - allr[:, None]).min(axis=0) + (allc + allr[:, None]).max(axis=0)) / 2.0
+            return c, float((np.linalg.norm(allc - c, axis=1) + allr).max())
+
+        # one bounding ball per part (distance queries' branch and bound)
+        balls = [bounding_ball([g]) for g in range(G)]
+        self._pbc = np.array([c for c, _ in balls]).reshape(G, 3)
+        self._pbr = np.array([r for _, r in balls])
+        # level 0 of the world check: one bounding ball per moving joint (all its parts)
+        joints = sorted({p.joint for p in parts if p.joint != 0})
+        members = [np.array([g for g, p in enumerate(parts) if p.joint == j], dtype=np.int64) for j in joints]
+        balls = [bounding_ball(m) for m in members]
+        self._l0_joint = np.array(joints, dtype=np.int64)
         self._pairs = np.array(pairs, dtype=np.int64).reshape(-1, 2)
         # self-collision broadphase per body (a link's parts together, or an attached object):
         # body pairs with at least one enabled part pair
@@ -451,52 +411,26 @@ class CollisionChecker:
         for k, (a_, b_) in enumerate(pairs):
             bpairs.setdefault((int(part_body[a_]), int(part_body[b_])), []).append(k)
         self._bpairs = np.array(list(bpairs), dtype=np.int64).reshape(-1, 2)
-        members = list(bpairs.values())
-        self._bp_count = np.array([len(m) for m in members], dtype=np.int64)
-        self._bp_start = np.cumsum(self._bp_count) - self._bp_count
-        self._bp_flat = np.array([k for m in members for k in m], dtype=np.int64)
-        nb = len(body_parts)
-        self._body_joint = np.array([parts[gs[0]].joint for gs in body_parts], dtype=np.int64)
-        self._bbc = np.zeros((nb, 3))
-        self._bbr = np.zeros(nb)
-        for b_, gs in enumerate(body_parts):
-            allc = np.concatenate([self._fine.centres_of(g) for g in gs] + [self._coarse.centres_of(g) for g in gs])
-            allr = np.concatenate([self._fine.radii_of(g) for g in gs] + [self._coarse.radii_of(g) for g in gs])
-            lo = (allc - allr[:, None]).min(axis=0)
-            hi = (allc + allr[:, None]).max(axis=0)
-            c = (lo + hi) / 2.0
-            self._bbc[b_] = c
-            self._bbr[b_] = (np.linalg.norm(allc - c, axis=1) + allr).max()
-        # ball pairs of the coarse covers of each body pair, as indices into self._coarse
-        body_balls = [np.concatenate([np.arange(self._coarse.start[g], self._coarse.start[g] + self._coarse.count[g])
-                                      for g in gs]) for gs in body_parts]
-        ia, ib, cnt = [], [], []
-        for a_, b_ in self._bpairs:
-            A, B = body_balls[a_], body_balls[b_]
-            ia.append(np.repeat(A, B.size))
-            ib.append(np.tile(B, A.size))
-            cnt.append(A.size * B.size)
-        cnt_a = np.array(cnt, dtype=np.int64)
-        empty = np.zeros(0, dtype=np.int64)
-        self._bc_count = cnt_a
-        self._bc_start = np.cumsum(cnt_a) - cnt_a
-        self._bc_a = np.concatenate(ia) if ia else empty
-        self._bc_b = np.concatenate(ib) if ib else empty
-        # every ball centre the broadphase places for all configurations (level-0 joint balls,
-        # body balls, coarse balls), homogeneous, with flat indices into the product
-        # (N, 3 (J+1), S) of the stacked [R | p] rows of the joint frames and these centres
-        cen = np.concatenate([self._l0_c, self._bbc, self._coarse.centres])
-        jnt = np.concatenate([self._l0_joint, self._body_joint, self._coarse.joint])
-        S = cen.shape[0]
-        self._place_C = np.vstack([cen.T, np.ones((1, S))])  # (4, S)
-        self._place_idx = (3 * jnt[:, None] + np.arange(3)[None]) * S + np.arange(S)[:, None]  # (S, 3)
-        nl0, nb_ = self._l0_c.shape[0], self._bbc.shape[0]
-        self._place_l0 = slice(0, nl0)
-        self._place_body = slice(nl0, nl0 + nb_)
-        self._place_coarse = slice(nl0 + nb_, S)
+        pair_count = np.array([len(m) for m in bpairs.values()], dtype=np.int64)
+        pair_order = np.array([k for m in bpairs.values() for k in m], dtype=np.int64)
+        body_balls = [bounding_ball(gs) for gs in body_parts]
+        body_joint = np.array([parts[gs[0]].joint for gs in body_parts], dtype=np.int64)
         # geometry placements in joint frames, for batched transforms of the exact checks
         self._gR = np.array([p.R for p in parts])
         self._gp = np.array([p.p for p in parts])
+        # tables of the compiled broadphase (`broadphase.world_candidates` / `self_candidates`)
+        i64 = lambda a: np.ascontiguousarray(a, dtype=np.int64)  # noqa: E731
+        f64 = lambda a: np.ascontiguousarray(a, dtype=np.float64)  # noqa: E731
+        mem_count = np.array([m.size for m in members], dtype=np.int64)
+        covers = (i64(self._pj), i64(self._coarse.start), i64(self._coarse.count), f64(self._coarse.centres),
+                  f64(self._coarse.radii))
+        self._bp_world = (self._l0_joint, f64(np.array([c for c, _ in balls]).reshape(-1, 3)),
+                          f64([r for _, r in balls]), i64(np.cumsum(mem_count) - mem_count), mem_count,
+                          i64(np.concatenate(members) if members else np.zeros(0)), *covers,
+                          i64(self._fine.start), i64(self._fine.count), f64(self._fine.centres), f64(self._fine.radii))
+        self._bp_self = (body_joint, f64(np.array([c for c, _ in body_balls]).reshape(-1, 3)), f64([r for _, r in body_balls]),
+                         self._bpairs, i64(np.cumsum(pair_count) - pair_count), pair_count,
+                         i64(self._pairs[pair_order].reshape(-1, 2)), *covers)
         self._req_self = coal.CollisionRequest()
         self._req_self.security_margin = self._self_padding
         self._update_static()
@@ -536,6 +470,8 @@ class CollisionChecker:
         live = {id(o) for o in obs}
         self._obstacle_cache = {k: v for k, v in self._obstacle_cache.items() if k in live}
         self._any_cyl = bool(self._ocyl.any())
+        self._bp_obstacles = (np.ascontiguousarray(self._oR), np.ascontiguousarray(self._oc), np.ascontiguousarray(self._oh),
+                              np.ascontiguousarray(self._orho), np.ascontiguousarray(self._ocyl))
         # grouped tables for the first broadphase level: local coordinates of points for all
         # obstacles of a group with one matrix product, X @ Rcat - offset
         self._groups = []
@@ -574,80 +510,6 @@ class CollisionChecker:
         L = np.einsum("moj,oji->moi", d, self._oR)
         return _sd_local(L, self._oh[None], self._orho[None], self._ocyl[None] if self._any_cyl else None)
 
-    def _near_all(self, X: np.ndarray, reach: np.ndarray) -> np.ndarray:
-        """(M, O) bool: points X (M, 3) within `reach` (M,) of each obstacle's broadphase shape
-        (sd < reach, computed without square roots: outside distance^2 < (reach + rounding)^2)."""
-        M = X.shape[0]
-        single = len(self._groups) == 1
-        out = None if single else np.empty((M, len(self._obs)), dtype=bool)
-        for cyl, idx, Rcat, off, h, rho in self._groups:
-            L = (X @ Rcat - off).reshape(M, idx.size, 3)
-            if cyl:
-                a = np.sqrt(L[..., 0] ** 2 + L[..., 1] ** 2) - h[:, 0]
-                b = np.abs(L[..., 2]) - h[:, 2]
-                np.maximum(a, 0.0, out=a)
-                np.maximum(b, 0.0, out=b)
-                d2 = a * a + b * b
-                lim = reach[:, None]
-            else:
-                np.abs(L, out=L)
-                L -= h
-                np.maximum(L, 0.0, out=L)
-                x, y, z = L[..., 0], L[..., 1], L[..., 2]
-                d2 = x * x + y * y + z * z
-                lim = reach[:, None] + rho
-            near = d2 < lim * np.abs(lim)  # lim <= 0 never counts as near
-            if single:
-                return near
-            out[:, idx] = near
-        return out
-
-    def _near_l0(self, X: np.ndarray, N: int, margin: float) -> np.ndarray:
-        """`_near_all` of the level-0 joint balls of N configurations, X (N * J, 3), with
-        their radii plus `margin` as reach (same answers; fewer NumPy calls, limits cached)."""
-        M = X.shape[0]
-        lims = self._l0_lims.get((N, margin))
-        if lims is None:
-            reach = np.tile(self._l0_r + margin, N)[:, None]
-            lims = []
-            for cyl, idx, Rcat, off, h, rho in self._groups:
-                lim = reach if cyl else reach + rho
-                lims.append(lim * np.abs(lim))  # lim <= 0 never counts as near
-            if N <= 256:
-                self._l0_lims[(N, margin)] = lims
-        single = len(self._groups) == 1
-        out = None if single else np.empty((M, len(self._obs)), dtype=bool)
-        for (cyl, idx, Rcat, off, h, rho), lim2 in zip(self._groups, lims):
-            L = X @ Rcat
-            L -= off
-            if cyl:
-                L = L.reshape(M, idx.size, 3)
-                a = np.sqrt(np.einsum("mki,mki->mk", L[..., :2], L[..., :2]))
-                a -= h[:, 0]
-                b = np.abs(L[..., 2])
-                b -= h[:, 2]
-                np.maximum(a, 0.0, out=a)
-                np.maximum(b, 0.0, out=b)
-                d2 = a * a
-                d2 += b * b
-            else:
-                np.abs(L, out=L)
-                L -= self._group_hflat[cyl]
-                np.maximum(L, 0.0, out=L)
-                L = L.reshape(M, idx.size, 3)
-                d2 = np.einsum("mki,mki->mk", L, L)
-            near = d2 < lim2
-            if single:
-                return near
-            out[:, idx] = near
-        return out
-
-    def _sd_pairs(self, X: np.ndarray, o: np.ndarray) -> np.ndarray:
-        """Signed distances (M,) of points X (M, 3) to obstacles o (M,)."""
-        d = X - self._oc[o]
-        L = np.einsum("mj,mji->mi", d, self._oR[o])
-        return _sd_local(L, self._oh[o], self._orho[o], self._ocyl[o] if self._any_cyl else None)
-
     def _fk(self, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Joint frames (N, J+1, 3, 3), (N, J+1, 3) (the batched NumPy kinematics)."""
         return self.kinematics.joint_transforms(Q)
@@ -658,118 +520,34 @@ class CollisionChecker:
         return _tf(Rj @ part.R, pj + Rj @ part.p)
 
     # ------------------------------------------------------------------ broadphase
-    def _world_level_rel(self, R, p, n, g, o, padded: tuple[np.ndarray, np.ndarray], margin: float):
-        """Keep the (n, g, o) triples where some ball of part g (padded table) comes within
-        `margin` of obstacle o: the balls are mapped into the obstacle's frame with one 3x3
-        transform per triple. Returns the kept triples and their smallest ball clearance."""
-        C, r = padded
-        j = self._pj[g]
-        Rj = R[n, j]
-        RoT = self._oR[o].transpose(0, 2, 1)
-        M = np.matmul(RoT, Rj)
-        t = np.matmul(RoT, (p[n, j] - self._oc[o])[:, :, None])[:, :, 0]
-        L = np.matmul(C[g], M.transpose(0, 2, 1)) + t[:, None, :]  # (T, K, 3) in obstacle frames
-        cyl = self._ocyl[o][:, None] if self._any_cyl else None
-        sd = _sd_local(L, self._oh[o][:, None, :], self._orho[o][:, None], cyl) - r[g]
-        m = sd.min(axis=1)
-        keep = m < margin
-        return n[keep], g[keep], o[keep], m[keep]
-
-    def _world_level_fine(self, R, p, n, g, o, margin: float):
-        """`_world_level_rel` with the fine covers, ragged (each part's own balls, no padding)."""
-        j = self._pj[g]
-        RoT = self._oR[o].transpose(0, 2, 1)
-        M = np.matmul(RoT, R[n, j])  # (T, 3, 3) joint frame -> obstacle frame
-        tr = np.matmul(RoT, (p[n, j] - self._oc[o])[:, :, None])[:, :, 0]
-        count = self._fine.count[g]
-        row, ball = _expand(count, self._fine.start[g])
-        L = np.einsum("rij,rj->ri", M[row], self._fine.centres[ball]) + tr[row]
-        orow = o[row]
-        cyl = self._ocyl[orow] if self._any_cyl else None
-        sd = _sd_local(L, self._oh[orow], self._orho[orow], cyl) - self._fine.radii[ball]
-        m = np.minimum.reduceat(sd, np.cumsum(count) - count)
-        keep = m < margin
-        return n[keep], g[keep], o[keep], m[keep]
-
     def _candidates(self, Q: np.ndarray, R: np.ndarray, p: np.ndarray, world: bool = True, self_: bool = True,
                     deepest_first: bool = False):
-        """Pairs the balls cannot clear, sorted by configuration, deepest first.
-
-        World: one bounding ball per moving joint, then each part's coarse cover, then its
-        fine cover. Self: one bounding ball per part, then coarse, then fine covers.
+        """Pairs the balls cannot clear (the compiled `broadphase` kernels).
 
         Returns:
             (n (T,), kind (T,) 0=world/1=self, i (T,), j (T,)): for world i = part and
             j = obstacle; for self (i, j) = parts. Sorted by configuration then depth, or
             by depth alone with `deepest_first`.
         """
-        N = Q.shape[0]
         ns, kinds, ii, jj, depth = [], [], [], [], []
-        O = len(self._obs)
-        J = self._l0_joint.size
-        do_world = world and O and J
-        do_self = self_ and self._bpairs.shape[0]
-        if not (do_world or do_self):
-            e = np.zeros(0, dtype=np.int64)
-            return e, e, e, e
-        # all broadphase balls placed for every configuration, with one matrix product
-        RP = np.concatenate((R, p[..., None]), axis=3).reshape(N, -1, 4)
-        Xall = np.take(np.matmul(RP, self._place_C).reshape(N, -1), self._place_idx, axis=1)  # (N, S, 3)
-        if do_world:
-            margin = self._padding + 1e-9
-            X = Xall[:, self._place_l0]
-            n, jk, o = np.nonzero(self._near_l0(X.reshape(-1, 3), N, margin).reshape(N, J, O))
+        if world and len(self._obs) and self._l0_joint.size:
+            n, g, o, d = broadphase.world_candidates(R, p, self._padding + 1e-9, *self._bp_world, *self._bp_obstacles)
             if n.size:
-                # coarse balls of the joint's parts, in the obstacle's frame; keep the parts
-                # with a ball within reach
-                jt = self._l0_joint[jk]
-                RoT = self._oR[o].transpose(0, 2, 1)
-                M = np.matmul(RoT, R[n, jt])
-                tr = np.matmul(RoT, (p[n, jt] - self._oc[o])[:, :, None])[:, :, 0]
-                L = np.matmul(self._jc_C[jk], M.transpose(0, 2, 1)) + tr[:, None, :]
-                cyl = self._ocyl[o][:, None] if self._any_cyl else None
-                sd = _sd_local(L, self._oh[o][:, None, :], self._orho[o][:, None], cyl) - self._jc_r[jk]
-                t, k = np.nonzero(sd < margin)
-                if t.size:
-                    # (triple, part) pairs with a ball within reach, each once
-                    hit = np.zeros((n.size, len(self._parts)), dtype=bool)
-                    hit[t, self._jc_part[jk[t], k]] = True
-                    t, g = np.nonzero(hit)
-                    n, o = n[t], o[t]
-                else:
-                    n = t
+                ns.append(n); kinds.append(np.zeros(n.size, dtype=np.int64)); ii.append(g); jj.append(o); depth.append(d)
+        if self_ and self._bpairs.shape[0]:
+            n, k, d = broadphase.self_candidates(R, p, self._self_padding + 1e-9, *self._bp_self)
             if n.size:
-                n, g, o, m = self._world_level_fine(R, p, n, g, o, margin)
-                ns.append(n); kinds.append(np.zeros(n.size, dtype=np.int64)); ii.append(g); jj.append(o); depth.append(m)
-        if do_self:
-            margin = self._self_padding + 1e-9
-            a, b = self._bpairs[:, 0], self._bpairs[:, 1]
-            cbody = Xall[:, self._place_body]  # (N, bodies, 3)
-            diff = cbody[:, a] - cbody[:, b]
-            dist2 = np.einsum("npi,npi->np", diff, diff)  # (N, body pairs)
-            reach = (self._bbr[a] + self._bbr[b])[None] + margin
-            n, k = np.nonzero(dist2 < reach * reach)
-            if n.size:
-                # coarse covers of the two bodies; what survives goes to coal part pair by part pair
-                Xc = Xall[:, self._place_coarse]  # (N, S, 3)
-                t, e = _expand(self._bc_count[k], self._bc_start[k])
-                nt = n[t]
-                d = Xc[nt, self._bc_a[e]] - Xc[nt, self._bc_b[e]]
-                dist = np.sqrt(np.einsum("ti,ti->t", d, d)) - self._coarse.radii[self._bc_a[e]] - self._coarse.radii[self._bc_b[e]]
-                m = np.minimum.reduceat(dist, np.cumsum(self._bc_count[k]) - self._bc_count[k])
-                keep = m < margin
-                n, k, m = n[keep], k[keep], m[keep]
-            if n.size:
-                t, flat = _expand(self._bp_count[k], self._bp_start[k])
-                pk = self._bp_flat[flat]
-                n, m = n[t], m[t]
+                pairs = self._bp_self[6]
                 ns.append(n); kinds.append(np.ones(n.size, dtype=np.int64))
-                ii.append(self._pairs[pk, 0]); jj.append(self._pairs[pk, 1]); depth.append(m)
+                ii.append(pairs[k, 0]); jj.append(pairs[k, 1]); depth.append(d)
         if not ns:
             e = np.zeros(0, dtype=np.int64)
             return e, e, e, e
-        n = np.concatenate(ns); kind = np.concatenate(kinds); i = np.concatenate(ii); j = np.concatenate(jj)
-        d = np.concatenate(depth)
+        if len(ns) == 1:
+            n, kind, i, j, d = ns[0], kinds[0], ii[0], jj[0], depth[0]
+        else:
+            n = np.concatenate(ns); kind = np.concatenate(kinds); i = np.concatenate(ii); j = np.concatenate(jj)
+            d = np.concatenate(depth)
         order = np.argsort(d, kind="stable") if deepest_first else np.lexsort((d, n))
         return n[order], kind[order], i[order], j[order]
 
@@ -804,16 +582,9 @@ class CollisionChecker:
         if n.size == 0:
             return out
         # world placements of both geometries of every candidate pair, in one go
-        ji = self._pj[i]
-        Ra = R[n, ji]
-        RA = np.matmul(Ra, self._gR[i])
-        pA = p[n, ji] + np.einsum("tij,tj->ti", Ra, self._gp[i])
         selfp = kind == 1
-        jb = self._pj[np.where(selfp, j, 0)]
-        Rb = R[n, jb]
-        gb = np.where(selfp, j, 0)
-        RB = np.matmul(Rb, self._gR[gb])
-        pB = p[n, jb] + np.einsum("tij,tj->ti", Rb, self._gp[gb])
+        RA, pA = broadphase.part_placements(R, p, n, i, self._pj, self._gR, self._gp)
+        RB, pB = broadphase.part_placements(R, p, n, np.where(selfp, j, 0), self._pj, self._gR, self._gp)
         geoms = [pt.geometry for pt in self._parts]
         ogeom, otf = self._ogeom, self._otf
         req_w, req_s = self._req_world, self._req_self

@@ -1,0 +1,233 @@
+"""Compiled (numba) broadphase of `CollisionChecker`: which (configuration, pair) candidates
+the sphere covers cannot clear.
+
+The covers hold every point of the geometry (see `manip.collision.spheres`), so a pair
+whose balls all keep more than the margin apart is free for certain; every other pair is a
+candidate for coal's exact narrowphase. These kernels only filter: they never decide a
+collision. Each configuration is visited once, with the hierarchy
+
+- world: one bounding ball per moving joint (all its parts) against each obstacle, then
+  the part's coarse cover, then its fine cover;
+- self: one bounding ball per body (parts moving together), then the coarse covers of each
+  enabled part pair.
+
+Obstacles are seen through their broadphase shape: a box (cuboids, mesh bounding boxes), a
+rounded box (spheres, capsules) or a cylinder, given in their own frame by a centre `oc`,
+rotation `oR`, half extents `oh` and rounding `orho`.
+
+Array conventions: joint frames R (N, J+1, 3, 3), p (N, J+1, 3) as in
+`Kinematics.joint_transforms`; ball centres (K, 3) in their joint's frame [m]; radii (K,) [m].
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True, nogil=True)
+def _grow(a, size):
+    """`a` with at least `size` rows (doubling), keeping its contents."""
+    if size <= a.shape[0]:
+        return a
+    b = np.empty(max(size, 2 * a.shape[0]), dtype=a.dtype)
+    b[:a.shape[0]] = a
+    return b
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _place(R, p, n, j, c, out):
+    """out (3,) = R[n, j] @ c + p[n, j]: a point of joint j's frame in the base frame."""
+    for r in range(3):
+        out[r] = R[n, j, r, 0] * c[0] + R[n, j, r, 1] * c[1] + R[n, j, r, 2] * c[2] + p[n, j, r]
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _obstacle_sd(x, o, oR, oc, oh, orho, ocyl):
+    """Signed distance [m] of the point x (3,) (base frame) to obstacle o's broadphase shape."""
+    d0 = x[0] - oc[o, 0]
+    d1 = x[1] - oc[o, 1]
+    d2 = x[2] - oc[o, 2]
+    # local coordinates: oR^T (x - oc)
+    l0 = oR[o, 0, 0] * d0 + oR[o, 1, 0] * d1 + oR[o, 2, 0] * d2
+    l1 = oR[o, 0, 1] * d0 + oR[o, 1, 1] * d1 + oR[o, 2, 1] * d2
+    l2 = oR[o, 0, 2] * d0 + oR[o, 1, 2] * d1 + oR[o, 2, 2] * d2
+    z = abs(l2) - oh[o, 2]
+    if ocyl[o]:
+        r = math.sqrt(l0 * l0 + l1 * l1) - oh[o, 0]
+        inside = min(max(r, z), 0.0)
+        r = max(r, 0.0)
+        z = max(z, 0.0)
+        return math.sqrt(r * r + z * z) + inside
+    a = abs(l0) - oh[o, 0]
+    b = abs(l1) - oh[o, 1]
+    inside = min(max(max(a, b), z), 0.0)
+    a = max(a, 0.0)
+    b = max(b, 0.0)
+    z = max(z, 0.0)
+    return math.sqrt(a * a + b * b + z * z) + inside - orho[o]
+
+
+@njit(cache=True, nogil=True)
+def world_candidates(R, p, margin,
+                     l0_joint, l0_c, l0_r, mem_start, mem_count, mem_parts,
+                     part_joint, c_start, c_count, c_centres, c_radii,
+                     f_start, f_count, f_centres, f_radii,
+                     oR, oc, oh, orho, ocyl):
+    """(configuration, moving part, obstacle) triples the covers cannot clear by `margin` [m].
+
+    Args:
+        R, p: joint frames of N configurations.
+        margin: the padding [m] (pairs closer than this are candidates).
+        l0_joint (J0,), l0_c (J0, 3), l0_r (J0,): one bounding ball per moving joint.
+        mem_start, mem_count (J0,), mem_parts: the parts of each moving joint (ragged).
+        part_joint (G,): each part's joint.
+        c_start, c_count (G,), c_centres (Kc, 3), c_radii (Kc,): coarse covers (ragged by part).
+        f_start, f_count (G,), f_centres (Kf, 3), f_radii (Kf,): fine covers (ragged by part).
+        oR (O, 3, 3), oc (O, 3), oh (O, 3), orho (O,), ocyl (O,): obstacle shapes.
+
+    Returns:
+        n, part, obstacle (T,) int64 and depth (T,): the smallest fine-ball clearance [m].
+    """
+    N = R.shape[0]
+    O = oc.shape[0]
+    cap = 64
+    out_n = np.empty(cap, dtype=np.int64)
+    out_g = np.empty(cap, dtype=np.int64)
+    out_o = np.empty(cap, dtype=np.int64)
+    out_d = np.empty(cap, dtype=np.float64)
+    T = 0
+    x = np.empty(3)
+    for n in range(N):
+        for k in range(l0_joint.shape[0]):
+            _place(R, p, n, l0_joint[k], l0_c[k], x)
+            reach = l0_r[k] + margin
+            for o in range(O):
+                if _obstacle_sd(x, o, oR, oc, oh, orho, ocyl) >= reach:
+                    continue
+                for mi in range(mem_start[k], mem_start[k] + mem_count[k]):
+                    g = mem_parts[mi]
+                    j = part_joint[g]
+                    near = False
+                    for b in range(c_start[g], c_start[g] + c_count[g]):
+                        _place(R, p, n, j, c_centres[b], x)
+                        if _obstacle_sd(x, o, oR, oc, oh, orho, ocyl) - c_radii[b] < margin:
+                            near = True
+                            break
+                    if not near:
+                        continue
+                    m = np.inf
+                    for b in range(f_start[g], f_start[g] + f_count[g]):
+                        _place(R, p, n, j, f_centres[b], x)
+                        s = _obstacle_sd(x, o, oR, oc, oh, orho, ocyl) - f_radii[b]
+                        if s < m:
+                            m = s
+                    if m < margin:
+                        if T == out_n.shape[0]:
+                            out_n = _grow(out_n, T + 1)
+                            out_g = _grow(out_g, T + 1)
+                            out_o = _grow(out_o, T + 1)
+                            out_d = _grow(out_d, T + 1)
+                        out_n[T] = n
+                        out_g[T] = g
+                        out_o[T] = o
+                        out_d[T] = m
+                        T += 1
+                # the joint ball centre was overwritten by the covers' balls
+                _place(R, p, n, l0_joint[k], l0_c[k], x)
+    return out_n[:T], out_g[:T], out_o[:T], out_d[:T]
+
+
+@njit(cache=True, nogil=True)
+def self_candidates(R, p, margin,
+                    body_joint, body_c, body_r, bpairs, pp_start, pp_count, pairs,
+                    part_joint, c_start, c_count, c_centres, c_radii):
+    """(configuration, part pair) candidates of self-collision the covers cannot clear.
+
+    Args:
+        R, p: joint frames of N configurations.
+        margin: the self padding [m].
+        body_joint (B,), body_c (B, 3), body_r (B,): one bounding ball per body.
+        bpairs (P, 2): body pairs with at least one enabled part pair.
+        pp_start, pp_count (P,): the enabled part pairs of each body pair, as ragged
+            ranges of `pairs` (Q, 2).
+        part_joint, c_start, c_count, c_centres, c_radii: coarse covers as in
+            `world_candidates`.
+
+    Returns:
+        n, pair index into `pairs` (T,) int64 and depth (T,): the smallest coarse-ball
+        clearance of the part pair [m].
+    """
+    N = R.shape[0]
+    cap = 64
+    out_n = np.empty(cap, dtype=np.int64)
+    out_k = np.empty(cap, dtype=np.int64)
+    out_d = np.empty(cap, dtype=np.float64)
+    T = 0
+    nb = body_c.shape[0]
+    xb = np.empty((nb, 3))
+    xc = np.empty((c_centres.shape[0], 3))
+    placed = np.zeros(c_centres.shape[0], dtype=np.bool_)
+    for n in range(N):
+        for b in range(nb):
+            _place(R, p, n, body_joint[b], body_c[b], xb[b])
+        placed[:] = False
+        for e in range(bpairs.shape[0]):
+            a = bpairs[e, 0]
+            b = bpairs[e, 1]
+            d0 = xb[a, 0] - xb[b, 0]
+            d1 = xb[a, 1] - xb[b, 1]
+            d2 = xb[a, 2] - xb[b, 2]
+            reach = body_r[a] + body_r[b] + margin
+            if d0 * d0 + d1 * d1 + d2 * d2 >= reach * reach:
+                continue
+            for k in range(pp_start[e], pp_start[e] + pp_count[e]):
+                ga = pairs[k, 0]
+                gb = pairs[k, 1]
+                for g in (ga, gb):
+                    for i in range(c_start[g], c_start[g] + c_count[g]):
+                        if not placed[i]:
+                            _place(R, p, n, part_joint[g], c_centres[i], xc[i])
+                            placed[i] = True
+                m = np.inf
+                for i in range(c_start[ga], c_start[ga] + c_count[ga]):
+                    for j in range(c_start[gb], c_start[gb] + c_count[gb]):
+                        d0 = xc[i, 0] - xc[j, 0]
+                        d1 = xc[i, 1] - xc[j, 1]
+                        d2 = xc[i, 2] - xc[j, 2]
+                        s = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) - c_radii[i] - c_radii[j]
+                        if s < m:
+                            m = s
+                if m < margin:
+                    if T == out_n.shape[0]:
+                        out_n = _grow(out_n, T + 1)
+                        out_k = _grow(out_k, T + 1)
+                        out_d = _grow(out_d, T + 1)
+                    out_n[T] = n
+                    out_k[T] = k
+                    out_d[T] = m
+                    T += 1
+    return out_n[:T], out_k[:T], out_d[:T]
+
+
+@njit(cache=True, nogil=True)
+def part_placements(R, p, n, g, part_joint, gR, gp):
+    """Base-frame placements of parts g (T,) in configurations n (T,).
+
+    gR (G, 3, 3), gp (G, 3): each part's geometry frame in its joint frame.
+    Returns Rw (T, 3, 3), pw (T, 3).
+    """
+    T = n.shape[0]
+    Rw = np.empty((T, 3, 3))
+    pw = np.empty((T, 3))
+    for t in range(T):
+        j = part_joint[g[t]]
+        for r in range(3):
+            for c in range(3):
+                Rw[t, r, c] = (R[n[t], j, r, 0] * gR[g[t], 0, c] + R[n[t], j, r, 1] * gR[g[t], 1, c]
+                               + R[n[t], j, r, 2] * gR[g[t], 2, c])
+            pw[t, r] = (R[n[t], j, r, 0] * gp[g[t], 0] + R[n[t], j, r, 1] * gp[g[t], 1]
+                        + R[n[t], j, r, 2] * gp[g[t], 2] + p[n[t], j, r])
+    return Rw, pw
