@@ -565,22 +565,40 @@ class CollisionChecker:
             tfb = tfs[key] = self._part_tf(R, p, n, j)
         return bool(coal.collide(self._parts[i].geometry, tfa, self._parts[j].geometry, tfb, self._req_self, res))
 
-    def _check(self, Q: np.ndarray, stop_at_first: bool = False) -> np.ndarray:
+    def _check(self, Q: np.ndarray, stop_at_first: bool = False, group: np.ndarray | None = None,
+               deepest_first: bool = True) -> np.ndarray:
+        """(N,) bool: which configurations of Q (N, dof) collide.
+
+        Args:
+            stop_at_first: stop at the first collision found (only `out.any()` is meaningful).
+            group: (N,) ints: stop looking in a group once one of its configurations collides
+                (only `out[group == g].any()` is meaningful for each group g).
+            deepest_first: with `stop_at_first` or `group`, try the most penetrating ball
+                pairs first (the likeliest collisions); else go in configuration order, so
+                that with `stop_at_first` the first True is the first colliding row.
+        """
         if self._static_world:
             return np.ones(Q.shape[0], dtype=bool)
-        if Q.shape[0] > _CHUNK:  # bounded memory for large batches
-            out = np.zeros(Q.shape[0], dtype=bool)
-            for s in range(0, Q.shape[0], _CHUNK):
-                out[s:s + _CHUNK] = self._check(Q[s:s + _CHUNK], stop_at_first)
-                if stop_at_first and out[s:s + _CHUNK].any():
-                    break
-            return out
-        R, p = self._fk(Q)
+        if stop_at_first:
+            group = np.zeros(Q.shape[0], dtype=np.int64)
+        ordered = not (deepest_first and group is not None)
+        if group is None:  # every configuration on its own
+            group = np.arange(Q.shape[0])
         out = np.zeros(Q.shape[0], dtype=bool)
-        # to find any collision, the most penetrating ball pairs are the likeliest
-        n, kind, i, j = self._candidates(Q, R, p, deepest_first=stop_at_first)
+        done: set[int] = set()
+        for s in range(0, Q.shape[0], _CHUNK):  # bounded memory for large batches
+            self._check_chunk(Q[s:s + _CHUNK], group[s:s + _CHUNK], not ordered, done, out[s:s + _CHUNK])
+            if stop_at_first and done:
+                break
+        return out
+
+    def _check_chunk(self, Q: np.ndarray, group: np.ndarray, deepest_first: bool, done: set[int], out: np.ndarray) -> None:
+        """`_check` of at most _CHUNK configurations: sets `out` where they collide, skipping
+        the groups (N,) in `done` and adding those found colliding."""
+        R, p = self._fk(Q)
+        n, kind, i, j = self._candidates(Q, R, p, deepest_first=deepest_first)
         if n.size == 0:
-            return out
+            return
         # world placements of both geometries of every candidate pair, in one go
         selfp = kind == 1
         RA, pA = broadphase.part_placements(R, p, n, i, self._pj, self._gR, self._gp)
@@ -591,9 +609,10 @@ class CollisionChecker:
         res = coal.CollisionResult()
         Tf = coal.Transform3s
         collide = coal.collide
-        hit_configs: set[int] = set()
-        for nn, k, a, b, Ra_, pa_, Rb_, pb_ in zip(n.tolist(), kind.tolist(), i.tolist(), j.tolist(), RA, pA, RB, pB):
-            if nn in hit_configs:
+        keys = group[n].tolist()
+        for nn, key, k, a, b, Ra_, pa_, Rb_, pb_ in zip(n.tolist(), keys, kind.tolist(), i.tolist(), j.tolist(),
+                                                         RA, pA, RB, pB):
+            if key in done:
                 continue
             res.clear()
             if k == 0:
@@ -601,12 +620,8 @@ class CollisionChecker:
             else:
                 hit = collide(geoms[a], Tf(Ra_, pa_), geoms[b], Tf(Rb_, pb_), req_s, res)
             if hit:
-                hit_configs.add(nn)
-                if stop_at_first:
-                    break
-        if hit_configs:
-            out[list(hit_configs)] = True
-        return out
+                out[nn] = True
+                done.add(key)
 
     # ------------------------------------------------------------------ public checks
     def in_collision(self, q: np.ndarray) -> bool:
@@ -701,7 +716,7 @@ class CollisionChecker:
         d = q1 - q0
         for s in range(0, steps + 1, chunk):
             t = t_all[s:s + chunk]
-            hit = self._check(q0[None] + t[:, None] * d[None])
+            hit = self._check(q0[None] + t[:, None] * d[None], stop_at_first=True, deepest_first=False)
             if hit.any():
                 return float(t[np.argmax(hit)])
         return None
@@ -754,14 +769,14 @@ class CollisionChecker:
                 rest_q.append(S[coarse:])
                 rest_seg.append(np.full(S.shape[0] - coarse, m))
         seg = np.concatenate(first_seg)
-        hit = self._check(np.concatenate(first_q))
+        hit = self._check(np.concatenate(first_q), group=seg)
         valid[np.unique(seg[hit])] = False
         if rest_q and valid.any():
             Qr = np.concatenate(rest_q)
             seg = np.concatenate(rest_seg)
             keep = valid[seg]
             if keep.any():
-                hit = self._check(Qr[keep])
+                hit = self._check(Qr[keep], group=seg[keep])
                 valid[np.unique(seg[keep][hit])] = False
         return valid
 
