@@ -107,10 +107,10 @@ def rrt_connect(
         """Grow `tree` from node i towards target (at most `limit` far); new node index or None."""
         q_from = tree.nodes[i]
         q_to = target if limit is None else _steer(q_from, target, limit)[0]
-        if motion_valid(q_from, q_to):
-            return tree.add(q_to, i)
-        if advance is not None:
+        if advance is not None:  # one call: the whole segment when it is free
             q_stop = advance(q_from, q_to)
+        elif motion_valid(q_from, q_to):
+            return tree.add(q_to, i)
         else:
             q_stop = _steer(q_from, q_to, short_step)[0]
             if not motion_valid(q_from, q_stop):
