@@ -1,9 +1,11 @@
 """Inverse kinematics: damped least squares (Levenberg-Marquardt) with joint limits and restarts.
 
-`IKSolver.solve` finds one configuration for one goal with Pinocchio's C++ kinematics per
-iteration; `IKSolver.solve_batch` iterates all goals of a batched Pose at once in NumPy
+`IKSolver.solve` finds one configuration for one goal, each attempt one compiled (numba)
+descent (`_lm_lanes`, on the same kinematics tables as `Kinematics.joint_transforms`);
+`IKSolver.solve_batch` iterates all goals of a batched Pose at once in NumPy
 (`Kinematics.frame_jacobians`), re-seeding only the ones that have not converged;
-`IKSolver.solve_many` returns several distinct solutions of one goal, nearest the seed first.
+`IKSolver.solve_many` runs all its attempts in one compiled call and returns several distinct
+solutions of one goal, nearest the seed first.
 
 The iteration (for one goal) is
 
@@ -47,10 +49,11 @@ from typing import NamedTuple
 
 import numpy as np
 import pinocchio as pin
+from numba import njit
 
 from manip import quaternion as quat
 from manip.errors import InvalidInputError
-from manip.kinematics import Kinematics
+from manip.kinematics import Kinematics, chain_frames, frame_jacobian_into
 from manip.pose import Pose
 
 logger = logging.getLogger(__name__)
@@ -188,6 +191,151 @@ def _log3_batch(E: np.ndarray) -> np.ndarray:
         s = np.linalg.norm(qe[:, 1:], axis=1)
         out[near_pi] = qe[:, 1:] * (2.0 * np.arctan2(s, qe[:, 0]) / s)[:, None]
     return out
+
+
+@njit(cache=True, nogil=True)
+def _log3_into(E, out):
+    """Rotation vector out (3,) of the rotation matrix E (3, 3), robust up to pi (see `_log3_batch`)."""
+    cos = min(max(0.5 * (E[0, 0] + E[1, 1] + E[2, 2] - 1.0), -1.0), 1.0)
+    theta = math.acos(cos)
+    if theta > math.pi - 1e-2:  # through the quaternion (w >= 0)
+        tr = E[0, 0] + E[1, 1] + E[2, 2]
+        if tr > 0.0:
+            s = math.sqrt(tr + 1.0) * 2.0
+            w, x, y, z = 0.25 * s, (E[2, 1] - E[1, 2]) / s, (E[0, 2] - E[2, 0]) / s, (E[1, 0] - E[0, 1]) / s
+        elif E[0, 0] > E[1, 1] and E[0, 0] > E[2, 2]:
+            s = math.sqrt(1.0 + E[0, 0] - E[1, 1] - E[2, 2]) * 2.0
+            w, x, y, z = (E[2, 1] - E[1, 2]) / s, 0.25 * s, (E[0, 1] + E[1, 0]) / s, (E[0, 2] + E[2, 0]) / s
+        elif E[1, 1] > E[2, 2]:
+            s = math.sqrt(1.0 + E[1, 1] - E[0, 0] - E[2, 2]) * 2.0
+            w, x, y, z = (E[0, 2] - E[2, 0]) / s, (E[0, 1] + E[1, 0]) / s, 0.25 * s, (E[1, 2] + E[2, 1]) / s
+        else:
+            s = math.sqrt(1.0 + E[2, 2] - E[0, 0] - E[1, 1]) * 2.0
+            w, x, y, z = (E[1, 0] - E[0, 1]) / s, (E[0, 2] + E[2, 0]) / s, (E[1, 2] + E[2, 1]) / s, 0.25 * s
+        if w < 0.0:
+            w, x, y, z = -w, -x, -y, -z
+        sn = math.sqrt(x * x + y * y + z * z)
+        f = 2.0 * math.atan2(sn, w) / sn
+        out[0], out[1], out[2] = x * f, y * f, z * f
+        return
+    sin = math.sqrt(max(1.0 - cos * cos, 0.0))
+    f = 0.5 * (1.0 + theta * theta / 6.0 if theta < 1e-4 else theta / sin)
+    out[0] = f * (E[2, 1] - E[1, 2])
+    out[1] = f * (E[0, 2] - E[2, 0])
+    out[2] = f * (E[1, 0] - E[0, 1])
+
+
+@njit(cache=True, nogil=True)
+def _dls_step(Jac, e, lam, dq):
+    """dq = J^T (J J^T + lam I)^-1 e (damped least squares; Cholesky of the 6x6 matrix)."""
+    m, n = Jac.shape
+    A = np.empty((m, m))
+    for r in range(m):
+        for c in range(r + 1):
+            acc = 0.0
+            for k in range(n):
+                acc += Jac[r, k] * Jac[c, k]
+            A[r, c] = acc
+        A[r, r] += lam
+    L = np.zeros((m, m))
+    for j in range(m):
+        d = A[j, j]
+        for k in range(j):
+            d -= L[j, k] * L[j, k]
+        L[j, j] = math.sqrt(d)
+        for i in range(j + 1, m):
+            acc = A[i, j]
+            for k in range(j):
+                acc -= L[i, k] * L[j, k]
+            L[i, j] = acc / L[j, j]
+    y = np.empty(m)
+    for i in range(m):
+        acc = e[i]
+        for k in range(i):
+            acc -= L[i, k] * y[k]
+        y[i] = acc / L[i, i]
+    for i in range(m - 1, -1, -1):
+        acc = y[i]
+        for k in range(i + 1, m):
+            acc -= L[k, i] * y[k]
+        y[i] = acc / L[i, i]
+    for k in range(n):
+        acc = 0.0
+        for r in range(m):
+            acc += Jac[r, k] * y[r]
+        dq[k] = acc
+
+
+@njit(cache=True, nogil=True)
+def _lm_lanes(Q0, q_index, parent, table, chain, axes, revolute, f_joint, f_R, f_p, R_goal, p_goal, lower, upper,
+              tol_p, tol_r, damping, min_damping, max_step, max_iterations, stall):
+    """One damped-least-squares descent from each row of Q0 (K, dof) to one frame pose.
+
+    Stops at convergence (tol_p [m], tol_r [rad]), after `max_iterations`, or when the error
+    has not improved by 2 % for `stall` iterations. Joints at a limit that the step would push
+    further take no part in it; steps are scaled to at most `max_step` [rad] and kept within
+    the limits. Returns (Q (K, dof), position errors (K,), rotation errors (K,), iterations (K,)).
+    """
+    K, dof = Q0.shape
+    J = table.shape[0]
+    R = np.empty((J + 1, 3, 3))
+    p = np.empty((J + 1, 3))
+    Rf = np.empty((3, 3))
+    pf = np.empty(3)
+    E = np.empty((3, 3))
+    Jac = np.empty((6, dof))
+    e = np.empty(6)
+    w = np.empty(3)
+    dq = np.empty(dof)
+    Q = Q0.copy()
+    ep_out = np.empty(K)
+    er_out = np.empty(K)
+    it_out = np.zeros(K, dtype=np.int64)
+    for k in range(K):
+        q = Q[k]
+        best = np.inf
+        best_it = 0
+        it = 0
+        while True:
+            chain_frames(q, q_index, parent, table, R, p)
+            frame_jacobian_into(R, p, chain, axes, revolute, q_index, f_joint, f_R, f_p, Rf, pf, Jac)
+            for r in range(3):
+                e[r] = p_goal[r] - pf[r]
+                for c in range(3):  # R_goal Rf^T
+                    E[r, c] = R_goal[r, 0] * Rf[c, 0] + R_goal[r, 1] * Rf[c, 1] + R_goal[r, 2] * Rf[c, 2]
+            _log3_into(E, w)
+            e[3], e[4], e[5] = w[0], w[1], w[2]
+            ep = math.sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2])
+            er = math.sqrt(e[3] * e[3] + e[4] * e[4] + e[5] * e[5])
+            if (ep <= tol_p and er <= tol_r) or it >= max_iterations:
+                break
+            err2 = ep * ep + er * er
+            if err2 < best * 0.98:
+                best = err2
+                best_it = it
+            elif it - best_it >= stall:
+                break
+            lam = damping * err2 + min_damping
+            _dls_step(Jac, e, lam, dq)
+            blocked = False
+            for i in range(dof):
+                if (q[i] <= lower[i] and dq[i] < 0.0) or (q[i] >= upper[i] and dq[i] > 0.0):
+                    blocked = True
+                    for r in range(6):
+                        Jac[r, i] = 0.0
+            if blocked:  # joints held at a limit take no part in this step; the others compensate
+                _dls_step(Jac, e, lam, dq)
+            big = 0.0
+            for i in range(dof):
+                big = max(big, abs(dq[i]))
+            scale = max_step / big if big > max_step else 1.0
+            for i in range(dof):
+                q[i] = min(max(q[i] + dq[i] * scale, lower[i]), upper[i])
+            it += 1
+        ep_out[k] = ep
+        er_out[k] = er
+        it_out[k] = it
+    return Q, ep_out, er_out, it_out
 
 
 class _Attempts(NamedTuple):
@@ -441,9 +589,9 @@ class IKSolver:
     ) -> np.ndarray:
         """Several distinct solutions of one goal, nearest `seed_q` first.
 
-        Runs up to `num_seeds` attempts (the first from `seed_q`, the others from random
-        configurations) until `n` distinct solutions are found, keeping the verified
-        solutions that `validity_fn` accepts and dropping near-duplicates.
+        Runs `num_seeds` attempts (the first from `seed_q`, the others from random
+        configurations) and keeps, in attempt order, the verified solutions that
+        `validity_fn` accepts, dropping near-duplicates, up to `n`.
 
         Args:
             goal: single Pose of `link` in the base frame.
@@ -476,19 +624,20 @@ class IKSolver:
         if self._out_of_reach(fid, goal.position[None])[0]:
             return np.empty((0, k.dof))
         R_goal, p_goal = goal.rotation, goal.position
+        # every attempt at once (one compiled call), then the filters in attempt order
+        Q0 = np.vstack([np.clip(q_ref, k.lower, k.upper)[None], rng.uniform(k.lower, k.upper, (m - 1, k.dof))])
+        Q, ep, er, _ = self._descend(Q0, fid, R_goal, p_goal)
+        idx = np.flatnonzero((ep <= self.position_tolerance) & (er <= self.rotation_tolerance))
+        if idx.size:
+            idx = idx[self._verify_batch(Q[idx], fid, np.broadcast_to(R_goal, (idx.size, 3, 3)),
+                                         np.broadcast_to(p_goal, (idx.size, 3)))]
+        if idx.size and validity_fn is not None:
+            idx = idx[np.asarray(validity_fn(Q[idx]), dtype=bool).reshape(-1)]
         kept: list[np.ndarray] = []
-        for attempt in range(m):
-            q0 = np.clip(q_ref, k.lower, k.upper) if attempt == 0 else rng.uniform(k.lower, k.upper)
-            q, ep, er, _ = self._attempt(q0, fid, R_goal, p_goal)
-            if ep > self.position_tolerance or er > self.rotation_tolerance:
+        for i in idx:
+            if any(np.max(np.abs(Q[i] - other)) < min_distance for other in kept):
                 continue
-            if any(np.max(np.abs(q - other)) < min_distance for other in kept):
-                continue
-            if not self._verify(q, fid, R_goal, p_goal):
-                continue
-            if validity_fn is not None and not bool(np.asarray(validity_fn(q[None])).reshape(-1)[0]):
-                continue
-            kept.append(q)
+            kept.append(Q[i])
             if len(kept) == n:
                 break
         sols = np.array(kept).reshape(-1, k.dof)
@@ -602,44 +751,17 @@ class IKSolver:
         return _Attempts(found, best_q, best_err, iterations, attempts, status)
 
     def _attempt(self, q: np.ndarray, fid: int, R_goal: np.ndarray, p_goal: np.ndarray) -> tuple[np.ndarray, float, float, int]:
-        """One LM descent from q. Returns (q, position error, rotation error, iterations)."""
-        model, data = self._model, self._data
-        lo, hi = self.kinematics.lower, self.kinematics.upper
-        tol_p, tol_r = self._tol_p, self._tol_r
-        damping, max_step = self.damping, self.max_step
-        eye6 = np.eye(6)
-        e = np.empty(6)
-        best = np.inf
-        best_it = 0
-        it = 0
-        while True:
-            J = pin.computeFrameJacobian(model, data, q, fid, pin.LOCAL_WORLD_ALIGNED)
-            M = data.oMf[fid]
-            e[:3] = p_goal - M.translation
-            e[3:] = pin.log3(R_goal @ M.rotation.T)
-            ep = math.sqrt(e[:3] @ e[:3])
-            er = math.sqrt(e[3:] @ e[3:])
-            if (ep <= tol_p and er <= tol_r) or it >= self.max_iterations:
-                break
-            err2 = ep * ep + er * er
-            if err2 < best * 0.98:
-                best, best_it = err2, it
-            elif it - best_it >= _STALL_ITERATIONS:
-                break
-            lam = (damping * err2 + _MIN_DAMPING) * eye6
-            dq = J.T @ np.linalg.solve(J @ J.T + lam, e)
-            blocked = ((q <= lo) & (dq < 0)) | ((q >= hi) & (dq > 0))
-            if blocked.any():
-                # joints held at a limit take no part in this step; the others compensate
-                J = J.copy()
-                J[:, blocked] = 0.0
-                dq = J.T @ np.linalg.solve(J @ J.T + lam, e)
-            step = np.abs(dq).max()
-            if step > max_step:
-                dq *= max_step / step
-            q = np.minimum(np.maximum(q + dq, lo), hi)
-            it += 1
-        return q, float(ep), float(er), it
+        """One descent from q (`_lm_lanes`). Returns (q, position error, rotation error, iterations)."""
+        Q, ep, er, it = self._descend(q[None], fid, R_goal, p_goal)
+        return Q[0], float(ep[0]), float(er[0]), int(it[0])
+
+    def _descend(self, Q0: np.ndarray, fid: int, R_goal: np.ndarray, p_goal: np.ndarray):
+        """`_lm_lanes` from every row of Q0 (K, dof): (Q, position errors, rotation errors, iterations)."""
+        k = self.kinematics
+        return _lm_lanes(np.ascontiguousarray(Q0, dtype=np.float64), *k.fk_tables(), *k.jacobian_tables(fid),
+                         np.ascontiguousarray(R_goal, dtype=np.float64), np.ascontiguousarray(p_goal, dtype=np.float64),
+                         k.lower, k.upper, self._tol_p, self._tol_r, self.damping, _MIN_DAMPING, self.max_step,
+                         self.max_iterations, _STALL_ITERATIONS)
 
     def _pose_error(self, q: np.ndarray, fid: int, R_goal: np.ndarray, p_goal: np.ndarray) -> tuple[float, float]:
         M = self.kinematics.frame_transform(q, fid)

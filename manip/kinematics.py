@@ -63,37 +63,80 @@ def _joint_spec(model: pin.Model, j: int) -> _JointSpec:
 
 
 @njit(cache=True, nogil=True)
-def _joint_frames(Q, q_index, parent, table):
-    """Batched forward kinematics: joint frames R (N, J+1, 3, 3), p (N, J+1, 3) of Q (N, dof).
+def chain_frames(q, q_index, parent, table, R, p):
+    """Joint frames of one configuration q (dof,) into R (J+1, 3, 3), p (J+1, 3).
 
     A joint's transform in its parent's frame is `A + cos(q) C + sin(q) S (+ q D)`, with the
-    4x4 tables flattened in `table` (J, 3 or 4, 16); frame 0 is the base (identity).
+    4x4 tables flattened in `table` (J, 3 or 4, 16) (`Kinematics.fk_tables`); frame 0 is the
+    base (identity).
     """
-    N = Q.shape[0]
     J = table.shape[0]
     prismatic = table.shape[1] > 3
+    B = np.empty(16)
+    for r in range(3):
+        p[0, r] = 0.0
+        for c in range(3):
+            R[0, r, c] = 1.0 if r == c else 0.0
+    for j in range(J):
+        qj = q[q_index[j]]
+        cq = math.cos(qj)
+        sq = math.sin(qj)
+        for e in range(16):
+            B[e] = table[j, 0, e] + cq * table[j, 1, e] + sq * table[j, 2, e]
+            if prismatic:
+                B[e] += qj * table[j, 3, e]
+        a = parent[j]
+        for r in range(3):
+            for c in range(3):
+                R[j + 1, r, c] = R[a, r, 0] * B[c] + R[a, r, 1] * B[4 + c] + R[a, r, 2] * B[8 + c]
+            p[j + 1, r] = R[a, r, 0] * B[3] + R[a, r, 1] * B[7] + R[a, r, 2] * B[11] + p[a, r]
+
+
+@njit(cache=True, nogil=True)
+def _joint_frames(Q, q_index, parent, table):
+    """Batched forward kinematics: joint frames R (N, J+1, 3, 3), p (N, J+1, 3) of Q (N, dof)."""
+    N = Q.shape[0]
+    J = table.shape[0]
     R = np.empty((N, J + 1, 3, 3))
     p = np.empty((N, J + 1, 3))
-    B = np.empty(16)
     for n in range(N):
-        for r in range(3):
-            p[n, 0, r] = 0.0
-            for c in range(3):
-                R[n, 0, r, c] = 1.0 if r == c else 0.0
-        for j in range(J):
-            q = Q[n, q_index[j]]
-            cq = math.cos(q)
-            sq = math.sin(q)
-            for e in range(16):
-                B[e] = table[j, 0, e] + cq * table[j, 1, e] + sq * table[j, 2, e]
-                if prismatic:
-                    B[e] += q * table[j, 3, e]
-            a = parent[j]
-            for r in range(3):
-                for c in range(3):
-                    R[n, j + 1, r, c] = R[n, a, r, 0] * B[c] + R[n, a, r, 1] * B[4 + c] + R[n, a, r, 2] * B[8 + c]
-                p[n, j + 1, r] = R[n, a, r, 0] * B[3] + R[n, a, r, 1] * B[7] + R[n, a, r, 2] * B[11] + p[n, a, r]
+        chain_frames(Q[n], q_index, parent, table, R[n], p[n])
     return R, p
+
+
+@njit(cache=True, nogil=True)
+def frame_jacobian_into(R, p, chain, axes, revolute, q_index, f_joint, f_R, f_p, Rf, pf, Jac):
+    """Pose Rf (3, 3), pf (3,) of a frame and its (6, dof) world-aligned Jacobian
+    [linear; angular] into Jac, from the joint frames R, p of `chain_frames`.
+
+    chain: the joints (1-based) supporting the frame; axes (J, 3), revolute (J,): each joint's
+    axis in its own frame; f_joint, f_R (3, 3), f_p (3,): the frame's placement in its joint.
+    """
+    for r in range(3):
+        for c in range(3):
+            Rf[r, c] = R[f_joint, r, 0] * f_R[0, c] + R[f_joint, r, 1] * f_R[1, c] + R[f_joint, r, 2] * f_R[2, c]
+        pf[r] = R[f_joint, r, 0] * f_p[0] + R[f_joint, r, 1] * f_p[1] + R[f_joint, r, 2] * f_p[2] + p[f_joint, r]
+    Jac[:, :] = 0.0
+    for j in chain:
+        ax = axes[j - 1]
+        a0 = R[j, 0, 0] * ax[0] + R[j, 0, 1] * ax[1] + R[j, 0, 2] * ax[2]
+        a1 = R[j, 1, 0] * ax[0] + R[j, 1, 1] * ax[1] + R[j, 1, 2] * ax[2]
+        a2 = R[j, 2, 0] * ax[0] + R[j, 2, 1] * ax[1] + R[j, 2, 2] * ax[2]
+        c = q_index[j - 1]
+        if revolute[j - 1]:
+            d0 = pf[0] - p[j, 0]
+            d1 = pf[1] - p[j, 1]
+            d2 = pf[2] - p[j, 2]
+            Jac[0, c] = a1 * d2 - a2 * d1
+            Jac[1, c] = a2 * d0 - a0 * d2
+            Jac[2, c] = a0 * d1 - a1 * d0
+            Jac[3, c] = a0
+            Jac[4, c] = a1
+            Jac[5, c] = a2
+        else:
+            Jac[0, c] = a0
+            Jac[1, c] = a1
+            Jac[2, c] = a2
 
 
 class Kinematics:
@@ -197,6 +240,27 @@ class Kinematics:
         """
         return _joint_frames(np.ascontiguousarray(Q, dtype=np.float64), self._sb_q, self._sb_parent_a, self._sb_table)
 
+    def fk_tables(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(q_index (J,), parent (J,), table (J, 3|4, 16)): the inputs of `chain_frames`."""
+        return self._sb_q, self._sb_parent_a, self._sb_table
+
+    def jacobian_tables(self, frame_id: int) -> tuple:
+        """Inputs of `frame_jacobian_into` for one frame (chain, axes, revolute, f_joint, f_R,
+        f_p; q_index comes from `fk_tables`), cached."""
+        tables = self._frame_tables.get(frame_id)
+        if tables is None:
+            f = self.model.frames[frame_id]
+            chain = []
+            j = f.parentJoint
+            while j > 0:
+                chain.append(j)
+                j = self._joints[j - 1].parent
+            tables = (np.array(chain, dtype=np.int64), self._axes, self._revolute, int(f.parentJoint),
+                      np.ascontiguousarray(f.placement.rotation, dtype=np.float64),
+                      np.ascontiguousarray(f.placement.translation, dtype=np.float64))
+            self._frame_tables[frame_id] = tables
+        return tables
+
     def _build_small_batch_tables(self) -> None:
         """Constant (J, 4, 4) tables such that a joint's transform in its parent joint frame is
         `A + cos(q) Cc + sin(q) Ss + q D` (placement times Rodrigues' rotation / translation)."""
@@ -223,6 +287,9 @@ class Kinematics:
         self._sb_prismatic = not all(spec.revolute for spec in self._joints)
         self._sb_parent = [spec.parent for spec in self._joints]
         self._sb_parent_a = np.array(self._sb_parent, dtype=np.int64)
+        self._axes = np.array([spec.axis for spec in self._joints], dtype=np.float64).reshape(-1, 3)
+        self._revolute = np.array([spec.revolute for spec in self._joints], dtype=np.bool_)
+        self._frame_tables: dict[int, tuple] = {}
         tables = [self._sb_A, self._sb_C, self._sb_S] + ([self._sb_D] if self._sb_prismatic else [])
         self._sb_table = np.stack([t.reshape(J, 16) for t in tables], axis=1)  # (J, 3|4, 16)
 
