@@ -1,9 +1,10 @@
-"""Forward kinematics and Jacobians of a robot's arm, single (Pinocchio) and batched (NumPy).
+"""Forward kinematics and Jacobians of a robot's arm, single (Pinocchio) and batched (compiled).
 
 `Kinematics` holds the Pinocchio model reduced to the arm joints (the gripper joints locked
 at their planning positions). Single configurations go through Pinocchio's C++; batches of
-configurations go through a vectorised NumPy evaluation of the same joint tree, which is
-what reaches millions of configurations per second from Python.
+configurations go through the same joint tree as constant tables evaluated by small numba
+kernels (`chain_frames`, `frame_jacobian_into`), which the collision checker and the IK
+solver also call from their own compiled loops. Tests hold both paths to Pinocchio's answers.
 """
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ _AXES = {"X": np.array([1.0, 0.0, 0.0]), "Y": np.array([0.0, 1.0, 0.0]), "Z": np
 
 @dataclass(frozen=True)
 class _JointSpec:
-    """One joint of the reduced model in a form NumPy can evaluate in batch."""
+    """One joint of the reduced model (the source of the compiled kernels' tables)."""
 
     parent: int          # index of the parent joint (0 = universe)
     R_placement: np.ndarray  # (3, 3) rotation of the joint frame in its parent joint frame
@@ -37,7 +38,6 @@ class _JointSpec:
     axis: np.ndarray     # (3,) unit axis in the joint frame
     revolute: bool
     q_index: int         # index into q
-    aligned_axis: int = -1  # 0/1/2 when the axis is +X/+Y/+Z (the fast path), else -1
 
 
 def _joint_spec(model: pin.Model, j: int) -> _JointSpec:
@@ -56,10 +56,7 @@ def _joint_spec(model: pin.Model, j: int) -> _JointSpec:
             f"joint '{model.names[j]}' is of type {name}; manip supports revolute and prismatic joints"
         )
     M = model.jointPlacements[j]
-    aligned = next((i for i in range(3) if np.array_equal(axis, np.eye(3)[i])), -1)
-    return _JointSpec(
-        int(model.parents[j]), M.rotation.copy(), M.translation.copy(), axis, revolute, jm.idx_q, aligned
-    )
+    return _JointSpec(int(model.parents[j]), M.rotation.copy(), M.translation.copy(), axis, revolute, jm.idx_q)
 
 
 @njit(cache=True, nogil=True)
@@ -137,6 +134,22 @@ def frame_jacobian_into(R, p, chain, axes, revolute, q_index, f_joint, f_R, f_p,
             Jac[0, c] = a0
             Jac[1, c] = a1
             Jac[2, c] = a2
+
+
+@njit(cache=True, nogil=True)
+def _frame_jacobians(Q, q_index, parent, table, chain, axes, revolute, f_joint, f_R, f_p):
+    """Batched `frame_jacobian_into`: (R (N, 3, 3), p (N, 3), J (N, 6, dof)) of a frame."""
+    N, dof = Q.shape
+    J = table.shape[0]
+    R = np.empty((J + 1, 3, 3))
+    p = np.empty((J + 1, 3))
+    Rf = np.empty((N, 3, 3))
+    pf = np.empty((N, 3))
+    Jac = np.empty((N, 6, dof))
+    for n in range(N):
+        chain_frames(Q[n], q_index, parent, table, R, p)
+        frame_jacobian_into(R, p, chain, axes, revolute, q_index, f_joint, f_R, f_p, Rf[n], pf[n], Jac[n])
+    return Rf, pf, Jac
 
 
 class Kinematics:
@@ -320,32 +333,8 @@ class Kinematics:
         Returns:
             (R (N, 3, 3), p (N, 3), J (N, 6, dof)) of the frame.
         """
-        n = Q.shape[0]
-        if n > _CHUNK:
-            Rf, pf, J = np.empty((n, 3, 3)), np.empty((n, 3)), np.empty((n, 6, self.dof))
-            for s in range(0, n, _CHUNK):
-                Rf[s : s + _CHUNK], pf[s : s + _CHUNK], J[s : s + _CHUNK] = self.frame_jacobians(Q[s : s + _CHUNK], frame_id)
-            return Rf, pf, J
-        R, p = self.joint_transforms(Q)
-        f = self.model.frames[frame_id]
-        Rf, pf = self._frame_from_joint(R, p, frame_id)
-        J = np.zeros((n, 6, self.dof))
-        # joints supporting the frame: walk up from its parent joint
-        j = f.parentJoint
-        while j > 0:
-            spec = self._joints[j - 1]
-            a = R[:, j, :, spec.aligned_axis] if spec.aligned_axis >= 0 else R[:, j] @ spec.axis
-            if spec.revolute:
-                d = pf - p[:, j]
-                col = J[:, :, spec.q_index]
-                col[:, 0] = a[:, 1] * d[:, 2] - a[:, 2] * d[:, 1]
-                col[:, 1] = a[:, 2] * d[:, 0] - a[:, 0] * d[:, 2]
-                col[:, 2] = a[:, 0] * d[:, 1] - a[:, 1] * d[:, 0]
-                col[:, 3:] = a
-            else:
-                J[:, :3, spec.q_index] = a
-            j = spec.parent
-        return Rf, pf, J
+        return _frame_jacobians(np.ascontiguousarray(Q, dtype=np.float64), *self.fk_tables(),
+                                *self.jacobian_tables(frame_id))
 
     def fk(self, q: np.ndarray, link: str) -> Pose:
         """Pose of `link` in the base frame for q (dof,) -> Pose or (N, dof) -> batched Pose."""

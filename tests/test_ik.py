@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+import pinocchio as pin
 import pytest
 
 from manip.errors import InvalidInputError, ManipError, UnknownNameError
@@ -314,3 +315,26 @@ def test_bad_input_raises_manip_errors(solver: IKSolver, franka_kinematics: Kine
 def test_bad_solver_parameters(franka_kinematics: Kinematics, kwargs: dict):
     with pytest.raises(InvalidInputError, match=next(iter(kwargs))):
         IKSolver(franka_kinematics, **kwargs)
+
+
+def test_compiled_rotation_log_matches_pinocchio_up_to_pi():
+    """The IK error's rotation part (compiled log3) is Pinocchio's log3, including the
+    near-pi rotations where the axis comes from the quaternion instead of the skew part."""
+    from manip.ik import _log3_into
+
+    rng = np.random.default_rng(3)
+    axes = rng.normal(size=(60, 3))
+    axes /= np.linalg.norm(axes, axis=1, keepdims=True)
+    angles = np.concatenate([rng.uniform(0.0, np.pi, 30), np.pi - np.geomspace(1e-9, 2e-2, 20),
+                             np.geomspace(1e-12, 1e-3, 10)])
+    out = np.empty(3)
+    for axis, angle in zip(axes, angles):
+        E = pin.exp3(axis * angle)
+        _log3_into(E, out)
+        expected = pin.log3(E)
+        # at pi, +axis and -axis are the same rotation
+        if angle > np.pi - 1e-6 and np.dot(out, expected) < 0:
+            expected = -expected
+        np.testing.assert_allclose(out, expected, atol=1e-7)
+    _log3_into(np.eye(3), out)
+    assert np.all(out == 0.0)

@@ -2,18 +2,21 @@
 
 Answers are those of coal on the robot's URDF collision geometry (meshes as triangle
 surfaces, primitives as solids), the same as Pinocchio's `computeCollisions` over the same
-pairs with the same security margin (the padding). Speed comes from a vectorised NumPy
-broadphase that can only say "free", never "colliding":
+pairs with the same security margin (the padding). Speed comes from a compiled (numba)
+broadphase, `manip.collision.broadphase`, that can only say "free", never "colliding":
 
 1. batched forward kinematics of the configurations (`Kinematics.joint_transforms`);
 2. world: one bounding ball per moving joint (all its parts) against every obstacle
    (closed-form signed distances to boxes, spheres, capsules, cylinders; meshes through
-   their bounding box), then the coarse sphere covers of that joint's parts, then the fine
-   cover of each part still flagged; parts fixed to the base are checked once per world;
+   their bounding box), then the coarse sphere cover of each of that joint's parts, then
+   the fine cover of each part still flagged; parts fixed to the base are checked once per
+   world;
 3. self: one bounding ball per body (a link's parts, or an attached object) for the enabled
-   pairs, then the bodies' coarse covers;
-4. coal's exact narrowphase for the (configuration, pair) candidates left, most
-   penetrating first, stopping at the first collision of each configuration.
+   pairs, then the coarse covers of each enabled part pair;
+4. coal's exact narrowphase for the (configuration, pair) candidates left, stopping at the
+   first collision of each configuration, or of each group of configurations when only
+   "any collision in this segment?" is asked (most penetrating candidates first), or at the
+   first colliding configuration in order (`first_collision`).
 
 The covers (`manip.collision.spheres`) are generated automatically from the meshes and hold
 every point of the surfaces (of the volume for solid primitives): if no ball comes within
