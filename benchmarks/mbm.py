@@ -210,7 +210,7 @@ def ratios_vs_manip(report: dict[str, Any]) -> dict[str, Any]:
 def machine_info() -> dict[str, Any]:
     cpu = cpu_model()
     versions = {}
-    for pkg in ("manip", "pin", "coal", "ruckig", "numpy", "roboplan", "ompl", "toppra"):
+    for pkg in ("manip", "pin", "coal", "ruckig", "numba", "numpy", "roboplan", "ompl", "toppra"):
         try:
             versions[pkg] = metadata.version(pkg)
         except metadata.PackageNotFoundError:

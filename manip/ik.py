@@ -30,7 +30,7 @@ ones get several lanes at once (parallel random restarts), so a few hard goals c
 small NumPy iterations instead of many sequential attempts.
 
 mink (a QP per step) was measured for comparison in benchmarks/kinematics.py: the same
-success rate on reachable poses, about 2.5x the median time per solve.
+success rate on reachable poses, several times the median time per solve (BENCHMARKS.md).
 
 Every claimed success is re-checked with an independent forward kinematics (Pinocchio's
 full model, fingers included, a different code path from the solver's) and against the
