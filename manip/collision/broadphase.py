@@ -28,13 +28,22 @@ from numba import njit
 
 
 @njit(cache=True, nogil=True)
-def _grow(a, size):
-    """`a` with at least `size` rows (doubling), keeping its contents."""
-    if size <= a.shape[0]:
-        return a
-    b = np.empty(max(size, 2 * a.shape[0]), dtype=a.dtype)
-    b[:a.shape[0]] = a
-    return b
+def _push(ids, depth, T, a, b, c, d):
+    """Row T of the growing outputs ids (cap, 3) int64 and depth (cap,): (a, b, c) and d.
+
+    Returns the (possibly reallocated, doubled) arrays.
+    """
+    if T == ids.shape[0]:
+        ids2 = np.empty((2 * T, 3), dtype=np.int64)
+        ids2[:T] = ids
+        depth2 = np.empty(2 * T)
+        depth2[:T] = depth
+        ids, depth = ids2, depth2
+    ids[T, 0] = a
+    ids[T, 1] = b
+    ids[T, 2] = c
+    depth[T] = d
+    return ids, depth
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -93,11 +102,8 @@ def world_candidates(R, p, margin,
     """
     N = R.shape[0]
     O = oc.shape[0]
-    cap = 64
-    out_n = np.empty(cap, dtype=np.int64)
-    out_g = np.empty(cap, dtype=np.int64)
-    out_o = np.empty(cap, dtype=np.int64)
-    out_d = np.empty(cap, dtype=np.float64)
+    ids = np.empty((64, 3), dtype=np.int64)
+    depth = np.empty(64)
     T = 0
     x = np.empty(3)
     for n in range(N):
@@ -125,19 +131,11 @@ def world_candidates(R, p, margin,
                         if s < m:
                             m = s
                     if m < margin:
-                        if T == out_n.shape[0]:
-                            out_n = _grow(out_n, T + 1)
-                            out_g = _grow(out_g, T + 1)
-                            out_o = _grow(out_o, T + 1)
-                            out_d = _grow(out_d, T + 1)
-                        out_n[T] = n
-                        out_g[T] = g
-                        out_o[T] = o
-                        out_d[T] = m
+                        ids, depth = _push(ids, depth, T, n, g, o, m)
                         T += 1
                 # the joint ball centre was overwritten by the covers' balls
                 _place(R, p, n, l0_joint[k], l0_c[k], x)
-    return out_n[:T], out_g[:T], out_o[:T], out_d[:T]
+    return ids[:T, 0].copy(), ids[:T, 1].copy(), ids[:T, 2].copy(), depth[:T].copy()
 
 
 @njit(cache=True, nogil=True)
@@ -161,10 +159,8 @@ def self_candidates(R, p, margin,
         clearance of the part pair [m].
     """
     N = R.shape[0]
-    cap = 64
-    out_n = np.empty(cap, dtype=np.int64)
-    out_k = np.empty(cap, dtype=np.int64)
-    out_d = np.empty(cap, dtype=np.float64)
+    ids = np.empty((64, 3), dtype=np.int64)
+    depth = np.empty(64)
     T = 0
     nb = body_c.shape[0]
     xb = np.empty((nb, 3))
@@ -201,15 +197,9 @@ def self_candidates(R, p, margin,
                         if s < m:
                             m = s
                 if m < margin:
-                    if T == out_n.shape[0]:
-                        out_n = _grow(out_n, T + 1)
-                        out_k = _grow(out_k, T + 1)
-                        out_d = _grow(out_d, T + 1)
-                    out_n[T] = n
-                    out_k[T] = k
-                    out_d[T] = m
+                    ids, depth = _push(ids, depth, T, n, k, 0, m)
                     T += 1
-    return out_n[:T], out_k[:T], out_d[:T]
+    return ids[:T, 0].copy(), ids[:T, 1].copy(), depth[:T].copy()
 
 
 @njit(cache=True, nogil=True)
