@@ -431,9 +431,9 @@ class CollisionChecker:
                           f64([r for _, r in balls]), i64(np.cumsum(mem_count) - mem_count), mem_count,
                           i64(np.concatenate(members) if members else np.zeros(0)), *covers,
                           i64(self._fine.start), i64(self._fine.count), f64(self._fine.centres), f64(self._fine.radii))
+        self._bp_pairs = i64(self._pairs[pair_order].reshape(-1, 2))  # part pairs grouped by body pair
         self._bp_self = (body_joint, f64(np.array([c for c, _ in body_balls]).reshape(-1, 3)), f64([r for _, r in body_balls]),
-                         self._bpairs, i64(np.cumsum(pair_count) - pair_count), pair_count,
-                         i64(self._pairs[pair_order].reshape(-1, 2)), *covers)
+                         self._bpairs, i64(np.cumsum(pair_count) - pair_count), pair_count, self._bp_pairs, *covers)
         self._req_self = coal.CollisionRequest()
         self._req_self.security_margin = self._self_padding
         self._update_static()
@@ -475,17 +475,6 @@ class CollisionChecker:
         self._any_cyl = bool(self._ocyl.any())
         self._bp_obstacles = (np.ascontiguousarray(self._oR), np.ascontiguousarray(self._oc), np.ascontiguousarray(self._oh),
                               np.ascontiguousarray(self._orho), np.ascontiguousarray(self._ocyl))
-        # grouped tables for the first broadphase level: local coordinates of points for all
-        # obstacles of a group with one matrix product, X @ Rcat - offset
-        self._groups = []
-        for cyl in (False, True):
-            idx = np.nonzero(self._ocyl == cyl)[0]
-            if idx.size:
-                Rcat = np.concatenate(list(self._oR[idx]), axis=1)  # (3, 3k)
-                off = np.einsum("kj,kji->ki", self._oc[idx], self._oR[idx]).reshape(-1)
-                self._groups.append((cyl, idx, Rcat, off, self._oh[idx].copy(), self._orho[idx].copy()))
-        self._group_hflat = {cyl: h.reshape(-1) for cyl, idx, Rcat, off, h, rho in self._groups}
-        self._l0_lims: dict = {}  # squared level-0 limits per (batch size, margin) (cache)
         self._req_world = coal.CollisionRequest()
         self._req_world.security_margin = self._padding
         self._update_static()
@@ -514,7 +503,7 @@ class CollisionChecker:
         return _sd_local(L, self._oh[None], self._orho[None], self._ocyl[None] if self._any_cyl else None)
 
     def _fk(self, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Joint frames (N, J+1, 3, 3), (N, J+1, 3) (the batched NumPy kinematics)."""
+        """Joint frames (N, J+1, 3, 3), (N, J+1, 3) (the compiled batched kinematics)."""
         return self.kinematics.joint_transforms(Q)
 
     def _part_tf(self, R: np.ndarray, p: np.ndarray, n: int, g: int) -> coal.Transform3s:
@@ -540,7 +529,7 @@ class CollisionChecker:
         if self_ and self._bpairs.shape[0]:
             n, k, d = broadphase.self_candidates(R, p, self._self_padding + 1e-9, *self._bp_self)
             if n.size:
-                pairs = self._bp_self[6]
+                pairs = self._bp_pairs
                 ns.append(n); kinds.append(np.ones(n.size, dtype=np.int64))
                 ii.append(pairs[k, 0]); jj.append(pairs[k, 1]); depth.append(d)
         if not ns:
