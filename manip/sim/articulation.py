@@ -30,7 +30,7 @@ from manip.articulation_action import ArticulationAction
 from manip.errors import InvalidInputError, UnknownNameError
 from manip.sim import _validate as V
 from manip.sim.stage import ReferencePrim, SimHandle, SimulationError, get_current_stage, validate_prim_path
-from manip.sim.types import JointsState, XFormPrimState
+from manip.sim.types import DefaultPoseMixin, JointsState, XFormPrimState
 
 logger = logging.getLogger(__name__)
 
@@ -342,7 +342,7 @@ class ArticulationController:
         return np.stack([c.lower, c.upper], axis=1)
 
 
-class Articulation:
+class Articulation(DefaultPoseMixin):
     """A model referenced on the stage, seen as an articulation (Isaac's `SingleArticulation`).
 
     Args:
@@ -664,17 +664,6 @@ class Articulation:
         d = c.sim.data
         q = d.qpos[c.free_qadr + 3:c.free_qadr + 7]
         return quat.to_matrix(q / np.linalg.norm(q)) @ d.qvel[c.free_dadr + 3:c.free_dadr + 6]
-
-    def set_default_state(self, position=None, orientation=None) -> None:
-        """Root pose restored by `post_reset()`."""
-        if position is not None:
-            self._default_state.position = V.vec(position, 3, "position")
-        if orientation is not None:
-            self._default_state.orientation = V.unit_quat(orientation)
-
-    def get_default_state(self) -> XFormPrimState:
-        s = self._default_state
-        return XFormPrimState(s.position.copy(), s.orientation.copy())
 
     def disable_gravity(self) -> None:
         """Compensate gravity on every body of the articulation (MuJoCo `gravcomp`)."""

@@ -23,7 +23,7 @@ from manip import quaternion as quat
 from manip.errors import InvalidInputError
 from manip.sim import _validate as V
 from manip.sim.stage import ReferencePrim, SimHandle, SimulationError, get_current_stage, validate_prim_path
-from manip.sim.types import DynamicState, XFormPrimState
+from manip.sim.types import DefaultPoseMixin, DynamicState, XFormPrimState
 
 logger = logging.getLogger(__name__)
 
@@ -72,7 +72,7 @@ class PhysicsMaterial:
         return self._dynamic if self._dynamic is not None else self._static
 
 
-class XFormPrim:
+class XFormPrim(DefaultPoseMixin):
     """A prim with a pose (Isaac's `SingleXFormPrim` / `XFormPrim`).
 
     Created at a free prim path, it is a new transform (a MuJoCo mocap body without
@@ -267,18 +267,6 @@ class XFormPrim:
         pass
 
     # ------------------------------------------------------------------ default state
-    def set_default_state(self, position=None, orientation=None) -> None:
-        """Pose restored by `post_reset()` (i.e. by `World.reset()`); None keeps a part."""
-        if position is not None:
-            self._default_state.position = V.vec(position, 3, "position")
-        if orientation is not None:
-            self._default_state.orientation = V.unit_quat(orientation)
-
-    def get_default_state(self) -> XFormPrimState:
-        """The state `post_reset()` restores (a copy)."""
-        s = self._default_state
-        return XFormPrimState(s.position.copy(), s.orientation.copy())
-
     def post_reset(self) -> None:
         """Restore the default state (called by `World.reset()` for objects in the scene)."""
         if self._wrapped_reference is None:

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from manip.articulation_action import ArticulationAction
+from manip.sim import _validate as V
 
 __all__ = ["ArticulationAction", "DynamicState", "JointsState", "XFormPrimState", "ArticulationActions"]
 
@@ -17,6 +18,25 @@ class XFormPrimState:
 
     position: np.ndarray
     orientation: np.ndarray
+
+
+class DefaultPoseMixin:
+    """`set_default_state` / `get_default_state` over a `self._default_state` XFormPrimState
+    (the pose `post_reset()` restores), shared by scene objects and articulations."""
+
+    _default_state: XFormPrimState
+
+    def set_default_state(self, position=None, orientation=None) -> None:
+        """Pose restored by `post_reset()` (i.e. by `World.reset()`); None keeps a part."""
+        if position is not None:
+            self._default_state.position = V.vec(position, 3, "position")
+        if orientation is not None:
+            self._default_state.orientation = V.unit_quat(orientation)
+
+    def get_default_state(self) -> XFormPrimState:
+        """The state `post_reset()` restores (a copy)."""
+        s = self._default_state
+        return XFormPrimState(s.position.copy(), s.orientation.copy())
 
 
 @dataclass
