@@ -141,7 +141,7 @@ def main(argv: list[str] | None = None) -> int:
     scenes = [("shelf (7 boxes)", shelf_world())]
     if not args.no_mbm:
         try:
-            from manip.benchmarking.mbm import load_mbm_problems
+            from manip.benchmarking.mbm_problems import load_mbm_problems
 
             for p in load_mbm_problems(limit_per_scene=1):
                 scenes.append((p.scene, WorldConfig.from_dict(p.world)))

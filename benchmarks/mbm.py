@@ -3,7 +3,9 @@
 
     python benchmarks/mbm.py --dataset ../shared/data/mbm/panda_problems.tar.bz2 \\
         [--scenes box_panda cage_panda ...] [--limit-per-scene N] [--goal joint|pose|both] \\
-        [--planners manip,roboplan,ompl] [--seeded N] [--timeout S] [--json OUT]
+        [--planners manip,roboplan,ompl] [--seeded N] [--timeout S] [--json OUT] \\
+        [--curobo-limits] [--smoothness time_optimal|smooth] [--label NAME] [--write-md]
+    python benchmarks/mbm.py --from-json before.json after.json [--write-md]
 
 1. Loads the problems straight from the archive (no unpacking) and checks every start and
    goal with the independent verifier (`manip.benchmarking.verify`): problems that are
@@ -17,18 +19,34 @@
    collision check at 0.01 rad, position/velocity/acceleration limits, jerk limits for
    planners that claim them, start and goal at rest). A returned trajectory that fails
    counts as a failure AND as "invalid returned".
-4. Reports per scene and overall: success rate, planning time mean/median/p75/p98 (over
-   the verified successes), motion time, path length, max jerk, max acceleration, invalid
-   returned, and, when manip ran with peers, the peers' median and p98 planning times as
-   ratios to manip's.
+4. Measures the quality of every returned trajectory (`manip.benchmarking.quality`): motion
+   time, the problem's lower bound (ruckig's time-optimal rest-to-rest motion from the start
+   to the goal configuration, for pose goals to the configuration the trajectory reached,
+   under the limits the planner was given; infinite jerk for planners that do not limit
+   jerk), motion time / lower bound, path length, path length / straight-line length, max
+   jerk, max acceleration.
+5. Reports per planner, per goal kind and per scene: success rate, invalid returned,
+   planning time (median, mean, p75, p98 over the verified successes), mean motion time,
+   mean lower bound, their ratio of means and the mean of the per-problem ratios, the same
+   for path length against the straight line, mean max jerk and max acceleration; and,
+   when manip ran with peers, the peers' median and p98 planning times as ratios to manip's.
+
+Options for before/after and like-for-like rows: `--label NAME` names a run's rows
+"manip (NAME)"; `--from-json A.json B.json ...` merges saved reports into one set of
+tables (and with `--write-md` writes them to BENCHMARKS.md); `--curobo-limits` gives every
+planner cuRobo's franka.yml limits (acceleration 15 rad/s^2 and jerk 500 rad/s^3 on every
+joint, URDF velocities) and verifies and bounds with them; `--smoothness` is passed to
+manip's plan calls as `smoothness=...` (only when given).
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import datetime as _dt
 import json
 import logging
+import math
 import os
 import platform
 import re
@@ -50,18 +68,48 @@ if str(ROOT) not in sys.path:
 
 from benchmarks.report import cpu_model, replace_section  # noqa: E402
 
-from manip.benchmarking.mbm import MBM_SCENES, default_dataset_path, goal_pose, load_mbm_problems  # noqa: E402
+from manip.benchmarking.mbm_problems import MBM_SCENES, default_dataset_path, goal_pose, load_mbm_problems  # noqa: E402
+from manip.benchmarking.quality import (  # noqa: E402
+    lower_bound_time,
+    max_jerk,
+    safe_ratio,
+    straight_line_length,
+)
 from manip.benchmarking.scenes import SCENE_KINDS, make_problems  # noqa: E402
 from manip.benchmarking.verify import Verifier  # noqa: E402
+from manip.errors import InvalidInputError  # noqa: E402
+from manip.robot_config import RobotConfig, load_robot_config  # noqa: E402
 
 log = logging.getLogger("benchmarks.mbm")
 
-METRICS = ("plan_time_s", "motion_time_s", "path_length_rad", "max_jerk", "max_acceleration")
+#: Metrics summarised (mean, median, p75, p98, max) over the verified successes.
+METRICS = (
+    "plan_time_s",
+    "motion_time_s",
+    "lower_bound_s",
+    "motion_time_ratio",
+    "path_length_rad",
+    "straight_line_rad",
+    "path_length_ratio",
+    "max_jerk",
+    "max_jerk_returned",
+    "max_acceleration",
+)
+
+#: cuRobo's franka.yml limits (`--curobo-limits`): every joint [rad/s^2], [rad/s^3].
+CUROBO_ACCELERATION = 15.0
+CUROBO_JERK = 500.0
+#: Default row label of a `--curobo-limits` run without `--label`.
+CUROBO_LABEL = "cuRobo limits"
 
 
 @dataclass
 class Run:
-    """One planner on one problem and goal kind."""
+    """One planner on one problem and goal kind.
+
+    Quality fields are nan when there is no trajectory (and, except the joint-goal lower
+    bound, when there is none to measure). Units: seconds, radians, rad/s^2, rad/s^3.
+    """
 
     planner: str
     goal: str
@@ -74,8 +122,21 @@ class Run:
     setup_time_s: float = float("nan")
     verify_time_s: float = float("nan")
     motion_time_s: float = float("nan")
+    #: ruckig's time-optimal rest-to-rest duration from the start to the goal configuration
+    #: (pose goals: to the trajectory's last position) under the planner's limits [s].
+    lower_bound_s: float = float("nan")
+    #: motion_time_s / lower_bound_s (nan when the bound is 0).
+    motion_time_ratio: float = float("nan")
     path_length_rad: float = float("nan")
+    #: joint-space L2 distance from the start to the same goal configuration [rad].
+    straight_line_rad: float = float("nan")
+    #: path_length_rad / straight_line_rad.
+    path_length_ratio: float = float("nan")
+    #: max |jerk| over samples and joints, the larger of the returned jerks and third divided
+    #: differences of the positions (the verifier's figure; the one in the tables).
     max_jerk: float = float("nan")
+    #: max |jerk| of the returned jerk samples alone (`quality.max_jerk`).
+    max_jerk_returned: float = float("nan")
     max_acceleration: float = float("nan")
     max_velocity_ratio: float = float("nan")
     max_acceleration_ratio: float = float("nan")
@@ -84,26 +145,111 @@ class Run:
     reasons: list[str] = field(default_factory=list)
 
 
+# ---------------------------------------------------------------------------- limits
+@dataclass(frozen=True)
+class Limits:
+    """Per-joint limits a planner was given (and is verified and bounded with)."""
+
+    velocity: np.ndarray  # [rad/s]
+    acceleration: np.ndarray  # [rad/s^2]
+    jerk: np.ndarray  # [rad/s^3]
+
+    @classmethod
+    def of(cls, config: RobotConfig) -> Limits:
+        return cls(np.asarray(config.velocity_limits, float), np.asarray(config.acceleration_limits, float),
+                   np.asarray(config.jerk_limits, float))
+
+    def same_as(self, other: Limits) -> bool:
+        return all(np.allclose(a, b) for a, b in ((self.velocity, other.velocity), (self.acceleration, other.acceleration),
+                                                   (self.jerk, other.jerk)))
+
+    def as_dict(self) -> dict[str, list[float]]:
+        return {"velocity": self.velocity.tolist(), "acceleration": self.acceleration.tolist(), "jerk": self.jerk.tolist()}
+
+
+def benchmark_config(curobo_limits: bool = False, robot: str = "franka") -> RobotConfig:
+    """The robot configuration every planner gets: robot.yaml's, or with cuRobo's limits.
+
+    With `curobo_limits` the acceleration limit is `CUROBO_ACCELERATION` and the jerk limit
+    `CUROBO_JERK` on every joint (cuRobo's franka.yml); velocities stay the URDF's.
+    """
+    cfg = load_robot_config(robot)
+    if curobo_limits:
+        cfg = dataclasses.replace(
+            cfg,
+            acceleration_limits=np.full(cfg.dof, CUROBO_ACCELERATION),
+            jerk_limits=np.full(cfg.dof, CUROBO_JERK),
+        )
+    return cfg
+
+
 # ---------------------------------------------------------------------------- planners
-def build_planner(name: str, timeout: float | None) -> Any:
-    """A planner object with `.name` and `.plan(problem, goal_kind, seed)`."""
+def build_planner(name: str, timeout: float | None, config: RobotConfig | None = None,
+                  plan_options: dict[str, Any] | None = None) -> Any:
+    """A planner object with `.name` and `.plan(problem, goal_kind, seed)`.
+
+    Args:
+        name: "manip" or a peer name (`benchmarks.peers.PEER_NAMES`).
+        timeout: planning budget per problem [s] (None: the planner's default).
+        config: robot configuration (its limits) to plan with; None: robot.yaml's. A peer
+            that takes no `config` is built without it (the driver marks its rows).
+        plan_options: options of manip's plan calls (e.g. {"smoothness": "smooth"}); manip
+            tries them when built, so an unknown option raises InvalidInputError here.
+    """
     if name == "manip":
         from benchmarks.planners.manip_planner import ManipPlanner
 
-        return ManipPlanner(time_budget=timeout)
+        return ManipPlanner(time_budget=timeout, robot=config if config is not None else "franka",
+                            plan_options=plan_options)
     from benchmarks.peers import get_peer
 
-    if timeout is None:
-        return get_peer(name)
+    opts: dict[str, Any] = {}
+    if config is not None:
+        opts["config"] = config
+    if timeout is not None:
+        opts["timeout_s"] = timeout
+    while True:
+        try:
+            return get_peer(name, **opts)
+        except TypeError:
+            if not opts:
+                raise
+            dropped = "config" if "config" in opts else "timeout_s"
+            log.warning("peer %s takes no %s option; built without it", name, dropped)
+            opts.pop(dropped)
+
+
+def planner_limits(planner: Any, default: Limits) -> Limits:
+    """The limits a built planner actually plans with (its `config`), else `default`."""
+    cfg = getattr(planner, "config", None)
+    return Limits.of(cfg) if isinstance(cfg, RobotConfig) else default
+
+
+def _quality(run: Run, start: np.ndarray, target: np.ndarray | None, limits: Limits, jerk_limited: bool) -> None:
+    """Fill the lower bound, straight-line length and their ratios of `run` (in place)."""
+    if target is None:
+        return
+    jmax = limits.jerk if jerk_limited else math.inf
     try:
-        return get_peer(name, timeout_s=timeout)
-    except TypeError:
-        log.warning("peer %s takes no timeout_s option; using its default budget", name)
-        return get_peer(name)
+        run.lower_bound_s = lower_bound_time(start, target, limits.velocity, limits.acceleration, jmax)
+    except Exception as exc:  # never end the benchmark over a metric
+        log.warning("lower bound failed on %s/%d: %s", run.scene, run.index, exc)
+    run.straight_line_rad = straight_line_length(start, target)
+    run.motion_time_ratio = safe_ratio(run.motion_time_s, run.lower_bound_s)
+    run.path_length_ratio = safe_ratio(run.path_length_rad, run.straight_line_rad)
 
 
-def run_one(planner: Any, problem: Any, goal: str, verifier: Verifier, seed: int) -> Run:
-    """Plan one problem with one planner and verify the result."""
+def run_one(planner: Any, problem: Any, goal: str, verifier: Verifier, seed: int, limits: Limits | None = None) -> Run:
+    """Plan one problem with one planner, verify the result and measure its quality.
+
+    Args:
+        limits: the limits the planner was given (default: the verifier's robot config's);
+            the trajectory is verified against them and the lower bound computed with them
+            (jerk only for planners that claim jerk limits, infinite otherwise).
+    """
+    if limits is None:
+        limits = Limits.of(verifier.config)
+    start = np.asarray(problem.start, dtype=float)
     try:
         out = planner.plan(problem, goal, seed=seed)
     except Exception as exc:  # a planner bug must not end the benchmark; it is reported
@@ -113,13 +259,15 @@ def run_one(planner: Any, problem: Any, goal: str, verifier: Verifier, seed: int
     run = Run(planner.name, goal, problem.scene, problem.index, str(out.status), bool(out.success), False,
               float(out.plan_time_s), setup_time_s=float(getattr(out, "setup_time_s", float("nan"))))
     run.claims_jerk_limits = bool(getattr(out, "claims_jerk_limits", False))
-    if not out.success:
-        return run
-    if out.positions is None or out.times is None:
-        run.reasons = ["claimed success without a trajectory"]
+    if not out.success or out.positions is None or out.times is None:
+        if out.success:
+            run.reasons = ["claimed success without a trajectory"]
+        if goal == "joint":  # the bound is defined without a trajectory
+            _quality(run, start, np.asarray(problem.goal, dtype=float), limits, run.claims_jerk_limits)
         return run
     t0 = time.perf_counter()
-    kwargs: dict[str, Any] = {"check_jerk": bool(out.claims_jerk_limits)}
+    kwargs: dict[str, Any] = {"check_jerk": bool(out.claims_jerk_limits), "velocity_limits": limits.velocity,
+                              "acceleration_limits": limits.acceleration, "jerk_limits": limits.jerk}
     if goal == "pose":
         kwargs["goal_pose"] = goal_pose(problem)
     v = verifier.verify_trajectory(problem, out.times, out.positions, out.velocities, out.accelerations, out.jerks, **kwargs)
@@ -129,10 +277,14 @@ def run_one(planner: Any, problem: Any, goal: str, verifier: Verifier, seed: int
     run.motion_time_s = v.motion_time
     run.path_length_rad = v.path_length
     run.max_jerk = v.max_jerk
+    run.max_jerk_returned = max_jerk(out.jerks) if out.jerks is not None else float("nan")
     run.max_acceleration = v.max_acceleration
     run.max_velocity_ratio = v.max_velocity_ratio
     run.max_acceleration_ratio = v.max_acceleration_ratio
     run.max_jerk_ratio = v.max_jerk_ratio
+    P = np.asarray(out.positions, dtype=float)
+    target = np.asarray(problem.goal, dtype=float) if goal == "joint" else P[-1]
+    _quality(run, start, target, limits, run.claims_jerk_limits)
     return run
 
 
@@ -153,8 +305,24 @@ def stats(values: list[float]) -> dict[str, float]:
     }
 
 
+def ratio_of_means(runs: list[Any], num: str, den: str) -> float:
+    """mean(num) / mean(den) over the runs where both are finite and den > 0 (nan if none)."""
+    pairs = [(getattr(r, num), getattr(r, den)) for r in runs]
+    pairs = [(a, b) for a, b in pairs if np.isfinite(a) and np.isfinite(b) and b > 0]
+    if not pairs:
+        return float("nan")
+    a, b = np.asarray(pairs).T
+    return float(a.mean() / b.mean())
+
+
 def summarize(runs: list[Run], n_valid: int) -> dict[str, Any]:
-    """Success rate over `n_valid` problems and metric statistics over verified successes."""
+    """Success rate over `n_valid` problems and metric statistics over verified successes.
+
+    Besides `stats` of every metric in `METRICS` (the mean of `motion_time_ratio` is the mean
+    of the per-problem ratios), it gives `motion_time_ratio_of_means` = mean motion time /
+    mean lower bound and `path_length_ratio_of_means` = mean path length / mean straight-line
+    length, both over the verified successes whose denominator is positive.
+    """
     ok = [r for r in runs if r.verified]
     out: dict[str, Any] = {
         "valid_problems": n_valid,
@@ -168,6 +336,8 @@ def summarize(runs: list[Run], n_valid: int) -> dict[str, Any]:
     }
     for m in METRICS:
         out[m] = stats([getattr(r, m) for r in ok])
+    out["motion_time_ratio_of_means"] = ratio_of_means(ok, "motion_time_s", "lower_bound_s")
+    out["path_length_ratio_of_means"] = ratio_of_means(ok, "path_length_rad", "straight_line_rad")
     out["plan_time_all_s"] = stats([r.plan_time_s for r in runs])
     out["verify_time_s"] = stats([r.verify_time_s for r in runs if r.claimed])
     out["max_velocity_ratio"] = stats([r.max_velocity_ratio for r in runs if r.claimed])
@@ -180,6 +350,22 @@ def summarize(runs: list[Run], n_valid: int) -> dict[str, Any]:
                 bad[re.sub(r" at t=.*", "", reason.split(":")[0])] += 1
     out["invalid_reasons"] = dict(bad)
     return out
+
+
+def summarize_planner(runs: list[Run], goals: list[str], scenes: list[str], valid_by_scene: dict[str, int]) -> dict[str, Any]:
+    """One planner's summary: overall, `by_scene`, and `by_goal[g]` with its own `by_scene`."""
+    n_valid = sum(valid_by_scene.get(s, 0) for s in scenes)
+    entry = summarize(runs, n_valid * len(goals))
+    entry["claims_jerk_limits"] = any(r.claims_jerk_limits for r in runs)
+    entry["by_scene"] = {s: summarize([r for r in runs if r.scene == s], valid_by_scene.get(s, 0) * len(goals))
+                         for s in scenes}
+    entry["by_goal"] = {}
+    for g in goals:
+        rg = [r for r in runs if r.goal == g]
+        eg = summarize(rg, n_valid)
+        eg["by_scene"] = {s: summarize([r for r in rg if r.scene == s], valid_by_scene.get(s, 0)) for s in scenes}
+        entry["by_goal"][g] = eg
+    return entry
 
 
 def ratios_vs_manip(report: dict[str, Any]) -> dict[str, Any]:
@@ -243,42 +429,125 @@ def _fmt(x: float, digits: int = 2) -> str:
     return "-" if not np.isfinite(x) else f"{x:.{digits}f}"
 
 
+def _get(s: dict[str, Any], key: str, q: str | None = "mean") -> float:
+    """s[key][q] (or s[key] for q=None), nan when a saved report lacks it (older reports)."""
+    v = s.get(key, float("nan"))
+    if q is not None:
+        v = v.get(q, float("nan")) if isinstance(v, dict) else float("nan")
+    return float("nan") if v is None else float(v)
+
+
+def display_name(name: str, entry: dict[str, Any], label: str | None = None) -> str:
+    """A row's planner name: the entry's `display_name`, else "name (label)", else name."""
+    if entry.get("display_name"):
+        return str(entry["display_name"])
+    return f"{name} ({label})" if label else name
+
+
+def _quality_cells(s: dict[str, Any]) -> str:
+    """motion time | lower bound | ratios | path length | path ratios | max jerk | max acc."""
+    return (
+        f"{_fmt(_get(s, 'motion_time_s'))} | {_fmt(_get(s, 'lower_bound_s'))} | "
+        f"{_fmt(_get(s, 'motion_time_ratio_of_means', None))} / {_fmt(_get(s, 'motion_time_ratio'))} | "
+        f"{_fmt(_get(s, 'path_length_rad'))} | "
+        f"{_fmt(_get(s, 'path_length_ratio_of_means', None))} / {_fmt(_get(s, 'path_length_ratio'))} | "
+        f"{_fmt(_get(s, 'max_jerk'), 0)} | {_fmt(_get(s, 'max_acceleration'), 1)}"
+    )
+
+
+QUALITY_HEAD = ("motion time mean [s] | lower bound mean [s] | motion time / lower bound: ratio of means / mean ratio "
+                "| path length mean [rad] | path / straight line: ratio of means / mean ratio "
+                "| max jerk mean [rad/s^3] | max acc mean [rad/s^2]")
+
+
 def markdown_tables(report: dict[str, Any]) -> str:
     """The report as Markdown tables (overall per planner and goal kind, then per scene)."""
+    label = report.get("label")
     lines = []
-    head = ("| planner | goal | solved / valid | success | invalid returned | plan time median / mean / p75 / p98 [ms] "
-            "| motion time mean [s] | path length mean [rad] | max jerk mean [rad/s^3] | max acc mean [rad/s^2] |")
-    lines += [head, "|" + "---|" * 10]
+    head = ("| planner | goal | solved / valid | success | invalid returned | plan time median / mean / p75 / p98 [ms] | "
+            + QUALITY_HEAD + " |")
+    lines += [head, "|" + "---|" * 13]
     for name, p in report["planners"].items():
+        dn = display_name(name, p, label)
         for g, s in list(p["by_goal"].items()) + ([("all", p)] if len(p["by_goal"]) > 1 else []):
             pt = s["plan_time_s"]
             lines.append(
-                f"| {name} | {g} | {s['solved']}/{s['valid_problems']} | {100 * s['success_rate']:.1f} % | "
+                f"| {dn} | {g} | {s['solved']}/{s['valid_problems']} | {100 * s['success_rate']:.1f} % | "
                 f"{s['invalid_returned']} | {_fmt_ms(pt['median'])} / {_fmt_ms(pt['mean'])} / {_fmt_ms(pt['p75'])} / "
-                f"{_fmt_ms(pt['p98'])} | {_fmt(s['motion_time_s']['mean'])} | {_fmt(s['path_length_rad']['mean'])} | "
-                f"{_fmt(s['max_jerk']['mean'], 0)} | {_fmt(s['max_acceleration']['mean'], 1)} |"
+                f"{_fmt_ms(pt['p98'])} | {_quality_cells(s)} |"
             )
     if report.get("ratios_vs_manip"):
         lines += ["", "| peer | goal | plan time median / manip's | p98 / manip's | motion time mean / manip's |", "|---|---|---|---|---|"]
         for name, e in report["ratios_vs_manip"].items():
+            dn = display_name(name, report["planners"].get(name, {}), label)
             for g, r in e.items():
-                lines.append(f"| {name} | {g} | {_fmt(r['median'])}x | {_fmt(r['p98'])}x | {_fmt(r['motion_time_mean'])}x |")
-    lines += ["", "| planner | goal | scene | solved / valid | invalid returned | plan time median / p98 [ms] "
-              "| motion time mean [s] | path length mean [rad] | max jerk mean | max acc mean |", "|" + "---|" * 10]
+                lines.append(f"| {dn} | {g} | {_fmt(r['median'])}x | {_fmt(r['p98'])}x | {_fmt(r['motion_time_mean'])}x |")
+    lines += ["", "| planner | goal | scene | solved / valid | invalid returned | plan time median / p98 [ms] | "
+              + QUALITY_HEAD + " |", "|" + "---|" * 13]
     for name, p in report["planners"].items():
+        dn = display_name(name, p, label)
         for g, s in p["by_goal"].items():
             for scene, sc in s["by_scene"].items():
                 pt = sc["plan_time_s"]
                 lines.append(
-                    f"| {name} | {g} | {scene} | {sc['solved']}/{sc['valid_problems']} | {sc['invalid_returned']} | "
-                    f"{_fmt_ms(pt['median'])} / {_fmt_ms(pt['p98'])} | {_fmt(sc['motion_time_s']['mean'])} | "
-                    f"{_fmt(sc['path_length_rad']['mean'])} | {_fmt(sc['max_jerk']['mean'], 0)} | "
-                    f"{_fmt(sc['max_acceleration']['mean'], 1)} |"
+                    f"| {dn} | {g} | {scene} | {sc['solved']}/{sc['valid_problems']} | {sc['invalid_returned']} | "
+                    f"{_fmt_ms(pt['median'])} / {_fmt_ms(pt['p98'])} | {_quality_cells(sc)} |"
                 )
     inv = report["invalid_problems"]
     lines += ["", f"Problems infeasible for the example-robot-data Panda (not planned): {inv['count']} of "
               f"{report['problems']}: " + (", ".join(f"{k}: {v}" for k, v in inv["by_reason"].items()) or "none")]
+    notes = report.get("planner_limits") or {}
+    marked = {k: v for k, v in notes.items() if v != "as benchmark"}
+    if marked:
+        lines += ["", "Planners NOT given the benchmark's limits: "
+                  + "; ".join(f"{display_name(k, report['planners'].get(k, {}), label)}: {v}" for k, v in marked.items())]
     return "\n".join(lines)
+
+
+def merge_reports(reports: list[dict[str, Any]], names: list[str] | None = None) -> dict[str, Any]:
+    """Several saved reports as one, for side-by-side tables (e.g. "manip (before)", "manip (after)").
+
+    Each report's planners are renamed to their display names ("name (label)" when the run
+    had `--label`; else the name, or "name (file stem)" when two reports share a name); the
+    ratios to manip stay those of each run. One report is returned unchanged.
+
+    Args:
+        reports: reports as saved by `--json`.
+        names: one name per report (e.g. the file stems), for disambiguation.
+    """
+    if len(reports) == 1:
+        return reports[0]
+    names = names or [f"run {i + 1}" for i in range(len(reports))]
+    first = reports[0]
+    merged: dict[str, Any] = {k: v for k, v in first.items() if k not in ("planners", "ratios_vs_manip", "runs", "label")}
+    merged["planners"], merged["ratios_vs_manip"], merged["planner_limits"] = {}, {}, {}
+    merged["goal_kinds"] = list(dict.fromkeys(g for r in reports for g in r.get("goal_kinds", [])))
+    merged["wall_time_s"] = sum(float(r.get("wall_time_s", 0.0)) for r in reports)
+    merged["sources"] = []
+    for rep, src in zip(reports, names):
+        label = rep.get("label")
+        renamed: dict[str, str] = {}
+        for name, p in rep["planners"].items():
+            dn = display_name(name, p, label)
+            if dn in merged["planners"]:
+                dn = f"{dn} ({src})"
+            renamed[name] = dn
+            merged["planners"][dn] = dict(p, display_name=dn)
+        for name, e in (rep.get("ratios_vs_manip") or {}).items():
+            if name in renamed:
+                merged["ratios_vs_manip"][renamed[name]] = e
+        for name, note in (rep.get("planner_limits") or {}).items():
+            if name in renamed:
+                merged["planner_limits"][renamed[name]] = note
+        merged["sources"].append({
+            "file": src, "label": label, "command": rep.get("command"), "date": rep.get("date"),
+            "commit": rep.get("machine", {}).get("commit"),
+            "load_average_at_start": rep.get("machine", {}).get("load_average_at_start", []),
+            "problems": rep.get("problems"), "valid_problems": rep.get("valid_problems"),
+            "limits": rep.get("limits"), "plan_options": rep.get("plan_options"),
+            "planners": list(renamed.values()),
+        })
+    return merged
 
 
 SECTION = "## Motion generation (MotionBenchMaker)"
@@ -288,14 +557,17 @@ dataset's README and the papers):
 
 | system (published) | hardware | success | planning time |
 |---|---|---|---|
-| cuRobo v0.7.6 motion generation (MBM, 800 problems) | RTX 6000 Ada GPU | 800/800 | median 31 ms, mean 42 ms, p98 161 ms |
-| cuRobo v0.6 (paper), MBM + MpiNets (2600) | RTX 4090 GPU | 99.8 % | median 30 ms, mean 50 ms, p98 260 ms; motion time mean 1.59 s, path length mean 3.28 rad, max jerk mean 49 rad/s^3, max acc mean 6.8 rad/s^2 |
-| Tesseract (OMPL RRTConnect + TrajOpt), same 2600 | Ryzen 9 7950X | 98.5 % | mean 2.95 s, p98 22 s |
+| cuRobo v0.7.6 motion generation (MBM, 800 problems) | RTX 6000 Ada GPU | 800/800 | median 31 ms, mean 42 ms, p98 161 ms; motion time mean 1.36 s, path length mean 3.82 rad, max jerk mean 119 rad/s^3 |
+| cuRoboV2 (Apache-2.0), MBM + MpiNets (2600) | GPU | 99.73 % | median 35 ms, p98 81 ms; motion time mean 1.25 s, path length mean 3.13 rad, max jerk mean 227 rad/s^3 |
+| Tesseract (OMPL RRTConnect + TrajOpt), MBM + MpiNets (2600) | Ryzen 9 7950X | 98.5 % | mean 2.95 s, p98 22 s |
 | VAMP RRTConnect + simplification (geometric path only, no timing) | Ryzen 9 7950X, SIMD | 800/800 | median 109 us, mean 167 us |
 
-VAMP cannot be installed here (published only as a source package whose build downloads its
-dependencies) and mplib needs numpy < 2, so neither is measured; see benchmarks/peers/README.md.
-cuRobo counts a pose goal reached within 5 mm and 5 %; the verifier here asks 1 mm and 0.01 rad.
+cuRobo's limits are acceleration 15 rad/s^2 and jerk 500 rad/s^3 on every joint (its
+franka.yml; `--curobo-limits` runs manip and the peers with them); it counts a pose goal
+reached within 5 mm and 5 %, widens the joint limits by 0.2 rad and checks collisions with
+spheres; the verifier here asks 1 mm / 0.01 rad and exact meshes. VAMP cannot be installed
+here (published only as a source package whose build downloads its dependencies) and mplib
+needs numpy < 2, so neither is measured; see benchmarks/peers/README.md.
 """
 
 METHOD = """How to read it: problems whose start or goal is infeasible for the example-robot-data Panda
@@ -308,27 +580,65 @@ relative slack for rounding, jerk limits for planners that claim them (manip), s
 rest at both ends). "invalid returned" = trajectories a planner returned as successful that
 failed verification (counted as failures). Planning time = wall time from (start, goal) to an
 executable trajectory (IK for pose goals, path, smoothing, time parameterisation), over the
-verified successes; loading a scene's obstacles is not timed. Max jerk and max acceleration
-are the larger of the returned arrays and divided differences of the positions (TOP-RA's
-piecewise-constant accelerations make the peers' jerk a sampling-dependent metric, not a
-limit they claim). Ratios are peer / manip from the same run."""
+verified successes; loading a scene's obstacles is not timed. Quality columns are means over
+the verified successes (`manip/benchmarking/quality.py`). Lower bound = ruckig's
+time-optimal rest-to-rest motion from the start to the goal configuration (for pose goals:
+to the configuration the trajectory reached) under the limits the planner was given, with
+infinite jerk for the planners that do not limit jerk (the peers): no valid motion between
+the two configurations is shorter. "ratio of means" = mean motion time / mean lower bound;
+"mean ratio" = mean over problems of motion time / lower bound (1.00 = time-optimal
+straight line); the same for path length against the joint-space straight line (L2, the
+shortest path). Max jerk and max acceleration are the larger of the returned arrays and
+divided differences of the positions (TOP-RA's piecewise-constant accelerations make the
+peers' jerk a sampling-dependent metric, not a limit they claim). Ratios to manip's are
+peer / manip from the same run."""
+
+
+def _limits_line(limits: dict[str, Any] | None, plan_options: dict[str, Any] | None) -> str:
+    if not limits:
+        return ""
+    acc = ", ".join(f"{a:g}" for a in limits.get("acceleration", []))
+    jerk = ", ".join(f"{a:g}" for a in limits.get("jerk", []))
+    opts = ", ".join(f"{k}={v}" for k, v in (plan_options or {}).items()) or "defaults"
+    return (f"limits: {limits.get('source', '?')} (acceleration [{acc}] rad/s^2, jerk [{jerk}] rad/s^3, "
+            f"URDF velocities); manip plan options: {opts}")
 
 
 def markdown_section(report: dict[str, Any]) -> str:
-    """The BENCHMARKS.md section for a report."""
+    """The BENCHMARKS.md section for a report (or a `merge_reports` of several)."""
     m = report["machine"]
     pk = m.get("packages", {})
     unavailable = report.get("unavailable_planners") or {}
-    lines = [
-        SECTION,
-        "",
-        f"`{report['command']}`",
-        "",
-        f"Machine: {m['cpu']}, {m['cores']} cores, shared with other jobs (load average at start "
-        f"{', '.join(str(x) for x in m.get('load_average_at_start', []))}); Python {m['python']}; "
-        + ", ".join(f"{k} {v}" for k, v in pk.items())
-        + f"; commit {m.get('commit', '?')}; {report['date']}; wall time {report['wall_time_s'] / 60:.0f} min.",
-        "",
+    sources = report.get("sources")
+    if sources:
+        runs = ["Runs merged into these tables (`python benchmarks/mbm.py --from-json ...`):", ""]
+        for s in sources:
+            runs.append(
+                f"- {', '.join(s['planners'])}: `{s.get('command')}` ({s.get('date')}, commit {s.get('commit') or '?'}, "
+                f"load average at start {', '.join(str(x) for x in s.get('load_average_at_start') or [])}; "
+                f"{s.get('problems')} problems, {s.get('valid_problems')} valid"
+                + (f"; {_limits_line(s.get('limits'), s.get('plan_options'))}" if s.get("limits") else "") + ")"
+            )
+        lines = [SECTION, ""] + runs + [
+            "",
+            f"Machine: {m['cpu']}, {m['cores']} cores, shared with other jobs; Python {m['python']}; "
+            + ", ".join(f"{k} {v}" for k, v in pk.items()) + f"; total wall time {report['wall_time_s'] / 60:.0f} min.",
+            "",
+        ]
+    else:
+        lim = _limits_line(report.get("limits"), report.get("plan_options"))
+        lines = [
+            SECTION,
+            "",
+            f"`{report['command']}`",
+            "",
+            f"Machine: {m['cpu']}, {m['cores']} cores, shared with other jobs (load average at start "
+            f"{', '.join(str(x) for x in m.get('load_average_at_start', []))}); Python {m['python']}; "
+            + ", ".join(f"{k} {v}" for k, v in pk.items())
+            + f"; commit {m.get('commit', '?')}; {report['date']}; wall time {report['wall_time_s'] / 60:.0f} min.",
+            "",
+        ] + ([lim[0].upper() + lim[1:] + ".", ""] if lim else [])
+    lines += [
         f"Problems: {report['problems']} ({report['valid_problems']} valid), goal kinds: {', '.join(report['goal_kinds'])}.",
         "",
         markdown_tables(report),
@@ -359,12 +669,20 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
                     help=f"also run N of manip's seeded problems of each kind ({', '.join(SCENE_KINDS)})")
     ap.add_argument("--seed", type=int, default=0, help="seed of the seeded scenes and of every planner")
     ap.add_argument("--timeout", type=float, default=None, help="planning budget per problem [s] (planners' default if unset)")
+    ap.add_argument("--curobo-limits", action="store_true",
+                    help=f"give every planner cuRobo's franka.yml limits: acceleration {CUROBO_ACCELERATION:g} rad/s^2 and "
+                         f"jerk {CUROBO_JERK:g} rad/s^3 on every joint (URDF velocities); verification and lower "
+                         f"bounds use them too; rows are labelled '{CUROBO_LABEL}' unless --label is given")
+    ap.add_argument("--smoothness", choices=("time_optimal", "smooth"), default=None,
+                    help="pass smoothness=... to manip's plan calls (not passed when omitted)")
+    ap.add_argument("--label", default=None, help="label this run's rows, e.g. 'before' -> 'manip (before)'")
     ap.add_argument("--json", type=Path, default=None, help="write the full report (and every run) here")
     ap.add_argument("--no-progress", action="store_true", help="no progress bar")
     ap.add_argument("--write-md", action="store_true",
                     help="replace the 'Motion generation (MotionBenchMaker)' section of BENCHMARKS.md")
-    ap.add_argument("--from-json", type=Path, default=None,
-                    help="do not plan: print (and with --write-md write) the report saved by --json")
+    ap.add_argument("--from-json", type=Path, nargs="+", default=None, metavar="REPORT",
+                    help="do not plan: print (and with --write-md write) the report(s) saved by --json; "
+                         "several are merged into one set of tables (label runs with --label)")
     return ap.parse_args(argv)
 
 
@@ -381,16 +699,28 @@ def load_problems(args: argparse.Namespace) -> list[Any]:
     return problems
 
 
+def _from_json(args: argparse.Namespace) -> int:
+    reports = []
+    for path in args.from_json:
+        with open(path) as f:
+            reports.append(json.load(f))
+    report = merge_reports(reports, [Path(p).stem for p in args.from_json])
+    print(markdown_tables(report))
+    if args.json is not None and len(reports) > 1:
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        with open(args.json, "w") as f:
+            json.dump(report, f, indent=1, default=float)
+        print(f"\nwrote {args.json}")
+    if args.write_md:
+        write_markdown(report, ROOT / "BENCHMARKS.md")
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     args = parse_args(argv)
     logging.basicConfig(level=logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
     if args.from_json is not None:
-        with open(args.from_json) as f:
-            saved = json.load(f)
-        print(markdown_tables(saved))
-        if args.write_md:
-            write_markdown(saved, ROOT / "BENCHMARKS.md")
-        return 0
+        return _from_json(args)
     machine = machine_info()  # before planning: the load average at start
     try:
         from tqdm import tqdm
@@ -401,20 +731,34 @@ def main(argv: list[str] | None = None) -> int:
     if not problems:
         print("no problems selected", file=sys.stderr)
         return 2
-    verifier = Verifier("franka")
+    config = benchmark_config(args.curobo_limits)
+    bench_limits = Limits.of(config)
+    label = args.label if args.label is not None else (CUROBO_LABEL if args.curobo_limits else None)
+    plan_options = {"smoothness": args.smoothness} if args.smoothness is not None else {}
+    verifier = Verifier(config)
     validity = {(p.scene, p.index): verifier.check_problem(p) for p in problems}
     valid = [p for p in problems if validity[(p.scene, p.index)].valid]
     invalid = [p for p in problems if not validity[(p.scene, p.index)].valid]
     goals = ["joint", "pose"] if args.goal == "both" else [args.goal]
     names = [n.strip() for n in args.planners.split(",") if n.strip()]
 
-    planners, unavailable = {}, {}
+    planners, unavailable, limits_of, limits_note = {}, {}, {}, {}
     for n in names:
         try:
-            planners[n] = build_planner(n, args.timeout)
+            planners[n] = build_planner(n, args.timeout, config=config if args.curobo_limits else None,
+                                        plan_options=plan_options if n == "manip" else None)
+        except InvalidInputError as exc:  # an option the planner rejects (e.g. --smoothness): fail, do not hide it
+            print(f"planner {n} rejected the benchmark's options: {exc}", file=sys.stderr)
+            return 2
         except Exception as exc:  # PeerUnavailableError, ImportError, ...
             unavailable[n] = f"{type(exc).__name__}: {exc}"
             print(f"planner {n} not run: {unavailable[n]}", file=sys.stderr)
+            continue
+        limits_of[n] = planner_limits(planners[n], bench_limits)
+        limits_note[n] = "as benchmark" if limits_of[n].same_as(bench_limits) else (
+            "plans with its own limits " + json.dumps(limits_of[n].as_dict()) + " (verified and bounded with those)")
+        if limits_note[n] != "as benchmark":
+            print(f"planner {n}: {limits_note[n]}", file=sys.stderr)
     if not planners:
         return 2
 
@@ -425,7 +769,7 @@ def main(argv: list[str] | None = None) -> int:
     for name, planner in planners.items():
         for g in goals:
             for p in valid:
-                r = run_one(planner, p, g, verifier, args.seed)
+                r = run_one(planner, p, g, verifier, args.seed, limits=limits_of[name])
                 runs.append(r)
                 if bar is not None:
                     bar.set_postfix_str(f"{name} {g} {p.scene}/{p.index}", refresh=False)
@@ -434,12 +778,17 @@ def main(argv: list[str] | None = None) -> int:
         bar.close()
 
     scenes = list(dict.fromkeys(p.scene for p in problems))
-    valid_by_scene = Counter(p.scene for p in valid)
+    valid_by_scene = dict(Counter(p.scene for p in valid))
     report: dict[str, Any] = {
         "date": _dt.datetime.now().astimezone().isoformat(timespec="seconds"),
         "command": shlex.join(["python", "benchmarks/mbm.py"] + (sys.argv[1:] if argv is None else list(argv))),
         "machine": machine,
         "dataset": None if _no_dataset(args) else str(args.dataset or default_dataset_path()),
+        "label": label,
+        "limits": dict(bench_limits.as_dict(),
+                       source="cuRobo's franka.yml (--curobo-limits)" if args.curobo_limits else "robots/franka/robot.yaml"),
+        "plan_options": plan_options,
+        "planner_limits": limits_note,
         "goal_kinds": goals,
         "problems": len(problems),
         "valid_problems": len(valid),
@@ -454,22 +803,15 @@ def main(argv: list[str] | None = None) -> int:
         "planners": {},
     }
     for name in planners:
-        mine = [r for r in runs if r.planner == name]
-        entry = summarize(mine, len(valid) * len(goals))
-        entry["claims_jerk_limits"] = any(r.claims_jerk_limits for r in mine)
-        entry["by_scene"] = {s: summarize([r for r in mine if r.scene == s], valid_by_scene[s] * len(goals)) for s in scenes}
-        entry["by_goal"] = {}
-        for g in goals:
-            rg = [r for r in mine if r.goal == g]
-            eg = summarize(rg, len(valid))
-            eg["by_scene"] = {s: summarize([r for r in rg if r.scene == s], valid_by_scene[s]) for s in scenes}
-            entry["by_goal"][g] = eg
+        entry = summarize_planner([r for r in runs if r.planner == name], goals, scenes, valid_by_scene)
+        if label:
+            entry["display_name"] = display_name(name, {}, label)
         report["planners"][name] = entry
     report["ratios_vs_manip"] = ratios_vs_manip(report)
 
     print(markdown_tables(report))
     if args.json is not None:
-        report["runs"] = [asdict(r) for r in runs]
+        report["runs"] = [dict(asdict(r), label=label) for r in runs]
         args.json.parent.mkdir(parents=True, exist_ok=True)
         with open(args.json, "w") as f:
             json.dump(report, f, indent=1, default=float)

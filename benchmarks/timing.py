@@ -21,7 +21,7 @@ import sys
 
 import numpy as np
 
-from manip.benchmarking.mbm import dataset_available, load_mbm_problems
+from manip.benchmarking.mbm_problems import dataset_available, load_mbm_problems
 from manip.robot_config import load_robot_config
 from manip.timing import time_parameterize_for_robot
 
@@ -77,7 +77,7 @@ def main() -> int:
     ap.add_argument("--seed", type=int, default=0)
     args = ap.parse_args()
     if not dataset_available():
-        print("MotionBenchMaker dataset not found (see manip.benchmarking.mbm)", file=sys.stderr)
+        print("MotionBenchMaker dataset not found (see manip.benchmarking.mbm_problems)", file=sys.stderr)
         return 1
     cfg = load_robot_config("franka")
     problems = load_mbm_problems(limit_per_scene=args.per_scene)

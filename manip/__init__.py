@@ -1,7 +1,8 @@
 """manip: CPU motion generation and an Isaac-Sim-style MuJoCo world for robot manipulation.
 
-Layers (each depends only on those above it in this list):
-kinematics / collision / trajectory timing -> planning -> MotionGenerator -> manip.sim.
+Layers (each depends only on those before it in this list):
+kinematics / collision / trajectory / timing -> planning -> MotionGenerator -> compat
+(the tutorial wrapper) -> manip.sim.
 `manip.sim` (the simulator) is imported separately: `from manip.sim import World, ...`.
 """
 
@@ -20,10 +21,11 @@ from manip.collision import (
     WorldConfig,
 )
 from manip.errors import InvalidInputError, ManipError, RobotConfigError, UnknownNameError
-from manip.ik import BatchIKResult, IKResult, IKSolver, IKStatus
+from manip.ik import BatchIKResult, IKResult, IKSolutions, IKSolver, IKStatus
 from manip.kinematics import Kinematics
-from manip.motion_generator import MotionGenerator, TutorialMotionGen
-from manip.planning import PlanResult, PlanStatus
+from manip.motion_generator import MotionGenerator
+from manip.compat import TutorialMotionGen, wxyz_to_xyzw, xyzw_to_wxyz
+from manip.planning import PlanOptions, PlanResult, PlanStatus
 from manip.pose import Pose
 from manip.robot_config import RobotConfig, available_robots, load_robot_config, robots_root
 from manip.timing import (
@@ -33,8 +35,8 @@ from manip.timing import (
     time_parameterize_dense,
     time_parameterize_for_robot,
 )
+from manip.tutorial_api import TutorialAPI  # deprecated alias of TutorialMotionGen
 from manip.trajectory import CubicSplinePath, PathProfile, PiecewiseJerkProfile, Trajectory
-from manip.tutorial_api import TutorialAPI, wxyz_to_xyzw, xyzw_to_wxyz
 
 __all__ = [
     "ArticulationAction",
@@ -47,6 +49,7 @@ __all__ = [
     "Cylinder",
     "DistanceReport",
     "IKResult",
+    "IKSolutions",
     "IKSolver",
     "IKStatus",
     "InvalidInputError",
@@ -56,6 +59,7 @@ __all__ = [
     "MotionGenerator",
     "PathProfile",
     "PiecewiseJerkProfile",
+    "PlanOptions",
     "PlanResult",
     "PlanStatus",
     "Pose",

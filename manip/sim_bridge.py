@@ -1,17 +1,25 @@
-"""Read a simulated World's collision shapes into a planner `WorldConfig`.
+"""The planner's seam with the simulator, duck-typed over `manip.sim` (never imported).
 
-Duck-typed over `manip.sim` (it calls `world.scene.get_collision_objects()` and
-`robot.get_world_pose()`), so the motion generator does not import the simulator.
+* `world_config_from_sim`: a simulated World's collision shapes as a planner `WorldConfig`
+  (it calls `world.scene.get_collision_objects()` and `robot.get_world_pose()`).
+* `joint_indices_for`, `trajectory_to_actions`: a timed `Trajectory` as the robot's DoF
+  indices and one `ArticulationAction` per step (the robot has `dof_names` and/or
+  `get_dof_index(name)`; the trajectory is read through its attributes only, so this
+  module does not import `manip.trajectory`, which delegates to it).
 """
 
 from __future__ import annotations
 
 import logging
 from collections.abc import Sequence
+from types import SimpleNamespace
+from typing import Any
 
 import numpy as np
 
+from manip.articulation_action import ArticulationAction
 from manip.collision import Capsule, Cuboid, Cylinder, Mesh, Sphere, WorldConfig
+from manip.errors import InvalidInputError, UnknownNameError
 from manip.pose import Pose
 
 logger = logging.getLogger(__name__)
@@ -75,3 +83,100 @@ def world_config_from_sim(world, robot, ignore: Sequence[str] = ()) -> WorldConf
         else:
             logger.warning("skipping %s: unsupported shape %r", name, obj.shape)
     return cfg
+
+
+def joint_indices_for(trajectory: Any, robot: Any) -> np.ndarray:
+    """(dof,) indices of `trajectory.joint_names` among a robot's degrees of freedom.
+
+    Args:
+        trajectory: a `manip.Trajectory` (only `joint_names` is read).
+        robot: duck-typed: a `dof_names` sequence (Isaac's `Articulation` and `manip.sim`
+            robots have one) and/or a `get_dof_index(name)` method.
+
+    Raises:
+        UnknownNameError: a joint of the trajectory is not a DoF of the robot (the
+            message lists the robot's DoFs).
+        InvalidInputError: `robot` has neither `dof_names` nor `get_dof_index`.
+    """
+    dof_names = getattr(robot, "dof_names", None)
+    if dof_names is not None and not callable(dof_names):
+        names = [str(n) for n in dof_names]
+        out = []
+        for n in trajectory.joint_names:
+            if n not in names:
+                raise UnknownNameError("joint", n, names)
+            out.append(names.index(n))
+        return np.asarray(out, dtype=int)
+    getter = getattr(robot, "get_dof_index", None)
+    if getter is None:
+        raise InvalidInputError(
+            f"robot must have a `dof_names` list or a `get_dof_index(name)` method; got {type(robot).__name__}"
+        )
+    out = []
+    for n in trajectory.joint_names:
+        try:
+            i = getter(n)
+        except (KeyError, ValueError, IndexError):
+            i = None
+        if i is None or int(i) < 0:
+            raise UnknownNameError("joint", n, [])
+        out.append(int(i))
+    return np.asarray(out, dtype=int)
+
+
+def trajectory_to_actions(trajectory: Any, robot: Any, physics_dt: float | None = None) -> list[ArticulationAction]:
+    """One `ArticulationAction` per step of `trajectory`, for a simulated robot.
+
+    The actions are for the samples after t = 0 (the robot is assumed to be at the start
+    already), so applying one action per step of period `trajectory.dt` replays the
+    trajectory. With `physics_dt` given, the trajectory is first resampled at the
+    simulator's step, giving one action per physics step.
+
+    Args:
+        trajectory: a `manip.Trajectory` (`joint_names`, `positions`, `velocities`,
+            `num_samples`, `resample(dt)` are used).
+        robot: duck-typed articulation with `dof_names` and/or `get_dof_index(name)`.
+        physics_dt: the simulator's step [s]; None uses the trajectory's `dt`.
+
+    Returns:
+        T - 1 actions with `joint_positions` [rad], `joint_velocities` [rad/s] and
+        `joint_indices` (the robot's indices of `joint_names`).
+
+    Raises:
+        UnknownNameError: a joint of the trajectory is not a DoF of the robot.
+    """
+    traj = trajectory if physics_dt is None else trajectory.resample(physics_dt)
+    idx = joint_indices_for(trajectory, robot)
+    return [
+        ArticulationAction(joint_positions=traj.positions[k], joint_velocities=traj.velocities[k], joint_indices=idx)
+        for k in range(1, traj.num_samples)
+    ]
+
+
+def solution_to_actions(solution: dict, robot: Any) -> list[ArticulationAction]:
+    """One `ArticulationAction` per step after the first of a tutorial solution dict.
+
+    Args:
+        solution: {"joint_names", "positions", "velocities", ...} (per-step lists), as
+            `TutorialMotionGen.motion_generate` returns.
+        robot: duck-typed articulation, as `joint_indices_for`.
+
+    Raises:
+        InvalidInputError: the dict lacks a key or its arrays disagree in shape.
+    """
+    missing = [k for k in ("joint_names", "positions", "velocities") if k not in solution]
+    if missing:
+        raise InvalidInputError(f"solution lacks {missing}; it needs joint_names, positions, velocities")
+    names = list(solution["joint_names"])
+    positions = np.asarray(solution["positions"], dtype=float)
+    velocities = np.asarray(solution["velocities"], dtype=float)
+    if positions.ndim != 2 or positions.shape[1] != len(names) or velocities.shape != positions.shape:
+        raise InvalidInputError(
+            f"solution positions and velocities must both have shape (T, {len(names)}); "
+            f"got {positions.shape} and {velocities.shape}"
+        )
+    idx = joint_indices_for(SimpleNamespace(joint_names=names), robot)
+    return [
+        ArticulationAction(joint_positions=positions[k], joint_velocities=velocities[k], joint_indices=idx)
+        for k in range(1, len(positions))
+    ]

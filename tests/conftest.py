@@ -5,6 +5,7 @@ from __future__ import annotations
 import pytest
 
 from manip.kinematics import Kinematics
+from robot_constants import DOWN_XYZW, FRANKA_READY  # noqa: F401  (shared constants, importable by tests)
 from manip.robot_config import RobotConfig, load_robot_config
 
 
@@ -18,3 +19,4 @@ def franka_config() -> RobotConfig:
 def franka_kinematics(franka_config: RobotConfig) -> Kinematics:
     """Kinematics of the Franka's 7 arm joints (fingers locked at their planning positions)."""
     return Kinematics(franka_config)
+

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import yaml
 
-from manip.benchmarking.mbm import (
+from manip.benchmarking.mbm_problems import (
     MBM_SCENES,
     default_dataset_path,
     goal_pose,

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from manip.benchmarking.mbm import default_dataset_path, load_mbm_problems
+from manip.benchmarking.mbm_problems import default_dataset_path, load_mbm_problems
 from manip.benchmarking.verify import Verifier, default_verifier
 from manip.pose import Pose
 

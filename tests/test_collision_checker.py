@@ -291,6 +291,21 @@ def test_invalid_inputs(franka_config, franka_kinematics, checker):
         CollisionChecker(franka_config, franka_kinematics, padding=-0.01)
     with pytest.raises(InvalidInputError, match="resolution"):
         checker.motion_valid(np.zeros(7), np.ones(7), resolution=0.0)
+    with pytest.raises(InvalidInputError, match="in_collision_batch"):
+        checker.in_collision(np.zeros((2, 7)))
+    with pytest.raises(InvalidInputError, match="self_padding"):
+        checker.self_padding = -0.01
+    q0, q1 = np.zeros(7), np.full(7, 0.1)
+    for bad in (0.0, -0.01, float("nan"), "fine"):
+        for check in (
+            lambda: checker.motion_valid(q0, q1, resolution=bad),
+            lambda: checker.first_collision(q0, q1, resolution=bad),
+            lambda: checker.motion_valid_batch(q0[None], q1[None], resolution=bad),
+            lambda: checker.path_valid(np.stack([q0, q1]), resolution=bad),
+            lambda: CollisionChecker.segment_steps(q0, q1, resolution=bad),
+        ):
+            with pytest.raises(InvalidInputError, match="resolution must be a positive"):
+                check()
     with pytest.raises(InvalidInputError, match="q \\(the grasp configuration\\) or pose_in_link"):
         checker.attach_object(Sphere("x", 0.01))
     with pytest.raises(UnknownNameError):
@@ -377,3 +392,14 @@ def test_gripper_positions(franka_config, franka_kinematics):
     assert not cc.in_collision(q)
     with pytest.raises(InvalidInputError, match="outside its limits"):
         cc.set_gripper_positions([0.5, 0.5])
+
+
+def test_names_import_from_the_checker_module_as_before():
+    """The result types live in manip.collision.results; the old import path still works."""
+    import manip.collision
+    from manip.collision import checker as checker_module
+    from manip.collision import results
+
+    for name in ("AttachedObject", "CollisionReport", "Contact", "DistanceReport", "PathCheck"):
+        assert getattr(checker_module, name) is getattr(results, name) is getattr(manip.collision, name)
+    assert checker_module.CollisionChecker is manip.collision.CollisionChecker

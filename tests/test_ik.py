@@ -9,8 +9,9 @@ import pinocchio as pin
 import pytest
 
 from manip.errors import InvalidInputError, ManipError, UnknownNameError
-from manip.ik import BatchIKResult, IKResult, IKSolver, IKStatus
+from manip.ik import BatchIKResult, IKResult, IKSolutions, IKSolver, IKStatus
 from manip.kinematics import Kinematics
+from manip.status import Status
 from manip.pose import Pose
 
 HAND = "panda_hand"
@@ -42,6 +43,7 @@ def test_random_reachable_poses_are_solved_within_limits(solver: IKSolver, frank
         r = solver.solve(goal, HAND)
         assert isinstance(r, IKResult)
         assert r.success and r.status is IKStatus.SUCCESS, (q_true, r)
+        assert r.message == ""
         assert r.q.shape == (k.dof,)
         assert r.position_error <= POS_TOL and r.rotation_error <= ROT_TOL
         assert r.attempts >= 1 and r.iterations >= 0 and r.solve_time > 0
@@ -133,6 +135,7 @@ def test_far_goal_fails_cleanly_with_out_of_reach(solver: IKSolver, franka_kinem
     assert not r.success
     assert r.status is IKStatus.OUT_OF_REACH
     assert "closer" in r.status.hint
+    assert "reaches at most" in r.message
     assert k.within_limits(r.q)
     assert r.position_error > 1.0
 
@@ -145,6 +148,7 @@ def test_unreachable_goal_within_the_reach_bound_is_not_converged(franka_kinemat
     assert not r.success
     assert r.status is IKStatus.NOT_CONVERGED
     assert r.attempts == 10
+    assert "no attempt of 10 converged" in r.message
     assert k.within_limits(r.q)
     dp, dr = k.fk(r.q, HAND).distance(Pose(np.array([0.0, 0.0, -0.4])))
     assert r.position_error == pytest.approx(float(dp), abs=1e-9)
@@ -182,12 +186,14 @@ def test_validity_fn_rejecting_everything(franka_kinematics: Kinematics):
     goal = k.fk(k.config.default_joint_positions, HAND)
     r = s.solve(goal, HAND, validity_fn=lambda Q: np.zeros(len(Q), dtype=bool))
     assert not r.success and r.status is IKStatus.REJECTED_BY_VALIDITY
+    assert "validity_fn" in r.message and "3 attempt" in r.message
 
 
 def test_time_limit(solver: IKSolver, franka_kinematics: Kinematics):
     goal = franka_kinematics.fk(random_configs(franka_kinematics, 1, seed=1)[0], HAND)
     r = solver.solve(goal, HAND, time_limit=0.0)
     assert not r.success and r.status is IKStatus.TIME_LIMIT
+    assert "time_limit" in r.message
 
 
 def test_a_wrong_solution_is_never_reported(franka_kinematics: Kinematics, monkeypatch: pytest.MonkeyPatch):
@@ -199,6 +205,33 @@ def test_a_wrong_solution_is_never_reported(franka_kinematics: Kinematics, monke
     monkeypatch.setattr(s, "_attempt", lying)
     r = s.solve(goal, HAND)
     assert not r.success and r.status is IKStatus.NOT_CONVERGED
+
+
+def test_status_values_are_lowercase_with_a_hint_for_every_member():
+    assert issubclass(IKStatus, Status)
+    for status in IKStatus:
+        assert status.value == status.name.lower()
+        assert status.hint and isinstance(status.hint, str)
+        assert str(status) == status.name
+    assert IKStatus("not_converged") is IKStatus.NOT_CONVERGED
+
+
+def test_every_failure_has_a_message(franka_kinematics: Kinematics):
+    k = franka_kinematics
+    s = IKSolver(k, max_attempts=2)
+    goal = k.fk(k.config.default_joint_positions, HAND)
+    failures = [
+        s.solve(Pose(np.array([2.0, 0.0, 0.5])), HAND),
+        s.solve(Pose(np.array([0.0, 0.0, -0.4])), HAND),
+        s.solve(goal, HAND, validity_fn=lambda Q: np.zeros(len(Q), dtype=bool)),
+        s.solve(goal, HAND, time_limit=0.0),
+    ]
+    assert {r.status for r in failures} == set(IKStatus) - {IKStatus.SUCCESS}
+    for r in failures:
+        assert not r.success and r.message and "\n" not in r.message, r
+    b = s.solve_batch(Pose.stack([goal, Pose(np.array([0.0, 0.0, -0.4]))]), HAND)
+    assert b.success[0] and b.message[0] == ""
+    assert not b.success[1] and b.message[1] and b[1].message == b.message[1]
 
 
 def test_result_is_frozen(solver: IKSolver, franka_kinematics: Kinematics):
@@ -216,21 +249,74 @@ def test_solve_many_distinct_sorted_and_valid(solver: IKSolver, franka_kinematic
     goal = k.fk(q_true, HAND)
     seed_q = k.config.default_joint_positions
     sols = solver.solve_many(goal, HAND, n=6, seed_q=seed_q)
-    assert sols.ndim == 2 and sols.shape[1] == k.dof
-    assert 2 <= sols.shape[0] <= 6
-    d = np.linalg.norm(sols - seed_q, axis=1)
+    assert isinstance(sols, IKSolutions)
+    assert sols.success and sols.status is IKStatus.SUCCESS and sols.message == ""
+    assert sols.attempts == max(4 * 6, 16)
+    assert sols.q.ndim == 2 and sols.q.shape[1] == k.dof
+    assert 2 <= len(sols) <= 6
+    d = np.linalg.norm(sols.q - seed_q, axis=1)
     assert np.all(np.diff(d) >= 0)
     for i in range(len(sols)):
         assert_reaches(k, sols[i], goal)
         for j in range(i):
             assert np.max(np.abs(sols[i] - sols[j])) >= 0.05
     only_positive = solver.solve_many(goal, HAND, n=6, seed_q=seed_q, validity_fn=lambda Q: Q[:, 6] > 0.0)
-    assert np.all(only_positive[:, 6] > 0)
+    assert np.all(only_positive.q[:, 6] > 0)
+
+
+def test_solve_many_result_behaves_as_its_rows(solver: IKSolver, franka_kinematics: Kinematics):
+    k = franka_kinematics
+    goal = k.fk(np.array([0.3, 0.2, -0.4, -2.0, 0.5, 2.0, 0.3]), HAND)
+    sols = solver.solve_many(goal, HAND, n=4)
+    rows = list(sols)
+    assert len(rows) == len(sols) == sols.q.shape[0] >= 1
+    for row, q in zip(rows, sols.q):
+        np.testing.assert_array_equal(row, q)
+    np.testing.assert_array_equal(sols[0], sols.q[0])
+    np.testing.assert_array_equal(sols[-1], sols.q[-1])
+    a = np.asarray(sols)
+    assert a.shape == (len(sols), k.dof)
+    np.testing.assert_array_equal(a, sols.q)
+    assert np.asarray(sols, dtype=np.float32).dtype == np.float32
+    np.testing.assert_array_equal(np.array(sols), sols.q)
+    with pytest.raises(ValueError):
+        sols.q[0, 0] = 1.0  # read-only, like IKResult.q
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        sols.status = IKStatus.TIME_LIMIT  # type: ignore[misc]
 
 
 def test_solve_many_out_of_reach_is_empty(solver: IKSolver):
     sols = solver.solve_many(Pose(np.array([0.0, 2.0, 0.0])), HAND, n=4)
-    assert sols.shape == (0, 7)
+    assert sols.q.shape == (0, 7) and len(sols) == 0 and list(sols) == []
+    assert np.asarray(sols).shape == (0, 7)
+    assert not sols.success and sols.status is IKStatus.OUT_OF_REACH
+    assert "reaches at most" in sols.message
+    assert sols.attempts == 0
+
+
+def test_solve_many_unreachable_in_ball_and_rejected(solver: IKSolver):
+    # below the base, pointing up: inside the reach ball, not reachable
+    sols = solver.solve_many(Pose(np.array([0.0, 0.0, -0.4])), HAND, n=2, attempts=12)
+    assert len(sols) == 0 and sols.status is IKStatus.NOT_CONVERGED
+    assert sols.attempts == 12 and "12" in sols.message and "converged" in sols.message
+    goal = solver.kinematics.fk(solver.kinematics.config.default_joint_positions, HAND)
+    none = solver.solve_many(goal, HAND, n=2, validity_fn=lambda Q: np.zeros(len(Q), dtype=bool))
+    assert len(none) == 0 and none.status is IKStatus.REJECTED_BY_VALIDITY
+    assert "validity_fn" in none.message
+
+
+def test_solve_many_num_seeds_is_a_deprecated_name_of_attempts(solver: IKSolver, franka_kinematics: Kinematics):
+    k = franka_kinematics
+    goal = k.fk(np.array([0.3, 0.2, -0.4, -2.0, 0.5, 2.0, 0.3]), HAND)
+    new = solver.solve_many(goal, HAND, n=3, attempts=20, seed=4)
+    with pytest.warns(DeprecationWarning, match="num_seeds.*attempts"):
+        old = solver.solve_many(goal, HAND, n=3, num_seeds=20, seed=4)
+    np.testing.assert_array_equal(old.q, new.q)
+    assert old.attempts == new.attempts == 20
+    with pytest.raises(InvalidInputError, match="attempts"):
+        solver.solve_many(goal, HAND, attempts=5, num_seeds=5)
+    with pytest.raises(InvalidInputError, match="attempts must be"):
+        solver.solve_many(goal, HAND, attempts=0)
 
 
 # ---------------------------------------------------------------------- batch
@@ -253,6 +339,8 @@ def test_batch_solves_reachable_and_flags_unreachable(solver: IKSolver, franka_k
     assert np.all(dp[:150] <= POS_TOL) and np.all(dr[:150] <= ROT_TOL)
     r0 = b[0]
     assert isinstance(r0, IKResult) and r0.success and r0.q.shape == (k.dof,)
+    assert r0.message == "" and all(m == "" for m in b.message[:150])
+    assert "reaches at most" in b.message[150] and b[150].message == b.message[150]
     assert b.success_rate == pytest.approx(150 / 151)
 
 
@@ -320,7 +408,7 @@ def test_bad_solver_parameters(franka_kinematics: Kinematics, kwargs: dict):
 def test_compiled_rotation_log_matches_pinocchio_up_to_pi():
     """The IK error's rotation part (compiled log3) is Pinocchio's log3, including the
     near-pi rotations where the axis comes from the quaternion instead of the skew part."""
-    from manip.ik import _log3_into
+    from manip.ik.kernels import _log3_into
 
     rng = np.random.default_rng(3)
     axes = rng.normal(size=(60, 3))

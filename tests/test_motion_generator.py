@@ -14,8 +14,9 @@ from manip.benchmarking.verify import default_verifier
 from manip.collision import Cuboid, WorldConfig
 from manip.motion_generator import MotionGenerator
 from manip.planning import PlanStatus
+from robot_constants import FRANKA_READY
 
-READY = np.array([0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785])
+READY = np.array(FRANKA_READY)
 DOWN = np.array([0.0, 1.0, 0.0, 0.0])  # hand z axis pointing down (rotation pi about x)
 
 #: A table top in front of the robot and a wall between two reach targets.

@@ -24,6 +24,7 @@ from benchmarks.peers import (  # noqa: E402
 )
 from benchmarks.peers._common import uniform_times, world_obstacles  # noqa: E402
 from manip.errors import InvalidInputError, UnknownNameError  # noqa: E402
+from robot_constants import FRANKA_READY
 
 AVAILABLE = available_peers()
 RUNNABLE = [n for n in ("roboplan", "ompl") if AVAILABLE[n] == "ok"]
@@ -31,12 +32,12 @@ ARM = tuple(f"panda_joint{i}" for i in range(1, 8))
 
 
 try:  # the benchmark's problem type; a stand-in with the same fields when it is absent
-    from manip.benchmarking.mbm import MBMProblem as Problem
+    from manip.benchmarking.mbm_problems import MBMProblem as Problem
 except ImportError:  # pragma: no cover
 
     @dataclass(frozen=True)
     class Problem:  # type: ignore[no-redef]
-        """Stand-in with the fields of `manip.benchmarking.mbm.MBMProblem`."""
+        """Stand-in with the fields of `manip.benchmarking.mbm_problems.MBMProblem`."""
 
         scene: str
         index: int
@@ -46,7 +47,7 @@ except ImportError:  # pragma: no cover
         joint_names: tuple[str, ...] = ARM
 
 
-READY = np.array([0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785])
+READY = np.array(FRANKA_READY)
 # A box right where the hand passes when joint 1 swings from -1 to +1 rad: the straight
 # joint-space line collides, start and goal do not.
 WALL_WORLD = {"cuboid": {"block": {"dims": [0.2, 0.2, 0.3], "pose": [0.45, 0.0, 0.45, 1.0, 0.0, 0.0, 0.0]}}}
@@ -158,7 +159,7 @@ def test_joint_goal_around_an_obstacle_is_valid(name, peers, verifier):
 
 @pytest.mark.parametrize("name", PEERS)
 def test_pose_goal_reaches_the_hand_pose(name, peers, verifier):
-    from manip.benchmarking.mbm import goal_pose
+    from manip.benchmarking.mbm_problems import goal_pose
 
     problem = wall_problem()
     out = peers[name].plan(problem, "pose", seed=1)
@@ -234,7 +235,7 @@ def test_stop_at_waypoints_path_stays_on_the_polyline():
 
 # ---------------------------------------------------------------------------- MotionBenchMaker
 def _mbm_problem(scene: str, index: int):
-    mbm = pytest.importorskip("manip.benchmarking.mbm", reason="the benchmark's MBM loader is not in this checkout")
+    mbm = pytest.importorskip("manip.benchmarking.mbm_problems", reason="the benchmark's MBM loader is not in this checkout")
     if not mbm.dataset_available():
         pytest.skip(f"MotionBenchMaker dataset not found at {mbm.default_dataset_path()}")
     return [p for p in mbm.load_mbm_problems(scenes=[scene], limit_per_scene=index) if p.index == index][0]

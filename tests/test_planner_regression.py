@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from manip.benchmarking.mbm import MBM_SCENES, default_dataset_path, goal_pose, load_mbm_problems
+from manip.benchmarking.mbm_problems import MBM_SCENES, default_dataset_path, goal_pose, load_mbm_problems
 from manip.benchmarking.scenes import SCENE_KINDS, make_problems
 from manip.benchmarking.verify import default_verifier
 

@@ -7,16 +7,38 @@ import pytest
 
 from manip import InvalidInputError, MotionGenerator, Pose, TutorialMotionGen
 from manip.sim import FixedCuboid, Franka, World, create_new_stage
+from robot_constants import DOWN_XYZW, FRANKA_READY
 
-READY = [0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785]
-DOWN_XYZW = [1.0, 0.0, 0.0, 0.0]  # hand pointing down: (w, x, y, z) = (0, 1, 0, 0)
+READY = list(FRANKA_READY)
 
 
 @pytest.fixture(scope="module")
-def mg() -> MotionGenerator:
-    m = MotionGenerator("franka")
+def mg() -> TutorialMotionGen:
+    m = TutorialMotionGen("franka")
     m.init_motion_gen()
     return m
+
+
+def test_tutorial_wrapper_holds_a_motion_generator_and_exposes_its_facts(mg):
+    assert isinstance(mg.motion_gen, MotionGenerator)
+    assert not isinstance(mg, MotionGenerator)  # composition, not inheritance
+    assert mg.joint_names == mg.motion_gen.joint_names
+    wrapped = TutorialMotionGen(motion_gen=mg.motion_gen)
+    assert wrapped.motion_gen is mg.motion_gen
+    with pytest.raises(InvalidInputError, match="MotionGenerator"):
+        TutorialMotionGen(motion_gen="franka")
+
+
+def test_tutorial_names_on_motion_generator_are_deprecated_but_work():
+    m = MotionGenerator("franka")
+    with pytest.warns(DeprecationWarning, match="TutorialMotionGen"):
+        sol = m.motion_generate(READY, goal_joint_angles=np.array(READY) + 0.1)
+    assert sol is not None and sol["success"]
+    with pytest.warns(DeprecationWarning):
+        m.set_constraint([1, 1, 1, 0, 0, 0])
+    assert m._tutorial_view._hold_vec_weight is not None  # one wrapper keeps the state between calls
+    with pytest.raises(AttributeError):
+        m.no_such_method
 
 
 def test_motion_generate_to_a_pose_returns_the_tutorial_dict(mg):
@@ -28,7 +50,7 @@ def test_motion_generate_to_a_pose_returns_the_tutorial_dict(mg):
     n = len(sol["positions"])
     assert all(len(sol[k]) == n for k in ("velocities", "accelerations", "jerks"))
     np.testing.assert_allclose(sol["positions"][0], READY, atol=1e-9)
-    reached = mg.fk(np.asarray(sol["positions"][-1]))
+    reached = Pose.from_xyz_xyzw(mg.fk(sol["positions"][-1]))
     dp, dr = reached.distance(Pose.from_xyz_xyzw(goal))
     assert dp <= 1e-3 and dr <= 0.01
 
@@ -59,7 +81,7 @@ def test_fk_ik_in_xyzw_order():
 
 
 def test_set_constraint_holds_the_orientation(mg):
-    start = np.asarray(mg.ik(Pose([0.45, 0.0, 0.35], [0, 1, 0, 0]), seed_q=np.array(READY)).q)
+    start = np.asarray(mg.ik([0.45, 0.0, 0.35, *DOWN_XYZW], seed_joint_angles=READY))
     tilted = Pose([0.45, 0.1, 0.30], [0.0, 0.9659, 0.2588, 0.0])  # asks for a 30 degree yaw too
     mg.set_constraint([1, 1, 1, 0, 0, 0])
     try:
@@ -67,8 +89,9 @@ def test_set_constraint_holds_the_orientation(mg):
     finally:
         mg.reset_constraint()
     assert sol is not None
-    poses = mg.fk(np.asarray(sol["positions"]))
-    _, rot = poses.distance(Pose(poses.position, np.tile(mg.fk(start).quaternion, (len(poses), 1))))
+    poses = mg.motion_gen.fk(np.asarray(sol["positions"]))
+    held = mg.motion_gen.fk(start).quaternion
+    _, rot = poses.distance(Pose(poses.position, np.tile(held, (len(poses), 1))))
     assert rot.max() < 0.01
     with pytest.raises(InvalidInputError, match="6 finite weights"):
         mg.set_constraint([1, 1, 1])
@@ -87,7 +110,7 @@ def test_world_sync_and_actions_drive_the_simulated_franka(mg):
     with pytest.raises(InvalidInputError, match="prim paths"):
         mg.update_obstacle_from_world(world, "/World/Nope")
     start = franka.get_joint_positions()[:7]
-    goal = mg.ik(Pose([0.45, -0.3, 0.3], [0, 1, 0, 0]), seed_q=start, collision_free=True).q
+    goal = np.asarray(mg.ik([0.45, -0.3, 0.3, *DOWN_XYZW], seed_joint_angles=start))
     sol = mg.motion_generate(start, goal_joint_angles=goal)
     actions = mg.convert_solution_to_actions(sol, franka)
     assert len(actions) == len(sol["positions"]) - 1

@@ -117,11 +117,11 @@ def problem_arrays(problem: Any, joint_names: tuple[str, ...]) -> tuple[np.ndarr
 def goal_pose(problem: Any) -> Pose:
     """The pose goal of a problem at `panda_hand` (FK of its goal configuration, fingers open).
 
-    Uses `manip.benchmarking.mbm.goal_pose` when present (the driver's definition), else the
+    Uses `manip.benchmarking.mbm_problems.goal_pose` when present (the driver's definition), else the
     same forward kinematics through `manip.kinematics`.
     """
     try:
-        from manip.benchmarking.mbm import goal_pose as _gp  # type: ignore[import-not-found]
+        from manip.benchmarking.mbm_problems import goal_pose as _gp  # type: ignore[import-not-found]
     except ImportError:  # pragma: no cover - the driver's module not there yet
         from manip.kinematics import Kinematics
         from manip.robot_config import load_robot_config

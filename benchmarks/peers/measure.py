@@ -21,7 +21,7 @@ if __package__ in (None, ""):  # run as a file: make `benchmarks.peers` importab
     sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from benchmarks.peers import available_peers, get_peer  # noqa: E402
-from manip.benchmarking.mbm import load_mbm_problems  # noqa: E402
+from manip.benchmarking.mbm_problems import load_mbm_problems  # noqa: E402
 from manip.benchmarking.verify import check_problem, verify_trajectory  # noqa: E402
 
 
@@ -79,7 +79,7 @@ def main(argv: list[str] | None = None) -> int:
                 continue
             kw = {}
             if args.goal == "pose":
-                from manip.benchmarking.mbm import goal_pose
+                from manip.benchmarking.mbm_problems import goal_pose
 
                 kw["goal_pose"] = goal_pose(p)
             v = verify_trajectory(p, out.times, out.positions, velocities=out.velocities, accelerations=out.accelerations, jerks=out.jerks, **kw)

@@ -14,20 +14,28 @@ from typing import Any
 import numpy as np
 
 from benchmarks.peers import PlannerOutput
-from manip.benchmarking.mbm import goal_pose
+from manip.benchmarking.mbm_problems import goal_pose
 
 
 class ManipPlanner:
-    """`manip.MotionGenerator("franka")` as a benchmark planner.
+    """`manip.MotionGenerator` as a benchmark planner.
 
     Args:
         time_budget: planning budget per problem [s] (None: the MotionGenerator's default).
+        robot: robot name or `RobotConfig` the MotionGenerator is built from (default
+            "franka"); the benchmark's `--curobo-limits` passes a copy of the Franka config
+            with cuRobo's acceleration and jerk limits.
+        plan_options: keyword options given to every `plan_joints` / `plan_pose` call (e.g.
+            `{"smoothness": "smooth"}`). They are tried once on a short free-space motion
+            when the planner is built, so an option the MotionGenerator does not know fails
+            here with the MotionGenerator's own error message (InvalidInputError).
         **options: further keyword options of `MotionGenerator(...)`.
     """
 
     name = "manip"
 
-    def __init__(self, time_budget: float | None = None, **options: Any):
+    def __init__(self, time_budget: float | None = None, robot: Any = "franka",
+                 plan_options: dict[str, Any] | None = None, **options: Any):
         try:
             from manip import MotionGenerator, WorldConfig
         except ImportError:  # the lead exports these from manip/__init__.py
@@ -36,8 +44,25 @@ class ManipPlanner:
         self._WorldConfig = WorldConfig
         if time_budget is not None:
             options["time_budget"] = time_budget
-        self.mg = MotionGenerator("franka", **options)
+        self.mg = MotionGenerator(robot, **options)
+        self.plan_options: dict[str, Any] = dict(plan_options or {})
         self._world: dict | None = None
+        if self.plan_options:
+            self._probe_plan_options()
+
+    @property
+    def config(self) -> Any:
+        """The `RobotConfig` the planner plans with (its limits are the ones it obeys)."""
+        return self.mg.config
+
+    def _probe_plan_options(self) -> None:
+        """Plan one short free-space motion with `plan_options` (raises what the planner raises)."""
+        q0 = self.mg.default_joint_positions
+        q1 = q0.copy()
+        q1[0] += 0.2
+        self.mg.update_world(self._WorldConfig.from_dict({}))
+        self._world = None
+        self.mg.plan_joints(q0, q1, **self.plan_options)
 
     def plan(self, problem: Any, goal_kind: str = "joint", seed: int = 0) -> PlannerOutput:
         """Plan `problem` to its joint goal ("joint") or its panda_hand pose goal ("pose")."""
@@ -49,11 +74,11 @@ class ManipPlanner:
         start = np.asarray(problem.start, dtype=float)
         if goal_kind == "joint":
             t1 = time.perf_counter()
-            r = self.mg.plan_joints(start, np.asarray(problem.goal, dtype=float), seed=seed)
+            r = self.mg.plan_joints(start, np.asarray(problem.goal, dtype=float), seed=seed, **self.plan_options)
         elif goal_kind == "pose":
             g = goal_pose(problem)  # FK, not part of planning
             t1 = time.perf_counter()
-            r = self.mg.plan_pose(start, g, link="panda_hand", seed=seed)
+            r = self.mg.plan_pose(start, g, link="panda_hand", seed=seed, **self.plan_options)
         else:
             raise ValueError(f"goal_kind must be 'joint' or 'pose'; got {goal_kind!r}")
         plan_time = time.perf_counter() - t1

@@ -22,7 +22,7 @@ from functools import lru_cache
 import numpy as np
 import pinocchio as pin
 
-from manip.benchmarking.mbm import ARM_JOINTS, MBMProblem
+from manip.benchmarking.mbm_problems import ARM_JOINTS, MBMProblem
 from manip.benchmarking.verify import Verifier, default_verifier
 from manip.errors import InvalidInputError
 from manip.kinematics import Kinematics

@@ -40,7 +40,7 @@ import coal
 import numpy as np
 import pinocchio as pin
 
-from manip.benchmarking.mbm import MBMProblem
+from manip.benchmarking.mbm_problems import MBMProblem
 from manip.errors import InvalidInputError
 from manip.pose import Pose
 from manip.robot_config import RobotConfig, load_robot_config

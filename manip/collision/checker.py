@@ -21,218 +21,53 @@ broadphase, `manip.collision.broadphase`, that can only say "free", never "colli
 The covers (`manip.collision.spheres`) are generated automatically from the meshes and hold
 every point of the surfaces (of the volume for solid primitives): if no ball comes within
 the padding of an obstacle, no point of the geometry does, so coal would say "free" too.
+
+Beside this module: the result types (`manip.collision.results`, re-exported here), the
+tables the checks run on (`manip.collision.tables`, rebuilt when the parts or the world
+change) and the checks of segments and paths (`manip.collision.segments`).
 """
 
 from __future__ import annotations
 
-import functools
-import logging
 import math
-from dataclasses import dataclass
-from typing import Literal, NamedTuple, Sequence
+from typing import Sequence
 
 import coal
 import numpy as np
 
 from manip.collision import broadphase
-from manip.collision.robot_geometry import COARSE_MAX_SPHERES, COARSE_TOLERANCE, RobotGeometry, sphere_cover
-from manip.collision.shapes import Capsule, Cylinder, Obstacle, Sphere, coal_geometry
+from manip.collision.results import (  # noqa: F401  (re-exported: manip.collision.checker.X keeps working)
+    AttachedObject,
+    CollisionReport,
+    Contact,
+    ContactKind,
+    DistanceReport,
+    PathCheck,
+)
+from manip.collision.robot_geometry import RobotGeometry
+from manip.collision.segments import SegmentChecks, _coarse_to_fine  # noqa: F401  (_coarse_to_fine: re-exported)
+from manip.collision.shapes import Obstacle, as_pose
+from manip.collision.tables import (  # noqa: F401  (_Part, _hull, _sd_local, _SphereTable: re-exported)
+    ObstacleTables,
+    _hull,
+    _Part,
+    _sd_local,
+    _SphereTable,
+    _tf,
+    collect_parts,
+    part_tables,
+)
 from manip.collision.world import WorldConfig
 from manip.errors import InvalidInputError, UnknownNameError
 from manip.kinematics import Kinematics
 from manip.pose import Pose
 from manip.robot_config import RobotConfig
-
-logger = logging.getLogger(__name__)
-
-ContactKind = Literal["world", "self", "attached_world", "attached_self"]
-
-
-@dataclass(frozen=True)
-class Contact:
-    """One colliding (or closest) pair.
-
-    Attributes:
-        kind: "world" (robot link vs obstacle), "self" (link vs link), "attached_world"
-            (attached object vs obstacle) or "attached_self" (attached object vs link).
-        a: the robot link or attached object.
-        b: the obstacle or the other link.
-        distance: signed distance [m] between the two (negative = penetration depth,
-            approximate for meshes; see `CollisionChecker.distance`).
-    """
-
-    kind: ContactKind
-    a: str
-    b: str
-    distance: float
-
-
-@dataclass(frozen=True)
-class CollisionReport:
-    """What collides in one configuration (padding included).
-
-    Attributes:
-        in_collision: True if any pair collides.
-        contacts: every colliding pair, deepest first.
-    """
-
-    in_collision: bool
-    contacts: tuple[Contact, ...]
-
-    @property
-    def world_collision(self) -> bool:
-        """True if the robot or an attached object touches an obstacle."""
-        return any(c.kind in ("world", "attached_world") for c in self.contacts)
-
-    @property
-    def self_collision(self) -> bool:
-        """True if two links (or an attached object and a link) touch."""
-        return any(c.kind in ("self", "attached_self") for c in self.contacts)
-
-
-@dataclass(frozen=True)
-class DistanceReport:
-    """Signed distances [m] of one configuration (without padding).
-
-    Attributes:
-        distance: min(world_distance, self_distance).
-        world_distance: smallest distance between the robot (and attached objects) and
-            the obstacles; +inf with no obstacles.
-        self_distance: smallest distance over the enabled self-collision pairs.
-        closest: the pair achieving `distance` (None if there is none).
-    """
-
-    distance: float
-    world_distance: float
-    self_distance: float
-    closest: Contact | None
-
-
-class PathCheck(NamedTuple):
-    """Result of `CollisionChecker.path_valid`."""
-
-    valid: bool
-    first_invalid_segment: int | None
-
-
-@dataclass(frozen=True, eq=False)
-class AttachedObject:
-    """An obstacle carried by a link.
-
-    Attributes:
-        obstacle: the shape (its `pose` is where it was when attached, base frame).
-        link: the carrying link.
-        pose_in_link: the shape's pose in the link frame.
-        allowed_links: links never checked against it (those rigidly attached to the same
-            joint as `link`, plus any given by the caller).
-    """
-
-    obstacle: Obstacle
-    link: str
-    pose_in_link: Pose
-    allowed_links: tuple[str, ...]
-
-
-@dataclass(frozen=True, eq=False)
-class _Part:
-    """A geometry moving with the robot: a robot part or an attached object."""
-
-    name: str           # robot link or attached object name
-    attached: bool
-    joint: int
-    R: np.ndarray       # (3, 3) geometry frame in joint frame
-    p: np.ndarray       # (3,)
-    geometry: object    # coal geometry for boolean checks
-    hull: object        # coal geometry for distances (convex hull of meshes)
-    centres: np.ndarray  # (K, 3) in joint frame
-    radii: np.ndarray   # (K,)
-    coarse_centres: np.ndarray  # (k, 3) in joint frame
-    coarse_radii: np.ndarray    # (k,)
-
-
-def _hull(geometry):
-    """Convex hull of a coal mesh (for fast signed distances), or the geometry itself."""
-    if hasattr(geometry, "num_tris") and hasattr(geometry, "buildConvexHull"):
-        try:
-            if geometry.convex is None:
-                geometry.buildConvexHull(True, "Qt")
-            if geometry.convex is not None:
-                return geometry.convex
-        except Exception:  # pragma: no cover - qhull failure on degenerate meshes
-            logger.debug("convex hull failed; distances use the mesh itself")
-    return geometry
-
-
-def _tf(R: np.ndarray, p: np.ndarray) -> coal.Transform3s:
-    return coal.Transform3s(R, p)
-
-
-def _sd_local(L: np.ndarray, h: np.ndarray, rho: np.ndarray, cyl: np.ndarray | None) -> np.ndarray:
-    """Signed distance of local points L (..., 3) to rounded boxes (half extents h, rounding rho)
-    or, where `cyl`, to cylinders (radius h[..., 0], half height h[..., 2]).
-
-    Written per component: reductions over a trailing axis of 3 are slow in NumPy.
-    """
-    x = np.abs(L[..., 0]) - h[..., 0]
-    y = np.abs(L[..., 1]) - h[..., 1]
-    z = np.abs(L[..., 2]) - h[..., 2]
-    inside = np.minimum(np.maximum(np.maximum(x, y), z), 0.0)
-    np.maximum(x, 0.0, out=x)
-    np.maximum(y, 0.0, out=y)
-    zc = np.maximum(z, 0.0)
-    out = np.sqrt(x * x + y * y + zc * zc) + inside - rho
-    if cyl is not None and np.any(cyl):
-        r = np.sqrt(L[..., 0] ** 2 + L[..., 1] ** 2) - h[..., 0]
-        inside_c = np.minimum(np.maximum(r, z), 0.0)
-        np.maximum(r, 0.0, out=r)
-        out = np.where(cyl, np.sqrt(r * r + zc * zc) + inside_c, out)
-    return out
-
-
-@functools.lru_cache(maxsize=512)
-def _coarse_to_fine(n: int) -> np.ndarray:
-    """Indices 0..n ordered endpoints first, then by halving strides (bisection order); cached."""
-    idx = np.arange(n + 1)
-    level = np.zeros(n + 1, dtype=np.int64)
-    inner = idx[1:n]
-    if inner.size:
-        # trailing zero bits of the index: large strides first
-        tz = np.zeros(inner.size, dtype=np.int64)
-        x = inner.copy()
-        for _ in range(64):
-            m = (x & 1) == 0
-            if not m.any():
-                break
-            tz[m] += 1
-            x[m] >>= 1
-        level[1:n] = 64 - tz
-    out = idx[np.argsort(level, kind="stable")]
-    out.setflags(write=False)
-    return out
-
+from manip.validation import non_negative
 
 _CHUNK = 1024  # configurations per broadphase batch
 
 
-class _SphereTable:
-    """The balls of all parts in flat arrays (ragged by part), centres in joint frames."""
-
-    def __init__(self, centres: list[np.ndarray], radii: list[np.ndarray], joints: np.ndarray):
-        self.count = np.array([len(r) for r in radii], dtype=np.int64)
-        self.start = np.cumsum(self.count) - self.count
-        self.centres = np.concatenate(centres).reshape(-1, 3)
-        self.radii = np.concatenate(radii).astype(float)
-        self.part = np.repeat(np.arange(len(radii)), self.count)
-        self.joint = np.asarray(joints)[self.part]
-
-    def centres_of(self, g: int) -> np.ndarray:
-        return self.centres[self.start[g]:self.start[g] + self.count[g]]
-
-    def radii_of(self, g: int) -> np.ndarray:
-        return self.radii[self.start[g]:self.start[g] + self.count[g]]
-
-
-class CollisionChecker:
+class CollisionChecker(SegmentChecks):
     """Collision checking of a robot's configurations against a world of obstacles and itself.
 
     Args:
@@ -259,8 +94,8 @@ class CollisionChecker:
         self.config = config
         self.kinematics = kinematics if kinematics is not None else Kinematics(config)
         self.robot = RobotGeometry(config, self.kinematics, sphere_tolerance=sphere_tolerance)
-        self._padding = self._check_padding(config.collision_padding if padding is None else padding, "padding")
-        self._self_padding = self._check_padding(self_padding, "self_padding")
+        self._padding = non_negative(config.collision_padding if padding is None else padding, "padding", "m")
+        self._self_padding = non_negative(self_padding, "self_padding", "m")
         self._world = WorldConfig()
         self._attached: dict[str, AttachedObject] = {}
         self._obstacle_cache: dict[int, tuple] = {}
@@ -268,16 +103,6 @@ class CollisionChecker:
         self.set_world(world if world is not None else WorldConfig())
 
     # ------------------------------------------------------------------ configuration
-    @staticmethod
-    def _check_padding(value: float, what: str) -> float:
-        try:
-            v = float(value)
-        except (TypeError, ValueError) as exc:
-            raise InvalidInputError(f"{what} must be a number >= 0 [m]; got {value!r}") from exc
-        if not math.isfinite(v) or v < 0:
-            raise InvalidInputError(f"{what} must be a finite number >= 0 [m]; got {value!r}")
-        return v
-
     @property
     def padding(self) -> float:
         """Clearance [m] kept from the world."""
@@ -285,7 +110,7 @@ class CollisionChecker:
 
     @padding.setter
     def padding(self, value: float) -> None:
-        self._padding = self._check_padding(value, "padding")
+        self._padding = non_negative(value, "padding", "m")
         self._req_world.security_margin = self._padding
         self._update_static()
 
@@ -296,7 +121,7 @@ class CollisionChecker:
 
     @self_padding.setter
     def self_padding(self, value: float) -> None:
-        self._self_padding = self._check_padding(value, "self_padding")
+        self._self_padding = non_negative(value, "self_padding", "m")
         self._req_self.security_margin = self._self_padding
 
     @property
@@ -352,129 +177,22 @@ class CollisionChecker:
 
     # ------------------------------------------------------------------ internal tables
     def _rebuild_parts(self) -> None:
-        parts: list[_Part] = []
-        self._robot_part_links: list[str] = []
-        for rp in self.robot.parts:
-            parts.append(_Part(rp.link, False, rp.joint, rp.R, rp.p, rp.geometry, _hull(rp.geometry), rp.centres, rp.radii,
-                               rp.coarse_centres, rp.coarse_radii))
-        n_robot = len(parts)
-        pairs = list(self.robot.self_pairs)
-        kin = self.kinematics
-        for name, att in self._attached.items():
-            f = kin.model.frames[kin.frame_id(att.link)]
-            T_joint_obj = Pose.from_matrix(f.placement.homogeneous) @ att.pose_in_link
-            local = att.obstacle.with_pose(Pose(np.zeros(3)))
-            geom = coal_geometry(local)
-            C, r = sphere_cover(geom, self.robot.sphere_tolerance)
-            Cc, rc = sphere_cover(geom, COARSE_TOLERANCE, COARSE_MAX_SPHERES)
-            Rj = T_joint_obj.rotation
-            pj = T_joint_obj.position
-            parts.append(_Part(name, True, f.parentJoint, Rj, pj, geom, _hull(geom), C @ Rj.T + pj, r, Cc @ Rj.T + pj, rc))
-            ai = len(parts) - 1
-            for i in range(n_robot):
-                if parts[i].name not in att.allowed_links:
-                    pairs.append((i, ai))
-        self._parts = parts
-        G = len(parts)
-        self._pj = np.array([p.joint for p in parts])
-        self._fine = _SphereTable([p.centres for p in parts], [p.radii for p in parts], self._pj)
-        self._coarse = _SphereTable([p.coarse_centres for p in parts], [p.coarse_radii for p in parts], self._pj)
-
-        def bounding_ball(gs: Sequence[int]) -> tuple[np.ndarray, float]:
-            """A ball holding every fine and coarse ball of the parts gs (joint frame)."""
-            allc = np.concatenate([self._fine.centres_of(g) for g in gs] + [self._coarse.centres_of(g) for g in gs])
-            allr = np.concatenate([self._fine.radii_of(g) for g in gs] + [self._coarse.radii_of(g) for g in gs])
-            c = ((allc - allr[:, None]).min(axis=0) + (allc + allr[:, None]).max(axis=0)) / 2.0
-            return c, float((np.linalg.norm(allc - c, axis=1) + allr).max())
-
-        # one bounding ball per part (distance queries' branch and bound)
-        balls = [bounding_ball([g]) for g in range(G)]
-        self._pbc = np.array([c for c, _ in balls]).reshape(G, 3)
-        self._pbr = np.array([r for _, r in balls])
-        # level 0 of the world check: one bounding ball per moving joint (all its parts)
-        joints = sorted({p.joint for p in parts if p.joint != 0})
-        members = [np.array([g for g, p in enumerate(parts) if p.joint == j], dtype=np.int64) for j in joints]
-        balls = [bounding_ball(m) for m in members]
-        self._l0_joint = np.array(joints, dtype=np.int64)
-        self._pairs = np.array(pairs, dtype=np.int64).reshape(-1, 2)
-        # self-collision broadphase per body (a link's parts together, or an attached object):
-        # body pairs with at least one enabled part pair
-        body_of: dict[str, int] = {}
-        body_parts: list[list[int]] = []
-        for g, part in enumerate(parts):
-            key = ("attached:" if part.attached else "") + part.name
-            if key not in body_of:
-                body_of[key] = len(body_parts)
-                body_parts.append([])
-            body_parts[body_of[key]].append(g)
-        part_body = np.zeros(G, dtype=np.int64)
-        for b_, gs in enumerate(body_parts):
-            part_body[gs] = b_
-        bpairs: dict[tuple[int, int], list[int]] = {}
-        for k, (a_, b_) in enumerate(pairs):
-            bpairs.setdefault((int(part_body[a_]), int(part_body[b_])), []).append(k)
-        self._bpairs = np.array(list(bpairs), dtype=np.int64).reshape(-1, 2)
-        pair_count = np.array([len(m) for m in bpairs.values()], dtype=np.int64)
-        pair_order = np.array([k for m in bpairs.values() for k in m], dtype=np.int64)
-        body_balls = [bounding_ball(gs) for gs in body_parts]
-        body_joint = np.array([parts[gs[0]].joint for gs in body_parts], dtype=np.int64)
-        # geometry placements in joint frames, for batched transforms of the exact checks
-        self._gR = np.array([p.R for p in parts])
-        self._gp = np.array([p.p for p in parts])
-        # tables of the compiled broadphase (`broadphase.world_candidates` / `self_candidates`)
-        i64 = lambda a: np.ascontiguousarray(a, dtype=np.int64)  # noqa: E731
-        f64 = lambda a: np.ascontiguousarray(a, dtype=np.float64)  # noqa: E731
-        mem_count = np.array([m.size for m in members], dtype=np.int64)
-        covers = (i64(self._pj), i64(self._coarse.start), i64(self._coarse.count), f64(self._coarse.centres),
-                  f64(self._coarse.radii))
-        self._bp_world = (self._l0_joint, f64(np.array([c for c, _ in balls]).reshape(-1, 3)),
-                          f64([r for _, r in balls]), i64(np.cumsum(mem_count) - mem_count), mem_count,
-                          i64(np.concatenate(members) if members else np.zeros(0)), *covers,
-                          i64(self._fine.start), i64(self._fine.count), f64(self._fine.centres), f64(self._fine.radii))
-        self._bp_pairs = i64(self._pairs[pair_order].reshape(-1, 2))  # part pairs grouped by body pair
-        self._bp_self = (body_joint, f64(np.array([c for c, _ in body_balls]).reshape(-1, 3)), f64([r for _, r in body_balls]),
-                         self._bpairs, i64(np.cumsum(pair_count) - pair_count), pair_count, self._bp_pairs, *covers)
+        """The robot side's tables (`manip.collision.tables`), after a change of parts."""
+        self._parts, pairs = collect_parts(self.robot, self.kinematics, self._attached)
+        t = part_tables(self._parts, pairs)
+        self._pj, self._fine, self._coarse = t.joint, t.fine, t.coarse
+        self._pbc, self._pbr, self._l0_joint, self._pairs, self._bpairs = (
+            t.ball_centres, t.ball_radii, t.l0_joint, t.pairs, t.body_pairs)
+        self._gR, self._gp = t.gR, t.gp
+        self._bp_world, self._bp_pairs, self._bp_self = t.bp_world, t.bp_pairs, t.bp_self
         self._req_self = coal.CollisionRequest()
         self._req_self.security_margin = self._self_padding
         self._update_static()
 
     def _rebuild_world(self) -> None:
-        obs = self._world.obstacles
-        O = len(obs)
-        self._obs = obs
-        self._oR = np.zeros((O, 3, 3))
-        self._oc = np.zeros((O, 3))
-        self._oh = np.zeros((O, 3))
-        self._orho = np.zeros(O)
-        self._ocyl = np.zeros(O, dtype=bool)
-        self._ogeom = []
-        self._otf = []
-        for i, ob in enumerate(obs):
-            R = ob.pose.rotation
-            self._oR[i] = R
-            c_local, h = ob.local_aabb()
-            self._oc[i] = ob.pose.position + R @ c_local
-            if isinstance(ob, Sphere):
-                self._oh[i] = 0.0
-                self._orho[i] = ob.radius
-            elif isinstance(ob, Capsule):
-                self._oh[i] = [0.0, 0.0, ob.height / 2.0]
-                self._orho[i] = ob.radius
-            elif isinstance(ob, Cylinder):
-                self._oh[i] = [ob.radius, ob.radius, ob.height / 2.0]
-                self._ocyl[i] = True
-            else:  # cuboid, mesh (bounding box)
-                self._oh[i] = h
-            key = id(ob)
-            if key not in self._obstacle_cache:  # keep coal geometries of unchanged obstacles
-                self._obstacle_cache[key] = (ob, coal_geometry(ob))
-            self._ogeom.append(self._obstacle_cache[key][1])
-            self._otf.append(_tf(R, ob.pose.position))
-        live = {id(o) for o in obs}
-        self._obstacle_cache = {k: v for k, v in self._obstacle_cache.items() if k in live}
-        self._any_cyl = bool(self._ocyl.any())
-        self._bp_obstacles = (np.ascontiguousarray(self._oR), np.ascontiguousarray(self._oc), np.ascontiguousarray(self._oh),
-                              np.ascontiguousarray(self._orho), np.ascontiguousarray(self._ocyl))
+        """The world side's tables (`manip.collision.tables`), after a change of obstacles."""
+        self._world_tables = w = ObstacleTables(self._world.obstacles, self._obstacle_cache)
+        self._obs, self._ogeom, self._otf, self._bp_obstacles = w.obstacles, w.geometries, w.transforms, w.broadphase
         self._req_world = coal.CollisionRequest()
         self._req_world.security_margin = self._padding
         self._update_static()
@@ -483,7 +201,6 @@ class CollisionChecker:
         """Parts fixed to the base (joint 0) vs the world: the same answer for every q."""
         if not hasattr(self, "_obs") or not hasattr(self, "_parts"):
             return
-        self._moving = np.nonzero(self._pj != 0)[0]
         static = []
         res = coal.CollisionResult()
         for g in np.nonzero(self._pj == 0)[0]:
@@ -498,9 +215,7 @@ class CollisionChecker:
     # ------------------------------------------------------------------ geometry helpers
     def _sd_all(self, X: np.ndarray) -> np.ndarray:
         """Signed distances (M, O) of points X (M, 3) to every obstacle's broadphase shape."""
-        d = X[:, None, :] - self._oc[None]
-        L = np.einsum("moj,oji->moi", d, self._oR)
-        return _sd_local(L, self._oh[None], self._orho[None], self._ocyl[None] if self._any_cyl else None)
+        return self._world_tables.signed_distances(X)
 
     def _fk(self, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Joint frames (N, J+1, 3, 3), (N, J+1, 3) (the compiled batched kinematics)."""
@@ -616,35 +331,38 @@ class CollisionChecker:
                 done.add(key)
 
     # ------------------------------------------------------------------ public checks
+    def _one_q(self, q: np.ndarray, what: str = "q", note: str = "") -> np.ndarray:
+        """`q` checked as one configuration (dof,)."""
+        q = self.kinematics.check_q(q, what)
+        if q.ndim != 1:
+            raise InvalidInputError(f"{what} must have shape ({self.kinematics.dof},){note}; got {q.shape}")
+        return q
+
+    def _rows(self, Q: np.ndarray, what: str = "Q") -> np.ndarray:
+        """`Q` checked as configurations (N, dof) (one row (dof,) becomes (1, dof))."""
+        Q = self.kinematics.check_q(Q, what)
+        return Q[None] if Q.ndim == 1 else Q
+
     def in_collision(self, q: np.ndarray) -> bool:
         """True if configuration q (dof,) collides with the world (within the padding) or itself."""
-        q = self.kinematics.check_q(q)
-        if q.ndim != 1:
-            raise InvalidInputError(f"in_collision takes one configuration ({self.kinematics.dof},); use in_collision_batch for {q.shape}")
+        q = self._one_q(q, note=" (one configuration; in_collision_batch takes several)")
         return bool(self._check(q[None])[0])
 
     def in_collision_batch(self, Q: np.ndarray) -> np.ndarray:
         """(N,) bool: `in_collision` of each row of Q (N, dof), computed together."""
-        Q = self.kinematics.check_q(Q, "Q")
-        if Q.ndim == 1:
-            Q = Q[None]
+        Q = self._rows(Q)
         if Q.shape[0] == 0:
             return np.zeros(0, dtype=bool)
         return self._check(Q)
 
     def any_in_collision(self, Q: np.ndarray) -> bool:
         """True if any row of Q (N, dof) collides (stops at the first collision found)."""
-        Q = self.kinematics.check_q(Q, "Q")
-        if Q.ndim == 1:
-            Q = Q[None]
+        Q = self._rows(Q)
         return bool(Q.shape[0] and self._check(Q, stop_at_first=True).any())
 
     def in_collision_exact(self, q: np.ndarray) -> bool:
         """`in_collision` without any broadphase: coal on every pair (slow; a reference)."""
-        q = self.kinematics.check_q(q)
-        if q.ndim != 1:
-            raise InvalidInputError(f"q must have shape ({self.kinematics.dof},); got {q.shape}")
-        R, p = self._fk(q[None])
+        R, p = self._fk(self._one_q(q)[None])
         tfs: dict = {}
         for g in range(len(self._parts)):
             for o in range(len(self._obs)):
@@ -655,154 +373,25 @@ class CollisionChecker:
                 return True
         return False
 
-    def motion_valid(self, q0: np.ndarray, q1: np.ndarray, resolution: float = 0.01, chunk: int = 32) -> bool:
-        """True if the straight joint-space segment q0 -> q1 is collision-free.
-
-        Checks q0, q1 and evenly spaced configurations between them such that consecutive
-        checked configurations differ by at most `resolution` [rad] on every joint (L-inf),
-        in bisection order (coarse first), stopping at the first collision.
-
-        Args:
-            q0, q1: (dof,) endpoints.
-            resolution: largest joint step between checked configurations [rad] > 0.
-            chunk: size of the first (coarse) batch.
-        """
-        q0 = self.kinematics.check_q(q0, "q0")
-        q1 = self.kinematics.check_q(q1, "q1")
-        if q0.ndim != 1 or q1.ndim != 1:
-            raise InvalidInputError(f"q0 and q1 must have shape ({self.kinematics.dof},)")
-        if not (resolution > 0 and math.isfinite(resolution)):
-            raise InvalidInputError(f"resolution must be a positive number [rad]; got {resolution!r}")
-        steps = max(1, int(math.ceil(float(np.abs(q1 - q0).max()) / resolution - 1e-12)))
-        order = _coarse_to_fine(steps)
-        t = order / steps
-        Q = q0[None] + t[:, None] * (q1 - q0)[None]
-        if Q.shape[0] <= 2 * chunk:
-            return not self._check(Q, stop_at_first=True).any()
-        if self._check(Q[:chunk], stop_at_first=True).any():
-            return False
-        return not self._check(Q[chunk:], stop_at_first=True).any()
-
-    def first_collision(self, q0: np.ndarray, q1: np.ndarray, resolution: float = 0.01, chunk: int = 48) -> float | None:
-        """Advance along the straight segment q0 -> q1 until the first collision.
-
-        The segment is sampled like `motion_valid` and checked in order, in chunks.
-
-        Args:
-            q0, q1: (dof,) endpoints.
-            resolution: largest joint step between checked configurations [rad] > 0.
-            chunk: configurations checked per batch.
-
-        Returns:
-            None if the whole segment is free, else the parameter t in [0, 1] of the first
-            colliding sample (q0 + t (q1 - q0)); every sample before it is free, so the
-            configuration one sample earlier (t - 1/steps, see `segment_steps`) is a valid
-            place to stop (RRT-Connect's "connect" in one call).
-        """
-        q0 = self.kinematics.check_q(q0, "q0")
-        q1 = self.kinematics.check_q(q1, "q1")
-        if q0.ndim != 1 or q1.ndim != 1:
-            raise InvalidInputError(f"q0 and q1 must have shape ({self.kinematics.dof},)")
-        steps = self.segment_steps(q0, q1, resolution)
-        t_all = np.arange(steps + 1) / steps
-        d = q1 - q0
-        for s in range(0, steps + 1, chunk):
-            t = t_all[s:s + chunk]
-            hit = self._check(q0[None] + t[:, None] * d[None], stop_at_first=True, deepest_first=False)
-            if hit.any():
-                return float(t[np.argmax(hit)])
-        return None
-
-    @staticmethod
-    def segment_steps(q0: np.ndarray, q1: np.ndarray, resolution: float = 0.01) -> int:
-        """Number of intervals `motion_valid` splits q0 -> q1 into: ceil(max|q1 - q0| / resolution), >= 1."""
-        if not (resolution > 0 and math.isfinite(resolution)):
-            raise InvalidInputError(f"resolution must be a positive number [rad]; got {resolution!r}")
-        return max(1, int(math.ceil(float(np.abs(np.asarray(q1) - np.asarray(q0)).max()) / resolution - 1e-12)))
-
-    def motion_valid_batch(self, Q0: np.ndarray, Q1: np.ndarray, resolution: float = 0.01) -> np.ndarray:
-        """(M,) bool: `motion_valid` of the M straight segments Q0[m] -> Q1[m], checked together.
-
-        All segments' coarse samples (endpoints and midpoints) are checked in one batch first,
-        then the remaining samples of the segments still valid, so that several candidate
-        edges (RRT extensions, shortcuts) cost about one call.
-
-        Args:
-            Q0, Q1: (M, dof) segment endpoints.
-            resolution: largest joint step between checked configurations [rad] > 0.
-        """
-        Q0 = self.kinematics.check_q(Q0, "Q0")
-        Q1 = self.kinematics.check_q(Q1, "Q1")
-        if Q0.ndim == 1:
-            Q0 = Q0[None]
-        if Q1.ndim == 1:
-            Q1 = Q1[None]
-        if Q0.shape != Q1.shape:
-            raise InvalidInputError(f"Q0 and Q1 must have the same shape (M, {self.kinematics.dof}); got {Q0.shape} and {Q1.shape}")
-        if not (resolution > 0 and math.isfinite(resolution)):
-            raise InvalidInputError(f"resolution must be a positive number [rad]; got {resolution!r}")
-        return self._segments_valid(Q0, Q1, resolution)
-
-    def _segments_valid(self, Q0: np.ndarray, Q1: np.ndarray, resolution: float, coarse: int = 9) -> np.ndarray:
-        M = Q0.shape[0]
-        valid = np.ones(M, dtype=bool)
-        if M == 0:
-            return valid
-        D = Q1 - Q0
-        steps = np.maximum(1, np.ceil(np.abs(D).max(axis=1) / resolution - 1e-12).astype(np.int64))
-        first_q, first_seg, rest_q, rest_seg = [], [], [], []
-        for m in range(M):
-            order = _coarse_to_fine(int(steps[m]))
-            t = order / steps[m]
-            S = Q0[m] + t[:, None] * D[m]
-            first_q.append(S[:coarse])
-            first_seg.append(np.full(min(coarse, S.shape[0]), m))
-            if S.shape[0] > coarse:
-                rest_q.append(S[coarse:])
-                rest_seg.append(np.full(S.shape[0] - coarse, m))
-        seg = np.concatenate(first_seg)
-        hit = self._check(np.concatenate(first_q), group=seg)
-        valid[np.unique(seg[hit])] = False
-        if rest_q and valid.any():
-            Qr = np.concatenate(rest_q)
-            seg = np.concatenate(rest_seg)
-            keep = valid[seg]
-            if keep.any():
-                hit = self._check(Qr[keep], group=seg[keep])
-                valid[np.unique(seg[keep][hit])] = False
-        return valid
-
-    def path_valid(self, path: np.ndarray, resolution: float = 0.01) -> PathCheck:
-        """Check a piecewise-linear joint path (K, dof) densely (see `motion_valid`).
-
-        Returns:
-            PathCheck(valid, first_invalid_segment): segment s joins path[s] and path[s+1];
-            for a single-configuration path a collision gives segment 0.
-        """
-        path = self.kinematics.check_q(path, "path")
-        if path.ndim != 2 or path.shape[0] < 1:
-            raise InvalidInputError(f"path must have shape (K, {self.kinematics.dof}) with K >= 1; got {path.shape}")
-        if not (resolution > 0 and math.isfinite(resolution)):
-            raise InvalidInputError(f"resolution must be a positive number [rad]; got {resolution!r}")
-        if path.shape[0] == 1:
-            bad = bool(self._check(path)[0])
-            return PathCheck(not bad, 0 if bad else None)
-        ok = self._segments_valid(path[:-1], path[1:], resolution)
-        if ok.all():
-            return PathCheck(True, None)
-        return PathCheck(False, int(np.argmin(ok)))
-
     # ------------------------------------------------------------------ reports and distances
     def _pair_distance(self, geom_a, tf_a, geom_b, tf_b) -> float:
         res = coal.DistanceResult()
         return float(coal.distance(geom_a, tf_a, geom_b, tf_b, coal.DistanceRequest(), res))
 
+    def _contact(self, kind: int, a: int, b: int, distance: float) -> Contact:
+        """The `Contact` of part a with obstacle b (kind 0) or with part b (kind 1); an
+        attached object comes first."""
+        pa = self._parts[a]
+        if kind == 0:
+            return Contact("attached_world" if pa.attached else "world", pa.name, self._obs[b].name, distance)
+        pb = self._parts[b]
+        if pb.attached:
+            pa, pb = pb, pa
+        return Contact("attached_self" if pa.attached else "self", pa.name, pb.name, distance)
+
     def collision_report(self, q: np.ndarray) -> CollisionReport:
         """Every colliding pair of configuration q (dof,), with signed distances, deepest first."""
-        q = self.kinematics.check_q(q)
-        if q.ndim != 1:
-            raise InvalidInputError(f"q must have shape ({self.kinematics.dof},); got {q.shape}")
-        Q = q[None]
+        Q = self._one_q(q)[None]
         R, p = self._fk(Q)
         n, kind, i, j = self._candidates(Q, R, p)
         tfs: dict = {}
@@ -814,16 +403,11 @@ class CollisionChecker:
             k, a, b = int(kind[t]), int(i[t]), int(j[t])
             if not self._exact(R, p, 0, k, a, b, tfs):
                 continue
-            pa = self._parts[a]
             if k == 0:
-                d = self._pair_distance(pa.hull, tfs[(0, a)], self._ogeom[b], self._otf[b])
-                contacts.append(Contact("attached_world" if pa.attached else "world", pa.name, self._obs[b].name, d))
+                d = self._pair_distance(self._parts[a].hull, tfs[(0, a)], self._ogeom[b], self._otf[b])
             else:
-                pb = self._parts[b]
-                d = self._pair_distance(pa.hull, tfs[(0, a)], pb.hull, tfs[(0, b)])
-                if pb.attached:
-                    pa, pb = pb, pa
-                contacts.append(Contact("attached_self" if pa.attached else "self", pa.name, pb.name, d))
+                d = self._pair_distance(self._parts[a].hull, tfs[(0, a)], self._parts[b].hull, tfs[(0, b)])
+            contacts.append(self._contact(k, a, b, d))
         contacts.sort(key=lambda c: c.distance)
         return CollisionReport(bool(contacts), tuple(contacts))
 
@@ -835,10 +419,7 @@ class CollisionChecker:
         where mesh-vs-mesh queries cannot; obstacles are exact. Pairs whose bounding balls
         prove them farther than the best found are skipped (branch and bound).
         """
-        q = self.kinematics.check_q(q)
-        if q.ndim != 1:
-            raise InvalidInputError(f"q must have shape ({self.kinematics.dof},); got {q.shape}")
-        R, p = self._fk(q[None])
+        R, p = self._fk(self._one_q(q)[None])
         pj = self._pj
         bc = np.einsum("gij,gj->gi", R[0, pj], self._pbc) + p[0, pj]
         tfs: dict = {}
@@ -872,13 +453,9 @@ class CollisionChecker:
                     best_s, pair_s = d, (ga, gb)
         closest = None
         if pair_w is not None and best_w <= best_s:
-            pa = self._parts[pair_w[0]]
-            closest = Contact("attached_world" if pa.attached else "world", pa.name, self._obs[pair_w[1]].name, best_w)
+            closest = self._contact(0, *pair_w, best_w)
         elif pair_s is not None:
-            pa, pb = self._parts[pair_s[0]], self._parts[pair_s[1]]
-            if pb.attached:
-                pa, pb = pb, pa
-            closest = Contact("attached_self" if pa.attached else "self", pa.name, pb.name, best_s)
+            closest = self._contact(1, *pair_s, best_s)
         return DistanceReport(min(best_w, best_s), best_w, best_s, closest)
 
     def distance(self, q: np.ndarray) -> float:
@@ -898,9 +475,7 @@ class CollisionChecker:
         Args:
             Q: (N, dof) or (dof,) configurations.
         """
-        Q = self.kinematics.check_q(Q, "Q")
-        if Q.ndim == 1:
-            Q = Q[None]
+        Q = self._rows(Q)
         N = Q.shape[0]
         O = len(self._obs)
         moving = self._fine.joint != 0
@@ -958,7 +533,6 @@ class CollisionChecker:
         if shape.name in self._attached:
             raise InvalidInputError(f"'{shape.name}' is already attached")
         if pose_in_link is not None:
-            from manip.collision.shapes import as_pose
             rel = as_pose(pose_in_link, f"attach '{shape.name}'")
         else:
             if q is None:
@@ -1011,8 +585,7 @@ class CollisionChecker:
 
     def spheres(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, list[str]]:
         """The sphere covers at q (dof,): centres (S, 3) [m], radii (S,) [m], owner names (S,)."""
-        q = self.kinematics.check_q(q)
-        R, p = self._fk(q[None])
+        R, p = self._fk(self._one_q(q)[None])
         cs, rs, names = [], [], []
         for g, part in enumerate(self._parts):
             Rj, pj = R[0, part.joint], p[0, part.joint]

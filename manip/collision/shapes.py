@@ -20,7 +20,7 @@ import numpy as np
 
 from manip.errors import InvalidInputError
 from manip.pose import Pose
-
+from manip.validation import non_negative, positive
 
 
 def as_pose(value: Pose | Sequence[float] | np.ndarray | None, what: str) -> Pose:
@@ -46,16 +46,6 @@ def as_pose(value: Pose | Sequence[float] | np.ndarray | None, what: str) -> Pos
             raise InvalidInputError(f"{what}: pose has non-finite values: {v.tolist()}")
         return Pose.from_xyz_wxyz(v)
     raise InvalidInputError(f"{what}: a pose must be a Pose, [x, y, z] or [x, y, z, qw, qx, qy, qz]; got shape {v.shape}")
-
-
-def _positive(value: float, what: str) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError) as exc:
-        raise InvalidInputError(f"{what} must be a positive number [m]; got {value!r}") from exc
-    if not np.isfinite(v) or v <= 0.0:
-        raise InvalidInputError(f"{what} must be a positive finite number [m]; got {value!r}")
-    return v
 
 
 def _check_name(name: object, kind: str) -> str:
@@ -139,7 +129,7 @@ class Sphere(Obstacle):
 
     def __init__(self, name: str, radius: float, pose: Pose | Sequence[float] | None = None):
         object.__setattr__(self, "name", _check_name(name, "sphere"))
-        object.__setattr__(self, "radius", _positive(radius, f"sphere '{name}': radius"))
+        object.__setattr__(self, "radius", positive(radius, f"sphere '{name}': radius", "m"))
         object.__setattr__(self, "pose", as_pose(pose, f"sphere '{name}'"))
 
     @property
@@ -172,8 +162,8 @@ class Cylinder(Obstacle):
 
     def __init__(self, name: str, radius: float, height: float, pose: Pose | Sequence[float] | None = None):
         object.__setattr__(self, "name", _check_name(name, "cylinder"))
-        object.__setattr__(self, "radius", _positive(radius, f"cylinder '{name}': radius"))
-        object.__setattr__(self, "height", _positive(height, f"cylinder '{name}': height"))
+        object.__setattr__(self, "radius", positive(radius, f"cylinder '{name}': radius", "m"))
+        object.__setattr__(self, "height", positive(height, f"cylinder '{name}': height", "m"))
         object.__setattr__(self, "pose", as_pose(pose, f"cylinder '{name}'"))
 
     def local_aabb(self) -> tuple[np.ndarray, np.ndarray]:
@@ -205,14 +195,8 @@ class Capsule(Obstacle):
 
     def __init__(self, name: str, radius: float, height: float, pose: Pose | Sequence[float] | None = None):
         object.__setattr__(self, "name", _check_name(name, "capsule"))
-        object.__setattr__(self, "radius", _positive(radius, f"capsule '{name}': radius"))
-        try:
-            h = float(height)
-        except (TypeError, ValueError) as exc:
-            raise InvalidInputError(f"capsule '{name}': height must be a number >= 0 [m]; got {height!r}") from exc
-        if not np.isfinite(h) or h < 0:
-            raise InvalidInputError(f"capsule '{name}': height (segment length) must be finite and >= 0 [m]; got {height!r}")
-        object.__setattr__(self, "height", h)
+        object.__setattr__(self, "radius", positive(radius, f"capsule '{name}': radius", "m"))
+        object.__setattr__(self, "height", non_negative(height, f"capsule '{name}': height (segment length)", "m"))
         object.__setattr__(self, "pose", as_pose(pose, f"capsule '{name}'"))
 
     @classmethod

@@ -1,7 +1,9 @@
-"""Path planning: results, sampling-based search, shortcutting and path optimisation."""
+"""Planning: options, per-call context, validity, path search, shortcutting, the trajectory
+optimiser, timing-and-validation, and the results they return."""
 
 from __future__ import annotations
 
+from manip.planning.options import PlanOptions
 from manip.planning.result import PlanResult, PlanStatus
 
-__all__ = ["PlanResult", "PlanStatus"]
+__all__ = ["PlanOptions", "PlanResult", "PlanStatus"]

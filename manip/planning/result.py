@@ -3,35 +3,52 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from enum import Enum
 
 import numpy as np
 
+from manip.status import Status
 from manip.trajectory import Trajectory
 
 
-class PlanStatus(Enum):
-    """Outcome of a planning call; each failure says what to change."""
+class PlanStatus(Status):
+    """Outcome of a planning call; `hint` says what it means and what to change."""
 
     SUCCESS = "success"
-    #: No collision-free IK solution for the goal pose: move the goal or clear around it.
     IK_FAIL = "ik_fail"
-    #: No collision-free path found within the budget: raise `time_budget` or simplify the scene.
     PLAN_FAIL = "plan_fail"
-    #: A path was found but no valid timed trajectory could be made from it.
     TRAJOPT_FAIL = "trajopt_fail"
-    #: The start is outside the joint limits by more than the tolerance (1e-6 rad).
     INVALID_START_JOINT_LIMITS = "invalid_start_joint_limits"
-    #: The start configuration collides with the robot itself.
     INVALID_START_SELF_COLLISION = "invalid_start_self_collision"
-    #: The start configuration collides with the world (or an attached object does).
     INVALID_START_WORLD_COLLISION = "invalid_start_world_collision"
-    #: The goal configuration is outside the limits or in collision.
     INVALID_GOAL = "invalid_goal"
-    #: The time budget ran out before a path was found.
     TIMEOUT = "timeout"
-    #: A straight-line (linear) motion is impossible: IK breaks, jumps or collides on the line.
     LINEAR_PATH_FAIL = "linear_path_fail"
+
+    @classmethod
+    def _hints(cls) -> dict:
+        return _HINTS
+
+
+_HINTS = {
+    PlanStatus.SUCCESS: "a valid trajectory was found",
+    PlanStatus.IK_FAIL: "no collision-free IK solution for the goal pose: move the goal or clear around it",
+    PlanStatus.PLAN_FAIL: "no collision-free path found within the budget: raise time_budget or simplify the scene",
+    PlanStatus.TRAJOPT_FAIL: (
+        "a path was found but no valid timed trajectory could be made from it (or the requested duration is "
+        "shorter than feasible): raise duration or time_budget"
+    ),
+    PlanStatus.INVALID_START_JOINT_LIMITS: "the start is outside the joint limits by more than 1e-4 rad",
+    PlanStatus.INVALID_START_SELF_COLLISION: "the start configuration collides with the robot itself",
+    PlanStatus.INVALID_START_WORLD_COLLISION: "the start collides with the world (or an attached object does)",
+    PlanStatus.INVALID_GOAL: "the goal configuration is outside the limits or in collision",
+    PlanStatus.TIMEOUT: "the time budget ran out before a path was found: raise time_budget",
+    PlanStatus.LINEAR_PATH_FAIL: (
+        "a straight-line (linear) motion is impossible: IK breaks, jumps or collides on the line"
+    ),
+}
+
+#: Which optimisation produced a returned trajectory (`PlanResult.source`).
+SOURCES = ("straight_line", "shortcut", "trajopt", "linear")
 
 
 @dataclass(frozen=True)
@@ -41,17 +58,21 @@ class PlanResult:
     Attributes:
         success: True when `trajectory` is valid (verified densely against collisions and
             within all limits, at rest at both ends, at the goal).
-        status: why it succeeded or failed.
+        status: why it succeeded or failed (`status.hint` says what to change).
         trajectory: the timed trajectory (None on failure).
         path: (K, dof) collision-free joint-space waypoints the trajectory follows (None if
             planning failed before a path existed).
         goal_q: (dof,) the goal configuration reached (or aimed at).
-        timings: seconds per stage ("ik", "plan", "optimize", "timing", "validate", "total").
+        timings: seconds per stage ("ik", "plan", "optimize", "trajopt", "timing",
+            "validate", "total").
         position_error: final link position error [m] (pose goals; 0 for joint goals).
         rotation_error: final link rotation error [rad] (pose goals; 0 for joint goals).
         attempts: planning attempts used.
         goal_index: for goal sets, the index of the pose reached.
         message: a human-readable detail of the status.
+        source: which stage made the returned trajectory: "straight_line" (the joint-space
+            line), "shortcut" (search + shortcutting + ruckig timing), "trajopt" (the
+            trajectory optimiser) or "linear" (a Cartesian line); "" on failure.
     """
 
     success: bool
@@ -65,6 +86,7 @@ class PlanResult:
     attempts: int = 0
     goal_index: int | None = None
     message: str = ""
+    source: str = ""
 
     @property
     def plan_time(self) -> float:

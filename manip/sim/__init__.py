@@ -12,24 +12,13 @@ An Isaac Sim tutorial script ports by changing its imports::
         world.step(render=False)
     print(cube.get_world_pose())
 
-Quaternions are (w, x, y, z); units are SI. See `manip.sim.world` for time stepping,
-`manip.sim.articulation` for the drives, `manip.sim.recording` for offscreen video.
+Quaternions are (w, x, y, z); units are SI. See `manip.sim.simulation_context` for time
+stepping, `manip.sim.articulation` for the drives, `manip.sim.recording` for offscreen video.
+Importing this package changes no environment variable: the offscreen GL backend is
+chosen at the first render (`manip.sim.gl_backend`).
 """
 
 from __future__ import annotations
-
-import os as _os
-import sys as _sys
-
-# The offscreen GL backend is fixed when mujoco is imported: choose one for headless machines.
-if "mujoco" not in _sys.modules and not _os.environ.get("MUJOCO_GL"):
-    if not (_os.environ.get("DISPLAY") or _os.environ.get("WAYLAND_DISPLAY")) and _sys.platform.startswith("linux"):
-        import ctypes.util as _cu
-
-        _backend = "egl" if _cu.find_library("EGL") else ("osmesa" if _cu.find_library("OSMesa") else None)
-        if _backend is not None:
-            _os.environ["MUJOCO_GL"] = _backend
-            _os.environ.setdefault("PYOPENGL_PLATFORM", _backend)
 
 from manip.articulation_action import ArticulationAction
 from manip.sim.app import SimulationApp
@@ -66,6 +55,7 @@ from manip.sim.rotations import (
     rot_matrix_to_quat,
 )
 from manip.sim.scene import CollisionObject, Scene
+from manip.sim.simulation_context import SimulationContext
 from manip.sim.stage import (
     SimulationError,
     add_reference_to_stage,

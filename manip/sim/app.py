@@ -4,21 +4,22 @@
 model when it is compiled (and reopens it when a reset recompiles a changed stage); every
 render of the World (`world.step(render=True)`, `world.render()`, `app.update()`) syncs
 it, paced to real time. Headless runs need no display.
+
+The app observes the World (`World.add_observer`, see `WorldObserver`); the World never
+imports the app.
 """
 
 from __future__ import annotations
 
 import logging
-import os
-import sys
 import time
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from manip.errors import InvalidInputError
+from manip.sim.gl_backend import has_display
+from manip.sim.simulation_context import SimulationContext
 from manip.sim.stage import SimulationError
-
-if TYPE_CHECKING:
-    from manip.sim.world import World
+from manip.sim.world import World
 
 logger = logging.getLogger(__name__)
 
@@ -50,11 +51,12 @@ class SimulationApp:
         self._viewer_model = None
         self._closed = False
         self._last_sync = None
+        if _APP is not None:
+            World.remove_observer(_APP)  # only the latest app follows the World
         _APP = self
-        from manip.sim.world import World
-
+        World.add_observer(self)
         w = World.instance()
-        if w is not None and w._sim is not None:
+        if w is not None and w.model is not None:
             self._open_viewer(w)
 
     @property
@@ -74,34 +76,48 @@ class SimulationApp:
 
     def update(self) -> None:
         """Render the World (viewer sync) without stepping physics."""
-        from manip.sim.world import World
-
         w = World.instance()
-        if w is not None and w._sim is not None:
+        if w is not None and w.model is not None:
             w.render()
 
     def close(self) -> None:
         """Close the viewer (if any) and the World's recording."""
         global _APP
-        from manip.sim.world import World
-
         w = World.instance()
         if w is not None:
             w.stop_recording()
         self._close_viewer()
         self._closed = True
+        World.remove_observer(self)
         if _APP is self:
             _APP = None
 
     def set_setting(self, name: str, value) -> None:
         self.config[name] = value
 
+    # ------------------------------------------------------------------ World events (WorldObserver)
+    def on_world_compiled(self, world: SimulationContext) -> None:
+        """Open (or reopen, on the new model) the viewer unless headless."""
+        if not self.headless:
+            self._open_viewer(world)
+
+    def on_world_rendered(self, world: SimulationContext) -> None:
+        if self._viewer is not None:
+            self._sync(world)
+
+    def on_world_cleared(self, world: SimulationContext) -> None:
+        self._close_viewer()
+
+    def on_camera_changed(self, world: SimulationContext) -> None:
+        if self._viewer is not None:
+            world.get_camera_view().apply(self._viewer.cam)
+
     # ------------------------------------------------------------------ viewer
-    def _open_viewer(self, world: World) -> None:
+    def _open_viewer(self, world: SimulationContext) -> None:
         if self.headless or self._closed:
             return
         self._close_viewer()
-        if sys.platform.startswith("linux") and not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+        if not has_display():
             # MuJoCo's viewer aborts the process when GLFW cannot open a window: check first.
             raise SimulationError(
                 "cannot open the MuJoCo viewer: no display (DISPLAY/WAYLAND_DISPLAY unset). Run headless "
@@ -110,14 +126,14 @@ class SimulationApp:
         try:
             import mujoco.viewer
 
-            self._viewer = mujoco.viewer.launch_passive(world._sim.model, world._sim.data,
+            self._viewer = mujoco.viewer.launch_passive(world.model, world.data,
                                                         show_left_ui=False, show_right_ui=False)
         except Exception as exc:
             raise SimulationError(
                 f"cannot open the MuJoCo viewer ({exc}); it needs a display (DISPLAY/WAYLAND_DISPLAY). "
                 "Run headless (SimulationApp({'headless': True}), the default) on machines without one."
             ) from exc
-        self._viewer_model = world._sim.model
+        self._viewer_model = world.model
         world.get_camera_view().apply(self._viewer.cam)
 
     def _close_viewer(self) -> None:
@@ -129,10 +145,10 @@ class SimulationApp:
         self._viewer = None
         self._viewer_model = None
 
-    def _sync(self, world: World) -> None:
+    def _sync(self, world: SimulationContext) -> None:
         if self._viewer is None:
             return
-        if world._sim.model is not self._viewer_model:
+        if world.model is not self._viewer_model:
             self._open_viewer(world)
         if not self._viewer.is_running():
             return
@@ -150,24 +166,3 @@ class SimulationApp:
 def get_app() -> SimulationApp | None:
     """The running SimulationApp, if any."""
     return _APP
-
-
-# Hooks called by the World.
-def _world_compiled(world: World) -> None:
-    if _APP is not None and not _APP.headless:
-        _APP._open_viewer(world)
-
-
-def _world_rendered(world: World) -> None:
-    if _APP is not None and _APP._viewer is not None:
-        _APP._sync(world)
-
-
-def _world_cleared(world: World) -> None:
-    if _APP is not None:
-        _APP._close_viewer()
-
-
-def _camera_changed(world: World) -> None:
-    if _APP is not None and _APP._viewer is not None:
-        world.get_camera_view().apply(_APP._viewer.cam)

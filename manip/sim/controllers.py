@@ -10,8 +10,8 @@ import numpy as np
 
 from manip.articulation_action import ArticulationAction
 from manip.errors import InvalidInputError
-from manip.sim import _validate as V
 from manip.sim.rotations import quat_to_euler_angles
+from manip.validation import positive
 
 
 class BaseController(ABC):
@@ -36,6 +36,7 @@ class BaseController(ABC):
 
 
 def _nonneg(value: float, what: str) -> float:
+    """A speed limit: >= 0, inf allowed (no limit), unlike `manip.validation.non_negative`."""
     v = float(value)
     if math.isnan(v) or v < 0:
         raise InvalidInputError(f"{what} must be >= 0; got {value!r}")
@@ -59,8 +60,8 @@ class DifferentialController(BaseController):
     def __init__(self, name: str, wheel_radius: float, wheel_base: float, max_linear_speed: float = 1.0e20,
                  max_angular_speed: float = 1.0e20, max_wheel_speed: float = 1.0e20):
         super().__init__(name)
-        self.wheel_radius = V.positive(wheel_radius, "wheel_radius")
-        self.wheel_base = V.positive(wheel_base, "wheel_base")
+        self.wheel_radius = positive(wheel_radius, "wheel_radius", "m")
+        self.wheel_base = positive(wheel_base, "wheel_base", "m")
         self.max_linear_speed = _nonneg(max_linear_speed, "max_linear_speed")
         self.max_angular_speed = _nonneg(max_angular_speed, "max_angular_speed")
         self.max_wheel_speed = _nonneg(max_wheel_speed, "max_wheel_speed")

@@ -58,9 +58,9 @@ from manip.ik import IKSolver
 from manip.kinematics import Kinematics
 from manip.pose import Pose
 from manip.robot_config import RobotConfig, load_robot_config
-from manip.sim import _validate as V
 from manip.sim.controllers import BaseController
 from manip.sim.stage import SimulationError
+from manip.validation import positive, unit_quat, vec
 
 logger = logging.getLogger(__name__)
 
@@ -133,7 +133,7 @@ class PickPlaceController(BaseController):
         self._h1 = DEFAULT_INITIAL_HEIGHT if end_effector_initial_height is None else _check_height(
             end_effector_initial_height)
         self._events_dt = _check_events_dt(FRANKA_EVENTS_DT if events_dt is None else events_dt)
-        self._max_joint_step = V.positive(max_joint_step, "max_joint_step")
+        self._max_joint_step = positive(max_joint_step, "max_joint_step", "rad")
         config = robot if isinstance(robot, RobotConfig) else load_robot_config(robot)
         self._kin = Kinematics(config)
         # One local solve from the seed: a random restart could land on another branch.
@@ -299,17 +299,17 @@ class PickPlaceController(BaseController):
             InvalidInputError: a non-finite value or a wrong shape (the state is unchanged).
             SimulationError: the robot is not simulated yet (before `world.reset()`).
         """
-        pick = V.vec(picking_position, 3, "picking_position")
-        place = V.vec(placing_position, 3, "placing_position")
+        pick = vec(picking_position, 3, "picking_position")
+        place = vec(placing_position, 3, "placing_position")
         q_now = np.asarray(current_joint_positions, dtype=float)
         if q_now.ndim != 1 or not np.all(np.isfinite(q_now)):
             raise InvalidInputError(
                 f"current_joint_positions must be a finite 1-D array; got {current_joint_positions!r}")
-        offset = np.zeros(3) if end_effector_offset is None else V.vec(end_effector_offset, 3, "end_effector_offset")
+        offset = np.zeros(3) if end_effector_offset is None else vec(end_effector_offset, 3, "end_effector_offset")
         if end_effector_orientation is None:
             orientation = HAND_DOWN.copy()
         else:
-            orientation = V.unit_quat(end_effector_orientation, "end_effector_orientation")
+            orientation = unit_quat(end_effector_orientation, "end_effector_orientation")
             if not np.all(np.isfinite(orientation)):
                 raise InvalidInputError(f"end_effector_orientation must be finite; got {end_effector_orientation!r}")
         n = q_now.size

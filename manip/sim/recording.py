@@ -1,23 +1,24 @@
 """Offscreen rendering and MP4 recording of a camera view.
 
 MuJoCo renders offscreen through EGL (GPU or Mesa; Debian/Ubuntu package `libegl1`) or
-OSMesa (pure software; package `libosmesa6`). The backend is chosen by the `MUJOCO_GL`
-environment variable *before* MuJoCo is imported; `manip.sim` sets it to "egl" (or
-"osmesa") when it is unset and there is no display. Writing MP4 needs the `video` extra
+OSMesa (pure software; package `libosmesa6`). The backend is chosen once, at the first
+render, by `manip.sim.gl_backend.ensure_offscreen_gl` (EGL or OSMesa when `MUJOCO_GL` is
+unset and there is no display). Writing MP4 needs the `video` extra
 (`pip install manip[video]`: imageio + imageio-ffmpeg).
 """
 
 from __future__ import annotations
 
-import ctypes.util
 import logging
-import os
 from pathlib import Path
 
 import mujoco
 import numpy as np
 
 from manip.errors import InvalidInputError, ManipError
+from manip.sim.gl_backend import choose_gl_backend, ensure_offscreen_gl, gl_help  # noqa: F401 (re-exported)
+from manip.sim.stage import SimHandle
+from manip.validation import positive
 
 logger = logging.getLogger(__name__)
 
@@ -26,28 +27,11 @@ class OffscreenRenderingError(ManipError):
     """No offscreen OpenGL backend (EGL or OSMesa) is available, or MP4 writing is not installed."""
 
 
-def choose_gl_backend() -> str | None:
-    """The MUJOCO_GL value to use headless: "egl" if libEGL is found, else "osmesa" if
-    libOSMesa is found, else None."""
-    if ctypes.util.find_library("EGL"):
-        return "egl"
-    if ctypes.util.find_library("OSMesa"):
-        return "osmesa"
-    return None
-
-
-def _gl_help() -> str:
-    return (
-        f"MUJOCO_GL={os.environ.get('MUJOCO_GL', '(unset)')}. Offscreen rendering needs an OpenGL backend: "
-        "install EGL (`sudo apt install libegl1`, set MUJOCO_GL=egl) or OSMesa (`sudo apt install libosmesa6`, "
-        "set MUJOCO_GL=osmesa), and set MUJOCO_GL before Python imports mujoco."
-    )
-
-
 class CameraView:
     """A free camera: look-at point [m], distance [m], azimuth and elevation [deg]."""
 
-    def __init__(self, lookat=(0.2, 0.0, 0.2), distance: float = 2.0, azimuth: float = 135.0, elevation: float = -25.0):
+    def __init__(self, lookat=(0.2, 0.0, 0.2), *, distance: float = 2.0, azimuth: float = 135.0,
+                 elevation: float = -25.0):
         self.lookat = np.asarray(lookat, dtype=float)
         self.distance = float(distance)
         self.azimuth = float(azimuth)
@@ -64,7 +48,7 @@ class CameraView:
             raise InvalidInputError("camera eye and target must be distinct finite points")
         az = float(np.degrees(np.arctan2(v[1], v[0])))
         el = float(np.degrees(np.arcsin(v[2] / dist)))
-        return cls(target, dist, az, el)
+        return cls(target, distance=dist, azimuth=az, elevation=el)
 
     def apply(self, cam: mujoco.MjvCamera) -> None:
         cam.type = mujoco.mjtCamera.mjCAMERA_FREE
@@ -85,7 +69,8 @@ class Recorder:
         fps: frames per second of simulated time.
     """
 
-    def __init__(self, model: mujoco.MjModel, path: str | Path, camera, width: int, height: int, fps: float):
+    def __init__(self, model: mujoco.MjModel, path: str | Path, camera: str | CameraView | None = None, *,
+                 width: int = 640, height: int = 480, fps: float = 30.0):
         try:
             import imageio.v2 as imageio
         except ImportError as exc:
@@ -95,11 +80,9 @@ class Recorder:
                 f"frame size {width}x{height} must be positive and at most "
                 f"{model.vis.global_.offwidth}x{model.vis.global_.offheight}"
             )
-        if not fps > 0:
-            raise InvalidInputError(f"fps must be > 0; got {fps}")
+        self.fps = positive(fps, "fps", "1/s")
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        self.fps = float(fps)
         self.camera = camera
         self.frames = 0
         self._next_time = 0.0
@@ -115,12 +98,8 @@ class Recorder:
         self.capture(data, view)
 
     def capture(self, data: mujoco.MjData, view: CameraView) -> None:
-        if isinstance(self.camera, str):
-            self.renderer.update_scene(data, camera=self.camera)
-        else:
-            cam = mujoco.MjvCamera()
-            (self.camera if isinstance(self.camera, CameraView) else view).apply(cam)
-            self.renderer.update_scene(data, camera=cam)
+        """Write one frame (of `view` when the recorder has no camera of its own)."""
+        _update_scene(self.renderer, data, self.camera, view)
         self._writer.append_data(self.renderer.render())
         self.frames += 1
 
@@ -130,41 +109,33 @@ class Recorder:
         logger.info("wrote %d frames to %s", self.frames, self.path)
 
 
-def _switch_to_headless_backend() -> bool:
-    """If mujoco was imported before MUJOCO_GL was set (so it chose GLFW, which needs a
-    display), point its renderer at EGL or OSMesa instead. Returns whether it switched."""
-    if os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY") or os.environ.get("MUJOCO_GL"):
-        return False
-    backend = choose_gl_backend()
-    if backend is None:
-        return False
-    try:
-        from mujoco.rendering.classic import gl_context
-
-        if backend == "egl":
-            from mujoco.egl import GLContext
-        else:
-            from mujoco.osmesa import GLContext
-        gl_context.GLContext = GLContext
-    except Exception as exc:  # PyOpenGL bound to another platform, missing module...
-        logger.debug("cannot switch MuJoCo's renderer to %s: %s", backend, exc)
-        return False
-    os.environ["MUJOCO_GL"] = backend
-    logger.info("no display: MuJoCo renders offscreen through %s", backend)
-    return True
-
-
 def make_renderer(model: mujoco.MjModel, width: int, height: int) -> mujoco.Renderer:
-    """A `mujoco.Renderer`, or OffscreenRenderingError saying what to install."""
-    try:
-        from mujoco.rendering.classic import gl_context
-
-        cls = getattr(gl_context, "GLContext", None)
-        if cls is not None and "glfw" in cls.__module__:
-            _switch_to_headless_backend()  # GLFW without a display would fail (or abort)
-    except ImportError:
-        pass
+    """A `mujoco.Renderer` of width x height [px], or OffscreenRenderingError saying what to install."""
+    ensure_offscreen_gl()
     try:
         return mujoco.Renderer(model, height=height, width=width)
     except Exception as exc:  # GL context creation raises various errors
-        raise OffscreenRenderingError(f"cannot create an offscreen OpenGL context ({exc}). {_gl_help()}") from exc
+        raise OffscreenRenderingError(f"cannot create an offscreen OpenGL context ({exc}). {gl_help()}") from exc
+
+
+def render_image(sim: SimHandle, width: int, height: int, camera: str | CameraView | None,
+                 view: CameraView) -> np.ndarray:
+    """One RGB image (height, width, 3) uint8 of the current state, from a named model camera,
+    a CameraView, or `view` when camera is None."""
+    r = make_renderer(sim.model, width, height)
+    try:
+        sim.ensure_kinematics()
+        _update_scene(r, sim.data, camera, view)
+        return r.render().copy()
+    finally:
+        r.close()
+
+
+def _update_scene(renderer: mujoco.Renderer, data: mujoco.MjData, camera: str | CameraView | None,
+                  view: CameraView) -> None:
+    if isinstance(camera, str):
+        renderer.update_scene(data, camera=camera)
+    else:
+        cam = mujoco.MjvCamera()
+        (camera if isinstance(camera, CameraView) else view).apply(cam)
+        renderer.update_scene(data, camera=cam)

@@ -11,8 +11,8 @@ import numpy as np
 from manip.articulation_action import ArticulationAction
 from manip.errors import InvalidInputError, UnknownNameError
 from manip.sim.articulation import Robot
-from manip.sim.objects import XFormPrim
 from manip.sim.stage import SimHandle, SimulationError, add_reference_to_stage, get_assets_root_path, get_current_stage
+from manip.sim.xform_prim import XFormPrim
 
 logger = logging.getLogger(__name__)
 
@@ -272,18 +272,19 @@ class WheeledRobot(Robot):
                                              actions.joint_efforts, self._wheel_idx))
 
     def get_wheel_positions(self) -> np.ndarray | None:
-        """Wheel angles [rad]."""
-        if self._wheel_idx is None:
-            logger.warning("%s.get_wheel_positions used before the first World.reset()", self.name)
-            return None
-        return self.get_joint_positions(self._wheel_idx)
+        """Wheel angles (num_wheels,) [rad]; None before the first reset."""
+        idx = self._bound_wheels("get_wheel_positions")
+        return None if idx is None else self.get_joint_positions(idx)
 
     def get_wheel_velocities(self) -> np.ndarray | None:
-        """Wheel velocities [rad/s]."""
+        """Wheel velocities (num_wheels,) [rad/s]; None before the first reset."""
+        idx = self._bound_wheels("get_wheel_velocities")
+        return None if idx is None else self.get_joint_velocities(idx)
+
+    def _bound_wheels(self, what: str) -> np.ndarray | None:
         if self._wheel_idx is None:
-            logger.warning("%s.get_wheel_velocities used before the first World.reset()", self.name)
-            return None
-        return self.get_joint_velocities(self._wheel_idx)
+            logger.warning("%s.%s used before the first World.reset()", self.name, what)
+        return self._wheel_idx
 
     def set_wheel_velocities(self, velocities) -> None:
         self.set_joint_velocities(velocities, self._wheel_idx)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 import mujoco
 import numpy as np
@@ -12,11 +12,9 @@ import numpy as np
 from manip import quaternion as quat
 from manip.errors import InvalidInputError
 from manip.pose import Pose
-from manip.sim.objects import GeometryPrim, GroundPlane
-from manip.sim.stage import ReferencePrim, SimulationError, get_current_stage
-
-if TYPE_CHECKING:
-    from manip.sim.world import World
+from manip.sim.geometry_prim import GeometryPrim
+from manip.sim.ground_plane import GroundPlane
+from manip.sim.stage import ReferencePrim, SimHandle, SimulationError, get_current_stage
 
 logger = logging.getLogger(__name__)
 
@@ -78,14 +76,23 @@ class CollisionObject:
         return self.pose.quaternion
 
 
+class CompiledWorld(Protocol):
+    """What the scene reads from its World: the compiled model (None before the first reset)."""
+
+    _sim: SimHandle | None
+
+
 class Scene:
     """Objects registered with the World by name (Isaac's `Scene`).
 
     `add` only registers: creating an object already put it on the stage. Registered
     objects get `post_reset()` at every `World.reset()`.
+
+    Args:
+        world: the World owning the scene.
     """
 
-    def __init__(self, world: World):
+    def __init__(self, world: CompiledWorld):
         self._world = world
         self._objects: dict[str, Any] = {}
 
@@ -155,11 +162,8 @@ class Scene:
         restitution: float = 0.8,
     ) -> GroundPlane:
         """Add the default ground (a second call returns the existing one)."""
-        existing = self._objects.get(name)
-        if isinstance(existing, GroundPlane):
-            return existing
-        return self.add(GroundPlane(prim_path, name, z_position=z_position, static_friction=static_friction,
-                                    dynamic_friction=dynamic_friction, restitution=restitution))
+        return self.add_ground_plane(None, z_position, name, prim_path, static_friction, dynamic_friction,
+                                     restitution)
 
     def add_ground_plane(
         self,

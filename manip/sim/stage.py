@@ -11,13 +11,15 @@ from __future__ import annotations
 
 import logging
 from pathlib import Path
-from typing import Any, Callable, Protocol
+from typing import Any, Protocol
 
 import mujoco
 import numpy as np
 
+from manip import quaternion as quat
 from manip.errors import InvalidInputError, ManipError
 from manip.robot_config import robots_root
+from manip.sim.callbacks import CallbackTable
 
 logger = logging.getLogger(__name__)
 
@@ -59,9 +61,30 @@ class SimHandle:
     def mark_stale(self) -> None:
         self.kinematics_stale = True
 
+    # Free joints: qpos[qadr:qadr+7] = position (3,) [m], quaternion (4,) (w, x, y, z);
+    # qvel[dadr:dadr+6] = linear velocity (world frame) [m/s], angular velocity (body frame) [rad/s].
+    def free_pose(self, qadr: int) -> tuple[np.ndarray, np.ndarray]:
+        """Position (3,) [m] and unit quaternion (4,) of the free joint at qpos address `qadr`."""
+        q = self.data.qpos[qadr:qadr + 7]
+        return q[:3].copy(), q[3:7] / np.linalg.norm(q[3:7])
+
+    def free_rotation(self, qadr: int) -> np.ndarray:
+        """Rotation matrix (3, 3) body -> world of the free joint at qpos address `qadr`."""
+        q = self.data.qpos[qadr + 3:qadr + 7]
+        return quat.to_matrix(q / np.linalg.norm(q))
+
+    def free_angular_velocity(self, qadr: int, dadr: int) -> np.ndarray:
+        """World-frame angular velocity (3,) [rad/s] of a free joint."""
+        return self.free_rotation(qadr) @ self.data.qvel[dadr + 3:dadr + 6]
+
+    def set_free_angular_velocity(self, qadr: int, dadr: int, w) -> None:
+        """Set a free joint's angular velocity from world-frame `w` (3,) [rad/s]."""
+        self.data.qvel[dadr + 3:dadr + 6] = self.free_rotation(qadr).T @ w
+
 
 class StagePrim(Protocol):
-    """What the stage needs from a prim."""
+    """What the World needs from a prim to compile and bind it (a `ReferencePrim` is bound
+    by the World, which gives it an `ArticulationCore`)."""
 
     prim_path: str
 
@@ -85,7 +108,7 @@ class ReferencePrim:
         self.position = np.zeros(3)
         self.orientation = np.array([1.0, 0.0, 0.0, 0.0])
         self.home_qpos: dict[str, np.ndarray] = {}  # joint name (unprefixed) -> qpos of the 'home' key
-        # Filled by _bind:
+        # The model's ArticulationCore, set by the World while a compiled model exists.
         self.core: Any = None
 
     def _load_spec(self) -> mujoco.MjSpec:
@@ -133,11 +156,6 @@ class ReferencePrim:
         frame = spec.worldbody.add_frame(pos=self.position.tolist(), quat=self.orientation.tolist())
         spec.attach(child, prefix=self.prefix, frame=frame)
 
-    def _bind(self, sim: SimHandle) -> None:
-        from manip.sim.articulation import ArticulationCore
-
-        self.core = ArticulationCore(self, sim)
-
 
 class Stage:
     """The prims the World compiles, by prim path (insertion order is kept)."""
@@ -146,7 +164,7 @@ class Stage:
         self._prims: dict[str, Any] = {}
         self._wrappers: list[Any] = []  # objects bound after each compile (Articulations)
         self.version = 0
-        self._callbacks: dict[str, Callable] = {}
+        self._callbacks = CallbackTable("stage")
         self.sim: SimHandle | None = None  # set by the World while a compiled model exists
 
     def add_prim(self, prim: Any) -> None:
@@ -193,10 +211,13 @@ class Stage:
         prim = self._prims.get(prim_path)
         return prim if isinstance(prim, ReferencePrim) else None
 
+    def mark_changed(self, prim_path: str) -> None:
+        """Note that the prim at `prim_path` changed: the World recompiles at its next reset."""
+        self._changed("PRIM_CHANGED", prim_path)
+
     def _changed(self, kind: str, path: str) -> None:
         self.version += 1
-        for fn in list(self._callbacks.values()):
-            fn(StageEvent(kind, path))
+        self._callbacks.call(StageEvent(kind, path))
 
     def clear(self) -> None:
         self.sim = None

@@ -7,11 +7,11 @@ from typing import Any
 
 import numpy as np
 
-from manip.sim import _validate as V
 from manip.sim.objects import DynamicCuboid
 from manip.sim.robots import Franka
 from manip.sim.scene import Scene
 from manip.sim.stage import get_current_stage
+from manip.validation import positive, unit_quat, vec
 
 logger = logging.getLogger(__name__)
 
@@ -41,7 +41,7 @@ class BaseTask:
 
     def __init__(self, name: str, offset=None):
         self._name = name
-        self._offset = V.vec(offset, 3, "offset") if offset is not None else np.zeros(3)
+        self._offset = vec(offset, 3, "offset") if offset is not None else np.zeros(3)
         self._scene: Scene | None = None
         self._task_objects: dict[str, Any] = {}
 
@@ -122,25 +122,25 @@ class PickPlace(BaseTask):
         target_position: (3,) where the cube's centre should end [m] (default
             [0.4, -0.35, size/2]).
         cube_size: edge length [m] (default 0.05).
-        cube_mass: [kg] (default 0.03).
         offset: (3,) translation of the whole task [m].
+        cube_mass: [kg] (default 0.03).
         success_tolerance: [m] for `is_done`.
     """
 
     def __init__(self, name: str = "franka_pick_place", cube_initial_position=None, cube_initial_orientation=None,
-                 target_position=None, cube_size: float | None = None, cube_mass: float = 0.03, offset=None,
+                 target_position=None, cube_size: float | None = None, offset=None, *, cube_mass: float = 0.03,
                  success_tolerance: float = 0.01):
         super().__init__(name, offset)
-        self._cube_size = V.positive(cube_size if cube_size is not None else 0.05, "cube_size")
+        self._cube_size = positive(cube_size if cube_size is not None else 0.05, "cube_size", "m")
         half = self._cube_size / 2
-        self._cube_position = (V.vec(cube_initial_position, 3, "cube_initial_position")
+        self._cube_position = (vec(cube_initial_position, 3, "cube_initial_position")
                                if cube_initial_position is not None else np.array([0.5, 0.2, half]))
-        self._cube_orientation = (V.unit_quat(cube_initial_orientation) if cube_initial_orientation is not None
+        self._cube_orientation = (unit_quat(cube_initial_orientation) if cube_initial_orientation is not None
                                   else np.array([1.0, 0.0, 0.0, 0.0]))
-        self._target_position = (V.vec(target_position, 3, "target_position") if target_position is not None
+        self._target_position = (vec(target_position, 3, "target_position") if target_position is not None
                                  else np.array([0.4, -0.35, half]))
-        self._cube_mass = V.positive(cube_mass, "cube_mass")
-        self._tolerance = V.positive(success_tolerance, "success_tolerance")
+        self._cube_mass = positive(cube_mass, "cube_mass", "kg")
+        self._tolerance = positive(success_tolerance, "success_tolerance", "m")
         self._cube: DynamicCuboid | None = None
         self._robot: Franka | None = None
 
@@ -198,7 +198,7 @@ class PickPlace(BaseTask):
     def set_params(self, cube_position=None, cube_orientation=None, target_position=None) -> None:
         """Move the cube now and/or change the target (not the defaults restored by reset)."""
         if target_position is not None:
-            self._target_position = V.vec(target_position, 3, "target_position")
+            self._target_position = vec(target_position, 3, "target_position")
         if cube_position is not None or cube_orientation is not None:
             self._cube.set_world_pose(cube_position, cube_orientation)
 

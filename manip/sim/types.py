@@ -7,7 +7,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from manip.articulation_action import ArticulationAction
-from manip.sim import _validate as V
+from manip.errors import InvalidInputError
+from manip.validation import unit_quat, vec
 
 __all__ = ["ArticulationAction", "DynamicState", "JointsState", "XFormPrimState", "ArticulationActions"]
 
@@ -29,14 +30,26 @@ class DefaultPoseMixin:
     def set_default_state(self, position=None, orientation=None) -> None:
         """Pose restored by `post_reset()` (i.e. by `World.reset()`); None keeps a part."""
         if position is not None:
-            self._default_state.position = V.vec(position, 3, "position")
+            self._default_state.position = vec(position, 3, "position")
         if orientation is not None:
-            self._default_state.orientation = V.unit_quat(orientation)
+            self._default_state.orientation = unit_quat(orientation)
 
     def get_default_state(self) -> XFormPrimState:
         """The state `post_reset()` restores (a copy)."""
         s = self._default_state
         return XFormPrimState(s.position.copy(), s.orientation.copy())
+
+
+def position_or_translation(position, translation):
+    """The prim position given as `position` (world) or `translation` (local: the same here,
+    prims have no parent transform), unchecked; None if neither.
+
+    Raises:
+        InvalidInputError: both are given.
+    """
+    if position is not None and translation is not None:
+        raise InvalidInputError("give either position (world) or translation (local), not both")
+    return position if position is not None else translation
 
 
 @dataclass

@@ -16,8 +16,8 @@ import numpy as np
 
 from manip import quaternion as quat
 from manip.errors import InvalidInputError
-from manip.sim import _validate as V
 from manip.sim.stage import SimHandle, SimulationError, get_current_stage
+from manip.validation import batch
 
 logger = logging.getLogger(__name__)
 
@@ -117,8 +117,8 @@ class XFormPrimView:
         """Teleport free bodies and mocap prims (Visual/Fixed objects); articulation links raise."""
         sim = self._need()
         idx = self._idx(indices)
-        p = V.batch(positions, idx.size, 3, "positions") if positions is not None else None
-        q = quat.normalize(V.batch(orientations, idx.size, 4, "orientations")) if orientations is not None else None
+        p = batch(positions, idx.size, 3, "positions") if positions is not None else None
+        q = quat.normalize(batch(orientations, idx.size, 4, "orientations")) if orientations is not None else None
         movable = self._free[idx] | (self._mocap[idx] >= 0)
         if not np.all(movable):
             bad = [self._paths[i] for i in idx[~movable]]
@@ -177,15 +177,12 @@ class RigidPrimView(XFormPrimView):
         """Set (K, 6) linear + angular world velocities of free bodies."""
         sim = self._need()
         idx = self._idx(indices)
-        v = V.batch(velocities, idx.size, 6, "velocities")
+        v = batch(velocities, idx.size, 6, "velocities")
         if not np.all(self._free[idx]):
             raise SimulationError("only free rigid bodies (Dynamic objects) have settable velocities")
-        d = sim.data
         for k, i in enumerate(idx):
-            a, da = self._qadr[i], self._dadr[i]
-            qb = d.qpos[a + 3:a + 7]
-            d.qvel[da:da + 3] = v[k, :3]
-            d.qvel[da + 3:da + 6] = quat.to_matrix(qb / np.linalg.norm(qb)).T @ v[k, 3:]
+            sim.data.qvel[self._dadr[i]:self._dadr[i] + 3] = v[k, :3]
+            sim.set_free_angular_velocity(self._qadr[i], self._dadr[i], v[k, 3:])
         sim.mark_stale()
 
     def get_masses(self, indices=None) -> np.ndarray:

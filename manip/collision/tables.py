@@ -1,0 +1,269 @@
+"""The tables `CollisionChecker` checks with, built from the robot's geometry and the world.
+
+- `collect_parts`: every geometry moving with the robot (the robot's parts from
+  `RobotGeometry`, plus attached objects with their own sphere covers) and the part pairs
+  checked for self-collision.
+- `part_tables`: the flat arrays of the compiled broadphase (`manip.collision.broadphase`)
+  for those parts: fine and coarse sphere covers, one bounding ball per part, per moving
+  joint and per body, and the body pairs grouping the enabled part pairs.
+- `ObstacleTables`: the world's obstacles as broadphase shapes (rounded boxes and
+  cylinders in closed form, meshes through their bounding box) and as coal geometries.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+from typing import Mapping, NamedTuple, Sequence
+
+import coal
+import numpy as np
+
+from manip.collision.results import AttachedObject
+from manip.collision.robot_geometry import COARSE_MAX_SPHERES, COARSE_TOLERANCE, RobotGeometry, sphere_cover
+from manip.collision.shapes import Capsule, Cylinder, Obstacle, Sphere, coal_geometry
+from manip.kinematics import Kinematics
+from manip.pose import Pose
+
+logger = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True, eq=False)
+class _Part:
+    """A geometry moving with the robot: a robot part or an attached object."""
+
+    name: str           # robot link or attached object name
+    attached: bool
+    joint: int
+    R: np.ndarray       # (3, 3) geometry frame in joint frame
+    p: np.ndarray       # (3,)
+    geometry: object    # coal geometry for boolean checks
+    hull: object        # coal geometry for distances (convex hull of meshes)
+    centres: np.ndarray  # (K, 3) in joint frame
+    radii: np.ndarray   # (K,)
+    coarse_centres: np.ndarray  # (k, 3) in joint frame
+    coarse_radii: np.ndarray    # (k,)
+
+
+def _hull(geometry):
+    """Convex hull of a coal mesh (for fast signed distances), or the geometry itself."""
+    if hasattr(geometry, "num_tris") and hasattr(geometry, "buildConvexHull"):
+        try:
+            if geometry.convex is None:
+                geometry.buildConvexHull(True, "Qt")
+            if geometry.convex is not None:
+                return geometry.convex
+        except Exception:  # pragma: no cover - qhull failure on degenerate meshes
+            logger.debug("convex hull failed; distances use the mesh itself")
+    return geometry
+
+
+def _tf(R: np.ndarray, p: np.ndarray) -> coal.Transform3s:
+    return coal.Transform3s(R, p)
+
+
+def _sd_local(L: np.ndarray, h: np.ndarray, rho: np.ndarray, cyl: np.ndarray | None) -> np.ndarray:
+    """Signed distance of local points L (..., 3) to rounded boxes (half extents h, rounding rho)
+    or, where `cyl`, to cylinders (radius h[..., 0], half height h[..., 2]).
+
+    Written per component: reductions over a trailing axis of 3 are slow in NumPy.
+    """
+    x = np.abs(L[..., 0]) - h[..., 0]
+    y = np.abs(L[..., 1]) - h[..., 1]
+    z = np.abs(L[..., 2]) - h[..., 2]
+    inside = np.minimum(np.maximum(np.maximum(x, y), z), 0.0)
+    np.maximum(x, 0.0, out=x)
+    np.maximum(y, 0.0, out=y)
+    zc = np.maximum(z, 0.0)
+    out = np.sqrt(x * x + y * y + zc * zc) + inside - rho
+    if cyl is not None and np.any(cyl):
+        r = np.sqrt(L[..., 0] ** 2 + L[..., 1] ** 2) - h[..., 0]
+        inside_c = np.minimum(np.maximum(r, z), 0.0)
+        np.maximum(r, 0.0, out=r)
+        out = np.where(cyl, np.sqrt(r * r + zc * zc) + inside_c, out)
+    return out
+
+
+class _SphereTable:
+    """The balls of all parts in flat arrays (ragged by part), centres in joint frames."""
+
+    def __init__(self, centres: list[np.ndarray], radii: list[np.ndarray], joints: np.ndarray):
+        self.count = np.array([len(r) for r in radii], dtype=np.int64)
+        self.start = np.cumsum(self.count) - self.count
+        self.centres = np.concatenate(centres).reshape(-1, 3)
+        self.radii = np.concatenate(radii).astype(float)
+        self.part = np.repeat(np.arange(len(radii)), self.count)
+        self.joint = np.asarray(joints)[self.part]
+
+    def centres_of(self, g: int) -> np.ndarray:
+        return self.centres[self.start[g]:self.start[g] + self.count[g]]
+
+    def radii_of(self, g: int) -> np.ndarray:
+        return self.radii[self.start[g]:self.start[g] + self.count[g]]
+
+
+# ---------------------------------------------------------------------- robot side
+def collect_parts(robot: RobotGeometry, kinematics: Kinematics,
+                  attached: Mapping[str, AttachedObject]) -> tuple[list[_Part], list[tuple[int, int]]]:
+    """The robot's parts then the attached objects, and the part pairs checked for self-collision
+    (the robot's enabled pairs, then every attached object against every link it may touch)."""
+    parts: list[_Part] = []
+    for rp in robot.parts:
+        parts.append(_Part(rp.link, False, rp.joint, rp.R, rp.p, rp.geometry, _hull(rp.geometry), rp.centres, rp.radii,
+                           rp.coarse_centres, rp.coarse_radii))
+    n_robot = len(parts)
+    pairs = list(robot.self_pairs)
+    kin = kinematics
+    for name, att in attached.items():
+        f = kin.model.frames[kin.frame_id(att.link)]
+        T_joint_obj = Pose.from_matrix(f.placement.homogeneous) @ att.pose_in_link
+        local = att.obstacle.with_pose(Pose(np.zeros(3)))
+        geom = coal_geometry(local)
+        C, r = sphere_cover(geom, robot.sphere_tolerance)
+        Cc, rc = sphere_cover(geom, COARSE_TOLERANCE, COARSE_MAX_SPHERES)
+        Rj = T_joint_obj.rotation
+        pj = T_joint_obj.position
+        parts.append(_Part(name, True, f.parentJoint, Rj, pj, geom, _hull(geom), C @ Rj.T + pj, r, Cc @ Rj.T + pj, rc))
+        ai = len(parts) - 1
+        for i in range(n_robot):
+            if parts[i].name not in att.allowed_links:
+                pairs.append((i, ai))
+    return parts, pairs
+
+
+class PartTables(NamedTuple):
+    """The arrays of the robot side (see `part_tables`)."""
+
+    joint: np.ndarray         # (G,) joint of each part (0 = fixed to the base)
+    fine: _SphereTable        # the parts' fine sphere covers
+    coarse: _SphereTable      # the parts' coarse sphere covers
+    ball_centres: np.ndarray  # (G, 3) one bounding ball per part (joint frame)
+    ball_radii: np.ndarray    # (G,)
+    l0_joint: np.ndarray      # the moving joints (level 0 of the world broadphase)
+    pairs: np.ndarray         # (P, 2) enabled self-collision part pairs
+    body_pairs: np.ndarray    # (B, 2) body pairs with at least one enabled part pair
+    gR: np.ndarray            # (G, 3, 3) geometry placements in joint frames
+    gp: np.ndarray            # (G, 3)
+    bp_world: tuple           # tables of `broadphase.world_candidates` (robot side)
+    bp_pairs: np.ndarray      # (P, 2) part pairs grouped by body pair
+    bp_self: tuple            # tables of `broadphase.self_candidates`
+
+
+def part_tables(parts: Sequence[_Part], pairs: Sequence[tuple[int, int]]) -> PartTables:
+    """The broadphase tables of `parts` and their enabled self-collision `pairs`."""
+    G = len(parts)
+    pj = np.array([p.joint for p in parts])
+    fine = _SphereTable([p.centres for p in parts], [p.radii for p in parts], pj)
+    coarse = _SphereTable([p.coarse_centres for p in parts], [p.coarse_radii for p in parts], pj)
+
+    def bounding_ball(gs: Sequence[int]) -> tuple[np.ndarray, float]:
+        """A ball holding every fine and coarse ball of the parts gs (joint frame)."""
+        allc = np.concatenate([fine.centres_of(g) for g in gs] + [coarse.centres_of(g) for g in gs])
+        allr = np.concatenate([fine.radii_of(g) for g in gs] + [coarse.radii_of(g) for g in gs])
+        c = ((allc - allr[:, None]).min(axis=0) + (allc + allr[:, None]).max(axis=0)) / 2.0
+        return c, float((np.linalg.norm(allc - c, axis=1) + allr).max())
+
+    # one bounding ball per part (distance queries' branch and bound)
+    balls = [bounding_ball([g]) for g in range(G)]
+    pbc = np.array([c for c, _ in balls]).reshape(G, 3)
+    pbr = np.array([r for _, r in balls])
+    # level 0 of the world check: one bounding ball per moving joint (all its parts)
+    joints = sorted({p.joint for p in parts if p.joint != 0})
+    members = [np.array([g for g, p in enumerate(parts) if p.joint == j], dtype=np.int64) for j in joints]
+    balls = [bounding_ball(m) for m in members]
+    l0_joint = np.array(joints, dtype=np.int64)
+    pair_arr = np.array(pairs, dtype=np.int64).reshape(-1, 2)
+    # self-collision broadphase per body (a link's parts together, or an attached object):
+    # body pairs with at least one enabled part pair
+    body_of: dict[str, int] = {}
+    body_parts: list[list[int]] = []
+    for g, part in enumerate(parts):
+        key = ("attached:" if part.attached else "") + part.name
+        if key not in body_of:
+            body_of[key] = len(body_parts)
+            body_parts.append([])
+        body_parts[body_of[key]].append(g)
+    part_body = np.zeros(G, dtype=np.int64)
+    for b_, gs in enumerate(body_parts):
+        part_body[gs] = b_
+    bpairs: dict[tuple[int, int], list[int]] = {}
+    for k, (a_, b_) in enumerate(pairs):
+        bpairs.setdefault((int(part_body[a_]), int(part_body[b_])), []).append(k)
+    body_pairs = np.array(list(bpairs), dtype=np.int64).reshape(-1, 2)
+    pair_count = np.array([len(m) for m in bpairs.values()], dtype=np.int64)
+    pair_order = np.array([k for m in bpairs.values() for k in m], dtype=np.int64)
+    body_balls = [bounding_ball(gs) for gs in body_parts]
+    body_joint = np.array([parts[gs[0]].joint for gs in body_parts], dtype=np.int64)
+    # tables of the compiled broadphase (`broadphase.world_candidates` / `self_candidates`)
+    i64 = lambda a: np.ascontiguousarray(a, dtype=np.int64)  # noqa: E731
+    f64 = lambda a: np.ascontiguousarray(a, dtype=np.float64)  # noqa: E731
+    mem_count = np.array([m.size for m in members], dtype=np.int64)
+    covers = (i64(pj), i64(coarse.start), i64(coarse.count), f64(coarse.centres), f64(coarse.radii))
+    bp_world = (l0_joint, f64(np.array([c for c, _ in balls]).reshape(-1, 3)),
+                f64([r for _, r in balls]), i64(np.cumsum(mem_count) - mem_count), mem_count,
+                i64(np.concatenate(members) if members else np.zeros(0)), *covers,
+                i64(fine.start), i64(fine.count), f64(fine.centres), f64(fine.radii))
+    bp_pairs = i64(pair_arr[pair_order].reshape(-1, 2))
+    bp_self = (body_joint, f64(np.array([c for c, _ in body_balls]).reshape(-1, 3)), f64([r for _, r in body_balls]),
+               body_pairs, i64(np.cumsum(pair_count) - pair_count), pair_count, bp_pairs, *covers)
+    # geometry placements in joint frames, for batched transforms of the exact checks
+    gR = np.array([p.R for p in parts])
+    gp = np.array([p.p for p in parts])
+    return PartTables(pj, fine, coarse, pbc, pbr, l0_joint, pair_arr, body_pairs, gR, gp, bp_world, bp_pairs, bp_self)
+
+
+# ---------------------------------------------------------------------- world side
+class ObstacleTables:
+    """The obstacles as broadphase shapes (`broadphase` arrays, closed-form signed distances)
+    and as coal geometries with their placements.
+
+    Args:
+        obstacles: the world's obstacles.
+        cache: id(obstacle) -> (obstacle, coal geometry), reused for unchanged obstacles;
+            updated in place (entries of obstacles no longer in the world are dropped).
+    """
+
+    def __init__(self, obstacles: list[Obstacle], cache: dict[int, tuple]):
+        O = len(obstacles)
+        self.obstacles = obstacles
+        self.R = np.zeros((O, 3, 3))
+        self.c = np.zeros((O, 3))
+        self.h = np.zeros((O, 3))
+        self.rho = np.zeros(O)
+        self.cyl = np.zeros(O, dtype=bool)
+        self.geometries: list = []
+        self.transforms: list = []
+        for i, ob in enumerate(obstacles):
+            R = ob.pose.rotation
+            self.R[i] = R
+            c_local, h = ob.local_aabb()
+            self.c[i] = ob.pose.position + R @ c_local
+            if isinstance(ob, Sphere):
+                self.h[i] = 0.0
+                self.rho[i] = ob.radius
+            elif isinstance(ob, Capsule):
+                self.h[i] = [0.0, 0.0, ob.height / 2.0]
+                self.rho[i] = ob.radius
+            elif isinstance(ob, Cylinder):
+                self.h[i] = [ob.radius, ob.radius, ob.height / 2.0]
+                self.cyl[i] = True
+            else:  # cuboid, mesh (bounding box)
+                self.h[i] = h
+            key = id(ob)
+            if key not in cache:  # keep coal geometries of unchanged obstacles
+                cache[key] = (ob, coal_geometry(ob))
+            self.geometries.append(cache[key][1])
+            self.transforms.append(_tf(R, ob.pose.position))
+        live = {id(o) for o in obstacles}
+        for key in [k for k in cache if k not in live]:
+            del cache[key]
+        self.any_cyl = bool(self.cyl.any())
+        #: the obstacle tables of `broadphase.world_candidates`
+        self.broadphase = (np.ascontiguousarray(self.R), np.ascontiguousarray(self.c), np.ascontiguousarray(self.h),
+                           np.ascontiguousarray(self.rho), np.ascontiguousarray(self.cyl))
+
+    def signed_distances(self, X: np.ndarray) -> np.ndarray:
+        """Signed distances (M, O) of points X (M, 3) to every obstacle's broadphase shape."""
+        d = X[:, None, :] - self.c[None]
+        L = np.einsum("moj,oji->moi", d, self.R)
+        return _sd_local(L, self.h[None], self.rho[None], self.cyl[None] if self.any_cyl else None)

@@ -1,0 +1,511 @@
+"""`IKSolver`: damped least squares (Levenberg-Marquardt) with joint limits and restarts.
+
+`IKSolver.solve` finds one configuration for one goal, each attempt one compiled (numba)
+descent (`kernels._lm_lanes`, on the same kinematics tables as `Kinematics.joint_transforms`);
+`IKSolver.solve_batch` iterates all goals of a batched Pose at once in NumPy
+(`Kinematics.frame_jacobians`, `manip.ik.batch`), re-starting only the ones that have not
+converged; `IKSolver.solve_many` runs all its attempts in one compiled call and returns
+several distinct solutions of one goal, nearest `seed_q` first.
+
+The iteration and its stopping rules are described in `manip.ik.kernels`.
+
+mink (a QP per step) was measured for comparison in benchmarks/kinematics.py: the same
+success rate on reachable poses, several times the median time per solve (BENCHMARKS.md).
+
+Every claimed success is re-checked with an independent forward kinematics (Pinocchio's
+full model, fingers included, a different code path from the solver's) and against the
+joint limits; a solution that fails the check is discarded, never reported.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+import warnings
+from typing import NamedTuple
+
+import numpy as np
+import pinocchio as pin
+
+from manip.errors import InvalidInputError
+from manip.ik.batch import run_lanes
+from manip.ik.kernels import _INTERNAL_TOLERANCE, _MIN_DAMPING, _STALL_ITERATIONS, _lm_lanes
+from manip.ik.result import BatchIKResult, IKResult, IKSolutions, IKStatus, ValidityFn, _freeze
+from manip.kinematics import Kinematics
+from manip.pose import Pose
+from manip.validation import positive
+
+logger = logging.getLogger(__name__)
+
+#: A validity check for candidate solutions: Q (K, dof) -> (K,) bool (True = acceptable).
+
+
+class _Attempts(NamedTuple):
+    found: list[np.ndarray]
+    best_q: np.ndarray
+    best_error: tuple[float, float]
+    iterations: int
+    attempts: int
+    status: IKStatus
+
+
+class _LazyRng:
+    """A np.random.Generator created on first use (most solves never restart)."""
+
+    def __init__(self, seed: int):
+        self._seed = seed
+        self._rng: np.random.Generator | None = None
+
+    def uniform(self, low: np.ndarray, high: np.ndarray, size: tuple[int, ...] | None = None) -> np.ndarray:
+        if self._rng is None:
+            self._rng = np.random.default_rng(self._seed)
+        return self._rng.uniform(low, high, size)
+
+
+def _at_least_one(value: int, what: str) -> int:
+    if value < 1:
+        raise InvalidInputError(f"{what} must be >= 1, got {value}")
+    return int(value)
+
+
+def _renamed(old: str, old_value, new: str, new_value):
+    """The value of keyword `new`, or of its deprecated name `old` (with a DeprecationWarning)."""
+    if old_value is None:
+        return new_value
+    if new_value is not None:
+        raise InvalidInputError(f"give {new} only ({old} is its deprecated name)")
+    warnings.warn(f"{old} is deprecated; use {new}", DeprecationWarning, stacklevel=3)
+    return old_value
+
+
+class IKSolver:
+    """Levenberg-Marquardt inverse kinematics with joint limits and random restarts.
+
+    Goals are poses of a link (any frame of the model) in the robot's base frame.
+
+    Args:
+        kinematics: the robot's kinematics.
+        position_tolerance: success threshold on the position error [m].
+        rotation_tolerance: success threshold on the rotation error [rad].
+        max_iterations: iterations per attempt.
+        max_attempts: attempts per goal: the first from `seed_q`, the others from uniformly
+            random configurations within the joint limits.
+        seed: seed of the random restarts; the same inputs and seed give the same answer.
+        damping: Levenberg-Marquardt damping gain (lambda = damping * |e|^2).
+        max_step: largest change of one joint per iteration [rad].
+
+    Raises:
+        InvalidInputError: if a parameter is not positive.
+    """
+
+    def __init__(
+        self,
+        kinematics: Kinematics,
+        *,
+        position_tolerance: float = 1e-3,
+        rotation_tolerance: float = 0.01,
+        max_iterations: int = 60,
+        max_attempts: int = 100,
+        seed: int = 0,
+        damping: float = 0.03,
+        max_step: float = 1.0,
+    ):
+        if not isinstance(kinematics, Kinematics):
+            raise InvalidInputError(f"kinematics must be a manip.Kinematics, got {type(kinematics).__name__}")
+        self.kinematics = kinematics
+        self.position_tolerance = positive(position_tolerance, "position_tolerance", "m")
+        self.rotation_tolerance = positive(rotation_tolerance, "rotation_tolerance", "rad")
+        self.max_iterations = int(positive(max_iterations, "max_iterations"))
+        self.max_attempts = int(positive(max_attempts, "max_attempts"))
+        self.seed = int(seed)
+        self.damping = positive(damping, "damping")
+        self.max_step = positive(max_step, "max_step", "rad")
+        self._tol_p = min(_INTERNAL_TOLERANCE, self.position_tolerance)
+        self._tol_r = min(_INTERNAL_TOLERANCE, self.rotation_tolerance)
+        self._model = kinematics.model
+        self._data = kinematics.model.createData()
+        # Independent check: the full model (fingers at their planning positions), its own data.
+        self._check_model = kinematics.full_model
+        self._check_data = kinematics.full_model.createData()
+        self._check_q_index = np.array(
+            [kinematics.full_model.joints[kinematics.full_model.getJointId(j)].idx_q for j in kinematics.joint_names]
+        )
+        self._reach_cache: dict[int, tuple[np.ndarray, float]] = {}
+        self._check_frame_ids: dict[int, int] = {}
+
+    # ------------------------------------------------------------------ public API
+    def solve(
+        self,
+        goal: Pose,
+        link: str | None = None,
+        seed_q: np.ndarray | None = None,
+        *,
+        validity_fn: ValidityFn | None = None,
+        num_solutions: int = 1,
+        seed: int | None = None,
+        time_limit: float | None = None,
+    ) -> IKResult:
+        """Solve IK for one goal pose.
+
+        Args:
+            goal: single Pose of `link` in the base frame.
+            link: frame to place at the goal (default: the robot's `ee_link`).
+            seed_q: (dof,) start of the first attempt and the reference for "nearest"
+                (default: the robot's default configuration). Clipped to the limits as a start.
+            validity_fn: optional Q (K, dof) -> (K,) bool; solutions it rejects do not count.
+            num_solutions: keep restarting until this many solutions are found (or
+                `max_attempts` run out) and return the one nearest `seed_q`.
+            seed: seed of the random restarts (default: the solver's).
+            time_limit: optional wall-time budget [s].
+
+        Returns:
+            IKResult; `q` is the solution nearest `seed_q` among those found; on failure
+            `message` says what went wrong in this call.
+
+        Raises:
+            InvalidInputError: goal not a single Pose, bad seed_q, bad num_solutions.
+            UnknownNameError: unknown link (the message lists the frames).
+        """
+        t0 = time.perf_counter()
+        fid, q_ref = self._prepare(goal, link, seed_q, batched=False)
+        _at_least_one(num_solutions, "num_solutions")
+        rng = _LazyRng(self.seed if seed is None else seed)
+        R_goal = goal.rotation
+        p_goal = goal.position
+
+        if self._out_of_reach(fid, p_goal[None])[0]:
+            ep, er = self._pose_error(q_ref, fid, R_goal, p_goal)
+            status = IKStatus.OUT_OF_REACH
+            return IKResult(False, _freeze(q_ref.copy()), ep, er, status, 0, time.perf_counter() - t0, 0,
+                            self._failure_message(status, 0, ep, er, fid, p_goal, time_limit))
+
+        lo, hi = self.kinematics.lower, self.kinematics.upper
+        out = self._run_attempts(
+            fid, R_goal, p_goal, np.clip(q_ref, lo, hi), self.max_attempts, rng, validity_fn, num_solutions, t0, time_limit
+        )
+        elapsed = time.perf_counter() - t0
+        if out.found:
+            sols = np.array(out.found)
+            q = sols[np.argmin(np.linalg.norm(sols - q_ref, axis=1))]
+            ep, er = self._pose_error(q, fid, R_goal, p_goal)
+            return IKResult(True, _freeze(q.copy()), ep, er, IKStatus.SUCCESS, out.iterations, elapsed, out.attempts)
+        logger.debug("IK failed (%s) after %d attempts", out.status.name, out.attempts)
+        ep, er = out.best_error
+        return IKResult(
+            False, _freeze(out.best_q.copy()), ep, er, out.status, out.iterations, elapsed, out.attempts,
+            self._failure_message(out.status, out.attempts, ep, er, fid, p_goal, time_limit),
+        )
+
+    def solve_batch(
+        self,
+        goals: Pose,
+        link: str | None = None,
+        seed_q: np.ndarray | None = None,
+        *,
+        validity_fn: ValidityFn | None = None,
+        seed: int | None = None,
+        time_limit: float | None = None,
+    ) -> BatchIKResult:
+        """Solve IK for every goal of a batched Pose at once (vectorised NumPy).
+
+        Each goal's first attempt starts from `seed_q`; goals that stall or run out of
+        iterations restart from random configurations until `max_attempts`. The first
+        verified solution of each goal is returned (use `solve` with `num_solutions` or
+        `solve_many` for the nearest of several).
+
+        Args:
+            goals: batched Pose (N goals) of `link` in the base frame.
+            link: frame to place at the goals (default: the robot's `ee_link`).
+            seed_q: (dof,) or (N, dof) starts of the first attempts (default: the default
+                configuration).
+            validity_fn: optional Q (K, dof) -> (K,) bool; rejected solutions restart.
+            seed: seed of the random restarts (default: the solver's).
+            time_limit: optional wall-time budget [s] for the whole batch.
+
+        Returns:
+            BatchIKResult with (N,) arrays.
+
+        Raises:
+            InvalidInputError: goals not a batched Pose, bad seed_q.
+            UnknownNameError: unknown link.
+        """
+        t0 = time.perf_counter()
+        fid, q_ref = self._prepare(goals, link, seed_q, batched=True)
+        n = len(goals)
+        rng = np.random.default_rng(self.seed if seed is None else seed)
+        out = run_lanes(
+            self, goals.rotation, goals.position, fid, np.broadcast_to(q_ref, (n, self.kinematics.dof)),
+            rng, validity_fn, self.max_attempts, t0, time_limit,
+        )
+        q, success, ep, er, iters, attempts, status = out
+        message = [""] * n
+        for i in np.flatnonzero(~success):
+            message[i] = self._failure_message(status[i], attempts[i], ep[i], er[i], fid, goals.position[i], time_limit)
+        return BatchIKResult(
+            success=_freeze(success), q=_freeze(q), position_error=_freeze(ep), rotation_error=_freeze(er),
+            status=tuple(status), iterations=_freeze(iters), attempts=_freeze(attempts),
+            solve_time=time.perf_counter() - t0, message=tuple(message),
+        )
+
+    def solve_many(
+        self,
+        goal: Pose,
+        link: str | None = None,
+        n: int = 8,
+        seed_q: np.ndarray | None = None,
+        *,
+        validity_fn: ValidityFn | None = None,
+        attempts: int | None = None,
+        min_distance: float = 0.05,
+        seed: int | None = None,
+        num_seeds: int | None = None,
+    ) -> IKSolutions:
+        """Several distinct solutions of one goal, nearest `seed_q` first.
+
+        Runs `attempts` descents (the first from `seed_q`, the others from random
+        configurations) and keeps, in attempt order, the verified solutions that
+        `validity_fn` accepts, dropping near-duplicates, up to `n`.
+
+        Args:
+            goal: single Pose of `link` in the base frame.
+            link: frame to place at the goal (default: the robot's `ee_link`).
+            n: largest number of solutions to return.
+            seed_q: (dof,) reference configuration (default: the default configuration).
+            validity_fn: optional Q (K, dof) -> (K,) bool filter (e.g. collision-free).
+            attempts: how many attempts to make: the first from `seed_q`, the others random
+                restarts (default max(4 n, 16)).
+            min_distance: two solutions closer than this [rad, max over joints] count as one.
+            seed: seed of the random starts (default: the solver's).
+            num_seeds: deprecated name of `attempts`.
+
+        Returns:
+            IKSolutions: `q` (K, dof), K <= n (K = 0 when none was found), sorted by
+            Euclidean joint-space distance to `seed_q`, with the status, a message when
+            none was found and the attempts made. It iterates, indexes and converts
+            (`np.asarray`) as the (K, dof) array of solutions.
+
+        Raises:
+            InvalidInputError: goal not a single Pose, bad seed_q, n or attempts < 1, both
+                attempts and num_seeds given.
+            UnknownNameError: unknown link.
+        """
+        fid, q_ref = self._prepare(goal, link, seed_q, batched=False)
+        _at_least_one(n, "n")
+        attempts = _renamed("num_seeds", num_seeds, "attempts", attempts)
+        m = max(4 * n, 16) if attempts is None else _at_least_one(int(attempts), "attempts")
+        rng = _LazyRng(self.seed if seed is None else seed)
+        k = self.kinematics
+        R_goal, p_goal = goal.rotation, goal.position
+        if self._out_of_reach(fid, p_goal[None])[0]:
+            status = IKStatus.OUT_OF_REACH
+            return IKSolutions(_freeze(np.empty((0, k.dof))), status,
+                               self._failure_message(status, 0, np.inf, np.inf, fid, p_goal, None), 0)
+        # every attempt at once (one compiled call), then the filters in attempt order
+        Q0 = np.vstack([np.clip(q_ref, k.lower, k.upper)[None], rng.uniform(k.lower, k.upper, (m - 1, k.dof))])
+        Q, ep, er, _ = self._descend(Q0, fid, R_goal, p_goal)
+        idx = np.flatnonzero((ep <= self.position_tolerance) & (er <= self.rotation_tolerance))
+        if idx.size:
+            idx = idx[self._verify_batch(Q[idx], fid, np.broadcast_to(R_goal, (idx.size, 3, 3)),
+                                         np.broadcast_to(p_goal, (idx.size, 3)))]
+        verified = idx.size
+        if idx.size and validity_fn is not None:
+            idx = idx[np.asarray(validity_fn(Q[idx]), dtype=bool).reshape(-1)]
+        kept: list[np.ndarray] = []
+        for i in idx:
+            if any(np.max(np.abs(Q[i] - other)) < min_distance for other in kept):
+                continue
+            kept.append(Q[i])
+            if len(kept) == n:
+                break
+        sols = np.array(kept).reshape(-1, k.dof)
+        sols = _freeze(sols[np.argsort(np.linalg.norm(sols - q_ref, axis=1), kind="stable")])
+        if len(sols):
+            return IKSolutions(sols, IKStatus.SUCCESS, "", m)
+        status = IKStatus.REJECTED_BY_VALIDITY if verified else IKStatus.NOT_CONVERGED
+        best = int(np.argmin(ep / self.position_tolerance + er / self.rotation_tolerance))
+        return IKSolutions(sols, status, self._failure_message(status, m, ep[best], er[best], fid, p_goal, None), m)
+
+    # ------------------------------------------------------------------ validation
+    def _prepare(self, goal: object, link: str | None, seed_q: np.ndarray | None, batched: bool) -> tuple[int, np.ndarray]:
+        """Checks of a call's goal (a single or a batched Pose), link and seed_q:
+        (frame id, reference configuration (dof,) or (N, dof))."""
+        self._check_goal(goal, batched)
+        fid = self.kinematics.frame_id(link if link is not None else self.kinematics.config.ee_link)
+        return fid, self._check_seed_q(seed_q, len(goal) if batched else None)
+
+    def _check_goal(self, goal: object, batched: bool) -> None:
+        if not isinstance(goal, Pose):
+            raise InvalidInputError(
+                f"goal must be a manip.Pose (position [m], quaternion (w, x, y, z)); got {type(goal).__name__}"
+            )
+        if batched and not goal.is_batch:
+            raise InvalidInputError("solve_batch needs a batched Pose (position (N, 3)); use solve for one goal")
+        if not batched and goal.is_batch:
+            raise InvalidInputError(
+                f"solve needs a single Pose; got a batch of {len(goal)} (use solve_batch, or index the batch)"
+            )
+
+    def _check_seed_q(self, seed_q: np.ndarray | None, n: int | None) -> np.ndarray:
+        k = self.kinematics
+        if seed_q is None:
+            return k.config.default_joint_positions.astype(float).copy()
+        q = k.check_q(seed_q, "seed_q")
+        if n is None and q.ndim != 1:
+            raise InvalidInputError(f"seed_q must have shape ({k.dof},) for joints {list(k.joint_names)}; got {q.shape}")
+        if n is not None and q.ndim == 2 and q.shape[0] != n:
+            raise InvalidInputError(f"seed_q must have shape ({k.dof},) or ({n}, {k.dof}) for {n} goals; got {q.shape}")
+        return q.copy()
+
+    def _failure_message(self, status: IKStatus, attempts: int, ep: float, er: float, fid: int,
+                         p_goal: np.ndarray, time_limit: float | None) -> str:
+        """The one-line detail of a failed query ("" for SUCCESS)."""
+        if status is IKStatus.SUCCESS:
+            return ""
+        if status is IKStatus.OUT_OF_REACH:
+            anchor, radius = self._reach(fid)
+            return (f"the goal position is {np.linalg.norm(p_goal - anchor):.3f} m from the first joint of the chain "
+                    f"to '{self._model.frames[fid].name}', which reaches at most {radius:.3f} m")
+        if status is IKStatus.TIME_LIMIT:
+            return f"time_limit {time_limit:g} s ran out after {attempts} attempt(s)"
+        if status is IKStatus.REJECTED_BY_VALIDITY:
+            return f"validity_fn rejected every solution found in {attempts} attempt(s)"
+        return (f"no attempt of {attempts} converged: the best ended {ep:.3g} m and {er:.3g} rad from the goal "
+                f"(tolerances {self.position_tolerance:g} m, {self.rotation_tolerance:g} rad)")
+
+    # ------------------------------------------------------------------ reach bound
+    def _reach(self, fid: int) -> tuple[np.ndarray, float]:
+        """(anchor (3,), radius [m]): the frame's origin always lies within the ball.
+
+        The anchor is the origin of the first joint of the chain (fixed in the base frame);
+        the radius sums the lengths of the fixed offsets after it (triangle inequality,
+        rotations preserve lengths). Chains with prismatic joints get an infinite radius.
+        """
+        if fid not in self._reach_cache:
+            model = self._model
+            frame = model.frames[fid]
+            radius = float(np.linalg.norm(frame.placement.translation))
+            j = frame.parentJoint
+            anchor = np.zeros(3)
+            specs = self.kinematics._joints
+            if j == 0:
+                anchor, radius = frame.placement.translation.copy(), 0.0
+            while j > 0:
+                spec = specs[j - 1]
+                if not spec.revolute:
+                    radius = np.inf
+                if spec.parent == 0:
+                    anchor = spec.p_placement.copy()
+                else:
+                    radius += float(np.linalg.norm(spec.p_placement))
+                j = spec.parent
+            self._reach_cache[fid] = (anchor, radius)
+        return self._reach_cache[fid]
+
+    def _out_of_reach(self, fid: int, p_goal: np.ndarray) -> np.ndarray:
+        anchor, radius = self._reach(fid)
+        return np.linalg.norm(p_goal - anchor, axis=-1) > radius + self.position_tolerance
+
+    # ------------------------------------------------------------------ single solve
+    def _run_attempts(
+        self,
+        fid: int,
+        R_goal: np.ndarray,
+        p_goal: np.ndarray,
+        q_first: np.ndarray,
+        max_attempts: int,
+        rng: _LazyRng | np.random.Generator,
+        validity_fn: ValidityFn | None,
+        num_solutions: int,
+        t0: float,
+        time_limit: float | None,
+    ) -> _Attempts:
+        """Attempts from q_first, then from random configurations, until enough solutions."""
+        lo, hi = self.kinematics.lower, self.kinematics.upper
+        found: list[np.ndarray] = []
+        best_q, best_cost, best_err = q_first, np.inf, (np.inf, np.inf)
+        iterations = attempts = rejected = 0
+        timed_out = False
+        for attempt in range(max_attempts):
+            if time_limit is not None and time.perf_counter() - t0 > time_limit:
+                timed_out = True
+                break
+            q0 = q_first if attempt == 0 else rng.uniform(lo, hi)
+            q, ep, er, its = self._attempt(q0, fid, R_goal, p_goal)
+            iterations += its
+            attempts += 1
+            if ep <= self.position_tolerance and er <= self.rotation_tolerance and self._verify(q, fid, R_goal, p_goal):
+                if validity_fn is None or bool(np.asarray(validity_fn(q[None])).reshape(-1)[0]):
+                    found.append(q)
+                    if len(found) >= num_solutions:
+                        break
+                    continue
+                rejected += 1
+            cost = ep / self.position_tolerance + er / self.rotation_tolerance
+            if cost < best_cost:
+                best_q, best_cost, best_err = q, cost, (ep, er)
+        if found:
+            status = IKStatus.SUCCESS
+        elif timed_out:
+            status = IKStatus.TIME_LIMIT
+        elif rejected:
+            status = IKStatus.REJECTED_BY_VALIDITY
+        else:
+            status = IKStatus.NOT_CONVERGED
+        if not np.isfinite(best_err[0]):
+            best_err = self._pose_error(best_q, fid, R_goal, p_goal)
+        return _Attempts(found, best_q, best_err, iterations, attempts, status)
+
+    def _attempt(self, q: np.ndarray, fid: int, R_goal: np.ndarray, p_goal: np.ndarray) -> tuple[np.ndarray, float, float, int]:
+        """One descent from q (`_lm_lanes`). Returns (q, position error, rotation error, iterations)."""
+        Q, ep, er, it = self._descend(q[None], fid, R_goal, p_goal)
+        return Q[0], float(ep[0]), float(er[0]), int(it[0])
+
+    def _descend(self, Q0: np.ndarray, fid: int, R_goal: np.ndarray, p_goal: np.ndarray):
+        """`_lm_lanes` from every row of Q0 (K, dof): (Q, position errors, rotation errors, iterations)."""
+        k = self.kinematics
+        return _lm_lanes(np.ascontiguousarray(Q0, dtype=np.float64), *k.fk_tables(), *k.jacobian_tables(fid),
+                         np.ascontiguousarray(R_goal, dtype=np.float64), np.ascontiguousarray(p_goal, dtype=np.float64),
+                         k.lower, k.upper, self._tol_p, self._tol_r, self.damping, _MIN_DAMPING, self.max_step,
+                         self.max_iterations, _STALL_ITERATIONS)
+
+    def _pose_error(self, q: np.ndarray, fid: int, R_goal: np.ndarray, p_goal: np.ndarray) -> tuple[float, float]:
+        M = self.kinematics.frame_transform(q, fid)
+        return float(np.linalg.norm(p_goal - M.translation)), float(np.linalg.norm(pin.log3(R_goal @ M.rotation.T)))
+
+    def _verify(self, q: np.ndarray, fid: int, R_goal: np.ndarray, p_goal: np.ndarray) -> bool:
+        """Independent check of one solution: joint limits and the full model's FK."""
+        return bool(self._verify_batch(q[None], fid, R_goal[None], p_goal[None])[0])
+
+    def _verify_batch(self, Q: np.ndarray, fid: int, R_goal: np.ndarray, p_goal: np.ndarray) -> np.ndarray:
+        """Independent check of solutions Q (K, dof) for goals (K, 3, 3), (K, 3): (K,) bool.
+
+        Uses Pinocchio's full model (fingers included, its own data), not the solver's
+        reduced model or batched NumPy kinematics, and the rotation angle from the trace
+        (cos(theta) = (tr(R_goal^T R) - 1) / 2), not the solver's logarithm.
+        """
+        k = self.kinematics
+        ok = np.all((Q >= k.lower) & (Q <= k.upper), axis=1)
+        model, data = self._check_model, self._check_data
+        cfid = self._check_frame_ids.get(fid)
+        if cfid is None:
+            cfid = self._check_frame_ids[fid] = model.getFrameId(self._model.frames[fid].name)
+        q_full = k.locked_configuration.copy()
+        idx = self._check_q_index
+        R = np.empty((Q.shape[0], 3, 3))
+        p = np.empty((Q.shape[0], 3))
+        for i in range(Q.shape[0]):
+            q_full[idx] = Q[i]
+            pin.forwardKinematics(model, data, q_full)
+            M = pin.updateFramePlacement(model, data, cfid)
+            R[i] = M.rotation
+            p[i] = M.translation
+        ep = np.linalg.norm(p - p_goal, axis=1)
+        cos = np.clip(0.5 * (np.einsum("nij,nij->n", R_goal, R) - 1.0), -1.0, 1.0)
+        er = np.arccos(cos)
+        good = ok & (ep <= self.position_tolerance) & (er <= self.rotation_tolerance)
+        for i in np.flatnonzero(~good):
+            logger.warning(
+                "IK discarded a solution that failed the independent check (%.3g m, %.3g rad, limits: %s)",
+                ep[i], er[i], k.limit_violations(Q[i]) or "ok",
+            )
+        return good

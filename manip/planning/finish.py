@@ -1,0 +1,75 @@
+"""The last stages of a plan: time a path, then validate the timed trajectory densely.
+
+`validate_trajectory` is the guarantee of every successful plan: the returned samples are
+what a user executes and what a verifier checks, so their linear interpolation is checked
+with consecutive checked configurations at most `resolution` apart (the true motion between
+samples strays from that line by less than max|acceleration| dt^2 / 8, e.g. 0.3 mrad at
+1/60 s). Limits are checked by the timing stage (or the optimiser) on the exact profile.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from manip.planning.context import PlanContext
+from manip.planning.validity import Validity
+from manip.timing import TimingLimits, time_path
+from manip.trajectory import Trajectory
+
+#: Position-limit tolerance [rad] of trajectories whose start is inside the limits.
+LIMIT_TOLERANCE = 1e-6
+
+
+def validate_trajectory(traj: Trajectory, start: np.ndarray, goal: np.ndarray, validity: Validity) -> str:
+    """Why the timed trajectory is not acceptable ("" when it is): endpoints and dense collisions."""
+    if np.max(np.abs(traj.positions[0] - start)) > 1e-9 or np.max(np.abs(traj.positions[-1] - goal)) > 1e-6:
+        return "trajectory does not start at the start or end at the goal"
+    check = validity.checker.path_valid(traj.positions, resolution=validity.resolution)
+    if not check.valid:
+        return f"timed trajectory collides near t = {traj.times[check.first_invalid_segment]:.3f} s"
+    return ""
+
+
+def time_and_validate(
+    ctx: PlanContext,
+    path: np.ndarray,
+    goal_q: np.ndarray,
+    limits: TimingLimits,
+    validity: Validity,
+    *,
+    deviation: float = 0.05,
+    dense_deviation: float | None = None,
+) -> tuple[Trajectory | None, str]:
+    """Time the path (corners blended within `deviation` rad, else stopping at each) and validate.
+
+    With `dense_deviation` given (a dense path sampled from a smooth curve, e.g. a linear
+    motion), one smooth motion along a spline through its points, within `dense_deviation`
+    rad of the path, is tried first. Stage times go to ctx.timings ("timing", "validate").
+
+    Returns:
+        (the first valid trajectory, "") or (None, why the last try failed).
+    """
+    opts = ctx.options
+    modes = (("along_path",) if dense_deviation is not None else ()) + ("blend", "exact")
+    reason = ""
+    for mode in modes:
+        t = time.perf_counter()
+        timed = time_path(
+            path, limits, mode=mode, dt=opts.dt,
+            position_tolerance=max(LIMIT_TOLERANCE, validity.limit_excess(path[0])),
+            deviation_tolerance=dense_deviation if mode == "along_path" else deviation,
+            velocity_scale=opts.velocity_scale, acceleration_scale=opts.acceleration_scale,
+            jerk_scale=opts.acceleration_scale, duration=opts.duration,
+        )
+        ctx.add_time("timing", t)
+        if not timed.success:
+            reason = timed.message
+            continue
+        t = time.perf_counter()
+        reason = validate_trajectory(timed.trajectory, path[0], goal_q, validity)
+        ctx.add_time("validate", t)
+        if not reason:
+            return timed.trajectory, ""
+    return None, reason

@@ -1,0 +1,93 @@
+"""`PlanOptions`: the per-call options of the planning calls, validated in one place."""
+
+from __future__ import annotations
+
+import numbers
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+from manip.errors import InvalidInputError
+from manip.validation import fraction, positive
+
+#: Values of the `smoothness` option.
+SMOOTHNESS = ("time_optimal", "smooth")
+
+
+@dataclass(frozen=True)
+class PlanOptions:
+    """Options of one planning call (`plan_joints`, `plan_pose`, `plan_goalset`, `plan_batch`).
+
+    Attributes:
+        time_budget: planning wall-time budget [s].
+        seed: random seed of this call (IK restarts, sampling, shortcutting).
+        dt: sample period of the returned trajectory [s].
+        velocity_scale: factor in (0, 1] on the velocity limits.
+        acceleration_scale: factor in (0, 1] on the acceleration and jerk limits.
+        duration: stretch the motion to this length [s] (TRAJOPT_FAIL if shorter than
+            feasible); None = as fast as the limits allow.
+        ik_solutions: collision-free IK solutions sought per goal pose.
+        linear_step: Cartesian step of linear motions [m].
+        optimize_clearance: push the shortcut path's waypoints away from obstacles (tens of
+            ms in cluttered scenes).
+        trajopt: run the trajectory optimiser on searched paths (faster, shorter, smoother
+            motions; falls back to the shortcut path when it fails).
+        smoothness: "time_optimal" (the fastest trajectory within the limits) or "smooth"
+            (peak jerk well under the limit: gentler, somewhat slower motions).
+    """
+
+    time_budget: float = 5.0
+    seed: int = 0
+    dt: float = 1.0 / 60.0
+    velocity_scale: float = 1.0
+    acceleration_scale: float = 1.0
+    duration: float | None = None
+    ik_solutions: int = 6
+    linear_step: float = 0.005
+    optimize_clearance: bool = False
+    trajopt: bool = True
+    smoothness: str = "time_optimal"
+
+    def __post_init__(self) -> None:
+        def put(name, value):
+            object.__setattr__(self, name, value)
+
+        put("time_budget", positive(self.time_budget, "time_budget", "s"))
+        put("dt", positive(self.dt, "dt", "s"))
+        put("velocity_scale", fraction(self.velocity_scale, "velocity_scale"))
+        put("acceleration_scale", fraction(self.acceleration_scale, "acceleration_scale"))
+        if self.duration is not None:
+            put("duration", positive(self.duration, "duration", "s"))
+        put("linear_step", positive(self.linear_step, "linear_step", "m"))
+        put("seed", _integer(self.seed, "seed", 0))
+        put("ik_solutions", _integer(self.ik_solutions, "ik_solutions", 1))
+        for name in ("optimize_clearance", "trajopt"):
+            if not isinstance(getattr(self, name), (bool, np.bool_)):
+                raise InvalidInputError(f"{name} must be True or False; got {getattr(self, name)!r}")
+            put(name, bool(getattr(self, name)))
+        if self.smoothness not in SMOOTHNESS:
+            raise InvalidInputError(f"smoothness must be one of {list(SMOOTHNESS)}; got {self.smoothness!r}")
+
+    @classmethod
+    def names(cls) -> list[str]:
+        """The option names, sorted."""
+        return sorted(f.name for f in fields(cls))
+
+    def updated(self, options: dict) -> PlanOptions:
+        """These options with `options` (a dict of keyword arguments) applied and validated.
+
+        Raises:
+            InvalidInputError: an unknown option (the valid names are listed) or a bad value.
+        """
+        unknown = sorted(set(options) - set(self.names()))
+        if unknown:
+            raise InvalidInputError(f"unknown planning option(s) {unknown}; valid: {self.names()}")
+        values = {f.name: getattr(self, f.name) for f in fields(self)}
+        values.update(options)
+        return PlanOptions(**values)
+
+
+def _integer(value, what: str, minimum: int) -> int:
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral) or value < minimum:
+        raise InvalidInputError(f"{what} must be an integer >= {minimum}; got {value!r}")
+    return int(value)

@@ -1,0 +1,47 @@
+"""The path-search policy: RRT-Connect coarse-to-fine, with repairs of failing edges.
+
+Most of a planning problem's space is far from obstacles, so the search checks its edges at
+the coarse `search_resolution`; the found path is then re-checked at the fine resolution and
+every edge that fails is replaced by a fine-resolution search between its endpoints.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from manip.planning.rrt_connect import rrt_connect
+from manip.planning.validity import Validity
+
+#: Edges of a coarse search path replaced by fine searches before giving up on the path.
+MAX_REPAIRS = 6
+
+
+def search_path(
+    start: np.ndarray, goals: np.ndarray, validity: Validity, rng: np.random.Generator, deadline: float,
+) -> tuple[np.ndarray | None, int]:
+    """A collision-free polyline from `start` (dof,) to one of `goals` (G, dof).
+
+    Returns:
+        (path (K, dof) valid at the fine resolution, or None; RRT iterations used).
+    """
+    lower, upper = validity.kinematics.lower, validity.kinematics.upper
+    path, iterations = rrt_connect(
+        start, goals, lower, upper, validity.coarse_motion, rng, deadline, advance=validity.coarse_advance,
+    )
+    if validity.search_resolution == validity.resolution:
+        return path, iterations
+    for _ in range(MAX_REPAIRS):
+        if path is None:
+            return None, iterations
+        ok = validity.segments(path[:-1], path[1:])
+        if ok.all():
+            return path, iterations
+        s = int(np.argmin(ok))
+        sub, more = rrt_connect(
+            path[s], path[s + 1][None], lower, upper, validity.motion, rng, deadline, advance=validity.advance,
+        )
+        iterations += more
+        path = None if sub is None else np.concatenate([path[:s], sub, path[s + 2 :]])
+    if path is not None and not validity.path(path):
+        path = None
+    return path, iterations

@@ -1,0 +1,100 @@
+"""`Validity`: the collision and limit questions the planners ask, in one object.
+
+The planners (RRT-Connect, shortcutting, the trajectory optimiser, linear motions) are
+handed this object instead of reaching back into `MotionGenerator`. Two resolutions:
+`resolution` [rad] is the guarantee (every returned motion is checked at least this
+densely, joint-space L-inf), `search_resolution` a coarser, cheaper screen used while
+searching (a necessary condition only).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from manip.collision import CollisionChecker
+from manip.kinematics import Kinematics
+
+#: An advancing tree stops this many check steps before its first contact.
+ADVANCE_BACKOFF_STEPS = 3
+
+
+class Validity:
+    """Validity of configurations and straight joint-space motions for one robot and world.
+
+    Args:
+        checker: the collision checker (robot, world, attached objects, padding).
+        kinematics: the robot's kinematics (joint limits).
+        resolution: fine check resolution [rad] (the guarantee).
+        search_resolution: coarse screening resolution [rad] (>= resolution to be useful).
+    """
+
+    def __init__(self, checker: CollisionChecker, kinematics: Kinematics, resolution: float, search_resolution: float):
+        self.checker = checker
+        self.kinematics = kinematics
+        self.resolution = resolution
+        self.search_resolution = max(resolution, search_resolution)
+
+    def configs(self, Q: np.ndarray) -> np.ndarray:
+        """(N,) True where a configuration of Q (N, dof) or (dof,) is collision-free."""
+        return ~self.checker.in_collision_batch(np.atleast_2d(Q))
+
+    def motion(self, q0: np.ndarray, q1: np.ndarray, resolution: float | None = None) -> bool:
+        """True when the straight motion q0 -> q1 is free at `resolution` (default: the fine one)."""
+        return bool(self.checker.motion_valid(q0, q1, resolution=resolution or self.resolution))
+
+    def coarse_motion(self, q0: np.ndarray, q1: np.ndarray) -> bool:
+        """`motion` at the search resolution."""
+        return self.motion(q0, q1, self.search_resolution)
+
+    def segments(self, Q0: np.ndarray, Q1: np.ndarray) -> np.ndarray:
+        """(M,) validity of the segments Q0[i] -> Q1[i] at the fine resolution (screened coarsely first)."""
+        ok = self.screen(Q0, Q1)
+        if ok.any() and self.search_resolution > self.resolution:
+            ok[ok] = self.checker.motion_valid_batch(Q0[ok], Q1[ok], resolution=self.resolution)
+        return ok
+
+    def screen(self, Q0: np.ndarray, Q1: np.ndarray) -> np.ndarray:
+        """(M,) validity at the search resolution (a necessary condition, cheaper)."""
+        return self.checker.motion_valid_batch(Q0, Q1, resolution=self.search_resolution)
+
+    def path(self, path: np.ndarray) -> bool:
+        """True when every segment of the polyline `path` (K, dof) is free at the fine resolution."""
+        return bool(self.segments(path[:-1], path[1:]).all()) if len(path) > 1 else bool(self.configs(path).all())
+
+    def advance(self, q0: np.ndarray, q1: np.ndarray, resolution: float | None = None) -> np.ndarray | None:
+        """The farthest configuration on q0 -> q1 reachable without collision, kept a few
+        check steps short of the first contact (None if there is no room to move)."""
+        resolution = resolution or self.resolution
+        t = self.checker.first_collision(q0, q1, resolution=resolution)
+        if t is None:
+            return q1.copy()
+        steps = self.checker.segment_steps(q0, q1, resolution)
+        t_stop = t - ADVANCE_BACKOFF_STEPS / steps
+        if t_stop <= 0:
+            return None
+        return q0 + t_stop * (q1 - q0)
+
+    def coarse_advance(self, q0: np.ndarray, q1: np.ndarray) -> np.ndarray | None:
+        """`advance` at the search resolution."""
+        return self.advance(q0, q1, self.search_resolution)
+
+    def limit_excess(self, q: np.ndarray) -> float:
+        """How far [rad] `q` (dof,) lies outside the joint limits (0 inside)."""
+        k = self.kinematics
+        return float(max(0.0, np.max(k.lower - q), np.max(q - k.upper)))
+
+    def goal_problem(self, goal: np.ndarray) -> str:
+        """Why the goal configuration (dof,) cannot be planned to ("" when it can)."""
+        bad = self.kinematics.limit_violations(goal)
+        if bad:
+            return "goal outside the joint limits: " + "; ".join(bad)
+        if self.checker.in_collision(goal):
+            return "goal in collision: " + describe_contacts(self.checker.collision_report(goal))
+        return ""
+
+
+def describe_contacts(report) -> str:
+    """'a touches b (1.2 mm deep)' for the deepest few contacts of a CollisionReport."""
+    parts = [f"{c.a} touches {c.b} ({max(0.0, -c.distance) * 1e3:.1f} mm deep, {c.kind})" for c in report.contacts[:3]]
+    more = len(report.contacts) - 3
+    return "; ".join(parts) + (f"; and {more} more" if more > 0 else "")

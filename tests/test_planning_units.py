@@ -1,0 +1,106 @@
+"""The planning modules on toy problems given as callables (no robot): a 2-D square with a
+wall that has one gap, as pyroboplan tests its RRT."""
+
+from __future__ import annotations
+
+import time
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from manip.errors import InvalidInputError
+from manip.planning.options import PlanOptions
+from manip.planning.rrt_connect import rrt_connect
+from manip.planning.search import search_path
+from manip.planning.shortcut import path_length, shortcut
+
+LOWER, UPPER = np.zeros(2), np.ones(2)
+START, GOAL = np.array([0.1, 0.1]), np.array([0.9, 0.1])
+
+
+def in_wall(q: np.ndarray) -> bool:
+    """The wall x in [0.45, 0.55], except the gap y in [0.8, 0.9]."""
+    return 0.45 <= q[0] <= 0.55 and not (0.8 <= q[1] <= 0.9)
+
+
+def motion_valid(a: np.ndarray, b: np.ndarray, resolution: float = 0.005) -> bool:
+    n = max(2, int(np.ceil(np.max(np.abs(b - a)) / resolution)) + 1)
+    return not any(in_wall(q) for q in np.linspace(a, b, n))
+
+
+def segments_valid(A: np.ndarray, B: np.ndarray) -> np.ndarray:
+    return np.array([motion_valid(a, b) for a, b in zip(A, B)])
+
+
+def advance(a: np.ndarray, b: np.ndarray) -> np.ndarray | None:
+    n = max(2, int(np.ceil(np.max(np.abs(b - a)) / 0.005)) + 1)
+    pts = np.linspace(a, b, n)
+    free = [not in_wall(q) for q in pts]
+    if all(free):
+        return b.copy()
+    k = free.index(False) - 3  # stop a few steps before the contact
+    return pts[k] if k > 0 else None
+
+
+def assert_valid_path(path: np.ndarray) -> None:
+    assert np.array_equal(path[0], START) and np.array_equal(path[-1], GOAL)
+    assert all(motion_valid(a, b) for a, b in zip(path[:-1], path[1:]))
+
+
+@pytest.mark.parametrize("with_advance", [False, True])
+def test_rrt_connect_finds_the_gap(with_advance):
+    path, iterations = rrt_connect(
+        START, GOAL[None], LOWER, UPPER, motion_valid, np.random.default_rng(0), time.perf_counter() + 10,
+        advance=advance if with_advance else None, step_size=0.2, short_step=0.05,
+    )
+    assert path is not None and iterations > 0
+    assert_valid_path(path)
+    assert np.max(path[:, 1]) >= 0.8  # it went through the gap
+
+
+def test_rrt_connect_is_deterministic_for_a_seed():
+    runs = [
+        rrt_connect(START, GOAL[None], LOWER, UPPER, motion_valid, np.random.default_rng(7), time.perf_counter() + 10,
+                    step_size=0.2)[0]
+        for _ in range(2)
+    ]
+    np.testing.assert_array_equal(runs[0], runs[1])
+
+
+def test_rrt_connect_gives_up_when_there_is_no_way():
+    closed = lambda a, b: motion_valid(a, b) and not any(0.4 <= q[0] <= 0.6 for q in np.linspace(a, b, 50))  # noqa: E731
+    path, _ = rrt_connect(START, GOAL[None], LOWER, UPPER, closed, np.random.default_rng(0), time.perf_counter() + 0.3,
+                          step_size=0.2, max_iterations=300)
+    assert path is None
+
+
+def test_shortcut_shortens_and_stays_valid():
+    detour = np.array([START, [0.1, 0.95], [0.3, 0.95], [0.5, 0.85], [0.7, 0.95], [0.9, 0.95], GOAL])
+    assert_valid_path(detour)
+    short = shortcut(detour, segments_valid, np.random.default_rng(0), time.perf_counter() + 5, rounds=20)
+    assert_valid_path(short)
+    assert path_length(short) < path_length(detour) - 0.2
+
+
+def test_search_path_repairs_coarse_edges_at_the_fine_resolution():
+    coarse = lambda a, b: motion_valid(a, b, resolution=0.2)  # noqa: E731  (can jump over the wall)
+    validity = SimpleNamespace(
+        kinematics=SimpleNamespace(lower=LOWER, upper=UPPER), resolution=0.005, search_resolution=0.2,
+        coarse_motion=coarse, motion=motion_valid, coarse_advance=None, advance=advance,
+        segments=segments_valid, path=lambda p: bool(segments_valid(p[:-1], p[1:]).all()),
+    )
+    path, _ = search_path(START, GOAL[None], validity, np.random.default_rng(1), time.perf_counter() + 10)
+    assert path is not None
+    assert_valid_path(path)
+
+
+def test_plan_options_are_validated_with_the_valid_names_listed():
+    opts = PlanOptions().updated({"time_budget": 2, "seed": 3, "smoothness": "smooth"})
+    assert opts.time_budget == 2.0 and opts.seed == 3 and opts.smoothness == "smooth"
+    with pytest.raises(InvalidInputError, match=r"unknown planning option\(s\) \['budget'\]; valid: .*time_budget"):
+        PlanOptions().updated({"budget": 1})
+    for bad in ({"dt": 0}, {"velocity_scale": 1.5}, {"seed": -1}, {"seed": 1.5}, {"smoothness": "fast"},
+                {"duration": float("nan")}, {"trajopt": "yes"}, {"ik_solutions": 0}):
+        with pytest.raises(InvalidInputError):
+            PlanOptions().updated(bad)
