@@ -4,7 +4,7 @@
     python benchmarks/mbm.py --dataset ../shared/data/mbm/panda_problems.tar.bz2 \\
         [--scenes box_panda cage_panda ...] [--limit-per-scene N] [--goal joint|pose|both] \\
         [--planners manip,roboplan,ompl] [--seeded N] [--timeout S] [--json OUT] \\
-        [--curobo-limits] [--smoothness time_optimal|smooth] [--label NAME] [--write-md]
+        [--curobo-limits] [--smoothness time_optimal|smooth] [--no-trajopt] [--label NAME] [--write-md]
     python benchmarks/mbm.py --from-json before.json after.json [--write-md]
 
 1. Loads the problems straight from the archive (no unpacking) and checks every start and
@@ -675,6 +675,8 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
                          f"bounds use them too; rows are labelled '{CUROBO_LABEL}' unless --label is given")
     ap.add_argument("--smoothness", choices=("time_optimal", "smooth"), default=None,
                     help="pass smoothness=... to manip's plan calls (not passed when omitted)")
+    ap.add_argument("--no-trajopt", action="store_true",
+                    help="pass trajopt=False to manip's plan calls (the shortcut pipeline alone: a 'before' row)")
     ap.add_argument("--label", default=None, help="label this run's rows, e.g. 'before' -> 'manip (before)'")
     ap.add_argument("--json", type=Path, default=None, help="write the full report (and every run) here")
     ap.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -735,6 +737,8 @@ def main(argv: list[str] | None = None) -> int:
     bench_limits = Limits.of(config)
     label = args.label if args.label is not None else (CUROBO_LABEL if args.curobo_limits else None)
     plan_options = {"smoothness": args.smoothness} if args.smoothness is not None else {}
+    if args.no_trajopt:
+        plan_options["trajopt"] = False
     verifier = Verifier(config)
     validity = {(p.scene, p.index): verifier.check_problem(p) for p in problems}
     valid = [p for p in problems if validity[(p.scene, p.index)].valid]

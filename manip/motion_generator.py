@@ -12,7 +12,10 @@ The pipeline of every plan (each stage timed in `PlanResult.timings`):
 5. timing: ruckig segments with blended corners (`manip.timing`);
 6. validate: the returned samples are checked densely against the exact collision model
    (`planning.finish`). Only a trajectory that passes is returned with `success=True`; one
-   that fails is planned again (MAX_ATTEMPTS).
+   that fails is planned again (MAX_ATTEMPTS);
+7. trajectory optimisation (`planning.refine`, `planning.trajopt`): the valid trajectory of a
+   searched path seeds a B-spline optimiser; its result replaces the seed only when it is
+   faster and passes the same dense validation (`PlanResult.source == "trajopt"`).
 
 The planners are handed a `planning.Validity` (collision and limit questions) and a
 `PlanContext` (options, deadline, random generator, timings); this class only orchestrates.
@@ -29,6 +32,7 @@ from dataclasses import replace
 import numpy as np
 
 from manip.collision import CollisionChecker, WorldConfig
+from manip.collision.clearance import ClearanceModel
 from manip.errors import InvalidInputError
 from manip.ik import BatchIKResult, IKResult, IKSolver
 from manip.kinematics import Kinematics
@@ -37,6 +41,7 @@ from manip.planning.finish import time_and_validate
 from manip.planning.linear import linear_path
 from manip.planning.optimize import smooth_path
 from manip.planning.options import PlanOptions
+from manip.planning.refine import refine, scaled_limits
 from manip.planning.result import PlanResult, PlanStatus
 from manip.planning.search import search_path
 from manip.planning.shortcut import shortcut
@@ -45,6 +50,7 @@ from manip.pose import Pose
 from manip.robot_config import RobotConfig, load_robot_config
 from manip.sim_bridge import world_config_from_sim
 from manip.timing import TimingLimits
+from manip.timing.bounds import rest_to_rest_time
 from manip.validation import positive
 
 logger = logging.getLogger(__name__)
@@ -115,6 +121,7 @@ class MotionGenerator:
             self.checker, self.kinematics, positive(resolution, "resolution", "rad"),
             positive(search_resolution, "search_resolution", "rad"),
         )
+        self.clearance = ClearanceModel(self.checker)
         self.ik_solver = IKSolver(self.kinematics, seed=seed)
         self.timing_limits = TimingLimits.from_robot(self.config)
         self.defaults = PlanOptions(time_budget=time_budget, dt=interpolation_dt, seed=seed)
@@ -357,8 +364,9 @@ class MotionGenerator:
     def plan_goalset(self, start_q, goals: Pose, link: str | None = None, **options) -> PlanResult:
         """Plan to whichever of several poses (a batched Pose) is best reached.
 
-        Collision-free IK solutions of every pose are planned to at once; the result's
-        `goal_index` says which pose was reached.
+        Collision-free IK solutions of every pose are planned to at once, the ones reachable
+        fastest (by the time-optimal rest-to-rest duration from the start) first; the
+        result's `goal_index` says which pose was reached.
         """
         ctx = self._context(options)
         link = link or self.ee_link
@@ -375,7 +383,11 @@ class MotionGenerator:
         ctx.add_time("ik", t_ik)
         if not len(configs):
             return ctx.fail(PlanStatus.IK_FAIL, "no collision-free IK solution within the joint limits")
-        order = np.argsort(np.linalg.norm(configs - start, axis=1), kind="stable")
+        # the goal reached fastest first: the time-optimal rest-to-rest duration (a lower bound
+        # of any motion to it), not the joint-space distance
+        vmax, amax, jmax = scaled_limits(self.timing_limits, ctx)
+        bounds = [rest_to_rest_time(start, q, vmax, amax, jmax) for q in configs]
+        order = np.argsort(bounds, kind="stable")
         result = self._plan_to_configs(ctx, start, configs[order])
         if result.success:
             reached = result.goal_q
@@ -469,6 +481,12 @@ class MotionGenerator:
         if traj is None:
             return ctx.fail(PlanStatus.TRAJOPT_FAIL, f"no valid timed trajectory: {why}", path=path, goal_q=goal_q,
                             attempts=attempt)
+        if ctx.options.trajopt and source == "shortcut":
+            t = time.perf_counter()
+            better = refine(ctx, traj, self.timing_limits, self.validity, self.clearance, self.checker.padding)
+            ctx.add_time("trajopt", t)
+            if better is not None:
+                traj, source = better, "trajopt"
         return ctx.succeed(traj, path, goal_q, attempt, source)
 
     def _plan_linear(self, start_q, goal: Pose, link: str, options: dict) -> PlanResult:

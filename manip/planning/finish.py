@@ -61,7 +61,7 @@ def time_and_validate(
             position_tolerance=max(LIMIT_TOLERANCE, validity.limit_excess(path[0])),
             deviation_tolerance=dense_deviation if mode == "along_path" else deviation,
             velocity_scale=opts.velocity_scale, acceleration_scale=opts.acceleration_scale,
-            jerk_scale=opts.acceleration_scale, duration=opts.duration,
+            jerk_scale=opts.jerk_scale, duration=opts.duration,
         )
         ctx.add_time("timing", t)
         if not timed.success:

@@ -12,6 +12,8 @@ from manip.validation import fraction, positive
 
 #: Values of the `smoothness` option.
 SMOOTHNESS = ("time_optimal", "smooth")
+#: With `smoothness="smooth"` the jerk limits are multiplied by this (timing and optimiser).
+SMOOTH_JERK_FRACTION = 0.25
 
 
 @dataclass(frozen=True)
@@ -33,7 +35,8 @@ class PlanOptions:
         trajopt: run the trajectory optimiser on searched paths (faster, shorter, smoother
             motions; falls back to the shortcut path when it fails).
         smoothness: "time_optimal" (the fastest trajectory within the limits) or "smooth"
-            (peak jerk well under the limit: gentler, somewhat slower motions).
+            (jerk limits x SMOOTH_JERK_FRACTION and a jerk-weighted optimiser: gentler,
+            somewhat slower motions).
     """
 
     time_budget: float = 5.0
@@ -67,6 +70,11 @@ class PlanOptions:
             put(name, bool(getattr(self, name)))
         if self.smoothness not in SMOOTHNESS:
             raise InvalidInputError(f"smoothness must be one of {list(SMOOTHNESS)}; got {self.smoothness!r}")
+
+    @property
+    def jerk_scale(self) -> float:
+        """Factor on the jerk limits: `acceleration_scale`, times SMOOTH_JERK_FRACTION when smooth."""
+        return self.acceleration_scale * (SMOOTH_JERK_FRACTION if self.smoothness == "smooth" else 1.0)
 
     @classmethod
     def names(cls) -> list[str]:

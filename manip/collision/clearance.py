@@ -1,0 +1,181 @@
+"""Linearised clearance to the world: signed distances of the robot's sphere cover and their
+gradients with respect to the joint positions, for trajectory optimisation.
+
+The cover's balls hold every point of the link meshes (`manip.collision.spheres`), so a ball's
+clearance is a lower bound of the link's true distance: keeping it above a margin keeps the
+exact geometry at least that far from the obstacles. For each configuration, each moving
+joint body and each obstacle, the nearest ball gives one term when it is closer than an
+activation distance: its signed distance `d` and `grad = n^T J_p` (dof,), where `n` is the
+obstacle's distance gradient at the ball's centre (unit, by central differences on the
+closed-form distance) and `J_p` (3, dof) the translational Jacobian of the centre.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from manip.collision.broadphase import _obstacle_sd, _place
+
+#: Central-difference step [m] of the obstacle distance gradient at a ball centre.
+_NORMAL_STEP = 1e-5
+
+
+class ClearanceTerms(NamedTuple):
+    """Active clearance terms of a batch of configurations (T terms).
+
+    Attributes:
+        config: (T,) index of the configuration of each term.
+        distance: (T,) signed distance [m] of the nearest ball of one body to one obstacle.
+        gradient: (T, dof) its gradient with respect to the joint positions [m/rad].
+    """
+
+    config: np.ndarray
+    distance: np.ndarray
+    gradient: np.ndarray
+
+
+class ClearanceModel:
+    """Clearance terms of a robot against its checker's current world (read at each call).
+
+    Args:
+        checker: a `CollisionChecker`; its fine sphere cover, obstacles and kinematics are used.
+    """
+
+    def __init__(self, checker):
+        self.checker = checker
+        kin = checker.kinematics
+        self.dof = kin.dof
+        q_index, parent, _ = kin.fk_tables()
+        self._q_index = np.asarray(q_index)
+        self._axes = np.asarray(kin._axes)
+        self._revolute = np.asarray(kin._revolute)
+        J = len(self._q_index)
+        # ancestors[j, k]: joint k (1-based) moves the frame of joint j (1-based); row 0 = universe
+        self._ancestors = np.zeros((J + 1, J + 1), dtype=bool)
+        for j in range(1, J + 1):
+            a = j
+            while a > 0:
+                self._ancestors[j, a] = True
+                a = int(parent[a - 1])
+
+    def _tables(self, fine, moving: np.ndarray) -> tuple:
+        """Balls sorted by body (joint), with each body's bounding ball; cached per cover."""
+        key = (id(fine), moving.size)
+        if getattr(self, "_cache_key", None) != key:
+            order = moving[np.argsort(fine.joint[moving], kind="stable")]
+            joint = np.ascontiguousarray(fine.joint[order])
+            centres = np.ascontiguousarray(fine.centres[order])
+            radii = np.ascontiguousarray(fine.radii[order], dtype=float)
+            bodies, start, count = np.unique(joint, return_index=True, return_counts=True)
+            bc = np.empty((bodies.size, 3))
+            br = np.empty(bodies.size)
+            for b in range(bodies.size):
+                c, r = centres[start[b] : start[b] + count[b]], radii[start[b] : start[b] + count[b]]
+                bc[b] = ((c - r[:, None]).min(axis=0) + (c + r[:, None]).max(axis=0)) / 2
+                br[b] = float((np.linalg.norm(c - bc[b], axis=1) + r).max())
+            self._cache_key = key
+            self._cache = (centres, radii, joint, bodies.astype(np.int64), start.astype(np.int64),
+                           count.astype(np.int64), bc, br)
+        return self._cache
+
+    def terms(self, Q: np.ndarray, activation: float) -> ClearanceTerms:
+        """The terms of configurations Q (N, dof) closer than `activation` [m] (padding not included)."""
+        Q = np.atleast_2d(np.asarray(Q, dtype=float))
+        ck = self.checker
+        fine = ck._fine
+        empty = ClearanceTerms(np.zeros(0, dtype=np.int64), np.zeros(0), np.zeros((0, self.dof)))
+        moving = np.flatnonzero(fine.joint != 0)
+        if len(ck._obs) == 0 or moving.size == 0:
+            return empty
+        R, p = ck._fk(Q)
+        tables = self._tables(fine, moving)
+        n_i, s_i, o_i, dist, x, normal = _nearest_terms(R, p, *tables, float(activation), *ck._bp_obstacles)
+        sj = tables[2]
+        if n_i.size == 0:
+            return empty
+        # translational Jacobian of each centre, projected on the normal
+        grad = np.zeros((n_i.size, self.dof))
+        joint_of = sj[s_i]
+        for k in range(1, len(self._q_index) + 1):
+            rows = np.flatnonzero(self._ancestors[joint_of, k])
+            if rows.size == 0:
+                continue
+            axis = R[n_i[rows], k] @ self._axes[k - 1]  # (T', 3) world axis
+            col = np.cross(axis, x[rows] - p[n_i[rows], k]) if self._revolute[k - 1] else axis
+            grad[rows, self._q_index[k - 1]] += np.einsum("ti,ti->t", normal[rows], col)
+        return ClearanceTerms(n_i, dist, grad)
+
+
+@njit(cache=True, nogil=True)
+def _nearest_terms(R, p, centres, radii, joint, bodies, start, count, body_centre, body_radius, activation,
+                   oR, oc, oh, orho, ocyl):
+    """For each (configuration, body, obstacle) the nearest ball, kept when closer than `activation`.
+
+    A body whose bounding ball is farther than `activation` from an obstacle is skipped.
+
+    Returns:
+        (n, s, o (T,) int64, distance (T,) [m], centre x (T, 3), unit normal (T, 3)).
+    """
+    N = R.shape[0]
+    B = bodies.shape[0]
+    O = oc.shape[0]
+    best_d = np.full((N, B, O), np.inf)
+    best_s = np.zeros((N, B, O), dtype=np.int64)
+    x = np.empty(3)
+    near = np.empty(O, dtype=np.bool_)
+    for n in range(N):
+        for b in range(B):
+            _place(R, p, n, bodies[b], body_centre[b], x)
+            any_near = False
+            for o in range(O):
+                near[o] = _obstacle_sd(x, o, oR, oc, oh, orho, ocyl) - body_radius[b] < activation
+                any_near = any_near or near[o]
+            if not any_near:
+                continue
+            for s in range(start[b], start[b] + count[b]):
+                _place(R, p, n, joint[s], centres[s], x)
+                for o in range(O):
+                    if near[o]:
+                        d = _obstacle_sd(x, o, oR, oc, oh, orho, ocyl) - radii[s]
+                        if d < best_d[n, b, o]:
+                            best_d[n, b, o] = d
+                            best_s[n, b, o] = s
+    T = 0
+    for n in range(N):
+        for b in range(B):
+            for o in range(O):
+                if best_d[n, b, o] < activation:
+                    T += 1
+    n_out = np.empty(T, dtype=np.int64)
+    s_out = np.empty(T, dtype=np.int64)
+    o_out = np.empty(T, dtype=np.int64)
+    d_out = np.empty(T)
+    x_out = np.empty((T, 3))
+    nrm = np.empty((T, 3))
+    y = np.empty(3)
+    t = 0
+    for n in range(N):
+        for b in range(B):
+            for o in range(O):
+                if best_d[n, b, o] < activation:
+                    s = best_s[n, b, o]
+                    n_out[t], s_out[t], o_out[t], d_out[t] = n, s, o, best_d[n, b, o]
+                    _place(R, p, n, joint[s], centres[s], x_out[t])
+                    norm = 0.0
+                    for k in range(3):
+                        y[:] = x_out[t]
+                        y[k] += _NORMAL_STEP
+                        hi = _obstacle_sd(y, o, oR, oc, oh, orho, ocyl)
+                        y[k] -= 2 * _NORMAL_STEP
+                        lo = _obstacle_sd(y, o, oR, oc, oh, orho, ocyl)
+                        nrm[t, k] = (hi - lo) / (2 * _NORMAL_STEP)
+                        norm += nrm[t, k] ** 2
+                    norm = max(math.sqrt(norm), 1e-12)
+                    for k in range(3):
+                        nrm[t, k] /= norm
+                    t += 1
+    return n_out, s_out, o_out, d_out, x_out, nrm

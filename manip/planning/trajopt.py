@@ -1,0 +1,459 @@
+"""Trajectory optimisation: fast, short, smooth motions from a collision-free seed.
+
+The motion is a uniform cubic B-spline at rest at both ends (`planning.bspline`), whose
+velocity, acceleration, jerk and position limits are linear constraints on its control
+points that hold for the continuous motion. For a fixed duration, sequential convex
+optimisation (trust region) improves the control points; each iteration solves one QP
+(through `qpsolvers`):
+
+- minimise the squared velocities (each as a fraction of its limit: at a fixed duration
+  this straightens the path and flattens the speed profile, the shape of a time-optimal
+  motion) plus a jerk term (dominant with `smoothness="smooth"`);
+- subject to the trust region, with the limits at the target duration and the clearance
+  of the robot's sphere cover above `margin` (linearised at samples of the current motion,
+  `collision.clearance`) as L1 penalties (TrajOpt's formulation: every QP is feasible);
+- at an end whose configuration is near an obstacle (where the sphere cover is too coarse),
+  the first/last piece stays on the seed's first/last straight segment.
+
+The outer loop looks for the shortest duration (cuRobo's idea): after each solve the motion
+is uniformly re-timed until a limit is active (exact: the limits are linear in the control
+points), and the next target lies halfway between the best duration so far and the
+longest target not reached (at first the straight line's lower bound). The result is
+checked by the caller densely against the exact meshes; on any failure the caller keeps the
+seed trajectory.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import qpsolvers
+import scipy.sparse as sp
+
+from manip.collision.clearance import ClearanceModel
+from manip.errors import InvalidInputError
+from manip.planning import bspline
+from manip.trajectory import PiecewiseJerkProfile
+from manip.validation import non_negative, per_joint
+
+logger = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class TrajOptSettings:
+    """Settings of the trajectory optimiser.
+
+    Attributes:
+        intervals: B-spline pieces N (N - 3 free control points per joint).
+        samples_per_interval: collision samples per piece.
+        margin: sphere-cover clearance [m] kept from obstacles (on top of the padding).
+        activation: terms farther than margin + activation are left out of the QP [m].
+        iterations: SCO iterations per duration (at most).
+        tolerance: an SCO stops when a step lowers the merit by less than this fraction.
+        limit_row_slack: limit rows used less than (1 - this) of their limit at the
+            current point are left out of the QP (they are soft, and the result is re-timed
+            exactly).
+        trust_region: initial largest move of a control point per iteration [rad].
+        ray_points: control points tied to the seed's first / last segment at an end near
+            an obstacle (each keeps one more piece of the motion on that segment).
+        rounds: durations tried (the seed's first, then by bisection towards the lower bound).
+        bisection: where the next duration lies between the longest infeasible and the
+            shortest feasible one (0.5: halfway).
+        penalty: weight of the clearance violation [1/m] (L1) against the objective.
+        velocity_weight, acceleration_weight, jerk_weight: objective weights (terms are
+            squared fractions of the limits).
+        solver: a `qpsolvers` solver name ("osqp", "daqp", ...).
+    """
+
+    intervals: int = 16
+    samples_per_interval: int = 5
+    margin: float = 0.008
+    activation: float = 0.05
+    iterations: int = 6
+    tolerance: float = 1e-3
+    limit_row_slack: float = 0.6
+    trust_region: float = 0.3
+    rounds: int = 6
+    ray_points: int = 1
+    bisection: float = 0.5
+    penalty: float = 1e4
+    velocity_weight: float = 1.0
+    acceleration_weight: float = 0.01
+    jerk_weight: float = 0.001
+    solver: str = "piqp"
+
+
+SMOOTH = TrajOptSettings(velocity_weight=0.05, acceleration_weight=0.05, jerk_weight=1.0)
+
+
+@dataclass(frozen=True)
+class TrajOptResult:
+    """Outcome of `optimize_trajectory`.
+
+    Attributes:
+        success: True when `profile` is within the limits and its sampled sphere clearance
+            satisfied the constraints (the exact dense check is the caller's).
+        profile: the motion (None on failure).
+        control: (N + 3, dof) its control points [rad].
+        duration: its duration [s].
+        solves: QPs solved.
+        message: why it failed ("" on success).
+    """
+
+    success: bool
+    profile: PiecewiseJerkProfile | None
+    control: np.ndarray | None
+    duration: float
+    solves: int
+    message: str = ""
+
+
+class _Problem:
+    """The QP data that depend only on N and the limits (the constant blocks, per joint)."""
+
+    def __init__(self, n: int, dof: int, s: TrajOptSettings, start: np.ndarray, goal: np.ndarray):
+        self.n, self.dof = n, dof
+        self.free = np.arange(3, n)  # indices of the free control points
+        self.fixed = np.setdiff1d(np.arange(n + 3), self.free)
+        self.c_fixed = np.empty((n + 3, dof))
+        self.c_fixed[:3] = start
+        self.c_fixed[n:] = goal
+        self.D = {k: bspline.difference_matrix(n + 3, k) for k in (1, 2, 3)}
+        self.B, self.sample_t = bspline.basis_matrix(n, s.samples_per_interval)
+        self.B_free = self.B[:, self.free]
+        self.rays: list = []
+        self.ray_A = self.ray_b = None
+        self.q_fixed = self.B[:, self.fixed] @ self.c_fixed[self.fixed]  # (M, dof) fixed points' share
+        eye = np.eye(dof)
+        # limit rows: per order, rows touching a free point; G = +-kron(I, Df), rhs = lim -+ fixed share
+        self.limit_G, self.limit_fixed, self.limit_order, self.limit_slack = [], [], [], []
+        self.cost = {}
+        for k in (1, 2, 3):
+            D = self.D[k]
+            Df = D[:, self.free]
+            rows = np.flatnonzero(np.any(Df != 0, axis=1))
+            G = np.kron(eye, Df[rows])
+            self.limit_G += [G, -G]
+            fixed = (D[rows][:, self.fixed] @ self.c_fixed[self.fixed]).T.ravel()  # joint-major (dof * R,)
+            self.limit_fixed += [fixed, -fixed]
+            self.limit_order += [(k, rows.size)] * 2
+            self.limit_slack += [np.repeat((k - 1) * dof + np.arange(dof), rows.size)] * 2
+            self.cost[k] = (Df.T @ Df, Df.T @ (D[:, self.fixed] @ self.c_fixed[self.fixed]))  # (m, m), (m, dof)
+        self.limit_G = np.vstack(self.limit_G)
+        self.limit_slack = np.concatenate(self.limit_slack)  # (L,) which limit slack each row may use
+        rows, cols = np.nonzero(self.limit_G)
+        self.limit_coo = (rows, cols, self.limit_G[rows, cols])
+
+    def set_rays(self, d_start: np.ndarray | None, d_goal: np.ndarray | None, points: int) -> None:
+        """Tie the first `points` free control points to start + a d_start and the last ones to
+        goal + b d_goal (0 <= a, b <= 1); None leaves that end free."""
+        n, m, dof = self.n, self.free.size, self.dof
+        self.rays = []
+        for k in range(points):
+            if d_start is not None:
+                self.rays.append((3 + k, self.c_fixed[0], d_start))
+            if d_goal is not None:
+                self.rays.append((n - 1 - k, self.c_fixed[n], d_goal))
+        if not self.rays:
+            return
+        A = np.zeros((len(self.rays) * dof, dof * m + len(self.rays)))
+        b = np.zeros(len(self.rays) * dof)
+        for r, (k, anchor, d) in enumerate(self.rays):
+            for i in range(dof):
+                A[r * dof + i, i * m + (k - 3)] = 1.0
+                A[r * dof + i, dof * m + r] = -d[i]
+                b[r * dof + i] = anchor[i]
+        self.ray_A, self.ray_b = A, b
+        self.ray_A_sparse = sp.csr_matrix(A)
+
+    def project_rays(self, c: np.ndarray) -> np.ndarray:
+        """c with the tied control points projected onto their rays."""
+        c = c.copy()
+        for k, anchor, d in self.rays:
+            a = np.clip((c[k] - anchor) @ d / max(d @ d, 1e-18), 0.0, 1.0)
+            c[k] = anchor + a * d
+        return c
+
+    def control(self, x: np.ndarray) -> np.ndarray:
+        """Full control points (N + 3, dof) of the free ones x (N - 3, dof)."""
+        c = self.c_fixed.copy()
+        c[3 : self.n] = x
+        return c
+
+
+def optimize_trajectory(
+    seed_positions: np.ndarray,
+    seed_times: np.ndarray,
+    vmax: np.ndarray,
+    amax: np.ndarray,
+    jmax: np.ndarray,
+    lower: np.ndarray,
+    upper: np.ndarray,
+    clearance: ClearanceModel,
+    padding: float,
+    deadline: float,
+    *,
+    settings: TrajOptSettings = TrajOptSettings(),
+    min_duration: float = 0.0,
+    end_rays: bool = True,
+) -> TrajOptResult:
+    """Optimise a rest-to-rest motion seeded by a valid sampled one.
+
+    Args:
+        seed_positions: (T, dof) samples of a collision-free, limit-respecting motion [rad].
+        seed_times: (T,) their times [s] (the last is the seed's duration).
+        vmax, amax, jmax: (dof,) velocity, acceleration, jerk limits (already scaled).
+        lower, upper: (dof,) position limits [rad].
+        clearance: the sphere-cover clearance model of the robot and world.
+        padding: clearance the planner keeps [m] (added to `settings.margin`).
+        deadline: `time.perf_counter()` value to stop at (the best result so far is kept).
+        settings: see TrajOptSettings.
+        min_duration: a lower bound of the duration [s] (e.g. the straight line's); the
+            search stops when within 3 % of the shortest feasible duration found.
+        end_rays: keep the motion's first and last two pieces on the seed's first and last
+            straight segments (the seed must be a polyline's timing; the pieces near a goal
+            that almost touches an obstacle are then exactly as free as the seed's).
+    """
+    seed_positions, seed_times = _check_seed(seed_positions, seed_times)
+    dof = seed_positions.shape[1]
+    vmax, amax, jmax = (per_joint(v, dof, name, positive=True) for v, name in
+                        ((vmax, "vmax"), (amax, "amax"), (jmax, "jmax")))
+    lower, upper = per_joint(lower, dof, "lower", positive=False), per_joint(upper, dof, "upper", positive=False)
+    non_negative(padding, "padding", "m")
+    start, goal = seed_positions[0], seed_positions[-1]
+    n = settings.intervals
+    prob = _Problem(n, dof, settings, start, goal)
+    c = bspline.control_from_samples(seed_positions, np.asarray(seed_times, float), float(seed_times[-1]), n)
+    c[3:n] = np.clip(c[3:n], lower, upper)
+    if end_rays and n >= 8:
+        # an end near an obstacle keeps the seed's approach (the sphere cover is too coarse there)
+        near = clearance.terms(np.stack([start, goal]), padding + settings.margin + settings.activation).config
+        d_start, d_goal = _end_directions(seed_positions)
+        prob.set_rays(d_start if 0 in near else None, d_goal if 1 in near else None, settings.ray_points)
+        c = prob.project_rays(c)
+    margin = padding + settings.margin
+    h = float(seed_times[-1]) / n
+    h_low = max(min_duration, 0.0) / n  # no motion is faster than the lower bound
+    best: tuple[np.ndarray, float] | None = None
+    solves = 0
+    message = ""
+    for _ in range(settings.rounds):
+        if time.perf_counter() > deadline:
+            break
+        ok, c_new, used, why = _sco(prob, c, h, vmax, amax, jmax, lower, upper, clearance, margin, settings, deadline)
+        solves += used
+        # the optimised shape, uniformly re-timed until a limit is active (limits are soft in the QP)
+        h_star = bspline.limit_step(c_new, vmax, amax, jmax) if ok else np.inf
+        logger.debug("trajopt: target T = %.3f s: %s, feasible T = %.3f s (%d QPs) %s", n * h,
+                     "ok" if ok else "failed", n * h_star, used, why)
+        if ok and (best is None or h_star < best[1]):
+            best = (c_new, h_star)
+        if best is None:
+            message = why
+            break
+        if not ok or h_star > h * 1.02:
+            h_low = max(h_low, h)  # this target was not reached
+        if ok:
+            c = c_new  # the next round goes on from this shape (straighter, even if not faster yet)
+        h_best = best[1]
+        if h_best - h_low <= 0.03 * h_best:
+            break
+        h = h_low + settings.bisection * (h_best - h_low)  # between the unreached target and the best
+    if best is None:
+        return TrajOptResult(False, None, None, float("nan"), solves, message or "no time left")
+    c, h = best
+    return TrajOptResult(True, bspline.to_profile(c, h), c, n * h, solves)
+
+
+def _sco(prob: _Problem, c0, h, vmax, amax, jmax, lower, upper, clearance, margin, s: TrajOptSettings, deadline):
+    """Sequential convex optimisation at step h (an L1 penalty method with a trust region).
+
+    The velocity, acceleration and jerk limits at step h and the clearance above `margin`
+    are soft (slack variables with `s.penalty`): the QP is always feasible, and the caller
+    re-times the result exactly. A step is accepted when the true merit (objective plus the
+    penalties of the limit excess and of the sampled clearance below the margin) decreases;
+    otherwise the trust region halves.
+
+    Returns:
+        (ok: the clearance stayed above the seed's floor, control points, QPs solved, why not ok).
+    """
+    c = c0.copy()
+    radius = s.trust_region
+    solves = 0
+    G_lim, h_lim = _limit_rows(prob, h, vmax, amax, jmax)
+    row_lim = _row_limits(prob, h, vmax, amax, jmax)
+    P, q_lin = _objective(prob, h, vmax, amax, jmax, s)
+    activation = margin + s.activation
+    terms = clearance.terms(prob.B @ c, activation)
+    floor = min(margin, _min_distance(terms, activation)) - 1e-3  # never worse than the seed
+    merit = _merit(P, q_lin, c, prob, terms, margin, s.penalty, G_lim, h_lim)
+    nx = P.shape[0]
+    for _ in range(s.iterations):
+        if time.perf_counter() > deadline:
+            break
+        G_col, h_col = _collision_rows(prob, c, terms, margin)
+        x0 = c[3 : prob.n]
+        # rows: limit rows in use (> 1 - LIMIT_ROW_SLACK of their limit; the others cannot
+        # become active within the trust region's first steps, and limits are soft anyway: the
+        # result is re-timed exactly), then collision rows; slack only where the clearance is
+        # already below the margin (the other rows hold at the current point)
+        keep = G_lim @ x0.T.ravel() - h_lim > -s.limit_row_slack * row_lim
+        L = int(keep.sum())
+        new_row = np.cumsum(keep) - 1
+        lr, lc, lv = prob.limit_coo
+        e = keep[lr]
+        lr, lc, lv = new_row[lr[e]], lc[e], lv[e]
+        T = h_col.size
+        soft = np.arange(h_col.size)  # every clearance row may be violated at the penalty's price
+        Ts = soft.size
+        R = len(prob.rays)
+        S = 3 * prob.dof  # one limit slack per derivative order and joint
+        cr, cc = np.nonzero(G_col)
+        G = sp.csc_matrix((
+            np.concatenate([lv, -np.ones(L), G_col[cr, cc], -np.ones(Ts)]),
+            (np.concatenate([lr, np.arange(L), L + cr, L + soft]),
+             np.concatenate([lc, nx + Ts + prob.limit_slack[keep], cc, nx + np.arange(Ts)])),
+        ), shape=(L + T, nx + Ts + S + R))
+        hv = np.concatenate([h_lim[keep], h_col])
+        pr, pc = np.nonzero(P)
+        extra = nx + np.arange(Ts + S + R)
+        Pz = sp.csc_matrix((np.concatenate([P[pr, pc], np.full(Ts + S + R, 1e-9)]),
+                            (np.concatenate([pr, extra]), np.concatenate([pc, extra]))),
+                           shape=(nx + Ts + S + R, nx + Ts + S + R))
+        qz = np.concatenate([q_lin, np.full(Ts + S, s.penalty), np.zeros(R)])
+        lb = np.concatenate([np.maximum(lower[None, :], x0 - radius).T.ravel(), np.zeros(Ts + S + R)])
+        ub = np.concatenate([np.minimum(upper[None, :], x0 + radius).T.ravel(), np.full(Ts + S, np.inf), np.ones(R)])
+        T = Ts
+        A = b = None
+        if R:
+            A = sp.hstack([prob.ray_A_sparse[:, :nx], sp.csr_matrix((prob.ray_A.shape[0], T + S)),
+                           prob.ray_A_sparse[:, nx:]], format="csc")
+            b = prob.ray_b
+        if s.solver not in _SPARSE:
+            Pz, G = Pz.toarray(), G.toarray()
+            A = None if A is None else A.toarray()
+        z = qpsolvers.solve_qp(Pz, qz, G, hv, A, b, lb=lb, ub=ub, solver=s.solver,
+                               **_SOLVER_OPTIONS.get(s.solver, {}))
+        solves += 1
+        if z is None:
+            return False, c0, solves, "the QP solver failed"
+        x = np.clip(z[:nx].reshape(prob.dof, -1).T, lower, upper)
+        c_new = prob.control(x)
+        terms_new = clearance.terms(prob.B @ c_new, activation)
+        merit_new = _merit(P, q_lin, c_new, prob, terms_new, margin, s.penalty, G_lim, h_lim)
+        if merit_new > merit:
+            radius *= 0.5  # the linearisation was too optimistic: smaller steps
+            if radius < 1e-3:
+                break
+            continue
+        step = float(np.max(np.abs(c_new - c)))
+        converged = step < 1e-3 or merit - merit_new <= s.tolerance * abs(merit)
+        c, terms, merit = c_new, terms_new, merit_new
+        if converged:
+            break
+    if _min_distance(terms, activation) < floor:
+        return False, c0, solves, "the clearance could not be kept at this duration"
+    return True, c, solves, ""
+
+
+def _check_seed(positions, times) -> tuple[np.ndarray, np.ndarray]:
+    """The seed as float arrays (T, dof), (T,); raises InvalidInputError on bad shapes or values."""
+    q = np.asarray(positions, dtype=float)
+    t = np.asarray(times, dtype=float)
+    if q.ndim != 2 or q.shape[0] < 2:
+        raise InvalidInputError(f"seed_positions must have shape (T, dof) with T >= 2; got {q.shape}")
+    if t.shape != (q.shape[0],):
+        raise InvalidInputError(f"seed_times must have shape ({q.shape[0]},) like seed_positions' rows; got {t.shape}")
+    if not (np.all(np.isfinite(q)) and np.all(np.isfinite(t))):
+        raise InvalidInputError("seed_positions and seed_times must be finite")
+    if t[0] != 0.0 or np.any(np.diff(t) <= 0):
+        raise InvalidInputError("seed_times must start at 0 and increase strictly [s]")
+    return q, t
+
+
+def _end_directions(seed_positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Directions [rad] of the seed's first and last straight stretches: from the start to the
+    first sample where the motion turns, and from the goal back to the last such sample."""
+    q = seed_positions
+
+    def last_on_line(q0: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        d = rows[-1] - q0 if len(rows) else np.zeros_like(q0)
+        best = q0
+        for r in rows:
+            v = r - q0
+            n = np.linalg.norm(v)
+            if n < 1e-12:
+                continue
+            if best is not q0 and np.linalg.norm(v - (v @ u) * u) > 1e-6:
+                break
+            if best is q0:
+                u = v / n
+            best = r
+        return best - q0 if best is not q0 else d
+
+    return last_on_line(q[0], q[1:]), last_on_line(q[-1], q[-2::-1])
+
+
+def _merit(P, q_lin, c, prob: _Problem, terms, margin: float, penalty: float, G_lim, h_lim) -> float:
+    """Objective plus L1 penalties of the sampled clearance below `margin` [m] and of the
+    limit rows' excess (in units of the limits' per-step values)."""
+    x = c[3 : prob.n].T.ravel()
+    violation = np.maximum(0.0, margin - terms.distance).sum() if terms.distance.size else 0.0
+    excess = np.maximum(0.0, G_lim @ x - h_lim).sum()
+    return float(0.5 * x @ P @ x + q_lin @ x + penalty * (violation + excess))
+
+
+_SOLVER_OPTIONS = {"osqp": {"eps_abs": 1e-6, "eps_rel": 1e-6, "polish": True, "verbose": False}}
+_SPARSE = {"osqp", "piqp"}
+
+
+def _min_distance(terms, activation: float) -> float:
+    return float(terms.distance.min()) if terms.distance.size else activation
+
+
+def _limit_rows(prob: _Problem, h: float, vmax, amax, jmax) -> tuple[np.ndarray, np.ndarray]:
+    """G x <= hv for the velocity, acceleration and jerk limits at step h (joint-major x)."""
+    rhs = []
+    lims = {1: vmax * h, 2: amax * h**2, 3: jmax * h**3}
+    for (order, rows), fixed in zip(prob.limit_order, prob.limit_fixed):
+        rhs.append(np.repeat(lims[order], rows) - fixed)
+    return prob.limit_G, np.concatenate(rhs)
+
+
+def _row_limits(prob: _Problem, h: float, vmax, amax, jmax) -> np.ndarray:
+    """(L,) the limit of each limit row at step h [rad of control-point difference]."""
+    lims = np.concatenate([vmax * h, amax * h**2, jmax * h**3])  # indexed like limit_slack
+    return lims[prob.limit_slack]
+
+
+def _objective(prob: _Problem, h: float, vmax, amax, jmax, s: TrajOptSettings):
+    """P, q of 1/2 x^T P x + q^T x: weighted squared limit fractions of velocity, acceleration, jerk."""
+    m = prob.free.size
+    P = np.zeros((prob.dof * m, prob.dof * m))
+    q = np.zeros(prob.dof * m)
+    for order, lim, w in ((1, vmax * h, s.velocity_weight), (2, amax * h**2, s.acceleration_weight),
+                          (3, jmax * h**3, s.jerk_weight)):
+        DtD, Dtf = prob.cost[order]
+        for i in range(prob.dof):
+            k = 2 * w / lim[i] ** 2
+            P[i * m : (i + 1) * m, i * m : (i + 1) * m] += k * DtD
+            q[i * m : (i + 1) * m] += k * Dtf[:, i]
+    P[np.diag_indices_from(P)] += 1e-6
+    return P, q
+
+
+def _collision_rows(prob: _Problem, c: np.ndarray, terms, margin: float):
+    """G x <= hv linearising every clearance term: d + g . (q_m(x) - q_m) >= margin (before slack)."""
+    if terms.config.size == 0:
+        return np.zeros((0, prob.dof * prob.free.size)), np.zeros(0)
+    q_m = prob.B[terms.config] @ c  # (T, dof)
+    target = margin
+    # g . (Bf x + fixed share) >= target - d + g . q_m
+    Bf = prob.B_free[terms.config]  # (T, m)
+    g = terms.gradient
+    rhs = target - terms.distance + np.einsum("td,td->t", g, q_m - prob.q_fixed[terms.config])
+    G = -(g[:, :, None] * Bf[:, None, :]).reshape(g.shape[0], -1)  # joint-major: (T, dof * m)
+    return G, -rhs

@@ -1,0 +1,166 @@
+"""The trajectory optimiser: B-spline limits, small problems, the planner's use of it."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pytest
+
+from manip import MotionGenerator, WorldConfig
+from manip.collision.clearance import ClearanceModel
+from manip.errors import InvalidInputError
+from manip.planning import bspline
+from manip.planning.trajopt import TrajOptSettings, optimize_trajectory
+from manip.timing.bounds import rest_to_rest_time
+from robot_constants import FRANKA_READY
+
+READY = np.array(FRANKA_READY)
+#: A wall between two configurations on either side of it.
+WALL = {"cuboid": {"wall": {"dims": [0.3, 0.04, 0.5], "pose": [0.5, 0.0, 0.25, 1, 0, 0, 0]}}}
+LEFT = np.array([0.6, 0.4, 0.0, -1.9, 0.0, 2.3, 0.785])
+RIGHT = np.array([-0.6, 0.4, 0.0, -1.9, 0.0, 2.3, 0.785])
+
+
+@pytest.fixture(scope="module")
+def mg() -> MotionGenerator:
+    return MotionGenerator("franka", WALL)
+
+
+def dense_extrema(profile, step: float = 5e-4) -> tuple[np.ndarray, ...]:
+    t = np.arange(0.0, profile.duration + step, step)
+    _, v, a, j = profile.evaluate(np.minimum(t, profile.duration))
+    return np.abs(v).max(axis=0), np.abs(a).max(axis=0), np.abs(j).max(axis=0)
+
+
+def test_bspline_limits_hold_for_the_continuous_motion():
+    rng = np.random.default_rng(0)
+    c = np.cumsum(rng.normal(0, 0.2, (19, 3)), axis=0)
+    c[:3], c[-3:] = c[0], c[-1]
+    vmax, amax, jmax = np.array([2.0, 1.5, 1.0]), np.array([10.0, 8.0, 6.0]), np.array([500.0, 300.0, 200.0])
+    h = bspline.limit_step(c, vmax, amax, jmax)
+    prof = bspline.to_profile(c, h)
+    v, a, j = dense_extrema(prof)
+    assert np.all(v <= vmax * (1 + 1e-9)) and np.all(a <= amax * (1 + 1e-9)) and np.all(j <= jmax * (1 + 1e-9))
+    # a limit is active: the same shape any faster would break it
+    assert max(np.max(v / vmax), np.max(a / amax), np.max(j / jmax)) > 0.999
+    q0, v0, a0, _ = prof.evaluate(np.array([0.0, prof.duration]))
+    np.testing.assert_array_equal(q0[0], c[0])
+    np.testing.assert_array_equal(q0[1], c[-1])
+    assert np.all(v0 == 0) and np.all(np.abs(a0) < 1e-9)
+
+
+def test_optimiser_in_free_space_comes_close_to_the_time_optimal_line(mg):
+    free = MotionGenerator("franka")
+    start, goal = READY, READY + np.array([0.8, 0.3, -0.5, 0.4, 0.6, -0.3, 0.9])
+    detour = np.stack([start, (start + goal) / 2 + 0.4, goal])  # a seed with a corner
+    seed = free.plan_joints(start, goal, trajopt=False)  # straight line: the time-optimal seed
+    cfg = free.config
+    timed = np.linspace(0, 1, 61)[:, None]
+    positions = np.concatenate([detour[0] + timed[:31] * 2 * (detour[1] - detour[0]),
+                                detour[1] + (timed[31:] - 0.5) * 2 * (detour[2] - detour[1])])
+    times = np.linspace(0.0, 3.0, 61)
+    bound = rest_to_rest_time(start, goal, cfg.velocity_limits, cfg.acceleration_limits, cfg.jerk_limits)
+    res = optimize_trajectory(positions, times, cfg.velocity_limits, cfg.acceleration_limits, cfg.jerk_limits,
+                              free.kinematics.lower, free.kinematics.upper, free.clearance, 0.0,
+                              time.perf_counter() + 5.0, min_duration=bound)
+    assert res.success, res.message
+    assert res.duration < 1.25 * bound < times[-1]
+    v, a, j = dense_extrema(res.profile)
+    assert np.all(v <= cfg.velocity_limits * (1 + 1e-9)) and np.all(a <= cfg.acceleration_limits * (1 + 1e-9))
+    assert np.all(j <= cfg.jerk_limits * (1 + 1e-9))
+    path = res.profile.evaluate(np.linspace(0, res.duration, 400))[0]
+    length = np.linalg.norm(np.diff(path, axis=0), axis=1).sum()
+    assert length < 1.05 * np.linalg.norm(goal - start)  # the corner was straightened
+    assert seed.source == "straight_line"
+
+
+def test_planner_uses_the_optimiser_around_a_wall_and_stays_valid(mg):
+    base = mg.plan_joints(LEFT, RIGHT, trajopt=False, seed=3)
+    opt = mg.plan_joints(LEFT, RIGHT, seed=3)
+    assert base.success and opt.success and base.source == "shortcut"
+    assert opt.source in ("trajopt", "shortcut")
+    assert "trajopt" in opt.timings
+    assert opt.motion_time <= base.motion_time
+    if opt.source == "trajopt":
+        assert opt.motion_time < base.motion_time
+    traj = opt.trajectory
+    assert mg.checker.path_valid(traj.positions, resolution=0.005).valid
+    assert np.all(np.abs(traj.velocities) <= mg.velocity_limits * (1 + 1e-9))
+    assert np.all(np.abs(traj.accelerations) <= mg.acceleration_limits * (1 + 1e-9))
+    assert np.all(np.abs(traj.jerks) <= mg.jerk_limits * (1 + 1e-9))
+    np.testing.assert_array_equal(traj.positions[0], LEFT)
+    np.testing.assert_allclose(traj.positions[-1], RIGHT, atol=1e-12)
+
+
+def test_same_seed_same_trajectory(mg):
+    a = mg.plan_joints(LEFT, RIGHT, seed=5)
+    b = mg.plan_joints(LEFT, RIGHT, seed=5)
+    np.testing.assert_array_equal(a.trajectory.positions, b.trajectory.positions)
+
+
+def test_a_failing_optimiser_falls_back_to_the_shortcut_trajectory(mg, monkeypatch):
+    import manip.planning.refine as refine
+
+    def broken(*args, **kwargs):
+        raise AssertionError("must not be reached")
+
+    def failing(*args, **kwargs):
+        from manip.planning.trajopt import TrajOptResult
+        return TrajOptResult(False, None, None, float("nan"), 0, "test: no solution")
+
+    monkeypatch.setattr(refine, "optimize_trajectory", failing)
+    r = mg.plan_joints(LEFT, RIGHT, seed=3)
+    assert r.success and r.source == "shortcut"
+    monkeypatch.setattr(refine, "optimize_trajectory", broken)
+    assert mg.plan_joints(LEFT, RIGHT, seed=3, trajopt=False).source == "shortcut"
+    assert mg.plan_joints(LEFT, RIGHT, seed=3, duration=6.0).source == "shortcut"  # a fixed duration keeps the seed
+
+
+def test_smooth_motions_keep_jerk_well_under_the_limit(mg):
+    r = mg.plan_joints(LEFT, RIGHT, seed=3, smoothness="smooth")
+    assert r.success
+    assert np.abs(r.trajectory.jerks).max() <= 0.25 * mg.jerk_limits.max() * (1 + 1e-9)
+
+
+def test_optimiser_rejects_bad_input(mg):
+    lim = (mg.velocity_limits, mg.acceleration_limits, mg.jerk_limits, mg.lower_limits, mg.upper_limits)
+    args = lambda q, t: (q, t, *lim, mg.clearance, 0.0, time.perf_counter() + 1)  # noqa: E731
+    q = np.stack([READY, READY + 0.1])
+    with pytest.raises(InvalidInputError, match="shape"):
+        optimize_trajectory(*args(READY, np.array([0.0])))
+    with pytest.raises(InvalidInputError, match="finite"):
+        optimize_trajectory(*args(np.stack([READY, READY * np.nan]), np.array([0.0, 1.0])))
+    with pytest.raises(InvalidInputError, match="increase"):
+        optimize_trajectory(*args(q, np.array([0.0, 0.0])))
+    with pytest.raises(InvalidInputError, match="vmax"):
+        optimize_trajectory(q, np.array([0.0, 1.0]), -mg.velocity_limits, *lim[1:], mg.clearance, 0.0, 1.0)
+
+
+def test_clearance_gradient_matches_finite_differences(mg):
+    model = ClearanceModel(mg.checker)
+    rng = np.random.default_rng(1)
+    Q = rng.uniform(mg.lower_limits, mg.upper_limits, (40, 7))
+    terms = model.terms(Q, 0.2)
+    assert terms.config.size > 0
+    eps = 1e-6
+    for k in range(0, terms.config.size, max(1, terms.config.size // 8)):
+        q = Q[terms.config[k]]
+        fd = np.zeros(7)
+        for i in range(7):
+            e = np.zeros(7)
+            e[i] = eps
+            plus, minus = model.terms((q + e)[None], 10.0), model.terms((q - e)[None], 10.0)
+            here = model.terms(q[None], 10.0)
+            m = int(np.argmin(np.abs(here.distance - terms.distance[k])))
+            fd[i] = (plus.distance[m] - minus.distance[m]) / (2 * eps)
+        np.testing.assert_allclose(terms.gradient[k], fd, atol=1e-4)
+
+
+def test_world_edits_reach_the_clearance_model(mg):
+    model = ClearanceModel(mg.checker)
+    q = LEFT[None]
+    before = model.terms(q, 5.0).distance.min()
+    other = MotionGenerator("franka", WorldConfig())
+    assert ClearanceModel(other.checker).terms(q, 5.0).config.size == 0  # no obstacles: no terms
+    assert np.isfinite(before)
