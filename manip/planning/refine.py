@@ -8,7 +8,6 @@ exact-mesh validation, so success never depends on the optimiser.
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 
@@ -22,8 +21,6 @@ from manip.timing import TimingLimits
 from manip.timing.bounds import rest_to_rest_time
 from manip.trajectory import Trajectory
 
-#: Largest share [s] of a call's time the optimiser may use (less when the budget is shorter).
-TRAJOPT_TIME_SHARE = 0.25
 
 
 def scaled_limits(limits: TimingLimits, ctx: PlanContext) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -49,10 +46,11 @@ def refine(
     if seed.duration <= bound * 1.03:
         return None
     settings = SMOOTH if o.smoothness == "smooth" else TrajOptSettings()
-    deadline = min(ctx.deadline, time.perf_counter() + TRAJOPT_TIME_SHARE)
+    # bounded by its rounds and iterations, not by the clock (the same seed gives the same
+    # trajectory on any machine); only the call's time budget can cut it short
     result = optimize_trajectory(
         seed.positions, seed.times, vmax, amax, jmax, validity.kinematics.lower, validity.kinematics.upper,
-        clearance, padding, deadline, settings=settings, min_duration=bound,
+        clearance, padding, ctx.deadline, settings=settings, min_duration=bound,
     )
     if not result.success:
         return None
