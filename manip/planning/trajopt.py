@@ -71,7 +71,7 @@ class TrajOptSettings:
     intervals: int = 16
     samples_per_interval: int = 5
     margin: float = 0.008
-    activation: float = 0.05
+    activation: float = 0.02
     iterations: int = 6
     tolerance: float = 1e-3
     limit_row_slack: float = 0.6
