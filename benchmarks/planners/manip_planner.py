@@ -26,9 +26,10 @@ class ManipPlanner:
             "franka"); the benchmark's `--curobo-limits` passes a copy of the Franka config
             with cuRobo's acceleration and jerk limits.
         plan_options: keyword options given to every `plan_joints` / `plan_pose` call (e.g.
-            `{"smoothness": "smooth"}`). They are tried once on a short free-space motion
-            when the planner is built, so an option the MotionGenerator does not know fails
-            here with the MotionGenerator's own error message (InvalidInputError).
+            `{"smoothness": "smooth"}`). The planner is warmed up with them when it is built
+            (free space, around a box, a pose goal), so an option the MotionGenerator does
+            not know fails here with its own error message (InvalidInputError), and the
+            compiled kernels' first-use cost is never timed.
         **options: further keyword options of `MotionGenerator(...)`.
     """
 
@@ -47,8 +48,7 @@ class ManipPlanner:
         self.mg = MotionGenerator(robot, **options)
         self.plan_options: dict[str, Any] = dict(plan_options or {})
         self._world: dict | None = None
-        if self.plan_options:
-            self._probe_plan_options()
+        self._probe_plan_options()
 
     @property
     def config(self) -> Any:
@@ -56,13 +56,20 @@ class ManipPlanner:
         return self.mg.config
 
     def _probe_plan_options(self) -> None:
-        """Plan one short free-space motion with `plan_options` (raises what the planner raises)."""
+        """Warm up and check `plan_options` (raises what the planner raises): a short free-space
+        motion, then one around a box, so that every compiled kernel (numba: about 20 s in a
+        fresh checkout) is loaded before anything is timed."""
         q0 = self.mg.default_joint_positions
         q1 = q0.copy()
         q1[0] += 0.2
         self.mg.update_world(self._WorldConfig.from_dict({}))
         self._world = None
         self.mg.plan_joints(q0, q1, **self.plan_options)
+        wall = {"cuboid": {"wall": {"dims": [0.3, 0.04, 0.5], "pose": [0.5, 0.0, 0.25, 1, 0, 0, 0]}}}
+        self.mg.update_world(self._WorldConfig.from_dict(wall))
+        left = np.array([0.6, 0.4, 0.0, -1.9, 0.0, 2.3, 0.785])
+        self.mg.plan_joints(left, left * np.array([-1, 1, 1, 1, 1, 1, 1]), **self.plan_options)
+        self.mg.plan_pose(q0, self.mg.fk(q0), **self.plan_options)
 
     def plan(self, problem: Any, goal_kind: str = "joint", seed: int = 0) -> PlannerOutput:
         """Plan `problem` to its joint goal ("joint") or its panda_hand pose goal ("pose")."""
