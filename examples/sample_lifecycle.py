@@ -2,7 +2,8 @@
 
 A sample with the Franka pick-and-place task's scene: `setup_scene` adds the task,
 `setup_post_load` finds its objects and adds a physics callback, `reset` restores the
-default state, `clear` empties the World.
+default state, `clear` empties the World. The hooks are `async def`, as in Isaac's samples;
+after loading, the World is paused (Isaac waits for the Play button): `world.play()`.
 
     python examples/sample_lifecycle.py [--steps 120] [--viewer]
 
@@ -35,7 +36,7 @@ def main(argv: list[str] | None = None) -> int:
             self.events.append("setup_scene")
             self.get_world().add_task(PickPlace(name="pick_place"))
 
-        def setup_post_load(self) -> None:
+        async def setup_post_load(self) -> None:
             self.events.append("setup_post_load")
             world = self.get_world()
             params = world.get_task("pick_place").get_params()
@@ -48,10 +49,10 @@ def main(argv: list[str] | None = None) -> int:
             if self.calls == 1:
                 print(f"physics callback: step_size = {step_size:.5f} s")
 
-        def setup_pre_reset(self) -> None:
+        async def setup_pre_reset(self) -> None:
             self.events.append("setup_pre_reset")
 
-        def setup_post_reset(self) -> None:
+        async def setup_post_reset(self) -> None:
             self.events.append("setup_post_reset")
 
         def world_cleanup(self) -> None:
@@ -63,6 +64,7 @@ def main(argv: list[str] | None = None) -> int:
     sample = HelloSample()
     sample.load_world()
     world = sample.get_world()
+    world.play()  # the Play button
     start = sample._cube.get_world_pose()[0]
     # Push the cube, then step.
     sample._cube.set_world_pose(position=start + np.array([0.0, 0.0, 0.2]))
@@ -74,7 +76,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"after {world.current_time:.2f} s the cube is at {np.round(moved, 4)}; observations:")
     for k, v in world.get_observations().items():
         print(f"  {k}: " + ", ".join(f"{kk}={np.round(vv, 3)}" for kk, vv in v.items()))
-    steps_done = world.current_time_step_index
+    steps_done = world.current_time_step_index - 1  # the reset's warm-up step runs no callback
     calls = sample.calls
     sample.reset()
     restored = np.allclose(sample._cube.get_world_pose()[0], start, atol=1e-9)

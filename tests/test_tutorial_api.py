@@ -113,7 +113,7 @@ def test_world_sync_and_actions_drive_the_simulated_franka(mg):
     goal = np.asarray(mg.ik([0.45, -0.3, 0.3, *DOWN_XYZW], seed_joint_angles=start))
     sol = mg.motion_generate(start, goal_joint_angles=goal)
     actions = mg.convert_solution_to_actions(sol, franka)
-    assert len(actions) == len(sol["positions"]) - 1
+    assert len(actions) == len(sol["positions"])  # one per time step, the start included (as the wrapper)
     controller = franka.get_articulation_controller()
     for action in actions:
         controller.apply_action(action)
@@ -123,3 +123,108 @@ def test_world_sync_and_actions_drive_the_simulated_franka(mg):
     np.testing.assert_allclose(franka.get_joint_positions()[:7], goal, atol=0.02)
     mg.update_world({})
     World.clear_instance()
+
+
+# ---------------------------------------------------------------------------- the tutorial's construction
+@pytest.fixture(scope="module")
+def curobo() -> TutorialMotionGen:
+    """Constructed as the Isaac pick-and-place tutorial does."""
+    from manip import TutorialMotionGen as CuroboMotionGenerator
+
+    m = CuroboMotionGenerator(
+        robot_config_file_name="my_franka_robot_config.yml",
+        world_config_file_name="collision_base.yml",
+        user_config_file_name="isaac_sim_user_config.toml",
+    )
+    m.init_motion_gen()
+    return m
+
+
+def test_tutorial_construction_exposes_curobos_joint_space(curobo):
+    assert curobo.joint_names == [f"panda_joint{i}" for i in range(1, 8)] + ["panda_finger_joint1", "panda_finger_joint2"]
+    assert curobo.default_joint_positions == [0.0, -1.3, 0.0, -2.5, 0.0, 1.0, 0.0, 0.04, 0.04]
+    assert curobo.robot_dof == 9 and curobo.base_link == "panda_link0" and curobo.end_effector_link == "ee_link"
+    assert curobo.joint_names[:-2] == curobo.motion_gen.joint_names  # the tutorial's [:-2] trimming
+    assert curobo.motion_gen.world.names == ["table"]  # collision_base.yml's post under the base
+    assert curobo.interpolation_dt == pytest.approx(0.004)  # isaac_sim_user_config.toml
+    positional = TutorialMotionGen("my_franka_robot_config.yml", "collision_base.yml")  # cuRobo's order
+    assert positional.robot_dof == 9
+
+
+def test_unknown_config_file_names_list_the_known_ones():
+    from manip import UnknownNameError
+
+    with pytest.raises(UnknownNameError, match="my_franka_robot_config.yml"):
+        TutorialMotionGen(robot_config_file_name="ur5.yml")
+    with pytest.raises(UnknownNameError, match="collision_base.yml"):
+        TutorialMotionGen(robot_config_file_name="my_franka_robot_config.yml", world_config_file_name="table.yml")
+    with pytest.raises(UnknownNameError, match="isaac_sim_user_config.toml"):
+        TutorialMotionGen("my_franka_robot_config.yml", user_config_file_name="mine.toml")
+    with pytest.raises(InvalidInputError, match="not both"):
+        TutorialMotionGen("franka", robot_config_file_name="my_franka_robot_config.yml")
+
+
+def test_ee_link_is_the_hand_offset_and_flipped(curobo):
+    q = np.array(READY)
+    hand = curobo.motion_gen.fk(q)
+    ee = Pose.from_xyz_xyzw(curobo.fk(q))
+    np.testing.assert_allclose(ee.position, hand.position + 0.1 * hand.rotation[:, 2], atol=1e-9)
+    np.testing.assert_allclose(ee.rotation[:, 2], -hand.rotation[:, 2], atol=1e-9)  # pi about y
+    assert curobo.fk(list(q) + [0.04, 0.04]) == curobo.fk(q)  # 9 values accepted
+    # the identity orientation points the gripper (hand z) down
+    q_down = curobo.ik([0.4, 0.1, 0.2, 0.0, 0.0, 0.0, 1.0])
+    assert q_down is not None
+    np.testing.assert_allclose(curobo.motion_gen.fk(q_down).rotation[:, 2], [0, 0, -1], atol=1e-3)
+    np.testing.assert_allclose(curobo.fk(q_down)[:3], [0.4, 0.1, 0.2], atol=1e-3)
+
+
+def test_tutorial_motion_generate_with_nine_values_and_isaac_actions(curobo):
+    start = curobo.default_joint_positions  # 9 values, fingers included
+    sol = curobo.motion_generate(start_joint_angles=start, goal_end_effector_pose=[0.4, 0.2, 0.25, 0, 0, 0, 1])
+    assert sol is not None and sol["interpolation_dt"] == pytest.approx(0.004)
+    assert sol["joint_names"] == curobo.joint_names[:7] and len(sol["positions"][0]) == 7
+    assert sol["raw_data"].num_samples == len(sol["positions"])
+    np.testing.assert_allclose(curobo.fk(sol["positions"][-1])[:3], [0.4, 0.2, 0.25], atol=1e-3)
+    with pytest.raises(InvalidInputError, match="7 or 9"):
+        curobo.motion_generate(start[:5], goal_joint_angles=start)
+
+    World.clear_instance()
+    create_new_stage()
+    world = World()
+    franka = world.scene.add(Franka("/World/Franka", name="franka"))
+    world.reset()
+    actions = curobo.convert_solution_to_isaac_sim_action(solution=sol, robot_prim=franka)
+    assert len(actions) == len(sol["positions"])
+    a = actions[-1]
+    assert a.joint_indices.tolist() == list(range(9))  # the robot's dof order, fingers included
+    np.testing.assert_allclose(a.joint_positions, sol["positions"][-1] + [0.04, 0.04])
+    np.testing.assert_allclose(a.joint_velocities[7:], 0.0)
+    state = curobo.get_joint_state_from_isaac_sim(franka)
+    assert state.joint_names == curobo.joint_names[:7]
+    np.testing.assert_allclose(state.position, franka.get_joint_positions()[:7])
+    World.clear_instance()
+
+
+def test_obstacles_from_the_simulator_point_clouds_and_reset_world(curobo, caplog):
+    World.clear_instance()
+    create_new_stage()
+    world = World()
+    ground = world.scene.add_default_ground_plane()
+    world.scene.add(Franka("/World/MyRobot", name="my_robot"))
+    world.scene.add(FixedCuboid("/World/wall", name="wall", position=[0.5, 0.0, 0.25], size=1.0, scale=[0.3, 0.04, 0.5]))
+    world.scene.add(FixedCuboid("/World/Target", name="target", position=[0.4, 0.3, 0.05], size=0.05))
+    world.reset()
+    new = curobo.update_obstacle_from_isaac_sim(world=world, robot_prim_path="/World/MyRobot",
+                                                ignore_prim_paths=["/World/MyRobot", ground.prim_path, "Target"])
+    assert new.names == ["wall"] and curobo.motion_gen.world.names == ["wall"]  # substrings, as the wrapper
+    World.clear_instance()
+    cloud = np.random.default_rng(0).uniform([0.45, -0.1, 0.2], [0.55, 0.1, 0.4], size=(500, 3))
+    curobo.update_world_by_pointcloud(cloud)
+    assert curobo.motion_gen.world.names == ["world_pointcloud"]
+    q_in = curobo.ik([0.5, 0.0, 0.3, 0, 0, 0, 1])
+    assert q_in is None  # the cloud's volume is an obstacle now
+    with caplog.at_level("WARNING"):
+        curobo.update_world_by_pointcloud(np.zeros((10, 2)))  # wrong shape: a warning, nothing changes
+    assert "shape" in caplog.text and curobo.motion_gen.world.names == ["world_pointcloud"]
+    curobo.reset_world()
+    assert curobo.motion_gen.world.names == ["table"]

@@ -12,7 +12,12 @@ An Isaac Sim tutorial script ports by changing its imports::
         world.step(render=False)
     print(cube.get_world_pose())
 
-Quaternions are (w, x, y, z); units are SI. See `manip.sim.simulation_context` for time
+Every `omni.isaac.core...`, `omni.isaac.wheeled_robots...`, `omni.isaac.franka...`,
+`omni.isaac.examples...`, `omni.isaac.kit` and `isaacsim...` name a tutorial imports becomes
+`from manip.sim import NAME`; `import carb` becomes `from manip.sim import carb` (the README's
+"Porting a tutorial" has the table). Isaac asset paths such as
+`get_assets_root_path() + "/Isaac/Robots/Franka/franka.usd"` load the bundled models
+(`manip.sim.assets`). Quaternions are (w, x, y, z); units are SI. See `manip.sim.simulation_context` for time
 stepping, `manip.sim.articulation` for the drives, `manip.sim.recording` for offscreen video.
 Importing this package changes no environment variable: the offscreen GL backend is
 chosen at the first render (`manip.sim.gl_backend`).
@@ -21,8 +26,11 @@ chosen at the first render (`manip.sim.gl_backend`).
 from __future__ import annotations
 
 from manip.articulation_action import ArticulationAction
+from manip.sim import carb
 from manip.sim.app import SimulationApp
 from manip.sim.articulation import DOF_PROPERTIES_DTYPE, Articulation, ArticulationController, Robot, SingleArticulation
+from manip.sim.articulation_view import ArticulationView
+from manip.sim.assets import ISAAC_ASSETS, available_assets, resolve_asset_path
 from manip.sim.objects import (
     DynamicCapsule,
     DynamicCone,
@@ -60,12 +68,15 @@ from manip.sim.stage import (
     SimulationError,
     add_reference_to_stage,
     create_new_stage,
+    create_new_stage_async,
     get_assets_root_path,
     get_current_stage,
     is_prim_path_valid,
+    update_stage,
+    update_stage_async,
 )
 from manip.sim.types import DynamicState, JointsState, XFormPrimState
-from manip.sim.world import World
+from manip.sim.world import World, clear_stage
 
 SingleXFormPrim = XFormPrim
 SingleRigidPrim = RigidPrim
@@ -74,6 +85,8 @@ from manip.sim.controllers import BaseController, DifferentialController, WheelB
 from manip.sim.pick_place_controller import PickPlaceController
 from manip.sim.robots import Franka, ParallelGripper, WheeledRobot, franka_model_path, jetbot_model_path
 from manip.sim.sample import BaseSample
+from manip.sim.extension import BaseSampleExtension
+from manip.sim.hello_world import HelloWorld
 from manip.sim.tasks import BaseTask, PickPlace, find_unique_string_name
 from manip.sim.views import RigidPrimView, XFormPrimView
 

@@ -32,6 +32,7 @@ from manip.articulation_action import ArticulationAction
 from manip.errors import InvalidInputError, UnknownNameError
 from manip.sim.articulation_controller import CONTROL_MODES, ArticulationController  # noqa: F401 (CONTROL_MODES re-exported)
 from manip.sim.articulation_core import ArticulationCore
+from manip.sim.articulation_view import ArticulationView
 from manip.sim.dof_properties import DOF_PROPERTIES_DTYPE, dof_properties  # noqa: F401 (DTYPE re-exported)
 from manip.sim.stage import SimHandle, SimulationError, get_current_stage, validate_prim_path
 from manip.sim.types import DefaultPoseMixin, JointsState, XFormPrimState, position_or_translation
@@ -89,6 +90,7 @@ class Articulation(DefaultPoseMixin):
         self._ref = ref
         self._core: ArticulationCore | None = None
         self._controller = articulation_controller if articulation_controller is not None else ArticulationController()
+        self._articulation_view = ArticulationView(self)  # Isaac's batched view (count 1) of this articulation
         self._default_state = XFormPrimState(ref.position.copy(), ref.orientation.copy())
         self._default_joints: JointsState | None = None
         self._user_default_joints: dict = {}
@@ -97,6 +99,10 @@ class Articulation(DefaultPoseMixin):
         stage.register_wrapper(self)
 
     # ------------------------------------------------------------------ binding
+    def _bindable(self) -> bool:
+        """Whether the model is compiled with this articulation in it."""
+        return self._ref.core is not None
+
     def _bind(self, sim: SimHandle) -> None:
         self._core = self._ref.core
         c = self._core
@@ -118,7 +124,11 @@ class Articulation(DefaultPoseMixin):
         self._core = None
 
     def initialize(self, physics_sim_view=None) -> None:
-        """Nothing to do: the World binds articulations when it compiles (kept for Isaac scripts)."""
+        """Bind to the compiled model if that was not done yet (the World binds articulations
+        at every reset; Isaac scripts call this after a reset). Before the model holding
+        this articulation is compiled, nothing happens: the next `World.reset()` binds it."""
+        if self._core is None and self._bindable():
+            self._bind(self._ref.core.sim)
 
     @property
     def handles_initialized(self) -> bool:

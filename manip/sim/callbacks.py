@@ -1,10 +1,16 @@
-"""Named callbacks (physics, timeline, stage, render) and the events they receive."""
+"""Named callbacks (physics, timeline, stage, render) and the events they receive.
+
+Names follow Isaac Sim: adding a name that is taken, or removing one that does not exist,
+logs an error through `carb.log_error` (as Isaac's `SimulationContext` does) and changes
+nothing; it does not raise. A callback that is not callable raises InvalidInputError.
+"""
 
 from __future__ import annotations
 
 from typing import Callable
 
-from manip.errors import InvalidInputError, UnknownNameError
+from manip.errors import InvalidInputError
+from manip.sim import carb
 
 
 class TimelineEvent:
@@ -29,33 +35,38 @@ class CallbackTable:
         self.kind = kind
         self._fns: dict[str, Callable] = {}
 
-    def add(self, name: str, fn: Callable) -> None:
-        """Register `fn` as `name`.
+    def add(self, name: str, fn: Callable) -> bool:
+        """Register `fn` as `name`. Returns False (and logs an error, as Isaac) if the name
+        is taken; the existing callback is kept.
 
         Raises:
-            InvalidInputError: `fn` is not callable, or the name is taken.
+            InvalidInputError: `fn` is not callable.
         """
         if not callable(fn):
             raise InvalidInputError(f"{self.kind} callback {name!r} must be callable; got {fn!r}")
         if name in self._fns:
-            raise InvalidInputError(
-                f"a {self.kind} callback named {name!r} already exists; remove it first or use another name "
-                f"(existing: {sorted(self._fns)})"
+            carb.log_error(
+                f"{self.kind.capitalize()} callback `{name}` already exists; the new one is ignored "
+                f"(remove it first or use another name; existing: {sorted(self._fns)})"
             )
+            return False
         self._fns[name] = fn
+        return True
 
-    def remove(self, name: str) -> None:
-        """Forget `name`.
-
-        Raises:
-            UnknownNameError: no callback of that name (the message lists them).
-        """
+    def remove(self, name: str) -> bool:
+        """Forget `name`. Returns False (and logs an error listing the names, as Isaac) if
+        there is no callback of that name."""
         if name not in self._fns:
-            raise UnknownNameError(f"{self.kind} callback", name, sorted(self._fns))
+            carb.log_error(f"{self.kind.capitalize()} callback `{name}` doesn't exist (existing: {sorted(self._fns)})")
+            return False
         del self._fns[name]
+        return True
 
     def __contains__(self, name: object) -> bool:
         return name in self._fns
+
+    def names(self) -> list[str]:
+        return list(self._fns)
 
     def clear(self) -> None:
         self._fns.clear()

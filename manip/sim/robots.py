@@ -179,7 +179,8 @@ class Franka(Robot):
         stage = get_current_stage()
         if stage.find_reference(prim_path) is None:
             add_reference_to_stage(usd_path if usd_path is not None else franka_model_path(), prim_path)
-        super().__init__(prim_path, name, position=position, orientation=orientation)
+        # The gripper and end effector exist before the Robot registers itself: a model
+        # compiled already binds the robot (and its gripper) at once.
         ee = end_effector_prim_name or "panda_hand_tcp"
         self._end_effector_prim_path = f"{prim_path}/{ee}"
         self._end_effector = XFormPrim(self._end_effector_prim_path, name=f"{name}_end_effector")
@@ -190,6 +191,7 @@ class Franka(Robot):
             gripper_closed_position if gripper_closed_position is not None else [0.0, 0.0],
             deltas,
         )
+        super().__init__(prim_path, name, position=position, orientation=orientation)
 
     @property
     def end_effector(self) -> XFormPrim:
@@ -221,7 +223,8 @@ class WheeledRobot(Robot):
         name: scene name.
         wheel_dof_names: the wheel joints (or `wheel_dof_indices`).
         create_robot: reference `usd_path` at `prim_path` first.
-        usd_path: the model file (MJCF/URDF), e.g. `get_assets_root_path() + "/jetbot/jetbot.xml"`.
+        usd_path: the model: an Isaac asset path (`get_assets_root_path() +
+            "/Isaac/Robots/Jetbot/jetbot.usd"`) or an MJCF/URDF file.
         position, orientation: initial and default pose [m], (w, x, y, z).
     """
 
@@ -234,10 +237,10 @@ class WheeledRobot(Robot):
             add_reference_to_stage(usd_path, prim_path)
         if wheel_dof_names is None and wheel_dof_indices is None:
             raise InvalidInputError("give wheel_dof_names (or wheel_dof_indices)")
-        super().__init__(prim_path, name, position=position, orientation=orientation)
         self._wheel_names = None if wheel_dof_names is None else list(wheel_dof_names)
         self._wheel_idx_given = None if wheel_dof_indices is None else [int(i) for i in wheel_dof_indices]
         self._wheel_idx: np.ndarray | None = None
+        super().__init__(prim_path, name, position=position, orientation=orientation)
 
     def _bind(self, sim: SimHandle) -> None:
         super()._bind(sim)

@@ -6,6 +6,15 @@ MuJoCo integrates each physics step in `ceil(physics_dt / substep_dt)` equal sub
 at most `substep_dt` (default 0.002 s, i.e. 9 substeps of 1.85 ms at 60 Hz), which is what
 keeps a grasped cube stable and stiff drives accurate. `step(render=True)` runs
 max(1, round(rendering_dt / physics_dt)) physics steps then renders; `render=False` runs one.
+As in Isaac (`SimulationContext.initialize_physics`), `reset()` stops, plays and takes one
+warm-up `step(render=True)` without physics callbacks, so `current_time_step_index` is 1
+right after a reset (with the default dts) and the world is playing.
+
+Callback names follow Isaac: a duplicate name or removing an unknown one logs an error
+(`carb.log_error`) and changes nothing. The `*_async` methods (`reset_async`, `play_async`,
+`pause_async`, `stop_async`, `render_async`, `initialize_simulation_context_async`) are
+coroutines doing the same as the plain ones, for Isaac's extension workflow
+(`asyncio.run(world.reset_async())`).
 
 Solver options (`manip.sim.compiler`): the `implicitfast` integrator (implicit drive
 damping), elliptic friction cones and gravity -9.81 m/s^2 along z. The same script gives
@@ -265,11 +274,28 @@ class SimulationContext:
 
     # ------------------------------------------------------------------ timeline
     def reset(self, soft: bool = False) -> None:
-        """Stop, compile the stage if it changed (else restore the compiled initial state) and
-        play. Time and step index go back to 0; physics callbacks are kept."""
+        """Stop, compile the stage if it changed (else restore the compiled initial state),
+        play and take one warm-up step (Isaac's `initialize_physics`).
+
+        As in Isaac, the warm-up is one `step(render=True)` worth of physics (max(1,
+        rendering_dt / physics_dt) physics steps) without physics callbacks, so right after
+        a reset `current_time_step_index` is 1 (default dts) and the world is playing.
+        Physics callbacks are kept. `soft=True` on a compiled world does nothing here (the
+        World restores its objects' default states).
+        """
+        if soft and self._sim is not None:
+            return
+        if soft:
+            logger.warning("reset(soft=True) before the first reset: doing a full reset")
+        self.initialize_physics()
+        self._notify("on_world_rendered")
+
+    def initialize_physics(self) -> None:
+        """Stop, compile the stage if it changed (else restore the compiled initial state),
+        play, and run the warm-up physics of one rendered step without callbacks (Isaac:
+        "it does one step internally to propagate all physics handles")."""
         self._restart_physics()
-        self._forward()
-        self._start_playing()
+        self._play_and_warm_up()
 
     def _restart_physics(self) -> None:
         """Stop, then compile the stage if it changed, else restore the compiled initial state."""
@@ -284,13 +310,27 @@ class SimulationContext:
         mujoco.mj_forward(self._sim.model, self._sim.data)
         self._sim.kinematics_stale = False
 
-    def _start_playing(self) -> None:
-        """Time and step index to 0, play, and notify the observers (a reset renders)."""
+    def _play_and_warm_up(self) -> None:
+        """Play from time 0, then the physics of one `step(render=True)`, callbacks not called."""
         self._time = 0.0
         self._index = 0
         self._restart_pending = False
         self.play()
-        self._notify("on_world_rendered")
+        for _ in range(self._steps_per_render()):
+            self._advance()
+        self._forward()
+
+    def _steps_per_render(self) -> int:
+        return max(1, int(round(self._rendering_dt / self._physics_dt)))
+
+    def is_simulating(self) -> bool:
+        """Whether a compiled model exists (Isaac: a physics simulation view exists)."""
+        return self._sim is not None
+
+    @property
+    def physics_sim_view(self) -> SimHandle | None:
+        """The compiled model and data (Isaac's physics simulation view); None before the first reset."""
+        return self._sim
 
     def play(self) -> None:
         """Start (or resume) the simulation; compiles the stage if never compiled. After a
@@ -327,16 +367,28 @@ class SimulationContext:
         return self._stopped
 
     async def reset_async(self, soft: bool = False) -> None:
+        """`reset()`, awaitable (Isaac's extension workflow; `asyncio.run(world.reset_async())`)."""
         self.reset(soft)
 
     async def play_async(self) -> None:
+        """`play()`, awaitable."""
         self.play()
 
     async def pause_async(self) -> None:
+        """`pause()`, awaitable."""
         self.pause()
 
     async def stop_async(self) -> None:
+        """`stop()`, awaitable."""
         self.stop()
+
+    async def render_async(self) -> None:
+        """`render()`, awaitable."""
+        self.render()
+
+    async def initialize_simulation_context_async(self) -> None:
+        """Nothing to wait for: the context is ready once constructed (Isaac sets up its USD
+        stage and physics scene here)."""
 
     def _fire_timeline(self, kind: str) -> None:
         self._timeline_callbacks.call(TimelineEvent(kind))
@@ -352,20 +404,23 @@ class SimulationContext:
             if self._compiled_version != self._stage.version and not self._warned_dirty:
                 logger.warning("the stage changed since the last world.reset(); new prims appear after a reset")
                 self._warned_dirty = True
-            n = max(1, int(round(self._rendering_dt / self._physics_dt))) if render else 1
+            n = self._steps_per_render() if render else 1
             for _ in range(n):
                 self._physics_step()
         if render:
             self.render()
 
     def _physics_step(self) -> None:
-        dt = self._physics_dt
-        self._physics_callbacks.call(dt)
+        self._physics_callbacks.call(self._physics_dt)
+        self._advance()
+
+    def _advance(self) -> None:
+        """One physics step of the model (no callbacks); time and step index advance."""
         sim = self._sim
         mujoco.mj_step(sim.model, sim.data, nstep=self.physics_substeps)
         sim.kinematics_stale = True
         self._index += 1
-        self._time = self._index * dt
+        self._time = self._index * self._physics_dt
 
     def render(self) -> None:
         """Capture a video frame if recording, update the viewer if one is open, and run the
@@ -382,12 +437,16 @@ class SimulationContext:
     def add_physics_callback(self, callback_name: str, callback_fn: Callable[[float], None]) -> None:
         """Call `callback_fn(step_size)` before every physics step (step_size = physics_dt [s]).
 
+        A name that is taken logs an error (`carb.log_error`, as Isaac) and keeps the
+        existing callback.
+
         Raises:
-            InvalidInputError: the name is taken.
+            InvalidInputError: `callback_fn` is not callable.
         """
         self._physics_callbacks.add(callback_name, callback_fn)
 
     def remove_physics_callback(self, callback_name: str) -> None:
+        """Remove a physics callback; an unknown name logs an error (as Isaac)."""
         self._physics_callbacks.remove(callback_name)
 
     def physics_callback_exists(self, callback_name: str) -> bool:

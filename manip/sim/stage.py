@@ -18,7 +18,7 @@ import numpy as np
 
 from manip import quaternion as quat
 from manip.errors import InvalidInputError, ManipError
-from manip.robot_config import robots_root
+from manip.sim.assets import MODEL_SUFFIXES, get_assets_root_path, resolve_asset_path
 from manip.sim.callbacks import CallbackTable
 
 logger = logging.getLogger(__name__)
@@ -198,10 +198,13 @@ class Stage:
         return list(self._prims)
 
     def register_wrapper(self, wrapper: Any) -> None:
-        """Remember `wrapper` to bind it after each compile (at once if compiled already)."""
+        """Remember `wrapper` to bind it after each compile; at once if the model is compiled
+        and holds the wrapper's prims (`wrapper._bindable()`, default True). A wrapper of a
+        prim added since the last compile is bound by the next `World.reset()`."""
         if wrapper not in self._wrappers:
             self._wrappers.append(wrapper)
-            if self.sim is not None:
+            bindable = getattr(wrapper, "_bindable", None)
+            if self.sim is not None and (bindable is None or bindable()):
                 wrapper._bind(self.sim)
 
     def wrappers(self) -> list[Any]:
@@ -257,29 +260,37 @@ def is_prim_path_valid(prim_path: str) -> bool:
     return prim_path in _STAGE._prims
 
 
-def get_assets_root_path() -> str:
-    """The folder of the project's robot assets (`robots/`); each robot's MuJoCo model is
-    `<root>/<name>/<name>.xml` (e.g. `franka/franka.xml`, `jetbot/jetbot.xml`)."""
-    return str(robots_root())
+def add_reference_to_stage(usd_path: str | Path, prim_path: str, prim_type: str = "Xform") -> ReferencePrim:
+    """Load a model into the stage under `prim_path` (Isaac's `add_reference_to_stage`).
 
-
-def add_reference_to_stage(usd_path: str | Path, prim_path: str) -> ReferencePrim:
-    """Load an MJCF (.xml) or URDF (.urdf) file into the stage under `prim_path`.
-
-    Named `usd_path` like Isaac's; here the file is a MuJoCo model. Its names are prefixed
-    by `prim_path + "/"` once compiled by `World.reset()`.
+    `usd_path` is an Isaac asset path (`get_assets_root_path() + "/Isaac/Robots/Franka/franka.usd"`,
+    see `manip.sim.assets.ISAAC_ASSETS`), which loads the bundled MuJoCo model, or an MJCF
+    (.xml) or URDF (.urdf) file. Its names are prefixed by `prim_path + "/"` once compiled
+    by `World.reset()`. Differs from Isaac: no USD files; a referenced model cannot be
+    referenced twice at the same prim path.
 
     Raises:
-        FileNotFoundError: the file does not exist.
+        FileNotFoundError: no such asset (the message lists the available ones).
         InvalidInputError: the prim path is malformed or taken, or the file type is not
             .xml/.mjcf/.urdf.
     """
-    path = Path(usd_path).expanduser()
-    if not path.is_file():
-        raise FileNotFoundError(f"add_reference_to_stage: no file at {path}")
-    if path.suffix.lower() not in (".xml", ".mjcf", ".urdf"):
+    path = resolve_asset_path(usd_path)
+    if path.suffix.lower() not in MODEL_SUFFIXES:
         raise InvalidInputError(f"add_reference_to_stage: expected an MJCF (.xml) or URDF (.urdf) file; got {path}")
     validate_prim_path(prim_path)
-    prim = ReferencePrim(path.resolve(), prim_path)
+    prim = ReferencePrim(path, prim_path)
     _STAGE.add_prim(prim)
     return prim
+
+
+async def create_new_stage_async() -> Stage:
+    """`create_new_stage()`, awaitable (Isaac's extension workflow)."""
+    return create_new_stage()
+
+
+def update_stage() -> None:
+    """Nothing to do: the stage has no pending USD updates here (kept for Isaac scripts)."""
+
+
+async def update_stage_async() -> None:
+    """Nothing to do (Isaac waits for the next app update); awaitable."""

@@ -7,10 +7,15 @@ One per process, as Isaac's: a second `World(...)` returns the existing instance
 
 from __future__ import annotations
 
+import logging
+
 from manip.sim.callbacks import TimelineEvent  # noqa: F401 (re-exported)
 from manip.sim.scene import Scene
 from manip.sim.simulation_context import DEFAULT_DT, SimulationContext, WorldObserver  # noqa: F401 (re-exported)
+from manip.sim.stage import get_current_stage
 from manip.sim.task_registry import TaskRegistry
+
+logger = logging.getLogger(__name__)
 
 
 class World(SimulationContext):
@@ -46,18 +51,31 @@ class World(SimulationContext):
 
     # ------------------------------------------------------------------ timeline and stepping
     def reset(self, soft: bool = False) -> None:
-        """Build task scenes (once per task), compile the stage if it changed, restore every
-        scene object's default state, call each task's `post_reset()` and play.
+        """Isaac's `World.reset`: build task scenes (once per task), stop, compile the stage
+        if it changed, play and take one warm-up step (see `SimulationContext.reset`), then
+        restore every scene object's default state and call each task's `post_reset()`.
 
-        Time and step index go back to 0; physics callbacks are kept.
+        Objects, referenced models and wrappers (Robot, views) may be added at any time;
+        the next reset compiles and initialises them. After a reset the world is playing
+        and `current_time_step_index` is 1 (with rendering_dt = physics_dt), as in Isaac.
+        Physics callbacks are kept. `soft=True` (after a first reset) only restores the
+        default states and calls the tasks' `post_reset()`, without restarting physics.
         """
         self._tasks.set_up_scenes(self._scene)
-        self._restart_physics()
+        if soft and self._sim is None:
+            logger.warning("reset(soft=True) before the first reset: doing a full reset")
+        if not (soft and self._sim is not None):
+            self.initialize_physics()
         self._scene.post_reset()
         self._forward()
         self._tasks.post_reset()
         self._last_pre_step_index = -1
-        self._start_playing()
+        self._notify("on_world_rendered")
+
+    def initialize_physics(self) -> None:
+        """Stop, compile if needed, play and take the warm-up step (no default states restored)."""
+        self._tasks.set_up_scenes(self._scene)
+        super().initialize_physics()
 
     def stop(self) -> None:
         """Stop: time and step index go back to 0; the next `play()` restarts physics."""
@@ -72,6 +90,14 @@ class World(SimulationContext):
         """
         self.step_async()
         super().step(render, step_sim)
+
+    async def reset_async_set_up_scene(self, soft: bool = False) -> None:
+        """Build the task scenes that are not built yet (Isaac's first half of `reset_async`)."""
+        self._tasks.set_up_scenes(self._scene)
+
+    async def reset_async_no_set_up_scene(self, soft: bool = False) -> None:
+        """`reset()` without building task scenes first (they are built already)."""
+        self.reset(soft)
 
     def step_async(self, step_size: float | None = None) -> None:
         """Run each task's `pre_step(step_index, time)` once for the current physics step
@@ -125,3 +151,16 @@ class World(SimulationContext):
         self._stage.clear()
         self._compiled_version = -1
         self.stop()
+
+
+def clear_stage() -> None:
+    """Delete every prim of the stage (Isaac's `omni.isaac.core.utils.stage.clear_stage`).
+
+    With a World, its scene and tasks are emptied too (`World.clear()`): their objects lived
+    on the stage. Isaac leaves stale wrappers registered in that case; here they are dropped.
+    """
+    world = World.instance()
+    if world is not None:
+        world.clear()
+    else:
+        get_current_stage().clear()

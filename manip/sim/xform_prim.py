@@ -100,6 +100,10 @@ class XFormPrim(DefaultPoseMixin):
         )
         return body
 
+    def _bindable(self) -> bool:
+        """Whether the compiled model holds this prim (a prim of a referenced model compiled already)."""
+        return self._wrapped_reference is None or self._wrapped_reference.core is not None
+
     def _bind(self, sim: SimHandle) -> None:
         m = sim.model
         self._sim = sim

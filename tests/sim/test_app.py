@@ -16,7 +16,7 @@ def test_headless_app_runs_and_closes():
     world.scene.add(DynamicCuboid("/World/c", name="c", size=0.1))
     world.reset()
     app.update()  # renders without stepping
-    assert world.current_time_step_index == 0
+    assert world.current_time_step_index == 1  # the reset's warm-up step only
     app.close()
     assert not app.is_running()
 

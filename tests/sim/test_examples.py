@@ -18,6 +18,7 @@ CASES = {
     "control_robot.py": ["--targets", "2", "--hold", "1.5"],
     "robot_info.py": [],
     "sample_lifecycle.py": ["--steps", "30"],
+    "tutorial_pick_and_place.py": ["--steps", "1400"],
 }
 
 

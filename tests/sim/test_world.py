@@ -53,13 +53,15 @@ def test_defaults_are_isaacs_and_render_steps_several_physics_steps():
     world.add_physics_callback("count", lambda dt: steps.append(dt))
     world.scene.add(DynamicSphere("/World/ball", name="ball", radius=0.05))
     world.reset()
+    # Isaac's reset plays and takes one rendered step (4 physics steps here), without callbacks
+    assert world.is_playing() and world.current_time_step_index == 4 and steps == []
     assert world.model.opt.timestep == pytest.approx(1 / 120 / 5)
     world.step(render=True)
     assert len(steps) == 4 and all(dt == pytest.approx(1 / 120) for dt in steps)
     world.step(render=False)
     assert len(steps) == 5
-    assert world.current_time_step_index == 5
-    assert world.current_time == pytest.approx(5 / 120)
+    assert world.current_time_step_index == 9
+    assert world.current_time == pytest.approx(9 / 120)
 
 
 def test_physics_callbacks_fire_once_per_step_with_step_size():
@@ -71,15 +73,31 @@ def test_physics_callbacks_fire_once_per_step_with_step_size():
     for _ in range(10):
         world.step(render=True)
     assert [c[0] for c in calls] == [pytest.approx(1 / 60)] * 10
-    assert [c[1] for c in calls] == list(range(10))  # before each physics step
+    assert [c[1] for c in calls] == list(range(1, 11))  # before each physics step (1: the reset's warm-up)
     assert world.physics_callback_exists("cb")
-    with pytest.raises(InvalidInputError, match="already exists"):
-        world.add_physics_callback("cb", lambda s: None)
+
+
+def test_callback_name_errors_are_logged_like_isaac(caplog):
+    world = World()
+    first = []
+    world.add_physics_callback("cb", lambda s: first.append(s))
+    world.scene.add(DynamicCuboid("/World/c", name="c", size=0.1))
+    world.reset()
+    with caplog.at_level(logging.ERROR, logger="manip.sim.carb"):
+        world.add_physics_callback("cb", lambda s: None)  # Isaac: carb.log_error, the first one stays
+        world.remove_physics_callback("nope")
+        world.remove_timeline_callback("nope")
+    errors = [r.getMessage() for r in caplog.records if r.levelno == logging.ERROR]
+    assert any("`cb` already exists" in m for m in errors)
+    assert any("`nope` doesn't exist" in m and "'cb'" in m for m in errors)  # lists the names
+    assert len(errors) == 3
+    world.step()
+    assert len(first) == 1
     world.remove_physics_callback("cb")
     world.step()
-    assert len(calls) == 10
-    with pytest.raises(UnknownNameError):
-        world.remove_physics_callback("cb")
+    assert len(first) == 1 and not world.physics_callback_exists("cb")
+    with pytest.raises(InvalidInputError, match="callable"):
+        world.add_physics_callback("bad", 3)
 
 
 def test_pause_stop_play_and_timeline_events():
@@ -92,7 +110,7 @@ def test_pause_stop_play_and_timeline_events():
     world.pause()
     z = cube.get_world_pose()[0][2]
     world.step()
-    assert cube.get_world_pose()[0][2] == z and world.current_time_step_index == 1
+    assert cube.get_world_pose()[0][2] == z and world.current_time_step_index == 2
     world.play()
     world.step()
     assert cube.get_world_pose()[0][2] < z
@@ -116,7 +134,8 @@ def test_reset_restores_default_states():
         world.step(render=False)
     assert not np.allclose(cube.get_world_pose()[0], [0.3, 0.0, 0.5])
     world.reset()
-    assert world.current_time == 0 and world.current_time_step_index == 0
+    # Isaac: the reset plays and steps once, then restores the default states
+    assert world.current_time == pytest.approx(1 / 60) and world.current_time_step_index == 1
     assert np.allclose(cube.get_world_pose()[0], [0.3, 0.0, 0.5])
     assert np.allclose(cube.get_linear_velocity(), 0.0)
     assert np.allclose(franka.get_joint_positions(), q0)
@@ -305,7 +324,8 @@ def test_tasks_are_set_up_once_and_stepped():
     assert task.setups == 1 and task.resets == 2
     for _ in range(3):
         world.step()
-    assert task.pre_steps == [(0, 0.0), (1, pytest.approx(1 / 60)), (2, pytest.approx(2 / 60))]
+    # the reset's warm-up step runs no pre_step (Isaac); the first world.step() is index 1
+    assert task.pre_steps == [(1, pytest.approx(1 / 60)), (2, pytest.approx(2 / 60)), (3, pytest.approx(3 / 60))]
     assert "ball" in world.get_observations()
     assert world.get_task("counting") is task
     with pytest.raises(UnknownNameError):

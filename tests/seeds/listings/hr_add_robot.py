@@ -1,0 +1,56 @@
+"""Ported listing: 2. add a robot (Jetbot as Robot, BaseSample).
+
+From the tutorial 'isaac sim4.2 教程-Core API-Hello robot' (seed file 001_a57d19be82592666.txt, lines 20-68).
+Changed: only the imports (omni.isaac... / isaacsim... -> manip.sim, carb -> manip.sim.carb,
+the cuRobo wrapper -> manip.TutorialMotionGen) and headless=True; the code is the tutorial's.
+"""
+
+from manip.sim import BaseSample
+from manip.sim import World
+
+from manip.sim import get_assets_root_path
+from manip.sim import add_reference_to_stage
+from manip.sim import Robot
+from manip.sim import carb
+
+class MyHelloWorld(BaseSample): # 继承自basesample
+    def __init__(self) -> None:
+        super().__init__()
+        return
+
+    def setup_scene(self):
+        world = self.get_world()
+        world.scene.add_default_ground_plane()
+
+        # 拿到资源的根路径
+        assets_root_path = get_assets_root_path()
+        if assets_root_path is None:
+            # Use carb to 记录日志 warnings, errors and infos in your application (shown on terminal)
+            carb.log_error("Could not find nucleus server with /Isaac folder")
+
+        # 拿到具体资源路径:根路径+具体资源
+        asset_path = assets_root_path + "/Isaac/Robots/Jetbot/jetbot.usd"
+        # 这将会创建 a new XFormPrim and 把它添加到场景world中
+        add_reference_to_stage(usd_path=asset_path, prim_path="/World/Fancy_Robot")
+
+        # 将机器人封装为Robot对象并添加到场景
+        # Note: this call doesn't create the Jetbot in the stage window, it was already
+        # created with the add_reference_to_stage
+        jetbot_robot = world.scene.add(Robot(prim_path="/World/Fancy_Robot", name="fancy_robot"))
+
+        # 物理系统初始化前无法获取动力学信息
+        print("Num of degrees of freedom before first reset: " + str(jetbot_robot.num_dof)) # prints None
+        return
+
+    # 初始化时机:
+    #     发生在 setup_scene() 完成之后
+    #     发生在 setup_post_load() 执行之前
+
+    async def setup_post_load(self):
+        self._world = self.get_world()
+        self._jetbot = self._world.scene.get_object("fancy_robot")
+
+        # 物理系统初始化后可获取动力学参数
+        print("Num of degrees of freedom after first reset: " + str(self._jetbot.num_dof)) # prints 2
+        print("Joint Positions after first reset: " + str(self._jetbot.get_joint_positions()))
+        return
