@@ -6,6 +6,7 @@ importing the simulator; `manip.sim` re-exports it.
 
 from __future__ import annotations
 
+import numbers
 from typing import Sequence
 
 import numpy as np
@@ -14,14 +15,54 @@ from manip.errors import InvalidInputError
 
 
 def _field(values, name: str) -> np.ndarray | None:
+    """A target field as a float array (K,): None entries become NaN; anything that is not a
+    real number (strings, complex, booleans) or an infinite value raises, naming the field."""
     if values is None:
         return None
-    a = np.array(
-        [np.nan if v is None else v for v in np.ravel(np.asarray(values, dtype=object))], dtype=float
-    )
-    if np.any(np.isinf(a)):
-        raise InvalidInputError(f"ArticulationAction.{name} has infinite entries: {a}")
-    return a
+    if isinstance(values, np.ndarray) and values.dtype.kind in "iuf":  # the common case, no per-entry loop
+        out = values.astype(float).ravel()
+        if np.any(np.isinf(out)):
+            raise InvalidInputError(f"ArticulationAction.{name} has infinite entries: {out}")
+        return out
+    try:
+        flat = np.ravel(np.asarray(values, dtype=object))
+    except (TypeError, ValueError) as exc:
+        raise InvalidInputError(f"ArticulationAction.{name} must be a sequence of numbers; got {values!r}") from exc
+    out = np.empty(flat.size)
+    for k, v in enumerate(flat):
+        if v is None:
+            out[k] = np.nan
+        elif isinstance(v, (bool, np.bool_)) or not isinstance(v, numbers.Real):
+            raise InvalidInputError(
+                f"ArticulationAction.{name}[{k}] must be a real number or None; got {v!r} ({type(v).__name__})"
+            )
+        else:
+            out[k] = float(v)
+    if np.any(np.isinf(out)):
+        raise InvalidInputError(f"ArticulationAction.{name} has infinite entries: {out}")
+    return out
+
+
+def _indices(values) -> np.ndarray | None:
+    """Joint indices as an int array (K,): non-negative integers (integral floats such as 2.0
+    are accepted; 0.7 is not silently truncated)."""
+    if values is None:
+        return None
+    try:
+        a = np.ravel(np.asarray(values))
+    except (TypeError, ValueError) as exc:
+        raise InvalidInputError(f"ArticulationAction.joint_indices must be integers; got {values!r}") from exc
+    if a.dtype.kind in "iu":
+        idx = a.astype(np.int64)
+    elif a.dtype.kind == "f" and np.all(np.isfinite(a)) and np.all(a == np.round(a)):
+        idx = a.astype(np.int64)
+    elif a.dtype.kind == "O" and all(isinstance(v, numbers.Integral) and not isinstance(v, (bool, np.bool_)) for v in a):
+        idx = a.astype(np.int64)
+    else:
+        raise InvalidInputError(f"ArticulationAction.joint_indices must be non-negative integers; got {values!r}")
+    if np.any(idx < 0):
+        raise InvalidInputError(f"ArticulationAction.joint_indices must be non-negative integers; got {values!r}")
+    return idx
 
 
 class ArticulationAction:
@@ -29,7 +70,8 @@ class ArticulationAction:
 
     A field left None is untouched. A None/NaN entry of `joint_positions` or
     `joint_velocities` keeps that joint's current target; a None/NaN effort means 0.
-    Infinite values raise InvalidInputError.
+    Infinite values, entries that are not real numbers, and joint indices that are not
+    non-negative integers (0.7 is refused, not truncated) raise InvalidInputError.
 
     Args:
         joint_positions: (K,) position targets [rad or m].
@@ -49,7 +91,7 @@ class ArticulationAction:
         self.joint_positions = _field(joint_positions, "joint_positions")
         self.joint_velocities = _field(joint_velocities, "joint_velocities")
         self.joint_efforts = _field(joint_efforts, "joint_efforts")
-        self.joint_indices = None if joint_indices is None else np.asarray(joint_indices, dtype=int).ravel()
+        self.joint_indices = _indices(joint_indices)
         lengths = {
             name: len(v)
             for name, v in (

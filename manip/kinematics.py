@@ -5,13 +5,17 @@ at their planning positions). Single configurations go through Pinocchio's C++; 
 configurations go through the same joint tree as constant tables evaluated by small numba
 kernels (`chain_frames`, `frame_jacobian_into`), which the collision checker and the IK
 solver also call from their own compiled loops. Tests hold both paths to Pinocchio's answers.
+
+Threads: a `Kinematics` may be shared. Pinocchio's work space (`pin.Data`) is per thread
+(`data`), the compiled kernels allocate their own outputs and release the GIL, and every
+table is read-only after construction.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import math
+import threading
+from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
@@ -21,6 +25,7 @@ from manip import quaternion as quat
 from manip.errors import InvalidInputError, UnknownNameError
 from manip.pose import Pose
 from manip.robot_config import RobotConfig
+from manip.validation import as_real_array
 
 #: Batched evaluations run in chunks of this many configurations (temporaries stay in cache).
 _CHUNK = 2048
@@ -178,7 +183,7 @@ class Kinematics:
         self.full_model = full
         self.locked_configuration = q_lock
         self.model = pin.buildReducedModel(full, locked, q_lock) if locked else full
-        self.data = self.model.createData()
+        self._local = threading.local()
         order = [self.model.getJointId(j) for j in config.arm_joints]
         # The reduced model keeps the URDF order; manip requires the config to list joints in
         # that same order so that q maps to the model without a permutation.
@@ -200,17 +205,33 @@ class Kinematics:
         self.frame_names: tuple[str, ...] = tuple(f.name for f in self.model.frames)
         self._frame_ids = {f.name: i for i, f in enumerate(self.model.frames)}
 
+    @property
+    def data(self) -> pin.Data:
+        """Pinocchio's work space of the calling thread (created on first use in each thread)."""
+        data = getattr(self._local, "data", None)
+        if data is None:
+            data = self._local.data = self.model.createData()
+        return data
+
     # ------------------------------------------------------------------ validation
-    def frame_id(self, link: str) -> int:
-        """Pinocchio frame index of `link`; raises UnknownNameError listing the frames."""
+    def frame_id(self, link: str, what: str = "link") -> int:
+        """Pinocchio frame index of `link` (argument name `what` in messages).
+
+        Raises:
+            InvalidInputError: `link` is not a string.
+            UnknownNameError: no such frame (the message lists the frames).
+        """
+        if not isinstance(link, str):
+            raise InvalidInputError(f"{what} must be a frame name (a str); got {link!r}")
         try:
             return self._frame_ids[link]
         except KeyError:
-            raise UnknownNameError("frame", link, [n for n in self.frame_names if n != "universe"]) from None
+            raise UnknownNameError(f"{what}: frame", link, [n for n in self.frame_names if n != "universe"]) from None
 
     def check_q(self, q: np.ndarray, name: str = "q") -> np.ndarray:
-        """`q` as a float array (dof,) or (N, dof); raises on wrong shape or non-finite values."""
-        q = np.asarray(q, dtype=float)
+        """`q` as a float array (dof,) or (N, dof); raises on wrong shape, a non-numeric
+        dtype (complex, bool, strings, objects) or non-finite values."""
+        q = as_real_array(q, name)
         if q.ndim not in (1, 2) or q.shape[-1] != self.dof:
             raise InvalidInputError(
                 f"{name} must have shape ({self.dof},) or (N, {self.dof}) for joints {list(self.joint_names)}; got {q.shape}"
@@ -339,10 +360,11 @@ class Kinematics:
     def fk(self, q: np.ndarray, link: str) -> Pose:
         """Pose of `link` in the base frame for q (dof,) -> Pose or (N, dof) -> batched Pose."""
         q = self.check_q(q)
-        fid = self.frame_id(link)
+        fid = self.frame_id(link, "link")
         if q.ndim == 1:
             M = self.frame_transform(q, fid)
             x, y, z, w = pin.Quaternion(M.rotation).coeffs()
-            return Pose(M.translation.copy(), np.array([w, x, y, z]) if w >= 0 else -np.array([w, x, y, z]))
+            wxyz = np.array([w, x, y, z]) if w >= 0 else -np.array([w, x, y, z])
+            return Pose._trusted(M.translation.copy(), wxyz / math.sqrt(float(wxyz @ wxyz)))
         R, p = self.frame_transforms(q, [fid])
-        return Pose(p[:, 0], quat.from_matrix(R[:, 0]))
+        return Pose._trusted(np.ascontiguousarray(p[:, 0]), quat.from_matrix(R[:, 0]))

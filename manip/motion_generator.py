@@ -10,24 +10,43 @@ The pipeline of every plan (each stage timed in `PlanResult.timings`):
    RRT-Connect search towards all goal configurations at once (`planning.search`);
 4. shortcut: batched random shortcutting, optionally clearance smoothing (`planning.optimize`);
 5. timing: ruckig segments with blended corners (`manip.timing`);
-6. validate: the returned samples are checked densely against the exact collision model
-   (`planning.finish`). Only a trajectory that passes is returned with `success=True`; one
-   that fails is planned again (MAX_ATTEMPTS);
+6. validate: the continuous interpolation of the returned samples is certified
+   collision-free against the exact collision model (`planning.finish`,
+   `CollisionChecker.certify_path`). Only a trajectory that passes is returned with
+   `success=True`; one that fails is planned again (MAX_ATTEMPTS);
 7. trajectory optimisation (`planning.refine`, `planning.trajopt`): the valid trajectory of a
    searched path seeds a B-spline optimiser; its result replaces the seed only when it is
-   faster and passes the same dense validation (`PlanResult.source == "trajopt"`).
+   faster and passes the same validation (`PlanResult.source == "trajopt"`).
 
 The planners are handed a `planning.Validity` (collision and limit questions) and a
 `PlanContext` (options, deadline, random generator, timings); this class only orchestrates.
+
+Guarantees of a trajectory returned with `success=True` (`planning.finish`): it starts at
+the start and ends at the goal at rest, keeps the position, velocity, acceleration and
+jerk limits, and its continuous interpolation (straight joint-space lines between the
+samples) is certified collision-free against the exact meshes with the padding
+(`CollisionChecker.certify_path`, conservative advancement), not only at sampled
+configurations.
+
+Threading contract: one MotionGenerator may be shared by threads. `fk`, `ik`, `batch_ik`,
+`check_collision`, `distance` and the `plan_*` calls may run concurrently (Pinocchio's work
+space is per thread, the compiled kernels release the GIL, nothing shared is written).
+World edits (`update_world`, `add_obstacle`, `remove_obstacle`, `attach_object`,
+`detach_object`) may run concurrently with them: edits are serialised, each query and
+each whole plan reads one snapshot of the world taken when it starts, and an edit applies
+to the calls that start after it. Changing the defaults (`velocity_scale`, ...) while
+other threads plan is not supported.
 """
 
 from __future__ import annotations
 
 import logging
+import math
 import time
 import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 
@@ -51,7 +70,7 @@ from manip.robot_config import RobotConfig, load_robot_config
 from manip.sim_bridge import world_config_from_sim
 from manip.timing import TimingLimits
 from manip.timing.bounds import rest_to_rest_time
-from manip.validation import positive
+from manip.validation import flag, positive
 
 logger = logging.getLogger(__name__)
 
@@ -59,7 +78,7 @@ __all__ = ["MotionGenerator", "START_LIMIT_TOLERANCE"]
 
 #: Random IK starts tried for a pose goal when the first round finds no collision-free solution.
 IK_RETRY_ATTEMPTS = 400
-#: Plans tried when a path's timed trajectory fails the dense validation.
+#: Plans tried when a path's timed trajectory fails the validation (its certificate).
 MAX_ATTEMPTS = 4
 #: Largest joint-space deviation [rad] of a linear motion's timing from its dense IK path
 #: (about 1 mm at the hand).
@@ -71,6 +90,9 @@ LINEAR_DEVIATION = 1e-3
 #: 0.01 mm of the Cartesian line, the polyline 0.1-0.2 mm off it, while the two differ by
 #: up to 1.8 mrad). The bound only rejects a fit gone wrong.
 LINEAR_SPLINE_DEVIATION = 1e-2
+#: Largest number of IK points of a linear motion (`linear_step` [m] must be at least the
+#: line's length over this): more is refused with an InvalidInputError naming linear_step.
+MAX_LINEAR_POINTS = 10_000
 
 #: The Isaac Sim tutorial wrapper's names, which moved to `manip.TutorialMotionGen`.
 TUTORIAL_NAMES = frozenset({
@@ -89,8 +111,9 @@ class MotionGenerator:
         padding: extra clearance [m] kept from the world (default: the robot config's).
         time_budget: default planning time budget [s] per call.
         interpolation_dt: default trajectory sample period [s] (1/60 s, the simulator's).
-        resolution: collision-check resolution along motions [rad] (joint-space L-inf);
-            every returned path and trajectory is checked at least this densely.
+        resolution: collision-check resolution along motions [rad] (joint-space L-inf) of
+            the path search and repair; returned trajectories are in addition certified
+            collision-free over their whole continuous interpolation.
         search_resolution: coarser resolution of the path search's edge checks [rad]; the
             found path is re-checked (and repaired) at `resolution`.
         seed: default random seed of IK restarts and sampling-based planning.
@@ -114,17 +137,24 @@ class MotionGenerator:
         search_resolution: float = 0.08,
         seed: int = 0,
     ):
-        self.config = robot if isinstance(robot, RobotConfig) else load_robot_config(robot)
+        if isinstance(robot, RobotConfig):
+            self.config = robot
+        elif isinstance(robot, (str, Path)):
+            self.config = load_robot_config(robot)
+        else:
+            raise InvalidInputError(
+                f"robot must be a robot name (e.g. 'franka'), a path to a robot.yaml or a RobotConfig; got {robot!r}"
+            )
+        # option-like arguments first: a bad one fails before the robot's models are built
+        self.defaults = PlanOptions(time_budget=time_budget, dt=interpolation_dt, seed=seed)
+        resolution = positive(resolution, "resolution", "rad")
+        search_resolution = positive(search_resolution, "search_resolution", "rad")
         self.kinematics = Kinematics(self.config)
         self.checker = CollisionChecker(self.config, self.kinematics, None, padding=padding)
-        self.validity = Validity(
-            self.checker, self.kinematics, positive(resolution, "resolution", "rad"),
-            positive(search_resolution, "search_resolution", "rad"),
-        )
+        self.validity = Validity(self.checker, self.kinematics, resolution, search_resolution)
         self.clearance = ClearanceModel(self.checker)
         self.ik_solver = IKSolver(self.kinematics, seed=seed)
         self.timing_limits = TimingLimits.from_robot(self.config)
-        self.defaults = PlanOptions(time_budget=time_budget, dt=interpolation_dt, seed=seed)
         self.velocity_scale = 1.0
         self.acceleration_scale = 1.0
         if world is not None:
@@ -213,9 +243,9 @@ class MotionGenerator:
 
         Args:
             q: (dof,) -> a single Pose, or (N, dof) -> a batched Pose [rad].
-            link: any frame of the URDF.
+            link: any frame of the URDF (None: `ee_link`).
         """
-        return self.kinematics.fk(q, link or self.ee_link)
+        return self.kinematics.fk(q, self._link(link))
 
     def ik(
         self,
@@ -229,40 +259,56 @@ class MotionGenerator:
         """Joint positions placing `link` (default `ee_link`) at the single Pose `goal`.
 
         With `collision_free=True` only configurations free of collisions with the world and
-        the robot itself count as solutions. Other keyword arguments go to `IKSolver.solve`.
-        A batched Pose is deprecated here: use `batch_ik`.
+        the robot itself count as solutions (the world as it is when the call starts).
+        Other keyword arguments go to `IKSolver.solve`. A batched Pose is deprecated here:
+        use `batch_ik`.
         """
         if not isinstance(goal, Pose):
             raise InvalidInputError(f"goal must be a manip.Pose; got {type(goal).__name__}")
         if goal.is_batch:
             warnings.warn("MotionGenerator.ik with a batched Pose is deprecated: use batch_ik", DeprecationWarning,
                           stacklevel=2)
-            return self.batch_ik(goal, link, seed_q, **kwargs)  # type: ignore[return-value]
-        link = link or self.ee_link
-        self.kinematics.frame_id(link)
+            return self.batch_ik(goal, link, seed_q, collision_free=collision_free, **kwargs)  # type: ignore[return-value]
+        link = self._link(link)
         if seed_q is not None:
             seed_q = self.kinematics.check_q(seed_q, "seed_q")
-        if collision_free:
-            kwargs.setdefault("validity_fn", self.validity.configs)
+        if flag(collision_free, "collision_free"):
+            kwargs.setdefault("validity_fn", self._validity().configs)
         return self.ik_solver.solve(goal, link, seed_q=seed_q, **kwargs)
 
-    def batch_ik(self, goals: Pose, link: str | None = None, seed_q: np.ndarray | None = None, **kwargs) -> BatchIKResult:
+    def batch_ik(self, goals: Pose, link: str | None = None, seed_q: np.ndarray | None = None, *,
+                 collision_free: bool = False, **kwargs) -> BatchIKResult:
         """Joint positions for each pose of the batched Pose `goals` (N poses), in one batch.
 
         Args:
             goals: a batched Pose (N,) in the base frame.
             link: any frame of the URDF (default `ee_link`).
             seed_q: (dof,) or (N, dof) configurations to start from [rad].
+            collision_free: only configurations free of collisions with the world and the
+                robot itself count as solutions (as in `ik`).
             **kwargs: as `IKSolver.solve_batch`.
         """
         if not isinstance(goals, Pose):
             raise InvalidInputError(f"goals must be a manip.Pose; got {type(goals).__name__}")
-        link = link or self.ee_link
-        self.kinematics.frame_id(link)
+        link = self._link(link)
         if seed_q is not None:
             seed_q = self.kinematics.check_q(seed_q, "seed_q")
+        if flag(collision_free, "collision_free"):
+            kwargs.setdefault("validity_fn", self._validity().configs)
         return self.ik_solver.solve_batch(goals if goals.is_batch else Pose.stack([goals]), link, seed_q=seed_q,
                                           **kwargs)
+
+    def _link(self, link) -> str:
+        """`link` checked as a frame name; None means `ee_link` (an empty or non-string name raises)."""
+        if link is None:
+            return self.ee_link
+        self.kinematics.frame_id(link, "link")
+        return link
+
+    def _validity(self) -> Validity:
+        """Collision questions against one snapshot of the world (taken now)."""
+        v = self.validity
+        return Validity(self.checker.snapshot(), v.kinematics, v.resolution, v.search_resolution)
 
     # ------------------------------------------------------------------ world
     @property
@@ -286,13 +332,21 @@ class MotionGenerator:
         """Remove the obstacle called `name` (UnknownNameError lists the names)."""
         self.checker.remove_obstacle(name)
 
+    def update_obstacle_pose(self, name: str, pose: Pose | Sequence[float]) -> None:
+        """Move the obstacle called `name` to `pose` (a Pose, [x, y, z] or [x, y, z, qw, qx, qy, qz]).
+
+        `add_obstacle`, `remove_obstacle` and this are incremental (well under a millisecond
+        with a thousand obstacles, `benchmarks/world_edits.py`); `update_world` rebuilds all.
+        """
+        self.checker.update_obstacle_pose(name, pose)
+
     def check_collision(self, q: np.ndarray | Sequence[float]) -> bool:
         """True when `q` (dof,) collides with the world, an attached object or itself."""
-        return bool(self.checker.in_collision(self.kinematics.check_q(q)))
+        return bool(self.checker.in_collision(self._one_q(q, "q")))
 
     def distance(self, q: np.ndarray | Sequence[float]) -> float:
         """Signed distance [m] of `q` (dof,) to the world and to itself (< 0: penetration)."""
-        return float(self.checker.distance(self.kinematics.check_q(q)))
+        return float(self.checker.distance(self._one_q(q, "q")))
 
     def attach_object(self, name_or_shape, q: np.ndarray | Sequence[float] | None = None, link: str | None = None,
                       **kwargs):
@@ -301,13 +355,19 @@ class MotionGenerator:
         The named obstacle leaves the world and moves rigidly with the link from its pose at
         configuration `q` (default: the default configuration).
         """
-        qq = self.default_joint_positions if q is None else self.kinematics.check_q(q)
-        return self.checker.attach_object(name_or_shape, q=qq, link=link or self.ee_link, **kwargs)
+        qq = self.default_joint_positions if q is None else self._one_q(q, "q")
+        return self.checker.attach_object(name_or_shape, q=qq, link=self._link(link), **kwargs)
 
     def detach_object(self, q: np.ndarray | Sequence[float] | None = None, **kwargs):
         """Put attached objects back into the world at their pose at configuration `q`."""
-        qq = self.default_joint_positions if q is None else self.kinematics.check_q(q)
+        qq = self.default_joint_positions if q is None else self._one_q(q, "q")
         return self.checker.detach_object(qq, **kwargs)
+
+    def _one_q(self, q, what: str) -> np.ndarray:
+        q = self.kinematics.check_q(q, what)
+        if q.ndim != 1:
+            raise InvalidInputError(f"{what} must have shape ({self.robot_dof},) (one configuration); got {q.shape}")
+        return q
 
     def update_world_from_sim(self, world, robot, ignore: Sequence[str] = ()) -> WorldConfig:
         """Read every collision object of a `manip.sim` World into the planner's world.
@@ -326,23 +386,22 @@ class MotionGenerator:
 
         Args:
             start_q: (dof,) start configuration [rad] (at rest).
-            goal_q: (dof,) goal configuration [rad].
+            goal_q: (dof,) goal configuration [rad]; a goal up to 1e-4 rad outside a
+                joint limit is moved onto the limit (like a start, see
+                `START_LIMIT_TOLERANCE`), one further out is INVALID_GOAL.
             **options: any field of `manip.planning.PlanOptions` (`time_budget` [s], `seed`,
                 `dt` [s], `velocity_scale`, `acceleration_scale`, `duration` [s],
                 `optimize_clearance`, `trajopt`, `smoothness`, ...); unknown names raise
                 InvalidInputError listing the valid ones.
         """
         ctx = self._context(options)
-        start = ctx.check_start(start_q, self.kinematics, self.validity)
-        goal = self.kinematics.check_q(goal_q, "goal_q")
-        if goal.ndim != 1:
-            raise InvalidInputError(f"goal_q must have shape ({self.robot_dof},); got {goal.shape}")
+        validity = self._validity()
+        start = ctx.check_start(start_q, self.kinematics, validity)
+        goal = ctx.check_goal(goal_q, self.kinematics, validity)
         if ctx.failed:
             return ctx.result()
-        problem = self.validity.goal_problem(goal)
-        if problem:
-            return ctx.fail(PlanStatus.INVALID_GOAL, problem)
-        return self._plan_to_configs(ctx, start, goal[None, :])
+        ctx.check_sample_count(start, goal, self.timing_limits)
+        return self._plan_to_configs(ctx, validity, start, goal[None, :])
 
     def plan_pose(self, start_q, goal: Pose, link: str | None = None, *, linear: bool = False, **options) -> PlanResult:
         """Plan a motion that brings `link` (default `ee_link`) to the pose `goal`.
@@ -357,8 +416,8 @@ class MotionGenerator:
         """
         if not isinstance(goal, Pose) or goal.is_batch:
             raise InvalidInputError("goal must be a single manip.Pose (use plan_goalset for several)")
-        if linear:
-            return self._plan_linear(start_q, goal, link or self.ee_link, options)
+        if flag(linear, "linear"):
+            return self._plan_linear(start_q, goal, self._link(link), options)
         return self.plan_goalset(start_q, Pose.stack([goal]), link, **options)
 
     def plan_goalset(self, start_q, goals: Pose, link: str | None = None, **options) -> PlanResult:
@@ -369,17 +428,17 @@ class MotionGenerator:
         result's `goal_index` says which pose was reached.
         """
         ctx = self._context(options)
-        link = link or self.ee_link
-        self.kinematics.frame_id(link)
+        link = self._link(link)
         if not isinstance(goals, Pose):
             raise InvalidInputError(f"goals must be a manip.Pose; got {type(goals).__name__}")
         if not goals.is_batch:
             goals = Pose.stack([goals])
-        start = ctx.check_start(start_q, self.kinematics, self.validity)
+        validity = self._validity()
+        start = ctx.check_start(start_q, self.kinematics, validity)
         if ctx.failed:
             return ctx.result()
         t_ik = time.perf_counter()
-        configs, owners = self._goal_configs(ctx, start, goals, link)
+        configs, owners = self._goal_configs(ctx, validity, start, goals, link)
         ctx.add_time("ik", t_ik)
         if not len(configs):
             return ctx.fail(PlanStatus.IK_FAIL, "no collision-free IK solution within the joint limits")
@@ -388,7 +447,8 @@ class MotionGenerator:
         vmax, amax, jmax = scaled_limits(self.timing_limits, ctx)
         bounds = [rest_to_rest_time(start, q, vmax, amax, jmax) for q in configs]
         order = np.argsort(bounds, kind="stable")
-        result = self._plan_to_configs(ctx, start, configs[order])
+        ctx.check_sample_count(start, configs[order[0]], self.timing_limits)
+        result = self._plan_to_configs(ctx, validity, start, configs[order])
         if result.success:
             reached = result.goal_q
             k = int(order[np.argmin(np.linalg.norm(configs[order] - reached, axis=1))])
@@ -397,16 +457,21 @@ class MotionGenerator:
         return result
 
     def plan_batch(self, start_qs, goals, link: str | None = None, **options) -> list[PlanResult]:
-        """Plan several problems: `goals` is (N, dof) joint goals or a batched Pose."""
+        """Plan several problems: `goals` is (N, dof) joint goals, a batched Pose or a list of Poses."""
         start_qs = np.atleast_2d(self.kinematics.check_q(start_qs, "start_qs"))
+        if isinstance(goals, (list, tuple)) and goals and all(isinstance(g, Pose) for g in goals):
+            goals = Pose.stack(list(goals))
         if isinstance(goals, Pose):
             goal_list = list(goals) if goals.is_batch else [goals]
         else:
+            if isinstance(goals, (list, tuple)) and any(isinstance(g, Pose) for g in goals):
+                raise InvalidInputError("goals must be all joint configurations or all Poses, not a mix")
             goal_list = list(np.atleast_2d(self.kinematics.check_q(goals, "goals")))
         if len(start_qs) == 1 and len(goal_list) > 1:
             start_qs = np.repeat(start_qs, len(goal_list), axis=0)
         if len(start_qs) != len(goal_list):
-            raise InvalidInputError(f"plan_batch needs as many starts as goals; got {len(start_qs)} and {len(goal_list)}")
+            raise InvalidInputError(f"plan_batch needs as many start_qs as goals; got {len(start_qs)} and {len(goal_list)}")
+        PlanOptions().updated(options)  # a bad option fails before any planning
         out = []
         for s, g in zip(start_qs, goal_list):
             if isinstance(g, Pose):
@@ -423,18 +488,19 @@ class MotionGenerator:
             base = replace(base, velocity_scale=self.velocity_scale, acceleration_scale=self.acceleration_scale)
         return PlanContext(base.updated(options), t0)
 
-    def _goal_configs(self, ctx: PlanContext, start: np.ndarray, goals: Pose, link: str) -> tuple[np.ndarray, list[int]]:
+    def _goal_configs(self, ctx: PlanContext, validity: Validity, start: np.ndarray, goals: Pose,
+                      link: str) -> tuple[np.ndarray, list[int]]:
         """(M, dof) collision-free IK solutions of the poses and, for each, its pose index."""
         configs, owners = [], []
         for i, g in enumerate(goals):
             sols = self.ik_solver.solve_many(
-                g, link, n=ctx.options.ik_solutions, seed_q=start, validity_fn=self.validity.configs,
+                g, link, n=ctx.options.ik_solutions, seed_q=start, validity_fn=validity.configs,
             )
             if len(sols) == 0:
                 # tight goals (a hand between obstacles, a joint on its limit) have few
                 # collision-free solutions: search many more random starts for one
                 sols = self.ik_solver.solve_many(
-                    g, link, n=2, seed_q=start, validity_fn=self.validity.configs, attempts=IK_RETRY_ATTEMPTS,
+                    g, link, n=2, seed_q=start, validity_fn=validity.configs, attempts=IK_RETRY_ATTEMPTS,
                     seed=int(ctx.rng.integers(2**31)),
                 )
             for q in sols:
@@ -442,30 +508,31 @@ class MotionGenerator:
                 owners.append(i)
         return np.asarray(configs).reshape(-1, self.robot_dof), owners
 
-    def _plan_to_configs(self, ctx: PlanContext, start: np.ndarray, goals: np.ndarray) -> PlanResult:
+    def _plan_to_configs(self, ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.ndarray) -> PlanResult:
         """Path, shortcutting, timing and validation to the best reachable of `goals` (G, dof).
 
-        A path whose timed trajectory fails the dense validation (a graze between the
+        A path whose timed trajectory fails the validation (a graze between the
         configurations the search checked) is planned again, until the budget runs out.
         """
         result = None
         for attempt in range(1, MAX_ATTEMPTS + 1):
-            result = self._plan_once(ctx, start, goals, attempt)
+            result = self._plan_once(ctx, validity, start, goals, attempt)
             if result.success or result.status is not PlanStatus.TRAJOPT_FAIL or ctx.time_left < 0:
                 break
             logger.info("attempt %d: %s; planning again", attempt, result.message)
         return result
 
-    def _plan_once(self, ctx: PlanContext, start: np.ndarray, goals: np.ndarray, attempt: int) -> PlanResult:
+    def _plan_once(self, ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.ndarray,
+                   attempt: int) -> PlanResult:
         t = time.perf_counter()
         path, source, iterations = None, "shortcut", 0
         if attempt == 1:
             for g in goals[:3]:
-                if self.validity.motion(start, g):
+                if validity.motion(start, g):
                     path, source = np.stack([start, g]), "straight_line"
                     break
         if path is None:
-            path, iterations = search_path(start, goals, self.validity, ctx.rng, ctx.deadline)
+            path, iterations = search_path(start, goals, validity, ctx.rng, ctx.deadline)
         ctx.add_time("plan", t)
         if path is None:
             status = PlanStatus.TIMEOUT if ctx.time_left < 0 else PlanStatus.PLAN_FAIL
@@ -473,17 +540,18 @@ class MotionGenerator:
         goal_q = path[-1].copy()
         t = time.perf_counter()
         if len(path) > 2:
-            path = shortcut(path, self.validity.segments, ctx.rng, ctx.deadline, screen=self.validity.screen)
+            path = shortcut(path, validity.segments, ctx.rng, ctx.deadline, screen=validity.screen)
             if ctx.options.optimize_clearance:
-                path = smooth_path(path, self.checker, self.validity.motion, ctx.deadline)
+                path = smooth_path(path, validity.checker, validity.motion, ctx.deadline)
         ctx.add_time("optimize", t)
-        traj, why = time_and_validate(ctx, path, goal_q, self.timing_limits, self.validity)
+        traj, why = time_and_validate(ctx, path, goal_q, self.timing_limits, validity)
         if traj is None:
             return ctx.fail(PlanStatus.TRAJOPT_FAIL, f"no valid timed trajectory: {why}", path=path, goal_q=goal_q,
                             attempts=attempt)
         if ctx.options.trajopt and source == "shortcut":
             t = time.perf_counter()
-            better = refine(ctx, traj, self.timing_limits, self.validity, self.clearance, self.checker.padding)
+            checker = validity.checker
+            better = refine(ctx, traj, self.timing_limits, validity, ClearanceModel(checker), checker.padding)
             ctx.add_time("trajopt", t)
             if better is not None:
                 traj, source = better, "trajopt"
@@ -492,20 +560,29 @@ class MotionGenerator:
     def _plan_linear(self, start_q, goal: Pose, link: str, options: dict) -> PlanResult:
         """Straight-line motion of `link` from its current pose to `goal`."""
         ctx = self._context(options)
-        self.kinematics.frame_id(link)
-        start = ctx.check_start(start_q, self.kinematics, self.validity)
+        validity = self._validity()
+        start = ctx.check_start(start_q, self.kinematics, validity)
         if ctx.failed:
             return ctx.result()
+        length = float(np.linalg.norm(goal.position - self.kinematics.fk(start, link).position))
+        points = length / ctx.options.linear_step
+        if points > MAX_LINEAR_POINTS:
+            raise InvalidInputError(
+                f"linear_step: a {length:.4g} m line at linear_step = {ctx.options.linear_step:.3g} m needs "
+                f"{math.ceil(points)} IK points; at most MAX_LINEAR_POINTS = {MAX_LINEAR_POINTS} "
+                f"(give linear_step >= {length / MAX_LINEAR_POINTS:.3g} m)"
+            )
         t = time.perf_counter()
         path, why = linear_path(
             self.kinematics, self.ik_solver, start, goal, link, step=ctx.options.linear_step,
-            valid_batch=self.validity.configs, motion_valid=self.validity.motion,
+            valid_batch=validity.configs, motion_valid=validity.motion,
         )
         ctx.add_time("ik", t)
         if path is None:
             return ctx.fail(PlanStatus.LINEAR_PATH_FAIL, why)
         goal_q = path[-1].copy()
-        traj, why = time_and_validate(ctx, path, goal_q, self.timing_limits, self.validity,
+        ctx.check_sample_count(start, goal_q, self.timing_limits)
+        traj, why = time_and_validate(ctx, path, goal_q, self.timing_limits, validity,
                                       deviation=LINEAR_DEVIATION, dense_deviation=LINEAR_SPLINE_DEVIATION)
         if traj is None:
             return ctx.fail(PlanStatus.TRAJOPT_FAIL, f"no valid timed trajectory: {why}", path=path, goal_q=goal_q)
@@ -527,3 +604,4 @@ class MotionGenerator:
                 self.__dict__["_tutorial_view"] = factory(self)
             return getattr(self.__dict__["_tutorial_view"], name)
         raise AttributeError(f"'{type(self).__name__}' object has no attribute '{name}'")
+

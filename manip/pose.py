@@ -13,6 +13,7 @@ import numpy as np
 
 from manip import quaternion as quat
 from manip.errors import InvalidInputError
+from manip.validation import as_real_array
 
 IDENTITY_QUATERNION = np.array([1.0, 0.0, 0.0, 0.0])
 
@@ -31,8 +32,8 @@ class Pose:
     quaternion: np.ndarray = (1.0, 0.0, 0.0, 0.0)
 
     def __post_init__(self) -> None:
-        p = np.array(self.position, dtype=float)
-        q = np.array(self.quaternion, dtype=float)
+        p = np.array(as_real_array(self.position, "Pose position"), dtype=float)
+        q = np.array(as_real_array(self.quaternion, "Pose quaternion"), dtype=float)
         if p.ndim not in (1, 2) or p.shape[-1] != 3:
             raise InvalidInputError(f"Pose position must have shape (3,) or (N, 3); got {p.shape}")
         if not np.all(np.isfinite(p)):
@@ -41,7 +42,7 @@ class Pose:
             raise InvalidInputError(
                 f"Pose quaternion must have shape (4,) or (N, 4) in (w, x, y, z) order; got {q.shape}"
             )
-        q = quat.normalize(q)
+        q = quat.normalize(q, what="Pose quaternion")
         if p.ndim == 2 and q.ndim == 1:
             q = np.broadcast_to(q, (p.shape[0], 4)).copy()
         if p.ndim == 1 and q.ndim == 2:
@@ -57,6 +58,17 @@ class Pose:
 
     # ------------------------------------------------------------------ construction
     @classmethod
+    def _trusted(cls, position: np.ndarray, quaternion: np.ndarray) -> Pose:
+        """A Pose from arrays already known valid (finite float position (3,) / (N, 3), unit
+        quaternions of matching shape), e.g. computed by the kinematics: no checks, no copies."""
+        pose = object.__new__(cls)
+        position.setflags(write=False)
+        quaternion.setflags(write=False)
+        object.__setattr__(pose, "position", position)
+        object.__setattr__(pose, "quaternion", quaternion)
+        return pose
+
+    @classmethod
     def identity(cls, n: int | None = None) -> Pose:
         """The identity transform, or a batch of `n` of them."""
         if n is None:
@@ -66,7 +78,7 @@ class Pose:
     @classmethod
     def from_matrix(cls, T: np.ndarray) -> Pose:
         """From a homogeneous transform (4, 4) or a batch (N, 4, 4)."""
-        T = np.asarray(T, dtype=float)
+        T = as_real_array(T, "matrix")
         if T.shape[-2:] != (4, 4) or T.ndim not in (2, 3):
             raise InvalidInputError(f"matrix must have shape (4, 4) or (N, 4, 4); got {T.shape}")
         if not np.all(np.isfinite(T)):
@@ -80,16 +92,16 @@ class Pose:
     @classmethod
     def from_xyz_xyzw(cls, v: Sequence[float] | np.ndarray) -> Pose:
         """From [x, y, z, qx, qy, qz, qw] (7,) or (N, 7): the ROS / cuRobo-wrapper order."""
-        v = np.asarray(v, dtype=float)
-        if v.shape[-1] != 7 or v.ndim not in (1, 2):
+        v = as_real_array(v, "pose [x, y, z, qx, qy, qz, qw]")
+        if v.ndim not in (1, 2) or v.shape[-1] != 7:
             raise InvalidInputError(f"expected [x, y, z, qx, qy, qz, qw] of shape (7,) or (N, 7); got {v.shape}")
         return cls(v[..., :3], quat.xyzw_to_wxyz(v[..., 3:]))
 
     @classmethod
     def from_xyz_wxyz(cls, v: Sequence[float] | np.ndarray) -> Pose:
         """From [x, y, z, qw, qx, qy, qz] (7,) or (N, 7): cuRobo's world-config order."""
-        v = np.asarray(v, dtype=float)
-        if v.shape[-1] != 7 or v.ndim not in (1, 2):
+        v = as_real_array(v, "pose [x, y, z, qw, qx, qy, qz]")
+        if v.ndim not in (1, 2) or v.shape[-1] != 7:
             raise InvalidInputError(f"expected [x, y, z, qw, qx, qy, qz] of shape (7,) or (N, 7); got {v.shape}")
         return cls(v[..., :3], v[..., 3:])
 
@@ -97,7 +109,10 @@ class Pose:
     def stack(cls, poses: Sequence[Pose]) -> Pose:
         """Batch single poses (or concatenate batches) into one batched Pose."""
         if len(poses) == 0:
-            raise InvalidInputError("cannot stack an empty list of poses")
+            raise InvalidInputError("poses: cannot stack an empty list of poses")
+        bad = [type(p).__name__ for p in poses if not isinstance(p, Pose)]
+        if bad:
+            raise InvalidInputError(f"poses must be manip.Pose values; got {bad[0]}")
         return cls(
             np.concatenate([np.atleast_2d(p.position) for p in poses]),
             np.concatenate([np.atleast_2d(p.quaternion) for p in poses]),
@@ -150,6 +165,8 @@ class Pose:
         """Composition: (A @ B) maps B's frame through A (T_a_c = T_a_b @ T_b_c)."""
         if not isinstance(other, Pose):
             return NotImplemented
+        if self.is_batch and other.is_batch and len(self) != len(other):
+            raise InvalidInputError(f"cannot compose batches of {len(self)} and {len(other)} poses")
         p = self.position + np.einsum("...ij,...j->...i", self.rotation, other.position)
         return Pose(p, quat.multiply(self.quaternion, other.quaternion))
 
@@ -163,10 +180,15 @@ class Pose:
         """Apply a single pose to points (..., 3)."""
         if self.is_batch:
             raise InvalidInputError("transform_points needs a single pose")
-        return np.asarray(points, dtype=float) @ self.rotation.T + self.position
+        pts = as_real_array(points, "points")
+        if pts.ndim == 0 or pts.shape[-1] != 3:
+            raise InvalidInputError(f"points must have shape (..., 3); got {pts.shape}")
+        return pts @ self.rotation.T + self.position
 
     def distance(self, other: Pose) -> tuple[np.ndarray, np.ndarray]:
         """(position error [m], rotation angle [rad]) between this pose and `other`."""
+        if not isinstance(other, Pose):
+            raise InvalidInputError(f"other must be a manip.Pose; got {type(other).__name__}")
         dp = np.linalg.norm(self.position - other.position, axis=-1)
         return dp, quat.angle_between(self.quaternion, other.quaternion)
 

@@ -25,26 +25,44 @@ def xyzw_to_wxyz(q: np.ndarray) -> np.ndarray:
     return q[..., [3, 0, 1, 2]]
 
 
-def normalize(q: np.ndarray, tolerance: float = UNIT_NORM_TOLERANCE) -> np.ndarray:
-    """Return `q` (..., 4) scaled to unit norm.
+def normalize(q: np.ndarray, tolerance: float = UNIT_NORM_TOLERANCE, what: str = "quaternion") -> np.ndarray:
+    """Return `q` (..., 4) scaled to unit norm (`what` names the argument in messages).
 
     Raises:
-        InvalidInputError: if `q` is not finite or its norm is further than `tolerance`
-            from 1 (a quaternion that far off is a bug upstream, not rounding drift).
+        InvalidInputError: if `q` is not real and finite or its norm is further than
+            `tolerance` from 1 (a quaternion that far off, e.g. zero, is a bug upstream,
+            not rounding drift).
     """
-    q = np.asarray(q, dtype=float)
-    if q.shape[-1] != 4:
-        raise InvalidInputError(f"quaternion must have 4 components (w, x, y, z); got shape {q.shape}")
+    q = _real(q, what)
+    if q.ndim == 0 or q.shape[-1] != 4:
+        raise InvalidInputError(f"{what} must have 4 components (w, x, y, z); got shape {q.shape}")
     if not np.all(np.isfinite(q)):
-        raise InvalidInputError(f"quaternion has non-finite components: {q}")
+        raise InvalidInputError(f"{what} has non-finite components: {q}")
     norm = np.linalg.norm(q, axis=-1, keepdims=True)
     bad = np.abs(norm - 1.0) > tolerance
     if np.any(bad):
         raise InvalidInputError(
-            f"quaternion norm must be 1 within {tolerance} (got {norm[bad].ravel()[:5]}); "
+            f"{what} norm must be 1 within {tolerance} (got {norm[bad].ravel()[:5]}); "
             "quaternions are (w, x, y, z), normalise yours first"
         )
     return q / norm
+
+
+def _real(q, what: str) -> np.ndarray:
+    """`q` as a float array; complex, boolean or non-numeric entries raise (naming `what`)."""
+    try:
+        a = np.asarray(q)
+    except (TypeError, ValueError) as exc:
+        raise InvalidInputError(f"{what} must be an array of real numbers; got {q!r}") from exc
+    if a.dtype.kind not in "iuf":
+        try:
+            ok = a.dtype.kind == "O" and all(isinstance(v, (int, float, np.integer, np.floating))
+                                            and not isinstance(v, bool) for v in a.flat)
+        except TypeError:
+            ok = False
+        if not ok:
+            raise InvalidInputError(f"{what} must be an array of real numbers; got {a.dtype.name} values {q!r}")
+    return a.astype(float)
 
 
 def multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -124,6 +124,8 @@ def load_robot_config(name_or_path: str | Path) -> RobotConfig:
         UnknownNameError: no robot of that name; the message lists the available ones.
         RobotConfigError: the file is malformed or names missing model files.
     """
+    if not isinstance(name_or_path, (str, Path)) or not str(name_or_path):
+        raise UnknownNameError("robot", repr(name_or_path), available_robots())
     candidate = Path(name_or_path)
     if candidate.suffix in (".yaml", ".yml") and candidate.is_file():
         cfg_file = candidate

@@ -403,3 +403,42 @@ def test_names_import_from_the_checker_module_as_before():
     for name in ("AttachedObject", "CollisionReport", "Contact", "DistanceReport", "PathCheck"):
         assert getattr(checker_module, name) is getattr(results, name) is getattr(manip.collision, name)
     assert checker_module.CollisionChecker is manip.collision.CollisionChecker
+
+
+def test_incremental_edits_answer_like_a_rebuilt_world(franka_config, franka_kinematics, world, random_q):
+    """add / remove / update_obstacle_pose change one row of the tables; the answers are
+    those of a checker built from scratch with the same world, including obstacles that
+    touch the fixed base (checked once per world)."""
+    ck = CollisionChecker(franka_config, franka_kinematics, world)
+    rng = np.random.default_rng(3)
+    base_touch = Cuboid("at_base", [0.1, 0.1, 0.1], [0.0, 0.0, 0.05])
+    for step in range(12):
+        names = ck.world.names
+        op = step % 3
+        if op == 0:
+            ob = base_touch if step == 3 else Sphere(f"s{step}", 0.05, rng.uniform(-0.6, 0.6, 3) + [0.3, 0, 0.3])
+            ck.add_obstacle(ob)
+        elif op == 1:
+            ck.remove_obstacle(names[int(rng.integers(len(names)))])
+        else:
+            ck.update_obstacle_pose(names[int(rng.integers(len(names)))], list(rng.uniform(-0.5, 0.5, 3) + [0.4, 0, 0.4]))
+        fresh = CollisionChecker(franka_config, franka_kinematics, ck.world)
+        assert ck._static_world == fresh._static_world
+        assert np.array_equal(ck.in_collision_batch(random_q[:200]), fresh.in_collision_batch(random_q[:200]))
+    # the obstacle at the base makes every configuration collide until it is removed
+    if "at_base" in ck.world:
+        assert ck.in_collision_batch(random_q[:5]).all()
+        ck.remove_obstacle("at_base")
+    assert not ck._static_world
+
+
+def test_edits_keep_snapshots_unchanged(franka_config, franka_kinematics, world, random_q):
+    ck = CollisionChecker(franka_config, franka_kinematics, world)
+    before = ck.in_collision_batch(random_q[:100])
+    snap = ck.snapshot()
+    ck.remove_obstacle("table")
+    ck.add_obstacle(Sphere("big", 0.3, [0.4, 0.0, 0.4]))
+    ck.update_obstacle_pose("ball", [0.3, 0.0, 0.6])
+    assert np.array_equal(snap.in_collision_batch(random_q[:100]), before)
+    assert snap.world.names == world.names
+    assert not np.array_equal(ck.in_collision_batch(random_q[:100]), before)

@@ -102,7 +102,7 @@ def test_container_semantics():
         ({"sphere": {"s": {"radius": 0.0, "position": [0, 0, 0]}}}, "positive"),
         ({"cylinder": {"c": {"radius": 0.1, "height": -1}}}, "positive"),
         ({"capsule": {"c": {"radius": 0.1}}}, "height' or both 'base' and 'tip'"),
-        ({"mesh": {"m": {"file_path": "/nonexistent/x.stl"}}}, "file not found"),
+        ({"mesh": {"m": {"file_path": "/nonexistent/x.stl"}}}, "file_path not found"),
     ],
 )
 def test_bad_input_says_what_is_valid(bad, match):

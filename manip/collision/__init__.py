@@ -5,11 +5,15 @@
 - `CollisionChecker`: exact (coal) robot-vs-world and self-collision checks with a
   vectorised sphere broadphase generated automatically from the robot's meshes; what it
   returns (`Contact`, `CollisionReport`, `DistanceReport`, `PathCheck`, `AttachedObject`)
-  is in `manip.collision.results`.
+  is in `manip.collision.results`; `certify_path` proves a joint-space polyline free over
+  its whole continuous interpolation (`manip.collision.certify`, a `MotionCertificate`);
+  `snapshot()` gives a read-only view of one state of the world for other threads
+  (`manip.collision.edits`).
 """
 
 from __future__ import annotations
 
+from manip.collision.certify import MotionCertificate
 from manip.collision.checker import CollisionChecker
 from manip.collision.results import AttachedObject, CollisionReport, Contact, DistanceReport, PathCheck
 from manip.collision.robot_geometry import RobotGeometry, RobotPart
@@ -27,6 +31,7 @@ __all__ = [
     "Cylinder",
     "DistanceReport",
     "Mesh",
+    "MotionCertificate",
     "Obstacle",
     "PathCheck",
     "RobotGeometry",

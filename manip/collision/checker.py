@@ -24,18 +24,27 @@ the padding of an obstacle, no point of the geometry does, so coal would say "fr
 
 Beside this module: the result types (`manip.collision.results`, re-exported here), the
 tables the checks run on (`manip.collision.tables`, rebuilt when the parts or the world
-change) and the checks of segments and paths (`manip.collision.segments`).
+change) and the checks of segments and paths (`manip.collision.segments`), and the
+certificate of continuous motions (`manip.collision.certify`).
+
+Threads: edits (set_world, add/remove/update obstacles, attach/detach, padding, gripper)
+are serialised by a lock and never modify tables in place: they build new ones and swap
+them in. `snapshot()` returns a read-only view of one state of the world (O(1)); every
+public check of the checker runs on such a view, so a check never sees half an edit, and
+a planner holding a snapshot sees one world for a whole plan while edits go on.
 """
 
 from __future__ import annotations
 
 import math
-from typing import Sequence
+import threading
 
 import coal
 import numpy as np
 
 from manip.collision import broadphase
+from manip.collision.certify import MotionCertificate, certify_path
+from manip.collision.edits import WorldEdits
 from manip.collision.results import (  # noqa: F401  (re-exported: manip.collision.checker.X keeps working)
     AttachedObject,
     CollisionReport,
@@ -45,29 +54,25 @@ from manip.collision.results import (  # noqa: F401  (re-exported: manip.collisi
     PathCheck,
 )
 from manip.collision.robot_geometry import RobotGeometry
-from manip.collision.segments import SegmentChecks, _coarse_to_fine  # noqa: F401  (_coarse_to_fine: re-exported)
-from manip.collision.shapes import Obstacle, as_pose
+from manip.collision.segments import SegmentChecks, _coarse_to_fine, consistent  # noqa: F401  (_coarse_to_fine: re-exported)
+from manip.collision.shapes import Obstacle  # noqa: F401  (re-exported)
 from manip.collision.tables import (  # noqa: F401  (_Part, _hull, _sd_local, _SphereTable: re-exported)
-    ObstacleTables,
     _hull,
     _Part,
     _sd_local,
     _SphereTable,
     _tf,
-    collect_parts,
-    part_tables,
 )
 from manip.collision.world import WorldConfig
-from manip.errors import InvalidInputError, UnknownNameError
+from manip.errors import InvalidInputError
 from manip.kinematics import Kinematics
-from manip.pose import Pose
 from manip.robot_config import RobotConfig
 from manip.validation import non_negative
 
 _CHUNK = 1024  # configurations per broadphase batch
 
 
-class CollisionChecker(SegmentChecks):
+class CollisionChecker(WorldEdits, SegmentChecks):
     """Collision checking of a robot's configurations against a world of obstacles and itself.
 
     Args:
@@ -91,6 +96,8 @@ class CollisionChecker(SegmentChecks):
         self_padding: float = 0.0,
         sphere_tolerance: float = 0.02,
     ):
+        self._lock = threading.RLock()
+        self._is_snapshot = False
         self.config = config
         self.kinematics = kinematics if kinematics is not None else Kinematics(config)
         self.robot = RobotGeometry(config, self.kinematics, sphere_tolerance=sphere_tolerance)
@@ -101,116 +108,6 @@ class CollisionChecker(SegmentChecks):
         self._obstacle_cache: dict[int, tuple] = {}
         self._rebuild_parts()
         self.set_world(world if world is not None else WorldConfig())
-
-    # ------------------------------------------------------------------ configuration
-    @property
-    def padding(self) -> float:
-        """Clearance [m] kept from the world."""
-        return self._padding
-
-    @padding.setter
-    def padding(self, value: float) -> None:
-        self._padding = non_negative(value, "padding", "m")
-        self._req_world.security_margin = self._padding
-        self._update_static()
-
-    @property
-    def self_padding(self) -> float:
-        """Clearance [m] kept between links."""
-        return self._self_padding
-
-    @self_padding.setter
-    def self_padding(self, value: float) -> None:
-        self._self_padding = non_negative(value, "self_padding", "m")
-        self._req_self.security_margin = self._self_padding
-
-    @property
-    def world(self) -> WorldConfig:
-        """A copy of the current world (attached objects are not in it)."""
-        return self._world.copy()
-
-    @property
-    def attached_objects(self) -> dict[str, AttachedObject]:
-        """The objects carried by the robot, by name (a copy)."""
-        return dict(self._attached)
-
-    def set_world(self, world: WorldConfig | dict | None) -> None:
-        """Replace the obstacles (a `WorldConfig` or cuRobo's world dict); attached objects stay."""
-        if world is None:
-            world = WorldConfig()
-        elif isinstance(world, dict):
-            world = WorldConfig.from_dict(world)
-        elif not isinstance(world, WorldConfig):
-            raise InvalidInputError(f"world must be a WorldConfig or a dict in cuRobo's world format; got {type(world).__name__}")
-        clash = [n for n in world.names if n in self._attached]
-        if clash:
-            raise InvalidInputError(f"obstacle name(s) {clash} are used by attached objects; detach them or rename")
-        self._world = world.copy()
-        self._rebuild_world()
-
-    def add_obstacle(self, obstacle: Obstacle) -> None:
-        """Add one obstacle to the world (names must be unique)."""
-        if isinstance(obstacle, Obstacle) and obstacle.name in self._attached:
-            raise InvalidInputError(f"'{obstacle.name}' is the name of an attached object")
-        self._world.add(obstacle)
-        self._rebuild_world()
-
-    def remove_obstacle(self, name: str) -> Obstacle:
-        """Remove and return the obstacle `name` (UnknownNameError lists the names)."""
-        ob = self._world.remove(name)
-        self._rebuild_world()
-        return ob
-
-    def update_obstacle_pose(self, name: str, pose: Pose | Sequence[float]) -> None:
-        """Move the obstacle `name` to `pose` (base frame)."""
-        ob = self._world.get(name)
-        self._world.replace(ob.with_pose(pose))
-        self._rebuild_world()
-
-    def set_gripper_positions(self, positions: Sequence[float] | np.ndarray | None) -> None:
-        """Finger positions [m] the collision model assumes (None = the planning positions).
-
-        Attached objects keep their pose relative to their link.
-        """
-        self.robot.set_gripper_positions(None if positions is None else np.asarray(positions, dtype=float))
-        self._rebuild_parts()
-
-    # ------------------------------------------------------------------ internal tables
-    def _rebuild_parts(self) -> None:
-        """The robot side's tables (`manip.collision.tables`), after a change of parts."""
-        self._parts, pairs = collect_parts(self.robot, self.kinematics, self._attached)
-        t = part_tables(self._parts, pairs)
-        self._pj, self._fine, self._coarse = t.joint, t.fine, t.coarse
-        self._pbc, self._pbr, self._l0_joint, self._pairs, self._bpairs = (
-            t.ball_centres, t.ball_radii, t.l0_joint, t.pairs, t.body_pairs)
-        self._gR, self._gp = t.gR, t.gp
-        self._bp_world, self._bp_pairs, self._bp_self = t.bp_world, t.bp_pairs, t.bp_self
-        self._req_self = coal.CollisionRequest()
-        self._req_self.security_margin = self._self_padding
-        self._update_static()
-
-    def _rebuild_world(self) -> None:
-        """The world side's tables (`manip.collision.tables`), after a change of obstacles."""
-        self._world_tables = w = ObstacleTables(self._world.obstacles, self._obstacle_cache)
-        self._obs, self._ogeom, self._otf, self._bp_obstacles = w.obstacles, w.geometries, w.transforms, w.broadphase
-        self._req_world = coal.CollisionRequest()
-        self._req_world.security_margin = self._padding
-        self._update_static()
-
-    def _update_static(self) -> None:
-        """Parts fixed to the base (joint 0) vs the world: the same answer for every q."""
-        if not hasattr(self, "_obs") or not hasattr(self, "_parts"):
-            return
-        static = []
-        res = coal.CollisionResult()
-        for g in np.nonzero(self._pj == 0)[0]:
-            part = self._parts[int(g)]
-            tf = _tf(part.R, part.p)
-            for o in range(len(self._obs)):
-                res.clear()
-                if coal.collide(part.geometry, tf, self._ogeom[o], self._otf[o], self._req_world, res):
-                    static.append((int(g), o))
-        self._static_world = static
 
     # ------------------------------------------------------------------ geometry helpers
     def _sd_all(self, X: np.ndarray) -> np.ndarray:
@@ -343,11 +240,13 @@ class CollisionChecker(SegmentChecks):
         Q = self.kinematics.check_q(Q, what)
         return Q[None] if Q.ndim == 1 else Q
 
+    @consistent
     def in_collision(self, q: np.ndarray) -> bool:
         """True if configuration q (dof,) collides with the world (within the padding) or itself."""
         q = self._one_q(q, note=" (one configuration; in_collision_batch takes several)")
         return bool(self._check(q[None])[0])
 
+    @consistent
     def in_collision_batch(self, Q: np.ndarray) -> np.ndarray:
         """(N,) bool: `in_collision` of each row of Q (N, dof), computed together."""
         Q = self._rows(Q)
@@ -355,11 +254,13 @@ class CollisionChecker(SegmentChecks):
             return np.zeros(0, dtype=bool)
         return self._check(Q)
 
+    @consistent
     def any_in_collision(self, Q: np.ndarray) -> bool:
         """True if any row of Q (N, dof) collides (stops at the first collision found)."""
         Q = self._rows(Q)
         return bool(Q.shape[0] and self._check(Q, stop_at_first=True).any())
 
+    @consistent
     def in_collision_exact(self, q: np.ndarray) -> bool:
         """`in_collision` without any broadphase: coal on every pair (slow; a reference)."""
         R, p = self._fk(self._one_q(q)[None])
@@ -389,6 +290,7 @@ class CollisionChecker(SegmentChecks):
             pa, pb = pb, pa
         return Contact("attached_self" if pa.attached else "self", pa.name, pb.name, distance)
 
+    @consistent
     def collision_report(self, q: np.ndarray) -> CollisionReport:
         """Every colliding pair of configuration q (dof,), with signed distances, deepest first."""
         Q = self._one_q(q)[None]
@@ -411,6 +313,7 @@ class CollisionChecker(SegmentChecks):
         contacts.sort(key=lambda c: c.distance)
         return CollisionReport(bool(contacts), tuple(contacts))
 
+    @consistent
     def distance_report(self, q: np.ndarray) -> DistanceReport:
         """Smallest signed distances [m] of q (dof,) to the world and to itself (no padding).
 
@@ -458,10 +361,26 @@ class CollisionChecker(SegmentChecks):
             closest = self._contact(1, *pair_s, best_s)
         return DistanceReport(min(best_w, best_s), best_w, best_s, closest)
 
+    @consistent
+    def certify_path(self, path: np.ndarray) -> MotionCertificate:
+        """Prove the continuous straight interpolation of `path` (K, dof) collision-free.
+
+        Unlike `path_valid`, which checks configurations a resolution apart, this proves
+        that no configuration between consecutive rows comes within the padding of an
+        obstacle (or the self padding of another link), by conservative advancement on
+        the exact geometry (`manip.collision.certify`). A path that cannot be proved free
+        (in collision, or grazing within the numerical limits) is not certified.
+        """
+        path = self.kinematics.check_q(path, "path")
+        if path.ndim != 2 or path.shape[0] < 1:
+            raise InvalidInputError(f"path must have shape (K, {self.kinematics.dof}) with K >= 1; got {path.shape}")
+        return certify_path(self, path)
+
     def distance(self, q: np.ndarray) -> float:
         """Signed distance [m] of q (dof,): min over world and self pairs (negative = penetration)."""
         return self.distance_report(q).distance
 
+    @consistent
     def world_clearance_batch(self, Q: np.ndarray) -> np.ndarray:
         """(N,) approximate signed clearance [m] of each configuration to the world (no padding).
 
@@ -493,96 +412,13 @@ class CollisionChecker(SegmentChecks):
             out[s:s + n] = sd.reshape(n, -1).min(axis=1)
         return out
 
-    # ------------------------------------------------------------------ attached objects
-    def attach_object(
-        self,
-        obstacle: str | Obstacle,
-        q: np.ndarray | None = None,
-        link: str | None = None,
-        pose_in_link: Pose | Sequence[float] | None = None,
-        allowed_links: Sequence[str] = (),
-    ) -> AttachedObject:
-        """Carry an object with a link (a grasp): it leaves the world and moves with the link.
-
-        Args:
-            obstacle: the name of an obstacle of the world (removed from it), or a shape.
-            q: (dof,) the configuration at the grasp: the object keeps its current pose
-                relative to the link at q. Needed unless `pose_in_link` is given.
-            link: the carrying link; default the config's `ee_link` (panda_hand).
-            pose_in_link: the object's pose in the link frame (overrides q).
-            allowed_links: links never checked against the object, in addition to the
-                links rigidly attached to the same joint as `link` (hand, fingers, ...).
-
-        Returns:
-            The `AttachedObject`. It is checked against the world (with the padding) and
-            against the other links (with the self padding).
-        """
-        kin = self.kinematics
-        link = link or self.config.ee_link
-        fid = kin.frame_id(link)
-        if isinstance(obstacle, str):
-            shape = self._world.get(obstacle)
-            in_world = True
-        elif isinstance(obstacle, Obstacle) and type(obstacle) is not Obstacle:
-            shape = obstacle
-            in_world = False
-            if shape.name in self._world:
-                raise InvalidInputError(f"an obstacle named '{shape.name}' is in the world; attach it by name")
-        else:
-            raise InvalidInputError(f"obstacle must be an obstacle name or a shape; got {type(obstacle).__name__}")
-        if shape.name in self._attached:
-            raise InvalidInputError(f"'{shape.name}' is already attached")
-        if pose_in_link is not None:
-            rel = as_pose(pose_in_link, f"attach '{shape.name}'")
-        else:
-            if q is None:
-                raise InvalidInputError("attach_object needs q (the grasp configuration) or pose_in_link")
-            q = kin.check_q(q)
-            rel = kin.fk(q, link).inverse() @ shape.pose
-        joint = kin.model.frames[fid].parentJoint
-        rigid = {p.link for p in self.robot.parts if p.joint == joint}
-        unknown = [n for n in allowed_links if n not in self.robot.link_names]
-        if unknown:
-            raise UnknownNameError("link", unknown[0], self.robot.link_names)
-        att = AttachedObject(shape, link, rel, tuple(sorted(rigid | set(allowed_links))))
-        if in_world:
-            self._world.remove(shape.name)
-            self._rebuild_world()
-        self._attached[shape.name] = att
-        self._rebuild_parts()
-        return att
-
-    def detach_object(self, q: np.ndarray, name: str | None = None) -> list[Obstacle]:
-        """Put attached object(s) back into the world at their pose for configuration q.
-
-        Args:
-            q: (dof,) the configuration at release.
-            name: the object to detach; None detaches all.
-
-        Returns:
-            The obstacles added to the world (base-frame poses at q).
-        """
-        q = self.kinematics.check_q(q)
-        if name is not None and name not in self._attached:
-            raise UnknownNameError("attached object", name, self._attached)
-        names = [name] if name is not None else list(self._attached)
-        out = []
-        for nm in names:
-            att = self._attached.pop(nm)
-            T = self.kinematics.fk(q, att.link) @ att.pose_in_link
-            ob = att.obstacle.with_pose(T)
-            self._world.add(ob)
-            out.append(ob)
-        self._rebuild_parts()
-        self._rebuild_world()
-        return out
-
     # ------------------------------------------------------------------ introspection
     @property
     def num_spheres(self) -> int:
         """Number of balls in the robot's (and attached objects') sphere covers."""
         return int(self._fine.radii.size)
 
+    @consistent
     def spheres(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, list[str]]:
         """The sphere covers at q (dof,): centres (S, 3) [m], radii (S,) [m], owner names (S,)."""
         R, p = self._fk(self._one_q(q)[None])
@@ -593,3 +429,4 @@ class CollisionChecker(SegmentChecks):
             rs.append(part.radii)
             names += [part.name] * len(part.radii)
         return np.concatenate(cs), np.concatenate(rs), names
+

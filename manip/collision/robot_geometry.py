@@ -24,6 +24,7 @@ from manip.collision.spheres import cover_with_spheres
 from manip.errors import InvalidInputError
 from manip.kinematics import Kinematics
 from manip.robot_config import RobotConfig
+from manip.validation import positive
 
 logger = logging.getLogger(__name__)
 
@@ -177,7 +178,7 @@ class RobotGeometry:
                  sphere_tolerance: float = 0.02):
         self.config = config
         self.kinematics = kinematics
-        self.sphere_tolerance = float(sphere_tolerance)
+        self.sphere_tolerance = positive(sphere_tolerance, "sphere_tolerance", "m")
         full = kinematics.full_model
         self._full_geom = pin.buildGeomFromUrdf(full, str(config.urdf_path), pin.COLLISION,
                                                 package_dirs=list(config.package_dirs))

@@ -10,12 +10,33 @@ from __future__ import annotations
 
 import functools
 import math
+from typing import Callable, TypeVar
 
 import numpy as np
 
 from manip.collision.results import PathCheck
 from manip.errors import InvalidInputError
 from manip.validation import positive
+
+
+_F = TypeVar("_F", bound=Callable)
+
+
+def consistent(method: _F) -> _F:
+    """Run a read-only method of a `CollisionChecker` on a snapshot of it.
+
+    A checker whose world is edited by another thread could otherwise be read half-way
+    through an edit; on a snapshot (`CollisionChecker.snapshot`) every table belongs to
+    one state of the world. A method called on a snapshot runs on it directly.
+    """
+
+    @functools.wraps(method)
+    def wrapper(self, *args, **kwargs):
+        if not self._is_snapshot:
+            self = self.snapshot()
+        return method(self, *args, **kwargs)
+
+    return wrapper  # type: ignore[return-value]
 
 
 @functools.lru_cache(maxsize=512)
@@ -46,6 +67,7 @@ class SegmentChecks:
     Needs, from the class it is mixed into: `kinematics`, `_check`, `_one_q` and `_rows`.
     """
 
+    @consistent
     def motion_valid(self, q0: np.ndarray, q1: np.ndarray, resolution: float = 0.01, chunk: int = 32) -> bool:
         """True if the straight joint-space segment q0 -> q1 is collision-free.
 
@@ -69,6 +91,7 @@ class SegmentChecks:
             return False
         return not self._check(Q[chunk:], stop_at_first=True).any()
 
+    @consistent
     def first_collision(self, q0: np.ndarray, q1: np.ndarray, resolution: float = 0.01, chunk: int = 48) -> float | None:
         """Advance along the straight segment q0 -> q1 until the first collision.
 
@@ -102,6 +125,7 @@ class SegmentChecks:
         resolution = positive(resolution, "resolution", "rad")
         return max(1, int(math.ceil(float(np.abs(np.asarray(q1) - np.asarray(q0)).max()) / resolution - 1e-12)))
 
+    @consistent
     def motion_valid_batch(self, Q0: np.ndarray, Q1: np.ndarray, resolution: float = 0.01) -> np.ndarray:
         """(M,) bool: `motion_valid` of the M straight segments Q0[m] -> Q1[m], checked together.
 
@@ -147,6 +171,7 @@ class SegmentChecks:
                 valid[np.unique(seg[keep][hit])] = False
         return valid
 
+    @consistent
     def path_valid(self, path: np.ndarray, resolution: float = 0.01) -> PathCheck:
         """Check a piecewise-linear joint path (K, dof) densely (see `motion_valid`).
 

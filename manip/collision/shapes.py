@@ -20,7 +20,7 @@ import numpy as np
 
 from manip.errors import InvalidInputError
 from manip.pose import Pose
-from manip.validation import non_negative, positive
+from manip.validation import as_real_array, non_negative, positive
 
 
 def as_pose(value: Pose | Sequence[float] | np.ndarray | None, what: str) -> Pose:
@@ -36,10 +36,12 @@ def as_pose(value: Pose | Sequence[float] | np.ndarray | None, what: str) -> Pos
             raise InvalidInputError(f"{what}: expected a single pose, got a batch of {len(value)}")
         return value
     try:
-        v = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as exc:
+        v = as_real_array(value, f"{what}: pose")
+    except InvalidInputError as exc:
         raise InvalidInputError(f"{what}: a pose must be a Pose, [x, y, z] or [x, y, z, qw, qx, qy, qz]; got {value!r}") from exc
     if v.shape == (3,):
+        if not np.all(np.isfinite(v)):
+            raise InvalidInputError(f"{what}: pose has non-finite values: {v.tolist()}")
         return Pose(v)
     if v.shape == (7,):
         if not np.all(np.isfinite(v)):
@@ -99,7 +101,10 @@ class Cuboid(Obstacle):
 
     def __init__(self, name: str, dims: Sequence[float] | np.ndarray, pose: Pose | Sequence[float] | None = None):
         object.__setattr__(self, "name", _check_name(name, "cuboid"))
-        d = np.asarray(dims, dtype=float) if dims is not None else np.zeros(0)
+        try:
+            d = as_real_array(dims, f"cuboid '{name}': dims") if dims is not None else np.zeros(0)
+        except InvalidInputError:
+            d = np.zeros(0)
         if d.shape != (3,) or not np.all(np.isfinite(d)) or np.any(d <= 0):
             raise InvalidInputError(f"cuboid '{name}': dims must be 3 positive full edge lengths [x, y, z] in m; got {dims!r}")
         d.setflags(write=False)
@@ -209,8 +214,8 @@ class Capsule(Obstacle):
         pose: Pose | Sequence[float] | None = None,
     ) -> Capsule:
         """cuRobo's capsule: sphere centres `base` and `tip` (3,) given in the frame `pose`."""
-        a = np.asarray(base, dtype=float)
-        b = np.asarray(tip, dtype=float)
+        a = as_real_array(base, f"capsule '{name}': base")
+        b = as_real_array(tip, f"capsule '{name}': tip")
         if a.shape != (3,) or b.shape != (3,) or not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
             raise InvalidInputError(f"capsule '{name}': base and tip must be finite points [x, y, z]; got {base!r}, {tip!r}")
         frame = as_pose(pose, f"capsule '{name}'")
@@ -269,7 +274,10 @@ class Mesh(Obstacle):
     ):
         object.__setattr__(self, "name", _check_name(name, "mesh"))
         object.__setattr__(self, "pose", as_pose(pose, f"mesh '{name}'"))
-        s = np.broadcast_to(np.asarray(scale, dtype=float), (3,)).copy() if np.ndim(scale) in (0, 1) else None
+        try:
+            s = np.broadcast_to(as_real_array(scale, f"mesh '{name}': scale"), (3,)).copy()
+        except (InvalidInputError, ValueError):
+            s = None
         if s is None or not np.all(np.isfinite(s)) or np.any(s <= 0):
             raise InvalidInputError(f"mesh '{name}': scale must be a positive number or 3 positive numbers; got {scale!r}")
         s.setflags(write=False)
@@ -277,19 +285,19 @@ class Mesh(Obstacle):
         if file_path is not None:
             path = Path(file_path)
             if not path.is_file():
-                raise InvalidInputError(f"mesh '{name}': file not found: {path}")
+                raise InvalidInputError(f"mesh '{name}': file_path not found: {path}")
             V, F = _load_mesh_file(path, name)
             object.__setattr__(self, "file_path", str(path))
         else:
             if vertices is None or faces is None:
                 raise InvalidInputError(f"mesh '{name}': give a file_path, or both vertices (V, 3) and faces (F, 3)")
-            V = np.asarray(vertices, dtype=float)
-            F = np.asarray(faces)
+            V = as_real_array(vertices, f"mesh '{name}': vertices")
+            F = _face_indices(faces, name)
             object.__setattr__(self, "file_path", None)
         if V.ndim != 2 or V.shape[1] != 3 or V.shape[0] < 3 or not np.all(np.isfinite(V)):
             raise InvalidInputError(f"mesh '{name}': vertices must be a finite (V, 3) array with V >= 3; got shape {V.shape}")
-        if F.ndim != 2 or F.shape[1] != 3 or F.shape[0] < 1 or not np.issubdtype(F.dtype, np.integer):
-            raise InvalidInputError(f"mesh '{name}': faces must be an integer (F, 3) array of vertex indices; got {F.shape} {F.dtype}")
+        if F.ndim != 2 or F.shape[1] != 3 or F.shape[0] < 1:
+            raise InvalidInputError(f"mesh '{name}': faces must be an integer (F, 3) array of vertex indices; got shape {F.shape}")
         if F.min() < 0 or F.max() >= V.shape[0]:
             raise InvalidInputError(f"mesh '{name}': face indices must lie in [0, {V.shape[0] - 1}]")
         V = V.copy()
@@ -319,6 +327,25 @@ class Mesh(Obstacle):
         if not np.allclose(self.scale, 1.0):
             d["scale"] = [float(x) for x in self.scale]
         return d
+
+
+def _face_indices(faces, name: str) -> np.ndarray:
+    """Face vertex indices as int64; integral floats (3.0) are accepted, fractional ones (0.5),
+    booleans and anything non-numeric raise (never truncated)."""
+    if faces is None:
+        raise InvalidInputError(f"mesh '{name}': faces must be an integer (F, 3) array of vertex indices; got None")
+    try:
+        F = np.asarray(faces)
+    except (TypeError, ValueError) as exc:
+        raise InvalidInputError(f"mesh '{name}': faces must be an integer (F, 3) array of vertex indices") from exc
+    if F.dtype.kind in "iu":
+        return F.astype(np.int64)
+    if F.dtype.kind == "f" and np.all(np.isfinite(F)) and np.all(F == np.round(F)):
+        return F.astype(np.int64)
+    raise InvalidInputError(
+        f"mesh '{name}': faces must be integer vertex indices (F, 3); got {F.dtype.name} values such as "
+        f"{F.ravel()[:6].tolist()}"
+    )
 
 
 def _load_mesh_file(path: Path, name: str) -> tuple[np.ndarray, np.ndarray]:

@@ -217,6 +217,11 @@ class ObstacleTables:
     """The obstacles as broadphase shapes (`broadphase` arrays, closed-form signed distances)
     and as coal geometries with their placements.
 
+    Immutable once built: an edit of the world builds new tables (`added`, `removed`,
+    `replaced` copy the arrays and change one row, O(obstacles) memory copies and no
+    geometry rebuilt), so a `CollisionChecker` snapshot holding these tables never sees
+    them change.
+
     Args:
         obstacles: the world's obstacles.
         cache: id(obstacle) -> (obstacle, coal geometry), reused for unchanged obstacles;
@@ -225,7 +230,7 @@ class ObstacleTables:
 
     def __init__(self, obstacles: list[Obstacle], cache: dict[int, tuple]):
         O = len(obstacles)
-        self.obstacles = obstacles
+        self.obstacles = list(obstacles)
         self.R = np.zeros((O, 3, 3))
         self.c = np.zeros((O, 3))
         self.h = np.zeros((O, 3))
@@ -234,36 +239,80 @@ class ObstacleTables:
         self.geometries: list = []
         self.transforms: list = []
         for i, ob in enumerate(obstacles):
-            R = ob.pose.rotation
-            self.R[i] = R
-            c_local, h = ob.local_aabb()
-            self.c[i] = ob.pose.position + R @ c_local
-            if isinstance(ob, Sphere):
-                self.h[i] = 0.0
-                self.rho[i] = ob.radius
-            elif isinstance(ob, Capsule):
-                self.h[i] = [0.0, 0.0, ob.height / 2.0]
-                self.rho[i] = ob.radius
-            elif isinstance(ob, Cylinder):
-                self.h[i] = [ob.radius, ob.radius, ob.height / 2.0]
-                self.cyl[i] = True
-            else:  # cuboid, mesh (bounding box)
-                self.h[i] = h
-            key = id(ob)
-            if key not in cache:  # keep coal geometries of unchanged obstacles
-                cache[key] = (ob, coal_geometry(ob))
-            self.geometries.append(cache[key][1])
-            self.transforms.append(_tf(R, ob.pose.position))
+            R, c, h, rho, cyl, geom, tf = _obstacle_row(ob, cache)
+            self.R[i], self.c[i], self.h[i], self.rho[i], self.cyl[i] = R, c, h, rho, cyl
+            self.geometries.append(geom)
+            self.transforms.append(tf)
         live = {id(o) for o in obstacles}
         for key in [k for k in cache if k not in live]:
             del cache[key]
+        self._finish()
+
+    def _finish(self) -> None:
         self.any_cyl = bool(self.cyl.any())
         #: the obstacle tables of `broadphase.world_candidates`
         self.broadphase = (np.ascontiguousarray(self.R), np.ascontiguousarray(self.c), np.ascontiguousarray(self.h),
                            np.ascontiguousarray(self.rho), np.ascontiguousarray(self.cyl))
+
+    def _derived(self, obstacles, R, c, h, rho, cyl, geometries, transforms) -> ObstacleTables:
+        out = ObstacleTables.__new__(ObstacleTables)
+        out.obstacles, out.R, out.c, out.h, out.rho, out.cyl = obstacles, R, c, h, rho, cyl
+        out.geometries, out.transforms = geometries, transforms
+        out._finish()
+        return out
+
+    def added(self, obstacle: Obstacle, cache: dict[int, tuple]) -> ObstacleTables:
+        """New tables with `obstacle` appended (these tables are unchanged)."""
+        R, c, h, rho, cyl, geom, tf = _obstacle_row(obstacle, cache)
+        return self._derived(
+            self.obstacles + [obstacle], np.concatenate([self.R, R[None]]), np.concatenate([self.c, c[None]]),
+            np.concatenate([self.h, h[None]]), np.append(self.rho, rho), np.append(self.cyl, cyl),
+            self.geometries + [geom], self.transforms + [tf],
+        )
+
+    def removed(self, index: int, cache: dict[int, tuple]) -> ObstacleTables:
+        """New tables without obstacle `index` (these tables are unchanged)."""
+        cache.pop(id(self.obstacles[index]), None)
+        keep = lambda lst: lst[:index] + lst[index + 1:]  # noqa: E731
+        return self._derived(
+            keep(self.obstacles), np.delete(self.R, index, axis=0), np.delete(self.c, index, axis=0),
+            np.delete(self.h, index, axis=0), np.delete(self.rho, index), np.delete(self.cyl, index),
+            keep(self.geometries), keep(self.transforms),
+        )
+
+    def replaced(self, index: int, obstacle: Obstacle, cache: dict[int, tuple]) -> ObstacleTables:
+        """New tables with obstacle `index` replaced by `obstacle` (e.g. moved)."""
+        cache.pop(id(self.obstacles[index]), None)
+        row = _obstacle_row(obstacle, cache)
+        arrays = [self.R.copy(), self.c.copy(), self.h.copy(), self.rho.copy(), self.cyl.copy()]
+        for a, v in zip(arrays, row[:5]):
+            a[index] = v
+        lists = [list(self.obstacles), list(self.geometries), list(self.transforms)]
+        for lst, v in zip(lists, (obstacle, row[5], row[6])):
+            lst[index] = v
+        return self._derived(lists[0], *arrays, lists[1], lists[2])
 
     def signed_distances(self, X: np.ndarray) -> np.ndarray:
         """Signed distances (M, O) of points X (M, 3) to every obstacle's broadphase shape."""
         d = X[:, None, :] - self.c[None]
         L = np.einsum("moj,oji->moi", d, self.R)
         return _sd_local(L, self.h[None], self.rho[None], self.cyl[None] if self.any_cyl else None)
+
+
+def _obstacle_row(ob: Obstacle, cache: dict[int, tuple]) -> tuple:
+    """(R (3, 3), centre (3,), half extents (3,), rounding, is_cylinder, coal geometry, coal
+    placement) of one obstacle's broadphase shape; the geometry is taken from or put in `cache`."""
+    R = ob.pose.rotation
+    c_local, h = ob.local_aabb()
+    c = ob.pose.position + R @ c_local
+    rho, cyl = 0.0, False
+    if isinstance(ob, Sphere):
+        h, rho = np.zeros(3), ob.radius
+    elif isinstance(ob, Capsule):
+        h, rho = np.array([0.0, 0.0, ob.height / 2.0]), ob.radius
+    elif isinstance(ob, Cylinder):
+        h, cyl = np.array([ob.radius, ob.radius, ob.height / 2.0]), True
+    key = id(ob)
+    if key not in cache:  # keep coal geometries of unchanged obstacles
+        cache[key] = (ob, coal_geometry(ob))
+    return R, c, np.asarray(h, dtype=float), float(rho), cyl, cache[key][1], _tf(R, ob.pose.position)

@@ -15,7 +15,6 @@ from collections.abc import Iterable, Iterator
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 import yaml
 
 from manip.errors import InvalidInputError, UnknownNameError
@@ -89,8 +88,19 @@ class WorldConfig:
         return list(self._obstacles.values())
 
     def copy(self) -> WorldConfig:
-        """A shallow copy (shapes are immutable)."""
-        return WorldConfig(self._obstacles.values())
+        """A shallow copy (shapes are immutable); O(obstacles) without re-validating them."""
+        out = WorldConfig.__new__(WorldConfig)
+        out._obstacles = dict(self._obstacles)
+        return out
+
+    def index(self, name: str) -> int:
+        """Position of the obstacle `name` in the insertion order; raises UnknownNameError."""
+        if name not in self._obstacles:
+            raise UnknownNameError("obstacle", name, self._obstacles)
+        for i, n in enumerate(self._obstacles):
+            if n == name:
+                return i
+        raise AssertionError("unreachable")  # pragma: no cover
 
     def __iter__(self) -> Iterator[Obstacle]:
         return iter(list(self._obstacles.values()))
@@ -236,7 +246,7 @@ def _from_entry(kind: str, name: str, entry: Any, base_dir: str | Path | None) -
     if "vertices" not in entry or "faces" not in entry:
         raise InvalidInputError(f"mesh '{name}': give 'file_path', or 'vertices' and 'faces'")
     return Mesh(name, pose=pose, scale=entry.get("scale", 1.0),
-                vertices=np.asarray(entry["vertices"], dtype=float), faces=np.asarray(entry["faces"], dtype=np.int64))
+                vertices=entry["vertices"], faces=entry["faces"])
 
 
 __all__ = ["WorldConfig", "Cuboid", "Sphere", "Cylinder", "Capsule", "Mesh", "Obstacle"]

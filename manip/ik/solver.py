@@ -20,6 +20,7 @@ joint limits; a solution that fails the check is discarded, never reported.
 from __future__ import annotations
 
 import logging
+import threading
 import time
 import warnings
 from typing import NamedTuple
@@ -33,7 +34,7 @@ from manip.ik.kernels import _INTERNAL_TOLERANCE, _MIN_DAMPING, _STALL_ITERATION
 from manip.ik.result import BatchIKResult, IKResult, IKSolutions, IKStatus, ValidityFn, _freeze
 from manip.kinematics import Kinematics
 from manip.pose import Pose
-from manip.validation import positive
+from manip.validation import integer, non_negative, positive
 
 logger = logging.getLogger(__name__)
 
@@ -63,9 +64,7 @@ class _LazyRng:
 
 
 def _at_least_one(value: int, what: str) -> int:
-    if value < 1:
-        raise InvalidInputError(f"{what} must be >= 1, got {value}")
-    return int(value)
+    return integer(value, what, 1)
 
 
 def _renamed(old: str, old_value, new: str, new_value):
@@ -115,18 +114,18 @@ class IKSolver:
         self.kinematics = kinematics
         self.position_tolerance = positive(position_tolerance, "position_tolerance", "m")
         self.rotation_tolerance = positive(rotation_tolerance, "rotation_tolerance", "rad")
-        self.max_iterations = int(positive(max_iterations, "max_iterations"))
-        self.max_attempts = int(positive(max_attempts, "max_attempts"))
-        self.seed = int(seed)
+        self.max_iterations = integer(max_iterations, "max_iterations", 1)
+        self.max_attempts = integer(max_attempts, "max_attempts", 1)
+        self.seed = integer(seed, "seed", 0)
         self.damping = positive(damping, "damping")
         self.max_step = positive(max_step, "max_step", "rad")
         self._tol_p = min(_INTERNAL_TOLERANCE, self.position_tolerance)
         self._tol_r = min(_INTERNAL_TOLERANCE, self.rotation_tolerance)
         self._model = kinematics.model
-        self._data = kinematics.model.createData()
-        # Independent check: the full model (fingers at their planning positions), its own data.
+        # Independent check: the full model (fingers at their planning positions), its own
+        # data (one per thread: a solver may be shared by threads).
         self._check_model = kinematics.full_model
-        self._check_data = kinematics.full_model.createData()
+        self._local = threading.local()
         self._check_q_index = np.array(
             [kinematics.full_model.joints[kinematics.full_model.getJointId(j)].idx_q for j in kinematics.joint_names]
         )
@@ -169,7 +168,8 @@ class IKSolver:
         t0 = time.perf_counter()
         fid, q_ref = self._prepare(goal, link, seed_q, batched=False)
         _at_least_one(num_solutions, "num_solutions")
-        rng = _LazyRng(self.seed if seed is None else seed)
+        seed, time_limit = self._call_options(seed, time_limit, validity_fn)
+        rng = _LazyRng(seed)
         R_goal = goal.rotation
         p_goal = goal.position
 
@@ -232,7 +232,8 @@ class IKSolver:
         t0 = time.perf_counter()
         fid, q_ref = self._prepare(goals, link, seed_q, batched=True)
         n = len(goals)
-        rng = np.random.default_rng(self.seed if seed is None else seed)
+        seed, time_limit = self._call_options(seed, time_limit, validity_fn)
+        rng = np.random.default_rng(seed)
         out = run_lanes(
             self, goals.rotation, goals.position, fid, np.broadcast_to(q_ref, (n, self.kinematics.dof)),
             rng, validity_fn, self.max_attempts, t0, time_limit,
@@ -292,8 +293,10 @@ class IKSolver:
         fid, q_ref = self._prepare(goal, link, seed_q, batched=False)
         _at_least_one(n, "n")
         attempts = _renamed("num_seeds", num_seeds, "attempts", attempts)
-        m = max(4 * n, 16) if attempts is None else _at_least_one(int(attempts), "attempts")
-        rng = _LazyRng(self.seed if seed is None else seed)
+        m = max(4 * n, 16) if attempts is None else _at_least_one(attempts, "attempts")
+        min_distance = positive(min_distance, "min_distance", "rad")
+        seed, _ = self._call_options(seed, None, validity_fn)
+        rng = _LazyRng(seed)
         k = self.kinematics
         R_goal, p_goal = goal.rotation, goal.position
         if self._out_of_reach(fid, p_goal[None])[0]:
@@ -325,13 +328,30 @@ class IKSolver:
         best = int(np.argmin(ep / self.position_tolerance + er / self.rotation_tolerance))
         return IKSolutions(sols, status, self._failure_message(status, m, ep[best], er[best], fid, p_goal, None), m)
 
+    @property
+    def _check_data(self):
+        """The calling thread's Pinocchio data of the full model."""
+        data = getattr(self._local, "check_data", None)
+        if data is None:
+            data = self._local.check_data = self._check_model.createData()
+        return data
+
     # ------------------------------------------------------------------ validation
     def _prepare(self, goal: object, link: str | None, seed_q: np.ndarray | None, batched: bool) -> tuple[int, np.ndarray]:
         """Checks of a call's goal (a single or a batched Pose), link and seed_q:
         (frame id, reference configuration (dof,) or (N, dof))."""
         self._check_goal(goal, batched)
-        fid = self.kinematics.frame_id(link if link is not None else self.kinematics.config.ee_link)
+        fid = self.kinematics.frame_id(link if link is not None else self.kinematics.config.ee_link, "link")
         return fid, self._check_seed_q(seed_q, len(goal) if batched else None)
+
+    def _call_options(self, seed, time_limit, validity_fn) -> tuple[int, float | None]:
+        """The call's (seed, time_limit), validated; validity_fn must be callable or None."""
+        seed = self.seed if seed is None else integer(seed, "seed", 0)
+        if time_limit is not None:
+            time_limit = non_negative(time_limit, "time_limit", "s")
+        if validity_fn is not None and not callable(validity_fn):
+            raise InvalidInputError(f"validity_fn must be a callable Q (K, dof) -> (K,) bool; got {validity_fn!r}")
+        return seed, time_limit
 
     def _check_goal(self, goal: object, batched: bool) -> None:
         if not isinstance(goal, Pose):

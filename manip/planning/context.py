@@ -13,12 +13,16 @@ from manip.kinematics import Kinematics
 from manip.planning.options import PlanOptions
 from manip.planning.result import PlanResult, PlanStatus
 from manip.planning.validity import Validity, describe_contacts
+from manip.validation import MAX_SAMPLES
 
 logger = logging.getLogger(__name__)
 
 #: A start this far outside a joint limit [rad] is accepted (and kept as given): simulated
 #: joints settle a few microradians past a limit the previous motion ended on.
 START_LIMIT_TOLERANCE = 1e-4
+#: A joint goal this far outside a joint limit [rad] is moved onto the limit (a goal read
+#: from a simulated joint resting on its limit); one further out is INVALID_GOAL.
+GOAL_LIMIT_TOLERANCE = START_LIMIT_TOLERANCE
 
 
 class PlanContext:
@@ -77,6 +81,52 @@ class PlanContext:
             )
             self.fail(status, "start in collision: " + describe_contacts(report))
         return q
+
+    def check_goal(self, goal_q, kinematics: Kinematics, validity: Validity) -> np.ndarray:
+        """The validated joint goal (dof,), clipped onto the limits when it lies within
+        GOAL_LIMIT_TOLERANCE of them; records INVALID_GOAL (beyond that, or in collision)
+        instead of raising.
+
+        Raises:
+            InvalidInputError: wrong shape or non-finite values.
+        """
+        q = kinematics.check_q(goal_q, "goal_q")
+        if q.ndim != 1:
+            raise InvalidInputError(f"goal_q must have shape ({kinematics.dof},); got {q.shape}")
+        if kinematics.limit_violations(q, GOAL_LIMIT_TOLERANCE):
+            problem = validity.goal_problem(q)
+        else:
+            q = np.clip(q, kinematics.lower, kinematics.upper)
+            problem = validity.goal_problem(q)
+        if problem and not self.failed:
+            self.fail(PlanStatus.INVALID_GOAL, problem)
+        return q
+
+    def check_sample_count(self, start: np.ndarray, goal: np.ndarray, limits) -> None:
+        """Refuse a call whose trajectory would have more than MAX_SAMPLES samples.
+
+        Any motion from `start` to `goal` at rest lasts at least max over joints of d / v,
+        2 sqrt(d / a) and (32 d / j)^(1/3) under the call's scaled limits (ruckig itself
+        fails on absurd limits such as velocity_scale=1e-9).
+
+        Raises:
+            InvalidInputError: naming dt and the scales that were lowered.
+        """
+        o = self.options
+        if o.duration is not None:
+            return  # checked with the options
+        d = np.abs(np.asarray(goal, dtype=float) - np.asarray(start, dtype=float))
+        vmax = limits.velocity * o.velocity_scale
+        amax = limits.acceleration * o.acceleration_scale
+        jmax = limits.jerk * o.jerk_scale
+        bound = float(np.max(np.maximum.reduce([d / vmax, 2.0 * np.sqrt(d / amax), np.cbrt(32.0 * d / jmax)])))
+        if bound / o.dt + 1 > MAX_SAMPLES:
+            scaled = [n for n in ("velocity_scale", "acceleration_scale") if getattr(o, n) < 1.0]
+            what = " or ".join(["dt"] + scaled)
+            raise InvalidInputError(
+                f"{what}: the motion lasts at least {bound:.6g} s; sampled every dt = {o.dt:.6g} s it would have "
+                f"more than MAX_SAMPLES = {MAX_SAMPLES} samples (manip.validation.MAX_SAMPLES)"
+            )
 
     def fail(self, status: PlanStatus, message: str, path=None, goal_q=None, attempts: int = 1) -> PlanResult:
         """Record and return a failed PlanResult."""

@@ -1,10 +1,13 @@
-"""The last stages of a plan: time a path, then validate the timed trajectory densely.
+"""The last stages of a plan: time a path, then validate the timed trajectory.
 
-`validate_trajectory` is the guarantee of every successful plan: the returned samples are
-what a user executes and what a verifier checks, so their linear interpolation is checked
-with consecutive checked configurations at most `resolution` apart (the true motion between
-samples strays from that line by less than max|acceleration| dt^2 / 8, e.g. 0.3 mrad at
-1/60 s). Limits are checked by the timing stage (or the optimiser) on the exact profile.
+`validate_trajectory` is the guarantee of every successful plan (the timing stage's and the
+optimiser's, `planning.refine`): the returned samples are what a user executes and what a
+verifier checks, so the continuous linear interpolation between consecutive samples is
+certified collision-free against the exact meshes with the padding
+(`CollisionChecker.certify_path`: conservative advancement), whatever resolution a
+verifier uses. The true motion between samples strays from that line by less than
+max|acceleration| dt^2 / 8 (e.g. 0.3 mrad at 1/60 s). Limits are checked by the timing
+stage (or the optimiser) on the exact profile.
 """
 
 from __future__ import annotations
@@ -17,18 +20,24 @@ from manip.planning.context import PlanContext
 from manip.planning.validity import Validity
 from manip.timing import TimingLimits, time_path
 from manip.trajectory import Trajectory
+from manip.validation import MAX_SAMPLES
 
 #: Position-limit tolerance [rad] of trajectories whose start is inside the limits.
 LIMIT_TOLERANCE = 1e-6
 
 
 def validate_trajectory(traj: Trajectory, start: np.ndarray, goal: np.ndarray, validity: Validity) -> str:
-    """Why the timed trajectory is not acceptable ("" when it is): endpoints and dense collisions."""
+    """Why the timed trajectory is not acceptable ("" when it is): endpoints, and the
+    certificate that its continuous interpolation is collision-free."""
     if np.max(np.abs(traj.positions[0] - start)) > 1e-9 or np.max(np.abs(traj.positions[-1] - goal)) > 1e-6:
         return "trajectory does not start at the start or end at the goal"
-    check = validity.checker.path_valid(traj.positions, resolution=validity.resolution)
-    if not check.valid:
-        return f"timed trajectory collides near t = {traj.times[check.first_invalid_segment]:.3f} s"
+    if traj.num_samples > MAX_SAMPLES:
+        return f"trajectory has {traj.num_samples} samples (more than MAX_SAMPLES = {MAX_SAMPLES})"
+    cert = validity.certify(traj.positions)
+    if not cert.certified:
+        t = traj.times[cert.first_failed_segment]
+        what = "collides" if cert.reason == "collision" else "could not be certified collision-free"
+        return f"timed trajectory {what} near t = {t:.3f} s ({cert.pair[0]} / {cert.pair[1]})"
     return ""
 
 

@@ -2,18 +2,19 @@
 
 from __future__ import annotations
 
-import numbers
 from dataclasses import dataclass, fields
 
 import numpy as np
 
 from manip.errors import InvalidInputError
-from manip.validation import fraction, positive
+from manip.validation import fraction, integer, positive, sample_count
 
 #: Values of the `smoothness` option.
 SMOOTHNESS = ("time_optimal", "smooth")
 #: With `smoothness="smooth"` the jerk limits are multiplied by this (timing and optimiser).
 SMOOTH_JERK_FRACTION = 0.25
+#: Largest `ik_solutions` (each is a goal the planner tries to reach).
+MAX_IK_SOLUTIONS = 1000
 
 
 @dataclass(frozen=True)
@@ -27,7 +28,8 @@ class PlanOptions:
         velocity_scale: factor in (0, 1] on the velocity limits.
         acceleration_scale: factor in (0, 1] on the acceleration and jerk limits.
         duration: stretch the motion to this length [s] (TRAJOPT_FAIL if shorter than
-            feasible); None = as fast as the limits allow.
+            feasible); None = as fast as the limits allow. duration / dt may not exceed
+            `manip.validation.MAX_SAMPLES` (and neither may the fastest motion's length / dt).
         ik_solutions: collision-free IK solutions sought per goal pose.
         linear_step: Cartesian step of linear motions [m].
         optimize_clearance: push the shortcut path's waypoints away from obstacles (tens of
@@ -61,14 +63,17 @@ class PlanOptions:
         put("acceleration_scale", fraction(self.acceleration_scale, "acceleration_scale"))
         if self.duration is not None:
             put("duration", positive(self.duration, "duration", "s"))
+            sample_count(self.duration, self.dt, "duration (or dt)")
         put("linear_step", positive(self.linear_step, "linear_step", "m"))
-        put("seed", _integer(self.seed, "seed", 0))
-        put("ik_solutions", _integer(self.ik_solutions, "ik_solutions", 1))
+        put("seed", integer(self.seed, "seed", 0))
+        put("ik_solutions", integer(self.ik_solutions, "ik_solutions", 1))
+        if self.ik_solutions > MAX_IK_SOLUTIONS:
+            raise InvalidInputError(f"ik_solutions must be at most {MAX_IK_SOLUTIONS}; got {self.ik_solutions}")
         for name in ("optimize_clearance", "trajopt"):
             if not isinstance(getattr(self, name), (bool, np.bool_)):
                 raise InvalidInputError(f"{name} must be True or False; got {getattr(self, name)!r}")
             put(name, bool(getattr(self, name)))
-        if self.smoothness not in SMOOTHNESS:
+        if not isinstance(self.smoothness, str) or self.smoothness not in SMOOTHNESS:
             raise InvalidInputError(f"smoothness must be one of {list(SMOOTHNESS)}; got {self.smoothness!r}")
 
     @property
@@ -87,15 +92,12 @@ class PlanOptions:
         Raises:
             InvalidInputError: an unknown option (the valid names are listed) or a bad value.
         """
-        unknown = sorted(set(options) - set(self.names()))
+        if not isinstance(options, dict):
+            raise InvalidInputError(f"options must be a dict of keyword arguments; got {type(options).__name__}")
+        unknown = sorted(set(map(str, options)) - set(self.names()))
         if unknown:
             raise InvalidInputError(f"unknown planning option(s) {unknown}; valid: {self.names()}")
         values = {f.name: getattr(self, f.name) for f in fields(self)}
         values.update(options)
         return PlanOptions(**values)
 
-
-def _integer(value, what: str, minimum: int) -> int:
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral) or value < minimum:
-        raise InvalidInputError(f"{what} must be an integer >= {minimum}; got {value!r}")
-    return int(value)

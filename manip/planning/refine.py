@@ -1,7 +1,7 @@
 """The trajectory-optimisation stage of a plan: refine a valid timed trajectory.
 
-The shortcut path's ruckig timing (valid, checked densely) seeds `optimize_trajectory`;
-the optimised motion replaces it only when it is faster and passes the same dense
+The shortcut path's ruckig timing (valid, certified) seeds `optimize_trajectory`;
+the optimised motion replaces it only when it is faster and passes the same certified
 exact-mesh validation, so success never depends on the optimiser.
 """
 

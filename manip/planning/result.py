@@ -56,8 +56,8 @@ class PlanResult:
     """A planning outcome.
 
     Attributes:
-        success: True when `trajectory` is valid (verified densely against collisions and
-            within all limits, at rest at both ends, at the goal).
+        success: True when `trajectory` is valid (certified collision-free over its continuous
+            motion, within all limits, at rest at both ends, at the goal).
         status: why it succeeded or failed (`status.hint` says what to change).
         trajectory: the timed trajectory (None on failure).
         path: (K, dof) collision-free joint-space waypoints the trajectory follows (None if

@@ -19,7 +19,7 @@ The outer loop looks for the shortest duration (cuRobo's idea): after each solve
 is uniformly re-timed until a limit is active (exact: the limits are linear in the control
 points), and the next target lies halfway between the best duration so far and the
 longest target not reached (at first the straight line's lower bound). The result is
-checked by the caller densely against the exact meshes; on any failure the caller keeps the
+certified by the caller against the exact meshes; on any failure the caller keeps the
 seed trajectory.
 """
 
@@ -95,7 +95,7 @@ class TrajOptResult:
 
     Attributes:
         success: True when `profile` is within the limits and its sampled sphere clearance
-            satisfied the constraints (the exact dense check is the caller's).
+            satisfied the constraints (the exact certificate is the caller's).
         profile: the motion (None on failure).
         control: (N + 3, dof) its control points [rad].
         duration: its duration [s].

@@ -2,9 +2,11 @@
 
 The planners (RRT-Connect, shortcutting, the trajectory optimiser, linear motions) are
 handed this object instead of reaching back into `MotionGenerator`. Two resolutions:
-`resolution` [rad] is the guarantee (every returned motion is checked at least this
-densely, joint-space L-inf), `search_resolution` a coarser, cheaper screen used while
-searching (a necessary condition only).
+`resolution` [rad] is the planners' fine check (paths are searched and repaired at it,
+joint-space L-inf), `search_resolution` a coarser, cheaper screen used while searching (a
+necessary condition only). Returned trajectories are then certified over their whole
+continuous interpolation (`certify`). A `MotionGenerator` hands each plan a Validity on
+a snapshot of its checker, so a plan sees one world while other threads edit it.
 """
 
 from __future__ import annotations
@@ -40,7 +42,7 @@ class Validity:
 
     def motion(self, q0: np.ndarray, q1: np.ndarray, resolution: float | None = None) -> bool:
         """True when the straight motion q0 -> q1 is free at `resolution` (default: the fine one)."""
-        return bool(self.checker.motion_valid(q0, q1, resolution=resolution or self.resolution))
+        return bool(self.checker.motion_valid(q0, q1, resolution=self.resolution if resolution is None else resolution))
 
     def coarse_motion(self, q0: np.ndarray, q1: np.ndarray) -> bool:
         """`motion` at the search resolution."""
@@ -57,6 +59,11 @@ class Validity:
         """(M,) validity at the search resolution (a necessary condition, cheaper)."""
         return self.checker.motion_valid_batch(Q0, Q1, resolution=self.search_resolution)
 
+    def certify(self, path: np.ndarray):
+        """`CollisionChecker.certify_path`: the continuous interpolation of `path` (K, dof)
+        proved collision-free (a `MotionCertificate`)."""
+        return self.checker.certify_path(path)
+
     def path(self, path: np.ndarray) -> bool:
         """True when every segment of the polyline `path` (K, dof) is free at the fine resolution."""
         return bool(self.segments(path[:-1], path[1:]).all()) if len(path) > 1 else bool(self.configs(path).all())
@@ -64,7 +71,7 @@ class Validity:
     def advance(self, q0: np.ndarray, q1: np.ndarray, resolution: float | None = None) -> np.ndarray | None:
         """The farthest configuration on q0 -> q1 reachable without collision, kept a few
         check steps short of the first contact (None if there is no room to move)."""
-        resolution = resolution or self.resolution
+        resolution = self.resolution if resolution is None else resolution
         t = self.checker.first_collision(q0, q1, resolution=resolution)
         if t is None:
             return q1.copy()

@@ -15,7 +15,7 @@ from manip.errors import InvalidInputError
 from manip.sim_bridge import joint_indices_for, trajectory_to_actions
 from manip.trajectory.profiles import PiecewiseJerkProfile, readonly
 from manip.trajectory.spline import PathProfile
-from manip.validation import non_negative, positive
+from manip.validation import non_negative, positive, sample_count
 
 # Relative tolerance used to decide that two times are "the same" (sample grids).
 _TIME_EPS = 1e-9
@@ -36,6 +36,7 @@ def sample_times(duration: float, dt: float) -> np.ndarray:
     """
     dt = positive(dt, "dt", "s")
     duration = non_negative(duration, "duration", "s")
+    sample_count(duration, dt, "dt")
     n = int(np.ceil(duration / dt - _TIME_EPS))
     times = np.arange(n + 1, dtype=float) * dt
     times[-1] = duration
