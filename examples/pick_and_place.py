@@ -20,10 +20,12 @@ trajectory replayed as one ArticulationAction per 1/60 s step; the arm's PD driv
 gravity compensation from the robot model, as on the real Panda. The planner sees the
 World's objects except the robot, the ground and the cube, keeps 1 cm from obstacles, and a
 floor guard 1 cm above the ground keeps free-space motions off the floor. A failed plan is
-retried from the measured state with a new seed; a cube that is not between the fingers
-after the lift is picked up again; an episode fails after a bounded number of tries, with
-the reason printed. The exit status is 0 only when every episode ends with the cube within
-1 cm of the place position.
+retried from the measured state with a new seed; the grasp is checked before the cube is
+attached to the planner's hand (the cube must be between the closed fingers: a cube that
+was pushed or moved away is reported as a failed grasp, with where it is, and picked up
+again); a cube that is not between the fingers after the lift is picked up again; an
+episode fails after a bounded number of tries, with the reason printed. The exit status is
+0 only when every episode ends with the cube within 1 cm of the place position.
 """
 
 from __future__ import annotations
@@ -201,6 +203,10 @@ class PlanningFailed(Exception):
 
 class CubeDropped(Exception):
     """The cube is no longer between the fingers."""
+
+
+class GraspFailed(CubeDropped):
+    """The fingers closed without the cube between them (it moved, or was never there)."""
 
 
 # ---------------------------------------------------------------------------- the demo
@@ -427,11 +433,34 @@ class PickAndPlace:
 
     def holding(self) -> bool:
         """The cube is between the fingertips (measured in the simulator)."""
+        return self.grasp_problem() is None
+
+    def grasp_problem(self, planned: np.ndarray | None = None) -> str | None:
+        """Why the cube is not held between the fingertips (measured in the simulator), or None.
+
+        Held: the cube's centre within 3 cm (along the fingers' width and the hand's axis)
+        and 2 cm (between the fingers) of the TCP, and each finger stopped by the cube
+        (15-35 mm open for a 5 cm cube). `planned`: where the cube was (3,) [m] when the
+        grasp was planned, to say how far it moved since.
+        """
         p, _ = self.cube_pose()
         tcp = self.tcp_pose()
         local = tcp.inverse().transform_points(p[None])[0]
         f = self.fingers()
-        return bool(np.all(np.abs(local) < [0.03, 0.02, 0.03]) and np.all(f > 0.015) and np.all(f < 0.035))
+        between = bool(np.all(np.abs(local) < [0.03, 0.02, 0.03]))
+        gripped = bool(np.all(f > 0.015) and np.all(f < 0.035))
+        if between and gripped:
+            return None
+        where = (f"its centre is {np.linalg.norm(local) * 100:.1f} cm from the TCP (at "
+                 f"({p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}) m)")
+        if planned is not None and np.linalg.norm(p - planned) > 0.01:
+            where += f", {np.linalg.norm(p - planned) * 100:.1f} cm from where the grasp was planned"
+        fingers = f"the fingers are at {f[0] * 1e3:.1f} / {f[1] * 1e3:.1f} mm"
+        if not between:
+            return f"the cube is not between the fingers: {where}; {fingers}"
+        if np.any(f <= 0.015):
+            return f"the fingers closed past the cube's faces ({fingers}): it is not gripped"
+        return f"the fingers did not close on the cube ({fingers})"
 
     def cube_in_tcp(self) -> np.ndarray:
         """(3,) the cube's centre in the TCP frame [m] (measured)."""
@@ -478,6 +507,12 @@ class PickAndPlace:
         self.move("pre-grasp", Pose(grasp.position + [0.0, 0.0, APPROACH_HEIGHT], down))
         self.move("descend", grasp, linear=True)
         self.gripper(CUBE_SIZE / 2 - SQUEEZE, "close")
+        # Check the grasp before the cube becomes the planner's attached object: a cube that
+        # moved away (pushed, or moved by someone) would be attached where it is, far from
+        # the hand, and every later plan would fail for a reason that is not the real one.
+        problem = self.grasp_problem(planned=p)
+        if problem is not None:
+            raise GraspFailed(f"grasp failed after closing: {problem}")
         # The cube as the planner's attached object, where the simulator has it now.
         p, qc = self.cube_pose()
         T_base_world = Pose(*self.robot.get_world_pose()).inverse()
@@ -486,14 +521,16 @@ class PickAndPlace:
         try:
             carry = {"velocity_scale": CARRY_SCALE, "acceleration_scale": CARRY_SCALE}
             self.move("lift", Pose(self.tcp_pose().position + [0.0, 0.0, APPROACH_HEIGHT], down), linear=True, **carry)
-            if not self.holding():
-                raise CubeDropped("the cube is not between the fingers after the lift")
+            problem = self.grasp_problem()
+            if problem is not None:
+                raise CubeDropped(f"after the lift, {problem}")
             in_hand = self.cube_in_tcp()
             azimuth = float(np.arctan2(PLACE_POSITION[1], PLACE_POSITION[0]))
             place_q = hand_down(azimuth)
             self.move("pre-place", Pose(self.release_position(place_q) + [0.0, 0.0, APPROACH_HEIGHT], place_q), **carry)
-            if not self.holding():
-                raise CubeDropped("the cube fell out of the hand on the way to the place position")
+            problem = self.grasp_problem()
+            if problem is not None:
+                raise CubeDropped(f"on the way to the place position, {problem}")
             self.move("descend", Pose(self.release_position(place_q), place_q), linear=True, **carry)
             self._ep.slip = max(self._ep.slip, float(np.linalg.norm(self.cube_in_tcp() - in_hand)))
         except Exception:

@@ -9,7 +9,9 @@ As in the tutorial, a 5.15 cm cube is dropped from 0.3 m at (0.3, 0.3) and the g
 (-0.3, -0.3) on the ground; a physics callback calls the controller once per step and
 applies its action until `is_done()` (ten phases, about 38 s of simulated time). The
 controller follows its end-effector targets with manip's inverse kinematics; the cube is
-held by finger friction only. Exit status 0 when the cube ends within 2 cm of the goal.
+held by finger friction only, and the grasp is checked before the cube is carried (a cube
+that is not between the fingers stops the controller, which says why). Exit status 0 when
+the cube ends within 2 cm of the goal.
 """
 
 from __future__ import annotations
@@ -72,7 +74,10 @@ def main(argv: list[str] | None = None) -> int:
     world.add_physics_callback("sim_step", callback_fn=physics_step)
     while app.is_running() and world.is_playing():
         world.step(render=True)
-    print("done picking and placing" if controller.is_done() else "stopped before the end")
+    if controller.failure is not None:
+        print(f"stopped: {controller.failure}")
+    else:
+        print("done picking and placing" if controller.is_done() else "stopped before the end")
     world.remove_physics_callback("sim_step")
     world.play()
     for _ in range(30):  # let the cube come to rest
@@ -84,7 +89,7 @@ def main(argv: list[str] | None = None) -> int:
     position, _ = cube.get_world_pose()
     error = float(np.linalg.norm(position - GOAL))
     print(f"cube at {np.round(position, 4)}, {error * 100:.2f} cm from the goal")
-    return 0 if controller.is_done() and error < TOLERANCE else 1
+    return 0 if controller.is_done() and controller.failure is None and error < TOLERANCE else 1
 
 
 if __name__ == "__main__":

@@ -7,6 +7,22 @@ one MuJoCo actuator whose force is
 
 applied as `ctrl = kp q_target + kd v_target` with the bias `-kp q - kd v`; MuJoCo's
 `implicitfast` integrator treats the damping term implicitly, so stiff gains are stable.
+
+Joint limits hold, as in Isaac, where PhysX enforces the limits of every limited joint
+(`PxArticulationMotion::eLIMITED`) whatever the drive target: a position target beyond a
+limit drives the joint to that limit and no farther (the drive aims at the limit;
+`get_applied_action()` still returns the target as given, as Isaac's does); MuJoCo's limit
+constraints are made as stiff as it allows (time constant two substeps, impedance
+0.95-0.99), and after every physics step a joint found beyond a limit (pushed by an
+effort, or by its own speed within the step) is put back on it with its outward velocity
+zeroed. `get_joint_positions()` therefore never reads past a limit after a step.
+
+Commands are checked before they reach MuJoCo (InvalidInputError naming the argument and
+the joint): NaN or infinite values (a NaN position/velocity *target* keeps that joint's
+target, as in Isaac), magnitudes above 1e6 (`MAX_POSITION` [rad or m], `MAX_VELOCITY`
+[rad/s or m/s], `MAX_EFFORT` [N m or N], in `manip.sim.articulation_core`), and drive
+commands kp * target + kd * velocity target above 1e9. If MuJoCo still finds the
+simulation unstable, `World.step()` raises `SimulationInstabilityError`.
 The model's own actuators give the default gains: a `position` actuator gives kp and kv,
 a `velocity` actuator gives kd (kp = 0), a `motor` gives kp = kd = 0; joints without an
 actuator get one with kp = kd = 0. Efforts (effort mode) are added as joint forces, not
@@ -31,7 +47,7 @@ from manip import quaternion as quat
 from manip.articulation_action import ArticulationAction
 from manip.errors import InvalidInputError, UnknownNameError
 from manip.sim.articulation_controller import CONTROL_MODES, ArticulationController  # noqa: F401 (CONTROL_MODES re-exported)
-from manip.sim.articulation_core import ArticulationCore
+from manip.sim.articulation_core import MAX_EFFORT, MAX_POSITION, MAX_VELOCITY, ArticulationCore
 from manip.sim.articulation_view import ArticulationView
 from manip.sim.dof_properties import DOF_PROPERTIES_DTYPE, dof_properties  # noqa: F401 (DTYPE re-exported)
 from manip.sim.stage import SimHandle, SimulationError, get_current_stage, validate_prim_path
@@ -211,12 +227,14 @@ class Articulation(DefaultPoseMixin):
     def set_joint_positions(self, positions, joint_indices=None) -> None:
         """Teleport joints to `positions` (K,) and set their drive position targets to them.
 
-        Velocities are kept. Raises InvalidInputError on a wrong length, a non-finite value or
-        a position outside the joint limits (by more than 1e-3); nothing changes then.
+        Velocities are kept. A position at most 1e-3 outside its joint's limits is put on the
+        limit. Raises InvalidInputError on a wrong length, a non-finite value, a position
+        farther outside the limits, or a magnitude above MAX_POSITION (unlimited joints);
+        nothing changes then.
         """
         c = self._cs("set_joint_positions")
         idx = c.indices(joint_indices)
-        q = c.values(positions, idx, "positions")
+        q = c.values(positions, idx, "positions", limit=MAX_POSITION, kind="position")
         low, up = c.lower[idx], c.upper[idx]
         bad = (q < low - _LIMIT_TOLERANCE) | (q > up + _LIMIT_TOLERANCE)
         if np.any(bad):
@@ -225,9 +243,12 @@ class Articulation(DefaultPoseMixin):
                 "positions outside the joint limits: "
                 + ", ".join(f"{c.dof_names[idx[k]]}={q[k]:.4f} not in [{low[k]:.4f}, {up[k]:.4f}]" for k in i)
             )
+        q = np.clip(q, low, up)
+        target = c.pos_target.copy()
+        target[idx] = q
+        c.check_drive(c.kps, c.kds, target, c.vel_target, "positions")
         c.sim.data.qpos[c.qadr[idx]] = q
-        c.pos_target = c.pos_target.copy()
-        c.pos_target[idx] = q
+        c.pos_target = target
         c.write_targets()
         c.sim.mark_stale()
 
@@ -235,15 +256,19 @@ class Articulation(DefaultPoseMixin):
         """Set joint velocities (K,) [rad/s or m/s] (drive targets unchanged)."""
         c = self._cs("set_joint_velocities")
         idx = c.indices(joint_indices)
-        v = c.values(velocities, idx, "velocities")
+        v = c.values(velocities, idx, "velocities", limit=MAX_VELOCITY, kind="velocity")
         c.sim.data.qvel[c.dadr[idx]] = v
         c.sim.mark_stale()
 
     def set_joint_efforts(self, efforts, joint_indices=None) -> None:
-        """Set the joint efforts (K,) [N m or N] added to the drives (persist until changed)."""
+        """Set the joint efforts (K,) [N m or N] added to the drives (persist until changed).
+
+        Raises InvalidInputError on a wrong length, a non-finite value or a magnitude above
+        MAX_EFFORT (1e6); nothing changes then.
+        """
         c = self._cs("set_joint_efforts")
         idx = c.indices(joint_indices)
-        e = c.values(efforts, idx, "efforts")
+        e = c.values(efforts, idx, "efforts", limit=MAX_EFFORT, kind="effort")
         c.efforts = c.efforts.copy()
         c.efforts[idx] = e
         c.write_targets()
@@ -267,12 +292,18 @@ class Articulation(DefaultPoseMixin):
 
     def set_joints_default_state(self, positions=None, velocities=None, efforts=None) -> None:
         """Joint state restored by `post_reset()`, (num_dof,) each; None keeps a part."""
-        for what, v in (("positions", positions), ("velocities", velocities), ("efforts", efforts)):
+        for what, v, limit in (("positions", positions, MAX_POSITION), ("velocities", velocities, MAX_VELOCITY),
+                               ("efforts", efforts, MAX_EFFORT)):
             if v is None:
                 continue
-            a = np.asarray(v, dtype=float).ravel()
+            try:
+                a = np.asarray(v, dtype=float).ravel()
+            except (TypeError, ValueError) as exc:
+                raise InvalidInputError(f"default joint {what} must be a sequence of numbers; got {v!r}") from exc
             if not np.all(np.isfinite(a)):
-                raise InvalidInputError(f"default joint {what} must be finite")
+                raise InvalidInputError(f"default joint {what} must be finite; got {a}")
+            if np.any(np.abs(a) > limit):
+                raise InvalidInputError(f"default joint {what} must have magnitudes <= {limit:g}; got {a}")
             if self._core is not None and a.size != self._core.n:
                 raise InvalidInputError(f"default joint {what} need {self._core.n} entries; got {a.size}")
             self._user_default_joints[what] = a.copy()

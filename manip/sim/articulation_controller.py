@@ -44,12 +44,17 @@ class ArticulationController:
         """Set drive targets; they take effect from the next physics step and persist.
 
         A None field is untouched; a NaN (None) entry of positions/velocities keeps that
-        joint's target; a NaN effort is 0.
+        joint's target (Isaac's behaviour); a NaN effort is 0. A position target beyond a
+        joint's limit drives the joint to the limit, where it stops (the limits hold, as in
+        Isaac); the target itself is kept as given.
 
         Raises:
             InvalidInputError: not an ArticulationAction, a length that differs from the
                 number of DoF (without joint_indices) or from joint_indices, indices out
-                of range. Targets are unchanged then.
+                of range, an entry of magnitude above 1e6 (positions [rad or m], velocities
+                [rad/s or m/s], efforts [N m or N]) or a drive command kp * target + kd *
+                velocity target above 1e9. The message names the field and the joint;
+                targets are unchanged then.
         """
         self._core().apply_action(control_actions)
 
@@ -65,7 +70,8 @@ class ArticulationController:
         new_kp = c.values(kps, idx, "kps") if kps is not None else c.kps
         new_kd = c.values(kds, idx, "kds") if kds is not None else c.kds
         if np.any(new_kp < 0) or np.any(new_kd < 0):
-            raise InvalidInputError("gains must be >= 0")
+            raise InvalidInputError(f"gains must be >= 0; got kps={new_kp}, kds={new_kd}")
+        c.check_drive(new_kp, new_kd, c.pos_target, c.vel_target, "kps/kds")
         c.kps, c.kds = new_kp.copy(), new_kd.copy()
         c.write_gains()
 
@@ -101,9 +107,13 @@ class ArticulationController:
         """Clip of each drive's force [N m or N] (> 0; inf = unlimited)."""
         c = self._core()
         idx = c.indices(joint_indices)
-        v = np.asarray(values, dtype=float).ravel()
+        try:
+            v = np.asarray(values, dtype=float).ravel()
+        except (TypeError, ValueError) as exc:
+            raise InvalidInputError(
+                f"values (max efforts) must be {idx.size} positive numbers; got {values!r}") from exc
         if v.size != idx.size or np.any(np.isnan(v)) or np.any(v <= 0):
-            raise InvalidInputError(f"max efforts must be {idx.size} positive values; got {values!r}")
+            raise InvalidInputError(f"values (max efforts) must be {idx.size} positive values; got {values!r}")
         c.max_efforts = c.max_efforts.copy()
         c.max_efforts[idx] = v
         c.write_gains()

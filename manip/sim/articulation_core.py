@@ -2,8 +2,13 @@
 
 The World creates one core per `ReferencePrim` when it compiles the stage (and drops it on
 the next compile); every `Articulation` wrapping that prim shares it. Internal: the public
-API is `Articulation` and `ArticulationController`. The drive law is documented in
-`manip.sim.articulation`.
+API is `Articulation` and `ArticulationController`. The drive law and the joint limits are
+documented in `manip.sim.articulation`.
+
+Every command is checked here before it reaches MuJoCo: non-finite values and magnitudes
+beyond `MAX_POSITION`, `MAX_VELOCITY`, `MAX_EFFORT` raise InvalidInputError naming the
+argument, and so does a drive command (kp * target + kd * velocity target) beyond
+`MAX_DRIVE_COMMAND`, which MuJoCo would treat as a numerical failure.
 """
 
 from __future__ import annotations
@@ -25,6 +30,24 @@ logger = logging.getLogger(__name__)
 
 _HINGE = int(mujoco.mjtJoint.mjJNT_HINGE)
 _SLIDE = int(mujoco.mjtJoint.mjJNT_SLIDE)
+
+#: Largest accepted magnitude of a joint position or position target [rad or m]. A limited
+#: joint's target beyond its limit is accepted (the joint stops at the limit); 1e300 is not.
+MAX_POSITION = 1e6
+#: Largest accepted magnitude of a joint velocity or velocity target [rad/s or m/s].
+MAX_VELOCITY = 1e6
+#: Largest accepted magnitude of an applied joint effort [N m or N] (the Franka's largest
+#: drive torque is 87 N m).
+MAX_EFFORT = 1e6
+#: Largest accepted drive command kp * position target + kd * velocity target [N m or N]:
+#: MuJoCo treats a control above 1e10 as a numerical failure and ignores every control.
+MAX_DRIVE_COMMAND = 1e9
+#: Solver impedance of the joint limits (MuJoCo `solimp` dmin, dmax, width): harder than
+#: MuJoCo's default (0.9, 0.95, 0.001). Their time constant is two integration substeps, the
+#: stiffest MuJoCo allows.
+LIMIT_SOLIMP = (0.95, 0.99, 0.001)
+
+_UNITS = {"position": "rad or m", "velocity": "rad/s or m/s", "effort": "N m or N"}
 
 
 def _urdf_velocity_limits(file_path: Path) -> dict[str, float]:
@@ -77,6 +100,15 @@ class ArticulationCore:
         rng = m.jnt_range[self.joint_ids]
         self.lower = np.where(self.has_limits, rng[:, 0], -np.inf)
         self.upper = np.where(self.has_limits, rng[:, 1], np.inf)
+        # Joint limits as hard as MuJoCo's soft constraints get (PhysX's are hard); what is
+        # left of an excursion is removed after every physics step (`enforce_limits`).
+        self._lim = np.flatnonzero(self.has_limits)
+        self.stiffen_limits()
+        self._lim_qadr = self.qadr[self._lim]
+        self._lim_dadr = self.dadr[self._lim]
+        self._lim_lower = self.lower[self._lim]
+        self._lim_upper = self.upper[self._lim]
+        self._qpos, self._qvel = d.qpos, d.qvel  # views into the MjData (its buffers never move)
         # Bodies and roots.
         self.body_ids = np.array([b for b in range(m.nbody) if m.body(b).name.startswith(prefix)], dtype=int)
         self.body_names = [m.body(b).name[len(prefix):] for b in self.body_ids]
@@ -140,6 +172,14 @@ class ArticulationCore:
         self.efforts = np.zeros(self.n)
         self.write_gains()
 
+    def stiffen_limits(self) -> None:
+        """Joint limit constraints with a time constant of two integration substeps (the
+        stiffest MuJoCo allows) and the impedance LIMIT_SOLIMP; call again when the step changes."""
+        m = self.sim.model
+        lim = self.joint_ids[self._lim]
+        m.jnt_solref[lim] = [2.0 * m.opt.timestep, 1.0]
+        m.jnt_solimp[lim, :3] = LIMIT_SOLIMP
+
     # ------------------------------------------------------------------ drive writes
     def write_gains(self) -> None:
         m = self.sim.model
@@ -151,10 +191,55 @@ class ArticulationCore:
         m.actuator_forcerange[self.act, 1] = np.where(finite, self.max_efforts, 0.0)
         self.write_targets()
 
+    def drive_commands(self, kps: np.ndarray, kds: np.ndarray, pos_target: np.ndarray,
+                       vel_target: np.ndarray) -> np.ndarray:
+        """MuJoCo controls (n,) of the drives: kp * (position target clipped into the joint
+        limits) + kd * velocity target. A target beyond a limit drives the joint to the limit,
+        where it stops (as PhysX's hard limits stop it)."""
+        return kps * np.clip(pos_target, self.lower, self.upper) + kds * vel_target
+
+    def check_drive(self, kps: np.ndarray, kds: np.ndarray, pos_target: np.ndarray, vel_target: np.ndarray,
+                    what: str) -> None:
+        """Raise InvalidInputError naming `what` if a drive command would exceed MAX_DRIVE_COMMAND."""
+        ctrl = self.drive_commands(kps, kds, pos_target, vel_target)
+        bad = np.flatnonzero(~(np.abs(ctrl) <= MAX_DRIVE_COMMAND))
+        if bad.size:
+            i = int(bad[0])
+            raise InvalidInputError(
+                f"{what}: the drive command of joint {self.dof_names[i]!r}, kp * position target + kd * velocity "
+                f"target = {kps[i]:.4g} * {pos_target[i]:.4g} + {kds[i]:.4g} * {vel_target[i]:.4g} = {ctrl[i]:.4g}, "
+                f"exceeds {MAX_DRIVE_COMMAND:g} (MuJoCo would treat it as a numerical failure); use a smaller "
+                "target or gain"
+            )
+
     def write_targets(self) -> None:
         d = self.sim.data
-        d.ctrl[self.act] = self.kps * self.pos_target + self.kds * self.vel_target
+        d.ctrl[self.act] = self.drive_commands(self.kps, self.kds, self.pos_target, self.vel_target)
         d.qfrc_applied[self.dadr] = self.efforts
+
+    def enforce_limits(self) -> None:
+        """Put every limited joint that lies beyond a limit back on it, and stop its motion
+        outward (called after every physics step: the limits hold as in Isaac).
+
+        MuJoCo's limits are soft constraints: a joint driven fast into a limit, or pressed
+        against it by an effort, goes slightly past it within a step (with the stiff limits
+        set here, < 1 mrad pressed by the Franka's full 87 N m).
+        """
+        if not self._lim.size:
+            return
+        qpos, qvel = self._qpos, self._qvel
+        q = qpos[self._lim_qadr]
+        low = q < self._lim_lower
+        high = q > self._lim_upper
+        if not (low.any() or high.any()):
+            return
+        np.maximum(q, self._lim_lower, out=q)
+        np.minimum(q, self._lim_upper, out=q)
+        qpos[self._lim_qadr] = q
+        v = qvel[self._lim_dadr]
+        v[(low & (v < 0.0)) | (high & (v > 0.0))] = 0.0
+        qvel[self._lim_dadr] = v
+        self.sim.mark_stale()
 
     def indices(self, joint_indices) -> np.ndarray:
         """Validated joint indices (K,) (all joints for None)."""
@@ -173,9 +258,15 @@ class ArticulationCore:
             raise InvalidInputError(f"joint_indices has repeated entries: {idx.tolist()}")
         return idx
 
-    def values(self, values, idx: np.ndarray, what: str, *, allow_nan: bool = False) -> np.ndarray:
-        """`values` as (K,) floats, one per addressed joint `idx` (K,); finite (NaN allowed with allow_nan)."""
-        a = np.asarray(values, dtype=float).ravel()
+    def values(self, values, idx: np.ndarray, what: str, *, allow_nan: bool = False, limit: float | None = None,
+               kind: str = "") -> np.ndarray:
+        """`values` as (K,) floats, one per addressed joint `idx` (K,); finite (NaN allowed with
+        allow_nan) and, with `limit`, of magnitude <= limit (`kind`: "position", "velocity" or
+        "effort", for the unit in the message). Messages name the argument `what`."""
+        try:
+            a = np.asarray(values, dtype=float).ravel()
+        except (TypeError, ValueError) as exc:
+            raise InvalidInputError(f"{what} must be a sequence of numbers; got {values!r}") from exc
         if a.size != idx.size:
             raise InvalidInputError(
                 f"{what} has {a.size} entries but {idx.size} joints are addressed "
@@ -184,6 +275,8 @@ class ArticulationCore:
         bad = ~np.isfinite(a) if not allow_nan else np.isinf(a)
         if np.any(bad):
             raise InvalidInputError(f"{what} must be finite; got {a}")
+        if limit is not None:
+            check_magnitude(a, limit, what, [self.dof_names[i] for i in idx], kind)
         return a
 
     def apply_action(self, action: ArticulationAction) -> None:
@@ -202,11 +295,19 @@ class ArticulationCore:
             idx = np.arange(self.n)
         else:
             idx = self.indices(action.joint_indices)
+        names = [self.dof_names[i] for i in idx]
+        for field, limit, kind in (("joint_positions", MAX_POSITION, "position"),
+                                   ("joint_velocities", MAX_VELOCITY, "velocity"),
+                                   ("joint_efforts", MAX_EFFORT, "effort")):
+            values = getattr(action, field)
+            if values is not None:
+                check_magnitude(np.asarray(values, dtype=float), limit, f"ArticulationAction.{field}", names, kind)
         pos = _merge_targets(self.pos_target, idx, action.joint_positions)
         vel = _merge_targets(self.vel_target, idx, action.joint_velocities)
         eff = self.efforts.copy()
         if action.joint_efforts is not None:
             eff[idx] = np.nan_to_num(action.joint_efforts, nan=0.0)
+        self.check_drive(self.kps, self.kds, pos, vel, "ArticulationAction.joint_positions/joint_velocities")
         self.pos_target, self.vel_target, self.efforts = pos, vel, eff
         self.write_targets()
 
@@ -227,6 +328,20 @@ class ArticulationCore:
 
     def drive_modes(self) -> np.ndarray:
         return np.where(self.kps > 0, 1, np.where(self.kds > 0, 2, 0)).astype(np.int32)
+
+
+def check_magnitude(values: np.ndarray, limit: float, what: str, names: list[str], kind: str = "") -> None:
+    """Raise InvalidInputError naming `what` (and the joint) if an entry of `values` (K,)
+    (NaN entries ignored) has a magnitude above `limit`; `names` (K,) are the joints."""
+    with np.errstate(invalid="ignore"):
+        bad = np.flatnonzero(np.abs(values) > limit)
+    if bad.size:
+        k = int(bad[0])
+        unit = f" [{_UNITS[kind]}]" if kind in _UNITS else ""
+        raise InvalidInputError(
+            f"{what}[{k}] = {values[k]:.4g} (joint {names[k]!r}) exceeds the largest accepted magnitude "
+            f"{limit:g}{unit}"
+        )
 
 
 def _merge_targets(current: np.ndarray, idx: np.ndarray, values) -> np.ndarray:

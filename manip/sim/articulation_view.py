@@ -113,6 +113,7 @@ class ArticulationView:
             new_kd[idx] = c.values(kds, idx, "kds")
         if np.any(new_kp < 0) or np.any(new_kd < 0):
             raise InvalidInputError("gains must be >= 0")
+        c.check_drive(new_kp, new_kd, c.pos_target, c.vel_target, "kps/kds")
         c.kps, c.kds = new_kp, new_kd
         c.write_gains()
 

@@ -42,7 +42,13 @@ The default orientation points the hand down as at the Franka's home configurati
 z (its end-effector frame differs), which the Franka's wrist reaches only near its limit.
 
 The grasp is physics only: the fingers are driven to their closed positions and hold the
-object by friction.
+object by friction. Unlike Isaac's, the controller checks the grasp before carrying (at the
+first call of phase 4, `check_grasp=True`): the object (`picking_position` of that call)
+must be within `GRASP_TOLERANCE` of where the end effector was sent to grasp it, and the
+fingers must not have closed completely (nothing between them). Otherwise the grasp failed
+(the object moved away, was pushed, or was never there): the controller logs the reason,
+returns the gripper's "open" action and ends the sequence; `is_done()` is then True and
+`failure` says why, instead of carrying nothing to the place position.
 """
 
 from __future__ import annotations
@@ -69,6 +75,11 @@ FRANKA_EVENTS_DT = (0.008, 0.005, 0.1, 0.1, 0.0025, 0.001, 0.0025, 1.0, 0.008, 0
 NUM_EVENTS = 10
 DEFAULT_INITIAL_HEIGHT = 0.3  # [m] h1, Isaac's default
 HAND_DOWN = np.array([0.0, 1.0, 0.0, 0.0])  # (w, x, y, z): hand z axis = world -z, as at home
+
+#: [m] a grasped object's centre lies at most this far from where the end effector was sent.
+GRASP_TOLERANCE = 0.03
+#: [m] fingers closer than this to their closed positions hold nothing.
+GRASP_EMPTY_GAP = 0.001
 
 # Each Cartesian IK solve starts this fraction of the way from the previous target toward
 # the robot's default configuration: the local solve then lands near it, which keeps the
@@ -119,6 +130,8 @@ class PickPlaceController(BaseController):
             two calls (a larger one means the solver switched to another arm configuration):
             such solutions are not used, the previous target is held. With the default
             events_dt the targets move < 0.01 rad per call; raise it for much faster phases.
+        check_grasp: check the grasp before carrying (see the module docstring); False
+            carries on whatever the fingers hold, as Isaac's controller does.
 
     Raises:
         InvalidInputError: bad events_dt, height or max_joint_step.
@@ -126,7 +139,7 @@ class PickPlaceController(BaseController):
 
     def __init__(self, name: str, gripper, robot_articulation, end_effector_initial_height: float | None = None,
                  events_dt=None, *, end_effector_link: str | None = None, robot: str | RobotConfig = "franka",
-                 max_joint_step: float = 0.2):
+                 max_joint_step: float = 0.2, check_grasp: bool = True):
         super().__init__(name)
         self._gripper = gripper
         self._robot = robot_articulation
@@ -134,6 +147,9 @@ class PickPlaceController(BaseController):
             end_effector_initial_height)
         self._events_dt = _check_events_dt(FRANKA_EVENTS_DT if events_dt is None else events_dt)
         self._max_joint_step = positive(max_joint_step, "max_joint_step", "rad")
+        if not isinstance(check_grasp, (bool, np.bool_)):
+            raise InvalidInputError(f"check_grasp must be True or False; got {check_grasp!r}")
+        self._check_grasp = bool(check_grasp)
         config = robot if isinstance(robot, RobotConfig) else load_robot_config(robot)
         self._kin = Kinematics(config)
         # One local solve from the seed: a random restart could land on another branch.
@@ -166,6 +182,7 @@ class PickPlaceController(BaseController):
         self._pick_xy: np.ndarray | None = None  # pick position (world xy) frozen after phase 1
         self._h0: float | None = None  # pick height (world z) frozen after phase 1
         self._failed_event = -1
+        self._failure: str | None = None
 
     def reset(self, end_effector_initial_height: float | None = None, events_dt=None) -> None:
         """Restart at phase 0 (unpaused); optionally change h1 [m] and events_dt (10,)."""
@@ -176,11 +193,17 @@ class PickPlaceController(BaseController):
         self._clear_state()
 
     def is_done(self) -> bool:
-        """True once the last phase (9) has ended."""
+        """True once the last phase (9) has ended, or the sequence stopped on a failed grasp
+        (see `failure`)."""
         return self._event >= len(self._events_dt)
 
+    @property
+    def failure(self) -> str | None:
+        """Why the sequence stopped before its end (a failed grasp), or None."""
+        return self._failure
+
     def get_current_event(self) -> int:
-        """The current phase, 0..9 (10 when done)."""
+        """The current phase, 0..9 (10 when done, also after a failed grasp)."""
         return self._event
 
     def pause(self) -> None:
@@ -236,6 +259,27 @@ class PickPlaceController(BaseController):
             logger.warning("%s: phase %d: no IK target near the previous one for the end effector at %s (%s); "
                            "holding the previous target", self.name, self._event, np.round(position, 4), why)
         return None
+
+    def _grasp_problem(self, obj: np.ndarray, q_now: np.ndarray, offset: np.ndarray) -> str | None:
+        """Why the object at world position `obj` (3,) [m] is not held, or None: its centre
+        must be within GRASP_TOLERANCE of where the end effector was sent (obj + offset), and
+        the fingers must not have closed completely."""
+        tcp = self._base_from_world().inverse() @ self._kin.fk(q_now[self._arm_idx], self._link)
+        miss = float(np.linalg.norm(obj + offset - tcp.position))
+        problems = []
+        if miss > GRASP_TOLERANCE:
+            problems.append(
+                f"the object (picking_position {np.round(obj, 3).tolist()} m) is {miss * 100:.1f} cm from where the "
+                f"end effector closed the gripper, not between the fingers")
+        idx = getattr(self._gripper, "joint_dof_indices", None)
+        closed = getattr(self._gripper, "joint_closed_positions", None)
+        if idx is not None and closed is not None:
+            fingers = q_now[np.asarray(idx, dtype=int)]
+            closed = np.asarray(closed, dtype=float)
+            if closed.shape == fingers.shape and np.all(np.abs(fingers - closed) < GRASP_EMPTY_GAP):
+                problems.append(f"the fingers closed completely (at {np.round(fingers * 1e3, 1).tolist()} mm): "
+                                "nothing is between them")
+        return "; ".join(problems) if problems else None
 
     def _action(self, n_dof: int, arm: np.ndarray | None = None) -> ArticulationAction:
         full = np.full(n_dof, np.nan)
@@ -293,7 +337,8 @@ class PickPlaceController(BaseController):
         Returns:
             ArticulationAction with joint_positions of length num_dof; NaN entries keep their
             targets (phase 2, paused or done: all NaN; phases 3 and 7: the gripper's action;
-            otherwise arm targets and NaN fingers).
+            a failed grasp: the gripper's "open" action, once; otherwise arm targets and NaN
+            fingers).
 
         Raises:
             InvalidInputError: a non-finite value or a wrong shape (the state is unchanged).
@@ -318,6 +363,13 @@ class PickPlaceController(BaseController):
             return self._action(n)
 
         e = self._event
+        if e == 4 and self._t == 0.0 and self._check_grasp:
+            problem = self._grasp_problem(pick, q_now, offset)
+            if problem is not None:
+                self._failure = f"the grasp failed: {problem}"
+                logger.warning("%s: %s; the gripper opens and the sequence stops", self.name, self._failure)
+                self._event = len(self._events_dt)
+                return self._gripper.forward("open")
         if e == 2:
             action = self._action(n)
         elif e == 3:

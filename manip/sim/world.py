@@ -11,7 +11,13 @@ import logging
 
 from manip.sim.callbacks import TimelineEvent  # noqa: F401 (re-exported)
 from manip.sim.scene import Scene
-from manip.sim.simulation_context import DEFAULT_DT, SimulationContext, WorldObserver  # noqa: F401 (re-exported)
+from manip.sim.simulation_context import (  # noqa: F401 (re-exported)
+    DEFAULT_DT,
+    SimulationContext,
+    SimulationInstabilityError,
+    SimulationWarning,
+    WorldObserver,
+)
 from manip.sim.stage import get_current_stage
 from manip.sim.task_registry import TaskRegistry
 

@@ -156,3 +156,75 @@ def test_example_runs_headless():
     proc = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, f"{proc.stdout[-2000:]}\n{proc.stderr[-2000:]}"
     assert "done picking and placing" in proc.stdout
+
+
+def test_a_cube_moved_away_before_the_grasp_is_reported_instead_of_carried():
+    """Issue 17, item 9: the grasp is checked before carrying; the real reason is reported."""
+    world, franka, cube = make_scene()
+    world.reset()
+    controller = PickPlaceController("pick_place", franka.gripper, franka)
+    budget = sum(calls_per_phase(FRANKA_EVENTS_DT))
+    moved_to = np.array([0.3, -0.4, 0.025])
+    action = None
+    for _ in range(budget):
+        if controller.get_current_event() == 3 and not np.allclose(cube.get_world_pose()[0], moved_to, atol=0.01):
+            cube.set_world_pose(moved_to)  # someone takes the cube away while the fingers close
+        action = controller.forward(cube.get_world_pose()[0], PLACE, franka.get_joint_positions())
+        franka.apply_action(action)
+        world.step(render=False)
+        if controller.is_done():
+            break
+    assert controller.is_done() and controller.get_current_event() == 10
+    failure = controller.failure
+    assert failure is not None and failure.startswith("the grasp failed")
+    assert "not between the fingers" in failure and "nothing is between them" in failure
+    # It stopped there: the gripper opens, nothing was carried, no misleading IK failure.
+    np.testing.assert_allclose(np.asarray(action.joint_positions, dtype=float)[7:], 0.04)
+    assert controller.ik_failures == 0
+    for _ in range(30):
+        world.step(render=False)
+    assert np.all(franka.gripper.get_joint_positions() > 0.035)
+    assert np.linalg.norm(cube.get_world_pose()[0] - moved_to) < 0.01
+    assert franka.end_effector.get_world_pose()[0][2] < 0.1  # still down at the pick position
+    # reset() clears the failure; check_grasp=False carries on as Isaac's controller does.
+    controller.reset()
+    assert controller.failure is None and not controller.is_done()
+    with pytest.raises(InvalidInputError, match="check_grasp"):
+        PickPlaceController("p", franka.gripper, franka, check_grasp="yes")
+
+
+def test_the_flagship_reports_a_failed_grasp_and_picks_the_cube_again_where_it_is():
+    """Issue 17, item 9, in examples/pick_and_place.py: a cube moved away while the hand
+    descends is not attached to the planner's hand 30 cm away; the episode says why and
+    picks it up again where it now lies."""
+    import importlib.util
+
+    path = Path(__file__).resolve().parents[2] / "examples" / "pick_and_place.py"
+    spec = importlib.util.spec_from_file_location("pick_and_place_grasp_check", path)
+    pp = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = pp
+    spec.loader.exec_module(pp)
+    demo = pp.PickAndPlace(seed=3, verbose=False)
+    move, attached = demo.move, []
+    moved_to = np.array([0.45, 0.3, 0.025])
+    attach = demo.mg.attach_object
+
+    def record_attach(obj, *args, **kwargs):
+        attached.append(obj.name)
+        return attach(obj, *args, **kwargs)
+
+    def move_then_take_the_cube(phase, goal, linear=False, **options):
+        move(phase, goal, linear=linear, **options)
+        if phase == "descend" and len([line for line in demo._ep.log if line.startswith("descend")]) == 1:
+            demo.task.set_params(cube_position=moved_to)
+
+    demo.move = move_then_take_the_cube
+    demo.mg.attach_object = record_attach
+    r = demo.run_episode(0)
+    failed = [line for line in r.log if line.startswith("FAILED")]
+    assert len(failed) == 1 and "grasp failed after closing" in failed[0]
+    assert "not between the fingers" in failed[0] and "from where the grasp was planned" in failed[0]
+    assert "IK_FAIL" not in " ".join(r.log)
+    assert len(attached) == 1  # only the real grasp attached the cube
+    assert r.placed and r.picks == 2, r.reason
+    demo.close()
