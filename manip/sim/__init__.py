@@ -63,7 +63,7 @@ from manip.sim.rotations import (
     rot_matrix_to_quat,
 )
 from manip.sim.scene import CollisionObject, Scene
-from manip.sim.simulation_context import SimulationContext
+from manip.sim.simulation_context import SimulationContext, SimulationInstabilityError, SimulationWarning
 from manip.sim.stage import (
     SimulationError,
     add_reference_to_stage,
@@ -89,5 +89,7 @@ from manip.sim.extension import BaseSampleExtension
 from manip.sim.hello_world import HelloWorld
 from manip.sim.tasks import BaseTask, PickPlace, find_unique_string_name
 from manip.sim.views import RigidPrimView, XFormPrimView
+from manip.sim.follow_target import FollowTarget
+from manip.sim.rmpflow import RMPFlowController
 
 __all__ = [name for name in dir() if not name.startswith("_")]
