@@ -134,7 +134,7 @@ class WorldEdits:
             self._rebuild_parts()
 
     # ------------------------------------------------------------------ threads
-    def snapshot(self) -> CollisionChecker:
+    def snapshot(self):  # -> CollisionChecker (this mixin's host class)
         """A read-only view of the checker as it is now (O(1)): later edits of this checker
         do not change it. Every check gives the same answers on the view as on this
         checker before the edits. A snapshot of a snapshot is itself."""

@@ -380,19 +380,22 @@ def _end_directions(seed_positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]
     q = seed_positions
 
     def last_on_line(q0: np.ndarray, rows: np.ndarray) -> np.ndarray:
-        d = rows[-1] - q0 if len(rows) else np.zeros_like(q0)
-        best = q0
+        """From q0 to the farthest of `rows` (in order) still on the line through the first that moves."""
+        direction = None
+        best = None
         for r in rows:
             v = r - q0
             n = np.linalg.norm(v)
             if n < 1e-12:
                 continue
-            if best is not q0 and np.linalg.norm(v - (v @ u) * u) > 1e-6:
+            if direction is None:
+                direction = v / n
+            elif np.linalg.norm(v - (v @ direction) * direction) > 1e-6:
                 break
-            if best is q0:
-                u = v / n
             best = r
-        return best - q0 if best is not q0 else d
+        if best is None:
+            return rows[-1] - q0 if len(rows) else np.zeros_like(q0)
+        return best - q0
 
     return last_on_line(q[0], q[1:]), last_on_line(q[-1], q[-2::-1])
 
