@@ -22,7 +22,6 @@ from manip.timing.bounds import rest_to_rest_time
 from manip.trajectory import Trajectory
 
 
-
 def scaled_limits(limits: TimingLimits, ctx: PlanContext) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(vmax, amax, jmax) (dof,) of this call: the robot's limits times the call's scales."""
     o = ctx.options
