@@ -47,7 +47,7 @@ class PlanOptions:
     velocity_scale: float = 1.0
     acceleration_scale: float = 1.0
     duration: float | None = None
-    ik_solutions: int = 6
+    ik_solutions: int = 12
     linear_step: float = 0.005
     optimize_clearance: bool = False
     trajopt: bool = True

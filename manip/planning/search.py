@@ -18,8 +18,12 @@ MAX_REPAIRS = 6
 
 def search_path(
     start: np.ndarray, goals: np.ndarray, validity: Validity, rng: np.random.Generator, deadline: float,
+    max_iterations: int = 20000,
 ) -> tuple[np.ndarray | None, int]:
     """A collision-free polyline from `start` (dof,) to one of `goals` (G, dof).
+
+    `max_iterations` caps the coarse search (a count, not a time: the result depends only on
+    the generator's state).
 
     Returns:
         (path (K, dof) valid at the fine resolution, or None; RRT iterations used).
@@ -27,6 +31,7 @@ def search_path(
     lower, upper = validity.kinematics.lower, validity.kinematics.upper
     path, iterations = rrt_connect(
         start, goals, lower, upper, validity.coarse_motion, rng, deadline, advance=validity.coarse_advance,
+        max_iterations=max_iterations,
     )
     if validity.search_resolution == validity.resolution:
         return path, iterations
