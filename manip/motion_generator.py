@@ -561,7 +561,8 @@ class MotionGenerator:
         if ctx.options.trajopt and source == "shortcut":
             t = time.perf_counter()
             checker = validity.checker
-            better = refine(ctx, traj, self.timing_limits, validity, ClearanceModel(checker), checker.padding)
+            better = refine(ctx, traj, self.timing_limits, validity, self.clearance.bound_to(checker),
+                            checker.padding)
             ctx.add_time("trajopt", t)
             if better is not None:
                 traj, source = better, "trajopt"

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Sequence
-from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -153,13 +152,12 @@ def trajectory_to_actions(trajectory: Any, robot: Any, physics_dt: float | None 
     ]
 
 
-def solution_to_actions(solution: dict, robot: Any) -> list[ArticulationAction]:
-    """One `ArticulationAction` per step after the first of a tutorial solution dict.
+def solution_arrays(solution: dict) -> tuple[list[str], np.ndarray, np.ndarray]:
+    """(joint_names, positions (T, dof), velocities (T, dof)) of a tutorial solution dict.
 
     Args:
         solution: {"joint_names", "positions", "velocities", ...} (per-step lists), as
             `TutorialMotionGen.motion_generate` returns.
-        robot: duck-typed articulation, as `joint_indices_for`.
 
     Raises:
         InvalidInputError: the dict lacks a key or its arrays disagree in shape.
@@ -175,8 +173,4 @@ def solution_to_actions(solution: dict, robot: Any) -> list[ArticulationAction]:
             f"solution positions and velocities must both have shape (T, {len(names)}); "
             f"got {positions.shape} and {velocities.shape}"
         )
-    idx = joint_indices_for(SimpleNamespace(joint_names=names), robot)
-    return [
-        ArticulationAction(joint_positions=positions[k], joint_velocities=velocities[k], joint_indices=idx)
-        for k in range(1, len(positions))
-    ]
+    return names, positions, velocities

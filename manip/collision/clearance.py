@@ -12,6 +12,7 @@ closed-form distance) and `J_p` (3, dof) the translational Jacobian of the centr
 
 from __future__ import annotations
 
+import copy
 import math
 from typing import NamedTuple
 
@@ -62,10 +63,18 @@ class ClearanceModel:
                 self._ancestors[j, a] = True
                 a = int(parent[a - 1])
 
+    def bound_to(self, checker) -> ClearanceModel:
+        """This model reading `checker` (e.g. a world snapshot of the same robot), sharing the
+        robot-derived tables instead of building them again."""
+        model = copy.copy(self)
+        model.checker = checker
+        return model
+
     def _tables(self, fine, moving: np.ndarray) -> tuple:
         """Balls sorted by body (joint), with each body's bounding ball; cached per cover."""
-        key = (id(fine), moving.size)
-        if getattr(self, "_cache_key", None) != key:
+        # keyed by the cover object itself (kept alive here, so a rebuilt cover, e.g. after a
+        # gripper change, can never be mistaken for this one)
+        if getattr(self, "_cache_fine", None) is not fine or self._cache_moving != moving.size:
             order = moving[np.argsort(fine.joint[moving], kind="stable")]
             joint = np.ascontiguousarray(fine.joint[order])
             centres = np.ascontiguousarray(fine.centres[order])
@@ -77,7 +86,7 @@ class ClearanceModel:
                 c, r = centres[start[b] : start[b] + count[b]], radii[start[b] : start[b] + count[b]]
                 bc[b] = ((c - r[:, None]).min(axis=0) + (c + r[:, None]).max(axis=0)) / 2
                 br[b] = float((np.linalg.norm(c - bc[b], axis=1) + r).max())
-            self._cache_key = key
+            self._cache_fine, self._cache_moving = fine, moving.size
             self._cache = (centres, radii, joint, bodies.astype(np.int64), start.astype(np.int64),
                            count.astype(np.int64), bc, br)
         return self._cache

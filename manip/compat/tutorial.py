@@ -45,6 +45,7 @@ from manip.errors import InvalidInputError, UnknownNameError
 from manip.motion_generator import MotionGenerator
 from manip.planning.result import PlanResult
 from manip.pose import Pose
+from manip.sim_bridge import solution_arrays
 
 logger = logging.getLogger(__name__)
 
@@ -371,15 +372,7 @@ class TutorialMotionGen:
             InvalidInputError: the solution lacks a key or its arrays disagree in shape.
             UnknownNameError: a planned joint is not a DoF of the robot.
         """
-        missing = [k for k in ("joint_names", "positions", "velocities") if k not in solution]
-        if missing:
-            raise InvalidInputError(f"solution lacks {missing}; it needs joint_names, positions, velocities")
-        names = list(solution["joint_names"])
-        positions = np.asarray(solution["positions"], dtype=float)
-        velocities = np.asarray(solution["velocities"], dtype=float)
-        if positions.ndim != 2 or positions.shape[1] != len(names) or velocities.shape != positions.shape:
-            raise InvalidInputError(f"solution positions and velocities must both have shape (T, {len(names)}); "
-                                    f"got {positions.shape} and {velocities.shape}")
+        names, positions, velocities = solution_arrays(solution)
         robot_names = [str(n) for n in robot_prim.dof_names]
         locked = {n: v for n, v in self.locked_joints.items() if n in robot_names and n not in names}
         full_names = names + list(locked)
