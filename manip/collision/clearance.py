@@ -106,17 +106,35 @@ class ClearanceModel:
         sj = tables[2]
         if n_i.size == 0:
             return empty
-        # translational Jacobian of each centre, projected on the normal
-        grad = np.zeros((n_i.size, self.dof))
-        joint_of = sj[s_i]
-        for k in range(1, len(self._q_index) + 1):
-            rows = np.flatnonzero(self._ancestors[joint_of, k])
-            if rows.size == 0:
-                continue
-            axis = R[n_i[rows], k] @ self._axes[k - 1]  # (T', 3) world axis
-            col = np.cross(axis, x[rows] - p[n_i[rows], k]) if self._revolute[k - 1] else axis
-            grad[rows, self._q_index[k - 1]] += np.einsum("ti,ti->t", normal[rows], col)
+        grad = _term_gradients(R, p, n_i, sj[s_i], x, normal, self._ancestors, self._axes, self._revolute,
+                               self._q_index, self.dof)
         return ClearanceTerms(n_i, dist, grad)
+
+
+@njit(cache=True, nogil=True)
+def _term_gradients(R, p, n_i, body, x, normal, ancestors, axes, revolute, q_index, dof):
+    """grad[t] = n_t^T J_p(x_t) (T, dof): the normal times the translational Jacobian of each
+    term's ball centre x_t on body `body[t]` (a joint index) at configuration n_i[t]."""
+    T = n_i.shape[0]
+    grad = np.zeros((T, dof))
+    for t in range(T):
+        n = n_i[t]
+        for k in range(1, q_index.shape[0] + 1):
+            if not ancestors[body[t], k]:
+                continue
+            e = axes[k - 1]
+            a0 = R[n, k, 0, 0] * e[0] + R[n, k, 0, 1] * e[1] + R[n, k, 0, 2] * e[2]  # world axis of joint k
+            a1 = R[n, k, 1, 0] * e[0] + R[n, k, 1, 1] * e[1] + R[n, k, 1, 2] * e[2]
+            a2 = R[n, k, 2, 0] * e[0] + R[n, k, 2, 1] * e[1] + R[n, k, 2, 2] * e[2]
+            if revolute[k - 1]:
+                r0 = x[t, 0] - p[n, k, 0]
+                r1 = x[t, 1] - p[n, k, 1]
+                r2 = x[t, 2] - p[n, k, 2]
+                c0, c1, c2 = a1 * r2 - a2 * r1, a2 * r0 - a0 * r2, a0 * r1 - a1 * r0
+            else:
+                c0, c1, c2 = a0, a1, a2
+            grad[t, q_index[k - 1]] += normal[t, 0] * c0 + normal[t, 1] * c1 + normal[t, 2] * c2
+    return grad
 
 
 @njit(cache=True, nogil=True)

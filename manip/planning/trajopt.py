@@ -30,6 +30,7 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
+import piqp
 import qpsolvers
 import scipy.sparse as sp
 
@@ -144,8 +145,9 @@ class _Problem:
             self.cost[k] = (Df.T @ Df, Df.T @ (D[:, self.fixed] @ self.c_fixed[self.fixed]))  # (m, m), (m, dof)
         self.limit_G = np.vstack(self.limit_G)
         self.limit_slack = np.concatenate(self.limit_slack)  # (L,) which limit slack each row may use
-        rows, cols = np.nonzero(self.limit_G)
-        self.limit_coo = (rows, cols, self.limit_G[rows, cols])
+        slack = np.zeros((self.limit_G.shape[0], 3 * dof))
+        slack[np.arange(slack.shape[0]), self.limit_slack] = -1.0
+        self.limit_G_slack = np.hstack([self.limit_G, slack])  # (L, dof * m + 3 dof): rows with their slacks
 
     def set_rays(self, d_start: np.ndarray | None, d_goal: np.ndarray | None, points: int) -> None:
         """Tie the first `points` free control points to start + a d_start and the last ones to
@@ -167,7 +169,6 @@ class _Problem:
                 A[r * dof + i, dof * m + r] = -d[i]
                 b[r * dof + i] = anchor[i]
         self.ray_A, self.ray_b = A, b
-        self.ray_A_sparse = sp.csr_matrix(A)
 
     def project_rays(self, c: np.ndarray) -> np.ndarray:
         """c with the tied control points projected onto their rays."""
@@ -284,8 +285,10 @@ def _sco(prob: _Problem, c0, h, vmax, amax, jmax, lower, upper, clearance, margi
     radius = s.trust_region
     solves = 0
     G_lim, h_lim = _limit_rows(prob, h, vmax, amax, jmax)
+    G_lim_slack = prob.limit_G_slack  # the same rows with their slack columns (-1)
     row_lim = _row_limits(prob, h, vmax, amax, jmax)
     P, q_lin = _objective(prob, h, vmax, amax, jmax, s)
+    P_sparse = sp.csc_matrix(P)
     activation = margin + s.activation
     terms = clearance.terms(prob.B @ c, activation)
     floor = min(margin, _min_distance(terms, activation)) - 1e-3  # never worse than the seed
@@ -298,45 +301,9 @@ def _sco(prob: _Problem, c0, h, vmax, amax, jmax, lower, upper, clearance, margi
         x0 = c[3 : prob.n]
         # rows: limit rows in use (> 1 - LIMIT_ROW_SLACK of their limit; the others cannot
         # become active within the trust region's first steps, and limits are soft anyway: the
-        # result is re-timed exactly), then collision rows; slack only where the clearance is
-        # already below the margin (the other rows hold at the current point)
+        # result is re-timed exactly), then collision rows, each with its own slack (L1)
         keep = G_lim @ x0.T.ravel() - h_lim > -s.limit_row_slack * row_lim
-        L = int(keep.sum())
-        new_row = np.cumsum(keep) - 1
-        lr, lc, lv = prob.limit_coo
-        e = keep[lr]
-        lr, lc, lv = new_row[lr[e]], lc[e], lv[e]
-        T = h_col.size
-        soft = np.arange(h_col.size)  # every clearance row may be violated at the penalty's price
-        Ts = soft.size
-        R = len(prob.rays)
-        S = 3 * prob.dof  # one limit slack per derivative order and joint
-        cr, cc = np.nonzero(G_col)
-        G = sp.csc_matrix((
-            np.concatenate([lv, -np.ones(L), G_col[cr, cc], -np.ones(Ts)]),
-            (np.concatenate([lr, np.arange(L), L + cr, L + soft]),
-             np.concatenate([lc, nx + Ts + prob.limit_slack[keep], cc, nx + np.arange(Ts)])),
-        ), shape=(L + T, nx + Ts + S + R))
-        hv = np.concatenate([h_lim[keep], h_col])
-        pr, pc = np.nonzero(P)
-        extra = nx + np.arange(Ts + S + R)
-        Pz = sp.csc_matrix((np.concatenate([P[pr, pc], np.full(Ts + S + R, 1e-9)]),
-                            (np.concatenate([pr, extra]), np.concatenate([pc, extra]))),
-                           shape=(nx + Ts + S + R, nx + Ts + S + R))
-        qz = np.concatenate([q_lin, np.full(Ts + S, s.penalty), np.zeros(R)])
-        lb = np.concatenate([np.maximum(lower[None, :], x0 - radius).T.ravel(), np.zeros(Ts + S + R)])
-        ub = np.concatenate([np.minimum(upper[None, :], x0 + radius).T.ravel(), np.full(Ts + S, np.inf), np.ones(R)])
-        T = Ts
-        A = b = None
-        if R:
-            A = sp.hstack([prob.ray_A_sparse[:, :nx], sp.csr_matrix((prob.ray_A.shape[0], T + S)),
-                           prob.ray_A_sparse[:, nx:]], format="csc")
-            b = prob.ray_b
-        if s.solver not in _SPARSE:
-            Pz, G = Pz.toarray(), G.toarray()
-            A = None if A is None else A.toarray()
-        z = qpsolvers.solve_qp(Pz, qz, G, hv, A, b, lb=lb, ub=ub, solver=s.solver,
-                               **_SOLVER_OPTIONS.get(s.solver, {}))
+        z = _solve_qp(prob, P_sparse, q_lin, G_lim_slack[keep], h_lim[keep], G_col, h_col, x0, radius, lower, upper, s)
         solves += 1
         if z is None:
             return False, c0, solves, "the QP solver failed"
@@ -411,6 +378,61 @@ def _merit(P, q_lin, c, prob: _Problem, terms, margin: float, penalty: float, G_
 
 _SOLVER_OPTIONS = {"osqp": {"eps_abs": 1e-6, "eps_rel": 1e-6, "polish": True, "verbose": False}}
 _SPARSE = {"osqp", "piqp"}
+
+
+def _solve_qp(prob: _Problem, P: sp.csc_matrix, q_lin, G_lim, h_lim, G_col, h_col, x0, radius, lower, upper,
+              s: TrajOptSettings):
+    """One SCO step's QP; the solution z = [x (dof * m), clearance slacks (T), limit slacks
+    (3 dof), ray parameters (R)], or None when the solver fails.
+
+    minimise 1/2 x^T P x + q^T x + penalty * (slacks), subject to the kept limit rows and the
+    clearance rows (each with its slack >= 0), the trust region and the position limits
+    around x0 (m, dof), and the end rays (equalities).
+    """
+    nx, S, R = P.shape[0], 3 * prob.dof, len(prob.rays)
+    L, T = h_lim.size, h_col.size
+    nz = nx + T + S + R
+    G = np.zeros((L + T, nz))
+    G[:L, :nx] = G_lim[:, :nx]
+    G[:L, nx + T : nx + T + S] = G_lim[:, nx:]
+    G[L:, :nx] = G_col
+    G[L + np.arange(T), nx + np.arange(T)] = -1.0
+    h = np.concatenate([h_lim, h_col])
+    qz = np.concatenate([q_lin, np.full(T + S, s.penalty), np.zeros(R)])
+    lb = np.concatenate([np.maximum(lower[None, :], x0 - radius).T.ravel(), np.zeros(T + S + R)])
+    ub = np.concatenate([np.minimum(upper[None, :], x0 + radius).T.ravel(), np.full(T + S, np.inf), np.ones(R)])
+    A = np.zeros((R * prob.dof, nz))
+    b = np.zeros(R * prob.dof)
+    if R:
+        A[:, :nx] = prob.ray_A[:, :nx]
+        A[:, nx + T + S :] = prob.ray_A[:, nx:]
+        b = prob.ray_b
+    # P (nx, nx) and a tiny regularisation of the slack and ray variables (block diagonal)
+    extra = nz - nx
+    Pz = sp.csc_matrix((np.concatenate([P.data, np.full(extra, 1e-9)]),
+                        np.concatenate([P.indices, nx + np.arange(extra, dtype=P.indices.dtype)]),
+                        np.concatenate([P.indptr, P.indptr[-1] + 1 + np.arange(extra, dtype=P.indptr.dtype)])),
+                       shape=(nz, nz))
+    if s.solver == "piqp":
+        # straight to PIQP's sparse interface: qpsolvers' checks and conversions cost more
+        # than this small QP's solve
+        solver = piqp.SparseSolver()
+        solver.settings.verbose = False
+        solver.setup(Pz, qz, _csc(A), b, _csc(G), None, h, lb, ub)
+        return solver.result.x.copy() if solver.solve() == piqp.PIQP_SOLVED else None
+    if s.solver in _SPARSE:
+        G, A = _csc(G), _csc(A)
+    else:
+        Pz = Pz.toarray()
+    return qpsolvers.solve_qp(Pz, qz, G, h, A if R else None, b if R else None, lb=lb, ub=ub, solver=s.solver,
+                              **_SOLVER_OPTIONS.get(s.solver, {}))
+
+
+def _csc(D: np.ndarray) -> sp.csc_matrix:
+    """D (r, c) dense as a CSC matrix of its nonzeros."""
+    cols, rows = np.nonzero(D.T)  # column by column
+    indptr = np.searchsorted(cols, np.arange(D.shape[1] + 1)).astype(np.int32)
+    return sp.csc_matrix((D.T[cols, rows], rows.astype(np.int32), indptr), shape=D.shape)
 
 
 def _min_distance(terms, activation: float) -> float:
