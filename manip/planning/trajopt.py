@@ -241,10 +241,15 @@ def optimize_trajectory(
     best: tuple[np.ndarray, float] | None = None
     solves = 0
     message = ""
+    radius = settings.trust_region
     for _ in range(settings.rounds):
         if time.perf_counter() > deadline:
             break
-        ok, c_new, used, why = _sco(prob, c, h, vmax, amax, jmax, lower, upper, clearance, margin, settings, deadline)
+        ok, c_new, used, why, radius = _sco(prob, c, h, radius, vmax, amax, jmax, lower, upper, clearance, margin,
+                                            settings, deadline)
+        # the next round starts from twice the last step size (a step rejected there would
+        # be rejected at the same shape again)
+        radius = min(settings.trust_region, 2.0 * radius)
         solves += used
         # the optimised shape, uniformly re-timed until a limit is active (limits are soft in the QP)
         h_star = bspline.limit_step(c_new, vmax, amax, jmax) if ok else np.inf
@@ -269,7 +274,8 @@ def optimize_trajectory(
     return TrajOptResult(True, bspline.to_profile(c, h), c, n * h, solves)
 
 
-def _sco(prob: _Problem, c0, h, vmax, amax, jmax, lower, upper, clearance, margin, s: TrajOptSettings, deadline):
+def _sco(prob: _Problem, c0, h, radius, vmax, amax, jmax, lower, upper, clearance, margin, s: TrajOptSettings,
+         deadline):
     """Sequential convex optimisation at step h (an L1 penalty method with a trust region).
 
     The velocity, acceleration and jerk limits at step h and the clearance above `margin`
@@ -279,10 +285,10 @@ def _sco(prob: _Problem, c0, h, vmax, amax, jmax, lower, upper, clearance, margi
     otherwise the trust region halves.
 
     Returns:
-        (ok: the clearance stayed above the seed's floor, control points, QPs solved, why not ok).
+        (ok: the clearance stayed above the seed's floor, control points, QPs solved, why not
+        ok, the trust region's radius at the end [rad]).
     """
     c = c0.copy()
-    radius = s.trust_region
     solves = 0
     G_lim, h_lim = _limit_rows(prob, h, vmax, amax, jmax)
     G_lim_slack = prob.limit_G_slack  # the same rows with their slack columns (-1)
@@ -306,7 +312,7 @@ def _sco(prob: _Problem, c0, h, vmax, amax, jmax, lower, upper, clearance, margi
         z = _solve_qp(prob, P_sparse, q_lin, G_lim_slack[keep], h_lim[keep], G_col, h_col, x0, radius, lower, upper, s)
         solves += 1
         if z is None:
-            return False, c0, solves, "the QP solver failed"
+            return False, c0, solves, "the QP solver failed", radius
         x = np.clip(z[:nx].reshape(prob.dof, -1).T, lower, upper)
         c_new = prob.control(x)
         terms_new = clearance.terms(prob.B @ c_new, activation)
@@ -322,8 +328,8 @@ def _sco(prob: _Problem, c0, h, vmax, amax, jmax, lower, upper, clearance, margi
         if converged:
             break
     if _min_distance(terms, activation) < floor:
-        return False, c0, solves, "the clearance could not be kept at this duration"
-    return True, c, solves, ""
+        return False, c0, solves, "the clearance could not be kept at this duration", radius
+    return True, c, solves, "", radius
 
 
 def _check_seed(positions, times) -> tuple[np.ndarray, np.ndarray]:
