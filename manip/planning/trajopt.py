@@ -375,10 +375,13 @@ def _end_directions(seed_positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]
 
 def _merit(P, q_lin, c, prob: _Problem, terms, margin: float, penalty: float, G_lim, h_lim) -> float:
     """Objective plus L1 penalties of the sampled clearance below `margin` [m] and of the
-    limit rows' excess (in units of the limits' per-step values)."""
+    limits' excess: per derivative order and joint, the largest excess of its rows (in units
+    of the limits' per-step values), as the QP's one slack per order and joint counts it."""
     x = c[3 : prob.n].T.ravel()
     violation = np.maximum(0.0, margin - terms.distance).sum() if terms.distance.size else 0.0
-    excess = np.maximum(0.0, G_lim @ x - h_lim).sum()
+    largest = np.zeros(3 * prob.dof)
+    np.maximum.at(largest, prob.limit_slack, G_lim @ x - h_lim)
+    excess = largest.sum()
     return float(0.5 * x @ P @ x + q_lin @ x + penalty * (violation + excess))
 
 
