@@ -22,15 +22,36 @@ from manip.viz import Viewer  # noqa: E402
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 
 
-def screenshot(url: str, png, profile) -> None:
-    """Let headless chromium render `url` (software WebGL) for 6 s of virtual time and save a PNG."""
+#: Virtual time [ms] chromium gives the page before the screenshot, tried in turn: the
+#: client receives the robot's meshes (several MB) over the websocket and renders them with
+#: software WebGL, which takes longer on a loaded machine.
+BUDGETS_MS = (8000, 20000, 40000)
+
+
+def screenshot(url: str, png, profile, budget_ms: int) -> None:
+    """Let headless chromium render `url` (software WebGL) for `budget_ms` of virtual time; save a PNG."""
     subprocess.run(
         [CHROMIUM, "--headless", "--no-sandbox", "--disable-quic", "--no-first-run",
          "--disable-background-networking", "--disable-component-update", "--disable-sync",
          "--use-angle=swiftshader", "--enable-unsafe-swiftshader",  # WebGL without a GPU
          f"--user-data-dir={profile}", f"--screenshot={png}", "--window-size=800,600",
-         "--virtual-time-budget=6000", url],
+         f"--virtual-time-budget={budget_ms}", url],
         check=True, capture_output=True, timeout=180)
+
+
+def robot_pixels(image: np.ndarray) -> tuple[float, int]:
+    """(fraction of robot-coloured pixels, number of shaded ones) where the robot stands.
+
+    The crop is the middle of the 800x600 page left of the GUI panel; the page is white and
+    the Panda white and dark grey, so robot pixels are hue-less non-white ones.
+    """
+    rgb = image[..., :3].astype(int)
+    assert rgb.shape == (600, 800, 3)
+    centre = rgb[150:450, 200:460]
+    drawn = ~np.all(centre >= 245, axis=-1)
+    grey = np.ptp(centre, axis=-1) < 12
+    shaded = np.max(centre, axis=-1) < 200  # grey joint caps and shaded sides
+    return float((drawn & grey).mean()), int((shaded & grey).sum())
 
 
 @pytest.mark.skipif(CHROMIUM is None, reason="chromium not installed (apt-get install chromium)")
@@ -38,16 +59,13 @@ def test_the_browser_draws_the_robot(tmp_path, port):
     mg = MotionGenerator("franka")
     v = Viewer(mg, port=port, verbose=False, gizmo=False, grid=False)  # nothing but the robot
     try:
-        png = tmp_path / "viewer.png"
-        screenshot(v.url, png, tmp_path / "profile")
+        for budget in BUDGETS_MS:
+            png = tmp_path / f"viewer_{budget}.png"
+            screenshot(v.url, png, tmp_path / f"profile_{budget}", budget)
+            drawn, shaded = robot_pixels(imageio.imread(png))
+            if drawn > 0.05 and shaded > 500:
+                break
     finally:
         v.close()
-    rgb = imageio.imread(png)[..., :3].astype(int)
-    assert rgb.shape == (600, 800, 3)
-    h, w, _ = rgb.shape
-    centre = rgb[h // 5: 4 * h // 5, w // 5: 4 * w // 5]  # the robot stands at the camera's target
-    drawn = ~np.all(centre >= 245, axis=-1)  # the page is white
-    grey = np.ptp(centre, axis=-1) < 12  # the Panda is white and dark grey: no hue
-    shaded = np.max(centre, axis=-1) < 200  # its grey joint caps and shaded sides
-    assert (drawn & grey).mean() > 0.02, "nothing robot-coloured drawn where the robot stands"
-    assert (shaded & grey).sum() > 500, "no shaded robot surfaces drawn"
+    assert drawn > 0.05, f"nothing robot-coloured drawn where the robot stands ({drawn:.1%} of the pixels)"
+    assert shaded > 500, f"no shaded robot surfaces drawn ({shaded} pixels)"
