@@ -202,8 +202,9 @@ class SimulationApp:
         if world.model is not self._viewer_model:
             self._open_viewer(world)
         if self.web:
-            world._sim.ensure_kinematics()
-            self._viewer.push(world.data)
+            if self._viewer.due():  # the stream's rate limit: no kinematics between frames
+                world._sim.ensure_kinematics()
+                self._viewer.push(world.data)
         elif not self._viewer.is_running():
             return
         else:

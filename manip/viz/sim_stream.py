@@ -4,9 +4,9 @@
 frame node `<root>/<body>` with its geoms as children at their local poses (meshes from
 `model.mesh_vert` / `mesh_face`, primitives as boxes, spheres, cylinders, capsules,
 ellipsoids, planes as thin boxes), and the world body's geoms are placed once. `push(data)`
-then moves the body frames to `data.xpos` / `data.xquat` (one atomic update), at most
-`max_rate` times per second of wall time: what a browser shows at 30 Hz costs a few
-milliseconds per frame, however fast the physics steps.
+then moves the body frames that moved to `data.xpos` / `data.xquat` (one atomic update),
+at most `max_rate` times per second of wall time: what a browser shows at 30 Hz costs a
+few milliseconds per frame, however fast the physics steps.
 
 The stream reads only the MuJoCo model and data; it does not import `manip.sim` (the
 SimulationApp creates it when `{"viewer": "web"}` is asked for).
@@ -28,6 +28,9 @@ logger = logging.getLogger(__name__)
 
 #: Geom groups shown (MuJoCo's viewer shows groups 0-2 by default).
 VISIBLE_GROUPS = (0, 1, 2)
+#: Bodies that moved less than this since the last frame (position [m], quaternion
+#: components) are not re-sent: invisible, and most of a scene is usually at rest.
+SEND_TOLERANCE = 1e-5
 #: Side [m] of a plane drawn for an infinite MuJoCo plane (size 0).
 INFINITE_PLANE_SIZE = 4.0
 
@@ -126,11 +129,16 @@ class SimStream:
                     self.geoms[node] = h
         self._bodies = np.array(sorted(self.frames), dtype=int)
         self._handles = [self.frames[b] for b in self._bodies]
+        self._sent = np.full((len(self._bodies), 7), np.inf)  # last sent position and quaternion
 
     @property
     def node_names(self) -> list[str]:
         """Names of the body frames and geom nodes sent."""
         return [h.name for h in self._handles] + list(self.geoms)
+
+    def due(self) -> bool:
+        """Whether 1 / max_rate s of wall time have passed since the last push."""
+        return time.perf_counter() - self._last_push >= self.min_interval
 
     def push(self, data: mujoco.MjData, *, force: bool = False) -> bool:
         """Send the bodies' poses in `data` (xpos, xquat must be current), rate-limited.
@@ -146,12 +154,14 @@ class SimStream:
         if not force and now - self._last_push < self.min_interval:
             return False
         self._last_push = now
-        pos = data.xpos[self._bodies]
-        wxyz = data.xquat[self._bodies]
+        pose = np.concatenate([data.xpos[self._bodies], data.xquat[self._bodies]], axis=1)
+        moved = np.flatnonzero(np.max(np.abs(pose - self._sent), axis=1) > SEND_TOLERANCE)
         with self.server.atomic():
-            for h, p, q in zip(self._handles, pos, wxyz):
-                h.position = p
-                h.wxyz = q
+            for i in moved:
+                h = self._handles[i]
+                h.position = pose[i, :3]
+                h.wxyz = pose[i, 3:]
+        self._sent[moved] = pose[moved]
         self.pushes += 1
         return True
 
