@@ -11,6 +11,7 @@ from __future__ import annotations
 import logging
 from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -30,7 +31,7 @@ def _figure(figsize: tuple[float, float]):
     return Figure(figsize=figsize)
 
 
-def robot_limits(robot) -> dict[str, np.ndarray]:
+def robot_limits(robot: Any) -> dict[str, np.ndarray]:
     """The limits to draw, from anything with `lower_limits`, `upper_limits`,
     `velocity_limits`, `acceleration_limits`, `jerk_limits` (a MotionGenerator, a RobotConfig)."""
     return {"lower": np.asarray(robot.lower_limits), "upper": np.asarray(robot.upper_limits),

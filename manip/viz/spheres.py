@@ -7,6 +7,7 @@ scaled by its radius, translucent over the robot's meshes.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -27,7 +28,8 @@ class SphereDrawing:
         name: scene-tree name of the node.
     """
 
-    def __init__(self, scene: Any, spheres, name: str = "/collision_spheres"):
+    def __init__(self, scene: Any, spheres: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, list[str]]],
+                 name: str = "/collision_spheres"):
         self._scene = scene
         self._spheres = spheres
         self.name = name

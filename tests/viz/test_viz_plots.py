@@ -79,3 +79,12 @@ def test_mbm_writes_the_plot_of_its_runs(tmp_path):
                            "--plot", str(again)], capture_output=True, text=True, timeout=300, cwd=tmp_path)
     assert proc.returncode == 0, proc.stdout + proc.stderr
     assert again.stat().st_size > 10_000
+
+
+def test_motion_generation_example_writes_its_joint_plot(tmp_path):
+    png = tmp_path / "joints.png"
+    proc = subprocess.run([sys.executable, str(ROOT / "examples" / "motion_generation.py"), "--plot", str(png)],
+                          capture_output=True, text=True, timeout=300, cwd=tmp_path)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert f"plot written to {png}" in proc.stdout
+    assert imageio.imread(png).shape[:2] == (990, 900)
