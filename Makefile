@@ -13,7 +13,7 @@ $(PY):
 
 $(STAMP): $(PY) pyproject.toml
 	$(PY) -m pip install --upgrade pip
-	$(PY) -m pip install -e ".[dev,video]"
+	$(PY) -m pip install -e ".[dev,video,viz]"
 	touch $(STAMP)
 
 setup: $(STAMP)

@@ -680,6 +680,7 @@ def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
     ap.add_argument("--label", default=None, help="label this run's rows, e.g. 'before' -> 'manip (before)'")
     ap.add_argument("--json", type=Path, default=None, help="write the full report (and every run) here")
     ap.add_argument("--no-progress", action="store_true", help="no progress bar")
+    ap.add_argument("--plot", type=Path, default=None, help="write planning/motion-time distributions (PNG) here")
     ap.add_argument("--write-md", action="store_true",
                     help="replace the 'Motion generation (MotionBenchMaker)' section of BENCHMARKS.md")
     ap.add_argument("--from-json", type=Path, nargs="+", default=None, metavar="REPORT",
@@ -713,6 +714,9 @@ def _from_json(args: argparse.Namespace) -> int:
         with open(args.json, "w") as f:
             json.dump(report, f, indent=1, default=float)
         print(f"\nwrote {args.json}")
+    if args.plot is not None:
+        from benchmarks.plots import plot_mbm
+        plot_mbm([r for rep in reports for r in rep.get("runs", [])], args.plot)
     if args.write_md:
         write_markdown(report, ROOT / "BENCHMARKS.md")
     return 0
@@ -820,6 +824,9 @@ def main(argv: list[str] | None = None) -> int:
         with open(args.json, "w") as f:
             json.dump(report, f, indent=1, default=float)
         print(f"\nwrote {args.json}")
+    if args.plot is not None:
+        from benchmarks.plots import plot_mbm
+        plot_mbm([dict(asdict(r), label=label) for r in runs], args.plot)
     if args.write_md:
         write_markdown(report, ROOT / "BENCHMARKS.md")
     return 0

@@ -1,7 +1,7 @@
 """Follow a moving target with the reactive controller: a figure-eight through an obstacle.
 
     python examples/follow_target.py [--duration 20] [--speed 0.2] [--no-obstacle]
-                                     [--solver daqp] [--viewer] [--video follow.mp4]
+                                     [--solver daqp] [--viewer [web]] [--video follow.mp4]
 
 The Franka's tool centre point follows a target that moves at constant speed along a
 figure-eight in the plane x = 0.5 m in front of it, hand pointing down. A fixed box stands
@@ -63,11 +63,11 @@ def box_distance(point: np.ndarray, centre: np.ndarray = BOX_CENTRE, size: np.nd
 
 
 def run(duration: float = 20.0, speed: float = 0.2, obstacle: bool = True, solver: str = "daqp",
-        viewer: bool = False, video: str | None = None, verbose: bool = False) -> dict:
+        viewer: bool | str = False, video: str | None = None, verbose: bool = False) -> dict:
     """Run the scenario; returns its figures (see `report`)."""
     from manip.sim import FixedCuboid, Franka, RMPFlowController, SimulationApp, World, VisualSphere
 
-    app = SimulationApp({"headless": not viewer})
+    app = SimulationApp({"headless": not viewer, "viewer": "web" if viewer == "web" else "native"})
     World.clear_instance()
     world = World()
     world.scene.add_default_ground_plane()
@@ -179,7 +179,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--speed", type=float, default=0.2, help="target speed [m/s] (default 0.2)")
     parser.add_argument("--no-obstacle", action="store_true", help="no box on the path")
     parser.add_argument("--solver", default="daqp", help="qpsolvers backend (default daqp)")
-    parser.add_argument("--viewer", action="store_true", help="open the interactive viewer")
+    parser.add_argument("--viewer", nargs="?", const="native", choices=("native", "web"), default=None,
+                        help="--viewer: MuJoCo's window (needs a display); --viewer web: the browser (manip[viz])")
     parser.add_argument("--video", metavar="PATH", help="write an MP4 (offscreen)")
     parser.add_argument("--verbose", action="store_true", help="print a line every 2 s")
     args = parser.parse_args(argv)

@@ -3,13 +3,17 @@
 Plans in a small scene (a table, a wall and a shelf board), prints each plan's status,
 per-stage timings and trajectory quality, and shows what a failure looks like.
 
-    python examples/motion_generation.py [--seed 0] [--time-budget 5]
+    python examples/motion_generation.py [--seed 0] [--time-budget 5] [--plot joints.png] [--viewer web]
+
+`--plot` writes the joint position/velocity/acceleration/jerk of the four motions with the
+limits drawn; `--viewer web` shows the scene and the plans in the browser (manip[viz]).
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 
 import numpy as np
 
@@ -44,6 +48,9 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--time-budget", type=float, default=5.0, help="per plan [s]")
+    parser.add_argument("--plot", type=Path, default=None, metavar="PNG", help="write joint plots (limits drawn)")
+    parser.add_argument("--viewer", choices=("web",), default=None, help="show the plans in the browser (manip[viz])")
+    parser.add_argument("--port", type=int, default=8080, help="--viewer web: the port served")
     args = parser.parse_args(argv)
 
     mg = MotionGenerator("franka", WorldConfig.from_dict(WORLD), seed=args.seed, time_budget=args.time_budget)
@@ -71,6 +78,20 @@ def main(argv: list[str] | None = None) -> int:
     inside = mg.plan_pose(ready, Pose([0.5, 0.0, 0.2], DOWN))
     describe("goal inside the wall", inside)
     ok = all(r.success for r in (r1, r2, r3, r4, slow)) and not inside.success
+    motions = [r.trajectory for r in (r1, r2, r3, r4) if r.success]
+    if args.plot is not None:
+        from manip.viz.plots import plot_joint_trajectory, robot_limits
+
+        plot_joint_trajectory(motions, args.plot, limits=robot_limits(mg), title="ready -> left -> right -> down -> ready")
+        print(f"plot written to {args.plot}")
+    if args.viewer == "web":
+        from manip.viz import Viewer
+
+        viewer = Viewer(mg, port=args.port)
+        viewer.show_plan(r2)  # over the wall; drag the gizmo to plan to another pose
+        print(f"open {viewer.url} (over SSH: ssh -L {viewer.port}:localhost:{viewer.port} HOST); Ctrl-C to quit")
+        viewer.wait()
+        viewer.close()
     return 0 if ok else 1
 
 

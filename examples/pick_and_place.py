@@ -12,6 +12,7 @@ the place position and has come to rest, it is picked up and placed again.
     python examples/pick_and_place.py --episodes 10 --obstacles --seed 1
     python examples/pick_and_place.py --perturb --video pick.mp4 --plot joints.png
     python examples/pick_and_place.py --viewer              # interactive MuJoCo window
+    python examples/pick_and_place.py --viewer web          # in the browser (manip[viz])
 
 The physics is honest: the cube moves only by contact and friction with the fingers (no
 welding, no teleporting; the script moves the cube itself only to start an episode and,
@@ -217,20 +218,20 @@ class PickAndPlace:
         seed: seed of cube poses, obstacle jitter and planning.
         obstacles: add fixed boxes the motions must avoid.
         cube_mass: [kg].
-        viewer: open MuJoCo's interactive viewer (needs a display).
+        viewer: "native" (or True): open MuJoCo's interactive viewer (needs a display);
+            "web": show the World in the browser (manip[viz]); False/None: headless.
         video: path of an MP4 to record (offscreen), or None.
         verbose: print a progress line per phase.
-        record_joints: keep the arm's joint positions and velocities of the current episode
-            (for --plot).
+        record_joints: keep the trajectories executed in the current episode (for --plot).
     """
 
-    def __init__(self, seed: int = 0, obstacles: bool = False, cube_mass: float = 0.05, viewer: bool = False,
+    def __init__(self, seed: int = 0, obstacles: bool = False, cube_mass: float = 0.05, viewer: bool | str = False,
                  video: str | None = None, verbose: bool = True, record_joints: bool = False):
         self.seed = int(seed)
         self.verbose = verbose
         self.record_joints = record_joints
         self.render = viewer or video is not None
-        self.app = SimulationApp({"headless": not viewer})
+        self.app = SimulationApp({"headless": not viewer, "viewer": "web" if viewer == "web" else "native"})
         World.clear_instance()  # a fresh World and stage (also when called again in one process)
         create_new_stage()
         self.world = World(physics_dt=1.0 / 60.0)
@@ -269,7 +270,7 @@ class PickAndPlace:
             self.world.start_recording(video)
         self._ep: EpisodeResult | None = None
         self._floor_on = False
-        self.joint_log: list[tuple[float, np.ndarray, np.ndarray]] = []
+        self.trajectory_log: list = []  # Trajectories executed in the current episode (record_joints)
 
     # ------------------------------------------------------------------ helpers
     def say(self, text: str) -> None:
@@ -294,9 +295,6 @@ class PickAndPlace:
             d = self.world.data
             if d.ncon and self._box_mask[d.contact.geom[: d.ncon]].any():
                 self._ep.obstacle_contact_steps += 1
-        if self.record_joints:
-            self.joint_log.append((self.world.current_time, self.robot.get_joint_positions()[:7].copy(),
-                                   self.robot.get_joint_velocities()[:7].copy()))
 
     def q(self) -> np.ndarray:
         """Measured arm joint positions (7,) [rad]."""
@@ -401,6 +399,8 @@ class PickAndPlace:
         """Replay a planned trajectory, one ArticulationAction per physics step, then let the
         arm settle on the final target."""
         traj = result.trajectory
+        if self.record_joints:
+            self.trajectory_log.append(traj)
         for action in traj.to_articulation_actions(self.robot, physics_dt=self.world.get_physics_dt()):
             self.step(action)
         self._ep.motion_time += traj.duration
@@ -572,7 +572,7 @@ class PickAndPlace:
         """
         rng = np.random.default_rng([self.seed, index])
         ep = self._ep = EpisodeResult(index=index, placed=False, error=float("nan"))
-        self.joint_log = []
+        self.trajectory_log = []
         t_wall = time.perf_counter()
         self.world.reset()  # the robot at its default (= wait) configuration, the fingers open
         t_sim = self.world.current_time
@@ -643,30 +643,6 @@ def summary_table(results: list[EpisodeResult]) -> str:
     return "\n".join(lines)
 
 
-def save_plot(path: str, log: list[tuple[float, np.ndarray, np.ndarray]], title: str) -> None:
-    """PNG of the arm's joint positions and velocities over time (matplotlib, the dev extra)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    t = np.array([e[0] for e in log])
-    q = np.array([e[1] for e in log])
-    qd = np.array([e[2] for e in log])
-    fig, (a1, a2) = plt.subplots(2, 1, sharex=True, figsize=(10, 6))
-    for j in range(q.shape[1]):
-        a1.plot(t, q[:, j], label=f"joint {j + 1}")
-        a2.plot(t, qd[:, j])
-    a1.set_ylabel("position [rad]")
-    a2.set_ylabel("velocity [rad/s]")
-    a2.set_xlabel("simulated time [s]")
-    a1.legend(ncol=7, fontsize=7, loc="upper center")
-    a1.set_title(title)
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-
-
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--episodes", type=int, default=3, help="number of episodes (random cube pose each)")
@@ -675,9 +651,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--perturb", action="store_true",
                         help="after each place, move the cube to a new random pose (it is picked again)")
     parser.add_argument("--cube-mass", type=float, default=0.05, help="[kg] (0.01-0.05 in the tutorial)")
-    parser.add_argument("--viewer", action="store_true", help="open MuJoCo's interactive viewer (needs a display)")
+    parser.add_argument("--viewer", nargs="?", const="native", choices=("native", "web"), default=None,
+                        help="--viewer: MuJoCo's window (needs a display); --viewer web: the browser (manip[viz])")
     parser.add_argument("--video", metavar="PATH", help="record an MP4 (offscreen, slower)")
-    parser.add_argument("--plot", metavar="PATH", help="PNG of the joint positions and velocities of the last episode")
+    parser.add_argument("--plot", metavar="PATH", help="PNG of the joint position/velocity/acceleration/jerk of the "
+                        "last episode's motions, limits drawn")
     parser.add_argument("--quiet", action="store_true", help="no per-phase progress lines")
     args = parser.parse_args(argv)
     if args.episodes < 1:
@@ -716,8 +694,11 @@ def main(argv: list[str] | None = None) -> int:
     print(summary_table(results))
     if video is not None:
         print(f"video written to {video}")
-    if args.plot and demo.joint_log:
-        save_plot(args.plot, demo.joint_log, f"episode {results[-1].index}: arm joints")
+    if args.plot and demo.trajectory_log:
+        from manip.viz.plots import plot_joint_trajectory, robot_limits
+
+        plot_joint_trajectory(demo.trajectory_log, args.plot, limits=robot_limits(demo.mg),
+                              title=f"episode {results[-1].index}: planned arm motions (dashed: limits)")
         print(f"plot written to {args.plot}")
     k = sum(r.placed for r in results)
     print(f"placed {k}/{args.episodes} episodes")
