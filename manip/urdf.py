@@ -125,12 +125,13 @@ class UrdfTree:
         return [j for j in joints if j.type in MOVABLE_TYPES]
 
     def deepest_link(self, base_link: str) -> str:
-        """The link below `base_link` with the most movable joints above it (ties: URDF order)."""
-        best, best_n = base_link, 0
+        """The link below `base_link` with the most movable joints above it (ties: the one
+        with the most links above it, then URDF order): the tool frame of a serial arm."""
+        best, best_n = base_link, (0, 0)
         for link in self.links:
             up = self.ancestors(link)
             if base_link in up and link != base_link:
-                n = len(self.chain_joints(base_link, link))
+                n = (len(self.chain_joints(base_link, link)), len(up))
                 if n > best_n:
                     best, best_n = link, n
         return best

@@ -2,7 +2,7 @@
 
 `make_problems(kind, n, seed)` builds `n` randomised scenes around the Franka, or around any
 robot with `robot=` (scenes scaled by the robot's reach relative to the Franka's; goals for
-its `tcp_link`, or `ee_link`, whose z axis is the approach direction) (in cuRobo's
+its `tcp_link`, or `ee_link`, whose z axis, or the yaml's `approach_axis`, is the approach) (in cuRobo's
 world format, so every planner and the verifier read them like MotionBenchMaker problems)
 with a start and a goal configuration each. Goals are placed where planning is interesting:
 the hand inside a shelf compartment, down in an open box, between the bars of a cage,
@@ -110,6 +110,13 @@ class _IK:
         # snapped to 1e-12: a tool frame offset along an axis stays exactly that
         self.R_ee_tool = np.round(T.rotation, 12) + 0.0
         self.p_ee_tool = np.round(T.translation, 12) + 0.0
+        axis = config.raw.get("approach_axis")  # the tool axis in the tool frame, if not z
+        if axis is not None:
+            z = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
+            y = np.array([0.0, 1.0, 0.0]) if abs(z[1]) < 0.9 else np.array([1.0, 0.0, 0.0])
+            y -= z * (y @ z)
+            y /= np.linalg.norm(y)
+            self.R_ee_tool = self.R_ee_tool @ np.column_stack([np.cross(y, z), y, z])
         self.ready = np.asarray(config.default_joint_positions, dtype=float)
         self.reach = _reach(kin, tool)
 
