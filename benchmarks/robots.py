@@ -16,9 +16,15 @@ import time
 import mujoco
 import numpy as np
 
+from manip.articulation_action import ArticulationAction
 from manip.benchmarking.scenes import make_problems
 from manip.benchmarking.verify import Verifier
 from manip.motion_generator import MotionGenerator
+from manip.pose import Pose
+from manip.sim import World, create_new_stage
+from manip.sim.articulation import Robot
+from manip.sim.robots import robot_model_path
+from manip.sim.stage import add_reference_to_stage
 
 ROBOTS = ["franka", "ur5", "ur10", "kinova", "xarm7"]
 
@@ -71,6 +77,41 @@ def planning_figures(mg: MotionGenerator, n: int) -> dict:
     return {"total": total, "solved": solved, "invalid": invalid, "median_ms": 1e3 * float(np.median(times))}
 
 
+def tracking_error(mg: MotionGenerator, n: int = 10) -> float:
+    """Largest tool distance [m] between the planned and the simulated arm over `n` planned
+    pose-goal motions from the retract configuration (targets 10-25 cm away), played in
+    manip.sim with position + velocity targets every physics step (1/60 s)."""
+    c = mg.config
+    rng = np.random.default_rng(5)
+    worst = 0.0
+    for _ in range(n):
+        World.clear_instance()
+        create_new_stage()
+        start = c.default_joint_positions
+        home = mg.fk(start)
+        step = rng.normal(size=3)
+        target = Pose(home.position + rng.uniform(0.1, 0.25) * step / np.linalg.norm(step), home.quaternion)
+        plan = mg.plan_pose(start, target)
+        if not plan.success:
+            continue
+        world = World()
+        add_reference_to_stage(robot_model_path(c.name), "/World/arm")
+        robot = world.scene.add(Robot("/World/arm", name="arm"))
+        world.reset()
+        idx = np.array([robot.get_dof_index(j) for j in c.arm_joints])
+        robot.set_joint_positions(start, idx)
+        t = plan.trajectory
+        for k in range(1, len(t.times)):
+            robot.apply_action(ArticulationAction(joint_positions=t.positions[k], joint_velocities=t.velocities[k],
+                                                  joint_indices=idx))
+            world.step(render=False)
+            q = robot.get_joint_positions(idx)
+            worst = max(worst, float(np.linalg.norm(mg.fk(q).position - mg.fk(t.positions[k]).position)))
+    World.clear_instance()
+    create_new_stage()
+    return worst
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--robots", nargs="*", default=ROBOTS)
@@ -78,17 +119,19 @@ def main() -> int:
     ap.add_argument("--scenes", type=int, default=100, help="problems per scene kind per robot")
     args = ap.parse_args()
     print(f"machine: {platform.processor() or platform.machine()}, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
-    print("| robot | FK max err (m) | IK solved | IK wrong | plans solved | invalid | median plan (ms) |")
-    print("|---|---|---|---|---|---|---|")
+    print("| robot | FK max err (m) | IK solved | IK wrong | plans solved | invalid | median plan (ms) | sim tracking max (m) |")
+    print("|---|---|---|---|---|---|---|---|")
     bad = 0
     for name in args.robots:
         mg = MotionGenerator(name, seed=0)
         fk = fk_error(mg)
         rate, wrong = ik_figures(mg, args.ik)
         pl = planning_figures(mg, args.scenes)
+        track = tracking_error(mg)
         print(f"| {name} | {fk:.1e} | {100 * rate:.1f} % of {args.ik} | {wrong} | {pl['solved']}/{pl['total']} | "
-              f"{pl['invalid']} | {pl['median_ms']:.0f} |", flush=True)
-        bad += fk > 1e-6 or rate < 0.995 or wrong > 0 or pl["invalid"] > 0 or pl["solved"] < 0.99 * pl["total"]
+              f"{pl['invalid']} | {pl['median_ms']:.0f} | {track:.4f} |", flush=True)
+        bad += (fk > 1e-6 or rate < 0.995 or wrong > 0 or pl["invalid"] > 0 or pl["solved"] < 0.99 * pl["total"]
+                or track > 0.02)
     return 1 if bad else 0
 
 

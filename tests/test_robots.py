@@ -92,11 +92,22 @@ def test_plans_seeded_scenes_with_verified_trajectories(mg: MotionGenerator, kin
         assert v.valid, (p.name, v)
 
 
-def test_sim_tracks_a_planned_trajectory_within_2cm(mg: MotionGenerator) -> None:
-    from manip.sim import World
+@pytest.fixture
+def fresh_world():
+    """No World and an empty stage before and after (the simulator's World is a singleton)."""
+    from manip.sim import World, create_new_stage
+
+    World.clear_instance()
+    create_new_stage()
+    yield World
+    World.clear_instance()
+    create_new_stage()
+
+
+def test_sim_tracks_a_planned_trajectory_within_2cm(mg: MotionGenerator, fresh_world) -> None:
     from manip.sim.articulation import Robot
     from manip.sim.robots import robot_model_path
-    from manip.sim.stage import add_reference_to_stage, create_new_stage
+    from manip.sim.stage import add_reference_to_stage
 
     c = mg.config
     mg.update_world({})
@@ -105,8 +116,7 @@ def test_sim_tracks_a_planned_trajectory_within_2cm(mg: MotionGenerator) -> None
     target = Pose(goal.position + np.array([0.0, 0.15, -0.1]), goal.quaternion)
     plan = mg.plan_pose(start, target)
     assert plan.success, plan.status
-    create_new_stage()
-    world = World(gravity=(0.0, 0.0, -9.81))
+    world = fresh_world(gravity=(0.0, 0.0, -9.81))
     add_reference_to_stage(robot_model_path(c.name), "/World/arm")
     robot = world.scene.add(Robot("/World/arm", name="arm"))
     world.reset()
@@ -122,3 +132,12 @@ def test_sim_tracks_a_planned_trajectory_within_2cm(mg: MotionGenerator) -> None
         q = robot.get_joint_positions(idx)
         worst = max(worst, float(np.linalg.norm(mg.fk(q).position - mg.fk(t.positions[k]).position)))
     assert worst < 0.02
+
+
+def test_mjcf_files_are_up_to_date(mg: MotionGenerator) -> None:
+    from manip.sim.mjcf_builder import build_mjcf
+
+    text, assets = build_mjcf(mg.config)
+    assert mg.config.mjcf_path.read_text() == text, "rerun robots/tools/make_mjcf.py"
+    for name, data in assets.items():
+        assert (mg.config.mjcf_path.parent / "assets" / name).read_bytes() == data
