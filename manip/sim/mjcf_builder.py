@@ -198,7 +198,9 @@ def _prepare(config: RobotConfig) -> _Prepared:
             link.remove(v)
         for mesh in link.iter("mesh"):
             src = _resolve_mesh(mesh.get("filename"), config)
-            name = f"{link.get('name')}_{len(prep.meshes)}"
+            name = src.stem   # the source file's name, made unique
+            while name + ".stl" in prep.meshes and prep.meshes[name + ".stl"] != src:
+                name += "_"
             prep.meshes[name + ".stl"] = src
             mesh.set("filename", name + ".stl")
     ET.SubElement(root, "mujoco").append(ET.Element(
