@@ -252,7 +252,7 @@ def config_from_urdf(
     rad/s^2 and DEFAULT_JERK_LIMIT = 500 rad/s^3 on every joint. The default configuration
     is the SRDF's first named state (group_state) that sets every arm joint, else the
     middle of the limits. Each assumed default is logged as a warning. Joints not in the
-    arm (fingers, ...) are locked at zero (clipped into their limits); there is no gripper.
+    arm (fingers, ...) are locked at zero; there is no gripper.
 
     Args:
         urdf: the .urdf file; `package://` mesh URIs are resolved against its ancestors.

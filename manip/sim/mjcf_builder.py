@@ -24,8 +24,10 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import coal
 import mujoco
 import numpy as np
+from scipy.spatial import ConvexHull
 
 from manip.errors import RobotConfigError
 from manip.robot_config import RobotConfig
@@ -315,9 +317,12 @@ def build_mjcf(config: RobotConfig) -> tuple[str, dict[str, bytes]]:
         qpos[model.joint(jn).qposadr[0]] = config.default_joint_positions[i]
     data.qpos[:] = qpos
     mujoco.mj_forward(model, data)
-    M = np.zeros((model.nv, model.nv))
-    mujoco.mj_fullM(model, data, M)
-    inertia = np.array([M[model.joint(jn).dofadr[0], model.joint(jn).dofadr[0]] for jn in config.arm_joints])
+    inertia = np.empty(n)   # diagonal of the joint-space inertia matrix (M e_i)_i
+    for i, jn in enumerate(config.arm_joints):
+        e, Me = np.zeros(model.nv), np.zeros(model.nv)
+        e[model.joint(jn).dofadr[0]] = 1.0
+        mujoco.mj_mulM(model, data, Me, e)
+        inertia[i] = Me[model.joint(jn).dofadr[0]]
     w = 2.0 * math.pi * DEFAULT_DRIVE_HZ
     kp = _sim_list(sim, "kp", n, 0.0) if "kp" in sim else w * w * inertia
     kv = _sim_list(sim, "kv", n, 0.0) if "kv" in sim else 2.0 * w * inertia
