@@ -12,17 +12,16 @@ links are skipped and every other pair is checked.
 
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass, field
 from importlib import metadata
 from pathlib import Path
-
-import logging
 
 import numpy as np
 import yaml
 
 from manip.errors import RobotConfigError, UnknownNameError
-from manip.urdf import UrdfTree, disabled_pairs, srdf_group_states
+from manip.urdf import MOVABLE_TYPES, UrdfTree, disabled_pairs, srdf_group_states
 
 logger = logging.getLogger(__name__)
 
@@ -140,7 +139,7 @@ def _check_within_urdf(tree: UrdfTree, joints: tuple[str, ...], lower: np.ndarra
         if name not in tree.joints:
             raise UnknownNameError("joint (arm_joints)", name, list(tree.joints))
         j = tree.joints[name]
-        if j.type not in ("revolute", "continuous", "prismatic"):
+        if j.type not in MOVABLE_TYPES:
             raise RobotConfigError(f"{where}: arm joint '{name}' is {j.type}; arm joints must be movable")
         if j.lower is not None and j.upper is not None and (lower[i] < j.lower - 1e-9 or upper[i] > j.upper + 1e-9):
             raise RobotConfigError(f"{where}: limits of '{name}' [{lower[i]}, {upper[i]}] exceed the URDF's "
