@@ -25,6 +25,7 @@ from manip import quaternion as quat
 from manip.errors import InvalidInputError, UnknownNameError
 from manip.pose import Pose
 from manip.robot_config import RobotConfig
+from manip.urdf import build_model
 from manip.validation import as_real_array
 
 #: Batched evaluations run in chunks of this many configurations (temporaries stay in cache).
@@ -167,7 +168,7 @@ class Kinematics:
 
     def __init__(self, config: RobotConfig):
         self.config = config
-        full = pin.buildModelFromUrdf(str(config.urdf_path))
+        full = build_model(config.urdf_path)
         missing = [j for j in config.arm_joints if not full.existJointName(j)]
         if missing:
             raise UnknownNameError("joint", missing[0], [n for n in full.names[1:]])

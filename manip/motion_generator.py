@@ -66,7 +66,7 @@ from manip.planning.search import search_path
 from manip.planning.shortcut import shortcut
 from manip.planning.validity import Validity
 from manip.pose import Pose
-from manip.robot_config import RobotConfig, load_robot_config
+from manip.robot_config import RobotConfig, config_from_urdf, load_robot_config
 from manip.sim_bridge import world_config_from_sim
 from manip.timing import TimingLimits
 from manip.timing.bounds import rest_to_rest_time
@@ -163,6 +163,21 @@ class MotionGenerator:
         self.acceleration_scale = 1.0
         if world is not None:
             self.update_world(world)
+
+    @classmethod
+    def from_urdf(cls, urdf: str | Path, srdf: str | Path | None = None, *, base_link: str | None = None,
+                  ee_link: str | None = None, **kwargs) -> MotionGenerator:
+        """A MotionGenerator for a robot without a folder, from its URDF (and SRDF).
+
+        Limits, defaults and the warnings for assumed values: `manip.robot_config.config_from_urdf`
+        (acceleration 10 rad/s^2, jerk 500 rad/s^3 unless given). `kwargs` go to
+        `config_from_urdf` (arm_joints, default_joint_positions, acceleration_limits,
+        jerk_limits, name) or else to the constructor (world, padding, time_budget, ...).
+        """
+        names = ("arm_joints", "default_joint_positions", "acceleration_limits", "jerk_limits", "name")
+        config = config_from_urdf(urdf, srdf, base_link=base_link, ee_link=ee_link,
+                                  **{k: kwargs.pop(k) for k in names if k in kwargs})
+        return cls(config, **kwargs)
 
     # ------------------------------------------------------------------ defaults
     @property

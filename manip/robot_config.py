@@ -1,11 +1,18 @@
 """Robot configurations: `robots/<name>/robot.yaml` files, resolved to model paths.
 
 A second robot is added by writing a folder with a `robot.yaml` like `robots/franka/`;
-no code changes.
+no code changes. A robot without a folder is configured from its URDF (and SRDF) alone
+with `config_from_urdf`.
+
+Self-collision pairs: the SRDF's `<disable_collisions>` pairs are never checked; the yaml's
+`collision: disabled_pairs` only adds pairs, and `collision: disable_adjacent_links: true`
+adds the pairs of adjacent links (for SRDFs that list none). Without an SRDF the adjacent
+links are skipped and every other pair is checked.
 """
 
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass, field
 from importlib import metadata
 from pathlib import Path
@@ -14,6 +21,14 @@ import numpy as np
 import yaml
 
 from manip.errors import RobotConfigError, UnknownNameError
+from manip.urdf import MOVABLE_TYPES, UrdfTree, disabled_pairs, srdf_group_states
+
+logger = logging.getLogger(__name__)
+
+#: Defaults of `config_from_urdf` where a URDF says nothing.
+DEFAULT_VELOCITY_LIMIT = 2.0       # [rad/s] (or m/s) for joints without a URDF velocity limit
+DEFAULT_ACCELERATION_LIMIT = 10.0  # [rad/s^2] on every joint
+DEFAULT_JERK_LIMIT = 500.0         # [rad/s^3] on every joint (cuRobo's Franka value)
 
 CONFIG_FILE = "robot.yaml"
 
@@ -117,6 +132,20 @@ def _array(d: dict, key: str, n: int, folder: Path) -> np.ndarray:
     return a
 
 
+def _check_within_urdf(tree: UrdfTree, joints: tuple[str, ...], lower: np.ndarray, upper: np.ndarray,
+                       where: Path) -> None:
+    """Raise if a joint is unknown, not movable, or given limits beyond the URDF's."""
+    for i, name in enumerate(joints):
+        if name not in tree.joints:
+            raise UnknownNameError("joint (arm_joints)", name, list(tree.joints))
+        j = tree.joints[name]
+        if j.type not in MOVABLE_TYPES:
+            raise RobotConfigError(f"{where}: arm joint '{name}' is {j.type}; arm joints must be movable")
+        if j.lower is not None and j.upper is not None and (lower[i] < j.lower - 1e-9 or upper[i] > j.upper + 1e-9):
+            raise RobotConfigError(f"{where}: limits of '{name}' [{lower[i]}, {upper[i]}] exceed the URDF's "
+                                   f"[{j.lower}, {j.upper}]")
+
+
 def load_robot_config(name_or_path: str | Path) -> RobotConfig:
     """Load a robot configuration by name ("franka") or by the path of a robot.yaml/folder.
 
@@ -164,11 +193,17 @@ def load_robot_config(name_or_path: str | Path) -> RobotConfig:
         gripper = GripperConfig(gj, _g("open_positions"), _g("closed_positions"),
                                 _g("planning_positions", g.get("open_positions")))
     col = d.get("collision", {}) or {}
-    pairs = tuple((str(a), str(b)) for a, b in col.get("disabled_pairs", []))
+    tree = UrdfTree(urdf)
+    extra = [(str(a), str(b)) for a, b in col.get("disabled_pairs", []) or []]
+    unknown = sorted({name for pair in extra for name in pair} - set(tree.links))
+    if unknown:
+        raise UnknownNameError("link (collision: disabled_pairs)", unknown[0], tree.links)
+    pairs = disabled_pairs(tree, srdf, extra, bool(col.get("disable_adjacent_links", False)))
     lower = _array(d, "lower_limits", n, folder)
     upper = _array(d, "upper_limits", n, folder)
     if np.any(lower >= upper):
         raise RobotConfigError(f"{cfg_file}: every lower limit must be below its upper limit")
+    _check_within_urdf(tree, joints, lower, upper, cfg_file)
     default = _array(d, "default_joint_positions", n, folder)
     if np.any(default < lower) or np.any(default > upper):
         raise RobotConfigError(f"{cfg_file}: default_joint_positions lie outside the limits")
@@ -193,4 +228,128 @@ def load_robot_config(name_or_path: str | Path) -> RobotConfig:
         collision_padding=float(col.get("padding", 0.0)),
         disabled_collision_pairs=pairs,
         raw=d,
+    )
+
+
+def config_from_urdf(
+    urdf: str | Path,
+    srdf: str | Path | None = None,
+    *,
+    base_link: str | None = None,
+    ee_link: str | None = None,
+    arm_joints: list[str] | None = None,
+    default_joint_positions: np.ndarray | None = None,
+    acceleration_limits: float | np.ndarray | None = None,
+    jerk_limits: float | np.ndarray | None = None,
+    name: str | None = None,
+) -> RobotConfig:
+    """A robot configuration from a URDF (and SRDF) alone, for a robot without a folder.
+
+    Position and velocity limits come from the URDF (continuous joints: +-2 pi; a joint
+    without a velocity limit gets DEFAULT_VELOCITY_LIMIT = 2 rad/s). Acceleration and
+    jerk limits are not in a URDF: unless given they are DEFAULT_ACCELERATION_LIMIT = 10
+    rad/s^2 and DEFAULT_JERK_LIMIT = 500 rad/s^3 on every joint. The default configuration
+    is the SRDF's first named state (group_state) that sets every arm joint, else the
+    middle of the limits. Each assumed default is logged as a warning. Joints not in the
+    arm (fingers, ...) are locked at zero; there is no gripper.
+
+    Args:
+        urdf: the .urdf file; `package://` mesh URIs are resolved against its ancestors.
+        srdf: the .srdf file whose disabled collision pairs are skipped; None: the adjacent
+            links are skipped and every other pair is checked.
+        base_link: root of the planned chain; default the URDF's root link.
+        ee_link: the link pose goals are given for; default the deepest link below
+            `base_link` (the one with the most movable joints above it).
+        arm_joints: the planned joints; default the movable joints from `base_link` to `ee_link`.
+        default_joint_positions: (dof,) [rad]; see above for the default.
+        acceleration_limits: one value or (dof,) [rad/s^2].
+        jerk_limits: one value or (dof,) [rad/s^3].
+        name: the robot's name; default the URDF's robot name.
+
+    Raises:
+        RobotConfigError: unreadable files, no movable joint, bad limits.
+        UnknownNameError: an unknown link or joint (the message lists the valid ones).
+    """
+    urdf_path = Path(urdf).resolve()
+    if not urdf_path.is_file():
+        raise RobotConfigError(f"urdf: file not found: {urdf_path}")
+    srdf_path = None if srdf is None else Path(srdf).resolve()
+    if srdf_path is not None and not srdf_path.is_file():
+        raise RobotConfigError(f"srdf: file not found: {srdf_path}")
+    tree = UrdfTree(urdf_path)
+    base = base_link or tree.root_link
+    tree.check_link(base)
+    ee = ee_link or tree.deepest_link(base)
+    tree.check_link(ee)
+    if ee_link is None:
+        logger.warning("%s: ee_link not given; using '%s' (the deepest link)", urdf_path.name, ee)
+    if arm_joints is None:
+        joints = tuple(j.name for j in tree.chain_joints(base, ee))
+    else:
+        joints = tuple(arm_joints)
+        for j in joints:
+            if j not in tree.joints:
+                raise UnknownNameError("joint", j, list(tree.joints))
+    if not joints:
+        raise RobotConfigError(f"{urdf_path}: no movable joint between '{base}' and '{ee}'")
+    n = len(joints)
+    spec = [tree.joints[j] for j in joints]
+    missing = [j.name for j in spec if j.lower is None or j.upper is None]
+    if missing:
+        raise RobotConfigError(f"{urdf_path}: joints {missing} have no position limits in the URDF")
+    lower = np.array([j.lower for j in spec], dtype=float)
+    upper = np.array([j.upper for j in spec], dtype=float)
+    if np.any(lower >= upper):
+        raise RobotConfigError(f"{urdf_path}: every lower limit must be below its upper limit")
+    no_vel = [j.name for j in spec if not j.velocity]
+    if no_vel:
+        logger.warning("%s: no velocity limit for %s; assuming %g rad/s", urdf_path.name, no_vel,
+                       DEFAULT_VELOCITY_LIMIT)
+    velocity = np.array([j.velocity or DEFAULT_VELOCITY_LIMIT for j in spec], dtype=float)
+
+    def per_joint(value, default: float, what: str, unit: str) -> np.ndarray:
+        if value is None:
+            logger.warning("%s: %s not given; assuming %g %s on every joint", urdf_path.name, what, default, unit)
+            value = default
+        a = np.broadcast_to(np.asarray(value, dtype=float), (n,)).copy() if np.ndim(value) == 0 \
+            else np.asarray(value, dtype=float)
+        if a.shape != (n,) or not np.all(np.isfinite(a)) or np.any(a <= 0):
+            raise RobotConfigError(f"{what} must be one positive value or {n} (one per joint); got {value!r}")
+        return a
+
+    acc = per_joint(acceleration_limits, DEFAULT_ACCELERATION_LIMIT, "acceleration_limits", "rad/s^2")
+    jerk = per_joint(jerk_limits, DEFAULT_JERK_LIMIT, "jerk_limits", "rad/s^3")
+    if default_joint_positions is None:
+        states = srdf_group_states(srdf_path) if srdf_path is not None else {}
+        full = [s for s in states.values() if all(j in s for j in joints)]
+        if full:
+            default = np.array([full[0][j] for j in joints], dtype=float)
+        else:
+            default = (lower + upper) / 2.0
+            logger.warning("%s: no default configuration; using the middle of the limits", urdf_path.name)
+    else:
+        default = np.asarray(default_joint_positions, dtype=float)
+    if default.shape != (n,) or np.any(default < lower) or np.any(default > upper):
+        raise RobotConfigError(f"default_joint_positions must be {n} values within the limits; got {default}")
+    return RobotConfig(
+        name=name or tree.name,
+        folder=urdf_path.parent,
+        urdf_path=urdf_path,
+        srdf_path=srdf_path,
+        mjcf_path=None,
+        package_dirs=tuple(_package_dirs(urdf_path)),
+        base_link=base,
+        ee_link=ee,
+        tcp_link=None,
+        arm_joints=joints,
+        default_joint_positions=default,
+        lower_limits=lower,
+        upper_limits=upper,
+        velocity_limits=velocity,
+        acceleration_limits=acc,
+        jerk_limits=jerk,
+        gripper=None,
+        collision_padding=0.0,
+        disabled_collision_pairs=disabled_pairs(tree, srdf_path, []),
+        raw={},
     )

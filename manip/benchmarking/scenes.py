@@ -1,6 +1,8 @@
 """The project's own seeded planning problems: tables, shelves, boxes, cages and clutter.
 
-`make_problems(kind, n, seed)` builds `n` randomised scenes around the Franka (in cuRobo's
+`make_problems(kind, n, seed)` builds `n` randomised scenes around the Franka, or around any
+robot with `robot=` (scenes scaled by the robot's reach relative to the Franka's; goals for
+its `tcp_link`, or `ee_link`, whose z axis, or the yaml's `approach_axis`, is the approach) (in cuRobo's
 world format, so every planner and the verifier read them like MotionBenchMaker problems)
 with a start and a goal configuration each. Goals are placed where planning is interesting:
 the hand inside a shelf compartment, down in an open box, between the bars of a cage,
@@ -22,19 +24,17 @@ from functools import lru_cache
 import numpy as np
 import pinocchio as pin
 
-from manip.benchmarking.mbm_problems import ARM_JOINTS, MBMProblem
+from manip.benchmarking.mbm_problems import MBMProblem
 from manip.benchmarking.verify import Verifier, default_verifier
 from manip.errors import InvalidInputError
 from manip.kinematics import Kinematics
-from manip.robot_config import load_robot_config
+from manip.robot_config import RobotConfig, load_robot_config
 
 log = logging.getLogger(__name__)
 
 #: Kinds of seeded scenes.
 SCENE_KINDS: tuple[str, ...] = ("table", "shelf", "box", "cage", "clutter")
 
-READY = np.array([0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785])
-TCP_OFFSET = 0.1034  # [m] panda_hand -> fingertip centre, along the hand's z axis
 RETREAT = 0.12  # [m] a goal inside a structure must allow backing out this far
 _MAX_SCENE_TRIES = 30
 _MAX_CONFIG_TRIES = 25
@@ -85,12 +85,45 @@ def _hand_rotation(approach: np.ndarray, finger_axis: np.ndarray) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------------- IK (local, DLS)
-class _IK:
-    """Damped least squares IK for panda_hand with random restarts (generation only)."""
+def _reach(kin: Kinematics, tool: str) -> float:
+    """Length [m] of the chain from the first joint to the tool frame (sum of the joint offsets)."""
+    model = kin.model
+    total = sum(float(np.linalg.norm(model.jointPlacements[j].translation)) for j in range(2, model.njoints))
+    fid = kin.frame_id(tool)
+    return total + float(np.linalg.norm(model.frames[fid].placement.translation))
 
-    def __init__(self, kin: Kinematics):
+
+class _IK:
+    """Damped least squares IK for the robot's ee_link with random restarts (generation only).
+
+    Targets are tool (tcp_link, else ee_link) poses; `ee_pose` turns one into the ee_link's.
+    """
+
+    def __init__(self, config: RobotConfig):
+        kin = Kinematics(config)
+        self.config = config
         self.kin = kin
-        self.fid = kin.frame_id("panda_hand")
+        self.fid = kin.frame_id(config.ee_link)
+        tool = config.tcp_link or config.ee_link
+        q = config.default_joint_positions
+        T = kin.frame_transform(q, self.fid).inverse() * kin.frame_transform(q, kin.frame_id(tool))
+        # snapped to 1e-12: a tool frame offset along an axis stays exactly that
+        self.R_ee_tool = np.round(T.rotation, 12) + 0.0
+        self.p_ee_tool = np.round(T.translation, 12) + 0.0
+        axis = config.raw.get("approach_axis")  # the tool axis in the tool frame, if not z
+        if axis is not None:
+            z = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
+            y = np.array([0.0, 1.0, 0.0]) if abs(z[1]) < 0.9 else np.array([1.0, 0.0, 0.0])
+            y -= z * (y @ z)
+            y /= np.linalg.norm(y)
+            self.R_ee_tool = self.R_ee_tool @ np.column_stack([np.cross(y, z), y, z])
+        self.ready = np.asarray(config.default_joint_positions, dtype=float)
+        self.reach = _reach(kin, tool)
+
+    def ee_pose(self, R_tool: np.ndarray, p_tool: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(R (3, 3), p (3,)) of ee_link for a tool pose."""
+        R = R_tool @ self.R_ee_tool.T
+        return R, p_tool - R @ self.p_ee_tool
 
     def solve(self, R_goal: np.ndarray, p_goal: np.ndarray, q_init: np.ndarray, iters: int = 80) -> np.ndarray | None:
         kin, q = self.kin, q_init.copy()
@@ -108,16 +141,23 @@ class _IK:
         return None
 
 
-@lru_cache(maxsize=1)
-def _ik() -> _IK:
-    return _IK(Kinematics(load_robot_config("franka")))
+@lru_cache(maxsize=8)
+def _ik(robot: str = "franka") -> _IK:
+    return _IK(load_robot_config(robot))
+
+
+def _scale(ik: _IK) -> float:
+    """Scene scale: the robot's reach over the Franka's (exactly 1.0 for the Franka)."""
+    return ik.reach / _ik("franka").reach
 
 
 # ---------------------------------------------------------------------------- scene builders
-# A builder draws a world and returns (world dict, target sampler). A target sampler draws
-# (R_hand (3, 3), p_hand (3,), retreat direction (3,) or None) for one goal or start.
-Target = tuple[np.ndarray, np.ndarray, np.ndarray | None]
-Builder = Callable[[np.random.Generator], tuple[dict, Callable[[np.random.Generator], Target]]]
+# A builder draws a world scaled by s (the robot's reach over the Franka's) and returns
+# (world dict, target sampler). A target sampler draws (R (3, 3), p (3,), retreat direction
+# (3,) or None, is_tool) for one goal or start: a pose of the tool frame (tcp_link, z axis the
+# approach) if is_tool, else of ee_link.
+Target = tuple[np.ndarray, np.ndarray, np.ndarray | None, bool]
+Builder = Callable[[np.random.Generator, float], tuple[dict, Callable[[np.random.Generator], Target]]]
 
 
 def _down_target(rng: np.random.Generator, xy_lo, xy_hi, z_tcp_lo: float, z_tcp_hi: float, frame=None) -> Target:
@@ -127,15 +167,15 @@ def _down_target(rng: np.random.Generator, xy_lo, xy_hi, z_tcp_lo: float, z_tcp_
     tcp = pw + Rw @ local
     yaw = rng.uniform(-np.pi, np.pi)
     R = _hand_rotation(np.array([0.0, 0.0, -1.0]), np.array([np.cos(yaw), np.sin(yaw), 0.0]))
-    return R, tcp - TCP_OFFSET * R[:, 2], np.array([0.0, 0.0, 1.0])
+    return R, tcp, np.array([0.0, 0.0, 1.0]), True
 
 
-def _table(rng: np.random.Generator):
+def _table(rng: np.random.Generator, s: float):
     w = _World()
-    x0 = rng.uniform(0.25, 0.4)
-    depth, width = rng.uniform(0.5, 0.75), rng.uniform(0.9, 1.3)
-    yc = rng.uniform(-0.2, 0.2)
-    z_top = rng.uniform(-0.15, 0.1)
+    x0 = s * rng.uniform(0.25, 0.4)
+    depth, width = s * rng.uniform(0.5, 0.75), s * rng.uniform(0.9, 1.3)
+    yc = s * rng.uniform(-0.2, 0.2)
+    z_top = s * rng.uniform(-0.15, 0.1)
     w.box("table", [x0 + depth / 2, yc, z_top - 0.02], [depth, width, 0.04])
     k = int(rng.integers(3, 8))
     for i in range(k):
@@ -154,12 +194,12 @@ def _table(rng: np.random.Generator):
     return w.world(), target
 
 
-def _shelf(rng: np.random.Generator):
+def _shelf(rng: np.random.Generator, s: float):
     w = _World()
     yaw = rng.uniform(-0.7, 0.7)
-    front = rng.uniform(0.45, 0.6)
-    depth, width = rng.uniform(0.28, 0.38), rng.uniform(0.6, 0.9)
-    z_bottom = rng.uniform(-0.35, -0.05)
+    front = s * rng.uniform(0.45, 0.6)
+    depth, width = rng.uniform(0.28, 0.38), s * rng.uniform(0.6, 0.9)
+    z_bottom = s * rng.uniform(-0.35, -0.05)
     n_levels = int(rng.integers(3, 5))
     gaps = rng.uniform(0.26, 0.36, size=n_levels)
     t = 0.02
@@ -194,17 +234,17 @@ def _shelf(rng: np.random.Generator):
         tcp = np.asarray(place([x, y, 0.0])) + np.array([0.0, 0.0, zmid])
         finger_axis = Rz @ np.array([0.0, 1.0, 0.0])  # fingers open horizontally
         R = _hand_rotation(into, finger_axis)
-        return R, tcp - TCP_OFFSET * R[:, 2], -into
+        return R, tcp, -into, True
 
     return w.world(), target
 
 
-def _box(rng: np.random.Generator):
+def _box(rng: np.random.Generator, s: float):
     w = _World()
     yaw = rng.uniform(-np.pi / 4, np.pi / 4)
-    cx, cy = rng.uniform(0.4, 0.6), rng.uniform(-0.35, 0.35)
+    cx, cy = s * rng.uniform(0.4, 0.6), s * rng.uniform(-0.35, 0.35)
     lx, ly = rng.uniform(0.3, 0.45), rng.uniform(0.3, 0.45)
-    z_bottom = rng.uniform(-0.35, -0.05)
+    z_bottom = s * rng.uniform(-0.35, -0.05)
     h = rng.uniform(0.15, 0.3)
     t = 0.02
     Rz = _rot_z(yaw)
@@ -230,13 +270,13 @@ def _box(rng: np.random.Generator):
     return w.world(), target
 
 
-def _cage(rng: np.random.Generator):
+def _cage(rng: np.random.Generator, scale: float):
     w = _World()
     yaw = rng.uniform(-0.6, 0.6)
-    cx, cy = rng.uniform(0.45, 0.6), rng.uniform(-0.25, 0.25)
+    cx, cy = scale * rng.uniform(0.45, 0.6), scale * rng.uniform(-0.25, 0.25)
     s = rng.uniform(0.42, 0.55)
     hz = rng.uniform(0.4, 0.55)
-    z_bottom = rng.uniform(-0.3, -0.05)
+    z_bottom = scale * rng.uniform(-0.3, -0.05)
     r_bar = rng.uniform(0.008, 0.015)
     Rz = _rot_z(yaw)
     c = np.array([cx, cy, 0.0])
@@ -276,13 +316,13 @@ def _cage(rng: np.random.Generator):
     return w.world(), target
 
 
-def _clutter(rng: np.random.Generator):
+def _clutter(rng: np.random.Generator, s: float):
     w = _World()
     k = int(rng.integers(8, 15))
     for i in range(k):
-        rad = rng.uniform(0.35, 0.8)
+        rad = s * rng.uniform(0.35, 0.8)
         th = rng.uniform(-np.pi * 0.75, np.pi * 0.75)
-        z = rng.uniform(-0.3, 0.8)
+        z = s * rng.uniform(-0.3, 0.8)
         p = [rad * np.cos(th), rad * np.sin(th), z]
         if rng.random() < 0.6:
             w.box(f"obj{i}", p, rng.uniform(0.04, 0.16, size=3), rng.uniform(-np.pi, np.pi))
@@ -295,12 +335,12 @@ def _clutter(rng: np.random.Generator):
 
     def target(r: np.random.Generator) -> Target:
         # a hand pose in the cluttered shell, random orientation with the fingers facing outwards-ish
-        rad = r.uniform(0.35, 0.75)
+        rad = s * r.uniform(0.35, 0.75)
         th = r.uniform(-np.pi * 0.75, np.pi * 0.75)
-        p = np.array([rad * np.cos(th), rad * np.sin(th), r.uniform(-0.2, 0.7)])
+        p = np.array([rad * np.cos(th), rad * np.sin(th), s * r.uniform(-0.2, 0.7)])
         a = np.array([np.cos(th), np.sin(th), 0.0]) + 0.8 * r.normal(size=3)
         R = _hand_rotation(a, r.normal(size=3))
-        return R, p, None
+        return R, p, None, False
 
     return w.world(), target
 
@@ -309,12 +349,14 @@ _BUILDERS: dict[str, Builder] = {"table": _table, "shelf": _shelf, "box": _box, 
 
 
 # ---------------------------------------------------------------------------- sampling configurations
-def _solve_target(verifier: Verifier, world: dict, target: Target, rng: np.random.Generator) -> np.ndarray | None:
-    ik = _ik()
-    R, p, retreat = target
+def _solve_target(ik: _IK, verifier: Verifier, world: dict, target: Target,
+                  rng: np.random.Generator) -> np.ndarray | None:
+    R, p, retreat, is_tool = target
+    if is_tool:
+        R, p = ik.ee_pose(R, p)
     kin = ik.kin
     for k in range(4):
-        q_init = READY + (rng.normal(scale=0.4, size=7) if k else 0.0)
+        q_init = ik.ready + (rng.normal(scale=0.4, size=kin.dof) if k else 0.0)
         q_init = np.clip(q_init, kin.lower, kin.upper)
         q = ik.solve(R, p, q_init)
         if q is None or verifier.check_configuration(q, world, "q")[0]:
@@ -335,16 +377,16 @@ def _line_obstructed(verifier: Verifier, world: dict, a: np.ndarray, b: np.ndarr
     return verifier.first_collision(Q, world) is not None
 
 
-def _make_one(kind: str, seed: int, index: int, verifier: Verifier) -> MBMProblem:
+def _make_one(kind: str, seed: int, index: int, verifier: Verifier, ik: _IK) -> MBMProblem:
     kind_id = SCENE_KINDS.index(kind)
     rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(kind_id, index)))
     build = _BUILDERS[kind]
     for _ in range(_MAX_SCENE_TRIES):
-        world, target = build(rng)
+        world, target = build(rng, _scale(ik))
         # goal: a target inside the structure; start: the ready pose (perturbed) or another target
         goal = None
         for _ in range(_MAX_CONFIG_TRIES):
-            goal = _solve_target(verifier, world, target(rng), rng)
+            goal = _solve_target(ik, verifier, world, target(rng), rng)
             if goal is not None:
                 break
         if goal is None:
@@ -354,11 +396,11 @@ def _make_one(kind: str, seed: int, index: int, verifier: Verifier) -> MBMProble
         start = fallback = None
         for _ in range(_MAX_CONFIG_TRIES):
             if rng.random() < 0.4:
-                cand = np.clip(READY + rng.normal(scale=0.15, size=7), verifier.lower, verifier.upper)
+                cand = np.clip(ik.ready + rng.normal(scale=0.15, size=ik.kin.dof), verifier.lower, verifier.upper)
                 if verifier.check_configuration(cand, world, "q")[0]:
                     continue
             else:
-                cand = _solve_target(verifier, world, target(rng), rng)
+                cand = _solve_target(ik, verifier, world, target(rng), rng)
                 if cand is None:
                     continue
             if np.abs(cand - goal).max() < 0.3:
@@ -378,18 +420,21 @@ def _make_one(kind: str, seed: int, index: int, verifier: Verifier) -> MBMProble
         start.setflags(write=False)
         goal.setflags(write=False)
         return MBMProblem(scene=f"seeded_{kind}", index=index, world=world, start=start, goal=goal,
-                          joint_names=ARM_JOINTS)
+                          joint_names=tuple(ik.config.arm_joints))
     raise RuntimeError(f"could not generate a valid {kind} problem (seed {seed}, index {index})")  # pragma: no cover
 
 
-def make_problems(kind: str, n: int, seed: int = 0, verifier: Verifier | None = None) -> list[MBMProblem]:
+def make_problems(kind: str, n: int, seed: int = 0, verifier: Verifier | None = None, *,
+                  robot: str | RobotConfig = "franka") -> list[MBMProblem]:
     """Generate `n` seeded planning problems of one kind.
 
     Args:
         kind: one of `SCENE_KINDS`: "table", "shelf", "box", "cage", "clutter".
         n: number of problems (>= 0).
         seed: random seed; problem i depends only on (kind, seed, i).
-        verifier: the checker of starts and goals (default: the shared Franka verifier).
+        verifier: the checker of starts and goals (default: the shared Franka verifier, or
+            a new Verifier of `robot`).
+        robot: the robot (name or config); its scenes are the Franka's scaled by its reach.
 
     Returns:
         Problems named "seeded_<kind>/<i>" (i = 0..n-1) whose start and goal pass
@@ -402,5 +447,7 @@ def make_problems(kind: str, n: int, seed: int = 0, verifier: Verifier | None = 
         raise InvalidInputError(f"scene kind '{kind}' not known; valid: {list(SCENE_KINDS)}")
     if n < 0:
         raise InvalidInputError(f"n must be >= 0; got {n}")
-    v = verifier or default_verifier()
-    return [_make_one(kind, int(seed), i, v) for i in range(n)]
+    ik = _ik(robot) if isinstance(robot, str) else _IK(robot)
+    if verifier is None:
+        verifier = default_verifier() if robot == "franka" else Verifier(ik.config)
+    return [_make_one(kind, int(seed), i, verifier, ik) for i in range(n)]

@@ -44,6 +44,7 @@ from manip.benchmarking.mbm_problems import MBMProblem
 from manip.errors import InvalidInputError
 from manip.pose import Pose
 from manip.robot_config import RobotConfig, load_robot_config
+from manip.urdf import build_model
 
 log = logging.getLogger(__name__)
 
@@ -217,15 +218,17 @@ class Verifier:
         self.config = robot if isinstance(robot, RobotConfig) else load_robot_config(robot)
         self.resolution = float(resolution)
         c = self.config
-        self.model = pin.buildModelFromUrdf(str(c.urdf_path))
+        self.model = build_model(c.urdf_path)  # continuous joints made revolute, as Kinematics
         self.data = self.model.createData()
         self._robot_geom = pin.buildGeomFromUrdf(
             self.model, str(c.urdf_path), pin.COLLISION, package_dirs=list(c.package_dirs)
         )
         self._robot_geom.addAllCollisionPairs()
-        if c.srdf_path is not None:
-            pin.removeCollisionPairs(self.model, self._robot_geom, str(c.srdf_path))
-        self._self_pairs = [(p.first, p.second) for p in self._robot_geom.collisionPairs]
+        # the config's disabled pairs: the SRDF's (or the adjacent links without one) + the yaml's
+        disabled = {frozenset(p) for p in c.disabled_collision_pairs}
+        links = [self.model.frames[g.parentFrame].name for g in self._robot_geom.geometryObjects]
+        self._self_pairs = [(p.first, p.second) for p in self._robot_geom.collisionPairs
+                            if frozenset((links[p.first], links[p.second])) not in disabled]
         self._n_robot = self._robot_geom.ngeoms
         # configuration template: arm joints set per call, the rest (fingers) at planning positions
         self._q0 = pin.neutral(self.model)

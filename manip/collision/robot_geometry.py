@@ -228,7 +228,9 @@ class RobotGeometry:
         for a in range(len(parts)):
             for b in range(a + 1, len(parts)):
                 la, lb = parts[a].link, parts[b].link
-                if la == lb or frozenset((la, lb)) in disabled:
+                # parts on one link, or carried rigidly by the same joint, never move
+                # relative to each other: nothing to check
+                if la == lb or parts[a].joint == parts[b].joint or frozenset((la, lb)) in disabled:
                     continue
                 pairs.append((a, b))
         self.self_pairs: list[tuple[int, int]] = pairs

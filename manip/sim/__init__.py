@@ -83,7 +83,14 @@ SingleRigidPrim = RigidPrim
 SingleGeometryPrim = GeometryPrim
 from manip.sim.controllers import BaseController, DifferentialController, WheelBasePoseController
 from manip.sim.pick_place_controller import PickPlaceController
-from manip.sim.robots import Franka, ParallelGripper, WheeledRobot, franka_model_path, jetbot_model_path
+from manip.sim.robots import (
+    Franka,
+    ParallelGripper,
+    WheeledRobot,
+    franka_model_path,
+    jetbot_model_path,
+    robot_model_path,
+)
 from manip.sim.sample import BaseSample
 from manip.sim.extension import BaseSampleExtension
 from manip.sim.hello_world import HelloWorld

@@ -10,6 +10,7 @@ import numpy as np
 
 from manip.articulation_action import ArticulationAction
 from manip.errors import InvalidInputError, UnknownNameError
+from manip.robot_config import load_robot_config
 from manip.sim.articulation import Robot
 from manip.sim.stage import SimHandle, SimulationError, add_reference_to_stage, get_assets_root_path, get_current_stage
 from manip.sim.xform_prim import XFormPrim
@@ -25,6 +26,21 @@ def franka_model_path() -> Path:
 def jetbot_model_path() -> Path:
     """`robots/jetbot/jetbot.xml` (wheel radius 0.03 m, wheel base 0.1125 m)."""
     return Path(get_assets_root_path()) / "jetbot" / "jetbot.xml"
+
+
+def robot_model_path(robot: str) -> Path:
+    """The MuJoCo model of a robot folder under `robots/` (its robot.yaml's `mjcf`), e.g.
+    `add_reference_to_stage(robot_model_path("ur5"), "/World/ur5")` then `Robot("/World/ur5")`.
+
+    Raises:
+        UnknownNameError: no robot of that name (the message lists them).
+        InvalidInputError: the robot has no MJCF.
+    """
+    config = load_robot_config(robot)
+    if config.mjcf_path is None or not config.mjcf_path.is_file():
+        raise InvalidInputError(f"robot '{robot}' has no MuJoCo model (robot.yaml 'mjcf'); build one with "
+                                "robots/tools/make_mjcf.py")
+    return config.mjcf_path
 
 
 class ParallelGripper:

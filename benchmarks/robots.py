@@ -1,0 +1,139 @@
+"""Per-robot figures: FK agreement (Pinocchio vs MuJoCo), IK on reachable poses, planning on
+seeded scenes scaled to the robot, and simulated tracking of a planned trajectory.
+
+Usage::
+
+    .venv/bin/python benchmarks/robots.py                       # full counts (1000 IK poses, 100 scenes/kind)
+    .venv/bin/python benchmarks/robots.py --ik 200 --scenes 10 --robots ur5 xarm7
+"""
+
+from __future__ import annotations
+
+import argparse
+import platform
+import time
+
+import mujoco
+import numpy as np
+
+from manip.articulation_action import ArticulationAction
+from manip.benchmarking.scenes import make_problems
+from manip.benchmarking.verify import Verifier
+from manip.motion_generator import MotionGenerator
+from manip.pose import Pose
+from manip.sim import World, create_new_stage
+from manip.sim.articulation import Robot
+from manip.sim.robots import robot_model_path
+from manip.sim.stage import add_reference_to_stage
+
+ROBOTS = ["franka", "ur5", "ur10", "kinova", "xarm7"]
+
+
+def fk_error(mg: MotionGenerator, n: int = 200) -> float:
+    c = mg.config
+    m = mujoco.MjModel.from_xml_path(str(c.mjcf_path))
+    d = mujoco.MjData(m)
+    adr = [m.joint(j).qposadr[0] for j in c.arm_joints]
+    worst = 0.0
+    for q in np.random.default_rng(0).uniform(c.lower_limits, c.upper_limits, size=(n, c.dof)):
+        d.qpos[adr] = q
+        mujoco.mj_kinematics(m, d)
+        worst = max(worst, float(np.linalg.norm(d.site(c.ee_link).xpos - mg.fk(q).position)))
+    return worst
+
+
+def ik_figures(mg: MotionGenerator, n: int) -> tuple[float, int]:
+    c = mg.config
+    rng = np.random.default_rng(1)
+    solved = wrong = k = 0
+    while k < n:
+        q = rng.uniform(c.lower_limits, c.upper_limits)
+        if mg.check_collision(q):
+            continue
+        k += 1
+        goal = mg.fk(q)
+        r = mg.ik(goal)
+        if r.success:
+            solved += 1
+            wrong += np.linalg.norm(mg.fk(r.q).position - goal.position) > 1e-3
+    return solved / n, wrong
+
+
+def planning_figures(mg: MotionGenerator, n: int) -> dict:
+    verifier = Verifier(mg.config)
+    times, solved, invalid, total = [], 0, 0, 0
+    for kind in ("table", "shelf", "clutter"):
+        for p in make_problems(kind, n, seed=0, robot=mg.config.name, verifier=verifier):
+            mg.update_world(p.world)
+            t0 = time.perf_counter()
+            r = mg.plan_joints(p.start, p.goal)
+            times.append(time.perf_counter() - t0)
+            total += 1
+            if r.success:
+                solved += 1
+                t = r.trajectory
+                invalid += not verifier.verify_trajectory(p, t.times, t.positions, t.velocities).valid
+    mg.update_world({})
+    return {"total": total, "solved": solved, "invalid": invalid, "median_ms": 1e3 * float(np.median(times))}
+
+
+def tracking_error(mg: MotionGenerator, n: int = 10) -> float:
+    """Largest tool distance [m] between the planned and the simulated arm over `n` planned
+    pose-goal motions from the retract configuration (targets 10-25 cm away), played in
+    manip.sim with position + velocity targets every physics step (1/60 s)."""
+    c = mg.config
+    rng = np.random.default_rng(5)
+    worst = 0.0
+    for _ in range(n):
+        World.clear_instance()
+        create_new_stage()
+        start = c.default_joint_positions
+        home = mg.fk(start)
+        step = rng.normal(size=3)
+        target = Pose(home.position + rng.uniform(0.1, 0.25) * step / np.linalg.norm(step), home.quaternion)
+        plan = mg.plan_pose(start, target)
+        if not plan.success:
+            continue
+        world = World()
+        add_reference_to_stage(robot_model_path(c.name), "/World/arm")
+        robot = world.scene.add(Robot("/World/arm", name="arm"))
+        world.reset()
+        idx = np.array([robot.get_dof_index(j) for j in c.arm_joints])
+        robot.set_joint_positions(start, idx)
+        t = plan.trajectory
+        for k in range(1, len(t.times)):
+            robot.apply_action(ArticulationAction(joint_positions=t.positions[k], joint_velocities=t.velocities[k],
+                                                  joint_indices=idx))
+            world.step(render=False)
+            q = robot.get_joint_positions(idx)
+            worst = max(worst, float(np.linalg.norm(mg.fk(q).position - mg.fk(t.positions[k]).position)))
+    World.clear_instance()
+    create_new_stage()
+    return worst
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--robots", nargs="*", default=ROBOTS)
+    ap.add_argument("--ik", type=int, default=1000, help="IK poses per robot")
+    ap.add_argument("--scenes", type=int, default=100, help="problems per scene kind per robot")
+    args = ap.parse_args()
+    print(f"machine: {platform.processor() or platform.machine()}, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
+    print("| robot | FK max err (m) | IK solved | IK wrong | plans solved | invalid | median plan (ms) | sim tracking max (m) |")
+    print("|---|---|---|---|---|---|---|---|")
+    bad = 0
+    for name in args.robots:
+        mg = MotionGenerator(name, seed=0)
+        fk = fk_error(mg)
+        rate, wrong = ik_figures(mg, args.ik)
+        pl = planning_figures(mg, args.scenes)
+        track = tracking_error(mg)
+        print(f"| {name} | {fk:.1e} | {100 * rate:.1f} % of {args.ik} | {wrong} | {pl['solved']}/{pl['total']} | "
+              f"{pl['invalid']} | {pl['median_ms']:.0f} | {track:.4f} |", flush=True)
+        bad += (fk > 1e-6 or rate < 0.995 or wrong > 0 or pl["invalid"] > 0 or pl["solved"] < 0.99 * pl["total"]
+                or track > 0.02)
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,220 @@
+"""Reading a robot's URDF and SRDF: the joint tree, limits, disabled collision pairs.
+
+What manip needs from a robot description beyond what Pinocchio builds: the SRDF's
+`<disable_collisions link1= link2=/>` pairs (for manip's own self-collision checker), the
+pairs of adjacent links (the fallback when there is no SRDF), the movable joints of the
+chain between two links, and a URDF whose continuous joints are revolute joints (the
+planner works with bounded joints; Pinocchio would build continuous joints as unbounded
+cos/sin joints with two coordinates).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+from pathlib import Path
+
+import pinocchio as pin
+
+from manip.errors import RobotConfigError, UnknownNameError
+
+logger = logging.getLogger(__name__)
+
+#: Joint types a robot's arm may use (others are fixed or unsupported).
+MOVABLE_TYPES = ("revolute", "continuous", "prismatic")
+#: Range [rad] given to a continuous joint: one full turn either way.
+CONTINUOUS_RANGE = (-2.0 * math.pi, 2.0 * math.pi)
+
+
+@dataclass(frozen=True)
+class UrdfJoint:
+    """One URDF joint.
+
+    Attributes:
+        name: joint name.
+        type: "revolute", "continuous", "prismatic", "fixed", ...
+        parent: parent link name.
+        child: child link name.
+        lower, upper: position limits [rad or m] (CONTINUOUS_RANGE for continuous joints;
+            None when the URDF gives none).
+        velocity: velocity limit [rad/s or m/s] (None when the URDF gives none).
+        effort: effort limit [N m or N] (None when the URDF gives none).
+    """
+
+    name: str
+    type: str
+    parent: str
+    child: str
+    lower: float | None
+    upper: float | None
+    velocity: float | None
+    effort: float | None
+
+
+class UrdfTree:
+    """The links and joints of a URDF file.
+
+    Args:
+        path: the .urdf file.
+
+    Raises:
+        RobotConfigError: the file is not a readable URDF.
+    """
+
+    def __init__(self, path: str | Path):
+        self.path = Path(path)
+        try:
+            self.root = ET.parse(self.path).getroot()
+        except (OSError, ET.ParseError) as exc:
+            raise RobotConfigError(f"{self.path}: not a readable URDF ({exc})") from exc
+        if self.root.tag != "robot":
+            raise RobotConfigError(f"{self.path}: the root element is <{self.root.tag}>, expected <robot>")
+        self.name = self.root.get("name", self.path.stem)
+        self.links: list[str] = [el.get("name") for el in self.root.findall("link")]
+        self._collision = {el.get("name"): el.find("collision") is not None for el in self.root.findall("link")}
+        self.joints: dict[str, UrdfJoint] = {}
+        for el in self.root.findall("joint"):
+            limit = el.find("limit")
+
+            def attr(key: str, el_=limit) -> float | None:
+                return None if el_ is None or el_.get(key) is None else float(el_.get(key))
+
+            jtype = el.get("type", "")
+            lower, upper = (CONTINUOUS_RANGE if jtype == "continuous" else (attr("lower"), attr("upper")))
+            self.joints[el.get("name")] = UrdfJoint(
+                el.get("name"), jtype, el.find("parent").get("link"), el.find("child").get("link"),
+                lower, upper, attr("velocity"), attr("effort"))
+        self.parent_joint: dict[str, UrdfJoint] = {j.child: j for j in self.joints.values()}
+        roots = [name for name in self.links if name not in self.parent_joint]
+        if len(roots) != 1:
+            raise RobotConfigError(f"{self.path}: expected one root link, found {roots}")
+        self.root_link = roots[0]
+
+    def has_collision(self, link: str) -> bool:
+        """Whether the link has `<collision>` geometry."""
+        return self._collision.get(link, False)
+
+    def check_link(self, link: str) -> None:
+        """Raise UnknownNameError if `link` is not a link of the URDF."""
+        if link not in self._collision:
+            raise UnknownNameError("link", link, self.links)
+
+    def ancestors(self, link: str) -> list[str]:
+        """The links from `link` up to the root (both included)."""
+        self.check_link(link)
+        out = [link]
+        while out[-1] in self.parent_joint:
+            out.append(self.parent_joint[out[-1]].parent)
+        return out
+
+    def chain_joints(self, base_link: str, tip_link: str) -> list[UrdfJoint]:
+        """The movable joints from `base_link` to `tip_link`, base first.
+
+        Raises:
+            UnknownNameError: unknown link.
+            RobotConfigError: `tip_link` is not below `base_link`.
+        """
+        self.check_link(base_link)
+        up = self.ancestors(tip_link)
+        if base_link not in up:
+            raise RobotConfigError(f"{self.path}: link '{tip_link}' is not below '{base_link}'")
+        links = up[: up.index(base_link)]
+        joints = [self.parent_joint[link] for link in reversed(links)]
+        return [j for j in joints if j.type in MOVABLE_TYPES]
+
+    def deepest_link(self, base_link: str) -> str:
+        """The link below `base_link` with the most movable joints above it (ties: the one
+        with the most links above it, then URDF order): the tool frame of a serial arm."""
+        best, best_n = base_link, (0, 0)
+        for link in self.links:
+            up = self.ancestors(link)
+            if base_link in up and link != base_link:
+                n = (len(self.chain_joints(base_link, link)), len(up))
+                if n > best_n:
+                    best, best_n = link, n
+        return best
+
+    def adjacent_pairs(self) -> list[tuple[str, str]]:
+        """Pairs of links with collision geometry that touch through a joint: each such link
+        with its nearest ancestor that has collision geometry (links without geometry in
+        between are skipped, as MoveIt's setup assistant does)."""
+        pairs = []
+        for link in self.links:
+            if not self.has_collision(link):
+                continue
+            for up in self.ancestors(link)[1:]:
+                if self.has_collision(up):
+                    pairs.append((up, link))
+                    break
+        return pairs
+
+    def bounded_xml(self) -> str:
+        """The URDF text with every continuous joint made revolute within CONTINUOUS_RANGE."""
+        root = ET.fromstring(ET.tostring(self.root))
+        for el in root.findall("joint"):
+            if el.get("type") == "continuous":
+                el.set("type", "revolute")
+                limit = el.find("limit")
+                if limit is None:
+                    limit = ET.SubElement(el, "limit", effort="0", velocity="0")
+                limit.set("lower", repr(CONTINUOUS_RANGE[0]))
+                limit.set("upper", repr(CONTINUOUS_RANGE[1]))
+        return ET.tostring(root, encoding="unicode")
+
+
+def build_model(urdf_path: str | Path) -> pin.Model:
+    """The Pinocchio model of a URDF, continuous joints made revolute (`UrdfTree.bounded_xml`)."""
+    return pin.buildModelFromXML(UrdfTree(urdf_path).bounded_xml())
+
+
+def srdf_disabled_pairs(path: str | Path) -> list[tuple[str, str]]:
+    """The `<disable_collisions link1= link2=/>` pairs of an SRDF file.
+
+    Raises:
+        RobotConfigError: the file is not a readable SRDF or a pair lacks a link name.
+    """
+    try:
+        root = ET.parse(path).getroot()
+    except (OSError, ET.ParseError) as exc:
+        raise RobotConfigError(f"{path}: not a readable SRDF ({exc})") from exc
+    pairs = []
+    for el in root.iter("disable_collisions"):
+        a, b = el.get("link1"), el.get("link2")
+        if not a or not b:
+            raise RobotConfigError(f"{path}: <disable_collisions> needs link1 and link2; got {el.attrib}")
+        pairs.append((a, b))
+    return pairs
+
+
+def srdf_group_states(path: str | Path) -> dict[str, dict[str, float]]:
+    """The SRDF's named configurations: {state name: {joint name: value}}."""
+    root = ET.parse(path).getroot()
+    return {el.get("name"): {j.get("name"): float(j.get("value")) for j in el.findall("joint")}
+            for el in root.iter("group_state")}
+
+
+def disabled_pairs(tree: UrdfTree, srdf_path: Path | None, extra: list[tuple[str, str]],
+                   disable_adjacent: bool = False) -> tuple[tuple[str, str], ...]:
+    """The link pairs the self-collision checker skips: the SRDF's pairs (or, without an
+    SRDF, the adjacent links, with a log line), the adjacent links if asked, and `extra`.
+
+    Returns:
+        Sorted unique pairs, each (a, b) with a < b.
+    """
+    pairs = list(extra)
+    if srdf_path is not None:
+        pairs += srdf_disabled_pairs(srdf_path)
+    if srdf_path is None or disable_adjacent:
+        adjacent = tree.adjacent_pairs()
+        if srdf_path is None:
+            logger.info("%s: no SRDF; the %d pairs of adjacent links are not checked for self-collision, "
+                        "all other pairs are", tree.path.name, len(adjacent))
+        pairs += adjacent
+    known = set(tree.links)
+    unknown = sorted({name for pair in pairs for name in pair} - known)
+    if unknown:
+        logger.warning("%s: disabled collision pairs name links not in the URDF (ignored): %s",
+                       tree.path.name, unknown)
+    return tuple(sorted({tuple(sorted(p)) for p in pairs if p[0] in known and p[1] in known and p[0] != p[1]}))

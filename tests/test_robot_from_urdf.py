@@ -1,0 +1,139 @@
+"""A new robot from a URDF and an SRDF alone ("new robot, no code"), and how the SRDF is read."""
+
+from __future__ import annotations
+
+import logging
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import pytest
+
+from manip.errors import UnknownNameError
+from manip.motion_generator import MotionGenerator
+from manip.robot_config import config_from_urdf, load_robot_config
+from manip.sim.mjcf_builder import build_mjcf
+from manip.urdf import srdf_disabled_pairs
+
+# A 3-link arm on a base: boxes and cylinders only, a continuous first joint, a tool frame.
+URDF = """<?xml version="1.0"?>
+<robot name="tri">
+  <link name="base"><inertial><mass value="2"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision><origin xyz="0 0 0.05"/><geometry><box size="0.2 0.2 0.1"/></geometry></collision></link>
+  <link name="l1"><inertial><origin xyz="0 0 0.15"/><mass value="1.5"/><inertia ixx="0.01" iyy="0.01" izz="0.002" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision><origin xyz="0 0 0.15"/><geometry><cylinder radius="0.04" length="0.3"/></geometry></collision></link>
+  <link name="l2"><inertial><origin xyz="0.15 0 0"/><mass value="1.0"/><inertia ixx="0.002" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision><origin xyz="0.15 0 0" rpy="0 1.5707963267948966 0"/><geometry><cylinder radius="0.035" length="0.3"/></geometry></collision></link>
+  <link name="l3"><inertial><origin xyz="0.12 0 0"/><mass value="0.6"/><inertia ixx="0.001" iyy="0.005" izz="0.005" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision><origin xyz="0.12 0 0"/><geometry><box size="0.24 0.05 0.05"/></geometry></collision></link>
+  <link name="tool"/>
+  <joint name="j1" type="continuous"><parent link="base"/><child link="l1"/><origin xyz="0 0 0.1"/><axis xyz="0 0 1"/>
+    <limit effort="50" velocity="2.0"/></joint>
+  <joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/><origin xyz="0 0 0.3"/><axis xyz="0 -1 0"/>
+    <limit lower="-1.6" upper="1.6" effort="50" velocity="2.0"/></joint>
+  <joint name="j3" type="revolute"><parent link="l2"/><child link="l3"/><origin xyz="0.3 0 0"/><axis xyz="0 -1 0"/>
+    <limit lower="-2.4" upper="2.4" effort="20" velocity="2.5"/></joint>
+  <joint name="jt" type="fixed"><parent link="l3"/><child link="tool"/><origin xyz="0.24 0 0"/></joint>
+</robot>
+"""
+
+SRDF = """<?xml version="1.0"?>
+<robot name="tri">
+  <group_state name="ready" group="arm">
+    <joint name="j1" value="0"/><joint name="j2" value="0.5"/><joint name="j3" value="-1.0"/>
+  </group_state>
+  <disable_collisions link1="base" link2="l1" reason="Adjacent"/>
+  <disable_collisions link1="l1" link2="l2" reason="Adjacent"/>
+  <disable_collisions link1="l2" link2="l3" reason="Adjacent"/>
+</robot>
+"""
+
+
+@pytest.fixture(scope="module")
+def files(tmp_path_factory) -> tuple[Path, Path]:
+    d = tmp_path_factory.mktemp("tri")
+    (d / "tri.urdf").write_text(URDF)
+    (d / "tri.srdf").write_text(SRDF)
+    return d / "tri.urdf", d / "tri.srdf"
+
+
+def test_new_robot_plans_around_an_obstacle(files) -> None:
+    urdf, srdf = files
+    mg = MotionGenerator.from_urdf(urdf, srdf, ee_link="tool", seed=0)
+    assert mg.joint_names == ["j1", "j2", "j3"]
+    np.testing.assert_allclose(mg.default_joint_positions, [0.0, 0.5, -1.0])   # the SRDF's state
+    np.testing.assert_allclose(mg.velocity_limits, [2.0, 2.0, 2.5])              # the URDF's
+    np.testing.assert_allclose(mg.lower_limits, [-2 * np.pi, -1.6, -2.4])       # continuous: +-2 pi
+    # a wall between a start on one side and a goal on the other
+    world = {"cuboid": {"wall": {"dims": [0.05, 0.3, 0.6], "pose": [0.45, 0.0, 0.3, 1, 0, 0, 0]}}}
+    mg.update_world(world)
+    start, goal = np.array([0.8, 0.5, -1.0]), np.array([-0.8, 0.5, -1.0])
+    assert not mg.check_collision(start) and not mg.check_collision(goal)
+    r = mg.plan_joints(start, goal)
+    assert r.success, r.status
+    path = r.trajectory.positions
+    np.testing.assert_allclose(path[0], start, atol=1e-6)
+    np.testing.assert_allclose(path[-1], goal, atol=1e-6)
+    assert not any(mg.check_collision(q) for q in path)
+    # a pose goal for the tool, beside the wall
+    q_target = np.array([1.2, 0.2, -0.6])
+    assert not mg.check_collision(q_target)
+    target = mg.fk(q_target)
+    r = mg.plan_pose(start, target)
+    assert r.success, r.status
+    assert np.linalg.norm(mg.fk(r.trajectory.positions[-1]).position - target.position) < 1e-3
+
+
+def test_defaults_are_logged_and_without_srdf_adjacent_links_are_skipped(files, caplog) -> None:
+    urdf, _ = files
+    with caplog.at_level(logging.INFO):
+        c = config_from_urdf(urdf)
+    text = caplog.text
+    assert "no SRDF" in text and "acceleration_limits not given" in text and "ee_link not given" in text
+    assert c.ee_link == "tool"   # the deepest link
+    assert set(c.disabled_collision_pairs) == {("base", "l1"), ("l1", "l2"), ("l2", "l3")}
+    np.testing.assert_allclose(c.acceleration_limits, 10.0)
+    np.testing.assert_allclose(c.jerk_limits, 500.0)
+
+
+def test_unknown_links_are_named(files) -> None:
+    urdf, srdf = files
+    with pytest.raises(UnknownNameError, match="l3"):
+        config_from_urdf(urdf, srdf, ee_link="gripper")
+
+
+def test_srdf_pairs_come_from_the_srdf_and_the_yaml_only_adds(tmp_path, files) -> None:
+    urdf, srdf = files
+    (tmp_path / "robot.yaml").write_text(f"""
+name: tri
+urdf: {urdf}
+srdf: {srdf}
+base_link: base
+ee_link: tool
+arm_joints: [j1, j2, j3]
+default_joint_positions: [0.0, 0.5, -1.0]
+lower_limits: [-3.0, -1.6, -2.4]
+upper_limits: [3.0, 1.6, 2.4]
+velocity_limits: [2.0, 2.0, 2.5]
+acceleration_limits: [10.0, 10.0, 10.0]
+jerk_limits: [500.0, 500.0, 500.0]
+collision:
+  disabled_pairs: [[base, l2]]
+""")
+    c = load_robot_config(tmp_path)
+    assert set(srdf_disabled_pairs(srdf)) < set(c.disabled_collision_pairs)
+    assert ("base", "l2") in c.disabled_collision_pairs
+    assert len(c.disabled_collision_pairs) == 4
+
+
+def test_mjcf_of_the_new_robot_matches_its_kinematics(files) -> None:
+    urdf, srdf = files
+    mg = MotionGenerator.from_urdf(urdf, srdf, ee_link="tool")
+    text, assets = build_mjcf(mg.config)
+    m = mujoco.MjModel.from_xml_string(text, assets)
+    assert [m.actuator(i).name for i in range(m.nu)] == ["j1", "j2", "j3"]
+    d = mujoco.MjData(m)
+    for q in np.random.default_rng(0).uniform(mg.lower_limits, mg.upper_limits, size=(10, 3)):
+        d.qpos[:] = q
+        mujoco.mj_kinematics(m, d)
+        np.testing.assert_allclose(d.site("tool").xpos, mg.fk(q).position, atol=1e-9)

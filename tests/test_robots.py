@@ -1,0 +1,143 @@
+"""The shipped robots beside the Franka (UR5, UR10, Kinova Jaco2, xArm7), each from its folder.
+
+Per robot: the SRDF's disabled pairs make the retract configuration collision-free, MuJoCo and
+Pinocchio agree on the tool frame, IK solves reachable poses without wrong claims, the planner
+solves seeded scenes scaled to the robot (trajectories verified against the exact meshes), and
+manip.sim tracks a planned trajectory. Full counts: benchmarks/robots.py.
+"""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from manip.articulation_action import ArticulationAction
+from manip.benchmarking.scenes import make_problems
+from manip.benchmarking.verify import Verifier
+from manip.motion_generator import MotionGenerator
+from manip.pose import Pose
+from manip.robot_config import available_robots, load_robot_config
+
+ROBOTS = ["ur5", "ur10", "kinova", "xarm7"]
+
+
+@pytest.fixture(scope="module", params=ROBOTS)
+def mg(request) -> MotionGenerator:
+    return MotionGenerator(request.param, seed=0)
+
+
+def test_robots_are_shipped() -> None:
+    assert set(ROBOTS) | {"franka"} <= set(available_robots())
+
+
+def test_retract_configuration_is_free_and_srdf_pairs_are_read(mg: MotionGenerator) -> None:
+    c = mg.config
+    assert not mg.check_collision(c.default_joint_positions)
+    if c.srdf_path is not None:
+        import xml.etree.ElementTree as ET
+
+        srdf = {frozenset((e.get("link1"), e.get("link2")))
+                for e in ET.parse(c.srdf_path).getroot().iter("disable_collisions")}
+        assert srdf <= {frozenset(p) for p in c.disabled_collision_pairs}
+
+
+def test_mujoco_and_pinocchio_agree_on_the_tool_frame(mg: MotionGenerator) -> None:
+    c = mg.config
+    m = mujoco.MjModel.from_xml_path(str(c.mjcf_path))
+    d = mujoco.MjData(m)
+    adr = [m.joint(j).qposadr[0] for j in c.arm_joints]
+    rng = np.random.default_rng(1)
+    for _ in range(20):
+        q = rng.uniform(c.lower_limits, c.upper_limits)
+        d.qpos[adr] = q
+        mujoco.mj_kinematics(m, d)
+        pose = mg.fk(q)
+        np.testing.assert_allclose(d.site(c.ee_link).xpos, pose.position, atol=1e-6, rtol=0)
+        R = d.site(c.ee_link).xmat.reshape(3, 3)
+        assert np.linalg.norm(pin.log3(R.T @ pose.as_matrix()[:3, :3])) < 1e-6
+
+
+def test_ik_solves_reachable_poses_without_wrong_claims(mg: MotionGenerator) -> None:
+    rng = np.random.default_rng(2)
+    c = mg.config
+    Q = []
+    while len(Q) < 100:
+        q = rng.uniform(c.lower_limits, c.upper_limits)
+        if not mg.check_collision(q):
+            Q.append(q)
+    solved = wrong = 0
+    for q in Q:
+        goal = mg.fk(q)
+        r = mg.ik(goal)
+        if r.success:
+            solved += 1
+            reached = mg.fk(r.q)
+            wrong += np.linalg.norm(reached.position - goal.position) > 1e-3
+        assert mg.kinematics.within_limits(r.q, 1e-9) or not r.success
+    assert wrong == 0
+    assert solved >= 99
+
+
+@pytest.mark.parametrize("kind", ["table", "shelf", "clutter"])
+def test_plans_seeded_scenes_with_verified_trajectories(mg: MotionGenerator, kind: str) -> None:
+    verifier = Verifier(mg.config)
+    for p in make_problems(kind, 2, seed=3, robot=mg.config.name, verifier=verifier):
+        mg.update_world(p.world)
+        r = mg.plan_joints(p.start, p.goal)
+        assert r.success, (p.name, r.status)
+        t = r.trajectory
+        v = verifier.verify_trajectory(p, t.times, t.positions, t.velocities)
+        assert v.valid, (p.name, v)
+
+
+@pytest.fixture
+def fresh_world():
+    """No World and an empty stage before and after (the simulator's World is a singleton)."""
+    from manip.sim import World, create_new_stage
+
+    World.clear_instance()
+    create_new_stage()
+    yield World
+    World.clear_instance()
+    create_new_stage()
+
+
+def test_sim_tracks_a_planned_trajectory_within_2cm(mg: MotionGenerator, fresh_world) -> None:
+    from manip.sim.articulation import Robot
+    from manip.sim.robots import robot_model_path
+    from manip.sim.stage import add_reference_to_stage
+
+    c = mg.config
+    mg.update_world({})
+    start = c.default_joint_positions
+    goal = mg.fk(start)
+    target = Pose(goal.position + np.array([0.0, 0.15, -0.1]), goal.quaternion)
+    plan = mg.plan_pose(start, target)
+    assert plan.success, plan.status
+    world = fresh_world(gravity=(0.0, 0.0, -9.81))
+    add_reference_to_stage(robot_model_path(c.name), "/World/arm")
+    robot = world.scene.add(Robot("/World/arm", name="arm"))
+    world.reset()
+    idx = np.array([robot.get_dof_index(j) for j in c.arm_joints])
+    robot.set_joint_positions(start, idx)
+    t = plan.trajectory
+    assert abs(t.dt - world.get_physics_dt()) < 1e-9
+    worst = 0.0
+    for k in range(1, len(t.times)):
+        robot.apply_action(ArticulationAction(joint_positions=t.positions[k], joint_velocities=t.velocities[k],
+                                              joint_indices=idx))
+        world.step(render=False)
+        q = robot.get_joint_positions(idx)
+        worst = max(worst, float(np.linalg.norm(mg.fk(q).position - mg.fk(t.positions[k]).position)))
+    assert worst < 0.02
+
+
+def test_mjcf_files_are_up_to_date(mg: MotionGenerator) -> None:
+    from manip.sim.mjcf_builder import build_mjcf
+
+    text, assets = build_mjcf(mg.config)
+    assert mg.config.mjcf_path.read_text() == text, "rerun robots/tools/make_mjcf.py"
+    for name, data in assets.items():
+        assert (mg.config.mjcf_path.parent / "assets" / name).read_bytes() == data
