@@ -50,8 +50,11 @@ def test_world_bodies_stream_to_the_browser(port):
         cube_frame = scene.get_handle_by_name("/sim/_World_cube")
         hand = scene.get_handle_by_name("/sim/_World_Franka_panda_hand")
         assert cube_frame is not None and hand is not None
-        mesh_nodes = [n for n in app._viewer.node_names if "panda_link" in n and n.count("/") == 3]
-        assert len(mesh_nodes) >= 8  # the arm's link meshes, children of their body frames
+        # the moving links' meshes (link1-7 and the hand), children of their body frames (the
+        # base, welded to the world, is drawn once under /sim/static)
+        mesh_nodes = [n for n in app._viewer.node_names
+                      if ("_panda_link" in n or "_panda_hand/" in n) and n.count("/") == 3]
+        assert len(mesh_nodes) >= 8
         for _ in range(30):  # the cube falls 0.3 m
             world.step(render=True)
         time.sleep(1.0 / rate)  # the next render is due
