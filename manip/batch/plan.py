@@ -15,8 +15,9 @@ from __future__ import annotations
 import logging
 import os
 from collections.abc import Iterable, Iterator
+from typing import Any
 
-from manip.batch import process_pool
+from manip.batch import process_pool, worker
 from manip.batch.problem import Problem, ProblemId, Task, prepare
 from manip.errors import InvalidInputError
 from manip.planning.result import PlanResult
@@ -58,15 +59,24 @@ def plan_stream(
         InvalidInputError: a malformed problem, workers < 1, an unknown backend.
         WorkerLostError: workers kept dying on the same problems.
     """
-    tasks, n = _validate(problems, workers, backend, seed)
+    tasks, n = validate(problems, workers, backend, seed)
+    return run_tasks(tasks, workers=n, backend=backend, ray_address=ray_address)
+
+
+def run_tasks(tasks: list[Task], *, workers: int | None, backend: str, ray_address: str | None = None,
+              job: process_pool.Job = worker.solve) -> Iterator[tuple[ProblemId, Any]]:
+    """Run `job` on validated tasks (from `prepare`) on a backend; yield (id, job result).
+
+    `plan_stream` with `job=worker.solve`; `manip.datagen` passes a job that also verifies.
+    """
     if not tasks:
         return iter(())
     if backend == "ray":
         from manip.batch import ray_backend  # optional: only with the ray extra
 
         ray_backend.import_ray()
-        return ray_backend.run(tasks, n, ray_address)
-    return process_pool.run(tasks, n or os.cpu_count() or 1)
+        return ray_backend.run(tasks, workers, ray_address, job=job)
+    return process_pool.run(tasks, workers or os.cpu_count() or 1, job)
 
 
 def plan_many(
@@ -113,8 +123,9 @@ def plan_many(
     return [results[pid] for pid in ids]
 
 
-def _validate(problems: Iterable[Problem], workers: int | None, backend: str,
-              seed: int) -> tuple[list[Task], int | None]:
+def validate(problems: Iterable[Problem], workers: int | None, backend: str,
+             seed: int) -> tuple[list[Task], int | None]:
+    """(tasks, worker count or None) of a batch; raises before anything starts (see `plan_stream`)."""
     if not isinstance(backend, str) or backend not in BACKENDS:
         raise InvalidInputError(f"backend must be one of {list(BACKENDS)}; got {backend!r}")
     n = None if workers is None else integer(workers, "workers", 1)

@@ -19,14 +19,14 @@ import logging
 import multiprocessing as mp
 import signal
 from collections import deque
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
+from typing import Any
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 
 from manip.batch import worker
 from manip.batch.problem import ProblemId, Task
 from manip.errors import ManipError
-from manip.planning.result import PlanResult
 
 log = logging.getLogger(__name__)
 
@@ -62,15 +62,21 @@ def _stop(pool: ProcessPoolExecutor) -> None:
         p.join(timeout=5)
 
 
-def run(tasks: Sequence[Task], workers: int) -> Iterator[tuple[ProblemId, PlanResult]]:
+#: What a worker runs on a task: `worker.solve` (or a module-level function of the same shape).
+Job = Callable[[Task], tuple[ProblemId, Any]]
+
+
+def run(tasks: Sequence[Task], workers: int, job: Job = worker.solve) -> Iterator[tuple[ProblemId, Any]]:
     """Plan `tasks` on `workers` local processes; yield (id, result) as plans finish.
 
     Args:
         tasks: validated tasks.
         workers: number of worker processes (>= 1).
+        job: the function run on each task in a worker (picklable: module level).
 
     Yields:
-        (problem id, PlanResult), each task exactly once, in order of completion.
+        (problem id, job's result: a PlanResult for `worker.solve`), each task exactly
+        once, in order of completion.
 
     Raises:
         WorkerLostError: a task's workers died `MAX_ATTEMPTS` times.
@@ -86,7 +92,7 @@ def run(tasks: Sequence[Task], workers: int) -> Iterator[tuple[ProblemId, PlanRe
             while queue and len(inflight) < INFLIGHT_PER_WORKER * workers:
                 task = queue.popleft()
                 attempts[task.id] = attempts.get(task.id, 0) + 1
-                inflight[pool.submit(worker.solve, task)] = task
+                inflight[pool.submit(job, task)] = task
             done, _ = wait(inflight, return_when=FIRST_COMPLETED)
             lost: list[Task] = []
             for f in done:

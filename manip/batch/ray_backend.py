@@ -23,9 +23,8 @@ from typing import Any
 
 from manip.batch import worker
 from manip.batch.problem import ProblemId, Task
-from manip.batch.process_pool import INFLIGHT_PER_WORKER, MAX_ATTEMPTS, WorkerLostError
+from manip.batch.process_pool import INFLIGHT_PER_WORKER, MAX_ATTEMPTS, Job, WorkerLostError
 from manip.errors import ManipError
-from manip.planning.result import PlanResult
 
 log = logging.getLogger(__name__)
 
@@ -45,9 +44,9 @@ class PlanActor:
     def __init__(self, robots: tuple[str, ...]):
         worker.warm_up(robots)
 
-    def solve(self, task: Task) -> tuple[ProblemId, PlanResult]:
-        """`worker.solve` in the actor's process."""
-        return worker.solve(task)
+    def solve(self, task: Task, job: Job = worker.solve) -> tuple[ProblemId, Any]:
+        """`job(task)` (default `worker.solve`) in the actor's process."""
+        return job(task)
 
     def pid(self) -> int:
         """The actor's process id."""
@@ -62,7 +61,7 @@ def start_actors(workers: int, robots: tuple[str, ...]) -> list[Any]:
 
 
 def run(tasks: Sequence[Task], workers: int | None, address: str | None = None,
-        actors: list[Any] | None = None) -> Iterator[tuple[ProblemId, PlanResult]]:
+        actors: list[Any] | None = None, job: Job = worker.solve) -> Iterator[tuple[ProblemId, Any]]:
     """Plan `tasks` on Ray actors; yield (id, result) as plans finish.
 
     Args:
@@ -71,9 +70,10 @@ def run(tasks: Sequence[Task], workers: int | None, address: str | None = None,
         address: passed to `ray.init` when Ray is not initialised yet (None: a local
             instance; "auto" or "ray://host:10001": an existing cluster).
         actors: actors from `start_actors` to use (they are left running); None = start them.
+        job: the function run on each task (module level, importable on the cluster).
 
     Yields:
-        (problem id, PlanResult), each task exactly once, in order of completion.
+        (problem id, job's result), each task exactly once, in order of completion.
 
     Raises:
         WorkerLostError: a task failed on `MAX_ATTEMPTS` actors.
@@ -87,7 +87,7 @@ def run(tasks: Sequence[Task], workers: int | None, address: str | None = None,
         if own:
             n = workers or max(1, int(ray.cluster_resources().get("CPU", 1)))
             actors = start_actors(n, tuple(sorted({t.robot for t in tasks})))
-        yield from _dispatch(ray, tasks, list(actors))
+        yield from _dispatch(ray, tasks, list(actors), job)
     finally:
         if own and actors:
             for a in actors:
@@ -96,7 +96,7 @@ def run(tasks: Sequence[Task], workers: int | None, address: str | None = None,
             ray.shutdown()
 
 
-def _dispatch(ray: Any, tasks: Sequence[Task], actors: list[Any]) -> Iterator[tuple[ProblemId, PlanResult]]:
+def _dispatch(ray: Any, tasks: Sequence[Task], actors: list[Any], job: Job) -> Iterator[tuple[ProblemId, Any]]:
     queue = deque(tasks)
     attempts: dict[ProblemId, int] = {}
     load = [0] * len(actors)
@@ -107,7 +107,7 @@ def _dispatch(ray: Any, tasks: Sequence[Task], actors: list[Any]) -> Iterator[tu
             while queue and load[a] < INFLIGHT_PER_WORKER:
                 task = queue.popleft()
                 attempts[task.id] = attempts.get(task.id, 0) + 1
-                inflight[actors[a].solve.remote(task)] = (task, a)
+                inflight[actors[a].solve.remote(task, job)] = (task, a)
                 load[a] += 1
         if not inflight:
             raise WorkerLostError(f"every actor died; {len(queue)} problems not planned")
