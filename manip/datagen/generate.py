@@ -97,6 +97,7 @@ def generate(
     time_budget = positive(time_budget, "time_budget", "s")
     rows_per_part = integer(rows_per_part, "rows_per_part", 1)
     ids = plan_ids(kinds, scenes, problems_per_scene)
+    validate([], workers, backend, seed)  # a bad worker count or backend fails before any work
     settings = {"seed": seed, "kinds": list(kinds), "problems_per_scene": problems_per_scene, "robot": ROBOT,
                 "time_budget": time_budget}
     folder = dataset.open_folder(out, settings)
