@@ -163,7 +163,8 @@ def main() -> None:
           "| mean plan time [s] | success | identical to 1 process |")
     print("|---|---|---|---|---|---|---|---|---|")
     for name, w, r in rows:
-        print(f"| {name} | {w} | {r['wall']:.1f} | {r['e2e']:.2f} | {r['steady']:.2f} | {'n/a' if np.isnan(r['cpu']) else f"{r['cpu']:.3f}"} | "
+        cpu_s = "n/a" if np.isnan(r["cpu"]) else f"{r['cpu']:.3f}"
+        print(f"| {name} | {w} | {r['wall']:.1f} | {r['e2e']:.2f} | {r['steady']:.2f} | {cpu_s} | "
               f"{r['plan_mean']:.3f} | {r['success']}/{args.n} | {identical(r, r1)}/{args.n} |")
     print()
     print(f"- 2 workers / 1 worker: {r2['e2e'] / r1['e2e']:.2f}x end to end, {r2['steady'] / r1['steady']:.2f}x steady.")
