@@ -44,7 +44,7 @@ def plan_stream(
 
     Args:
         problems: the problems (ids default to their index in this iterable).
-        workers: worker processes (or Ray actors); None = all cores (`os.cpu_count()`),
+        workers: worker processes (or Ray actors); None = all cores this process may use,
             or for Ray the cluster's CPUs.
         backend: "process" (local processes, no Ray needed) or "ray".
         seed: batch seed (>= 0); problem i plans with `problem_seed(seed, id_i)`.
@@ -76,7 +76,7 @@ def run_tasks(tasks: list[Task], *, workers: int | None, backend: str, ray_addre
 
         ray_backend.import_ray()
         return ray_backend.run(tasks, workers, ray_address, job=job)
-    return process_pool.run(tasks, workers or os.cpu_count() or 1, job)
+    return process_pool.run(tasks, workers or _cores(), job)
 
 
 def plan_many(
@@ -132,7 +132,14 @@ def validate(problems: Iterable[Problem], workers: int | None, backend: str,
     return prepare(problems, seed), n
 
 
-def _progress_bar(total: int):
+def _cores() -> int:
+    """CPUs this process may run on (the affinity mask where the OS has one)."""
+    if hasattr(os, "sched_getaffinity"):
+        return len(os.sched_getaffinity(0))
+    return os.cpu_count() or 1
+
+
+def _progress_bar(total: int) -> Any:
     try:
         from tqdm.auto import tqdm
     except ImportError:

@@ -1,4 +1,8 @@
-"""`python -m manip.datagen`: generate a planning dataset (see `manip.datagen`)."""
+"""`python -m manip.datagen`: generate a planning dataset (see `manip.datagen`).
+
+Exit status: 0 when done, 1 when a trajectory planned as successful failed the independent
+verifier, 2 on bad flags or settings, 130 after Ctrl-C (the rows received are kept).
+"""
 
 from __future__ import annotations
 
