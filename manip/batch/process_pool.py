@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import logging
 import multiprocessing as mp
+import os
 import signal
 from collections import deque
 from collections.abc import Callable, Iterator, Sequence
@@ -34,13 +35,20 @@ log = logging.getLogger(__name__)
 INFLIGHT_PER_WORKER = 2
 #: A task is tried in at most this many pools (a worker death fails every unfinished task of its pool).
 MAX_ATTEMPTS = 4
+#: Start each worker in a session of its own (`os.setsid`). Linux's autogroup scheduler
+#: shares CPU time between sessions, so on a machine busy with other sessions the workers of
+#: one session share one session's slice (Ray's workers run in sessions of their own).
+#: Off by default: the machine's policy stays the user's; `benchmarks/batch.py` measures both.
+NEW_SESSION = False
 
 
 class WorkerLostError(ManipError):
     """Workers kept dying while these problems were being planned."""
 
 
-def _init_worker(robots: tuple[str, ...]) -> None:
+def _init_worker(robots: tuple[str, ...], new_session: bool) -> None:
+    if new_session:
+        os.setsid()
     # Ctrl-C in a terminal reaches the whole process group: the caller stops the workers.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     worker.warm_up(robots)
@@ -48,7 +56,7 @@ def _init_worker(robots: tuple[str, ...]) -> None:
 
 def _new_pool(workers: int, robots: tuple[str, ...]) -> ProcessPoolExecutor:
     return ProcessPoolExecutor(workers, mp_context=mp.get_context("spawn"), initializer=_init_worker,
-                               initargs=(robots,))
+                               initargs=(robots, NEW_SESSION))
 
 
 def _stop(pool: ProcessPoolExecutor) -> None:
