@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import logging
 import os
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable, Iterator, Sequence
 from typing import Any
 
 from manip.batch import process_pool, worker
@@ -63,11 +63,12 @@ def plan_stream(
     return run_tasks(tasks, workers=n, backend=backend, ray_address=ray_address)
 
 
-def run_tasks(tasks: list[Task], *, workers: int | None, backend: str, ray_address: str | None = None,
+def run_tasks(tasks: Sequence[Any], *, workers: int | None, backend: str, ray_address: str | None = None,
               job: process_pool.Job = worker.solve) -> Iterator[tuple[ProblemId, Any]]:
-    """Run `job` on validated tasks (from `prepare`) on a backend; yield (id, job result).
+    """Run `job` on validated tasks on a backend; yield (task id, job result) as they finish.
 
-    `plan_stream` with `job=worker.solve`; `manip.datagen` passes a job that also verifies.
+    `plan_stream` runs `worker.solve` on the tasks of `prepare`; `manip.datagen` runs its own
+    job on its own task type (any picklable object with `id` and `robot` attributes).
     """
     if not tasks:
         return iter(())

@@ -74,11 +74,11 @@ def _stop(pool: ProcessPoolExecutor) -> None:
 Job = Callable[[Task], tuple[ProblemId, Any]]
 
 
-def run(tasks: Sequence[Task], workers: int, job: Job = worker.solve) -> Iterator[tuple[ProblemId, Any]]:
+def run(tasks: Sequence[Any], workers: int, job: Job = worker.solve) -> Iterator[tuple[ProblemId, Any]]:
     """Plan `tasks` on `workers` local processes; yield (id, result) as plans finish.
 
     Args:
-        tasks: validated tasks.
+        tasks: validated tasks (a `Task`, or a job's own picklable task type with `id` and `robot`).
         workers: number of worker processes (>= 1).
         job: the function run on each task in a worker (picklable: module level).
 

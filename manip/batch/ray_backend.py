@@ -60,12 +60,12 @@ def start_actors(workers: int, robots: tuple[str, ...]) -> list[Any]:
     return [actor.remote(robots) for _ in range(workers)]
 
 
-def run(tasks: Sequence[Task], workers: int | None, address: str | None = None,
+def run(tasks: Sequence[Any], workers: int | None, address: str | None = None,
         actors: list[Any] | None = None, job: Job = worker.solve) -> Iterator[tuple[ProblemId, Any]]:
     """Plan `tasks` on Ray actors; yield (id, result) as plans finish.
 
     Args:
-        tasks: validated tasks.
+        tasks: validated tasks (a `Task`, or a job's own picklable task type with `id` and `robot`).
         workers: number of actors (None: the cluster's CPUs).
         address: passed to `ray.init` when Ray is not initialised yet (None: a local
             instance; "auto" or "ray://host:10001": an existing cluster).
@@ -96,7 +96,7 @@ def run(tasks: Sequence[Task], workers: int | None, address: str | None = None,
             ray.shutdown()
 
 
-def _dispatch(ray: Any, tasks: Sequence[Task], actors: list[Any], job: Job) -> Iterator[tuple[ProblemId, Any]]:
+def _dispatch(ray: Any, tasks: Sequence[Any], actors: list[Any], job: Job) -> Iterator[tuple[ProblemId, Any]]:
     queue = deque(tasks)
     attempts: dict[ProblemId, int] = {}
     load = [0] * len(actors)

@@ -1,8 +1,8 @@
 """`generate`: plan a dataset of seeded problems on every core or on a Ray cluster.
 
-Problems are built in this process (`problems.make_dataset_problems`), planned and
-verified by the workers of `manip.batch` (`job.plan_and_verify`) and written here as they
-arrive (`dataset.PartWriter`). Problem ids already in the folder are skipped, so an
+The workers of `manip.batch` build each scene, plan and verify its pairs
+(`job.plan_scene`, one task per scene); the rows are written here as scenes come back
+(`dataset.PartWriter`). Problem ids already in the folder are skipped, so an
 interrupted run is resumed by running the same command again; on an interrupt (Ctrl-C)
 the rows received so far are written before the workers are stopped.
 """
@@ -11,16 +11,17 @@ from __future__ import annotations
 
 import logging
 import time
+from collections import defaultdict
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from manip.batch import Problem
 from manip.batch.plan import run_tasks, validate
 from manip.benchmarking.scenes import SCENE_KINDS
 from manip.datagen import dataset
-from manip.datagen.job import plan_and_verify
-from manip.datagen.problems import check_kinds, make_dataset_problems, plan_ids, problem_id
+from manip.datagen.job import SceneTask, plan_scene
+from manip.datagen.problems import check_kinds, plan_ids, problem_id
+from manip.planning.options import PlanOptions
 from manip.validation import integer, positive
 
 log = logging.getLogger(__name__)
@@ -97,7 +98,7 @@ def generate(
     time_budget = positive(time_budget, "time_budget", "s")
     rows_per_part = integer(rows_per_part, "rows_per_part", 1)
     ids = plan_ids(kinds, scenes, problems_per_scene)
-    validate([], workers, backend, seed)  # a bad worker count or backend fails before any work
+    _, n = validate([], workers, backend, seed)  # a bad worker count or backend fails before any work
     settings = {"seed": seed, "kinds": list(kinds), "problems_per_scene": problems_per_scene, "robot": ROBOT,
                 "time_budget": time_budget}
     folder = dataset.open_folder(out, settings)
@@ -106,22 +107,25 @@ def generate(
     skipped = len(ids) - len(wanted)
     if on_total is not None:
         on_total(len(wanted))
-    problems = make_dataset_problems(wanted, seed)
-    by_id = {p.id: p for p in problems}
-    batch = [Problem(p.world, p.start, p.goal, ROBOT, {"time_budget": time_budget}, p.id) for p in problems]
-    tasks, n = validate(batch, workers, backend, seed)
-    seeds = {t.id: t.options["seed"] for t in tasks}
+    options = {"time_budget": time_budget}
+    PlanOptions().updated(options)
+    pairs: dict[tuple[str, int], list[int]] = defaultdict(list)
+    for kind, scene, pair in wanted:
+        pairs[(kind, scene)].append(pair)
+    tasks = [SceneTask(f"{kind}-{scene:06d}", ROBOT, kind, scene, tuple(ps), seed, options)
+             for (kind, scene), ps in pairs.items()]
     writer = dataset.PartWriter(folder, rows_per_part)
     succeeded = verified = 0
-    stream = run_tasks(tasks, workers=n, backend=backend, ray_address=ray_address, job=plan_and_verify)
+    stream = run_tasks(tasks, workers=n, backend=backend, ray_address=ray_address, job=plan_scene)
     try:
-        for pid, (result, verdict) in stream:
-            row = dataset.make_row(by_id[pid], seeds[pid], ROBOT, result, verdict)
-            writer.add(row)
-            succeeded += bool(result.success)
-            verified += verdict.verified
-            if on_row is not None:
-                on_row(row)
+        for _, planned in stream:
+            for problem, problem_seed, result, verdict in planned:
+                row = dataset.make_row(problem, problem_seed, ROBOT, result, verdict)
+                writer.add(row)
+                succeeded += bool(result.success)
+                verified += verdict.verified
+                if on_row is not None:
+                    on_row(row)
     finally:
         writer.flush()  # keep what arrived, also on Ctrl-C
         if hasattr(stream, "close"):

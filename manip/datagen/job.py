@@ -1,12 +1,20 @@
-"""What a dataset worker runs on a problem: plan it, then check the trajectory independently."""
+"""What a dataset worker runs: build one scene's problems, plan them, verify the trajectories.
+
+A `SceneTask` names a scene and the pairs of it still to plan; the worker makes the scene
+(`problems.make_scene`, constant time), plans every pair on its warm generator (the world
+is loaded once for the scene) and checks each returned trajectory with the independent
+verifier (`manip.benchmarking.verify`).
+"""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 from manip.batch import worker
-from manip.batch.problem import ProblemId, Task
+from manip.batch.problem import Task, problem_seed
 from manip.benchmarking.verify import default_verifier
+from manip.datagen.problems import DataProblem, make_scene
 from manip.planning.result import PlanResult
 
 
@@ -24,19 +32,52 @@ class Verdict:
     reasons: tuple[str, ...] = ()
 
 
-def plan_and_verify(task: Task) -> tuple[ProblemId, tuple[PlanResult, Verdict]]:
-    """Plan `task` on the worker's warm generator and verify the trajectory it returns.
+@dataclass(frozen=True)
+class SceneTask:
+    """The pairs of one scene to plan (what a dataset worker receives).
+
+    Attributes:
+        id: the scene id, "<kind>-<scene:06d>".
+        robot: robot name.
+        kind: scene kind.
+        scene: index of the scene among those of its kind.
+        pairs: the pairs to plan.
+        seed: dataset seed (scenes, pairs and planning seeds derive from it).
+        options: planning options (validated by the caller; no `seed`).
+    """
+
+    id: str
+    robot: str
+    kind: str
+    scene: int
+    pairs: tuple[int, ...]
+    seed: int
+    options: dict[str, Any]
+
+
+#: One planned problem: the problem, its planning seed, the result and the verdict.
+Planned = tuple[DataProblem, int, PlanResult, Verdict]
+
+
+def plan_scene(task: SceneTask) -> tuple[str, list[Planned]]:
+    """Build the scene's problems, plan and verify each (in a worker).
 
     Args:
-        task: a joint-goal task whose world is a cuRobo-style dict.
+        task: the scene and its pairs.
 
     Returns:
-        (id, (the PlanResult, the Verdict)).
+        (the scene id, one `Planned` per pair, in the order of `task.pairs`).
     """
-    pid, result = worker.solve(task)
-    traj = result.trajectory
-    if traj is None:
-        return pid, (result, Verdict(False))
-    v = default_verifier().verify_trajectory(task.world, traj.times, traj.positions, traj.velocities,
-                                             traj.accelerations, start_q=task.start, goal_q=task.goal)
-    return pid, (result, Verdict(bool(v.valid), tuple(v.reasons)))
+    out: list[Planned] = []
+    for p in make_scene(task.kind, task.scene, task.pairs, task.seed):
+        seed = problem_seed(task.seed, p.id)
+        _, result = worker.solve(Task(p.id, task.robot, p.world, task.id, p.start, p.goal, {**task.options, "seed": seed}))
+        traj = result.trajectory
+        if traj is None:
+            verdict = Verdict(False)
+        else:
+            v = default_verifier().verify_trajectory(p.world, traj.times, traj.positions, traj.velocities,
+                                                     traj.accelerations, start_q=p.start, goal_q=p.goal)
+            verdict = Verdict(bool(v.valid), tuple(v.reasons))
+        out.append((p, seed, result, verdict))
+    return task.id, out

@@ -1,10 +1,12 @@
 """The problems of a dataset: seeded scenes and collision-free start/goal pairs in each.
 
 Scene `s` (0-based over the whole dataset) is of kind `kinds[s % len(kinds)]` and is scene
-number `s // len(kinds)` of that kind, made by `manip.benchmarking.scenes.make_problems`
-(the seeded generator of the benchmarks). Pair 0 of a scene is the generator's own
-start/goal (a goal inside the structure); pairs 1.. are random configurations within the
-joint limits that the independent verifier finds free of self and world collision, drawn
+number `i = s // len(kinds)` of that kind: the first problem that
+`manip.benchmarking.scenes.make_problems(kind, 1, scene_seed(seed, kind, i))` makes (the
+seeded generator of the benchmarks, given a seed of its own per scene, so that any scene is
+made in constant time by whichever worker plans it). Pair 0 of a scene is the generator's
+own start/goal (a goal inside the structure); pairs 1.. are random configurations within
+the joint limits that the independent verifier finds free of self and world collision, drawn
 from a generator seeded by (seed, kind, scene, pair). A problem's id names all of this:
 "table-000003-01" is pair 1 of table scene 3; it does not depend on the number of scenes,
 so a larger rerun extends a dataset.
@@ -91,32 +93,35 @@ def _random_free(verifier: Verifier, world: dict, rng: np.random.Generator, away
     raise RuntimeError(f"no collision-free configuration in {MAX_TRIES} random draws")  # pragma: no cover
 
 
-def make_dataset_problems(wanted: Sequence[tuple[str, int, int]], seed: int,
-                          verifier: Verifier | None = None) -> list[DataProblem]:
-    """Build the problems `wanted` ((kind, scene, pair) triples from `plan_ids`).
+def scene_seed(seed: int, kind: str, scene: int) -> int:
+    """The generator seed of scene `scene` of `kind` in a dataset of seed `seed` (in [0, 2**32))."""
+    key = (SCENE_KINDS.index(kind), integer(scene, "scene", 0))
+    return int(np.random.SeedSequence(integer(seed, "seed", 0), spawn_key=key).generate_state(1)[0])
+
+
+def make_scene(kind: str, scene: int, pairs: Sequence[int], seed: int,
+               verifier: Verifier | None = None) -> list[DataProblem]:
+    """Build pairs `pairs` of scene `scene` of `kind` (constant time in `scene`).
 
     Args:
-        wanted: the problems to build.
+        kind: scene kind.
+        scene: index of the scene among those of its kind.
+        pairs: the start/goal pairs wanted (0 = the generator's own).
         seed: dataset seed (>= 0).
         verifier: the judge of collision-free configurations (default: the Franka verifier).
 
     Returns:
-        The problems, in the order of `wanted`.
+        One problem per pair, in the order of `pairs`.
     """
-    seed = integer(seed, "seed", 0)
     v = verifier or default_verifier()
-    last: dict[str, int] = {}
-    for kind, scene, _ in wanted:
-        last[kind] = max(last.get(kind, -1), scene)
-    base = {kind: make_problems(kind, n + 1, seed, v) for kind, n in last.items()}
+    base = make_problems(kind, 1, scene_seed(seed, kind, scene), v)[0]
     out = []
-    for kind, scene, pair in wanted:
-        p = base[kind][scene]
+    for pair in pairs:
         if pair == 0:
-            start, goal = np.array(p.start), np.array(p.goal)
+            start, goal = np.array(base.start), np.array(base.goal)
         else:
             rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(SCENE_KINDS.index(kind), scene, pair)))
-            start = _random_free(v, p.world, rng, None)
-            goal = _random_free(v, p.world, rng, start)
-        out.append(DataProblem(problem_id(kind, scene, pair), kind, scene, pair, p.world, start, goal))
+            start = _random_free(v, base.world, rng, None)
+            goal = _random_free(v, base.world, rng, start)
+        out.append(DataProblem(problem_id(kind, scene, pair), kind, scene, pair, base.world, start, goal))
     return out
