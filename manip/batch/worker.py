@@ -41,9 +41,10 @@ def generator(robot: str) -> MotionGenerator:
 def warm_up(robots: tuple[str, ...]) -> None:
     """Build the generators of `robots` and run warm-up plans through every planning stage.
 
-    The plans go from the default configuration past an obstacle between it and a moved
-    configuration (path search, shortcutting, timing, the optimiser) and along the straight
-    line; their results are discarded and the world is emptied afterwards.
+    The plans go from the default configuration to a moved one around a box placed between
+    the two hand positions (for the Franka: path search, shortcutting, timing, the
+    optimiser), to a pose (IK), and along the straight line; their results are discarded
+    and the world is emptied afterwards.
 
     Args:
         robots: robot names.
