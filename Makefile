@@ -1,5 +1,5 @@
 # Two commands do everything on a fresh machine with Python >= 3.10 and pip:
-#   make test   set up .venv, install manip[dev], run the test suite
+#   make test   set up .venv, install manip[dev,video,ray], run the test suite
 #   make demo   set up .venv, run the flagship example headless
 PYTHON ?= python3
 VENV   ?= .venv
@@ -13,7 +13,7 @@ $(PY):
 
 $(STAMP): $(PY) pyproject.toml
 	$(PY) -m pip install --upgrade pip
-	$(PY) -m pip install -e ".[dev,video,viz]"
+	$(PY) -m pip install -e ".[dev,video,viz,ray]"
 	touch $(STAMP)
 
 setup: $(STAMP)

@@ -1,0 +1,198 @@
+"""Batch planning throughput: 1 vs 2 worker processes, Ray actors vs tasks vs the process
+pool, a two-node Ray test cluster against the local run (bit for bit), and a worker killed
+in the middle of the batch. Prints a markdown section for BENCHMARKS.md.
+
+The problems: `make_problems(kind, n / 5, seed)` of each of the five seeded scene kinds
+(table, shelf, box, cage, clutter), joint goals, the default 5 s budget, batch seed 0.
+Throughput is given end to end (plan_many's wall time, worker start and warm-up included)
+and steady (results 2..n over the time between the first and the last result). CPU time
+per problem is the workers' user + system time (getrusage of the finished children) over
+the problems; the machine is shared, so compare ratios within one run.
+
+Usage:
+    .venv/bin/python benchmarks/batch.py [--n 200] [--no-ray]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import resource
+import signal
+import subprocess
+import time
+import multiprocessing as mp
+from collections import Counter
+
+import numpy as np
+
+from manip.batch import Problem, plan_stream
+from manip.batch import process_pool, worker
+from manip.batch.problem import prepare
+from manip.benchmarking.scenes import SCENE_KINDS, make_problems
+from manip.motion_generator import MotionGenerator
+
+
+def problems(n: int, seed: int = 0) -> list[Problem]:
+    """n problems, n / 5 of each scene kind, ids "<kind>/<i>"."""
+    out = []
+    for kind in SCENE_KINDS:
+        for p in make_problems(kind, n // len(SCENE_KINDS), seed):
+            out.append(Problem(p.world, p.start, p.goal, id=f"{kind}/{p.index}"))
+    return out
+
+
+def _children_cpu() -> float:
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
+def run(batch, kill_after: int | None = None, **kwargs) -> dict:
+    """Plan `batch` through plan_stream; wall times, results by id, how often each id came back."""
+    cpu0 = _children_cpu()
+    t0 = time.perf_counter()
+    times, results, seen = [], {}, Counter()
+    for pid, r in plan_stream(batch, **kwargs):
+        times.append(time.perf_counter())
+        results[pid] = r
+        seen[pid] += 1
+        if kill_after is not None and len(times) == kill_after:
+            victim = mp.active_children()[0].pid
+            os.kill(victim, signal.SIGKILL)
+    wall = time.perf_counter() - t0
+    n = len(batch)
+    return {
+        "wall": wall, "e2e": n / wall, "steady": (n - 1) / (times[-1] - times[0]), "results": results, "seen": seen,
+        # Ray workers are not children of this process: their CPU time is not counted here
+        "cpu": (_children_cpu() - cpu0) / n if kwargs.get("backend", "process") == "process" else float("nan"), "plan_mean": float(np.mean([r.plan_time for r in results.values()])),
+        "success": sum(r.success for r in results.values()),
+    }
+
+
+def identical(a: dict, b: dict) -> int:
+    """How many problems have the same status and bit-identical trajectories in both runs."""
+    same = 0
+    for pid, ra in a["results"].items():
+        rb = b["results"][pid]
+        if ra.status is rb.status and (
+            (ra.trajectory is None and rb.trajectory is None)
+            or (ra.trajectory is not None and rb.trajectory is not None
+                and np.array_equal(ra.trajectory.positions, rb.trajectory.positions))):
+            same += 1
+    return same
+
+
+def world_switch_cost(batch) -> tuple[float, float]:
+    """Median [ms] of `update_world` on a warm generator vs building a new generator with the world."""
+    worker.warm_up(("franka",))
+    mg = worker.generator("franka")
+    upd, new = [], []
+    for p in batch[:50]:
+        t = time.perf_counter()
+        mg.update_world(p.world)
+        upd.append(time.perf_counter() - t)
+        t = time.perf_counter()
+        MotionGenerator("franka", p.world)
+        new.append(time.perf_counter() - t)
+    return 1e3 * float(np.median(upd)), 1e3 * float(np.median(new))
+
+
+def ray_tasks(ray, batch, seed: int) -> dict:
+    """The same batch as Ray tasks (worker processes warm up on their first task)."""
+    tasks = prepare(batch, seed)
+    solve = ray.remote(num_cpus=1)(worker.solve)
+    t0 = time.perf_counter()
+    refs = [solve.remote(t) for t in tasks]
+    results, times = {}, []
+    pending = list(refs)
+    while pending:
+        done, pending = ray.wait(pending, num_returns=1)
+        pid, r = ray.get(done[0])
+        results[pid] = r
+        times.append(time.perf_counter())
+    wall = time.perf_counter() - t0
+    n = len(batch)
+    return {"wall": wall, "e2e": n / wall, "steady": (n - 1) / (times[-1] - times[0]), "results": results,
+            "seen": Counter(results), "cpu": float("nan"), "success": sum(r.success for r in results.values()),
+            "plan_mean": float(np.mean([r.plan_time for r in results.values()]))}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--n", type=int, default=200, help="problems (a multiple of 5)")
+    ap.add_argument("--rounds", type=int, default=2,
+                    help="alternating 1-worker / 2-worker rounds (the load of a shared machine drifts)")
+    ap.add_argument("--no-ray", action="store_true", help="skip the Ray runs")
+    ap.add_argument("--worker-sessions", action="store_true",
+                    help="process workers in sessions of their own (process_pool.NEW_SESSION), as Ray's are")
+    args = ap.parse_args()
+    batch = problems(args.n)
+    process_pool.NEW_SESSION = args.worker_sessions
+    rows = []
+    load = os.getloadavg()[0]
+    upd, new = world_switch_cost(batch)
+
+    pairs = []
+    for k in range(args.rounds):
+        r1 = run(batch, workers=1)
+        rows.append((f"process (round {k + 1})", 1, r1))
+        r2 = run(batch, workers=2)
+        rows.append((f"process (round {k + 1})", 2, r2))
+        pairs.append((r1, r2))
+    r1, r2 = pairs[0]
+    fault = run(batch, workers=2, kill_after=args.n // 2)
+    extra = {}
+    if not args.no_ray:
+        import ray
+        from ray.cluster_utils import Cluster
+
+        ray.init(num_cpus=2, log_to_driver=False)
+        rr = run(batch, workers=2, backend="ray")
+        rows.append(("ray actors", 2, rr))
+        rt = ray_tasks(ray, batch, 0)
+        rows.append(("ray tasks", 2, rt))
+        ray.shutdown()
+        cluster = Cluster(initialize_head=True, head_node_args={"num_cpus": 1})
+        cluster.add_node(num_cpus=1)
+        ray.init(address=cluster.address, log_to_driver=False)
+        rc = run(batch, backend="ray")
+        rows.append(("ray 2-node cluster", 2, rc))
+        ray.shutdown()
+        cluster.shutdown()
+        extra = {"ray": rr, "tasks": rt, "cluster": rc}
+
+    cpu = subprocess.run(["lscpu"], capture_output=True, text=True).stdout
+    model = next((ln.split(":", 1)[1].strip() for ln in cpu.splitlines() if ln.startswith("Model name")), platform.processor())
+    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
+    print(f"Machine: {model}, {os.cpu_count()} cores; Python {platform.python_version()}; commit {commit}; "
+          f"{time.strftime('%Y-%m-%d %H:%M', time.gmtime())} UTC; load average {load:.1f} before the run (shared machine).\n")
+    print(f"{args.n} problems ({args.n // 5} of each seeded kind), joint goals, 5 s budget, seed 0; "
+          f"process workers in {'sessions of their own' if args.worker_sessions else 'the caller session'}.\n")
+    print("| backend | workers | wall [s] | problems/s end to end | problems/s steady | worker CPU s / problem "
+          "| mean plan time [s] | success | identical to 1 process |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for name, w, r in rows:
+        cpu_s = "n/a" if np.isnan(r["cpu"]) else f"{r['cpu']:.3f}"
+        print(f"| {name} | {w} | {r['wall']:.1f} | {r['e2e']:.2f} | {r['steady']:.2f} | {cpu_s} | "
+              f"{r['plan_mean']:.3f} | {r['success']}/{args.n} | {identical(r, r1)}/{args.n} |")
+    print()
+    for k, (a, b) in enumerate(pairs):
+        print(f"- Round {k + 1}, 2 workers / 1 worker: {b['e2e'] / a['e2e']:.2f}x end to end, "
+              f"{b['steady'] / a['steady']:.2f}x steady; worker CPU per problem {b['cpu'] / a['cpu']:.2f}x.")
+    if extra:
+        for key, label in (("ray", "Ray actors"), ("tasks", "Ray tasks")):
+            print(f"- {label} / process pool at 2 workers: {extra[key]['e2e'] / r2['e2e']:.2f}x end to end, "
+                  f"{extra[key]['steady'] / r2['steady']:.2f}x steady.")
+        print(f"- 2-node Ray cluster vs local 2-process run: {identical(extra['cluster'], r2)}/{args.n} bit-identical.")
+    print(f"- Fault run (2 workers, one SIGKILLed after {args.n // 2} results): {len(fault['seen'])}/{args.n} ids back, "
+          f"each once: {set(fault['seen'].values()) == {1}}; identical to the undisturbed run: "
+          f"{identical(fault, r2)}/{args.n}; wall {fault['wall']:.1f} s vs {r2['wall']:.1f} s.")
+    print(f"- World switch on a warm worker: update_world {upd:.1f} ms vs a new MotionGenerator {new:.0f} ms (median).")
+    per_core = max(a["steady"] for a, _ in pairs)
+    print(f"- Per core: {per_core:.2f} problems/s; 1 M problems = {1e6 / per_core / 3600:.0f} core-hours, "
+          f"e.g. {1e6 / per_core / 3600 / 64:.1f} h on 64 cores, {1e6 / per_core / 3600 / 512:.1f} h on 512.")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,197 @@
+"""`Problem`: one planning problem of a batch, and its validation before any worker starts.
+
+A batch is validated whole in the calling process (`prepare`): a bad robot name, a
+malformed world, a wrong shape, a NaN or an unknown option raises a `ManipError` naming
+the problem, before a single worker is started. What goes to the workers is a `Task`:
+the validated problem with its id, its derived seed and a key of its world (workers
+reuse a warm generator's world when the key repeats).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import pickle
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from functools import lru_cache
+from typing import Any
+
+import numpy as np
+
+from manip.collision import WorldConfig
+from manip.errors import InvalidInputError, ManipError, UnknownNameError
+from manip.planning.options import PlanOptions
+from manip.pose import Pose
+from manip.robot_config import available_robots, load_robot_config
+from manip.validation import integer, vec
+
+#: A problem id: an int (default: the problem's index in the batch) or a string.
+ProblemId = int | str
+
+
+@dataclass(frozen=True)
+class Problem:
+    """One planning problem: plan `robot` from `start` to `goal` in `world`.
+
+    Attributes:
+        world: the obstacles, a cuRobo-style dict ({"cuboid": {name: {"dims": [x, y, z],
+            "pose": [x, y, z, qw, qx, qy, qz]}}, ...}) or a `WorldConfig`, in the robot's
+            base frame [m].
+        start: (dof,) start configuration [rad].
+        goal: (dof,) joint goal [rad], or a `Pose` of the end-effector link (`plan_pose`).
+        robot: robot name (one of `manip.available_robots()`).
+        options: planning options (fields of `PlanOptions` except `seed`, which
+            `plan_many` derives from its own seed and the problem id).
+        id: an int or a string unique in the batch; None = the problem's index in it.
+    """
+
+    world: dict | WorldConfig = field(repr=False)
+    start: Any = field(repr=False)
+    goal: Any = field(repr=False)
+    robot: str = "franka"
+    options: Mapping[str, Any] | None = None
+    id: ProblemId | None = None
+
+
+@dataclass(frozen=True)
+class Task:
+    """A validated problem as a worker receives it (picklable).
+
+    Attributes:
+        id: the problem id.
+        robot: robot name.
+        world: the world as given (dict or WorldConfig); validated.
+        world_key: digest of the world's content (equal worlds, equal keys).
+        start: (dof,) start [rad].
+        goal: (dof,) joint goal [rad] or a Pose.
+        options: planning options, with the derived `seed`.
+    """
+
+    id: ProblemId
+    robot: str
+    world: dict | WorldConfig = field(repr=False)
+    world_key: str
+    start: np.ndarray = field(repr=False)
+    goal: np.ndarray | Pose = field(repr=False)
+    options: dict[str, Any]
+
+
+def problem_seed(seed: int, problem_id: ProblemId) -> int:
+    """The planning seed of one problem, derived from the batch seed and the problem id.
+
+    It depends on nothing else (not on the backend, the worker count or the order of
+    completion), so a problem plans the same wherever it runs.
+
+    Args:
+        seed: the batch seed (>= 0).
+        problem_id: an int or a string.
+
+    Returns:
+        A seed in [0, 2**32).
+    """
+    seed = integer(seed, "seed", 0)
+    if isinstance(problem_id, str):
+        digest = hashlib.sha256(problem_id.encode()).digest()
+        key = (1, int.from_bytes(digest[:8], "little"))
+    else:
+        key = (0, integer(problem_id, "problem id", 0))
+    return int(np.random.SeedSequence(seed, spawn_key=key).generate_state(1)[0])
+
+
+@lru_cache(maxsize=None)
+def _dof(robot: str) -> int:
+    return load_robot_config(robot).dof
+
+
+def _world_key(world: dict | WorldConfig) -> str:
+    if isinstance(world, dict):
+        text = json.dumps(world, sort_keys=True, default=lambda o: np.asarray(o).tolist()).encode()
+    else:
+        text = pickle.dumps(world, protocol=5)
+    return hashlib.sha1(text).hexdigest()
+
+
+def _check_world(world: Any, where: str) -> None:
+    if isinstance(world, WorldConfig):
+        return
+    if not isinstance(world, dict):
+        raise InvalidInputError(f"{where}: world must be a cuRobo-style dict or a WorldConfig; got {type(world).__name__}")
+    try:
+        WorldConfig.from_dict(world)
+    except ManipError as exc:
+        raise InvalidInputError(f"{where}: malformed world: {exc}") from exc
+    except (KeyError, TypeError, ValueError, AttributeError, IndexError) as exc:
+        raise InvalidInputError(f"{where}: malformed world ({type(exc).__name__}: {exc})") from exc
+
+
+def _check_options(options: Any, where: str) -> dict[str, Any]:
+    if options is None:
+        return {}
+    if not isinstance(options, Mapping):
+        raise InvalidInputError(f"{where}: options must be a dict of PlanOptions fields; got {type(options).__name__}")
+    options = dict(options)
+    if "seed" in options:
+        raise InvalidInputError(
+            f"{where}: options may not hold 'seed': each problem's seed is derived from plan_many's seed and the "
+            "problem id (manip.batch.problem_seed)"
+        )
+    try:
+        PlanOptions().updated(options)
+    except ManipError as exc:
+        raise InvalidInputError(f"{where}: {exc}") from exc
+    return options
+
+
+def prepare(problems: Iterable[Problem], seed: int) -> list[Task]:
+    """Validate a batch and turn it into tasks (in input order).
+
+    Args:
+        problems: the problems.
+        seed: the batch seed (>= 0).
+
+    Returns:
+        One `Task` per problem.
+
+    Raises:
+        UnknownNameError: an unknown robot (the message lists the valid ones).
+        InvalidInputError: anything else wrong (not a Problem, malformed world, wrong
+            shapes, NaN, bad or forbidden options, a duplicate or bad id); the message
+            names the problem.
+    """
+    seed = integer(seed, "seed", 0)
+    if isinstance(problems, (Problem, dict, str)) or not isinstance(problems, Iterable):
+        raise InvalidInputError(f"problems must be an iterable of manip.batch.Problem; got {type(problems).__name__}")
+    tasks: list[Task] = []
+    seen: dict[ProblemId, int] = {}
+    world_keys: dict[int, str] = {}  # id(world) -> key: a shared world object is hashed once
+    robots = available_robots()
+    for index, p in enumerate(problems):
+        if not isinstance(p, Problem):
+            raise InvalidInputError(f"problems[{index}] must be a manip.batch.Problem; got {type(p).__name__}")
+        pid = index if p.id is None else p.id
+        if isinstance(pid, bool) or not isinstance(pid, (int, np.integer, str)):
+            raise InvalidInputError(f"problems[{index}].id must be an int, a str or None; got {pid!r}")
+        pid = pid if isinstance(pid, str) else integer(pid, f"problems[{index}].id", 0)
+        if pid in seen:
+            raise InvalidInputError(f"problems[{index}]: id {pid!r} is also the id of problems[{seen[pid]}]; ids must be unique")
+        seen[pid] = index
+        where = f"problem {pid!r} (problems[{index}])"
+        if not isinstance(p.robot, str) or p.robot not in robots:
+            raise UnknownNameError("robot", str(p.robot), robots)
+        dof = _dof(p.robot)
+        _check_world(p.world, where)
+        start = vec(p.start, dof, f"{where}: start")
+        if isinstance(p.goal, Pose):
+            if p.goal.is_batch:
+                raise InvalidInputError(f"{where}: goal must be a single Pose; got a batch of {len(p.goal)}")
+            goal: np.ndarray | Pose = p.goal
+        else:
+            goal = vec(p.goal, dof, f"{where}: goal")
+        options = _check_options(p.options, where)
+        options["seed"] = problem_seed(seed, pid)
+        key = world_keys.get(id(p.world))
+        if key is None:
+            key = world_keys[id(p.world)] = _world_key(p.world)
+        tasks.append(Task(pid, p.robot, p.world, key, start, goal, options))
+    return tasks

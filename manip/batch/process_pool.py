@@ -1,0 +1,132 @@
+"""The local backend: a pool of long-lived worker processes on this machine.
+
+Workers are started with the "spawn" method (no state, threads or locks inherited from the
+caller), warm up once (`worker.warm_up`) and then plan task after task. At most
+`INFLIGHT_PER_WORKER` tasks per worker are queued at a time, so results stream back as
+they finish and an interrupt has little to cancel.
+
+Faults: a worker that dies (killed, out of memory, a crash in native code) breaks a
+`concurrent.futures.ProcessPoolExecutor` as a whole: every unfinished task fails with
+`BrokenProcessPool`. The loop then keeps the results that did arrive, starts a new pool
+and submits the unfinished tasks again, so no problem is lost and none is returned twice;
+a task caught in `MAX_ATTEMPTS` broken pools raises `WorkerLostError`. On KeyboardInterrupt
+(or any exception) the queued tasks are cancelled and the workers terminated.
+"""
+
+from __future__ import annotations
+
+import logging
+import multiprocessing as mp
+import os
+import signal
+from collections import deque
+from collections.abc import Callable, Iterator, Sequence
+from typing import Any
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
+
+from manip.batch import worker
+from manip.batch.problem import ProblemId, Task
+from manip.errors import ManipError
+
+log = logging.getLogger(__name__)
+
+#: Tasks queued per worker (enough to keep it busy between two results).
+INFLIGHT_PER_WORKER = 2
+#: A task is tried in at most this many pools (a worker death fails every unfinished task of its pool).
+MAX_ATTEMPTS = 4
+#: Start each worker in a session of its own (`os.setsid`). Linux's autogroup scheduler
+#: shares CPU time between sessions, so on a machine busy with other sessions the workers of
+#: one session share one session's slice (Ray's workers run in sessions of their own).
+#: Off by default: the machine's policy stays the user's; `benchmarks/batch.py` measures both.
+NEW_SESSION = False
+
+
+class WorkerLostError(ManipError):
+    """Workers kept dying while these problems were being planned."""
+
+
+def _init_worker(robots: tuple[str, ...], new_session: bool) -> None:
+    if new_session:
+        os.setsid()
+    # Ctrl-C in a terminal reaches the whole process group: the caller stops the workers.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    worker.warm_up(robots)
+
+
+def _new_pool(workers: int, robots: tuple[str, ...]) -> ProcessPoolExecutor:
+    return ProcessPoolExecutor(workers, mp_context=mp.get_context("spawn"), initializer=_init_worker,
+                               initargs=(robots, NEW_SESSION))
+
+
+def _stop(pool: ProcessPoolExecutor) -> None:
+    """Cancel what is queued and terminate the workers (without waiting for running plans)."""
+    processes = list(getattr(pool, "_processes", {}).values())  # no public handle before Python 3.14
+    pool.shutdown(wait=False, cancel_futures=True)
+    for p in processes:
+        if p.is_alive():
+            p.terminate()
+    for p in processes:
+        p.join(timeout=5)
+
+
+#: What a worker runs on a task: `worker.solve` (or a module-level function of the same shape).
+Job = Callable[[Task], tuple[ProblemId, Any]]
+
+
+def run(tasks: Sequence[Any], workers: int, job: Job = worker.solve) -> Iterator[tuple[ProblemId, Any]]:
+    """Plan `tasks` on `workers` local processes; yield (id, result) as plans finish.
+
+    Args:
+        tasks: validated tasks (a `Task`, or a job's own picklable task type with `id` and `robot`).
+        workers: number of worker processes (>= 1).
+        job: the function run on each task in a worker (picklable: module level).
+
+    Yields:
+        (problem id, job's result: a PlanResult for `worker.solve`), each task exactly
+        once, in order of completion.
+
+    Raises:
+        WorkerLostError: a task's workers died `MAX_ATTEMPTS` times.
+    """
+    robots = tuple(sorted({t.robot for t in tasks}))
+    order = {t.id: i for i, t in enumerate(tasks)}
+    queue = deque(tasks)
+    attempts: dict[ProblemId, int] = {}
+    inflight: dict[Future, Task] = {}
+    pool = _new_pool(workers, robots)
+    try:
+        while queue or inflight:
+            while queue and len(inflight) < INFLIGHT_PER_WORKER * workers:
+                task = queue.popleft()
+                attempts[task.id] = attempts.get(task.id, 0) + 1
+                inflight[pool.submit(job, task)] = task
+            done, _ = wait(inflight, return_when=FIRST_COMPLETED)
+            lost: list[Task] = []
+            for f in done:
+                task = inflight.pop(f)
+                if isinstance(f.exception(), BrokenProcessPool):
+                    lost.append(task)
+                else:
+                    yield f.result()  # a worker's exception (a bug, not a failed plan) propagates
+            if not lost:
+                continue
+            # A worker died: every other unfinished task of this pool fails too. Keep the
+            # results that arrived, resubmit the rest (in their order) to a new pool.
+            for f, task in list(inflight.items()):
+                f_done = f.done() and not f.cancelled()
+                if f_done and f.exception() is None:
+                    yield f.result()
+                else:
+                    lost.append(task)
+            inflight.clear()
+            _stop(pool)
+            lost.sort(key=lambda t: order[t.id])
+            hopeless = [t.id for t in lost if attempts[t.id] >= MAX_ATTEMPTS]
+            if hopeless:
+                raise WorkerLostError(f"workers died {MAX_ATTEMPTS} times while planning problems {hopeless}")
+            log.warning("a worker died; restarting the pool and resubmitting %d problems", len(lost))
+            queue.extendleft(reversed(lost))
+            pool = _new_pool(workers, robots)
+    finally:
+        _stop(pool)

@@ -1,0 +1,90 @@
+"""The code that runs in a worker process: warm motion generators, one per robot.
+
+A worker builds one `MotionGenerator` per robot the first time it meets that robot and
+keeps it for its whole life (the compiled kernels, sphere covers and IK tables are loaded
+once). Consecutive problems with the same world (same `Task.world_key`) reuse the loaded
+world; another world costs an `update_world` (milliseconds), not a new generator.
+
+`warm_up` plans a few small problems so that the compiled kernels are loaded (or compiled)
+before real problems arrive: a kernel compiled during a problem would eat its time budget.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import time
+
+import numpy as np
+
+from manip.batch.problem import ProblemId, Task
+from manip.motion_generator import MotionGenerator
+from manip.planning.result import PlanResult
+from manip.pose import Pose
+
+log = logging.getLogger(__name__)
+
+# Per-process state of a worker: robot name -> (generator, key of its loaded world).
+_GENERATORS: dict[str, tuple[MotionGenerator, str | None]] = {}
+
+#: Budget of the warm-up plans [s] (long: they include compiling or loading kernels).
+WARM_UP_BUDGET = 120.0
+
+
+def generator(robot: str) -> MotionGenerator:
+    """This process's warm MotionGenerator of `robot` (built on first use)."""
+    if robot not in _GENERATORS:
+        _GENERATORS[robot] = (MotionGenerator(robot), None)
+    return _GENERATORS[robot][0]
+
+
+def warm_up(robots: tuple[str, ...]) -> None:
+    """Build the generators of `robots` and run warm-up plans through every planning stage.
+
+    The plans go from the default configuration to a moved one around a box placed between
+    the two hand positions (for the Franka: path search, shortcutting, timing, the
+    optimiser), to a pose (IK), and along the straight line; their results are discarded
+    and the world is emptied afterwards.
+
+    Args:
+        robots: robot names.
+    """
+    t0 = time.perf_counter()
+    for robot in robots:
+        mg = generator(robot)
+        q0 = mg.default_joint_positions
+        lo, hi = mg.lower_limits, mg.upper_limits
+        q1 = np.clip(q0 + 0.5 * (hi - lo) * np.where(np.arange(len(q0)) % 2 == 0, 0.3, -0.2), lo, hi)
+        p0, p1 = mg.fk(q0).position, mg.fk(q1).position
+        mid = 0.5 * (p0 + p1)
+        world = {"cuboid": {"warm_up": {"dims": [0.08, 0.08, 0.08], "pose": [*mid.tolist(), 1.0, 0.0, 0.0, 0.0]}}}
+        mg.update_world(world)
+        for seed in range(2):
+            mg.plan_joints(q0, q1, seed=seed, time_budget=WARM_UP_BUDGET)
+            mg.plan_pose(q0, Pose(p1 + 0.02, mg.fk(q1).quaternion), seed=seed, time_budget=WARM_UP_BUDGET)
+        mg.update_world({})
+        mg.plan_joints(q0, q1, seed=0, time_budget=WARM_UP_BUDGET)
+        _GENERATORS[robot] = (mg, None)
+    log.info("worker %d warm in %.1f s (%s)", os.getpid(), time.perf_counter() - t0, ", ".join(robots))
+
+
+def solve(task: Task) -> tuple[ProblemId, PlanResult]:
+    """Plan one task on this process's warm generator (warmed up first if it is new).
+
+    Args:
+        task: a validated problem.
+
+    Returns:
+        (the task's id, the PlanResult of the single planning call).
+    """
+    if task.robot not in _GENERATORS:
+        warm_up((task.robot,))
+    mg = _GENERATORS[task.robot][0]
+    if _GENERATORS[task.robot][1] != task.world_key:
+        mg.update_world(task.world)
+        _GENERATORS[task.robot] = (mg, task.world_key)
+    if isinstance(task.goal, Pose):
+        result = mg.plan_pose(task.start, task.goal, **task.options)
+    else:
+        result = mg.plan_joints(task.start, task.goal, **task.options)
+    return task.id, result

@@ -1,0 +1,133 @@
+"""`generate`: plan a dataset of seeded problems on every core or on a Ray cluster.
+
+The workers of `manip.batch` build each scene, plan and verify its pairs
+(`job.plan_scene`, one task per scene); the rows are written here as scenes come back
+(`dataset.PartWriter`). Problem ids already in the folder are skipped, so an
+interrupted run is resumed by running the same command again; on an interrupt (Ctrl-C)
+the rows received so far are written before the workers are stopped.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from collections import defaultdict
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from manip.batch.plan import run_tasks, validate
+from manip.benchmarking.scenes import SCENE_KINDS
+from manip.datagen import dataset
+from manip.datagen.job import SceneTask, plan_scene
+from manip.datagen.problems import check_kinds, plan_ids, problem_id
+from manip.planning.options import PlanOptions
+from manip.validation import integer, positive
+
+log = logging.getLogger(__name__)
+
+ROBOT = "franka"
+
+
+@dataclass(frozen=True)
+class Summary:
+    """What a `generate` run did.
+
+    Attributes:
+        planned: problems planned and written by this run.
+        skipped: problems already in the folder.
+        succeeded: planned problems with `success`.
+        verified: planned problems whose trajectory passed the independent verifier.
+        seconds: wall time of the run [s] (building problems, starting workers, planning, writing).
+        workers: worker count (None: all cores / the cluster's CPUs).
+    """
+
+    planned: int
+    skipped: int
+    succeeded: int
+    verified: int
+    seconds: float
+    workers: int | None
+
+    @property
+    def rate(self) -> float:
+        """Problems planned per second of the run."""
+        return self.planned / self.seconds if self.seconds > 0 else float("nan")
+
+
+def generate(
+    out: str | Path,
+    *,
+    scenes: int = 2,
+    problems_per_scene: int = 2,
+    kinds: Sequence[str] = SCENE_KINDS,
+    seed: int = 0,
+    workers: int | None = None,
+    backend: str = "process",
+    ray_address: str | None = None,
+    time_budget: float = 5.0,
+    rows_per_part: int = 256,
+    on_total: Callable[[int], None] | None = None,
+    on_row: Callable[[dict], None] | None = None,
+) -> Summary:
+    """Generate (or complete) a dataset in the folder `out`.
+
+    Args:
+        out: dataset folder (created if missing).
+        scenes: number of scenes, spread over `kinds` in turn.
+        problems_per_scene: start/goal pairs per scene.
+        kinds: scene kinds, among `manip.benchmarking.scenes.SCENE_KINDS`.
+        seed: dataset seed (scenes, pairs and planning seeds derive from it).
+        workers: workers (None: all cores, or the Ray cluster's CPUs).
+        backend: "process" or "ray".
+        ray_address: `ray.init` address for backend="ray" (None: a local Ray instance).
+        time_budget: planning budget per problem [s].
+        rows_per_part: rows per Parquet part file.
+        on_total: called once with the number of problems to plan (e.g. to size a progress bar).
+        on_row: called with each row once it is buffered for writing.
+
+    Returns:
+        A `Summary`.
+
+    Raises:
+        InvalidInputError: bad arguments, or `out` holds a dataset made with other settings.
+    """
+    t0 = time.perf_counter()
+    kinds = check_kinds(kinds)
+    seed = integer(seed, "seed", 0)
+    time_budget = positive(time_budget, "time_budget", "s")
+    rows_per_part = integer(rows_per_part, "rows_per_part", 1)
+    ids = plan_ids(kinds, scenes, problems_per_scene)
+    _, n = validate([], workers, backend, seed)  # a bad worker count or backend fails before any work
+    settings = {"seed": seed, "kinds": list(kinds), "problems_per_scene": problems_per_scene, "robot": ROBOT,
+                "time_budget": time_budget}
+    folder = dataset.open_folder(out, settings)
+    done = dataset.finished_ids(folder)
+    wanted = [t for t in ids if problem_id(*t) not in done]
+    skipped = len(ids) - len(wanted)
+    if on_total is not None:
+        on_total(len(wanted))
+    options = {"time_budget": time_budget}
+    PlanOptions().updated(options)
+    pairs: dict[tuple[str, int], list[int]] = defaultdict(list)
+    for kind, scene, pair in wanted:
+        pairs[(kind, scene)].append(pair)
+    tasks = [SceneTask(f"{kind}-{scene:06d}", ROBOT, kind, scene, tuple(ps), seed, options)
+             for (kind, scene), ps in pairs.items()]
+    writer = dataset.PartWriter(folder, rows_per_part)
+    succeeded = verified = 0
+    stream = run_tasks(tasks, workers=n, backend=backend, ray_address=ray_address, job=plan_scene)
+    try:
+        for _, planned in stream:
+            for problem, problem_seed, result, verdict in planned:
+                row = dataset.make_row(problem, problem_seed, ROBOT, result, verdict)
+                writer.add(row)
+                succeeded += bool(result.success)
+                verified += verdict.verified
+                if on_row is not None:
+                    on_row(row)
+    finally:
+        writer.flush()  # keep what arrived, also on Ctrl-C
+        if hasattr(stream, "close"):
+            stream.close()
+    return Summary(writer.written, skipped, succeeded, verified, time.perf_counter() - t0, n)

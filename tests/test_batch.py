@@ -1,0 +1,195 @@
+"""manip.batch: parallel planning gives the single calls' results, survives dead workers, rejects bad input early."""
+
+from __future__ import annotations
+
+import multiprocessing as mp
+import os
+import signal
+from collections import Counter
+
+import numpy as np
+import pytest
+
+from manip import MotionGenerator, Pose, UnknownNameError
+from manip.batch import Problem, WorkerLostError, plan_many, plan_stream, problem_seed
+from manip.batch import worker
+from manip.benchmarking.scenes import make_problems
+from manip.errors import InvalidInputError
+from manip.planning.result import PlanStatus
+
+# Budgets far above the planning times, so that a loaded machine cannot change a result.
+OPTIONS = {"time_budget": 30.0}
+SEED = 7
+
+
+@pytest.fixture(scope="module")
+def problems() -> list[Problem]:
+    """Table and shelf problems with joint goals, one pose goal, and one start in collision."""
+    base = make_problems("table", 4, 0) + make_problems("shelf", 3, 0)
+    out = [Problem(p.world, p.start, p.goal, options=OPTIONS, id=f"{p.scene}/{p.index}") for p in base]
+    mg = MotionGenerator("franka")
+    out.append(Problem(base[1].world, base[1].start, mg.fk(base[1].goal), options=OPTIONS, id="pose"))
+    p = base[0]
+    hand = mg.fk(p.start).position
+    blocked = {"cuboid": {"block": {"dims": [0.2, 0.2, 0.2], "pose": [*hand.tolist(), 1.0, 0.0, 0.0, 0.0]}}}
+    out.append(Problem(blocked, p.start, p.goal, options=OPTIONS, id="blocked"))
+    return out
+
+
+@pytest.fixture(scope="module")
+def reference(problems):
+    """The single planning calls, in this process, on a fresh generator per problem."""
+    worker.warm_up(("franka",))  # compile the kernels outside the budgets
+    out = {}
+    for i, p in enumerate(problems):
+        mg = MotionGenerator("franka", p.world)
+        seed = problem_seed(SEED, p.id)
+        if isinstance(p.goal, Pose):
+            out[p.id] = mg.plan_pose(p.start, p.goal, seed=seed, **p.options)
+        else:
+            out[p.id] = mg.plan_joints(p.start, p.goal, seed=seed, **p.options)
+    return out
+
+
+def assert_same(result, ref) -> None:
+    assert result.status is ref.status
+    assert result.source == ref.source
+    if ref.trajectory is None:
+        assert result.trajectory is None
+    else:
+        np.testing.assert_array_equal(result.trajectory.positions, ref.trajectory.positions)
+        np.testing.assert_array_equal(result.trajectory.velocities, ref.trajectory.velocities)
+        assert result.trajectory.dt == ref.trajectory.dt
+
+
+def test_reference_has_successes_and_a_failure(reference):
+    statuses = [r.status for r in reference.values()]
+    assert statuses.count(PlanStatus.SUCCESS) >= len(statuses) - 1
+    assert reference["blocked"].status is PlanStatus.INVALID_START_WORLD_COLLISION
+    assert reference["pose"].success and reference["pose"].position_error < 1e-3
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_plan_many_returns_the_single_calls_results_in_input_order(problems, reference, workers):
+    results = plan_many(problems, workers=workers, seed=SEED, progress=False)
+    assert len(results) == len(problems)
+    for p, r in zip(problems, results):
+        assert_same(r, reference[p.id])
+
+
+def test_seed_changes_searched_paths_and_ids_default_to_indices(problems, reference):
+    joint = [Problem(p.world, p.start, p.goal, options=OPTIONS) for p in problems[:7]]
+    results = plan_many(joint, workers=2, seed=SEED + 1, progress=False)
+    searched = [i for i, p in enumerate(problems[:7]) if reference[p.id].source in ("trajopt", "shortcut")]
+    assert searched, "the problem set needs searched paths"
+    assert all(r.success for r in results)
+    assert any(not np.array_equal(results[i].trajectory.positions, reference[problems[i].id].trajectory.positions)
+               for i in searched)
+    assert problem_seed(SEED, 3) != problem_seed(SEED, "3") != problem_seed(SEED + 1, 3)
+
+
+def test_a_killed_worker_costs_a_retry_not_a_problem(problems, reference, caplog):
+    seen = Counter()
+    killed = None
+    with caplog.at_level("WARNING", logger="manip.batch.process_pool"):
+        for pid, result in plan_stream(problems, workers=2, seed=SEED):
+            seen[pid] += 1
+            if killed is None:  # others are being planned or queued
+                killed = mp.active_children()[0].pid
+                os.kill(killed, signal.SIGKILL)
+            assert_same(result, reference[pid])
+    assert killed is not None
+    assert "a worker died" in caplog.text
+    assert sorted(seen) == sorted(p.id for p in problems)
+    assert set(seen.values()) == {1}
+    assert not mp.active_children()
+
+
+def test_closing_the_stream_early_stops_the_workers(problems):
+    stream = plan_stream(problems, workers=2, seed=SEED)
+    next(stream)
+    assert mp.active_children()
+    stream.close()
+    assert not mp.active_children()
+
+
+@pytest.mark.parametrize("change, error, words", [
+    ({"robot": "ur5"}, UnknownNameError, ["robot 'ur5'", "franka"]),
+    ({"world": {"cuboid": {"box": {"dims": [0.1, 0.1]}}}}, InvalidInputError, ["problem 2", "malformed world"]),
+    ({"world": [1, 2]}, InvalidInputError, ["world must be"]),
+    ({"start": np.zeros(6)}, InvalidInputError, ["start", "(7,)"]),
+    ({"goal": np.full(7, np.nan)}, InvalidInputError, ["goal", "finite"]),
+    ({"options": {"time_budget": -1.0}}, InvalidInputError, ["time_budget"]),
+    ({"options": {"speed": 2}}, InvalidInputError, ["speed", "valid"]),
+    ({"options": {"seed": 3}}, InvalidInputError, ["seed", "derived"]),
+    ({"id": 0}, InvalidInputError, ["id 0", "unique"]),
+])
+def test_bad_input_raises_before_any_worker_starts(problems, change, error, words):
+    fields = {"world": problems[2].world, "start": problems[2].start, "goal": problems[2].goal, "id": 2}
+    fields.update(change)
+    batch = [Problem(problems[0].world, problems[0].start, problems[0].goal, id=0),
+             Problem(problems[1].world, problems[1].start, problems[1].goal, id=1),
+             Problem(**fields)]
+    with pytest.raises(error) as info:
+        plan_many(batch, workers=2, progress=False)
+    for w in words:
+        assert w in str(info.value)
+    assert not mp.active_children()
+
+
+@pytest.mark.parametrize("kwargs, words", [
+    ({"workers": 0}, ["workers", ">= 1"]),
+    ({"backend": "dask"}, ["backend", "process", "ray"]),
+    ({"seed": -1}, ["seed"]),
+])
+def test_bad_batch_arguments(problems, kwargs, words):
+    with pytest.raises(InvalidInputError) as info:
+        plan_stream(problems[:2], **kwargs)
+    for w in words:
+        assert w in str(info.value)
+    with pytest.raises(InvalidInputError, match="iterable of manip.batch.Problem"):
+        plan_many(problems[0], progress=False)
+    assert not mp.active_children()
+
+
+# ------------------------------------------------------------------ Ray (the ray extra)
+@pytest.fixture(scope="module")
+def ray_cluster():
+    """Ray's test cluster: two nodes of one CPU each, on this machine."""
+    ray = pytest.importorskip("ray", reason="the Ray backend needs the ray extra: pip install 'manip[ray]'")
+    from ray.cluster_utils import Cluster
+
+    cluster = Cluster(initialize_head=True, head_node_args={"num_cpus": 1})
+    cluster.add_node(num_cpus=1)
+    ray.init(address=cluster.address, log_to_driver=False)
+    yield ray
+    ray.shutdown()
+    cluster.shutdown()
+
+
+def test_ray_two_node_cluster_gives_the_local_results_bit_for_bit(ray_cluster, problems, reference):
+    assert ray_cluster.cluster_resources()["CPU"] == 2
+    results = plan_many(problems, backend="ray", seed=SEED, progress=False)
+    for p, r in zip(problems, results):
+        assert_same(r, reference[p.id])
+
+
+def test_ray_killed_actor_costs_a_retry_not_a_problem(ray_cluster, problems, reference):
+    from manip.batch import ray_backend
+    from manip.batch.problem import prepare
+
+    actors = ray_backend.start_actors(2, ("franka",))
+    try:
+        pids = ray_cluster.get([a.pid.remote() for a in actors])
+        seen = Counter()
+        for pid, result in ray_backend.run(prepare(problems, SEED), None, actors=actors):
+            if not seen:
+                os.kill(pids[1], signal.SIGKILL)
+            seen[pid] += 1
+            assert_same(result, reference[pid])
+        assert sorted(seen) == sorted(p.id for p in problems)
+        assert set(seen.values()) == {1}
+        assert ray_cluster.get(actors[1].pid.remote()) != pids[1]  # restarted
+    finally:
+        for a in actors:
+            ray_cluster.kill(a, no_restart=True)
