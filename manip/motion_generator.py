@@ -61,6 +61,7 @@ from manip.planning.linear import linear_path
 from manip.planning.optimize import smooth_path
 from manip.planning.options import PlanOptions
 from manip.planning.refine import refine, scaled_limits
+from manip.planning.restarts import shorter_way_round
 from manip.planning.result import PlanResult, PlanStatus
 from manip.planning.search import search_path
 from manip.planning.shortcut import shortcut
@@ -562,12 +563,21 @@ class MotionGenerator:
         if path is None:
             status = PlanStatus.TIMEOUT if ctx.time_left < 0 else PlanStatus.PLAN_FAIL
             return ctx.fail(status, f"no collision-free path found ({iterations} iterations)", attempts=attempt)
-        goal_q = path[-1].copy()
         t = time.perf_counter()
         if len(path) > 2:
-            path = shortcut(path, validity.segments, ctx.rng, ctx.deadline, screen=validity.screen)
+            def shorten(p: np.ndarray) -> np.ndarray:
+                return shortcut(p, validity.segments, ctx.rng, ctx.deadline, screen=validity.screen)
+
+            path = shorten(path)
+            ctx.add_time("optimize", t)
+            t = time.perf_counter()
+            path = shorter_way_round(path, goals, validity, shorten, ctx.rng, ctx.deadline,
+                                     scaled_limits(self.timing_limits, ctx)[0])
+            ctx.add_time("restarts", t)
+            t = time.perf_counter()
             if ctx.options.optimize_clearance:
                 path = smooth_path(path, validity.checker, validity.motion, ctx.deadline)
+        goal_q = path[-1].copy()
         ctx.add_time("optimize", t)
         traj, why = time_and_validate(ctx, path, goal_q, self.timing_limits, validity)
         if traj is None:

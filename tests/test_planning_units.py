@@ -11,6 +11,7 @@ import pytest
 
 from manip.errors import InvalidInputError
 from manip.planning.options import PlanOptions
+from manip.planning.restarts import GAIN, shorter_way_round, time_length
 from manip.planning.rrt_connect import rrt_connect
 from manip.planning.search import search_path
 from manip.planning.shortcut import path_length, shortcut
@@ -104,3 +105,47 @@ def test_plan_options_are_validated_with_the_valid_names_listed():
                 {"duration": float("nan")}, {"trajopt": "yes"}, {"ik_solutions": 0}):
         with pytest.raises(InvalidInputError):
             PlanOptions().updated(bad)
+
+
+def _two_gap_validity():
+    """A wall x in [0.45, 0.55] with a near gap (y in [0.30, 0.40], close to the straight line
+    y = 0.2) and a far one (y in [0.85, 0.95])."""
+    def blocked(q):
+        return 0.45 <= q[0] <= 0.55 and not (0.30 <= q[1] <= 0.40 or 0.85 <= q[1] <= 0.95)
+
+    def motion(a, b):
+        n = max(2, int(np.ceil(np.max(np.abs(b - a)) / 0.005)) + 1)
+        return not any(blocked(q) for q in np.linspace(a, b, n))
+
+    def segments(A, B):
+        return np.array([motion(a, b) for a, b in zip(A, B)])
+
+    return SimpleNamespace(
+        kinematics=SimpleNamespace(lower=LOWER, upper=UPPER), resolution=0.005, search_resolution=0.005,
+        coarse_motion=motion, motion=motion, coarse_advance=None, advance=None, segments=segments,
+        path=lambda p: bool(segments(p[:-1], p[1:]).all()),
+    )
+
+
+def test_a_detour_is_replaced_by_a_shorter_way_round():
+    validity = _two_gap_validity()
+    start, goal = np.array([0.1, 0.2]), np.array([0.9, 0.2])
+    far = np.array([start, [0.4, 0.9], [0.6, 0.9], goal])  # through the far gap: a detour
+    assert validity.path(far)
+    vmax = np.ones(2)
+    shorten = lambda p: shortcut(p, validity.segments, np.random.default_rng(0), time.perf_counter() + 5)  # noqa: E731
+    path = shorter_way_round(far, goal[None], validity, shorten, np.random.default_rng(3), time.perf_counter() + 10,
+                             vmax)
+    assert validity.path(path) and np.array_equal(path[0], start) and np.array_equal(path[-1], goal)
+    assert time_length(path, vmax) <= GAIN * time_length(far, vmax)
+    assert np.max(path[:, 1]) < 0.6  # through the near gap
+
+
+def test_a_path_that_is_no_detour_is_kept_without_searching():
+    validity = _two_gap_validity()
+    start, goal = np.array([0.1, 0.35]), np.array([0.9, 0.35])
+    straight = np.array([start, [0.5, 0.35], goal])
+    rng = np.random.default_rng(0)
+    state = rng.bit_generator.state
+    out = shorter_way_round(straight, goal[None], validity, lambda p: p, rng, time.perf_counter() + 10, np.ones(2))
+    assert out is straight and rng.bit_generator.state == state  # no search drew from the generator

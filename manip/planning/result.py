@@ -63,8 +63,8 @@ class PlanResult:
         path: (K, dof) collision-free joint-space waypoints the trajectory follows (None if
             planning failed before a path existed).
         goal_q: (dof,) the goal configuration reached (or aimed at).
-        timings: seconds per stage ("ik", "plan", "optimize", "trajopt", "timing",
-            "validate", "total").
+        timings: seconds per stage ("ik", "plan", "optimize" (shortcutting), "restarts"
+            (more searches after a detour), "trajopt", "timing", "validate", "total").
         position_error: final link position error [m] (pose goals; 0 for joint goals).
         rotation_error: final link rotation error [rad] (pose goals; 0 for joint goals).
         attempts: planning attempts used.
