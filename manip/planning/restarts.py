@@ -61,9 +61,9 @@ def shorter_way_round(
     """
     start = path[0]
     best = time_length(path, vmax)
-    if best <= DETOUR * time_length(np.stack([start, path[-1]]), vmax):
-        return path
     for _ in range(SEARCHES):
+        if best <= DETOUR * time_length(np.stack([start, path[-1]]), vmax):
+            break  # no (longer a) detour
         candidate, _ = search_path(start, goals, validity, rng, deadline, max_iterations=ITERATIONS)
         if candidate is None:
             continue
