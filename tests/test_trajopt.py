@@ -50,7 +50,9 @@ def test_bspline_limits_hold_for_the_continuous_motion():
     assert np.all(v0 == 0) and np.all(np.abs(a0) < 1e-9)
 
 
-def test_optimiser_in_free_space_comes_close_to_the_time_optimal_line(mg):
+@pytest.mark.parametrize("solver", ["piqp", "daqp"])
+def test_optimiser_in_free_space_comes_close_to_the_time_optimal_line(mg, solver):
+    """With PIQP's sparse interface (the default) and through qpsolvers (DAQP, a dense solver)."""
     free = MotionGenerator("franka")
     start, goal = READY, READY + np.array([0.8, 0.3, -0.5, 0.4, 0.6, -0.3, 0.9])
     detour = np.stack([start, (start + goal) / 2 + 0.4, goal])  # a seed with a corner
@@ -63,7 +65,7 @@ def test_optimiser_in_free_space_comes_close_to_the_time_optimal_line(mg):
     bound = rest_to_rest_time(start, goal, cfg.velocity_limits, cfg.acceleration_limits, cfg.jerk_limits)
     res = optimize_trajectory(positions, times, cfg.velocity_limits, cfg.acceleration_limits, cfg.jerk_limits,
                               free.kinematics.lower, free.kinematics.upper, free.clearance, 0.0,
-                              time.perf_counter() + 5.0, min_duration=bound)
+                              time.perf_counter() + 5.0, min_duration=bound, settings=TrajOptSettings(solver=solver))
     assert res.success, res.message
     assert res.duration < 1.25 * bound < times[-1]
     v, a, j = dense_extrema(res.profile)

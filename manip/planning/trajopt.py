@@ -4,7 +4,7 @@ The motion is a uniform cubic B-spline at rest at both ends (`planning.bspline`)
 velocity, acceleration, jerk and position limits are linear constraints on its control
 points that hold for the continuous motion. For a fixed duration, sequential convex
 optimisation (trust region) improves the control points; each iteration solves one QP
-(through `qpsolvers`):
+(PIQP's sparse interface; any other `solver` through `qpsolvers`):
 
 - minimise the squared velocities (each as a fraction of its limit: at a fixed duration
   this straightens the path and flattens the speed profile, the shape of a time-optimal
@@ -57,7 +57,9 @@ class TrajOptSettings:
         limit_row_slack: limit rows used less than (1 - this) of their limit at the
             current point are left out of the QP (they are soft, and the result is re-timed
             exactly).
-        trust_region: initial largest move of a control point per iteration [rad].
+        trust_region: largest move of a control point per iteration [rad] at first and at
+            most; it halves after a rejected step, and each duration round starts at twice
+            the previous round's final radius.
         ray_points: control points tied to the seed's first / last segment at an end near
             an obstacle (each keeps one more piece of the motion on that segment).
         rounds: durations tried (the seed's first, then by bisection towards the lower bound).
