@@ -19,6 +19,7 @@ import logging
 import multiprocessing as mp
 import os
 import signal
+import time
 from collections import deque
 from collections.abc import Callable, Iterator, Sequence
 from typing import Any
@@ -40,6 +41,8 @@ MAX_ATTEMPTS = 4
 #: one session share one session's slice (Ray's workers run in sessions of their own).
 #: Off by default: the machine's policy stays the user's; `benchmarks/batch.py` measures both.
 NEW_SESSION = False
+#: Seconds to wait for terminated workers to exit.
+STOP_TIMEOUT = 5.0
 
 
 class WorkerLostError(ManipError):
@@ -59,15 +62,28 @@ def _new_pool(workers: int, robots: tuple[str, ...]) -> ProcessPoolExecutor:
                                initargs=(robots, NEW_SESSION))
 
 
-def _stop(pool: ProcessPoolExecutor) -> None:
-    """Cancel what is queued and terminate the workers (without waiting for running plans)."""
-    processes = list(getattr(pool, "_processes", {}).values())  # no public handle before Python 3.14
+def _workers(pool: ProcessPoolExecutor) -> list:
+    """The pool's worker processes now (no public handle before Python 3.14)."""
+    return list((getattr(pool, "_processes", None) or {}).values())
+
+
+def _stop(pool: ProcessPoolExecutor, known: set | None = None) -> None:
+    """Cancel what is queued and terminate the workers (without waiting for running plans).
+
+    `known` adds the workers seen earlier: a broken pool may already have dropped them from
+    its table while they are still exiting."""
+    processes = set(_workers(pool)) | (known or set())
     pool.shutdown(wait=False, cancel_futures=True)
     for p in processes:
         if p.is_alive():
             p.terminate()
+    deadline = time.monotonic() + STOP_TIMEOUT
     for p in processes:
-        p.join(timeout=5)
+        p.join(timeout=max(0.0, deadline - time.monotonic()))
+    # the pool's manager thread may reap a worker at the same time; its exit code shows a
+    # moment later (until then the process looks alive to `multiprocessing.active_children`)
+    while any(p.exitcode is None for p in processes) and time.monotonic() < deadline:
+        time.sleep(0.005)
 
 
 #: What a worker runs on a task: `worker.solve` (or a module-level function of the same shape).
@@ -95,12 +111,14 @@ def run(tasks: Sequence[Any], workers: int, job: Job = worker.solve) -> Iterator
     attempts: dict[ProblemId, int] = {}
     inflight: dict[Future, Task] = {}
     pool = _new_pool(workers, robots)
+    known: set = set()  # every worker process of this run's pools
     try:
         while queue or inflight:
             while queue and len(inflight) < INFLIGHT_PER_WORKER * workers:
                 task = queue.popleft()
                 attempts[task.id] = attempts.get(task.id, 0) + 1
                 inflight[pool.submit(job, task)] = task
+            known.update(_workers(pool))
             done, _ = wait(inflight, return_when=FIRST_COMPLETED)
             lost: list[Task] = []
             for f in done:
@@ -120,7 +138,7 @@ def run(tasks: Sequence[Any], workers: int, job: Job = worker.solve) -> Iterator
                 else:
                     lost.append(task)
             inflight.clear()
-            _stop(pool)
+            _stop(pool, known)
             lost.sort(key=lambda t: order[t.id])
             hopeless = [t.id for t in lost if attempts[t.id] >= MAX_ATTEMPTS]
             if hopeless:
@@ -129,4 +147,4 @@ def run(tasks: Sequence[Any], workers: int, job: Job = worker.solve) -> Iterator
             queue.extendleft(reversed(lost))
             pool = _new_pool(workers, robots)
     finally:
-        _stop(pool)
+        _stop(pool, known)
