@@ -388,7 +388,7 @@ def _merit(P, q_lin, c, prob: _Problem, terms, margin: float, penalty: float, G_
 
 
 _SOLVER_OPTIONS = {"osqp": {"eps_abs": 1e-6, "eps_rel": 1e-6, "polish": True, "verbose": False}}
-_SPARSE = {"osqp", "piqp"}
+_SPARSE = {"osqp"}  # qpsolvers solvers given CSC matrices (PIQP is called directly)
 
 
 def _solve_qp(prob: _Problem, P: sp.csc_matrix, q_lin, G_lim, h_lim, G_col, h_col, x0, radius, lower, upper,
