@@ -50,6 +50,7 @@ def refine(
     result = optimize_trajectory(
         seed.positions, seed.times, vmax, amax, jmax, validity.kinematics.lower, validity.kinematics.upper,
         clearance, padding, ctx.deadline, settings=settings, min_duration=bound,
+        max_duration=seed.duration,
     )
     if not result.success:
         return None

@@ -30,13 +30,11 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
-import piqp
-import qpsolvers
 import scipy.sparse as sp
 
 from manip.collision.clearance import ClearanceModel
 from manip.errors import InvalidInputError
-from manip.planning import bspline
+from manip.planning import bspline, qp
 from manip.trajectory import PiecewiseJerkProfile
 from manip.validation import non_negative, per_joint
 
@@ -163,14 +161,14 @@ class _Problem:
                 self.rays.append((n - 1 - k, self.c_fixed[n], d_goal))
         if not self.rays:
             return
-        A = np.zeros((len(self.rays) * dof, dof * m + len(self.rays)))
+        A = np.zeros((len(self.rays) * dof, dof * m + 3 * dof + len(self.rays)))  # columns [x, S, R] (planning.qp)
         b = np.zeros(len(self.rays) * dof)
         for r, (k, anchor, d) in enumerate(self.rays):
             for i in range(dof):
                 A[r * dof + i, i * m + (k - 3)] = 1.0
-                A[r * dof + i, dof * m + r] = -d[i]
+                A[r * dof + i, dof * m + 3 * dof + r] = -d[i]
                 b[r * dof + i] = anchor[i]
-        self.ray_A, self.ray_b = A, b
+        self.ray_A, self.ray_b = qp.csc_of_transpose(A.T), b
 
     def project_rays(self, c: np.ndarray) -> np.ndarray:
         """c with the tied control points projected onto their rays."""
@@ -201,12 +199,14 @@ def optimize_trajectory(
     *,
     settings: TrajOptSettings = TrajOptSettings(),
     min_duration: float = 0.0,
+    max_duration: float = np.inf,
     end_rays: bool = True,
 ) -> TrajOptResult:
-    """Optimise a rest-to-rest motion seeded by a valid sampled one.
+    """Optimise a rest-to-rest motion seeded by a sampled one (e.g. a timed collision-free path).
 
     Args:
-        seed_positions: (T, dof) samples of a collision-free, limit-respecting motion [rad].
+        seed_positions: (T, dof) samples of a limit-respecting motion, collision-free or
+            nearly so (its sampled sphere clearance is the floor the result keeps) [rad].
         seed_times: (T,) their times [s] (the last is the seed's duration).
         vmax, amax, jmax: (dof,) velocity, acceleration, jerk limits (already scaled).
         lower, upper: (dof,) position limits [rad].
@@ -216,11 +216,16 @@ def optimize_trajectory(
         settings: see TrajOptSettings.
         min_duration: a lower bound of the duration [s] (e.g. the straight line's); the
             search stops when within 3 % of the shortest feasible duration found.
+        max_duration: the duration to beat [s] (e.g. the seed's): the search stops before
+            a target this long (it could only give slower motions).
         end_rays: keep the motion's first and last two pieces on the seed's first and last
             straight segments (the seed must be a polyline's timing; the pieces near a goal
             that almost touches an obstacle are then exactly as free as the seed's).
     """
     seed_positions, seed_times = _check_seed(seed_positions, seed_times)
+    if not (np.isfinite(min_duration) and min_duration >= 0.0 and max_duration > 0.0):
+        raise InvalidInputError(f"min_duration must be finite and >= 0 and max_duration > 0 [s]; got {min_duration!r}, "
+                                f"{max_duration!r}")
     dof = seed_positions.shape[1]
     vmax, amax, jmax = (per_joint(v, dof, name, positive=True) for v, name in
                         ((vmax, "vmax"), (amax, "amax"), (jmax, "jmax")))
@@ -270,6 +275,8 @@ def optimize_trajectory(
         if h_best - h_low <= 0.03 * h_best:
             break
         h = h_low + settings.bisection * (h_best - h_low)  # between the unreached target and the best
+        if h * n >= max_duration:
+            break  # no target this long can give a motion faster than max_duration
     if best is None:
         return TrajOptResult(False, None, None, float("nan"), solves, message or "no time left")
     c, h = best
@@ -387,14 +394,10 @@ def _merit(P, q_lin, c, prob: _Problem, terms, margin: float, penalty: float, G_
     return float(0.5 * x @ P @ x + q_lin @ x + penalty * (violation + excess))
 
 
-_SOLVER_OPTIONS = {"osqp": {"eps_abs": 1e-6, "eps_rel": 1e-6, "polish": True, "verbose": False}}
-_SPARSE = {"osqp"}  # qpsolvers solvers given CSC matrices (PIQP is called directly)
-
-
 def _solve_qp(prob: _Problem, P: sp.csc_matrix, q_lin, G_lim, h_lim, G_col, h_col, x0, radius, lower, upper,
               s: TrajOptSettings):
-    """One SCO step's QP; the solution z = [x (dof * m), clearance slacks (T), limit slacks
-    (3 dof), ray parameters (R)], or None when the solver fails.
+    """One SCO step's QP; the solution z = [x (dof * m), limit slacks (3 dof), ray parameters
+    (R), clearance slacks (T)] (`planning.qp`), or None when the solver fails.
 
     minimise 1/2 x^T P x + q^T x + penalty * (slacks), subject to the kept limit rows and the
     clearance rows (each with its slack >= 0), the trust region and the position limits
@@ -402,48 +405,18 @@ def _solve_qp(prob: _Problem, P: sp.csc_matrix, q_lin, G_lim, h_lim, G_col, h_co
     """
     nx, S, R = P.shape[0], 3 * prob.dof, len(prob.rays)
     L, T = h_lim.size, h_col.size
-    nz = nx + T + S + R
-    G = np.zeros((L + T, nz))
-    G[:L, :nx] = G_lim[:, :nx]
-    G[:L, nx + T : nx + T + S] = G_lim[:, nx:]
-    G[L:, :nx] = G_col
-    G[L + np.arange(T), nx + np.arange(T)] = -1.0
+    nz = nx + S + R + T
+    G_T = np.zeros((nz, L + T))
+    G_T[: nx + S, :L] = G_lim.T
+    G_T[:nx, L:] = G_col.T
+    G_T[nx + S + R + np.arange(T), L + np.arange(T)] = -1.0
     h = np.concatenate([h_lim, h_col])
-    qz = np.concatenate([q_lin, np.full(T + S, s.penalty), np.zeros(R)])
-    lb = np.concatenate([np.maximum(lower[None, :], x0 - radius).T.ravel(), np.zeros(T + S + R)])
-    ub = np.concatenate([np.minimum(upper[None, :], x0 + radius).T.ravel(), np.full(T + S, np.inf), np.ones(R)])
-    A = np.zeros((R * prob.dof, nz))
-    b = np.zeros(R * prob.dof)
-    if R:
-        A[:, :nx] = prob.ray_A[:, :nx]
-        A[:, nx + T + S :] = prob.ray_A[:, nx:]
-        b = prob.ray_b
-    # P (nx, nx) and a tiny regularisation of the slack and ray variables (block diagonal)
-    extra = nz - nx
-    Pz = sp.csc_matrix((np.concatenate([P.data, np.full(extra, 1e-9)]),
-                        np.concatenate([P.indices, nx + np.arange(extra, dtype=P.indices.dtype)]),
-                        np.concatenate([P.indptr, P.indptr[-1] + 1 + np.arange(extra, dtype=P.indptr.dtype)])),
-                       shape=(nz, nz))
-    if s.solver == "piqp":
-        # straight to PIQP's sparse interface: qpsolvers' checks and conversions cost more
-        # than this small QP's solve
-        solver = piqp.SparseSolver()
-        solver.settings.verbose = False
-        solver.setup(Pz, qz, _csc(A), b, _csc(G), None, h, lb, ub)
-        return solver.result.x.copy() if solver.solve() == piqp.PIQP_SOLVED else None
-    if s.solver in _SPARSE:
-        G, A = _csc(G), _csc(A)
-    else:
-        Pz = Pz.toarray()
-    return qpsolvers.solve_qp(Pz, qz, G, h, A if R else None, b if R else None, lb=lb, ub=ub, solver=s.solver,
-                              **_SOLVER_OPTIONS.get(s.solver, {}))
-
-
-def _csc(D: np.ndarray) -> sp.csc_matrix:
-    """D (r, c) dense as a CSC matrix of its nonzeros."""
-    cols, rows = np.nonzero(D.T)  # column by column
-    indptr = np.searchsorted(cols, np.arange(D.shape[1] + 1)).astype(np.int32)
-    return sp.csc_matrix((D.T[cols, rows], rows.astype(np.int32), indptr), shape=D.shape)
+    qz = np.concatenate([q_lin, np.full(S, s.penalty), np.zeros(R), np.full(T, s.penalty)])
+    lb = np.concatenate([np.maximum(lower[None, :], x0 - radius).T.ravel(), np.zeros(S + R + T)])
+    ub = np.concatenate([np.minimum(upper[None, :], x0 + radius).T.ravel(), np.full(S, np.inf), np.ones(R),
+                         np.full(T, np.inf)])
+    A = qp.with_columns(prob.ray_A, T) if R else None
+    return qp.solve(qp.regularised(P, nz - nx), qz, G_T, h, A, prob.ray_b if R else None, lb, ub, s.solver)
 
 
 def _min_distance(terms, activation: float) -> float:

@@ -1,0 +1,97 @@
+"""The QP of one trajectory-optimisation step (`planning.trajopt`), assembled and solved.
+
+Variables z = [x (dof * m, joint-major control points), limit slacks (S), ray parameters (R),
+clearance slacks (T)]; the clearance slacks come last so that the equality rows (the end
+rays) have the same sparse structure whatever the number of clearance rows. The matrices go
+straight to PIQP's sparse interface as CSC (for a QP this small, qpsolvers' checks and
+conversions would cost more than the solve); any other solver is called through `qpsolvers`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import piqp
+import qpsolvers
+import scipy.sparse as sp
+from numba import njit
+
+#: Regularisation of the slack and ray variables (their objective is linear).
+SLACK_REGULARISATION = 1e-9
+
+_SOLVER_OPTIONS = {"osqp": {"eps_abs": 1e-6, "eps_rel": 1e-6, "polish": True, "verbose": False}}
+_SPARSE = {"osqp"}  # qpsolvers solvers given CSC matrices (PIQP is called directly)
+
+
+@njit(cache=True, nogil=True)
+def _nonzeros_by_row(M: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(data, indices, indptr) of M (r, c) compressed by rows (= M.T in CSC)."""
+    r, c = M.shape
+    nnz = 0
+    for i in range(r):
+        for j in range(c):
+            if M[i, j] != 0.0:
+                nnz += 1
+    data = np.empty(nnz)
+    indices = np.empty(nnz, np.int32)
+    indptr = np.empty(r + 1, np.int32)
+    k = 0
+    for i in range(r):
+        indptr[i] = k
+        for j in range(c):
+            v = M[i, j]
+            if v != 0.0:
+                data[k] = v
+                indices[k] = j
+                k += 1
+    indptr[r] = k
+    return data, indices, indptr
+
+
+def csc_of_transpose(MT: np.ndarray) -> sp.csc_matrix:
+    """The CSC matrix M (c, r) of its dense transpose MT (r, c) (row i of MT = column i of M)."""
+    MT = np.ascontiguousarray(MT, dtype=float)
+    data, indices, indptr = _nonzeros_by_row(MT)
+    return sp.csc_matrix((data, indices, indptr), shape=(MT.shape[1], MT.shape[0]))
+
+
+def with_columns(M: sp.csc_matrix, extra: int) -> sp.csc_matrix:
+    """M (r, c) with `extra` empty columns appended (CSC)."""
+    indptr = np.concatenate([M.indptr, np.full(extra, M.indptr[-1], dtype=M.indptr.dtype)])
+    return sp.csc_matrix((M.data, M.indices, indptr), shape=(M.shape[0], M.shape[1] + extra))
+
+
+def regularised(P: sp.csc_matrix, extra: int) -> sp.csc_matrix:
+    """The block-diagonal [[P, 0], [0, SLACK_REGULARISATION I (extra)]] (CSC)."""
+    n = P.shape[0]
+    return sp.csc_matrix(
+        (np.concatenate([P.data, np.full(extra, SLACK_REGULARISATION)]),
+         np.concatenate([P.indices, n + np.arange(extra, dtype=P.indices.dtype)]),
+         np.concatenate([P.indptr, P.indptr[-1] + 1 + np.arange(extra, dtype=P.indptr.dtype)])),
+        shape=(n + extra, n + extra),
+    )
+
+
+def solve(P: sp.csc_matrix, q: np.ndarray, G_T: np.ndarray, h: np.ndarray, A: sp.csc_matrix | None,
+          b: np.ndarray | None, lb: np.ndarray, ub: np.ndarray, solver: str) -> np.ndarray | None:
+    """argmin 1/2 z^T P z + q^T z subject to G z <= h, A z = b, lb <= z <= ub, or None when
+    the solver fails.
+
+    Args:
+        P: (n, n) positive semidefinite (CSC).
+        q: (n,).
+        G_T: (n, k) the inequality rows, transposed (dense).
+        h: (k,).
+        A, b: (e, n) (CSC), (e,); None for no equalities.
+        lb, ub: (n,) bounds (+-inf for none).
+        solver: "piqp" (its sparse interface) or any `qpsolvers` solver name.
+    """
+    if solver == "piqp":
+        qp = piqp.SparseSolver()
+        qp.settings.verbose = False
+        qp.setup(P, q, A, b, csc_of_transpose(G_T), None, h, lb, ub)
+        return qp.result.x.copy() if qp.solve() == piqp.PIQP_SOLVED else None
+    G = csc_of_transpose(G_T)
+    if solver not in _SPARSE:
+        P, G = P.toarray(), G.toarray()
+        A = None if A is None else A.toarray()
+    return qpsolvers.solve_qp(P, q, G, h, A, b, lb=lb, ub=ub, solver=solver, **_SOLVER_OPTIONS.get(solver, {}))
