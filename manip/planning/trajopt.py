@@ -18,7 +18,9 @@ optimisation (trust region) improves the control points; each iteration solves o
 The outer loop looks for the shortest duration (cuRobo's idea): after each solve the motion
 is uniformly re-timed until a limit is active (exact: the limits are linear in the control
 points), and the next target lies halfway between the best duration so far and the
-longest target not reached (at first the straight line's lower bound). The result is
+longest target not reached (at first the straight line's lower bound); when the seed's
+duration gives nothing usable, the search starts once more from the seed's spline at a
+duration where it is within the limits (`TrajOptSettings.second_chance`). The result is
 certified by the caller against the exact meshes; on any failure the caller keeps the
 seed trajectory.
 """
@@ -61,6 +63,10 @@ class TrajOptSettings:
         ray_points: control points tied to the seed's first / last segment at an end near
             an obstacle (each keeps one more piece of the motion on that segment).
         rounds: durations tried (the seed's first, then by bisection towards the lower bound).
+        second_chance: when the seed's duration gives no usable motion (none, or none
+            faster than `max_duration`), start once more from the spline fitted to the seed
+            at the duration where it is within the limits (the fit of a ruckig-timed polyline
+            exceeds the acceleration limits about 1.9 x at the seed's own duration).
         bisection: where the next duration lies between the longest infeasible and the
             shortest feasible one (0.5: halfway).
         penalty: weight of the clearance violation [1/m] (L1) against the objective.
@@ -81,6 +87,7 @@ class TrajOptSettings:
     ray_points: int = 1
     bisection: float = 0.5
     penalty: float = 1e4
+    second_chance: bool = True
     velocity_weight: float = 1.0
     acceleration_weight: float = 0.01
     jerk_weight: float = 0.001
@@ -244,7 +251,11 @@ def optimize_trajectory(
         c = prob.project_rays(c)
     margin = padding + settings.margin
     h = float(seed_times[-1]) / n
-    h_low = max(min_duration, 0.0) / n  # no motion is faster than the lower bound
+    h_floor = max(min_duration, 0.0) / n  # no motion is faster than the lower bound
+    h_max = max_duration / n
+    h_low = h_floor
+    fit = c
+    second_chance = settings.second_chance
     best: tuple[np.ndarray, float] | None = None
     solves = 0
     message = ""
@@ -264,6 +275,13 @@ def optimize_trajectory(
                      "ok" if ok else "failed", n * h_star, used, why)
         if ok and (best is None or h_star < best[1]):
             best = (c_new, h_star)
+        if second_chance and (best is None or best[1] >= h_max):
+            # nothing usable at the seed's duration (the spline fitted to the seed exceeds the
+            # limits there, and repairing both limits and clearance failed): once more from
+            # the fit, at the duration where it is within the limits
+            second_chance = False
+            c, h, h_low, radius = fit, max(h, bspline.limit_step(fit, vmax, amax, jmax)), h_floor, settings.trust_region
+            continue
         if best is None:
             message = why
             break
@@ -274,9 +292,11 @@ def optimize_trajectory(
         h_best = best[1]
         if h_best - h_low <= 0.03 * h_best:
             break
-        h = h_low + settings.bisection * (h_best - h_low)  # between the unreached target and the best
-        if h * n >= max_duration:
-            break  # no target this long can give a motion faster than max_duration
+        # between the unreached target and the best (a target at or above max_duration
+        # could only give slower motions than the one to beat)
+        h = h_low + settings.bisection * (min(h_best, h_max) - h_low)
+        if h >= h_max:
+            break
     if best is None:
         return TrajOptResult(False, None, None, float("nan"), solves, message or "no time left")
     c, h = best
