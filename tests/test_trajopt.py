@@ -148,6 +148,35 @@ def test_a_failed_first_round_gets_a_second_chance_from_the_fitted_seed(mg, monk
     assert not res.success and targets == [pytest.approx(seed.duration)]
 
 
+@pytest.mark.parametrize("ends_tied", [0, 1])
+def test_an_optimised_motion_that_fails_validation_is_retried_with_more_of_the_seed_ends(mg, monkeypatch, ends_tied):
+    """Retries keep more control points on the seed's end segments, only when an end was tied."""
+    import dataclasses
+
+    import manip.planning.refine as refine
+
+    real_optimize, real_validate = refine.optimize_trajectory, refine.validate_trajectory
+    ray_points, validations = [], []
+
+    def optimize(*args, settings, **kwargs):
+        ray_points.append(settings.ray_points)
+        return dataclasses.replace(real_optimize(*args, settings=settings, **kwargs), ends_tied=ends_tied)
+
+    def validate(*args):
+        validations.append(args[0])
+        return "test: collides" if len(validations) == 1 else real_validate(*args)
+
+    monkeypatch.setattr(refine, "optimize_trajectory", optimize)
+    monkeypatch.setattr(refine, "validate_trajectory", validate)
+    r = mg.plan_joints(LEFT, RIGHT, seed=3)
+    assert r.success
+    if ends_tied:
+        assert ray_points == [1, refine.RETRY_RAY_POINTS[0]] and r.source == "trajopt"
+        assert r.trajectory is validations[1]
+    else:
+        assert ray_points == [1] and r.source == "shortcut"
+
+
 def test_smooth_motions_keep_jerk_well_under_the_limit(mg):
     r = mg.plan_joints(LEFT, RIGHT, seed=3, smoothness="smooth")
     assert r.success

@@ -8,6 +8,7 @@ exact-mesh validation, so success never depends on the optimiser.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
@@ -28,13 +29,21 @@ def scaled_limits(limits: TimingLimits, ctx: PlanContext) -> tuple[np.ndarray, n
     return limits.velocity * o.velocity_scale, limits.acceleration * o.acceleration_scale, limits.jerk * o.jerk_scale
 
 
+#: Ray points (`TrajOptSettings.ray_points`) of the optimiser's further tries when its motion
+#: fails the exact validation: near an obstacle the sphere cover is too coarse, and keeping
+#: more of the seed's approach to an end there keeps the motion valid (MotionBenchMaker
+#: 16/scene: 3 of the 4 such motions valid with 2 points, the 4th with 4).
+RETRY_RAY_POINTS = (2, 4)
+
+
 def refine(
     ctx: PlanContext, seed: Trajectory, limits: TimingLimits, validity: Validity, clearance: ClearanceModel,
     padding: float,
 ) -> Trajectory | None:
     """A faster valid trajectory between the same configurations than `seed`, or None.
 
-    Skipped (None) when the call asks for a fixed `duration`.
+    Skipped (None) when the call asks for a fixed `duration`. An optimised motion that fails
+    the validation is optimised again with more of the seed's ends kept (`RETRY_RAY_POINTS`).
     """
     o = ctx.options
     if o.duration is not None:
@@ -45,21 +54,24 @@ def refine(
     if seed.duration <= bound * 1.03:
         return None
     settings = SMOOTH if o.smoothness == "smooth" else TrajOptSettings()
-    # bounded by its rounds and iterations, not by the clock (the same seed gives the same
-    # trajectory on any machine); only the call's time budget can cut it short
-    result = optimize_trajectory(
-        seed.positions, seed.times, vmax, amax, jmax, validity.kinematics.lower, validity.kinematics.upper,
-        clearance, padding, ctx.deadline, settings=settings, min_duration=bound,
-        max_duration=seed.duration,
-    )
-    if not result.success:
-        return None
-    n = result.control.shape[0] - 3
-    steps = math.ceil(result.duration / o.dt - 1e-9)
-    if steps * o.dt >= seed.duration:
-        return None
-    h = steps * o.dt / n  # a whole number of samples; slower than the limits need, never faster
-    traj = Trajectory.from_profile(bspline.to_profile(result.control, h), o.dt, seed.joint_names)
-    if validate_trajectory(traj, start, goal, validity):
-        return None
-    return traj
+    retries = [replace(settings, ray_points=k) for k in RETRY_RAY_POINTS if k > settings.ray_points]
+    for attempt, s in enumerate([settings, *retries]):
+        # bounded by its rounds and iterations, not by the clock (the same seed gives the same
+        # trajectory on any machine); only the call's time budget can cut it short
+        result = optimize_trajectory(
+            seed.positions, seed.times, vmax, amax, jmax, validity.kinematics.lower, validity.kinematics.upper,
+            clearance, padding, ctx.deadline, settings=s, min_duration=bound, max_duration=seed.duration,
+        )
+        steps = math.ceil(result.duration / o.dt - 1e-9) if result.success else 0
+        if not result.success or steps * o.dt >= seed.duration:
+            if attempt == 0:
+                return None  # retries are for motions that failed the validation
+            continue
+        n = result.control.shape[0] - 3
+        h = steps * o.dt / n  # a whole number of samples; slower than the limits need, never faster
+        traj = Trajectory.from_profile(bspline.to_profile(result.control, h), o.dt, seed.joint_names)
+        if not validate_trajectory(traj, start, goal, validity):
+            return traj
+        if result.ends_tied == 0:
+            return None  # the retries would give the same motion
+    return None

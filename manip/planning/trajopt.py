@@ -109,6 +109,8 @@ class TrajOptResult:
         duration: its duration [s].
         solves: QPs solved.
         message: why it failed ("" on success).
+        ends_tied: ends (0, 1 or 2) whose first / last pieces were kept on the seed's
+            straight segments (`TrajOptSettings.ray_points`; ends near an obstacle).
     """
 
     success: bool
@@ -117,6 +119,7 @@ class TrajOptResult:
     duration: float
     solves: int
     message: str = ""
+    ends_tied: int = 0
 
 
 class _Problem:
@@ -133,6 +136,7 @@ class _Problem:
         self.B, self.sample_t = bspline.basis_matrix(n, s.samples_per_interval)
         self.B_free = self.B[:, self.free]
         self.rays: list = []
+        self.ends_tied = 0
         self.ray_A = self.ray_b = None
         self.q_fixed = self.B[:, self.fixed] @ self.c_fixed[self.fixed]  # (M, dof) fixed points' share
         eye = np.eye(dof)
@@ -161,6 +165,7 @@ class _Problem:
         goal + b d_goal (0 <= a, b <= 1); None leaves that end free."""
         n, m, dof = self.n, self.free.size, self.dof
         self.rays = []
+        self.ends_tied = (d_start is not None) + (d_goal is not None)
         for k in range(points):
             if d_start is not None:
                 self.rays.append((3 + k, self.c_fixed[0], d_start))
@@ -298,9 +303,9 @@ def optimize_trajectory(
         if h >= h_max:
             break
     if best is None:
-        return TrajOptResult(False, None, None, float("nan"), solves, message or "no time left")
+        return TrajOptResult(False, None, None, float("nan"), solves, message or "no time left", prob.ends_tied)
     c, h = best
-    return TrajOptResult(True, bspline.to_profile(c, h), c, n * h, solves)
+    return TrajOptResult(True, bspline.to_profile(c, h), c, n * h, solves, "", prob.ends_tied)
 
 
 def _sco(prob: _Problem, c0, h, radius, vmax, amax, jmax, lower, upper, clearance, margin, s: TrajOptSettings,
