@@ -17,8 +17,8 @@ optimisation (trust region) improves the control points; each iteration solves o
 
 The outer loop looks for the shortest duration (cuRobo's idea): after each solve the motion
 is uniformly re-timed until a limit is active (exact: the limits are linear in the control
-points), and the next target lies between the best duration so far and the longest
-target not reached (30 % of the way from the latter) (at first the straight line's lower bound); when the seed's
+points), and the next target lies 30 % of the way from the longest target not reached (at
+first the straight line's lower bound) to the best duration so far; when the seed's
 duration gives nothing usable, the search starts once more from the seed's spline at a
 duration where it is within the limits (`TrajOptSettings.second_chance`). The result is
 certified by the caller against the exact meshes; on any failure the caller keeps the
