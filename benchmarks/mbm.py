@@ -143,6 +143,8 @@ class Run:
     max_jerk_ratio: float = float("nan")
     claims_jerk_limits: bool = False
     reasons: list[str] = field(default_factory=list)
+    #: the planner's own per-stage wall times [s] (e.g. manip's `PlanResult.timings`).
+    stage_times_s: dict[str, float] = field(default_factory=dict)
 
 
 # ---------------------------------------------------------------------------- limits
@@ -259,6 +261,7 @@ def run_one(planner: Any, problem: Any, goal: str, verifier: Verifier, seed: int
     run = Run(planner.name, goal, problem.scene, problem.index, str(out.status), bool(out.success), False,
               float(out.plan_time_s), setup_time_s=float(getattr(out, "setup_time_s", float("nan"))))
     run.claims_jerk_limits = bool(getattr(out, "claims_jerk_limits", False))
+    run.stage_times_s = {k: float(v) for k, v in (getattr(out, "stage_times_s", None) or {}).items()}
     if not out.success or out.positions is None or out.times is None:
         if out.success:
             run.reasons = ["claimed success without a trajectory"]
