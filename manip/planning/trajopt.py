@@ -60,6 +60,9 @@ class TrajOptSettings:
         trust_region: largest move of a control point per iteration [rad] at first and at
             most; it halves after a rejected step, and each duration round starts at twice
             the previous round's final radius.
+        line_search: halvings of a step that does not lower the merit tried before the
+            trust region shrinks (each costs a clearance evaluation, not a QP; 1 measured
+            on MotionBenchMaker 32/scene joint goals: -1.5 % duration, -1 % QPs against 0).
         ray_points: control points tied to the seed's first / last segment at an end near
             an obstacle (each keeps one more piece of the motion on that segment).
         rounds: durations tried (the seed's first, then by bisection towards the lower bound).
@@ -93,6 +96,7 @@ class TrajOptSettings:
     duration_tolerance: float = 0.03
     penalty: float = 1e4
     second_chance: bool = True
+    line_search: int = 1
     velocity_weight: float = 1.0
     acceleration_weight: float = 0.01
     jerk_weight: float = 0.001
@@ -320,8 +324,8 @@ def _sco(prob: _Problem, c0, h, radius, vmax, amax, jmax, lower, upper, clearanc
     The velocity, acceleration and jerk limits at step h and the clearance above `margin`
     are soft (slack variables with `s.penalty`): the QP is always feasible, and the caller
     re-times the result exactly. A step is accepted when the true merit (objective plus the
-    penalties of the limit excess and of the sampled clearance below the margin) decreases;
-    otherwise the trust region halves.
+    penalties of the limit excess and of the sampled clearance below the margin) decreases,
+    else its half (`s.line_search` times) is tried; otherwise the trust region halves.
 
     Returns:
         (ok: the clearance stayed above the seed's floor, control points, QPs solved, why not
@@ -356,6 +360,14 @@ def _sco(prob: _Problem, c0, h, radius, vmax, amax, jmax, lower, upper, clearanc
         c_new = prob.control(x)
         terms_new = clearance.terms(prob.B @ c_new, activation)
         merit_new = _merit(P, q_lin, c_new, prob, terms_new, margin, s.penalty, G_lim, h_lim)
+        for _ in range(s.line_search if merit_new > merit else 0):
+            # half the step first (one clearance evaluation instead of a QP; a convex
+            # combination keeps the bounds and the end rays)
+            c_new = 0.5 * (c + c_new)
+            terms_new = clearance.terms(prob.B @ c_new, activation)
+            merit_new = _merit(P, q_lin, c_new, prob, terms_new, margin, s.penalty, G_lim, h_lim)
+            if merit_new <= merit:
+                break
         if merit_new > merit:
             radius *= 0.5  # the linearisation was too optimistic: smaller steps
             if radius < 1e-3:
