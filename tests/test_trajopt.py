@@ -195,6 +195,12 @@ def test_optimiser_rejects_bad_input(mg):
         optimize_trajectory(*args(q, np.array([0.0, 0.0])))
     with pytest.raises(InvalidInputError, match="vmax"):
         optimize_trajectory(q, np.array([0.0, 1.0]), -mg.velocity_limits, *lim[1:], mg.clearance, 0.0, 1.0)
+    with pytest.raises(InvalidInputError, match="max_duration"):
+        optimize_trajectory(*args(q, np.array([0.0, 1.0])), max_duration=0.0)
+    for bad in ({"intervals": 2}, {"bisection": 1.0}, {"margin": -0.01}, {"line_search": -1}, {"iterations": 2.5},
+                {"ray_points": 7}, {"penalty": 0.0}):
+        with pytest.raises(InvalidInputError, match=next(iter(bad))):
+            TrajOptSettings(**bad)
 
 
 def test_clearance_gradient_matches_finite_differences(mg):

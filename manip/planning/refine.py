@@ -54,7 +54,8 @@ def refine(
     if seed.duration <= bound * 1.03:
         return None
     settings = SMOOTH if o.smoothness == "smooth" else TrajOptSettings()
-    retries = [replace(settings, ray_points=k) for k in RETRY_RAY_POINTS if k > settings.ray_points]
+    retries = [replace(settings, ray_points=k) for k in RETRY_RAY_POINTS
+               if settings.ray_points < k <= settings.intervals // 2 - 2]
     for attempt, s in enumerate([settings, *retries]):
         # bounded by its rounds and iterations, not by the clock (the same seed gives the same
         # trajectory on any machine); only the call's time budget can cut it short

@@ -102,6 +102,29 @@ class TrajOptSettings:
     jerk_weight: float = 0.001
     solver: str = "piqp"
 
+    def __post_init__(self) -> None:
+        counts = {"intervals": 4, "samples_per_interval": 1, "iterations": 1, "rounds": 1, "ray_points": 1,
+                  "line_search": 0}
+        for name, least in counts.items():
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < least:
+                raise InvalidInputError(f"TrajOptSettings.{name} must be an integer >= {least}; got {v!r}")
+        fractions = ("bisection", "duration_tolerance", "limit_row_slack")
+        for name in fractions:
+            v = getattr(self, name)
+            if not (isinstance(v, int | float) and 0.0 < v < 1.0):
+                raise InvalidInputError(f"TrajOptSettings.{name} must be in (0, 1); got {v!r}")
+        for name in ("margin", "activation", "tolerance", "trust_region", "penalty", "velocity_weight",
+                     "acceleration_weight", "jerk_weight"):
+            v = getattr(self, name)
+            if not (isinstance(v, int | float) and not isinstance(v, bool) and np.isfinite(v) and v >= 0.0):
+                raise InvalidInputError(f"TrajOptSettings.{name} must be finite and >= 0; got {v!r}")
+        if self.trust_region <= 0.0 or self.penalty <= 0.0:
+            raise InvalidInputError("TrajOptSettings.trust_region and penalty must be > 0")
+        if self.intervals >= 8 and self.ray_points > self.intervals // 2 - 2:  # rays need N >= 8
+            raise InvalidInputError(f"TrajOptSettings.ray_points must be <= intervals // 2 - 2 = "
+                                    f"{self.intervals // 2 - 2}; got {self.ray_points}")
+
 
 SMOOTH = TrajOptSettings(velocity_weight=0.05, acceleration_weight=0.05, jerk_weight=1.0)
 
