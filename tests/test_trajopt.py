@@ -198,7 +198,7 @@ def test_optimiser_rejects_bad_input(mg):
     with pytest.raises(InvalidInputError, match="max_duration"):
         optimize_trajectory(*args(q, np.array([0.0, 1.0])), max_duration=0.0)
     for bad in ({"intervals": 2}, {"bisection": 1.0}, {"margin": -0.01}, {"line_search": -1}, {"iterations": 2.5},
-                {"ray_points": 7}, {"penalty": 0.0}):
+                {"ray_points": 7}, {"penalty": 0.0}, {"solver": "no-such-solver"}):
         with pytest.raises(InvalidInputError, match=next(iter(bad))):
             TrajOptSettings(**bad)
 

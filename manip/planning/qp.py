@@ -71,6 +71,16 @@ def regularised(P: sp.csc_matrix, extra: int) -> sp.csc_matrix:
     )
 
 
+def installed_solvers() -> list[str]:
+    """The solvers `solve` can use: "piqp" (called directly) and those qpsolvers has installed."""
+    return sorted({"piqp", *qpsolvers.available_solvers})
+
+
+def solver_available(name: object) -> bool:
+    """True when `solve` can use the solver `name`."""
+    return isinstance(name, str) and name in installed_solvers()
+
+
 def solve(P: sp.csc_matrix, q: np.ndarray, G_T: np.ndarray, h: np.ndarray, A: sp.csc_matrix | None,
           b: np.ndarray | None, lb: np.ndarray, ub: np.ndarray, solver: str) -> np.ndarray | None:
     """argmin 1/2 z^T P z + q^T z subject to G z <= h, A z = b, lb <= z <= ub, or None when

@@ -121,6 +121,9 @@ class TrajOptSettings:
                 raise InvalidInputError(f"TrajOptSettings.{name} must be finite and >= 0; got {v!r}")
         if self.trust_region <= 0.0 or self.penalty <= 0.0:
             raise InvalidInputError("TrajOptSettings.trust_region and penalty must be > 0")
+        if not qp.solver_available(self.solver):
+            raise InvalidInputError(f"TrajOptSettings.solver must be 'piqp' or an installed qpsolvers solver "
+                                    f"({', '.join(qp.installed_solvers())}); got {self.solver!r}")
         if self.intervals >= 8 and self.ray_points > self.intervals // 2 - 2:  # rays need N >= 8
             raise InvalidInputError(f"TrajOptSettings.ray_points must be <= intervals // 2 - 2 = "
                                     f"{self.intervals // 2 - 2}; got {self.ray_points}")
