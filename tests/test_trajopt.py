@@ -177,6 +177,21 @@ def test_an_optimised_motion_that_fails_validation_is_retried_with_more_of_the_s
         assert ray_points == [1] and r.source == "shortcut"
 
 
+def test_the_optimiser_keeps_to_its_qp_budget(mg):
+    """`max_solves` bounds the QPs (a count: the result does not depend on the machine's speed)."""
+    cfg = mg.config
+    seed = mg.plan_joints(LEFT, RIGHT, trajopt=False, seed=3).trajectory
+    args = (seed.positions, seed.times, cfg.velocity_limits, cfg.acceleration_limits, cfg.jerk_limits,
+            mg.kinematics.lower, mg.kinematics.upper, mg.clearance, 0.0, time.perf_counter() + 10.0)
+    free = optimize_trajectory(*args)
+    assert free.solves > 4
+    for budget in (1, 4):
+        res = optimize_trajectory(*args, max_solves=budget)
+        assert res.solves == budget
+    a, b = optimize_trajectory(*args, max_solves=4), optimize_trajectory(*args, max_solves=4)
+    np.testing.assert_array_equal(a.control, b.control)
+
+
 def test_smooth_motions_keep_jerk_well_under_the_limit(mg):
     r = mg.plan_joints(LEFT, RIGHT, seed=3, smoothness="smooth")
     assert r.success
@@ -197,6 +212,8 @@ def test_optimiser_rejects_bad_input(mg):
         optimize_trajectory(q, np.array([0.0, 1.0]), -mg.velocity_limits, *lim[1:], mg.clearance, 0.0, 1.0)
     with pytest.raises(InvalidInputError, match="max_duration"):
         optimize_trajectory(*args(q, np.array([0.0, 1.0])), max_duration=0.0)
+    with pytest.raises(InvalidInputError, match="max_solves"):
+        optimize_trajectory(*args(q, np.array([0.0, 1.0])), max_solves=0)
     for bad in ({"intervals": 2}, {"bisection": 1.0}, {"margin": -0.01}, {"line_search": -1}, {"iterations": 2.5},
                 {"ray_points": 7}, {"penalty": 0.0}, {"solver": "no-such-solver"}):
         with pytest.raises(InvalidInputError, match=next(iter(bad))):

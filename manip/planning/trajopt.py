@@ -247,6 +247,7 @@ def optimize_trajectory(
     settings: TrajOptSettings = TrajOptSettings(),
     min_duration: float = 0.0,
     max_duration: float = np.inf,
+    max_solves: int | float = np.inf,
     end_rays: bool = True,
 ) -> TrajOptResult:
     """Optimise a rest-to-rest motion seeded by a sampled one (e.g. a timed collision-free path).
@@ -265,11 +266,14 @@ def optimize_trajectory(
             first target not reached (see `TrajOptSettings.duration_tolerance`).
         max_duration: the duration to beat [s] (e.g. the seed's): the search stops before
             a target this long (it could only give slower motions).
+        max_solves: QPs at most (a count, so the result does not depend on the machine).
         end_rays: keep the motion's first and last two pieces on the seed's first and last
             straight segments (the seed must be a polyline's timing; the pieces near a goal
             that almost touches an obstacle are then exactly as free as the seed's).
     """
     seed_positions, seed_times = _check_seed(seed_positions, seed_times)
+    if not (max_solves >= 1):
+        raise InvalidInputError(f"max_solves must be >= 1; got {max_solves!r}")
     if not (np.isfinite(min_duration) and min_duration >= 0.0 and max_duration > 0.0):
         raise InvalidInputError(f"min_duration must be finite and >= 0 and max_duration > 0 [s]; got {min_duration!r}, "
                                 f"{max_duration!r}")
@@ -301,10 +305,10 @@ def optimize_trajectory(
     message = ""
     radius = settings.trust_region
     for _ in range(settings.rounds):
-        if time.perf_counter() > deadline:
+        if time.perf_counter() > deadline or solves >= max_solves:
             break
         ok, c_new, used, why, radius = _sco(prob, c, h, radius, vmax, amax, jmax, lower, upper, clearance, margin,
-                                            settings, deadline)
+                                            settings, deadline, max_solves - solves)
         # the next round starts from twice the last step size (a step rejected there would
         # be rejected at the same shape again)
         radius = min(settings.trust_region, 2.0 * radius)
@@ -344,7 +348,7 @@ def optimize_trajectory(
 
 
 def _sco(prob: _Problem, c0, h, radius, vmax, amax, jmax, lower, upper, clearance, margin, s: TrajOptSettings,
-         deadline):
+         deadline, max_solves=np.inf):
     """Sequential convex optimisation at step h (an L1 penalty method with a trust region).
 
     The velocity, acceleration and jerk limits at step h and the clearance above `margin`
@@ -370,7 +374,7 @@ def _sco(prob: _Problem, c0, h, radius, vmax, amax, jmax, lower, upper, clearanc
     merit = _merit(P, q_lin, c, prob, terms, margin, s.penalty, G_lim, h_lim)
     nx = P.shape[0]
     for _ in range(s.iterations):
-        if time.perf_counter() > deadline:
+        if time.perf_counter() > deadline or solves >= max_solves:
             break
         G_col, h_col = _collision_rows(prob, c, terms, margin)
         x0 = c[3 : prob.n]
