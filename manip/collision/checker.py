@@ -12,7 +12,7 @@ broadphase, `manip.collision.broadphase`, that can only say "free", never "colli
    the fine cover of each part still flagged; parts fixed to the base are checked once per
    world;
 3. self: one bounding ball per body (a link's parts, or an attached object) for the enabled
-   pairs, then the coarse covers of each enabled part pair;
+   pairs, then the coarse covers of each enabled part pair, then their fine covers;
 4. coal's exact narrowphase for the (configuration, pair) candidates left, stopping at the
    first collision of each configuration, or of each group of configurations when only
    "any collision in this segment?" is asked (most penetrating candidates first), or at the

@@ -149,6 +149,28 @@ class PartTables(NamedTuple):
     bp_self: tuple            # tables of `broadphase.self_candidates`
 
 
+def _fine_groups(fine: _SphereTable, coarse: _SphereTable) -> tuple[np.ndarray, ...]:
+    """Each part's fine balls grouped by their nearest coarse ball (the tables of
+    `broadphase.self_candidates`): (radii (Kc,), start (Kc,), count (Kc,), members (Kf,)),
+    group k centred at coarse ball k's centre and holding its member fine balls."""
+    Kc = coarse.radii.size
+    radii = np.zeros(Kc)
+    members: list[list[int]] = [[] for _ in range(Kc)]
+    for g in range(coarse.start.size):
+        fc = fine.centres_of(g)
+        cs = coarse.start[g]
+        cc = coarse.centres_of(g)
+        if fc.shape[0] == 0:
+            continue
+        near = np.argmin(np.linalg.norm(fc[:, None] - cc[None], axis=2), axis=1)
+        for b, k in enumerate(near):
+            members[cs + k].append(int(fine.start[g] + b))
+            radii[cs + k] = max(radii[cs + k], float(np.linalg.norm(fc[b] - cc[k]) + fine.radii_of(g)[b]))
+    count = np.array([len(m) for m in members], dtype=np.int64)
+    flat = np.array([i for m in members for i in m], dtype=np.int64)
+    return (np.ascontiguousarray(radii), np.ascontiguousarray(np.cumsum(count) - count), count, flat)
+
+
 def part_tables(parts: Sequence[_Part], pairs: Sequence[tuple[int, int]]) -> PartTables:
     """The broadphase tables of `parts` and their enabled self-collision `pairs`."""
     G = len(parts)
@@ -205,7 +227,8 @@ def part_tables(parts: Sequence[_Part], pairs: Sequence[tuple[int, int]]) -> Par
                 i64(fine.start), i64(fine.count), f64(fine.centres), f64(fine.radii))
     bp_pairs = i64(pair_arr[pair_order].reshape(-1, 2))
     bp_self = (body_joint, f64(np.array([c for c, _ in body_balls]).reshape(-1, 3)), f64([r for _, r in body_balls]),
-               body_pairs, i64(np.cumsum(pair_count) - pair_count), pair_count, bp_pairs, *covers)
+               body_pairs, i64(np.cumsum(pair_count) - pair_count), pair_count, bp_pairs, *covers,
+               f64(fine.centres), f64(fine.radii), *_fine_groups(fine, coarse))
     # geometry placements in joint frames, for batched transforms of the exact checks
     gR = np.array([p.R for p in parts])
     gp = np.array([p.p for p in parts])
