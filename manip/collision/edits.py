@@ -61,6 +61,8 @@ class WorldEdits:
         with self._writing():
             self._self_padding = value
             self._req_self = _request(value)
+            if self._proved_clear_pairs() != self._skipped_pairs:
+                self._rebuild_parts()
 
     @property
     def world(self) -> WorldConfig:
@@ -156,7 +158,8 @@ class WorldEdits:
     def _rebuild_parts(self) -> None:
         """The robot side's tables (`manip.collision.tables`), after a change of parts."""
         self._parts, pairs = collect_parts(self.robot, self.kinematics, self._attached)
-        t = part_tables(self._parts, pairs)
+        self._skipped_pairs = self._proved_clear_pairs()
+        t = part_tables(self._parts, pairs, self._skipped_pairs)
         self._pj, self._fine, self._coarse = t.joint, t.fine, t.coarse
         self._pbc, self._pbr, self._l0_joint, self._pairs, self._bpairs = (
             t.ball_centres, t.ball_radii, t.l0_joint, t.pairs, t.body_pairs)
@@ -165,6 +168,11 @@ class WorldEdits:
         self._motion_bounds = MotionBoundTables(self._parts, t.fine, self.kinematics, t.bp_pairs)
         self._req_self = _request(self._self_padding)
         self._update_static()
+
+    def _proved_clear_pairs(self) -> frozenset[tuple[int, int]]:
+        """The robot's self pairs proved to keep more than the self padding at every
+        configuration (`manip.collision.self_pairs`): the checks skip them."""
+        return frozenset(pair for pair, bound in self.robot.proved_clear.items() if bound > self._self_padding)
 
     def _rebuild_world(self) -> None:
         """The world side's tables (`manip.collision.tables`), after a change of obstacles."""

@@ -141,11 +141,11 @@ class PartTables(NamedTuple):
     ball_radii: np.ndarray    # (G,)
     l0_joint: np.ndarray      # the moving joints (level 0 of the world broadphase)
     pairs: np.ndarray         # (P, 2) enabled self-collision part pairs
-    body_pairs: np.ndarray    # (B, 2) body pairs with at least one enabled part pair
+    body_pairs: np.ndarray    # (B, 2) body pairs with at least one checked part pair
     gR: np.ndarray            # (G, 3, 3) geometry placements in joint frames
     gp: np.ndarray            # (G, 3)
     bp_world: tuple           # tables of `broadphase.world_candidates` (robot side)
-    bp_pairs: np.ndarray      # (P, 2) part pairs grouped by body pair
+    bp_pairs: np.ndarray      # (P', 2) checked part pairs (not proved clear) grouped by body pair
     bp_self: tuple            # tables of `broadphase.self_candidates`
 
 
@@ -171,8 +171,11 @@ def _fine_groups(fine: _SphereTable, coarse: _SphereTable) -> tuple[np.ndarray, 
     return (np.ascontiguousarray(radii), np.ascontiguousarray(np.cumsum(count) - count), count, flat)
 
 
-def part_tables(parts: Sequence[_Part], pairs: Sequence[tuple[int, int]]) -> PartTables:
-    """The broadphase tables of `parts` and their enabled self-collision `pairs`."""
+def part_tables(parts: Sequence[_Part], pairs: Sequence[tuple[int, int]],
+                skip: frozenset[tuple[int, int]] = frozenset()) -> PartTables:
+    """The broadphase tables of `parts` and their enabled self-collision `pairs`; the pairs
+    in `skip` (proved clear at the self padding) are left out of the broadphase tables (the
+    checks and certificates) but kept in `pairs` (exact references, distances)."""
     G = len(parts)
     pj = np.array([p.joint for p in parts])
     fine = _SphereTable([p.centres for p in parts], [p.radii for p in parts], pj)
@@ -210,6 +213,8 @@ def part_tables(parts: Sequence[_Part], pairs: Sequence[tuple[int, int]]) -> Par
         part_body[gs] = b_
     bpairs: dict[tuple[int, int], list[int]] = {}
     for k, (a_, b_) in enumerate(pairs):
+        if (int(a_), int(b_)) in skip:
+            continue
         bpairs.setdefault((int(part_body[a_]), int(part_body[b_])), []).append(k)
     body_pairs = np.array(list(bpairs), dtype=np.int64).reshape(-1, 2)
     pair_count = np.array([len(m) for m in bpairs.values()], dtype=np.int64)
