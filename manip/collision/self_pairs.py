@@ -55,6 +55,8 @@ PROOF_QUERIES = 20000
 #: [rad] the widest starting cell along each joint.
 _START_WIDTH = 0.5
 _VERSION = "proof-v2"
+#: Results of this process, by cache key (the disk cache may be off).
+_MEMORY: dict[str, float | None] = {}
 
 
 def relative_joints(kinematics: Kinematics, joint_a: int, joint_b: int) -> list[int]:
@@ -129,6 +131,15 @@ def prove_pair_clear(parts: Sequence, a: int, b: int, kinematics: Kinematics, *,
     # speed bound per joint: the part it moves (a joint moves exactly one of the two)
     L = np.array([_reach(kinematics, pa if k in chain_a else pb, k) for k in rel])
     key = _key(digests, a, b, kinematics, rel, lo, hi, base)
+    if key in _MEMORY:
+        return _MEMORY[key]
+    _MEMORY[key] = bound = _cached_or_proved(key, cache, pa, pb, kinematics, qidx, rel, lo, hi, L, base)
+    return bound
+
+
+def _cached_or_proved(key: str, cache: Path | None, pa, pb, kinematics: Kinematics, qidx: np.ndarray,
+                      rel: list[int], lo: np.ndarray, hi: np.ndarray, L: np.ndarray, base: np.ndarray) -> float | None:
+    """The proof's result from the disk cache, else computed (and written to the cache)."""
     folder = cache
     file = folder / f"selfpair-{key}.json" if folder is not None else None
     if file is not None and file.is_file():
