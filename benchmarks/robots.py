@@ -59,22 +59,38 @@ def ik_figures(mg: MotionGenerator, n: int) -> tuple[float, int]:
     return solved / n, wrong
 
 
+STAGES = ("ik", "plan", "optimize", "restarts", "timing", "validate", "trajopt")
+
+
 def planning_figures(mg: MotionGenerator, n: int) -> dict:
+    """Plans of `n` seeded problems per scene kind: counts, median time, and per stage
+    (`PlanResult.timings`) the median and mean [ms] over all problems (0 for a stage a plan
+    skipped), the median trajectory duration [s] and samples."""
     verifier = Verifier(mg.config)
     times, solved, invalid, total = [], 0, 0, 0
+    stages: dict[str, list[float]] = {s: [] for s in STAGES}
+    durations, samples = [], []
     for kind in ("table", "shelf", "clutter"):
         for p in make_problems(kind, n, seed=0, robot=mg.config.name, verifier=verifier):
             mg.update_world(p.world)
             t0 = time.perf_counter()
             r = mg.plan_joints(p.start, p.goal)
             times.append(time.perf_counter() - t0)
+            for s in STAGES:
+                stages[s].append(r.timings.get(s, 0.0))
             total += 1
             if r.success:
                 solved += 1
                 t = r.trajectory
+                durations.append(float(t.times[-1]))
+                samples.append(len(t.times))
                 invalid += not verifier.verify_trajectory(p, t.times, t.positions, t.velocities).valid
     mg.update_world({})
-    return {"total": total, "solved": solved, "invalid": invalid, "median_ms": 1e3 * float(np.median(times))}
+    return {"total": total, "solved": solved, "invalid": invalid, "median_ms": 1e3 * float(np.median(times)),
+            "stage_median_ms": {s: 1e3 * float(np.median(v)) for s, v in stages.items()},
+            "stage_mean_ms": {s: 1e3 * float(np.mean(v)) for s, v in stages.items()},
+            "duration_s": float(np.median(durations)) if durations else float("nan"),
+            "samples": float(np.median(samples)) if samples else float("nan")}
 
 
 def tracking_error(mg: MotionGenerator, n: int = 10) -> float:
@@ -122,6 +138,7 @@ def main() -> int:
     print("| robot | FK max err (m) | IK solved | IK wrong | plans solved | invalid | median plan (ms) | sim tracking max (m) |")
     print("|---|---|---|---|---|---|---|---|")
     bad = 0
+    breakdown = []
     for name in args.robots:
         mg = MotionGenerator(name, seed=0)
         fk = fk_error(mg)
@@ -132,6 +149,14 @@ def main() -> int:
               f"{pl['invalid']} | {pl['median_ms']:.0f} | {track:.4f} |", flush=True)
         bad += (fk > 1e-6 or rate < 0.995 or wrong > 0 or pl["invalid"] > 0 or pl["solved"] < 0.99 * pl["total"]
                 or track > 0.02)
+        breakdown.append((name, pl))
+    print("\nPlanning stages, median / mean [ms] over the problems (0 when a plan skips the stage):\n")
+    print("| robot | " + " | ".join(STAGES) + " | total | trajectory duration (s) | samples |")
+    print("|---|" + "---|" * (len(STAGES) + 3))
+    for name, pl in breakdown:
+        cells = [f"{pl['stage_median_ms'][s]:.0f} / {pl['stage_mean_ms'][s]:.0f}" for s in STAGES]
+        print(f"| {name} | " + " | ".join(cells) + f" | {pl['median_ms']:.0f} | {pl['duration_s']:.2f} | "
+              f"{pl['samples']:.0f} |")
     return 1 if bad else 0
 
 

@@ -9,7 +9,7 @@ collision. Each configuration is visited once, with the hierarchy
 - world: one bounding ball per moving joint (all its parts) against each obstacle, then
   the part's coarse cover, then its fine cover;
 - self: one bounding ball per body (parts moving together), then the coarse covers of each
-  enabled part pair.
+  enabled part pair, then their fine covers.
 
 Obstacles are seen through their broadphase shape: a box (cuboids, mesh bounding boxes), a
 rounded box (spheres, capsules) or a cylinder, given in their own frame by a centre `oc`,
@@ -141,7 +141,8 @@ def world_candidates(R, p, margin,
 @njit(cache=True, nogil=True)
 def self_candidates(R, p, margin,
                     body_joint, body_c, body_r, bpairs, pp_start, pp_count, pairs,
-                    part_joint, c_start, c_count, c_centres, c_radii):
+                    part_joint, c_start, c_count, c_centres, c_radii,
+                    f_centres, f_radii, g_radii, g_start, g_count, g_members):
     """(configuration, part pair) candidates of self-collision the covers cannot clear.
 
     Args:
@@ -153,10 +154,15 @@ def self_candidates(R, p, margin,
             ranges of `pairs` (Q, 2).
         part_joint, c_start, c_count, c_centres, c_radii: coarse covers as in
             `world_candidates`.
-
+        f_centres (Kf, 3), f_radii (Kf,): the fine covers' balls.
+        g_radii (Kc,), g_start, g_count (Kc,), g_members: the fine balls of each part grouped
+            by their nearest coarse ball: group k (coarse ball k) holds the fine balls
+            `g_members[g_start[k]:g_start[k] + g_count[k]]`, all inside the ball of coarse
+            ball k's centre and radius g_radii[k]. Groups that cannot come closer than
+            the best fine pair found so far are skipped (the clearance stays exact).
     Returns:
-        n, pair index into `pairs` (T,) int64 and depth (T,): the smallest coarse-ball
-        clearance of the part pair [m].
+        n, pair index into `pairs` (T,) int64 and depth (T,): the smallest fine-ball
+        clearance of the part pair [m] (a lower bound of the pair's distance).
     """
     N = R.shape[0]
     ids = np.empty((64, 3), dtype=np.int64)
@@ -166,10 +172,14 @@ def self_candidates(R, p, margin,
     xb = np.empty((nb, 3))
     xc = np.empty((c_centres.shape[0], 3))
     placed = np.zeros(c_centres.shape[0], dtype=np.bool_)
+    xf = np.empty((f_centres.shape[0], 3))
+    fplaced = np.zeros(f_centres.shape[0], dtype=np.bool_)
+    glb = np.empty(c_centres.shape[0] ** 2)
     for n in range(N):
         for b in range(nb):
             _place(R, p, n, body_joint[b], body_c[b], xb[b])
         placed[:] = False
+        fplaced[:] = False
         for e in range(bpairs.shape[0]):
             a = bpairs[e, 0]
             b = bpairs[e, 1]
@@ -196,6 +206,48 @@ def self_candidates(R, p, margin,
                         s = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) - c_radii[i] - c_radii[j]
                         if s < m:
                             m = s
+                if m >= margin:
+                    continue
+                # the coarse covers touch: the fine covers (tighter, more balls) decide, group
+                # by group (the fine balls nearest each coarse ball), closest groups first
+                na = c_count[ga]
+                nb_ = c_count[gb]
+                for u in range(na):
+                    for v in range(nb_):
+                        i = c_start[ga] + u
+                        j = c_start[gb] + v
+                        d0 = xc[i, 0] - xc[j, 0]
+                        d1 = xc[i, 1] - xc[j, 1]
+                        d2 = xc[i, 2] - xc[j, 2]
+                        glb[u * nb_ + v] = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) - g_radii[i] - g_radii[j]
+                order = np.argsort(glb[:na * nb_])
+                m = np.inf
+                for w in order:
+                    if glb[w] >= m:
+                        break
+                    A = c_start[ga] + w // nb_
+                    B = c_start[gb] + w % nb_
+                    for ii in range(g_start[A], g_start[A] + g_count[A]):
+                        i = g_members[ii]
+                        if not fplaced[i]:
+                            _place(R, p, n, part_joint[ga], f_centres[i], xf[i])
+                            fplaced[i] = True
+                        d0 = xf[i, 0] - xc[B, 0]
+                        d1 = xf[i, 1] - xc[B, 1]
+                        d2 = xf[i, 2] - xc[B, 2]
+                        if math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) - f_radii[i] - g_radii[B] >= m:
+                            continue
+                        for jj in range(g_start[B], g_start[B] + g_count[B]):
+                            j = g_members[jj]
+                            if not fplaced[j]:
+                                _place(R, p, n, part_joint[gb], f_centres[j], xf[j])
+                                fplaced[j] = True
+                            d0 = xf[i, 0] - xf[j, 0]
+                            d1 = xf[i, 1] - xf[j, 1]
+                            d2 = xf[i, 2] - xf[j, 2]
+                            s = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) - f_radii[i] - f_radii[j]
+                            if s < m:
+                                m = s
                 if m < margin:
                     ids, depth = _push(ids, depth, T, n, k, 0, m)
                     T += 1

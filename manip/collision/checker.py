@@ -12,8 +12,10 @@ broadphase, `manip.collision.broadphase`, that can only say "free", never "colli
    the fine cover of each part still flagged; parts fixed to the base are checked once per
    world;
 3. self: one bounding ball per body (a link's parts, or an attached object) for the enabled
-   pairs, then the coarse covers of each enabled part pair;
-4. coal's exact narrowphase for the (configuration, pair) candidates left, stopping at the
+   pairs, then the coarse covers of each enabled part pair, then their fine covers;
+4. coal's exact narrowphase for the (configuration, pair) candidates left (a mesh of more
+   than `HULL_SCREEN_TRIANGLES` triangles is first tested through its convex hull, which
+   holds it: a hull kept clear answers "free" at the cost of one GJK), stopping at the
    first collision of each configuration, or of each group of configurations when only
    "any collision in this segment?" is asked (most penetrating candidates first), or at the
    first colliding configuration in order (`first_collision`).
@@ -208,6 +210,7 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         RA, pA = broadphase.part_placements(R, p, n, i, self._pj, self._gR, self._gp)
         RB, pB = broadphase.part_placements(R, p, n, np.where(selfp, j, 0), self._pj, self._gR, self._gp)
         geoms = [pt.geometry for pt in self._parts]
+        hulls, convex = self._screen_hulls, self._hulls
         ogeom, otf = self._ogeom, self._otf
         req_w, req_s = self._req_world, self._req_self
         res = coal.CollisionResult()
@@ -219,10 +222,21 @@ class CollisionChecker(WorldEdits, SegmentChecks):
             if key in done:
                 continue
             res.clear()
+            ta = Tf(Ra_, pa_)
             if k == 0:
-                hit = collide(geoms[a], Tf(Ra_, pa_), ogeom[b], otf[b], req_w, res)
+                # a large mesh's convex hull (which holds it) first: free there, free for certain
+                if hulls[a] is not None and not collide(hulls[a], ta, ogeom[b], otf[b], req_w, res):
+                    continue
+                res.clear()
+                hit = collide(geoms[a], ta, ogeom[b], otf[b], req_w, res)
             else:
-                hit = collide(geoms[a], Tf(Ra_, pa_), geoms[b], Tf(Rb_, pb_), req_s, res)
+                tb = Tf(Rb_, pb_)
+                # both hulls (convex against convex: GJK) when either mesh is large
+                if ((hulls[a] is not None or hulls[b] is not None) and convex[a] is not None and convex[b] is not None
+                        and not collide(convex[a], ta, convex[b], tb, req_s, res)):
+                    continue
+                res.clear()
+                hit = collide(geoms[a], ta, geoms[b], tb, req_s, res)
             if hit:
                 out[nn] = True
                 done.add(key)

@@ -28,6 +28,10 @@ from manip.errors import InvalidInputError, UnknownNameError
 from manip.pose import Pose
 from manip.validation import as_real_array, non_negative
 
+#: Meshes with more triangles than this are screened by their convex hull before the exact
+#: check (a hull test costs about the same whatever the mesh; a mesh test grows with it).
+HULL_SCREEN_TRIANGLES = 2000
+
 
 class WorldEdits:
     """The editing half of `CollisionChecker`.
@@ -61,6 +65,8 @@ class WorldEdits:
         with self._writing():
             self._self_padding = value
             self._req_self = _request(value)
+            if self._proved_clear_pairs() != self._skipped_pairs:
+                self._rebuild_parts()
 
     @property
     def world(self) -> WorldConfig:
@@ -156,15 +162,26 @@ class WorldEdits:
     def _rebuild_parts(self) -> None:
         """The robot side's tables (`manip.collision.tables`), after a change of parts."""
         self._parts, pairs = collect_parts(self.robot, self.kinematics, self._attached)
-        t = part_tables(self._parts, pairs)
+        self._skipped_pairs = self._proved_clear_pairs()
+        t = part_tables(self._parts, pairs, self._skipped_pairs)
         self._pj, self._fine, self._coarse = t.joint, t.fine, t.coarse
         self._pbc, self._pbr, self._l0_joint, self._pairs, self._bpairs = (
             t.ball_centres, t.ball_radii, t.l0_joint, t.pairs, t.body_pairs)
         self._gR, self._gp = t.gR, t.gp
+        # convex hulls of the meshes, screened before the exact check of meshes with many
+        # triangles (the hull holds the mesh: a hull kept clear keeps the mesh clear)
+        self._hulls = [p.hull if p.hull is not p.geometry else None for p in self._parts]
+        self._screen_hulls = [h if h is not None and getattr(p.geometry, "num_tris", 0) > HULL_SCREEN_TRIANGLES
+                              else None for h, p in zip(self._hulls, self._parts)]
         self._bp_world, self._bp_pairs, self._bp_self = t.bp_world, t.bp_pairs, t.bp_self
         self._motion_bounds = MotionBoundTables(self._parts, t.fine, self.kinematics, t.bp_pairs)
         self._req_self = _request(self._self_padding)
         self._update_static()
+
+    def _proved_clear_pairs(self) -> frozenset[tuple[int, int]]:
+        """The robot's self pairs proved to keep more than the self padding at every
+        configuration (`manip.collision.self_pairs`): the checks skip them."""
+        return frozenset(pair for pair, bound in self.robot.proved_clear.items() if bound > self._self_padding)
 
     def _rebuild_world(self) -> None:
         """The world side's tables (`manip.collision.tables`), after a change of obstacles."""

@@ -20,6 +20,7 @@ import coal
 import numpy as np
 import pinocchio as pin
 
+from manip.collision.self_pairs import prove_pair_clear
 from manip.collision.spheres import cover_with_spheres
 from manip.errors import InvalidInputError
 from manip.kinematics import Kinematics
@@ -163,6 +164,19 @@ def sphere_cover(geometry, tolerance: float = 0.02, max_spheres: int = 48) -> tu
     return C.copy(), R.copy()
 
 
+def _part_digest(part: RobotPart) -> str:
+    """A string identifying a part's geometry, placement in its joint frame and sphere cover."""
+    h = hashlib.sha1(type(part.geometry).__name__.encode())
+    tri = geometry_triangles(part.geometry)
+    if tri is None:  # a sphere
+        h.update(repr(float(part.geometry.radius)).encode())
+    else:
+        h.update(tri[0].tobytes() + tri[1].astype(np.int64).tobytes())
+    for a in (part.R, part.p, part.centres, part.radii):
+        h.update(np.ascontiguousarray(a, dtype=float).tobytes())
+    return f"{part.joint}:{h.hexdigest()}"
+
+
 class RobotGeometry:
     """The robot's collision parts and self-collision pairs.
 
@@ -234,8 +248,16 @@ class RobotGeometry:
                     continue
                 pairs.append((a, b))
         self.self_pairs: list[tuple[int, int]] = pairs
-        logger.debug("robot geometry: %d parts, %d spheres, %d self pairs", len(parts),
-                     sum(len(p.radii) for p in parts), len(pairs))
+        # pairs that can never come within PROOF_CLEARANCE (`manip.collision.self_pairs`)
+        digests = [_part_digest(part) for part in parts]
+        cache = _cache_dir()
+        self.proved_clear: dict[tuple[int, int], float] = {}
+        for a, b in pairs:
+            bound = prove_pair_clear(parts, a, b, kin, digests=digests, cache=cache)
+            if bound is not None:
+                self.proved_clear[(a, b)] = bound
+        logger.debug("robot geometry: %d parts, %d spheres, %d self pairs (%d proved clear)", len(parts),
+                     sum(len(p.radii) for p in parts), len(pairs), len(self.proved_clear))
 
     @property
     def link_names(self) -> list[str]:

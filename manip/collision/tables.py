@@ -141,16 +141,41 @@ class PartTables(NamedTuple):
     ball_radii: np.ndarray    # (G,)
     l0_joint: np.ndarray      # the moving joints (level 0 of the world broadphase)
     pairs: np.ndarray         # (P, 2) enabled self-collision part pairs
-    body_pairs: np.ndarray    # (B, 2) body pairs with at least one enabled part pair
+    body_pairs: np.ndarray    # (B, 2) body pairs with at least one checked part pair
     gR: np.ndarray            # (G, 3, 3) geometry placements in joint frames
     gp: np.ndarray            # (G, 3)
     bp_world: tuple           # tables of `broadphase.world_candidates` (robot side)
-    bp_pairs: np.ndarray      # (P, 2) part pairs grouped by body pair
+    bp_pairs: np.ndarray      # (P', 2) checked part pairs (not proved clear) grouped by body pair
     bp_self: tuple            # tables of `broadphase.self_candidates`
 
 
-def part_tables(parts: Sequence[_Part], pairs: Sequence[tuple[int, int]]) -> PartTables:
-    """The broadphase tables of `parts` and their enabled self-collision `pairs`."""
+def _fine_groups(fine: _SphereTable, coarse: _SphereTable) -> tuple[np.ndarray, ...]:
+    """Each part's fine balls grouped by their nearest coarse ball (the tables of
+    `broadphase.self_candidates`): (radii (Kc,), start (Kc,), count (Kc,), members (Kf,)),
+    group k centred at coarse ball k's centre and holding its member fine balls."""
+    Kc = coarse.radii.size
+    radii = np.zeros(Kc)
+    members: list[list[int]] = [[] for _ in range(Kc)]
+    for g in range(coarse.start.size):
+        fc = fine.centres_of(g)
+        cs = coarse.start[g]
+        cc = coarse.centres_of(g)
+        if fc.shape[0] == 0:
+            continue
+        near = np.argmin(np.linalg.norm(fc[:, None] - cc[None], axis=2), axis=1)
+        for b, k in enumerate(near):
+            members[cs + k].append(int(fine.start[g] + b))
+            radii[cs + k] = max(radii[cs + k], float(np.linalg.norm(fc[b] - cc[k]) + fine.radii_of(g)[b]))
+    count = np.array([len(m) for m in members], dtype=np.int64)
+    flat = np.array([i for m in members for i in m], dtype=np.int64)
+    return (np.ascontiguousarray(radii), np.ascontiguousarray(np.cumsum(count) - count), count, flat)
+
+
+def part_tables(parts: Sequence[_Part], pairs: Sequence[tuple[int, int]],
+                skip: frozenset[tuple[int, int]] = frozenset()) -> PartTables:
+    """The broadphase tables of `parts` and their enabled self-collision `pairs`; the pairs
+    in `skip` (proved clear at the self padding) are left out of the broadphase tables (the
+    checks and certificates) but kept in `pairs` (exact references, distances)."""
     G = len(parts)
     pj = np.array([p.joint for p in parts])
     fine = _SphereTable([p.centres for p in parts], [p.radii for p in parts], pj)
@@ -188,6 +213,8 @@ def part_tables(parts: Sequence[_Part], pairs: Sequence[tuple[int, int]]) -> Par
         part_body[gs] = b_
     bpairs: dict[tuple[int, int], list[int]] = {}
     for k, (a_, b_) in enumerate(pairs):
+        if (int(a_), int(b_)) in skip:
+            continue
         bpairs.setdefault((int(part_body[a_]), int(part_body[b_])), []).append(k)
     body_pairs = np.array(list(bpairs), dtype=np.int64).reshape(-1, 2)
     pair_count = np.array([len(m) for m in bpairs.values()], dtype=np.int64)
@@ -205,7 +232,8 @@ def part_tables(parts: Sequence[_Part], pairs: Sequence[tuple[int, int]]) -> Par
                 i64(fine.start), i64(fine.count), f64(fine.centres), f64(fine.radii))
     bp_pairs = i64(pair_arr[pair_order].reshape(-1, 2))
     bp_self = (body_joint, f64(np.array([c for c, _ in body_balls]).reshape(-1, 3)), f64([r for _, r in body_balls]),
-               body_pairs, i64(np.cumsum(pair_count) - pair_count), pair_count, bp_pairs, *covers)
+               body_pairs, i64(np.cumsum(pair_count) - pair_count), pair_count, bp_pairs, *covers,
+               f64(fine.centres), f64(fine.radii), *_fine_groups(fine, coarse))
     # geometry placements in joint frames, for batched transforms of the exact checks
     gR = np.array([p.R for p in parts])
     gp = np.array([p.p for p in parts])
