@@ -532,11 +532,14 @@ class MotionGenerator:
         """Path, shortcutting, timing and validation to the best reachable of `goals` (G, dof).
 
         A path whose timed trajectory fails the validation (a graze between the
-        configurations the search checked) is planned again, until the budget runs out.
+        configurations the search checked) is planned again, until the budget runs out; the
+        second attempt on accepts only straight motions certified over their whole length
+        (`Validity.strict`: slower, but a graze thinner than the check resolution, e.g. a
+        finger passing an object a fraction of a millimetre deep, cannot come back).
         """
         result = None
         for attempt in range(1, MAX_ATTEMPTS + 1):
-            result = self._plan_once(ctx, validity, start, goals, attempt)
+            result = self._plan_once(ctx, validity if attempt == 1 else validity.strict(), start, goals, attempt)
             if result.success or result.status is not PlanStatus.TRAJOPT_FAIL or ctx.time_left < 0:
                 break
             logger.info("attempt %d: %s; planning again", attempt, result.message)

@@ -150,6 +150,23 @@ def test_thin_obstacle_between_samples_is_caught():
     assert not cert.certified and cert.reason == "collision" and cert.pair[1] == "plate"
 
 
+def test_a_graze_the_check_resolution_misses_is_planned_around():
+    """The straight line crosses a 1 mm plate between two checks of a coarse resolution: the
+    first attempt's trajectory fails the certificate, the next attempt (a strict validity:
+    every straight motion certified) goes round the plate."""
+    q0, q1 = READY.copy(), READY.copy()
+    q1[0] += 1.2
+    mg = MotionGenerator("franka", resolution=1.3, search_resolution=1.3)
+    mg.update_world(WorldConfig([_plate_across_the_hand(mg, q0, q1)]))
+    assert mg.validity.motion(q0, q1)  # the check at the resolution misses the plate
+    assert not mg.validity.strict().motion(q0, q1)
+    assert not mg.validity.strict().segments(q0[None], q1[None])[0]
+    r = mg.plan_joints(q0, q1, seed=0)
+    assert r.success and r.attempts >= 2, r.message
+    assert mg.checker.certify_path(r.trajectory.positions).certified
+    assert len(r.path) > 2  # not the straight line through the plate
+
+
 def test_validate_trajectory_rejects_an_uncertified_trajectory():
     """The one check both the timing stage and the optimiser use refuses the plate crossing."""
     mg = MotionGenerator("franka")

@@ -7,6 +7,10 @@ joint-space L-inf), `search_resolution` a coarser, cheaper screen used while sea
 necessary condition only). Returned trajectories are then certified over their whole
 continuous interpolation (`certify`). A `MotionGenerator` hands each plan a Validity on
 a snapshot of its checker, so a plan sees one world while other threads edit it.
+
+A strict Validity (`strict()`) also certifies every straight motion it accepts over its
+whole continuous length (the fine resolution can miss a graze thinner than its step): the
+planner switches to it when a path's timed trajectory failed the certificate.
 """
 
 from __future__ import annotations
@@ -28,21 +32,34 @@ class Validity:
         kinematics: the robot's kinematics (joint limits).
         resolution: fine check resolution [rad] (the guarantee).
         search_resolution: coarse screening resolution [rad] (>= resolution to be useful).
+        certified: also certify every accepted straight motion continuously (slower).
     """
 
-    def __init__(self, checker: CollisionChecker, kinematics: Kinematics, resolution: float, search_resolution: float):
+    def __init__(self, checker: CollisionChecker, kinematics: Kinematics, resolution: float, search_resolution: float,
+                 certified: bool = False):
         self.checker = checker
         self.kinematics = kinematics
         self.resolution = resolution
         self.search_resolution = max(resolution, search_resolution)
+        self.certified = certified
+
+    def strict(self) -> Validity:
+        """This validity with every accepted straight motion certified (`certified=True`)."""
+        return Validity(self.checker, self.kinematics, self.resolution, self.search_resolution, certified=True)
+
+    def _certified(self, q0: np.ndarray, q1: np.ndarray) -> bool:
+        return bool(self.checker.certify_path(np.stack([q0, q1])).certified)
 
     def configs(self, Q: np.ndarray) -> np.ndarray:
         """(N,) True where a configuration of Q (N, dof) or (dof,) is collision-free."""
         return ~self.checker.in_collision_batch(np.atleast_2d(Q))
 
     def motion(self, q0: np.ndarray, q1: np.ndarray, resolution: float | None = None) -> bool:
-        """True when the straight motion q0 -> q1 is free at `resolution` (default: the fine one)."""
-        return bool(self.checker.motion_valid(q0, q1, resolution=self.resolution if resolution is None else resolution))
+        """True when the straight motion q0 -> q1 is free at `resolution` (default: the fine one;
+        a strict validity also certifies it at the fine resolution)."""
+        if not self.checker.motion_valid(q0, q1, resolution=self.resolution if resolution is None else resolution):
+            return False
+        return not self.certified or resolution not in (None, self.resolution) or self._certified(q0, q1)
 
     def coarse_motion(self, q0: np.ndarray, q1: np.ndarray) -> bool:
         """`motion` at the search resolution."""
@@ -53,6 +70,9 @@ class Validity:
         ok = self.screen(Q0, Q1)
         if ok.any() and self.search_resolution > self.resolution:
             ok[ok] = self.checker.motion_valid_batch(Q0[ok], Q1[ok], resolution=self.resolution)
+        if self.certified:
+            for i in np.flatnonzero(ok):
+                ok[i] = self._certified(Q0[i], Q1[i])
         return ok
 
     def screen(self, Q0: np.ndarray, Q1: np.ndarray) -> np.ndarray:
@@ -71,15 +91,17 @@ class Validity:
     def advance(self, q0: np.ndarray, q1: np.ndarray, resolution: float | None = None) -> np.ndarray | None:
         """The farthest configuration on q0 -> q1 reachable without collision, kept a few
         check steps short of the first contact (None if there is no room to move)."""
+        fine = resolution in (None, self.resolution)
         resolution = self.resolution if resolution is None else resolution
         t = self.checker.first_collision(q0, q1, resolution=resolution)
-        if t is None:
-            return q1.copy()
         steps = self.checker.segment_steps(q0, q1, resolution)
-        t_stop = t - ADVANCE_BACKOFF_STEPS / steps
+        t_stop = 1.0 if t is None else t - ADVANCE_BACKOFF_STEPS / steps
+        if self.certified and fine:
+            while t_stop > 0 and not self._certified(q0, q0 + t_stop * (q1 - q0)):
+                t_stop -= max(0.5 * t_stop, ADVANCE_BACKOFF_STEPS / steps)  # back off until certified
         if t_stop <= 0:
             return None
-        return q0 + t_stop * (q1 - q0)
+        return q1.copy() if t_stop >= 1.0 else q0 + t_stop * (q1 - q0)
 
     def coarse_advance(self, q0: np.ndarray, q1: np.ndarray) -> np.ndarray | None:
         """`advance` at the search resolution."""
