@@ -4,10 +4,16 @@ in the middle of the batch. Prints a markdown section for BENCHMARKS.md.
 
 The problems: `make_problems(kind, n / 5, seed)` of each of the five seeded scene kinds
 (table, shelf, box, cage, clutter), joint goals, the default 5 s budget, batch seed 0.
-Throughput is given end to end (plan_many's wall time, worker start and warm-up included)
-and steady (results 2..n over the time between the first and the last result). CPU time
-per problem is the workers' user + system time (getrusage of the finished children) over
-the problems; the machine is shared, so compare ratios within one run.
+Throughput is given end to end (plan_stream's wall time: validation, worker start and
+warm-up included) and steady (results 2..n over the time between the first and the last
+result). Each problem runs through `timed_solve`, which measures the worker's CPU time
+(user + system, `time.process_time`) of the planning call, and on a worker's first problem
+the CPU the worker spent before it (interpreter start, imports, warm-up): so CPU per problem
+and start-up CPU per worker are separate (getrusage of the children, used before, counted
+each worker's start-up in the CPU per problem). The calling process's own CPU (validation,
+dispatch, result unpickling) is given too. A calibration runs a fixed pure-Python loop in
+1 and then 2 processes: the machine's own 2-core scaling. The machine is shared: compare
+ratios within one run.
 
 Usage:
     .venv/bin/python benchmarks/batch.py [--n 200] [--no-ray]
@@ -21,14 +27,15 @@ import platform
 import resource
 import signal
 import subprocess
+import sys
 import time
 import multiprocessing as mp
 from collections import Counter
 
 import numpy as np
 
-from manip.batch import Problem, plan_stream
-from manip.batch import process_pool, worker
+from manip.batch import Problem, process_pool, worker
+from manip.batch.plan import run_tasks, validate
 from manip.batch.problem import prepare
 from manip.benchmarking.scenes import SCENE_KINDS, make_problems
 from manip.motion_generator import MotionGenerator
@@ -43,31 +50,62 @@ def problems(n: int, seed: int = 0) -> list[Problem]:
     return out
 
 
-def _children_cpu() -> float:
-    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+def _self_cpu() -> float:
+    r = resource.getrusage(resource.RUSAGE_SELF)
     return r.ru_utime + r.ru_stime
 
 
-def run(batch, kill_after: int | None = None, **kwargs) -> dict:
-    """Plan `batch` through plan_stream; wall times, results by id, how often each id came back."""
-    cpu0 = _children_cpu()
+def timed_solve(task):
+    """`worker.solve` with the worker's CPU time [s] of the call, and on the worker's first
+    call the CPU time it spent before (start-up: interpreter, imports, warm-up)."""
+    startup = None
+    # marked on the worker module: Ray unpickles a new copy of this function for every task
+    if not getattr(worker, "_benchmark_started", False):
+        worker._benchmark_started = True
+        startup = time.process_time()
+    c = time.process_time()
+    pid, result = worker.solve(task)
+    return pid, (result, time.process_time() - c, startup)
+
+
+def run(batch, kill_after: int | None = None, workers: int | None = None, backend: str = "process",
+        seed: int = 0) -> dict:
+    """Plan `batch` as `plan_stream` does (validation, then the backend) with `timed_solve`."""
+    parent0 = _self_cpu()
     t0 = time.perf_counter()
-    times, results, seen = [], {}, Counter()
-    for pid, r in plan_stream(batch, **kwargs):
+    times, results, seen, cpu, startup = [], {}, Counter(), [], []
+    tasks, n_workers = validate(batch, workers, backend, seed)
+    for pid, (r, c, s) in run_tasks(tasks, workers=n_workers, backend=backend, job=timed_solve):
         times.append(time.perf_counter())
         results[pid] = r
         seen[pid] += 1
+        cpu.append(c)
+        if s is not None:
+            startup.append(s)
         if kill_after is not None and len(times) == kill_after:
             victim = mp.active_children()[0].pid
             os.kill(victim, signal.SIGKILL)
     wall = time.perf_counter() - t0
     n = len(batch)
     return {
-        "wall": wall, "e2e": n / wall, "steady": (n - 1) / (times[-1] - times[0]), "results": results, "seen": seen,
-        # Ray workers are not children of this process: their CPU time is not counted here
-        "cpu": (_children_cpu() - cpu0) / n if kwargs.get("backend", "process") == "process" else float("nan"), "plan_mean": float(np.mean([r.plan_time for r in results.values()])),
+        "wall": wall, "e2e": n / wall, "steady": (n - 1) / (times[-1] - times[0]), "first": times[0] - t0,
+        "results": results, "seen": seen, "cpu": float(np.mean(cpu)), "startup": float(np.mean(startup)),
+        "cpu_with_startup": (sum(cpu) + sum(startup)) / n, "parent": _self_cpu() - parent0,
+        "plan_mean": float(np.mean([r.plan_time for r in results.values()])),
         "success": sum(r.success for r in results.values()),
     }
+
+
+CALIBRATION = "import time\nt = time.perf_counter()\nx = 0\nfor i in range(20_000_000): x += i & 7\nprint(time.perf_counter() - t)"
+
+
+def calibrate() -> tuple[float, float]:
+    """Wall time [s] of a fixed pure-Python loop alone, and the mean of two run at once."""
+    def go(k: int) -> float:
+        procs = [subprocess.Popen([sys.executable, "-c", CALIBRATION], stdout=subprocess.PIPE, text=True)
+                 for _ in range(k)]
+        return float(np.mean([float(p.communicate()[0]) for p in procs]))
+    return go(1), go(2)
 
 
 def identical(a: dict, b: dict) -> int:
@@ -100,21 +138,26 @@ def world_switch_cost(batch) -> tuple[float, float]:
 
 def ray_tasks(ray, batch, seed: int) -> dict:
     """The same batch as Ray tasks (worker processes warm up on their first task)."""
-    tasks = prepare(batch, seed)
-    solve = ray.remote(num_cpus=1)(worker.solve)
+    parent0 = _self_cpu()
     t0 = time.perf_counter()
+    tasks = prepare(batch, seed)
+    solve = ray.remote(num_cpus=1)(timed_solve)
     refs = [solve.remote(t) for t in tasks]
-    results, times = {}, []
+    results, times, cpu = {}, [], []
     pending = list(refs)
     while pending:
         done, pending = ray.wait(pending, num_returns=1)
-        pid, r = ray.get(done[0])
+        pid, (r, c, _) = ray.get(done[0])
         results[pid] = r
+        cpu.append(c)
         times.append(time.perf_counter())
     wall = time.perf_counter() - t0
     n = len(batch)
-    return {"wall": wall, "e2e": n / wall, "steady": (n - 1) / (times[-1] - times[0]), "results": results,
-            "seen": Counter(results), "cpu": float("nan"), "success": sum(r.success for r in results.values()),
+    # a Ray task's process may have warmed up inside an earlier task: no start-up figure
+    return {"wall": wall, "e2e": n / wall, "steady": (n - 1) / (times[-1] - times[0]), "first": times[0] - t0,
+            "results": results, "seen": Counter(results), "cpu": float(np.mean(cpu)), "startup": float("nan"),
+            "cpu_with_startup": float("nan"), "parent": _self_cpu() - parent0,
+            "success": sum(r.success for r in results.values()),
             "plan_mean": float(np.mean([r.plan_time for r in results.values()]))}
 
 
@@ -131,7 +174,7 @@ def main() -> None:
     process_pool.NEW_SESSION = args.worker_sessions
     rows = []
     load = os.getloadavg()[0]
-    upd, new = world_switch_cost(batch)
+    alone, pair = calibrate()
 
     pairs = []
     for k in range(args.rounds):
@@ -142,6 +185,7 @@ def main() -> None:
         pairs.append((r1, r2))
     r1, r2 = pairs[0]
     fault = run(batch, workers=2, kill_after=args.n // 2)
+    upd, new = world_switch_cost(batch)  # after the timed runs: it warms up this process
     extra = {}
     if not args.no_ray:
         import ray
@@ -169,17 +213,22 @@ def main() -> None:
           f"{time.strftime('%Y-%m-%d %H:%M', time.gmtime())} UTC; load average {load:.1f} before the run (shared machine).\n")
     print(f"{args.n} problems ({args.n // 5} of each seeded kind), joint goals, 5 s budget, seed 0; "
           f"process workers in {'sessions of their own' if args.worker_sessions else 'the caller session'}.\n")
-    print("| backend | workers | wall [s] | problems/s end to end | problems/s steady | worker CPU s / problem "
-          "| mean plan time [s] | success | identical to 1 process |")
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("| backend | workers | wall [s] | problems/s end to end | problems/s steady | first result [s] "
+          "| worker CPU s / problem | start-up CPU s / worker | caller CPU [s] | mean plan time [s] | success "
+          "| identical to 1 process |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for name, w, r in rows:
-        cpu_s = "n/a" if np.isnan(r["cpu"]) else f"{r['cpu']:.3f}"
-        print(f"| {name} | {w} | {r['wall']:.1f} | {r['e2e']:.2f} | {r['steady']:.2f} | {cpu_s} | "
-              f"{r['plan_mean']:.3f} | {r['success']}/{args.n} | {identical(r, r1)}/{args.n} |")
+        start = "n/a" if np.isnan(r["startup"]) else f"{r['startup']:.2f}"
+        print(f"| {name} | {w} | {r['wall']:.1f} | {r['e2e']:.2f} | {r['steady']:.2f} | {r['first']:.2f} | "
+              f"{r['cpu']:.3f} | {start} | {r['parent']:.2f} | {r['plan_mean']:.3f} | {r['success']}/{args.n} | "
+              f"{identical(r, r1)}/{args.n} |")
     print()
+    print(f"- Calibration, a fixed pure-Python loop: {alone:.2f} s alone, {pair:.2f} s each with two at once "
+          f"(the machine's 2-process scaling: {2 * alone / pair:.2f}x).")
     for k, (a, b) in enumerate(pairs):
         print(f"- Round {k + 1}, 2 workers / 1 worker: {b['e2e'] / a['e2e']:.2f}x end to end, "
-              f"{b['steady'] / a['steady']:.2f}x steady; worker CPU per problem {b['cpu'] / a['cpu']:.2f}x.")
+              f"{b['steady'] / a['steady']:.2f}x steady; worker CPU per problem {b['cpu'] / a['cpu']:.2f}x "
+              f"({b['cpu_with_startup'] / a['cpu_with_startup']:.2f}x with the start-up counted in, as before).")
     if extra:
         for key, label in (("ray", "Ray actors"), ("tasks", "Ray tasks")):
             print(f"- {label} / process pool at 2 workers: {extra[key]['e2e'] / r2['e2e']:.2f}x end to end, "

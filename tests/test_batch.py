@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+import json
 import multiprocessing as mp
 import os
 import signal
+import subprocess
+import sys
 from collections import Counter
 
 import numpy as np
@@ -153,6 +156,49 @@ def test_bad_batch_arguments(problems, kwargs, words):
     with pytest.raises(InvalidInputError, match="iterable of manip.batch.Problem"):
         plan_many(problems[0], progress=False)
     assert not mp.active_children()
+
+
+# What a fresh interpreter loads: the numba kernels after `worker.warm_up`, and those that
+# planning problems of every scene kind (joint goals, a pose goal, a start in collision) adds.
+KERNEL_PROBE = """
+import gc, json
+from numba.core.dispatcher import Dispatcher
+from manip import MotionGenerator, Pose
+from manip.batch import Problem, worker
+from manip.batch.problem import prepare
+from manip.benchmarking.scenes import SCENE_KINDS, make_problems
+
+def loaded():
+    return {f"{d.py_func.__module__}.{d.py_func.__qualname__}": len(d.overloads)
+            for d in gc.get_objects() if isinstance(d, Dispatcher)}
+
+worker.warm_up(("franka",))
+warm = loaded()
+options = {"time_budget": 30.0}
+problems = [Problem(p.world, p.start, p.goal, options=options, id=f"{kind}/{p.index}")
+            for kind in SCENE_KINDS for p in make_problems(kind, 2, 0)]
+p = problems[0]
+mg = MotionGenerator("franka")
+hand = mg.fk(p.start).position
+problems.append(Problem(p.world, p.start, mg.fk(p.goal), options=options, id="pose"))
+problems.append(Problem({"cuboid": {"block": {"dims": [0.2, 0.2, 0.2], "pose": [*hand.tolist(), 1, 0, 0, 0]}}},
+                        p.start, p.goal, options=options, id="blocked"))
+statuses = [worker.solve(task)[1].status.name for task in prepare(problems, 0)]
+after = loaded()
+print(json.dumps({"warm": sum(warm.values()), "statuses": statuses,
+                  "new": {k: n - warm.get(k, 0) for k, n in after.items() if n != warm.get(k, 0)}}))
+"""
+
+
+def test_warm_up_loads_every_kernel_that_planning_meets():
+    # in a fresh interpreter: this test process has loaded the kernels in other tests
+    out = subprocess.run([sys.executable, "-c", KERNEL_PROBE], capture_output=True, text=True, timeout=900)
+    assert out.returncode == 0, out.stderr
+    report = json.loads(out.stdout.strip().splitlines()[-1])
+    assert report["warm"] > 0
+    assert report["statuses"].count("SUCCESS") >= len(report["statuses"]) - 2
+    assert report["statuses"][-1] == "INVALID_START_WORLD_COLLISION"
+    assert report["new"] == {}, f"kernels loaded while planning after the warm-up: {report['new']}"
 
 
 # ------------------------------------------------------------------ Ray (the ray extra)

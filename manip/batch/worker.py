@@ -5,8 +5,9 @@ keeps it for its whole life (the compiled kernels, sphere covers and IK tables a
 once). Consecutive problems with the same world (same `Task.world_key`) reuse the loaded
 world; another world costs an `update_world` (milliseconds), not a new generator.
 
-`warm_up` plans a few small problems so that the compiled kernels are loaded (or compiled)
-before real problems arrive: a kernel compiled during a problem would eat its time budget.
+`warm_up` plans one small problem and solves one IK problem so that the compiled kernels are
+loaded (or compiled) before real problems arrive: a kernel compiled during a problem would
+eat its time budget.
 """
 
 from __future__ import annotations
@@ -38,34 +39,50 @@ def generator(robot: str) -> MotionGenerator:
     return _GENERATORS[robot][0]
 
 
-def warm_up(robots: tuple[str, ...]) -> None:
-    """Build the generators of `robots` and run warm-up plans through every planning stage.
+def warm_up(robots: tuple[str, ...]) -> dict[str, float]:
+    """Build the generators of `robots` and load every compiled kernel: one plan, one IK call.
 
-    The plans go from the default configuration to a moved one around a box placed between
-    the two hand positions (for the Franka: path search, shortcutting, timing, the
-    optimiser), to a pose (IK), and along the straight line; their results are discarded
-    and the world is emptied afterwards.
+    A joint plan from the default configuration to a moved one around a box placed between
+    the two hand positions (collision checking, path search, shortcutting, timing, the
+    optimiser) and an IK call for a pose near the moved hand load every numba kernel that
+    planning can meet (compiling those missing from the on-disk cache), so that no kernel
+    is loaded or compiled inside a problem's time budget; `tests/test_batch.py` checks that
+    planning every scene kind afterwards, to joint and pose goals, loads no other. More
+    warm-up plans would only add their own planning time to the worker's start-up. The
+    results are discarded and the world is emptied afterwards.
 
     Args:
         robots: robot names.
+
+    Returns:
+        Seconds spent per stage, summed over the robots: "build" (the generators), "joint
+        plan", "ik" (both including the kernels they loaded or compiled) and "total".
     """
-    t0 = time.perf_counter()
+    times = {"build": 0.0, "joint plan": 0.0, "ik": 0.0}
+    t_start = time.perf_counter()
     for robot in robots:
+        t = time.perf_counter()
         mg = generator(robot)
+        times["build"] += time.perf_counter() - t
         q0 = mg.default_joint_positions
         lo, hi = mg.lower_limits, mg.upper_limits
         q1 = np.clip(q0 + 0.5 * (hi - lo) * np.where(np.arange(len(q0)) % 2 == 0, 0.3, -0.2), lo, hi)
-        p0, p1 = mg.fk(q0).position, mg.fk(q1).position
-        mid = 0.5 * (p0 + p1)
+        p0, goal = mg.fk(q0).position, mg.fk(q1)
+        mid = 0.5 * (p0 + goal.position)
         world = {"cuboid": {"warm_up": {"dims": [0.08, 0.08, 0.08], "pose": [*mid.tolist(), 1.0, 0.0, 0.0, 0.0]}}}
         mg.update_world(world)
-        for seed in range(2):
-            mg.plan_joints(q0, q1, seed=seed, time_budget=WARM_UP_BUDGET)
-            mg.plan_pose(q0, Pose(p1 + 0.02, mg.fk(q1).quaternion), seed=seed, time_budget=WARM_UP_BUDGET)
-        mg.update_world({})
+        t = time.perf_counter()
         mg.plan_joints(q0, q1, seed=0, time_budget=WARM_UP_BUDGET)
+        times["joint plan"] += time.perf_counter() - t
+        t = time.perf_counter()
+        mg.ik(Pose(goal.position + 0.02, goal.quaternion))
+        times["ik"] += time.perf_counter() - t
+        mg.update_world({})
         _GENERATORS[robot] = (mg, None)
-    log.info("worker %d warm in %.1f s (%s)", os.getpid(), time.perf_counter() - t0, ", ".join(robots))
+    times["total"] = time.perf_counter() - t_start
+    log.info("worker %d warm in %.2f s (%s): %s", os.getpid(), times["total"], ", ".join(robots),
+             ", ".join(f"{k} {v:.2f} s" for k, v in times.items() if k != "total"))
+    return times
 
 
 def solve(task: Task) -> tuple[ProblemId, PlanResult]:
