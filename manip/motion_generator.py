@@ -85,6 +85,10 @@ FOCUS_GOALS = 2
 FOCUS_ITERATIONS = 200
 #: Plans tried when a path's timed trajectory fails the validation (its certificate).
 MAX_ATTEMPTS = 4
+#: From this attempt on, every straight motion the planner accepts is certified
+#: (`Validity.strict`: about 10 x slower searches and shortcuts; attempt 2 alone usually
+#: succeeds with a new search).
+STRICT_ATTEMPT = 3
 #: Largest joint-space deviation [rad] of a linear motion's timing from its dense IK path
 #: (about 1 mm at the hand).
 LINEAR_DEVIATION = 1e-3
@@ -533,13 +537,14 @@ class MotionGenerator:
 
         A path whose timed trajectory fails the validation (a graze between the
         configurations the search checked) is planned again, until the budget runs out; the
-        second attempt on accepts only straight motions certified over their whole length
+        third attempt on accepts only straight motions certified over their whole length
         (`Validity.strict`: slower, but a graze thinner than the check resolution, e.g. a
         finger passing an object a fraction of a millimetre deep, cannot come back).
         """
         result = None
         for attempt in range(1, MAX_ATTEMPTS + 1):
-            result = self._plan_once(ctx, validity if attempt == 1 else validity.strict(), start, goals, attempt)
+            strict = attempt >= STRICT_ATTEMPT
+            result = self._plan_once(ctx, validity.strict() if strict else validity, start, goals, attempt)
             if result.success or result.status is not PlanStatus.TRAJOPT_FAIL or ctx.time_left < 0:
                 break
             logger.info("attempt %d: %s; planning again", attempt, result.message)

@@ -65,10 +65,14 @@ class ManipPlanner:
         self.mg.update_world(self._WorldConfig.from_dict({}))
         self._world = None
         self.mg.plan_joints(q0, q1, **self.plan_options)
-        wall = {"cuboid": {"wall": {"dims": [0.3, 0.04, 0.5], "pose": [0.5, 0.0, 0.25, 1, 0, 0, 0]}}}
+        wall = {"cuboid": {"wall": {"dims": [0.3, 0.04, 0.5], "pose": [0.5, 0.0, 0.25, 1, 0, 0, 0]}},
+                "cylinder": {"can": {"radius": 0.03, "height": 0.1, "pose": [0.3, 0.4, 0.05, 1, 0, 0, 0]}}}
         self.mg.update_world(self._WorldConfig.from_dict(wall))
         left = np.array([0.6, 0.4, 0.0, -1.9, 0.0, 2.3, 0.785])
-        self.mg.plan_joints(left, left * np.array([-1, 1, 1, 1, 1, 1, 1]), **self.plan_options)
+        for seed in range(8):  # until the optimiser has run once (its kernels compile on first use)
+            r = self.mg.plan_joints(left, left * np.array([-1, 1, 1, 1, 1, 1, 1]), seed=seed, **self.plan_options)
+            if "trajopt" in r.timings or self.plan_options.get("trajopt") is False:
+                break
         self.mg.plan_pose(q0, self.mg.fk(q0), **self.plan_options)
 
     def plan(self, problem: Any, goal_kind: str = "joint", seed: int = 0) -> PlannerOutput:
