@@ -10,7 +10,8 @@ a snapshot of its checker, so a plan sees one world while other threads edit it.
 
 A strict Validity (`strict()`) also certifies every straight motion it accepts over its
 whole continuous length (the fine resolution can miss a graze thinner than its step): the
-planner switches to it when a path's timed trajectory failed the certificate.
+planner's later attempts use it once timed trajectories failed the certificate
+(`motion_generator.STRICT_ATTEMPT`).
 """
 
 from __future__ import annotations
