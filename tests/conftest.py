@@ -9,6 +9,19 @@ from robot_constants import DOWN_XYZW, FRANKA_READY  # noqa: F401  (shared const
 from manip.robot_config import RobotConfig, load_robot_config
 
 
+@pytest.fixture
+def fresh_world():
+    """No World and an empty stage before and after the test (the simulator's World is a
+    singleton); yields the World class."""
+    from manip.sim import World, create_new_stage
+
+    World.clear_instance()
+    create_new_stage()
+    yield World
+    World.clear_instance()
+    create_new_stage()
+
+
 @pytest.fixture(scope="session")
 def franka_config() -> RobotConfig:
     """The Franka Panda configuration of robots/franka."""

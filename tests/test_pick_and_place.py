@@ -13,7 +13,6 @@ import pytest
 
 from manip import Pose
 from manip import quaternion as quat
-from manip.sim import World, create_new_stage
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "examples" / "pick_and_place.py"
@@ -30,13 +29,7 @@ def _load():
 pp = _load()
 
 
-@pytest.fixture(autouse=True)
-def fresh_world():
-    World.clear_instance()
-    create_new_stage()
-    yield
-    World.clear_instance()
-    create_new_stage()
+pytestmark = pytest.mark.usefixtures("fresh_world")  # tests/conftest.py
 
 
 class CubeTrack:

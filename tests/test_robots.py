@@ -92,18 +92,6 @@ def test_plans_seeded_scenes_with_verified_trajectories(mg: MotionGenerator, kin
         assert v.valid, (p.name, v)
 
 
-@pytest.fixture
-def fresh_world():
-    """No World and an empty stage before and after (the simulator's World is a singleton)."""
-    from manip.sim import World, create_new_stage
-
-    World.clear_instance()
-    create_new_stage()
-    yield World
-    World.clear_instance()
-    create_new_stage()
-
-
 def test_sim_tracks_a_planned_trajectory_within_2cm(mg: MotionGenerator, fresh_world) -> None:
     from manip.sim.articulation import Robot
     from manip.sim.robots import robot_model_path

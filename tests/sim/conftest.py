@@ -4,16 +4,11 @@ from __future__ import annotations
 
 import pytest
 
-from manip.sim import World, create_new_stage
-
 
 @pytest.fixture(autouse=True)
-def fresh_world():
-    World.clear_instance()
-    create_new_stage()
+def _every_test_in_a_fresh_world(fresh_world):
+    """`fresh_world` (tests/conftest.py) around every simulation test."""
     yield
-    World.clear_instance()
-    create_new_stage()
 
 
 SLIDER_MJCF = """

@@ -10,16 +10,10 @@ import numpy as np
 import pytest
 
 from manip.errors import InvalidInputError
-from manip.sim import DynamicCuboid, Franka, SimulationApp, World, create_new_stage
+from manip.sim import DynamicCuboid, Franka, SimulationApp, World
 
 
-@pytest.fixture(autouse=True)
-def fresh_world():
-    World.clear_instance()
-    create_new_stage()
-    yield
-    World.clear_instance()
-    create_new_stage()
+pytestmark = pytest.mark.usefixtures("fresh_world")  # tests/conftest.py
 
 
 def test_importing_manip_sim_does_not_import_viser():
