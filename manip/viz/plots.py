@@ -100,12 +100,7 @@ def plot_joint_trajectory(trajectory: Trajectory | Sequence[Trajectory], path: s
             ax.axvline(boundary, color="k", lw=0.5, alpha=0.3)
     axes[0].legend(loc="upper right", fontsize=7, ncol=min(len(names), 4))
     axes[-1].set_xlabel("time [s]")
-    fig.suptitle(title or "joint trajectory (dashed: limits)")
-    fig.tight_layout()
-    path = Path(path)
-    fig.savefig(path, dpi=90)
-    logger.info("wrote %s", path)
-    return path
+    return _save(fig, path, title or "joint trajectory (dashed: limits)")
 
 
 def plot_benchmark_distributions(samples: Mapping[str, Mapping[str, Sequence[float]]], path: str | Path, *,
@@ -146,7 +141,12 @@ def plot_benchmark_distributions(samples: Mapping[str, Mapping[str, Sequence[flo
             ax.set_yscale("log")
         ax.set_ylabel(label)
         ax.grid(alpha=0.3, axis="y")
-    fig.suptitle(title or "MotionBenchMaker: distributions over solved problems")
+    return _save(fig, path, title or "MotionBenchMaker: distributions over solved problems")
+
+
+def _save(fig, path: str | Path, title: str) -> Path:
+    """Title, lay out and write `fig` as a PNG at `path`; the path written."""
+    fig.suptitle(title)
     fig.tight_layout()
     path = Path(path)
     fig.savefig(path, dpi=90)
