@@ -38,7 +38,7 @@ from manip.collision.clearance import ClearanceModel
 from manip.errors import InvalidInputError
 from manip.planning import bspline, qp
 from manip.trajectory import PiecewiseJerkProfile
-from manip.validation import non_negative, per_joint
+from manip.validation import flag, integer, non_negative, per_joint, positive
 
 logger = logging.getLogger(__name__)
 
@@ -103,24 +103,20 @@ class TrajOptSettings:
     solver: str = "piqp"
 
     def __post_init__(self) -> None:
-        counts = {"intervals": 4, "samples_per_interval": 1, "iterations": 1, "rounds": 1, "ray_points": 1,
-                  "line_search": 0}
-        for name, least in counts.items():
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < least:
-                raise InvalidInputError(f"TrajOptSettings.{name} must be an integer >= {least}; got {v!r}")
-        fractions = ("bisection", "duration_tolerance", "limit_row_slack")
-        for name in fractions:
-            v = getattr(self, name)
-            if not (isinstance(v, int | float) and 0.0 < v < 1.0):
-                raise InvalidInputError(f"TrajOptSettings.{name} must be in (0, 1); got {v!r}")
-        for name in ("margin", "activation", "tolerance", "trust_region", "penalty", "velocity_weight",
-                     "acceleration_weight", "jerk_weight"):
-            v = getattr(self, name)
-            if not (isinstance(v, int | float) and not isinstance(v, bool) and np.isfinite(v) and v >= 0.0):
-                raise InvalidInputError(f"TrajOptSettings.{name} must be finite and >= 0; got {v!r}")
-        if self.trust_region <= 0.0 or self.penalty <= 0.0:
-            raise InvalidInputError("TrajOptSettings.trust_region and penalty must be > 0")
+        def name(field: str) -> str:
+            return f"TrajOptSettings.{field}"
+
+        for field, least in (("intervals", 4), ("samples_per_interval", 1), ("iterations", 1), ("rounds", 1),
+                             ("ray_points", 1), ("line_search", 0)):
+            integer(getattr(self, field), name(field), least)
+        for field in ("bisection", "duration_tolerance", "limit_row_slack"):
+            if not 0.0 < non_negative(getattr(self, field), name(field)) < 1.0:
+                raise InvalidInputError(f"{name(field)} must be a number in (0, 1); got {getattr(self, field)!r}")
+        for field in ("margin", "activation", "tolerance", "velocity_weight", "acceleration_weight", "jerk_weight"):
+            non_negative(getattr(self, field), name(field))
+        positive(self.trust_region, name("trust_region"), "rad")
+        positive(self.penalty, name("penalty"))
+        flag(self.second_chance, name("second_chance"))
         if not qp.solver_available(self.solver):
             raise InvalidInputError(f"TrajOptSettings.solver must be 'piqp' or an installed qpsolvers solver "
                                     f"({', '.join(qp.installed_solvers())}); got {self.solver!r}")
