@@ -148,33 +148,53 @@ def test_a_failed_first_round_gets_a_second_chance_from_the_fitted_seed(mg, monk
     assert not res.success and targets == [pytest.approx(seed.duration)]
 
 
-@pytest.mark.parametrize("ends_tied", [0, 1])
-def test_an_optimised_motion_that_fails_validation_is_retried_with_more_of_the_seed_ends(mg, monkeypatch, ends_tied):
-    """Retries keep more control points on the seed's end segments, only when an end was tied."""
+def _spy_on_refine(monkeypatch, failures: int, ends_tied: int):
+    """Record refine's optimiser calls (seed positions, settings) and validated motions; the
+    first `failures` validations fail, and every result reports `ends_tied`."""
     import dataclasses
 
     import manip.planning.refine as refine
 
     real_optimize, real_validate = refine.optimize_trajectory, refine.validate_trajectory
-    ray_points, validations = [], []
+    calls, validations = [], []
 
     def optimize(*args, settings, **kwargs):
-        ray_points.append(settings.ray_points)
+        calls.append((args[0], settings))
         return dataclasses.replace(real_optimize(*args, settings=settings, **kwargs), ends_tied=ends_tied)
 
     def validate(*args):
         validations.append(args[0])
-        return "test: collides" if len(validations) == 1 else real_validate(*args)
+        return "test: collides" if len(validations) <= failures else real_validate(*args)
 
     monkeypatch.setattr(refine, "optimize_trajectory", optimize)
     monkeypatch.setattr(refine, "validate_trajectory", validate)
+    return refine, calls, validations
+
+
+def test_an_optimised_motion_that_fails_validation_is_repaired_from_itself(mg, monkeypatch):
+    """The optimisation goes on from the invalid motion with denser clearance samples."""
+    refine, calls, validations = _spy_on_refine(monkeypatch, failures=1, ends_tied=0)
+    r = mg.plan_joints(LEFT, RIGHT, seed=3)
+    assert r.success and r.source == "trajopt"
+    assert [s.samples_per_interval for _, s in calls] == [TrajOptSettings().samples_per_interval,
+                                                         refine.REPAIR_SAMPLES]
+    np.testing.assert_array_equal(calls[1][0], validations[0].positions)  # seeded by the invalid motion
+    assert r.trajectory is validations[1]
+
+
+@pytest.mark.parametrize("ends_tied", [0, 1])
+def test_a_motion_whose_repair_fails_too_is_retried_with_more_of_the_seed_ends(mg, monkeypatch, ends_tied):
+    """Retries from the seed keep more control points on its end segments, only when an end was tied."""
+    refine, calls, validations = _spy_on_refine(monkeypatch, failures=2, ends_tied=ends_tied)
     r = mg.plan_joints(LEFT, RIGHT, seed=3)
     assert r.success
+    ray_points = [s.ray_points for _, s in calls]
     if ends_tied:
-        assert ray_points == [1, refine.RETRY_RAY_POINTS[0]] and r.source == "trajopt"
-        assert r.trajectory is validations[1]
+        assert ray_points == [1, 1, refine.RETRY_RAY_POINTS[0]] and r.source == "trajopt"
+        np.testing.assert_array_equal(calls[2][0], calls[0][0])  # from the seed again
+        assert r.trajectory is validations[2]
     else:
-        assert ray_points == [1] and r.source == "shortcut"
+        assert ray_points == [1, 1] and r.source == "shortcut"
 
 
 def test_the_optimiser_keeps_to_its_qp_budget(mg):
