@@ -30,7 +30,9 @@ class PlanOptions:
         duration: stretch the motion to this length [s] (TRAJOPT_FAIL if shorter than
             feasible); None = as fast as the limits allow. duration / dt may not exceed
             `manip.validation.MAX_SAMPLES` (and neither may the fastest motion's length / dt).
-        ik_solutions: collision-free IK solutions sought per goal pose.
+        ik_solutions: collision-free IK solutions sought per goal pose (the goals reached
+            fastest are planned to first; 24 against 12 on MotionBenchMaker 30/scene pose goals
+            with cuRobo's limits: motion time -1.8 %, path length -2.6 %, IK +2-3 ms).
         linear_step: Cartesian step of linear motions [m].
         optimize_clearance: push the shortcut path's waypoints away from obstacles (tens of
             ms in cluttered scenes).
@@ -47,7 +49,7 @@ class PlanOptions:
     velocity_scale: float = 1.0
     acceleration_scale: float = 1.0
     duration: float | None = None
-    ik_solutions: int = 12
+    ik_solutions: int = 24
     linear_step: float = 0.005
     optimize_clearance: bool = False
     trajopt: bool = True

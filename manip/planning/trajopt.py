@@ -53,7 +53,9 @@ class TrajOptSettings:
         margin: sphere-cover clearance [m] kept from obstacles (on top of the padding).
         activation: terms farther than margin + activation are left out of the QP [m].
         iterations: SCO iterations per duration (at most).
-        tolerance: an SCO stops when a step lowers the merit by less than this fraction.
+        tolerance: an SCO stops when a step lowers the merit by less than this fraction
+            (3e-3 against 1e-3 on MotionBenchMaker 15/scene joint and pose goals: -4 % QPs,
+            the same mean duration; 1e-2: -11 % QPs, +0.15 %).
         limit_row_slack: limit rows used less than (1 - this) of their limit at the
             current point are left out of the QP (they are soft, and the result is re-timed
             exactly).
@@ -87,7 +89,7 @@ class TrajOptSettings:
     margin: float = 0.008
     activation: float = 0.02
     iterations: int = 6
-    tolerance: float = 1e-3
+    tolerance: float = 3e-3
     limit_row_slack: float = 0.6
     trust_region: float = 0.3
     rounds: int = 6
