@@ -38,8 +38,6 @@ DEFAULT_SOLVER = "daqp"
 #: The solvers this controller was measured with (any qpsolvers backend installed works).
 MEASURED_SOLVERS = ("daqp", "quadprog", "piqp", "proxqp", "osqp")
 
-_SPARSE_SOLVERS = {"osqp", "scs", "clarabel", "highs", "gurobi", "mosek", "qpalm"}
-
 
 def check_solver(solver: str) -> str:
     """`solver` if qpsolvers has it installed.
@@ -64,7 +62,7 @@ def solve_qp(P: np.ndarray, c: np.ndarray, G: np.ndarray | None, h: np.ndarray |
     """argmin 1/2 x'Px + c'x subject to G x <= h and lb <= x <= ub, or None if the solver
     found no solution."""
     try:
-        if solver in _SPARSE_SOLVERS:
+        if solver not in qpsolvers.dense_solvers:  # sparse-only solvers (OSQP, SCS, Clarabel, ...)
             import scipy.sparse as sp
 
             P = sp.csc_matrix(P)

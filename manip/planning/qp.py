@@ -18,7 +18,6 @@ from numba import njit
 SLACK_REGULARISATION = 1e-9
 
 _SOLVER_OPTIONS = {"osqp": {"eps_abs": 1e-6, "eps_rel": 1e-6, "polish": True, "verbose": False}}
-_SPARSE = {"osqp"}  # qpsolvers solvers given CSC matrices (PIQP is called directly)
 
 
 @njit(cache=True, nogil=True)
@@ -104,7 +103,7 @@ def solve(P: sp.csc_matrix, q: np.ndarray, G_T: np.ndarray, h: np.ndarray, A: sp
     import qpsolvers  # only off the default path (its import costs ~70 ms per process)
 
     G = csc_of_transpose(G_T)
-    if solver not in _SPARSE:
+    if solver in qpsolvers.dense_solvers:  # the others take CSC matrices
         P, G = P.toarray(), G.toarray()
         A = None if A is None else A.toarray()
     return qpsolvers.solve_qp(P, q, G, h, A, b, lb=lb, ub=ub, solver=solver, **_SOLVER_OPTIONS.get(solver, {}))
