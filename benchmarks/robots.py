@@ -16,13 +16,13 @@ import time
 import mujoco
 import numpy as np
 
-from manip.articulation_action import ArticulationAction
 from manip.benchmarking.scenes import make_problems
 from manip.benchmarking.verify import Verifier
 from manip.motion_generator import MotionGenerator
 from manip.pose import Pose
 from manip.sim import World, create_new_stage
 from manip.sim.articulation import Robot
+from manip.sim.playback import play_trajectory
 from manip.sim.robots import robot_model_path
 from manip.sim.stage import add_reference_to_stage
 
@@ -114,15 +114,10 @@ def tracking_error(mg: MotionGenerator, n: int = 10) -> float:
         add_reference_to_stage(robot_model_path(c.name), "/World/arm")
         robot = world.scene.add(Robot("/World/arm", name="arm"))
         world.reset()
-        idx = np.array([robot.get_dof_index(j) for j in c.arm_joints])
-        robot.set_joint_positions(start, idx)
-        t = plan.trajectory
-        for k in range(1, len(t.times)):
-            robot.apply_action(ArticulationAction(joint_positions=t.positions[k], joint_velocities=t.velocities[k],
-                                                  joint_indices=idx))
-            world.step(render=False)
-            q = robot.get_joint_positions(idx)
-            worst = max(worst, float(np.linalg.norm(mg.fk(q).position - mg.fk(t.positions[k]).position)))
+        robot.set_joint_positions(start, plan.trajectory.joint_indices_for(robot))
+        played = play_trajectory(world, robot, plan.trajectory)
+        tool_error = np.linalg.norm(mg.fk(played).position - mg.fk(plan.trajectory.positions).position, axis=-1)
+        worst = max(worst, float(tool_error.max()))
     World.clear_instance()
     create_new_stage()
     return worst

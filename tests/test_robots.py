@@ -13,9 +13,9 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from manip.articulation_action import ArticulationAction
 from manip.benchmarking.scenes import make_problems
 from manip.benchmarking.verify import Verifier
+from manip.errors import InvalidInputError
 from manip.motion_generator import MotionGenerator
 from manip.pose import Pose
 from manip.robot_config import available_robots, load_robot_config
@@ -94,6 +94,7 @@ def test_plans_seeded_scenes_with_verified_trajectories(mg: MotionGenerator, kin
 
 def test_sim_tracks_a_planned_trajectory_within_2cm(mg: MotionGenerator, fresh_world) -> None:
     from manip.sim.articulation import Robot
+    from manip.sim.playback import play_trajectory
     from manip.sim.robots import robot_model_path
     from manip.sim.stage import add_reference_to_stage
 
@@ -108,18 +109,12 @@ def test_sim_tracks_a_planned_trajectory_within_2cm(mg: MotionGenerator, fresh_w
     add_reference_to_stage(robot_model_path(c.name), "/World/arm")
     robot = world.scene.add(Robot("/World/arm", name="arm"))
     world.reset()
-    idx = np.array([robot.get_dof_index(j) for j in c.arm_joints])
-    robot.set_joint_positions(start, idx)
-    t = plan.trajectory
-    assert abs(t.dt - world.get_physics_dt()) < 1e-9
-    worst = 0.0
-    for k in range(1, len(t.times)):
-        robot.apply_action(ArticulationAction(joint_positions=t.positions[k], joint_velocities=t.velocities[k],
-                                              joint_indices=idx))
-        world.step(render=False)
-        q = robot.get_joint_positions(idx)
-        worst = max(worst, float(np.linalg.norm(mg.fk(q).position - mg.fk(t.positions[k]).position)))
-    assert worst < 0.02
+    robot.set_joint_positions(start, plan.trajectory.joint_indices_for(robot))
+    played = play_trajectory(world, robot, plan.trajectory)
+    tool_error = np.linalg.norm(mg.fk(played).position - mg.fk(plan.trajectory.positions).position, axis=-1)
+    assert tool_error.max() < 0.02
+    with pytest.raises(InvalidInputError, match="physics step"):
+        play_trajectory(world, robot, plan.trajectory.resample(plan.trajectory.dt / 2))
 
 
 def test_mjcf_files_are_up_to_date(mg: MotionGenerator) -> None:
