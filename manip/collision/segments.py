@@ -81,9 +81,11 @@ class SegmentChecks:
             chunk: size of the first (coarse) batch.
         """
         q0, q1 = self._one_q(q0, "q0"), self._one_q(q1, "q1")
-        steps = self.segment_steps(q0, q1, resolution)
-        order = _coarse_to_fine(steps)
-        t = order / steps
+        return self._motion_free(q0, q1, self.segment_steps(q0, q1, resolution), chunk)
+
+    def _motion_free(self, q0: np.ndarray, q1: np.ndarray, steps: int, chunk: int = 32) -> bool:
+        """`motion_valid` of checked endpoints split into `steps` intervals (no input checks)."""
+        t = _coarse_to_fine(steps) / steps
         Q = q0[None] + t[:, None] * (q1 - q0)[None]
         if Q.shape[0] <= 2 * chunk:
             return not self._check(Q, stop_at_first=True).any()
@@ -109,7 +111,10 @@ class SegmentChecks:
             place to stop (RRT-Connect's "connect" in one call).
         """
         q0, q1 = self._one_q(q0, "q0"), self._one_q(q1, "q1")
-        steps = self.segment_steps(q0, q1, resolution)
+        return self._first_hit(q0, q1, self.segment_steps(q0, q1, resolution), chunk)
+
+    def _first_hit(self, q0: np.ndarray, q1: np.ndarray, steps: int, chunk: int = 48) -> float | None:
+        """`first_collision` of checked endpoints split into `steps` intervals (no input checks)."""
         t_all = np.arange(steps + 1) / steps
         d = q1 - q0
         for s in range(0, steps + 1, chunk):
@@ -118,6 +123,20 @@ class SegmentChecks:
             if hit.any():
                 return float(t[np.argmax(hit)])
         return None
+
+    @consistent
+    def _advance_to(self, q0: np.ndarray, q1: np.ndarray, resolution: float) -> tuple[float | None, int]:
+        """(`first_collision`, `segment_steps`) of one segment in one call, for planners that
+        pass their own finite (dof,) arrays and a positive resolution (no input checks)."""
+        steps = max(1, int(math.ceil(float(np.abs(q1 - q0).max()) / resolution - 1e-12)))
+        return self._first_hit(q0, q1, steps), steps
+
+    @consistent
+    def _motion_free_at(self, q0: np.ndarray, q1: np.ndarray, resolution: float) -> bool:
+        """`motion_valid` for planners that pass their own finite (dof,) arrays and a positive
+        resolution (no input checks)."""
+        steps = max(1, int(math.ceil(float(np.abs(q1 - q0).max()) / resolution - 1e-12)))
+        return self._motion_free(q0, q1, steps)
 
     @staticmethod
     def segment_steps(q0: np.ndarray, q1: np.ndarray, resolution: float = 0.01) -> int:
@@ -149,26 +168,19 @@ class SegmentChecks:
             return valid
         D = Q1 - Q0
         steps = np.maximum(1, np.ceil(np.abs(D).max(axis=1) / resolution - 1e-12).astype(np.int64))
-        first_q, first_seg, rest_q, rest_seg = [], [], [], []
-        for m in range(M):
-            order = _coarse_to_fine(int(steps[m]))
-            t = order / steps[m]
-            S = Q0[m] + t[:, None] * D[m]
-            first_q.append(S[:coarse])
-            first_seg.append(np.full(min(coarse, S.shape[0]), m))
-            if S.shape[0] > coarse:
-                rest_q.append(S[coarse:])
-                rest_seg.append(np.full(S.shape[0] - coarse, m))
-        seg = np.concatenate(first_seg)
-        hit = self._check(np.concatenate(first_q), group=seg)
-        valid[np.unique(seg[hit])] = False
-        if rest_q and valid.any():
-            Qr = np.concatenate(rest_q)
-            seg = np.concatenate(rest_seg)
-            keep = valid[seg]
-            if keep.any():
-                hit = self._check(Qr[keep], group=seg[keep])
-                valid[np.unique(seg[keep][hit])] = False
+        orders = [_coarse_to_fine(k) for k in steps.tolist()]
+        # each segment's first `coarse` samples (bisection order) for all segments in one batch
+        seg = np.repeat(np.arange(M), np.minimum(steps + 1, coarse))
+        t = np.concatenate([o[:coarse] for o in orders]) / steps[seg]
+        hit = self._check(Q0[seg] + t[:, None] * D[seg], group=seg)
+        valid[seg[hit]] = False
+        # then the remaining samples of the segments still valid
+        rest = np.flatnonzero(valid & (steps + 1 > coarse))
+        if rest.size:
+            seg = np.repeat(rest, steps[rest] + 1 - coarse)
+            t = np.concatenate([orders[m][coarse:] for m in rest.tolist()]) / steps[seg]
+            hit = self._check(Q0[seg] + t[:, None] * D[seg], group=seg)
+            valid[seg[hit]] = False
         return valid
 
     @consistent

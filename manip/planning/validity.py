@@ -58,7 +58,7 @@ class Validity:
     def motion(self, q0: np.ndarray, q1: np.ndarray, resolution: float | None = None) -> bool:
         """True when the straight motion q0 -> q1 is free at `resolution` (default: the fine one;
         a strict validity also certifies it at the fine resolution)."""
-        if not self.checker.motion_valid(q0, q1, resolution=self.resolution if resolution is None else resolution):
+        if not self.checker._motion_free_at(q0, q1, self.resolution if resolution is None else resolution):
             return False
         return not self.certified or resolution not in (None, self.resolution) or self._certified(q0, q1)
 
@@ -94,8 +94,7 @@ class Validity:
         check steps short of the first contact (None if there is no room to move)."""
         fine = resolution in (None, self.resolution)
         resolution = self.resolution if resolution is None else resolution
-        t = self.checker.first_collision(q0, q1, resolution=resolution)
-        steps = self.checker.segment_steps(q0, q1, resolution)
+        t, steps = self.checker._advance_to(q0, q1, resolution)
         t_stop = 1.0 if t is None else t - ADVANCE_BACKOFF_STEPS / steps
         if self.certified and fine:
             while t_stop > 0 and not self._certified(q0, q0 + t_stop * (q1 - q0)):
