@@ -182,35 +182,35 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         """
         if self._static_world:
             return np.ones(Q.shape[0], dtype=bool)
-        if stop_at_first:
-            group = np.zeros(Q.shape[0], dtype=np.int64)
+        out = np.zeros(Q.shape[0], dtype=bool)
+        if stop_at_first:  # one group: no bookkeeping, stop at the first collision found
+            for s in range(0, Q.shape[0], _CHUNK):
+                if self._check_chunk(Q[s:s + _CHUNK], None, deepest_first, None, out[s:s + _CHUNK]):
+                    break
+            return out
         ordered = not (deepest_first and group is not None)
         if group is None:  # every configuration on its own
             group = np.arange(Q.shape[0])
-        out = np.zeros(Q.shape[0], dtype=bool)
         done: set[int] = set()
         for s in range(0, Q.shape[0], _CHUNK):  # bounded memory for large batches
-            self._check_chunk(Q[s:s + _CHUNK], group[s:s + _CHUNK], not ordered, done, out[s:s + _CHUNK],
-                              stop_at_first)
-            if stop_at_first and done:
-                break
+            self._check_chunk(Q[s:s + _CHUNK], group[s:s + _CHUNK], not ordered, done, out[s:s + _CHUNK])
         return out
 
-    def _check_chunk(self, Q: np.ndarray, group: np.ndarray, deepest_first: bool, done: set[int], out: np.ndarray,
-                     stop_at_first: bool = False) -> None:
+    def _check_chunk(self, Q: np.ndarray, group: np.ndarray | None, deepest_first: bool, done: set[int] | None,
+                     out: np.ndarray) -> bool:
         """`_check` of at most _CHUNK configurations: sets `out` where they collide, skipping
-        the groups (N,) in `done` and adding those found colliding (returning at the first
-        collision with `stop_at_first`)."""
+        the groups (N,) in `done` and adding those found colliding; with `group` None, one
+        group: returns at the first collision found. Returns True when one was found."""
         R, p = self._fk(Q)
         n, kind, i, j = self._candidates(Q, R, p, deepest_first=deepest_first)
         if n.size == 0:
-            return
+            return False
         # world placements of both geometries of every candidate pair, in one go
         RA, pA = broadphase.part_placements(R, p, n, i, self._pj, self._gR, self._gp)
         selfp = kind == 1
         if selfp.any():
             RB, pB = broadphase.part_placements(R, p, n, np.where(selfp, j, 0), self._pj, self._gR, self._gp)
-        geoms = [pt.geometry for pt in self._parts]
+        geoms = self._geoms
         hulls, convex = self._screen_hulls, self._hulls
         ogeom, otf = self._ogeom, self._otf
         req_w, req_s = self._req_world, self._req_self
@@ -218,11 +218,11 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         Tf = coal.Transform3s
         collide = coal.collide
         n_l = n.tolist()
-        keys = group[n].tolist()
+        keys = None if group is None else group[n].tolist()
         kind_l, i_l, j_l = kind.tolist(), i.tolist(), j.tolist()
+        found = False
         for t in range(len(n_l)):
-            key = keys[t]
-            if key in done:
+            if keys is not None and keys[t] in done:
                 continue
             a, b = i_l[t], j_l[t]
             res.clear()
@@ -243,9 +243,11 @@ class CollisionChecker(WorldEdits, SegmentChecks):
                 hit = collide(geoms[a], ta, geoms[b], tb, req_s, res)
             if hit:
                 out[n_l[t]] = True
-                done.add(key)
-                if stop_at_first:
-                    return
+                if keys is None:
+                    return True
+                done.add(keys[t])
+                found = True
+        return found
 
     # ------------------------------------------------------------------ public checks
     def _one_q(self, q: np.ndarray, what: str = "q", note: str = "") -> np.ndarray:
