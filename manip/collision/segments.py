@@ -64,6 +64,14 @@ def _coarse_to_fine(n: int) -> np.ndarray:
     return out
 
 
+@functools.lru_cache(maxsize=512)
+def _fractions(n: int) -> np.ndarray:
+    """`_coarse_to_fine(n) / n`: the sample parameters t in [0, 1] in bisection order; cached."""
+    out = _coarse_to_fine(n) / n
+    out.setflags(write=False)
+    return out
+
+
 class SegmentChecks:
     """`motion_valid`, `first_collision`, `motion_valid_batch`, `path_valid` and `segment_steps`.
 
@@ -88,7 +96,7 @@ class SegmentChecks:
 
     def _motion_free(self, q0: np.ndarray, q1: np.ndarray, steps: int, chunk: int = 32) -> bool:
         """`motion_valid` of checked endpoints split into `steps` intervals (no input checks)."""
-        t = _coarse_to_fine(steps) / steps
+        t = _fractions(steps)
         Q = q0[None] + t[:, None] * (q1 - q0)[None]
         if Q.shape[0] <= 2 * chunk:
             return not self._check(Q, stop_at_first=True).any()
@@ -144,6 +152,12 @@ class SegmentChecks:
         return self._first_hit(q0, q1, steps), steps
 
     @consistent
+    def _segments_free(self, Q0: np.ndarray, Q1: np.ndarray, resolution: float) -> np.ndarray:
+        """`motion_valid_batch` for planners that pass their own finite (M, dof) arrays of
+        the same shape and a positive resolution (no input checks)."""
+        return self._segments_valid(Q0, Q1, resolution)
+
+    @consistent
     def _motion_free_at(self, q0: np.ndarray, q1: np.ndarray, resolution: float) -> bool:
         """`motion_valid` for planners that pass their own finite (dof,) arrays and a positive
         resolution (no input checks)."""
@@ -180,17 +194,17 @@ class SegmentChecks:
             return valid
         D = Q1 - Q0
         steps = np.maximum(1, np.ceil(np.abs(D).max(axis=1) / resolution - 1e-12).astype(np.int64))
-        orders = [_coarse_to_fine(k) for k in steps.tolist()]
+        fractions = [_fractions(k) for k in steps.tolist()]
         # each segment's first `coarse` samples (bisection order) for all segments in one batch
         seg = np.repeat(np.arange(M), np.minimum(steps + 1, coarse))
-        t = np.concatenate([o[:coarse] for o in orders]) / steps[seg]
+        t = np.concatenate([f[:coarse] for f in fractions])
         hit = self._check(Q0[seg] + t[:, None] * D[seg], group=seg)
         valid[seg[hit]] = False
         # then the remaining samples of the segments still valid
         rest = np.flatnonzero(valid & (steps + 1 > coarse))
         if rest.size:
             seg = np.repeat(rest, steps[rest] + 1 - coarse)
-            t = np.concatenate([orders[m][coarse:] for m in rest.tolist()]) / steps[seg]
+            t = np.concatenate([fractions[m][coarse:] for m in rest.tolist()])
             hit = self._check(Q0[seg] + t[:, None] * D[seg], group=seg)
             valid[seg[hit]] = False
         return valid

@@ -70,7 +70,7 @@ class Validity:
         """(M,) validity of the segments Q0[i] -> Q1[i] at the fine resolution (screened coarsely first)."""
         ok = self.screen(Q0, Q1)
         if ok.any() and self.search_resolution > self.resolution:
-            ok[ok] = self.checker.motion_valid_batch(Q0[ok], Q1[ok], resolution=self.resolution)
+            ok[ok] = self.checker._segments_free(Q0[ok], Q1[ok], self.resolution)
         if self.certified:
             for i in np.flatnonzero(ok):
                 ok[i] = self._certified(Q0[i], Q1[i])
@@ -78,7 +78,7 @@ class Validity:
 
     def screen(self, Q0: np.ndarray, Q1: np.ndarray) -> np.ndarray:
         """(M,) validity at the search resolution (a necessary condition, cheaper)."""
-        return self.checker.motion_valid_batch(Q0, Q1, resolution=self.search_resolution)
+        return self.checker._segments_free(np.asarray(Q0, dtype=float), np.asarray(Q1, dtype=float), self.search_resolution)
 
     def certify(self, path: np.ndarray):
         """`CollisionChecker.certify_path`: the continuous interpolation of `path` (K, dof)
