@@ -124,8 +124,9 @@ class SegmentChecks:
         q0, q1 = self._one_q(q0, "q0"), self._one_q(q1, "q1")
         return self._first_hit(q0, q1, self.segment_steps(q0, q1, resolution), chunk)
 
-    def _first_hit(self, q0: np.ndarray, q1: np.ndarray, steps: int, chunk: int = 48) -> float | None:
-        """`first_collision` of checked endpoints split into `steps` intervals (no input checks).
+    def _first_hit(self, q0: np.ndarray, q1: np.ndarray, steps: int, chunk: int = 48, start: int = 0) -> float | None:
+        """`first_collision` of checked endpoints split into `steps` intervals (no input checks),
+        from sample `start` on (1: q0 is known to be free).
 
         The first batch holds only `FIRST_HIT_LEAD` samples: a tree pushing against an
         obstacle usually collides within a few steps (MotionBenchMaker searches: 70 % of the
@@ -133,7 +134,7 @@ class SegmentChecks:
         """
         t_all = np.arange(steps + 1) / steps
         d = q1 - q0
-        s = 0
+        s = start
         size = FIRST_HIT_LEAD
         while s <= steps:
             t = t_all[s:s + size]
@@ -146,10 +147,11 @@ class SegmentChecks:
 
     @consistent
     def _advance_to(self, q0: np.ndarray, q1: np.ndarray, resolution: float) -> tuple[float | None, int]:
-        """(`first_collision`, `segment_steps`) of one segment in one call, for planners that
-        pass their own finite (dof,) arrays and a positive resolution (no input checks)."""
+        """(`first_collision`, `segment_steps`) of one segment from a collision-free q0 (a node
+        of a search tree: its own sample is not checked again), for planners that pass their
+        own finite (dof,) arrays and a positive resolution (no input checks)."""
         steps = max(1, int(math.ceil(float(np.abs(q1 - q0).max()) / resolution - 1e-12)))
-        return self._first_hit(q0, q1, steps), steps
+        return self._first_hit(q0, q1, steps, start=1), steps
 
     @consistent
     def _segments_free(self, Q0: np.ndarray, Q1: np.ndarray, resolution: float) -> np.ndarray:

@@ -91,7 +91,10 @@ class Validity:
 
     def advance(self, q0: np.ndarray, q1: np.ndarray, resolution: float | None = None) -> np.ndarray | None:
         """The farthest configuration on q0 -> q1 reachable without collision, kept a few
-        check steps short of the first contact (None if there is no room to move)."""
+        check steps short of the first contact (None if there is no room to move).
+
+        q0 must be collision-free (a node of a search tree): the check starts at the first
+        sample after it."""
         fine = resolution in (None, self.resolution)
         resolution = self.resolution if resolution is None else resolution
         t, steps = self.checker._advance_to(q0, q1, resolution)
