@@ -19,7 +19,9 @@ def path_length(path: np.ndarray) -> float:
     return float(np.sum(np.linalg.norm(np.diff(path, axis=0), axis=1)))
 
 
-def remove_redundant(path: np.ndarray, segments_valid: SegmentsValid, screen: SegmentsValid | None = None) -> np.ndarray:
+def remove_redundant(
+    path: np.ndarray, segments_valid: SegmentsValid, screen: SegmentsValid | None = None,
+) -> np.ndarray:
     """Greedy pruning: from each kept waypoint, jump to the farthest one reachable directly.
 
     Args:

@@ -78,7 +78,8 @@ class Validity:
 
     def screen(self, Q0: np.ndarray, Q1: np.ndarray) -> np.ndarray:
         """(M,) validity at the search resolution (a necessary condition, cheaper)."""
-        return self.checker._segments_free(np.asarray(Q0, dtype=float), np.asarray(Q1, dtype=float), self.search_resolution)
+        Q0, Q1 = np.asarray(Q0, dtype=float), np.asarray(Q1, dtype=float)
+        return self.checker._segments_free(Q0, Q1, self.search_resolution)
 
     def certify(self, path: np.ndarray):
         """`CollisionChecker.certify_path`: the continuous interpolation of `path` (K, dof)
