@@ -153,12 +153,12 @@ def segment_deviation(seg: Segment, sub_path: np.ndarray) -> float:
         return 0.0
     n = max(8, int(np.ceil(seg.duration / DEVIATION_STEP)) + 1)
     ts = np.linspace(0.0, seg.duration, n)
-    return float(_max_polyline_distance(seg.knots, seg.p, seg.v, seg.a, seg.j, ts,
+    return float(max_polyline_distance(seg.knots, seg.p, seg.v, seg.a, seg.j, ts,
                                         np.ascontiguousarray(sub_path, dtype=np.float64)))
 
 
 @njit(cache=True, nogil=True)
-def _max_polyline_distance(knots, p0, v0, a0, j, ts, path):  # pragma: no cover - compiled
+def max_polyline_distance(knots, p0, v0, a0, j, ts, path):  # pragma: no cover - compiled
     """max over the times ts (N,) of the Euclidean distance [rad] from the constant-jerk
     pieces (`evaluate_pieces`' arrays: knots (dof, M+1), p0, v0, a0, j (dof, M)) to the
     polyline `path` (P, dof): `polyline_distances(evaluate_pieces(...)[0], path).max()` in
