@@ -14,7 +14,7 @@ from manip.planning.options import PlanOptions
 from manip.planning.restarts import GAIN, shorter_way_round, time_length
 from manip.planning.rrt_connect import rrt_connect
 from manip.planning.search import search_path
-from manip.planning.shortcut import path_length, shortcut
+from manip.planning.shortcut import path_length, remove_redundant, shortcut
 
 LOWER, UPPER = np.zeros(2), np.ones(2)
 START, GOAL = np.array([0.1, 0.1]), np.array([0.9, 0.1])
@@ -82,6 +82,28 @@ def test_shortcut_shortens_and_stays_valid():
     short = shortcut(detour, segments_valid, np.random.default_rng(0), time.perf_counter() + 5, rounds=20)
     assert_valid_path(short)
     assert path_length(short) < path_length(detour) - 0.2
+
+
+def test_remove_redundant_with_a_screen_keeps_the_same_waypoints_for_fewer_fine_checks():
+    # a zig-zag through the gap: some jumps cross the wall, some do not
+    path = np.array([START, [0.2, 0.5], [0.3, 0.85], [0.5, 0.85], [0.6, 0.9], [0.7, 0.5], [0.8, 0.3], GOAL])
+    assert_valid_path(path)
+    checked = []
+
+    def screen(A, B):  # coarse: a necessary condition of `fine` below
+        return np.array([motion_valid(a, b, resolution=0.1) for a, b in zip(A, B)])
+
+    def fine(A, B):  # the validity the result must have (screen first, as `Validity.segments`)
+        checked.append(len(A))
+        return screen(A, B) & segments_valid(A, B)
+
+    plain = remove_redundant(path, fine)
+    fine_plain = sum(checked)
+    checked.clear()
+    screened = remove_redundant(path, fine, screen)
+    np.testing.assert_array_equal(screened, plain)
+    assert 2 < len(plain) < len(path)
+    assert sum(checked) < fine_plain
 
 
 def test_search_path_repairs_coarse_edges_at_the_fine_resolution():

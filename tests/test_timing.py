@@ -15,7 +15,9 @@ from manip.timing import (
     time_parameterize_dense,
     time_parameterize_for_robot,
 )
-from manip.trajectory import PathProfile
+from manip.timing.segments import DEVIATION_STEP, SegmentSolver, segment_deviation
+from manip.timing.shared import polyline_distances
+from manip.trajectory import PathProfile, evaluate_pieces
 
 
 @pytest.fixture(scope="module")
@@ -494,3 +496,20 @@ def test_along_path_mode_of_time_parameterize(cfg, line_path):
     np.testing.assert_array_equal(r.trajectory.positions, direct.trajectory.positions)
     tight = time_parameterize_for_robot(path, cfg, mode="along_path", deviation_tolerance=1e-6)
     assert tight.status is TimingStatus.DEVIATION_TOO_LARGE
+
+
+def test_segment_deviation_is_the_largest_sampled_distance_from_the_path(cfg):
+    # the compiled deviation against the profile evaluated and measured with numpy, on
+    # blended segments (ends in motion) of the Franka's limits
+    solver = SegmentSolver(cfg.velocity_limits, cfg.acceleration_limits, cfg.jerk_limits)
+    rng = np.random.default_rng(3)
+    for k in range(40):
+        p0, p1 = rng.uniform(-1.0, 1.0, (2, 7))
+        v0, v1 = rng.uniform(-0.5, 0.5, (2, 7))
+        seg = solver.solve(p0, v0, p1, v1)
+        sub_path = np.vstack([p0, rng.uniform(-1.0, 1.0, (k % 3, 7)), p1])
+        ts = np.linspace(0.0, seg.duration, max(8, int(np.ceil(seg.duration / DEVIATION_STEP)) + 1))
+        q = evaluate_pieces(seg.knots, seg.p, seg.v, seg.a, seg.j, ts)[0]
+        expected = float(polyline_distances(q, sub_path).max())
+        assert segment_deviation(seg, sub_path) == pytest.approx(expected, rel=1e-12, abs=1e-12)
+        assert expected > 0.0

@@ -341,8 +341,8 @@ class _Context:
         self._gR = np.array([pt.R for pt in self.parts])
         self._gp = np.array([pt.p for pt in self.parts])
         Rj = R[:, self._pj]
-        self.Rw = np.einsum("ngij,gjk->ngik", Rj, self._gR)
-        self.pw = np.einsum("ngij,gj->ngi", Rj, self._gp) + p[:, self._pj]
+        self.Rw = np.matmul(Rj, self._gR)
+        self.pw = np.matmul(Rj, self._gp[:, :, None])[..., 0] + p[:, self._pj]
         self.ends: dict = {}
         self.tfs: dict = {}
         self.obstacle_frames: dict = {}

@@ -135,25 +135,22 @@ class CollisionChecker(WorldEdits, SegmentChecks):
             j = obstacle; for self (i, j) = parts. Sorted by configuration then depth, or
             by depth alone with `deepest_first`.
         """
-        ns, kinds, ii, jj, depth = [], [], [], [], []
+        found = []
         if world and len(self._obs) and self._l0_joint.size:
             n, g, o, d = broadphase.world_candidates(R, p, self._padding + 1e-9, *self._bp_world, *self._bp_obstacles)
             if n.size:
-                ns.append(n); kinds.append(np.zeros(n.size, dtype=np.int64)); ii.append(g); jj.append(o); depth.append(d)
+                found.append((n, np.zeros(n.size, dtype=np.int64), g, o, d))
         if self_ and self._bpairs.shape[0]:
             n, k, d = broadphase.self_candidates(R, p, self._self_padding + 1e-9, *self._bp_self)
             if n.size:
                 pairs = self._bp_pairs
-                ns.append(n); kinds.append(np.ones(n.size, dtype=np.int64))
-                ii.append(pairs[k, 0]); jj.append(pairs[k, 1]); depth.append(d)
-        if not ns:
+                found.append((n, np.ones(n.size, dtype=np.int64), pairs[k, 0], pairs[k, 1], d))
+        if not found:
             e = np.zeros(0, dtype=np.int64)
             return e, e, e, e
-        if len(ns) == 1:
-            n, kind, i, j, d = ns[0], kinds[0], ii[0], jj[0], depth[0]
-        else:
-            n = np.concatenate(ns); kind = np.concatenate(kinds); i = np.concatenate(ii); j = np.concatenate(jj)
-            d = np.concatenate(depth)
+        n, kind, i, j, d = found[0] if len(found) == 1 else (np.concatenate(c) for c in zip(*found))
+        if n.size == 1:
+            return n, kind, i, j
         order = np.argsort(d, kind="stable") if deepest_first else np.lexsort((d, n))
         return n[order], kind[order], i[order], j[order]
 
@@ -185,52 +182,59 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         """
         if self._static_world:
             return np.ones(Q.shape[0], dtype=bool)
-        if stop_at_first:
-            group = np.zeros(Q.shape[0], dtype=np.int64)
+        out = np.zeros(Q.shape[0], dtype=bool)
+        if stop_at_first:  # one group: no bookkeeping, stop at the first collision found
+            for s in range(0, Q.shape[0], _CHUNK):
+                if self._check_chunk(Q[s:s + _CHUNK], None, deepest_first, None, out[s:s + _CHUNK]):
+                    break
+            return out
         ordered = not (deepest_first and group is not None)
         if group is None:  # every configuration on its own
             group = np.arange(Q.shape[0])
-        out = np.zeros(Q.shape[0], dtype=bool)
         done: set[int] = set()
         for s in range(0, Q.shape[0], _CHUNK):  # bounded memory for large batches
             self._check_chunk(Q[s:s + _CHUNK], group[s:s + _CHUNK], not ordered, done, out[s:s + _CHUNK])
-            if stop_at_first and done:
-                break
         return out
 
-    def _check_chunk(self, Q: np.ndarray, group: np.ndarray, deepest_first: bool, done: set[int], out: np.ndarray) -> None:
+    def _check_chunk(self, Q: np.ndarray, group: np.ndarray | None, deepest_first: bool, done: set[int] | None,
+                     out: np.ndarray) -> bool:
         """`_check` of at most _CHUNK configurations: sets `out` where they collide, skipping
-        the groups (N,) in `done` and adding those found colliding."""
+        the groups (N,) in `done` and adding those found colliding; with `group` None, one
+        group: returns at the first collision found. Returns True when one was found."""
         R, p = self._fk(Q)
         n, kind, i, j = self._candidates(Q, R, p, deepest_first=deepest_first)
         if n.size == 0:
-            return
+            return False
         # world placements of both geometries of every candidate pair, in one go
-        selfp = kind == 1
         RA, pA = broadphase.part_placements(R, p, n, i, self._pj, self._gR, self._gp)
-        RB, pB = broadphase.part_placements(R, p, n, np.where(selfp, j, 0), self._pj, self._gR, self._gp)
-        geoms = [pt.geometry for pt in self._parts]
+        selfp = kind == 1
+        if selfp.any():
+            RB, pB = broadphase.part_placements(R, p, n, np.where(selfp, j, 0), self._pj, self._gR, self._gp)
+        geoms = self._geoms
         hulls, convex = self._screen_hulls, self._hulls
         ogeom, otf = self._ogeom, self._otf
         req_w, req_s = self._req_world, self._req_self
         res = coal.CollisionResult()
         Tf = coal.Transform3s
         collide = coal.collide
-        keys = group[n].tolist()
-        for nn, key, k, a, b, Ra_, pa_, Rb_, pb_ in zip(n.tolist(), keys, kind.tolist(), i.tolist(), j.tolist(),
-                                                         RA, pA, RB, pB):
-            if key in done:
+        n_l = n.tolist()
+        keys = None if group is None else group[n].tolist()
+        kind_l, i_l, j_l = kind.tolist(), i.tolist(), j.tolist()
+        found = False
+        for t in range(len(n_l)):
+            if keys is not None and keys[t] in done:
                 continue
+            a, b = i_l[t], j_l[t]
             res.clear()
-            ta = Tf(Ra_, pa_)
-            if k == 0:
+            ta = Tf(RA[t], pA[t])
+            if kind_l[t] == 0:
                 # a large mesh's convex hull (which holds it) first: free there, free for certain
                 if hulls[a] is not None and not collide(hulls[a], ta, ogeom[b], otf[b], req_w, res):
                     continue
                 res.clear()
                 hit = collide(geoms[a], ta, ogeom[b], otf[b], req_w, res)
             else:
-                tb = Tf(Rb_, pb_)
+                tb = Tf(RB[t], pB[t])
                 # both hulls (convex against convex: GJK) when either mesh is large
                 if ((hulls[a] is not None or hulls[b] is not None) and convex[a] is not None and convex[b] is not None
                         and not collide(convex[a], ta, convex[b], tb, req_s, res)):
@@ -238,8 +242,12 @@ class CollisionChecker(WorldEdits, SegmentChecks):
                 res.clear()
                 hit = collide(geoms[a], ta, geoms[b], tb, req_s, res)
             if hit:
-                out[nn] = True
-                done.add(key)
+                out[n_l[t]] = True
+                if keys is None:
+                    return True
+                done.add(keys[t])
+                found = True
+        return found
 
     # ------------------------------------------------------------------ public checks
     def _one_q(self, q: np.ndarray, what: str = "q", note: str = "") -> np.ndarray:

@@ -170,6 +170,7 @@ class WorldEdits:
         self._gR, self._gp = t.gR, t.gp
         # convex hulls of the meshes, screened before the exact check of meshes with many
         # triangles (the hull holds the mesh: a hull kept clear keeps the mesh clear)
+        self._geoms = [p.geometry for p in self._parts]
         self._hulls = [p.hull if p.hull is not p.geometry else None for p in self._parts]
         self._screen_hulls = [h if h is not None and getattr(p.geometry, "num_tris", 0) > HULL_SCREEN_TRIANGLES
                               else None for h, p in zip(self._hulls, self._parts)]

@@ -21,6 +21,9 @@ from manip.validation import positive
 
 _F = TypeVar("_F", bound=Callable)
 
+#: Samples of the first batch of `first_collision` (the rest go `chunk` at a time).
+FIRST_HIT_LEAD = 4
+
 
 def consistent(method: _F) -> _F:
     """Run a read-only method of a `CollisionChecker` on a snapshot of it.
@@ -61,6 +64,14 @@ def _coarse_to_fine(n: int) -> np.ndarray:
     return out
 
 
+@functools.lru_cache(maxsize=512)
+def _fractions(n: int) -> np.ndarray:
+    """`_coarse_to_fine(n) / n`: the sample parameters t in [0, 1] in bisection order; cached."""
+    out = _coarse_to_fine(n) / n
+    out.setflags(write=False)
+    return out
+
+
 class SegmentChecks:
     """`motion_valid`, `first_collision`, `motion_valid_batch`, `path_valid` and `segment_steps`.
 
@@ -81,9 +92,11 @@ class SegmentChecks:
             chunk: size of the first (coarse) batch.
         """
         q0, q1 = self._one_q(q0, "q0"), self._one_q(q1, "q1")
-        steps = self.segment_steps(q0, q1, resolution)
-        order = _coarse_to_fine(steps)
-        t = order / steps
+        return self._motion_free(q0, q1, self.segment_steps(q0, q1, resolution), chunk)
+
+    def _motion_free(self, q0: np.ndarray, q1: np.ndarray, steps: int, chunk: int = 32) -> bool:
+        """`motion_valid` of checked endpoints split into `steps` intervals (no input checks)."""
+        t = _fractions(steps)
         Q = q0[None] + t[:, None] * (q1 - q0)[None]
         if Q.shape[0] <= 2 * chunk:
             return not self._check(Q, stop_at_first=True).any()
@@ -109,15 +122,49 @@ class SegmentChecks:
             place to stop (RRT-Connect's "connect" in one call).
         """
         q0, q1 = self._one_q(q0, "q0"), self._one_q(q1, "q1")
-        steps = self.segment_steps(q0, q1, resolution)
+        return self._first_hit(q0, q1, self.segment_steps(q0, q1, resolution), chunk)
+
+    def _first_hit(self, q0: np.ndarray, q1: np.ndarray, steps: int, chunk: int = 48, start: int = 0) -> float | None:
+        """`first_collision` of checked endpoints split into `steps` intervals (no input checks),
+        from sample `start` on (1: q0 is known to be free).
+
+        The first batch holds only `FIRST_HIT_LEAD` samples: a tree pushing against an
+        obstacle usually collides within a few steps (MotionBenchMaker searches: 70 % of the
+        advances collide, 90 % of those within 4 samples), and each later batch `chunk`.
+        """
         t_all = np.arange(steps + 1) / steps
         d = q1 - q0
-        for s in range(0, steps + 1, chunk):
-            t = t_all[s:s + chunk]
+        s = start
+        size = FIRST_HIT_LEAD
+        while s <= steps:
+            t = t_all[s:s + size]
             hit = self._check(q0[None] + t[:, None] * d[None], stop_at_first=True, deepest_first=False)
             if hit.any():
                 return float(t[np.argmax(hit)])
+            s += size
+            size = chunk
         return None
+
+    @consistent
+    def _advance_to(self, q0: np.ndarray, q1: np.ndarray, resolution: float) -> tuple[float | None, int]:
+        """(`first_collision`, `segment_steps`) of one segment from a collision-free q0 (a node
+        of a search tree: its own sample is not checked again), for planners that pass their
+        own finite (dof,) arrays and a positive resolution (no input checks)."""
+        steps = max(1, int(math.ceil(float(np.abs(q1 - q0).max()) / resolution - 1e-12)))
+        return self._first_hit(q0, q1, steps, start=1), steps
+
+    @consistent
+    def _segments_free(self, Q0: np.ndarray, Q1: np.ndarray, resolution: float) -> np.ndarray:
+        """`motion_valid_batch` for planners that pass their own finite (M, dof) arrays of
+        the same shape and a positive resolution (no input checks)."""
+        return self._segments_valid(Q0, Q1, resolution)
+
+    @consistent
+    def _motion_free_at(self, q0: np.ndarray, q1: np.ndarray, resolution: float) -> bool:
+        """`motion_valid` for planners that pass their own finite (dof,) arrays and a positive
+        resolution (no input checks)."""
+        steps = max(1, int(math.ceil(float(np.abs(q1 - q0).max()) / resolution - 1e-12)))
+        return self._motion_free(q0, q1, steps)
 
     @staticmethod
     def segment_steps(q0: np.ndarray, q1: np.ndarray, resolution: float = 0.01) -> int:
@@ -149,26 +196,19 @@ class SegmentChecks:
             return valid
         D = Q1 - Q0
         steps = np.maximum(1, np.ceil(np.abs(D).max(axis=1) / resolution - 1e-12).astype(np.int64))
-        first_q, first_seg, rest_q, rest_seg = [], [], [], []
-        for m in range(M):
-            order = _coarse_to_fine(int(steps[m]))
-            t = order / steps[m]
-            S = Q0[m] + t[:, None] * D[m]
-            first_q.append(S[:coarse])
-            first_seg.append(np.full(min(coarse, S.shape[0]), m))
-            if S.shape[0] > coarse:
-                rest_q.append(S[coarse:])
-                rest_seg.append(np.full(S.shape[0] - coarse, m))
-        seg = np.concatenate(first_seg)
-        hit = self._check(np.concatenate(first_q), group=seg)
-        valid[np.unique(seg[hit])] = False
-        if rest_q and valid.any():
-            Qr = np.concatenate(rest_q)
-            seg = np.concatenate(rest_seg)
-            keep = valid[seg]
-            if keep.any():
-                hit = self._check(Qr[keep], group=seg[keep])
-                valid[np.unique(seg[keep][hit])] = False
+        fractions = [_fractions(k) for k in steps.tolist()]
+        # each segment's first `coarse` samples (bisection order) for all segments in one batch
+        seg = np.repeat(np.arange(M), np.minimum(steps + 1, coarse))
+        t = np.concatenate([f[:coarse] for f in fractions])
+        hit = self._check(Q0[seg] + t[:, None] * D[seg], group=seg)
+        valid[seg[hit]] = False
+        # then the remaining samples of the segments still valid
+        rest = np.flatnonzero(valid & (steps + 1 > coarse))
+        if rest.size:
+            seg = np.repeat(rest, steps[rest] + 1 - coarse)
+            t = np.concatenate([fractions[m][coarse:] for m in rest.tolist()])
+            hit = self._check(Q0[seg] + t[:, None] * D[seg], group=seg)
+            valid[seg[hit]] = False
         return valid
 
     @consistent

@@ -19,19 +19,37 @@ def path_length(path: np.ndarray) -> float:
     return float(np.sum(np.linalg.norm(np.diff(path, axis=0), axis=1)))
 
 
-def remove_redundant(path: np.ndarray, segments_valid: SegmentsValid) -> np.ndarray:
-    """Greedy pruning: from each kept waypoint, jump to the farthest one reachable directly."""
+def remove_redundant(
+    path: np.ndarray, segments_valid: SegmentsValid, screen: SegmentsValid | None = None,
+) -> np.ndarray:
+    """Greedy pruning: from each kept waypoint, jump to the farthest one reachable directly.
+
+    Args:
+        path: (K, dof) a valid path [rad].
+        segments_valid: the validity the result must have.
+        screen: an optional cheaper necessary condition of `segments_valid` (e.g. a coarser
+            resolution): all jumps from a waypoint are screened in one batch, then only the
+            screened ones get `segments_valid`, farthest first, until one passes (the same
+            result as checking them all, for fewer checks).
+    """
     path = np.asarray(path, dtype=float)
     out = [path[0]]
     i = 0
     n = len(path)
     while i < n - 1:
+        j = i + 1
         if i + 2 <= n - 1:
             targets = np.arange(n - 1, i + 1, -1)  # farthest first
-            ok = segments_valid(np.repeat(path[i][None], len(targets), axis=0), path[targets])
-            j = int(targets[np.argmax(ok)]) if ok.any() else i + 1
-        else:
-            j = i + 1
+            starts = np.repeat(path[i][None], len(targets), axis=0)
+            if screen is None:
+                ok = segments_valid(starts, path[targets])
+                if ok.any():
+                    j = int(targets[np.argmax(ok)])
+            else:
+                for k in np.flatnonzero(screen(starts, path[targets])).tolist():
+                    if segments_valid(starts[k:k + 1], path[targets[k]][None])[0]:
+                        j = int(targets[k])
+                        break
         out.append(path[j])
         i = j
     return np.asarray(out)
@@ -63,7 +81,7 @@ def shortcut(
         screen: an optional cheaper check run on every candidate first (e.g. a coarser
             resolution); only the most promising screened candidates get `segments_valid`.
     """
-    path = remove_redundant(np.asarray(path, dtype=float), segments_valid)
+    path = remove_redundant(np.asarray(path, dtype=float), segments_valid, screen)
     for _ in range(rounds):
         if len(path) <= 2 or time.perf_counter() > deadline:
             break
@@ -103,4 +121,4 @@ def shortcut(
         path = np.concatenate([path[: i0 + 1], Q0[best][None], Q1[best][None], path[i1 + 1 :]])
         keep = np.concatenate([[True], np.linalg.norm(np.diff(path, axis=0), axis=1) > 1e-9])
         path = path[keep]
-    return remove_redundant(path, segments_valid)
+    return remove_redundant(path, segments_valid, screen)

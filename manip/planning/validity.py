@@ -58,7 +58,7 @@ class Validity:
     def motion(self, q0: np.ndarray, q1: np.ndarray, resolution: float | None = None) -> bool:
         """True when the straight motion q0 -> q1 is free at `resolution` (default: the fine one;
         a strict validity also certifies it at the fine resolution)."""
-        if not self.checker.motion_valid(q0, q1, resolution=self.resolution if resolution is None else resolution):
+        if not self.checker._motion_free_at(q0, q1, self.resolution if resolution is None else resolution):
             return False
         return not self.certified or resolution not in (None, self.resolution) or self._certified(q0, q1)
 
@@ -70,7 +70,7 @@ class Validity:
         """(M,) validity of the segments Q0[i] -> Q1[i] at the fine resolution (screened coarsely first)."""
         ok = self.screen(Q0, Q1)
         if ok.any() and self.search_resolution > self.resolution:
-            ok[ok] = self.checker.motion_valid_batch(Q0[ok], Q1[ok], resolution=self.resolution)
+            ok[ok] = self.checker._segments_free(Q0[ok], Q1[ok], self.resolution)
         if self.certified:
             for i in np.flatnonzero(ok):
                 ok[i] = self._certified(Q0[i], Q1[i])
@@ -78,7 +78,8 @@ class Validity:
 
     def screen(self, Q0: np.ndarray, Q1: np.ndarray) -> np.ndarray:
         """(M,) validity at the search resolution (a necessary condition, cheaper)."""
-        return self.checker.motion_valid_batch(Q0, Q1, resolution=self.search_resolution)
+        Q0, Q1 = np.asarray(Q0, dtype=float), np.asarray(Q1, dtype=float)
+        return self.checker._segments_free(Q0, Q1, self.search_resolution)
 
     def certify(self, path: np.ndarray):
         """`CollisionChecker.certify_path`: the continuous interpolation of `path` (K, dof)
@@ -91,11 +92,13 @@ class Validity:
 
     def advance(self, q0: np.ndarray, q1: np.ndarray, resolution: float | None = None) -> np.ndarray | None:
         """The farthest configuration on q0 -> q1 reachable without collision, kept a few
-        check steps short of the first contact (None if there is no room to move)."""
+        check steps short of the first contact (None if there is no room to move).
+
+        q0 must be collision-free (a node of a search tree): the check starts at the first
+        sample after it."""
         fine = resolution in (None, self.resolution)
         resolution = self.resolution if resolution is None else resolution
-        t = self.checker.first_collision(q0, q1, resolution=resolution)
-        steps = self.checker.segment_steps(q0, q1, resolution)
+        t, steps = self.checker._advance_to(q0, q1, resolution)
         t_stop = 1.0 if t is None else t - ADVANCE_BACKOFF_STEPS / steps
         if self.certified and fine:
             while t_stop > 0 and not self._certified(q0, q0 + t_stop * (q1 - q0)):

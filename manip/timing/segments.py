@@ -8,11 +8,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import math
+
 import numpy as np
 import ruckig
+from numba import njit
 
-from manip.timing.shared import LIMIT_MARGIN, RestToRest, RuckigFailure, polyline_distances
-from manip.trajectory import PiecewiseJerkProfile, evaluate_pieces
+from manip.timing.shared import LIMIT_MARGIN, RestToRest, RuckigFailure
+from manip.trajectory import PiecewiseJerkProfile
 
 # Deviation is measured on each segment every this many seconds (at most).
 DEVIATION_STEP = 0.01
@@ -150,8 +153,53 @@ def segment_deviation(seg: Segment, sub_path: np.ndarray) -> float:
         return 0.0
     n = max(8, int(np.ceil(seg.duration / DEVIATION_STEP)) + 1)
     ts = np.linspace(0.0, seg.duration, n)
-    q = evaluate_pieces(seg.knots, seg.p, seg.v, seg.a, seg.j, ts)[0]
-    return float(polyline_distances(q, sub_path).max())
+    return float(max_polyline_distance(seg.knots, seg.p, seg.v, seg.a, seg.j, ts,
+                                        np.ascontiguousarray(sub_path, dtype=np.float64)))
+
+
+@njit(cache=True, nogil=True)
+def max_polyline_distance(knots, p0, v0, a0, j, ts, path):  # pragma: no cover - compiled
+    """max over the times ts (N,) of the Euclidean distance [rad] from the constant-jerk
+    pieces (`evaluate_pieces`' arrays: knots (dof, M+1), p0, v0, a0, j (dof, M)) to the
+    polyline `path` (P, dof): `polyline_distances(evaluate_pieces(...)[0], path).max()` in
+    one compiled loop, without the (N, P, dof) temporaries."""
+    dof, m = p0.shape
+    segs = path.shape[0] - 1
+    q = np.empty(dof)
+    worst = 0.0
+    for n in range(ts.shape[0]):
+        t = ts[n]
+        for d in range(dof):
+            k = 0
+            for c in range(1, m):
+                if t >= knots[d, c]:
+                    k += 1
+            tau = t - knots[d, k]
+            q[d] = p0[d, k] + tau * (v0[d, k] + tau * (a0[d, k] / 2.0 + tau * j[d, k] / 6.0))
+        best = math.inf
+        if segs < 1:
+            s2 = 0.0
+            for d in range(dof):
+                s2 += (q[d] - path[0, d]) ** 2
+            best = math.sqrt(s2)
+        for s in range(segs):
+            dd = 0.0
+            rd = 0.0
+            for d in range(dof):
+                e = path[s + 1, d] - path[s, d]
+                dd += e * e
+                rd += (q[d] - path[s, d]) * e
+            lam = min(max(rd / dd, 0.0), 1.0) if dd > 0 else 0.0
+            s2 = 0.0
+            for d in range(dof):
+                r = q[d] - path[s, d] - lam * (path[s + 1, d] - path[s, d])
+                s2 += r * r
+            dist = math.sqrt(s2)
+            if dist < best:
+                best = dist
+        if best > worst:
+            worst = best
+    return worst
 
 
 def assemble(segments: list[Segment], goal: np.ndarray) -> PiecewiseJerkProfile:

@@ -47,7 +47,14 @@ import numpy as np
 
 from manip.timing.checks import Checked
 from manip.timing.result import TimingResult, TimingStatus
-from manip.timing.segments import DEVIATION_STEP, Segment, SegmentSolver, assemble, segment_deviation
+from manip.timing.segments import (
+    DEVIATION_STEP,
+    Segment,
+    SegmentSolver,
+    assemble,
+    max_polyline_distance,
+    segment_deviation,
+)
 from manip.timing.shared import (
     RuckigFailure,
     endpoint_problems,
@@ -99,8 +106,10 @@ def _path_deviation(profile: PiecewiseJerkProfile, path: np.ndarray, times: np.n
     if len(path) < 2 or profile.duration == 0:
         return 0.0
     n = int(np.ceil(profile.duration / DEVIATION_STEP)) + 1
-    ts = np.union1d(times, np.linspace(0.0, profile.duration, n))
-    return float(polyline_distances(profile.evaluate(ts)[0], path).max())
+    ts = np.clip(np.union1d(times, np.linspace(0.0, profile.duration, n)), 0.0, profile.duration)  # as `evaluate`
+    pieces = [np.ascontiguousarray(a, dtype=np.float64)
+              for a in (profile.knots, profile.p0, profile.v0, profile.a0, profile.j, path)]
+    return float(max_polyline_distance(*pieces[:5], ts, pieces[5]))
 
 
 # ---------------------------------------------------------------------------- heuristics
