@@ -79,10 +79,12 @@ def default_start_method() -> str:
 
     Returns:
         "fork" on Linux with Python < 3.12, "forkserver" on Linux with Python >= 3.12,
-        "spawn" elsewhere.
+        "spawn" elsewhere (and where the interpreter does not offer the other two).
     """
     if sys.platform.startswith("linux"):
-        return "fork" if sys.version_info < (3, 12) else "forkserver"
+        method = "fork" if sys.version_info < (3, 12) else "forkserver"
+        if method in mp.get_all_start_methods():
+            return method
     return "spawn"
 
 
