@@ -7,11 +7,11 @@ they finish and an interrupt has little to cancel.
 Start methods (`default_start_method`): on Linux with Python < 3.12 the workers are forked
 from the caller ("fork", the interpreter's own default there), which has already imported
 manip to validate the batch: a worker starts with the warm-up alone (about 0.7 s of CPU)
-instead of a fresh interpreter's imports and warm-up (about 1.9 s with "spawn"). On Linux
+instead of a fresh interpreter's imports and warm-up (about 1.5 s with "spawn"). On Linux
 with Python >= 3.12, where forking a process that runs threads (numpy's OpenBLAS threads,
 for one) is deprecated, a fork server is used: a fresh process that imports and warms manip
 once (`FORKSERVER_PRELOAD`) and forks the workers; it lives as long as the caller, so later
-batches start in about 0.1 s per worker. Elsewhere, "spawn". A caller that runs threads of
+batches start in about 0.1 s of CPU per worker. Elsewhere, "spawn". A caller that runs threads of
 its own which may hold a lock when a worker is forked (a thread compiling numba kernels, an
 OpenMP region) should pass "forkserver" or "spawn".
 
