@@ -15,8 +15,13 @@ dispatch, result unpickling) is given too. A calibration runs a fixed pure-Pytho
 1 and then 2 processes: the machine's own 2-core scaling. The machine is shared: compare
 ratios within one run.
 
+Workers start with the default start method (`process_pool.default_start_method()`: "fork"
+on Linux with Python < 3.12), or with each of `--start-methods` in turn (interleaved rounds).
+A fork server lives as long as the calling process, so only the first "forkserver" run of a
+benchmark pays for starting it: its later rounds are not first calls.
+
 Usage:
-    .venv/bin/python benchmarks/batch.py [--n 200] [--no-ray]
+    .venv/bin/python benchmarks/batch.py [--n 200] [--no-ray] [--start-methods fork,spawn]
 """
 
 from __future__ import annotations
@@ -69,13 +74,14 @@ def timed_solve(task):
 
 
 def run(batch, kill_after: int | None = None, workers: int | None = None, backend: str = "process",
-        seed: int = 0) -> dict:
+        seed: int = 0, start_method: str | None = None) -> dict:
     """Plan `batch` as `plan_stream` does (validation, then the backend) with `timed_solve`."""
     parent0 = _self_cpu()
     t0 = time.perf_counter()
     times, results, seen, cpu, startup = [], {}, Counter(), [], []
-    tasks, n_workers = validate(batch, workers, backend, seed)
-    for pid, (r, c, s) in run_tasks(tasks, workers=n_workers, backend=backend, job=timed_solve):
+    tasks, n_workers = validate(batch, workers, backend, seed, start_method)
+    for pid, (r, c, s) in run_tasks(tasks, workers=n_workers, backend=backend, job=timed_solve,
+                                    start_method=start_method):
         times.append(time.perf_counter())
         results[pid] = r
         seen[pid] += 1
@@ -167,6 +173,9 @@ def main() -> None:
     ap.add_argument("--rounds", type=int, default=2,
                     help="alternating 1-worker / 2-worker rounds (the load of a shared machine drifts)")
     ap.add_argument("--no-ray", action="store_true", help="skip the Ray runs")
+    ap.add_argument("--start-methods", default=None,
+                    help="comma-separated start methods of the process workers, measured in interleaved "
+                         "rounds (default: the default method only)")
     ap.add_argument("--worker-sessions", action="store_true",
                     help="process workers in sessions of their own (process_pool.NEW_SESSION), as Ray's are")
     args = ap.parse_args()
@@ -176,14 +185,17 @@ def main() -> None:
     load = os.getloadavg()[0]
     alone, pair = calibrate()
 
-    pairs = []
+    default = process_pool.default_start_method()
+    methods = args.start_methods.split(",") if args.start_methods else [default]
+    pairs = []  # (method, round, 1-worker run, 2-worker run)
     for k in range(args.rounds):
-        r1 = run(batch, workers=1)
-        rows.append((f"process (round {k + 1})", 1, r1))
-        r2 = run(batch, workers=2)
-        rows.append((f"process (round {k + 1})", 2, r2))
-        pairs.append((r1, r2))
-    r1, r2 = pairs[0]
+        for m in methods:
+            a = run(batch, workers=1, start_method=m)
+            rows.append((f"process, {m} (round {k + 1})", 1, a))
+            b = run(batch, workers=2, start_method=m)
+            rows.append((f"process, {m} (round {k + 1})", 2, b))
+            pairs.append((m, k, a, b))
+    _, _, r1, r2 = next(p for p in pairs if p[0] == default) if default in methods else pairs[0]
     fault = run(batch, workers=2, kill_after=args.n // 2)
     upd, new = world_switch_cost(batch)  # after the timed runs: it warms up this process
     extra = {}
@@ -212,7 +224,8 @@ def main() -> None:
     print(f"Machine: {model}, {os.cpu_count()} cores; Python {platform.python_version()}; commit {commit}; "
           f"{time.strftime('%Y-%m-%d %H:%M', time.gmtime())} UTC; load average {load:.1f} before the run (shared machine).\n")
     print(f"{args.n} problems ({args.n // 5} of each seeded kind), joint goals, 5 s budget, seed 0; "
-          f"process workers in {'sessions of their own' if args.worker_sessions else 'the caller session'}.\n")
+          f"process workers in {'sessions of their own' if args.worker_sessions else 'the caller session'}; "
+          f"default start method {default}; PYTHONDONTWRITEBYTECODE={os.environ.get('PYTHONDONTWRITEBYTECODE', '')!r}.\n")
     print("| backend | workers | wall [s] | problems/s end to end | problems/s steady | first result [s] "
           "| worker CPU s / problem | start-up CPU s / worker | caller CPU [s] | mean plan time [s] | success "
           "| identical to 1 process |")
@@ -225,8 +238,8 @@ def main() -> None:
     print()
     print(f"- Calibration, a fixed pure-Python loop: {alone:.2f} s alone, {pair:.2f} s each with two at once "
           f"(the machine's 2-process scaling: {2 * alone / pair:.2f}x).")
-    for k, (a, b) in enumerate(pairs):
-        print(f"- Round {k + 1}, 2 workers / 1 worker: {b['e2e'] / a['e2e']:.2f}x end to end, "
+    for m, k, a, b in pairs:
+        print(f"- {m}, round {k + 1}, 2 workers / 1 worker: {b['e2e'] / a['e2e']:.2f}x end to end, "
               f"{b['steady'] / a['steady']:.2f}x steady; worker CPU per problem {b['cpu'] / a['cpu']:.2f}x "
               f"({b['cpu_with_startup'] / a['cpu_with_startup']:.2f}x with the start-up counted in, as before).")
     if extra:
@@ -238,7 +251,7 @@ def main() -> None:
           f"each once: {set(fault['seen'].values()) == {1}}; identical to the undisturbed run: "
           f"{identical(fault, r2)}/{args.n}; wall {fault['wall']:.1f} s vs {r2['wall']:.1f} s.")
     print(f"- World switch on a warm worker: update_world {upd:.1f} ms vs a new MotionGenerator {new:.0f} ms (median).")
-    per_core = max(a["steady"] for a, _ in pairs)
+    per_core = max(a["steady"] for _, _, a, _ in pairs)
     print(f"- Per core: {per_core:.2f} problems/s; 1 M problems = {1e6 / per_core / 3600:.0f} core-hours, "
           f"e.g. {1e6 / per_core / 3600 / 64:.1f} h on 64 cores, {1e6 / per_core / 3600 / 512:.1f} h on 512.")
 

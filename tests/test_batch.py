@@ -15,7 +15,9 @@ import pytest
 
 from manip import MotionGenerator, Pose, UnknownNameError
 from manip.batch import Problem, WorkerLostError, plan_many, plan_stream, problem_seed
-from manip.batch import worker
+from manip.batch import process_pool, worker
+from manip.batch.plan import run_tasks
+from manip.batch.problem import prepare
 from manip.benchmarking.scenes import make_problems
 from manip.errors import InvalidInputError
 from manip.planning.result import PlanStatus
@@ -78,6 +80,51 @@ def test_plan_many_returns_the_single_calls_results_in_input_order(problems, ref
     assert len(results) == len(problems)
     for p, r in zip(problems, results):
         assert_same(r, reference[p.id])
+
+
+OTHER_START_METHODS = [m for m in process_pool.START_METHODS
+                       if m in mp.get_all_start_methods() and m != process_pool.default_start_method()]
+
+
+@pytest.mark.parametrize("method", OTHER_START_METHODS)
+def test_every_start_method_gives_the_single_calls_results(problems, reference, method):
+    results = plan_many(problems, workers=2, seed=SEED, progress=False, start_method=method)
+    for p, r in zip(problems, results):
+        assert_same(r, reference[p.id])
+    assert not mp.active_children()
+
+
+# Set in the calling test process at run time: only a forked copy of it sees the value.
+_CALLER_STATE: dict[str, int] = {}
+
+
+def _origin(task):
+    """Where a worker came from: its parent process, and what it inherited or preloaded."""
+    return task.id, {"parent": os.getppid(), "caller_state": dict(_CALLER_STATE),
+                     "server_warmed": "manip.batch.forkserver_warm" in sys.modules}
+
+
+@pytest.mark.parametrize("method", [m for m in process_pool.START_METHODS if m in mp.get_all_start_methods()])
+def test_workers_start_with_the_chosen_method(problems, method, monkeypatch):
+    monkeypatch.setitem(_CALLER_STATE, "pid", os.getpid())
+    tasks = prepare(problems[:4], SEED)
+    origins = dict(run_tasks(tasks, workers=2, backend="process", job=_origin, start_method=method))
+    assert sorted(origins) == sorted(t.id for t in tasks)
+    for o in origins.values():
+        # fork: a copy of this process (its imports and state included); forkserver: forked by the fork
+        # server, which preloaded and warmed manip; spawn: a fresh interpreter started from here
+        assert (o["parent"] == os.getpid()) is (method != "forkserver")
+        assert o["caller_state"] == (_CALLER_STATE if method == "fork" else {})
+        assert o["server_warmed"] is (method == "forkserver")
+
+
+def test_default_start_method():
+    method = process_pool.default_start_method()
+    if sys.platform.startswith("linux"):
+        assert method == ("fork" if sys.version_info < (3, 12) else "forkserver")
+    else:
+        assert method == "spawn"
+    assert process_pool.check_start_method(None) == method
 
 
 def test_seed_changes_searched_paths_and_ids_default_to_indices(problems, reference):
@@ -147,6 +194,8 @@ def test_bad_input_raises_before_any_worker_starts(problems, change, error, word
     ({"workers": 0}, ["workers", ">= 1"]),
     ({"backend": "dask"}, ["backend", "process", "ray"]),
     ({"seed": -1}, ["seed"]),
+    ({"start_method": "thread"}, ["start_method", "spawn", "'thread'"]),
+    ({"backend": "ray", "start_method": "spawn"}, ["start_method", 'backend="process"']),
 ])
 def test_bad_batch_arguments(problems, kwargs, words):
     with pytest.raises(InvalidInputError) as info:

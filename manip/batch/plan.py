@@ -36,6 +36,7 @@ def plan_stream(
     backend: str = "process",
     seed: int = 0,
     ray_address: str | None = None,
+    start_method: str | None = None,
 ) -> Iterator[tuple[ProblemId, PlanResult]]:
     """Plan `problems` in parallel and yield (problem id, result) as each plan finishes.
 
@@ -50,21 +51,27 @@ def plan_stream(
         seed: batch seed (>= 0); problem i plans with `problem_seed(seed, id_i)`.
         ray_address: for backend="ray" when Ray is not initialised: the `ray.init`
             address (None = a local instance, "auto" = the cluster this machine belongs to).
+        start_method: for backend="process": how workers start, "fork", "forkserver" or
+            "spawn" (those this platform offers); None = `process_pool.default_start_method()`
+            ("fork" on Linux with Python < 3.12: the workers skip the imports). Results do
+            not depend on it.
 
     Yields:
         (problem id, PlanResult), each problem exactly once, in order of completion.
 
     Raises:
         UnknownNameError: an unknown robot (the message lists the valid ones).
-        InvalidInputError: a malformed problem, workers < 1, an unknown backend.
+        InvalidInputError: a malformed problem, workers < 1, an unknown backend or start
+            method (or a start method with backend="ray").
         WorkerLostError: workers kept dying on the same problems.
     """
-    tasks, n = validate(problems, workers, backend, seed)
-    return run_tasks(tasks, workers=n, backend=backend, ray_address=ray_address)
+    tasks, n = validate(problems, workers, backend, seed, start_method)
+    return run_tasks(tasks, workers=n, backend=backend, ray_address=ray_address, start_method=start_method)
 
 
 def run_tasks(tasks: Sequence[Any], *, workers: int | None, backend: str, ray_address: str | None = None,
-              job: process_pool.Job = worker.solve) -> Iterator[tuple[ProblemId, Any]]:
+              job: process_pool.Job = worker.solve,
+              start_method: str | None = None) -> Iterator[tuple[ProblemId, Any]]:
     """Run `job` on validated tasks on a backend; yield (task id, job result) as they finish.
 
     `plan_stream` runs `worker.solve` on the tasks of `prepare`; `manip.datagen` runs its own
@@ -77,7 +84,7 @@ def run_tasks(tasks: Sequence[Any], *, workers: int | None, backend: str, ray_ad
 
         ray_backend.import_ray()
         return ray_backend.run(tasks, workers, ray_address, job=job)
-    return process_pool.run(tasks, workers or _cores(), job)
+    return process_pool.run(tasks, workers or _cores(), job, start_method)
 
 
 def plan_many(
@@ -88,6 +95,7 @@ def plan_many(
     seed: int = 0,
     progress: bool = True,
     ray_address: str | None = None,
+    start_method: str | None = None,
 ) -> list[PlanResult]:
     """Plan `problems` in parallel; the results in input order.
 
@@ -98,6 +106,7 @@ def plan_many(
         seed: batch seed (>= 0).
         progress: show a progress bar (tqdm, when installed).
         ray_address: see `plan_stream`.
+        start_method: see `plan_stream`.
 
     Returns:
         One PlanResult per problem, in the order of `problems`.
@@ -107,7 +116,8 @@ def plan_many(
     """
     problems = list(problems) if not isinstance(problems, (Problem, str, dict)) else problems
     progress = flag(progress, "progress")
-    stream = plan_stream(problems, workers=workers, backend=backend, seed=seed, ray_address=ray_address)
+    stream = plan_stream(problems, workers=workers, backend=backend, seed=seed, ray_address=ray_address,
+                         start_method=start_method)
     ids = [p.id if p.id is not None else i for i, p in enumerate(problems)]
     results: dict[ProblemId, PlanResult] = {}
     bar = _progress_bar(len(ids)) if progress else None
@@ -125,10 +135,14 @@ def plan_many(
 
 
 def validate(problems: Iterable[Problem], workers: int | None, backend: str,
-             seed: int) -> tuple[list[Task], int | None]:
+             seed: int, start_method: str | None = None) -> tuple[list[Task], int | None]:
     """(tasks, worker count or None) of a batch; raises before anything starts (see `plan_stream`)."""
     if not isinstance(backend, str) or backend not in BACKENDS:
         raise InvalidInputError(f"backend must be one of {list(BACKENDS)}; got {backend!r}")
+    if start_method is not None:
+        if backend != "process":
+            raise InvalidInputError(f'start_method is an option of backend="process"; got it with backend={backend!r}')
+        process_pool.check_start_method(start_method)
     n = None if workers is None else integer(workers, "workers", 1)
     return prepare(problems, seed), n
 
