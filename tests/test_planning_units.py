@@ -171,3 +171,22 @@ def test_a_path_that_is_no_detour_is_kept_without_searching():
     state = rng.bit_generator.state
     out = shorter_way_round(straight, goal[None], validity, lambda p: p, rng, time.perf_counter() + 10, np.ones(2))
     assert out is straight and rng.bit_generator.state == state  # no search drew from the generator
+
+
+def test_search_path_repairs_stop_at_their_iteration_cap():
+    coarse = lambda a, b: motion_valid(a, b, resolution=0.2)  # noqa: E731  (can jump over the wall)
+    validity = SimpleNamespace(
+        kinematics=SimpleNamespace(lower=LOWER, upper=UPPER), resolution=0.005, search_resolution=0.2,
+        coarse_motion=coarse, motion=motion_valid, coarse_advance=None, advance=advance,
+        segments=segments_valid, path=lambda p: bool(segments_valid(p[:-1], p[1:]).all()),
+    )
+    deadline = time.perf_counter() + 10
+    # the same generator state: the same coarse search, then repairs through the gap
+    _, coarse_only = rrt_connect(START, GOAL[None], LOWER, UPPER, coarse, np.random.default_rng(1), deadline)
+    free, free_iterations = search_path(START, GOAL[None], validity, np.random.default_rng(1), deadline)
+    assert free is not None and free_iterations - coarse_only > 2  # the repairs need several iterations
+    for cap in (1, 2):
+        path, iterations = search_path(START, GOAL[None], validity, np.random.default_rng(1), deadline,
+                                       max_repair_iterations=cap)
+        assert iterations - coarse_only <= cap
+        assert path is None  # the repairs did not finish within the cap

@@ -24,6 +24,10 @@ DETOUR = 1.5
 SEARCHES = 2
 #: RRT iterations of each further search (a count: results do not depend on the machine).
 ITERATIONS = 500
+#: RRT iterations of the fine-resolution repairs of each further search, together (a count).
+#: Uncapped, a repair in a narrow passage cost as much as the search itself (MBM bookshelf
+#: and table scenes: 200-450 ms for one detour candidate).
+REPAIR_ITERATIONS = 200
 #: A candidate replaces the path only when it takes at most this fraction of its time (a
 #: small gain in `time_length` is within what the optimiser changes anyway).
 GAIN = 0.9
@@ -64,7 +68,8 @@ def shorter_way_round(
     for _ in range(SEARCHES):
         if best <= DETOUR * time_length(np.stack([start, path[-1]]), vmax):
             break  # no (longer a) detour
-        candidate, _ = search_path(start, goals, validity, rng, deadline, max_iterations=ITERATIONS)
+        candidate, _ = search_path(start, goals, validity, rng, deadline, max_iterations=ITERATIONS,
+                                   max_repair_iterations=REPAIR_ITERATIONS)
         if candidate is None:
             continue
         if len(candidate) > 2:
