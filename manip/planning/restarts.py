@@ -23,7 +23,7 @@ DETOUR = 1.5
 #: Further searches for a detour.
 SEARCHES = 2
 #: RRT iterations of each further search (a count: results do not depend on the machine).
-ITERATIONS = 500
+ITERATIONS = 300
 #: RRT iterations of the fine-resolution repairs of each further search, together (a count).
 #: Uncapped, a repair in a narrow passage cost as much as the search itself (MBM bookshelf
 #: and table scenes: 200-450 ms for one detour candidate).
