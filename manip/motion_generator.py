@@ -89,10 +89,10 @@ MAX_ATTEMPTS = 4
 #: (`Validity.strict`: about 10 x slower searches and shortcuts; attempt 2 alone usually
 #: succeeds with a new search).
 STRICT_ATTEMPT = 3
-#: Whether strict attempts also search for a shorter way round a detour
-#: (`planning.restarts`). Off: with every accepted motion certified, the further searches
-#: cost about 10 x more (MBM table_under_pick_panda/14: 1.2 s of a 1.9 s plan) for a rare
-#: gain in motion time, and the trajectory optimiser still shortens the detour.
+#: Whether a plan with every motion certified (a strict attempt's fallback, see
+#: LAZY_STRICT) also searches for a shorter way round a detour (`planning.restarts`). Off:
+#: certified, the further searches cost about 10 x more (MBM table_under_pick_panda/14:
+#: 1.2 s of a 1.9 s plan) for a rare gain in motion time (the optimiser still shortens).
 STRICT_RESTARTS = False
 #: Strict attempts first plan without certification and then certify only the path's
 #: segments, searching the failing ones again with certified motions (at most
@@ -550,7 +550,10 @@ class MotionGenerator:
         configurations the search checked) is planned again, until the budget runs out; the
         third attempt on accepts only straight motions certified over their whole length
         (`Validity.strict`: slower, but a graze thinner than the check resolution, e.g. a
-        finger passing an object a fraction of a millimetre deep, cannot come back).
+        finger passing an object a fraction of a millimetre deep, cannot come back). A strict
+        attempt plans as the others do, then certifies the path's segments and searches the
+        failing ones again with certified motions (`LAZY_STRICT`); only when that fails does
+        it search with every motion certified.
         """
         result = None
         for attempt in range(1, MAX_ATTEMPTS + 1):
