@@ -630,7 +630,7 @@ class MotionGenerator:
             if STRICT_RESTARTS or not validity.certified:
                 t = time.perf_counter()
                 path = shorter_way_round(path, goals, validity, shorten, ctx.rng, ctx.deadline,
-                                         scaled_limits(self.timing_limits, ctx)[0])
+                                         scaled_limits(self.timing_limits, ctx)[0], search_iterations=iterations)
                 ctx.add_time("restarts", t)
             t = time.perf_counter()
             if ctx.options.optimize_clearance:
