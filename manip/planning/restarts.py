@@ -23,7 +23,7 @@ DETOUR = 1.5
 #: Further searches for a detour.
 SEARCHES = 2
 #: RRT iterations of each further search (a count: results do not depend on the machine).
-ITERATIONS = 300
+ITERATIONS = 500
 #: RRT iterations of the fine-resolution repairs of each further search, together (a count).
 #: Uncapped, a repair in a narrow passage cost as much as the search itself (MBM bookshelf
 #: and table scenes: 200-450 ms for one detour candidate).
@@ -62,9 +62,11 @@ def shorter_way_round(
         vmax: (dof,) velocity limits [rad/s].
         search_iterations: RRT iterations the search of `path` used (None: unknown). A path
             that took more than a further search may use (ITERATIONS) is kept without
-            searching: on MotionBenchMaker (20 problems per scene, both goal kinds) no
-            further search after such a search found a path (0 of 12, 140-350 ms per
-            plan), while after quicker ones 66 of 70 did.
+            searching: on MotionBenchMaker (20 problems per scene, both goal kinds, with
+            300-iteration further searches) none after a search of more than 300
+            iterations found a path (0 of 12, 140-350 ms per plan), 66 of 70 after
+            quicker ones. (300-iteration further searches cost motion time on 4 of 420
+            problems, hence 500.)
 
     Returns:
         (K', dof) the fastest of `path` and the shortened candidates (by `time_length`).
