@@ -63,7 +63,7 @@ from manip.planning.options import PlanOptions
 from manip.planning.refine import refine, scaled_limits
 from manip.planning.restarts import shorter_way_round
 from manip.planning.result import PlanResult, PlanStatus
-from manip.planning.search import search_path
+from manip.planning.search import repair_path, search_path
 from manip.planning.shortcut import shortcut
 from manip.planning.validity import Validity
 from manip.pose import Pose
@@ -89,6 +89,17 @@ MAX_ATTEMPTS = 4
 #: (`Validity.strict`: about 10 x slower searches and shortcuts; attempt 2 alone usually
 #: succeeds with a new search).
 STRICT_ATTEMPT = 3
+#: Whether a plan with every motion certified (a strict attempt's fallback, see
+#: LAZY_STRICT) also searches for a shorter way round a detour (`planning.restarts`). Off:
+#: certified, the further searches cost about 10 x more (MBM table_under_pick_panda/14:
+#: 1.2 s of a 1.9 s plan) for a rare gain in motion time (the optimiser still shortens).
+STRICT_RESTARTS = False
+#: Strict attempts first plan without certification and then certify only the path's
+#: segments, searching the failing ones again with certified motions (at most
+#: STRICT_REPAIR_ITERATIONS RRT iterations together, a count); a path that cannot be
+#: repaired so is planned again with every motion certified.
+LAZY_STRICT = True
+STRICT_REPAIR_ITERATIONS = 500
 #: Largest joint-space deviation [rad] of a linear motion's timing from its dense IK path
 #: (about 1 mm at the hand).
 LINEAR_DEVIATION = 1e-3
@@ -539,7 +550,10 @@ class MotionGenerator:
         configurations the search checked) is planned again, until the budget runs out; the
         third attempt on accepts only straight motions certified over their whole length
         (`Validity.strict`: slower, but a graze thinner than the check resolution, e.g. a
-        finger passing an object a fraction of a millimetre deep, cannot come back).
+        finger passing an object a fraction of a millimetre deep, cannot come back). A strict
+        attempt plans as the others do, then certifies the path's segments and searches the
+        failing ones again with certified motions (`LAZY_STRICT`); only when that fails does
+        it search with every motion certified.
         """
         result = None
         for attempt in range(1, MAX_ATTEMPTS + 1):
@@ -552,6 +566,42 @@ class MotionGenerator:
 
     def _plan_once(self, ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.ndarray,
                    attempt: int) -> PlanResult:
+        path, source = None, "shortcut"
+        if validity.certified and LAZY_STRICT:
+            # a path planned without certification, then only its segments certified (and
+            # the failing ones searched again with certified motions): most segments pass,
+            # and certifying every motion the search and shortcutting try costs ~10 x more
+            path, source, why = self._path(ctx, validity.loose(), start, goals, attempt)
+            if path is not None:
+                t = time.perf_counter()
+                path, _ = repair_path(path, validity, ctx.rng, ctx.deadline, max_iterations=STRICT_REPAIR_ITERATIONS)
+                ctx.add_time("plan", t)
+            if path is None:
+                logger.info("attempt %d: no path with certified segments; a certified search", attempt)
+        if path is None:
+            path, source, why = self._path(ctx, validity, start, goals, attempt)
+        if path is None:
+            status = PlanStatus.TIMEOUT if ctx.time_left < 0 else PlanStatus.PLAN_FAIL
+            return ctx.fail(status, why, attempts=attempt)
+        goal_q = path[-1].copy()
+        traj, why = time_and_validate(ctx, path, goal_q, self.timing_limits, validity)
+        if traj is None:
+            return ctx.fail(PlanStatus.TRAJOPT_FAIL, f"no valid timed trajectory: {why}", path=path, goal_q=goal_q,
+                            attempts=attempt)
+        if ctx.options.trajopt and source == "shortcut":
+            t = time.perf_counter()
+            checker = validity.checker
+            better = refine(ctx, traj, self.timing_limits, validity, self.clearance.bound_to(checker),
+                            checker.padding)
+            ctx.add_time("trajopt", t)
+            if better is not None:
+                traj, source = better, "trajopt"
+        return ctx.succeed(traj, path, goal_q, attempt, source)
+
+    def _path(self, ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.ndarray,
+              attempt: int) -> tuple[np.ndarray | None, str, str]:
+        """(path (K, dof) to one of `goals` (G, dof) or None, its source, why there is none):
+        the straight line, else a search, shortcutting, restarts and clearance smoothing."""
         t = time.perf_counter()
         path, source, iterations = None, "shortcut", 0
         if attempt == 1:
@@ -569,8 +619,7 @@ class MotionGenerator:
             iterations += more
         ctx.add_time("plan", t)
         if path is None:
-            status = PlanStatus.TIMEOUT if ctx.time_left < 0 else PlanStatus.PLAN_FAIL
-            return ctx.fail(status, f"no collision-free path found ({iterations} iterations)", attempts=attempt)
+            return None, source, f"no collision-free path found ({iterations} iterations)"
         t = time.perf_counter()
         if len(path) > 2:
             def shorten(p: np.ndarray) -> np.ndarray:
@@ -578,28 +627,16 @@ class MotionGenerator:
 
             path = shorten(path)
             ctx.add_time("optimize", t)
-            t = time.perf_counter()
-            path = shorter_way_round(path, goals, validity, shorten, ctx.rng, ctx.deadline,
-                                     scaled_limits(self.timing_limits, ctx)[0])
-            ctx.add_time("restarts", t)
+            if STRICT_RESTARTS or not validity.certified:
+                t = time.perf_counter()
+                path = shorter_way_round(path, goals, validity, shorten, ctx.rng, ctx.deadline,
+                                         scaled_limits(self.timing_limits, ctx)[0], search_iterations=iterations)
+                ctx.add_time("restarts", t)
             t = time.perf_counter()
             if ctx.options.optimize_clearance:
                 path = smooth_path(path, validity.checker, validity.motion, ctx.deadline)
-        goal_q = path[-1].copy()
         ctx.add_time("optimize", t)
-        traj, why = time_and_validate(ctx, path, goal_q, self.timing_limits, validity)
-        if traj is None:
-            return ctx.fail(PlanStatus.TRAJOPT_FAIL, f"no valid timed trajectory: {why}", path=path, goal_q=goal_q,
-                            attempts=attempt)
-        if ctx.options.trajopt and source == "shortcut":
-            t = time.perf_counter()
-            checker = validity.checker
-            better = refine(ctx, traj, self.timing_limits, validity, self.clearance.bound_to(checker),
-                            checker.padding)
-            ctx.add_time("trajopt", t)
-            if better is not None:
-                traj, source = better, "trajopt"
-        return ctx.succeed(traj, path, goal_q, attempt, source)
+        return path, source, ""
 
     def _plan_linear(self, start_q, goal: Pose, link: str, options: dict) -> PlanResult:
         """Straight-line motion of `link` from its current pose to `goal`."""

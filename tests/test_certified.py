@@ -11,6 +11,8 @@ collision-free, whatever resolution a verifier checks it at.
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 import pytest
 
@@ -20,6 +22,7 @@ from manip.benchmarking.scenes import make_problems
 from manip.benchmarking.verify import Verifier
 from manip.collision import Cuboid, WorldConfig
 from manip.planning.finish import validate_trajectory
+from manip.planning.search import repair_path
 from manip.trajectory import Trajectory
 from robot_constants import FRANKA_READY
 
@@ -165,6 +168,28 @@ def test_a_graze_the_check_resolution_misses_is_planned_around():
     assert r.success and r.attempts >= 2, r.message
     assert mg.checker.certify_path(r.trajectory.positions).certified
     assert len(r.path) > 2  # not the straight line through the plate
+
+
+def test_repair_path_with_a_strict_validity_goes_round_a_graze_with_certified_motions():
+    """A strict attempt certifies only the segments of a loosely planned path and searches the
+    failing ones again with certified motions (`repair_path`): the straight line through the
+    plate becomes a path whose every segment is certified."""
+    q0, q1 = READY.copy(), READY.copy()
+    q1[0] += 1.2
+    mg = MotionGenerator("franka", resolution=1.3, search_resolution=1.3)
+    mg.update_world(WorldConfig([_plate_across_the_hand(mg, q0, q1)]))
+    loose, strict = mg.validity, mg.validity.strict()
+    line = np.stack([q0, q1])
+    assert loose.path(line) and not strict.path(line)
+    path, iterations = repair_path(line, strict, np.random.default_rng(0), time.perf_counter() + 30)
+    assert path is not None and iterations > 0 and len(path) > 2
+    np.testing.assert_array_equal(path[0], q0)
+    np.testing.assert_array_equal(path[-1], q1)
+    assert mg.checker.certify_path(path).certified
+    again, _ = repair_path(line, strict, np.random.default_rng(0), time.perf_counter() + 30)
+    np.testing.assert_array_equal(again, path)  # the same generator state, the same path
+    capped, used = repair_path(line, strict, np.random.default_rng(0), time.perf_counter() + 30, max_iterations=1)
+    assert used <= 1 and (capped is None or mg.checker.certify_path(capped).certified)
 
 
 def test_validate_trajectory_rejects_an_uncertified_trajectory():

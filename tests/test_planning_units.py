@@ -11,7 +11,7 @@ import pytest
 
 from manip.errors import InvalidInputError
 from manip.planning.options import PlanOptions
-from manip.planning.restarts import GAIN, shorter_way_round, time_length
+from manip.planning.restarts import GAIN, ITERATIONS, shorter_way_round, time_length
 from manip.planning.rrt_connect import rrt_connect
 from manip.planning.search import search_path
 from manip.planning.shortcut import path_length, remove_redundant, shortcut
@@ -171,3 +171,39 @@ def test_a_path_that_is_no_detour_is_kept_without_searching():
     state = rng.bit_generator.state
     out = shorter_way_round(straight, goal[None], validity, lambda p: p, rng, time.perf_counter() + 10, np.ones(2))
     assert out is straight and rng.bit_generator.state == state  # no search drew from the generator
+
+
+def test_search_path_repairs_stop_at_their_iteration_cap():
+    coarse = lambda a, b: motion_valid(a, b, resolution=0.2)  # noqa: E731  (can jump over the wall)
+    validity = SimpleNamespace(
+        kinematics=SimpleNamespace(lower=LOWER, upper=UPPER), resolution=0.005, search_resolution=0.2,
+        coarse_motion=coarse, motion=motion_valid, coarse_advance=None, advance=advance,
+        segments=segments_valid, path=lambda p: bool(segments_valid(p[:-1], p[1:]).all()),
+    )
+    deadline = time.perf_counter() + 10
+    # the same generator state: the same coarse search, then repairs through the gap
+    _, coarse_only = rrt_connect(START, GOAL[None], LOWER, UPPER, coarse, np.random.default_rng(1), deadline)
+    free, free_iterations = search_path(START, GOAL[None], validity, np.random.default_rng(1), deadline)
+    assert free is not None and free_iterations - coarse_only > 2  # the repairs need several iterations
+    for cap in (1, 2):
+        path, iterations = search_path(START, GOAL[None], validity, np.random.default_rng(1), deadline,
+                                       max_repair_iterations=cap)
+        assert iterations - coarse_only <= cap
+        assert path is None  # the repairs did not finish within the cap
+
+
+def test_a_detour_found_only_after_a_long_search_is_kept_without_searching():
+    """A path whose search needed more iterations than a further search may use lies beyond
+    a narrow passage: the restarts leave it (and the generator) alone; a quick one is searched."""
+    validity = _two_gap_validity()
+    start, goal = np.array([0.1, 0.2]), np.array([0.9, 0.2])
+    far = np.array([start, [0.4, 0.9], [0.6, 0.9], goal])
+    shorten = lambda p: shortcut(p, validity.segments, np.random.default_rng(0), time.perf_counter() + 5)  # noqa: E731
+    rng = np.random.default_rng(3)
+    state = rng.bit_generator.state
+    out = shorter_way_round(far, goal[None], validity, shorten, rng, time.perf_counter() + 10, np.ones(2),
+                            search_iterations=ITERATIONS + 1)
+    assert out is far and rng.bit_generator.state == state
+    out = shorter_way_round(far, goal[None], validity, shorten, rng, time.perf_counter() + 10, np.ones(2),
+                            search_iterations=ITERATIONS)
+    assert time_length(out, np.ones(2)) <= GAIN * time_length(far, np.ones(2))

@@ -24,6 +24,10 @@ DETOUR = 1.5
 SEARCHES = 2
 #: RRT iterations of each further search (a count: results do not depend on the machine).
 ITERATIONS = 500
+#: RRT iterations of the fine-resolution repairs of each further search, together (a count).
+#: Uncapped, a repair in a narrow passage cost as much as the search itself (MBM bookshelf
+#: and table scenes: 200-450 ms for one detour candidate).
+REPAIR_ITERATIONS = 200
 #: A candidate replaces the path only when it takes at most this fraction of its time (a
 #: small gain in `time_length` is within what the optimiser changes anyway).
 GAIN = 0.9
@@ -43,6 +47,7 @@ def shorter_way_round(
     rng: np.random.Generator,
     deadline: float,
     vmax: np.ndarray,
+    search_iterations: int | None = None,
 ) -> np.ndarray:
     """`path`, or a faster valid path between its start and one of `goals` when it is a detour.
 
@@ -55,16 +60,26 @@ def shorter_way_round(
             without one is unchanged).
         deadline: `time.perf_counter()` value at which to stop.
         vmax: (dof,) velocity limits [rad/s].
+        search_iterations: RRT iterations the search of `path` used (None: unknown). A path
+            that took more than a further search may use (ITERATIONS) is kept without
+            searching: on MotionBenchMaker (20 problems per scene, both goal kinds, with
+            300-iteration further searches) none after a search of more than 300
+            iterations found a path (0 of 12, 140-350 ms per plan), 66 of 70 after
+            quicker ones. (300-iteration further searches cost motion time on 4 of 420
+            problems, hence 500.)
 
     Returns:
         (K', dof) the fastest of `path` and the shortened candidates (by `time_length`).
     """
+    if search_iterations is not None and search_iterations > ITERATIONS:
+        return path  # a narrow passage: a shorter search would not get through either
     start = path[0]
     best = time_length(path, vmax)
     for _ in range(SEARCHES):
         if best <= DETOUR * time_length(np.stack([start, path[-1]]), vmax):
             break  # no (longer a) detour
-        candidate, _ = search_path(start, goals, validity, rng, deadline, max_iterations=ITERATIONS)
+        candidate, _ = search_path(start, goals, validity, rng, deadline, max_iterations=ITERATIONS,
+                                   max_repair_iterations=REPAIR_ITERATIONS)
         if candidate is None:
             continue
         if len(candidate) > 2:

@@ -19,11 +19,13 @@ MAX_REPAIRS = 6
 def search_path(
     start: np.ndarray, goals: np.ndarray, validity: Validity, rng: np.random.Generator, deadline: float,
     max_iterations: int = 20000,
+    max_repair_iterations: int = 20000,
 ) -> tuple[np.ndarray | None, int]:
     """A collision-free polyline from `start` (dof,) to one of `goals` (G, dof).
 
-    `max_iterations` caps the coarse search (a count, not a time: the result depends only on
-    the generator's state).
+    `max_iterations` caps the coarse search and `max_repair_iterations` the fine repair
+    searches together (counts, not times: the result depends only on the generator's state).
+    A repair that runs out of iterations fails the search (None).
 
     Returns:
         (path (K, dof) valid at the fine resolution, or None; RRT iterations used).
@@ -35,15 +37,38 @@ def search_path(
     )
     if validity.search_resolution == validity.resolution:
         return path, iterations
+    path, more = repair_path(path, validity, rng, deadline, max_iterations=max_repair_iterations)
+    return path, iterations + more
+
+
+def repair_path(
+    path: np.ndarray | None, validity: Validity, rng: np.random.Generator, deadline: float,
+    max_iterations: int = 20000,
+) -> tuple[np.ndarray | None, int]:
+    """`path` (K, dof) with its failing segments (by `validity.segments`) replaced by searches.
+
+    The first failing segment is replaced by an RRT-Connect search between its endpoints
+    with the fine `validity.motion` / `validity.advance` (certified ones for a strict
+    Validity), at most MAX_REPAIRS times; `max_iterations` caps those searches together (a
+    count). None when a repair fails or the path still fails after MAX_REPAIRS.
+
+    Returns:
+        (the valid path (K', dof) or None; RRT iterations used).
+    """
+    lower, upper = validity.kinematics.lower, validity.kinematics.upper
+    iterations = 0
     for _ in range(MAX_REPAIRS):
         if path is None:
             return None, iterations
         ok = validity.segments(path[:-1], path[1:])
         if ok.all():
             return path, iterations
+        if iterations >= max_iterations:
+            return None, iterations
         s = int(np.argmin(ok))
         sub, more = rrt_connect(
             path[s], path[s + 1][None], lower, upper, validity.motion, rng, deadline, advance=validity.advance,
+            max_iterations=max_iterations - iterations,
         )
         iterations += more
         path = None if sub is None else np.concatenate([path[:s], sub, path[s + 2 :]])

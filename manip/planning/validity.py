@@ -11,7 +11,8 @@ a snapshot of its checker, so a plan sees one world while other threads edit it.
 A strict Validity (`strict()`) also certifies every straight motion it accepts over its
 whole continuous length (the fine resolution can miss a graze thinner than its step): the
 planner's later attempts use it once timed trajectories failed the certificate
-(`motion_generator.STRICT_ATTEMPT`).
+(`motion_generator.STRICT_ATTEMPT`): first only on the segments of a path planned without
+it (`planning.search.repair_path`), then, if that fails, for a whole strict plan.
 """
 
 from __future__ import annotations
@@ -47,6 +48,10 @@ class Validity:
     def strict(self) -> Validity:
         """This validity with every accepted straight motion certified (`certified=True`)."""
         return Validity(self.checker, self.kinematics, self.resolution, self.search_resolution, certified=True)
+
+    def loose(self) -> Validity:
+        """This validity without the certification of accepted motions (`certified=False`)."""
+        return Validity(self.checker, self.kinematics, self.resolution, self.search_resolution)
 
     def _certified(self, q0: np.ndarray, q1: np.ndarray) -> bool:
         return bool(self.checker.certify_path(np.stack([q0, q1])).certified)
