@@ -13,13 +13,14 @@ The pipeline of every plan (each stage timed in `PlanResult.timings`):
 6. validate: the continuous interpolation of the returned samples is certified
    collision-free against the exact collision model (`planning.finish`,
    `CollisionChecker.certify_path`). Only a trajectory that passes is returned with
-   `success=True`; one that fails is planned again (MAX_ATTEMPTS);
+   `success=True`; one that fails is planned again (`planning.pipeline`);
 7. trajectory optimisation (`planning.refine`, `planning.trajopt`): the valid trajectory of a
    searched path seeds a B-spline optimiser; its result replaces the seed only when it is
    faster and passes the same validation (`PlanResult.source == "trajopt"`).
 
 The planners are handed a `planning.Validity` (collision and limit questions) and a
-`PlanContext` (options, deadline, random generator, timings); this class only orchestrates.
+`PlanContext` (options, deadline, random generator, timings); this class checks the start
+and the goals and hands them to `planning.pipeline.plan_to_configs`, which runs the attempts.
 
 Guarantees of a trajectory returned with `success=True` (`planning.finish`): it starts at
 the start and ends at the goal at rest, keeps the position, velocity, acceleration and
@@ -58,13 +59,10 @@ from manip.kinematics import Kinematics
 from manip.planning.context import START_LIMIT_TOLERANCE, PlanContext
 from manip.planning.finish import time_and_validate
 from manip.planning.linear import linear_path
-from manip.planning.optimize import smooth_path
 from manip.planning.options import PlanOptions
-from manip.planning.refine import refine, scaled_limits
-from manip.planning.restarts import shorter_way_round
+from manip.planning.pipeline import plan_to_configs
+from manip.planning.refine import scaled_limits
 from manip.planning.result import PlanResult, PlanStatus
-from manip.planning.search import repair_path, search_path
-from manip.planning.shortcut import shortcut
 from manip.planning.validity import Validity
 from manip.pose import Pose
 from manip.robot_config import RobotConfig, config_from_urdf, load_robot_config
@@ -79,27 +77,6 @@ __all__ = ["MotionGenerator", "START_LIMIT_TOLERANCE"]
 
 #: Random IK starts tried for a pose goal when the first round finds no collision-free solution.
 IK_RETRY_ATTEMPTS = 400
-#: Goal sets: the search first tries this many goals (those reached fastest) alone, for at
-#: most FOCUS_ITERATIONS RRT iterations, before searching towards all of them.
-FOCUS_GOALS = 2
-FOCUS_ITERATIONS = 200
-#: Plans tried when a path's timed trajectory fails the validation (its certificate).
-MAX_ATTEMPTS = 4
-#: From this attempt on, every straight motion the planner accepts is certified
-#: (`Validity.strict`: about 10 x slower searches and shortcuts; attempt 2 alone usually
-#: succeeds with a new search).
-STRICT_ATTEMPT = 3
-#: Whether a plan with every motion certified (a strict attempt's fallback, see
-#: LAZY_STRICT) also searches for a shorter way round a detour (`planning.restarts`). Off:
-#: certified, the further searches cost about 10 x more (MBM table_under_pick_panda/14:
-#: 1.2 s of a 1.9 s plan) for a rare gain in motion time (the optimiser still shortens).
-STRICT_RESTARTS = False
-#: Strict attempts first plan without certification and then certify only the path's
-#: segments, searching the failing ones again with certified motions (at most
-#: STRICT_REPAIR_ITERATIONS RRT iterations together, a count); a path that cannot be
-#: repaired so is planned again with every motion certified.
-LAZY_STRICT = True
-STRICT_REPAIR_ITERATIONS = 500
 #: Largest joint-space deviation [rad] of a linear motion's timing from its dense IK path
 #: (about 1 mm at the hand).
 LINEAR_DEVIATION = 1e-3
@@ -436,7 +413,7 @@ class MotionGenerator:
         if ctx.failed:
             return ctx.result()
         ctx.check_sample_count(start, goal, self.timing_limits)
-        return self._plan_to_configs(ctx, validity, start, goal[None, :])
+        return plan_to_configs(ctx, validity, start, goal[None, :], self.timing_limits, self.clearance)
 
     def plan_pose(self, start_q, goal: Pose, link: str | None = None, *, linear: bool = False, **options) -> PlanResult:
         """Plan a motion that brings `link` (default `ee_link`) to the pose `goal`.
@@ -483,7 +460,7 @@ class MotionGenerator:
         bounds = [rest_to_rest_time(start, q, vmax, amax, jmax) for q in configs]
         order = np.argsort(bounds, kind="stable")
         ctx.check_sample_count(start, configs[order[0]], self.timing_limits)
-        result = self._plan_to_configs(ctx, validity, start, configs[order])
+        result = plan_to_configs(ctx, validity, start, configs[order], self.timing_limits, self.clearance)
         if result.success:
             reached = result.goal_q
             k = int(order[np.argmin(np.linalg.norm(configs[order] - reached, axis=1))])
@@ -542,101 +519,6 @@ class MotionGenerator:
                 configs.append(q)
                 owners.append(i)
         return np.asarray(configs).reshape(-1, self.robot_dof), owners
-
-    def _plan_to_configs(self, ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.ndarray) -> PlanResult:
-        """Path, shortcutting, timing and validation to the best reachable of `goals` (G, dof).
-
-        A path whose timed trajectory fails the validation (a graze between the
-        configurations the search checked) is planned again, until the budget runs out; the
-        third attempt on accepts only straight motions certified over their whole length
-        (`Validity.strict`: slower, but a graze thinner than the check resolution, e.g. a
-        finger passing an object a fraction of a millimetre deep, cannot come back). A strict
-        attempt plans as the others do, then certifies the path's segments and searches the
-        failing ones again with certified motions (`LAZY_STRICT`); only when that fails does
-        it search with every motion certified.
-        """
-        result = None
-        for attempt in range(1, MAX_ATTEMPTS + 1):
-            strict = attempt >= STRICT_ATTEMPT
-            result = self._plan_once(ctx, validity.strict() if strict else validity, start, goals, attempt)
-            if result.success or result.status is not PlanStatus.TRAJOPT_FAIL or ctx.time_left < 0:
-                break
-            logger.info("attempt %d: %s; planning again", attempt, result.message)
-        return result
-
-    def _plan_once(self, ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.ndarray,
-                   attempt: int) -> PlanResult:
-        path, source = None, "shortcut"
-        if validity.certified and LAZY_STRICT:
-            # a path planned without certification, then only its segments certified (and
-            # the failing ones searched again with certified motions): most segments pass,
-            # and certifying every motion the search and shortcutting try costs ~10 x more
-            path, source, why = self._path(ctx, validity.loose(), start, goals, attempt)
-            if path is not None:
-                t = time.perf_counter()
-                path, _ = repair_path(path, validity, ctx.rng, ctx.deadline, max_iterations=STRICT_REPAIR_ITERATIONS)
-                ctx.add_time("plan", t)
-            if path is None:
-                logger.info("attempt %d: no path with certified segments; a certified search", attempt)
-        if path is None:
-            path, source, why = self._path(ctx, validity, start, goals, attempt)
-        if path is None:
-            status = PlanStatus.TIMEOUT if ctx.time_left < 0 else PlanStatus.PLAN_FAIL
-            return ctx.fail(status, why, attempts=attempt)
-        goal_q = path[-1].copy()
-        traj, why = time_and_validate(ctx, path, goal_q, self.timing_limits, validity)
-        if traj is None:
-            return ctx.fail(PlanStatus.TRAJOPT_FAIL, f"no valid timed trajectory: {why}", path=path, goal_q=goal_q,
-                            attempts=attempt)
-        if ctx.options.trajopt and source == "shortcut":
-            t = time.perf_counter()
-            checker = validity.checker
-            better = refine(ctx, traj, self.timing_limits, validity, self.clearance.bound_to(checker),
-                            checker.padding)
-            ctx.add_time("trajopt", t)
-            if better is not None:
-                traj, source = better, "trajopt"
-        return ctx.succeed(traj, path, goal_q, attempt, source)
-
-    def _path(self, ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.ndarray,
-              attempt: int) -> tuple[np.ndarray | None, str, str]:
-        """(path (K, dof) to one of `goals` (G, dof) or None, its source, why there is none):
-        the straight line, else a search, shortcutting, restarts and clearance smoothing."""
-        t = time.perf_counter()
-        path, source, iterations = None, "shortcut", 0
-        if attempt == 1:
-            for g in goals[:3]:
-                if validity.motion(start, g):
-                    path, source = np.stack([start, g]), "straight_line"
-                    break
-        if path is None and len(goals) > FOCUS_GOALS:
-            # the goals reached fastest first (goal sets are ordered by their rest-to-rest
-            # duration): a short search towards them alone, then towards every goal
-            path, iterations = search_path(start, goals[:FOCUS_GOALS], validity, ctx.rng, ctx.deadline,
-                                           max_iterations=FOCUS_ITERATIONS)
-        if path is None:
-            path, more = search_path(start, goals, validity, ctx.rng, ctx.deadline)
-            iterations += more
-        ctx.add_time("plan", t)
-        if path is None:
-            return None, source, f"no collision-free path found ({iterations} iterations)"
-        t = time.perf_counter()
-        if len(path) > 2:
-            def shorten(p: np.ndarray) -> np.ndarray:
-                return shortcut(p, validity.segments, ctx.rng, ctx.deadline, screen=validity.screen)
-
-            path = shorten(path)
-            ctx.add_time("optimize", t)
-            if STRICT_RESTARTS or not validity.certified:
-                t = time.perf_counter()
-                path = shorter_way_round(path, goals, validity, shorten, ctx.rng, ctx.deadline,
-                                         scaled_limits(self.timing_limits, ctx)[0], search_iterations=iterations)
-                ctx.add_time("restarts", t)
-            t = time.perf_counter()
-            if ctx.options.optimize_clearance:
-                path = smooth_path(path, validity.checker, validity.motion, ctx.deadline)
-        ctx.add_time("optimize", t)
-        return path, source, ""
 
     def _plan_linear(self, start_q, goal: Pose, link: str, options: dict) -> PlanResult:
         """Straight-line motion of `link` from its current pose to `goal`."""

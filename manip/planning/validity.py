@@ -11,7 +11,7 @@ a snapshot of its checker, so a plan sees one world while other threads edit it.
 A strict Validity (`strict()`) also certifies every straight motion it accepts over its
 whole continuous length (the fine resolution can miss a graze thinner than its step): the
 planner's later attempts use it once timed trajectories failed the certificate
-(`motion_generator.STRICT_ATTEMPT`): first only on the segments of a path planned without
+(`planning.pipeline.STRICT_ATTEMPT`): first only on the segments of a path planned without
 it (`planning.search.repair_path`), then, if that fails, for a whole strict plan.
 """
 

@@ -1,0 +1,154 @@
+"""The attempts of one plan from a checked start to goal configurations.
+
+Each attempt: a path (the straight line when valid, else the RRT-Connect search towards the
+goals, shortcutting, detour restarts, optional clearance smoothing), its ruckig timing and
+certified validation (`planning.finish`), then the trajectory optimiser (`planning.refine`),
+whose result replaces the timed path only when it is faster and valid too. A path whose
+timed trajectory fails the validation (a graze between the configurations the search
+checked) is planned again, until MAX_ATTEMPTS or the time budget runs out. Stage times go
+to `PlanContext.timings`. `MotionGenerator` checks the start and the goals and calls
+`plan_to_configs`.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+
+import numpy as np
+
+from manip.collision.clearance import ClearanceModel
+from manip.planning.context import PlanContext
+from manip.planning.finish import time_and_validate
+from manip.planning.optimize import smooth_path
+from manip.planning.refine import refine, scaled_limits
+from manip.planning.restarts import shorter_way_round
+from manip.planning.result import PlanResult, PlanStatus
+from manip.planning.search import repair_path, search_path
+from manip.planning.shortcut import shortcut
+from manip.planning.validity import Validity
+from manip.timing import TimingLimits
+
+logger = logging.getLogger(__name__)
+
+#: Goal sets: the search first tries this many goals (those reached fastest) alone, for at
+#: most FOCUS_ITERATIONS RRT iterations, before searching towards all of them.
+FOCUS_GOALS = 2
+FOCUS_ITERATIONS = 200
+#: Plans tried when a path's timed trajectory fails the validation (its certificate).
+MAX_ATTEMPTS = 4
+#: From this attempt on, every straight motion the planner accepts is certified
+#: (`Validity.strict`: about 10 x slower searches and shortcuts; attempt 2 alone usually
+#: succeeds with a new search).
+STRICT_ATTEMPT = 3
+#: Whether a plan with every motion certified (a strict attempt's fallback, see
+#: LAZY_STRICT) also searches for a shorter way round a detour (`planning.restarts`). Off:
+#: certified, the further searches cost about 10 x more (MBM table_under_pick_panda/14:
+#: 1.2 s of a 1.9 s plan) for a rare gain in motion time (the optimiser still shortens).
+STRICT_RESTARTS = False
+#: Strict attempts first plan without certification and then certify only the path's
+#: segments, searching the failing ones again with certified motions (at most
+#: STRICT_REPAIR_ITERATIONS RRT iterations together, a count); a path that cannot be
+#: repaired so is planned again with every motion certified.
+LAZY_STRICT = True
+STRICT_REPAIR_ITERATIONS = 500
+
+
+def plan_to_configs(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.ndarray, limits: TimingLimits,
+                    clearance: ClearanceModel) -> PlanResult:
+    """Path, shortcutting, timing and validation to the best reachable of `goals` (G, dof).
+
+    A path whose timed trajectory fails the validation (a graze between the
+    configurations the search checked) is planned again, until the budget runs out; the
+    third attempt on accepts only straight motions certified over their whole length
+    (`Validity.strict`: slower, but a graze thinner than the check resolution, e.g. a
+    finger passing an object a fraction of a millimetre deep, cannot come back). A strict
+    attempt plans as the others do, then certifies the path's segments and searches the
+    failing ones again with certified motions (`LAZY_STRICT`); only when that fails does
+    it search with every motion certified.
+    """
+    result = None
+    for attempt in range(1, MAX_ATTEMPTS + 1):
+        strict = attempt >= STRICT_ATTEMPT
+        result = _plan_once(ctx, validity.strict() if strict else validity, start, goals, attempt, limits, clearance)
+        if result.success or result.status is not PlanStatus.TRAJOPT_FAIL or ctx.time_left < 0:
+            break
+        logger.info("attempt %d: %s; planning again", attempt, result.message)
+    return result
+
+
+def _plan_once(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.ndarray, attempt: int,
+               limits: TimingLimits, clearance: ClearanceModel) -> PlanResult:
+    """One attempt: a path, its timing and validation, then the optimiser."""
+    path, source = None, "shortcut"
+    if validity.certified and LAZY_STRICT:
+        # a path planned without certification, then only its segments certified (and
+        # the failing ones searched again with certified motions): most segments pass,
+        # and certifying every motion the search and shortcutting try costs ~10 x more
+        path, source, why = _path(ctx, validity.loose(), start, goals, attempt, limits)
+        if path is not None:
+            t = time.perf_counter()
+            path, _ = repair_path(path, validity, ctx.rng, ctx.deadline, max_iterations=STRICT_REPAIR_ITERATIONS)
+            ctx.add_time("plan", t)
+        if path is None:
+            logger.info("attempt %d: no path with certified segments; a certified search", attempt)
+    if path is None:
+        path, source, why = _path(ctx, validity, start, goals, attempt, limits)
+    if path is None:
+        status = PlanStatus.TIMEOUT if ctx.time_left < 0 else PlanStatus.PLAN_FAIL
+        return ctx.fail(status, why, attempts=attempt)
+    goal_q = path[-1].copy()
+    traj, why = time_and_validate(ctx, path, goal_q, limits, validity)
+    if traj is None:
+        return ctx.fail(PlanStatus.TRAJOPT_FAIL, f"no valid timed trajectory: {why}", path=path, goal_q=goal_q,
+                        attempts=attempt)
+    if ctx.options.trajopt and source == "shortcut":
+        t = time.perf_counter()
+        checker = validity.checker
+        better = refine(ctx, traj, limits, validity, clearance.bound_to(checker),
+                        checker.padding)
+        ctx.add_time("trajopt", t)
+        if better is not None:
+            traj, source = better, "trajopt"
+    return ctx.succeed(traj, path, goal_q, attempt, source)
+
+
+def _path(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.ndarray, attempt: int,
+          limits: TimingLimits) -> tuple[np.ndarray | None, str, str]:
+    """(path (K, dof) to one of `goals` (G, dof) or None, its source, why there is none):
+    the straight line, else a search, shortcutting, restarts and clearance smoothing."""
+    t = time.perf_counter()
+    path, source, iterations = None, "shortcut", 0
+    if attempt == 1:
+        for g in goals[:3]:
+            if validity.motion(start, g):
+                path, source = np.stack([start, g]), "straight_line"
+                break
+    if path is None and len(goals) > FOCUS_GOALS:
+        # the goals reached fastest first (goal sets are ordered by their rest-to-rest
+        # duration): a short search towards them alone, then towards every goal
+        path, iterations = search_path(start, goals[:FOCUS_GOALS], validity, ctx.rng, ctx.deadline,
+                                       max_iterations=FOCUS_ITERATIONS)
+    if path is None:
+        path, more = search_path(start, goals, validity, ctx.rng, ctx.deadline)
+        iterations += more
+    ctx.add_time("plan", t)
+    if path is None:
+        return None, source, f"no collision-free path found ({iterations} iterations)"
+    t = time.perf_counter()
+    if len(path) > 2:
+        def shorten(p: np.ndarray) -> np.ndarray:
+            return shortcut(p, validity.segments, ctx.rng, ctx.deadline, screen=validity.screen)
+
+        path = shorten(path)
+        ctx.add_time("optimize", t)
+        if STRICT_RESTARTS or not validity.certified:
+            t = time.perf_counter()
+            path = shorter_way_round(path, goals, validity, shorten, ctx.rng, ctx.deadline,
+                                     scaled_limits(limits, ctx)[0], search_iterations=iterations)
+            ctx.add_time("restarts", t)
+        t = time.perf_counter()
+        if ctx.options.optimize_clearance:
+            path = smooth_path(path, validity.checker, validity.motion, ctx.deadline)
+    ctx.add_time("optimize", t)
+    return path, source, ""
