@@ -145,7 +145,7 @@ def _path(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.nda
         if STRICT_RESTARTS or not validity.certified:
             t = time.perf_counter()
             path = shorter_way_round(path, goals, validity, shorten, ctx.rng, ctx.deadline,
-                                     scaled_limits(limits, ctx)[0], search_iterations=iterations)
+                                     scaled_limits(limits, ctx)[0])
             ctx.add_time("restarts", t)
         t = time.perf_counter()
         if ctx.options.optimize_clearance:

@@ -6,7 +6,9 @@ When the shortened path still takes much longer than the straight line would (a 
 a few more short searches may find a shorter way round; the fastest of the shortened
 candidates is kept. Only detours pay for the searches (measured on MotionBenchMaker's cage
 scene: mean motion time 2.21 -> 1.82 s; on the shelves and tables, where detours are rare,
-within +-3 %).
+within +-3 %). Skipping them after a search that needed more than ITERATIONS iterations
+(a narrow passage) was measured too: MBM cage_panda joint goals, motion time +3.4 % for
+-3 % planning time: they stay.
 """
 
 from __future__ import annotations
@@ -47,7 +49,6 @@ def shorter_way_round(
     rng: np.random.Generator,
     deadline: float,
     vmax: np.ndarray,
-    search_iterations: int | None = None,
 ) -> np.ndarray:
     """`path`, or a faster valid path between its start and one of `goals` when it is a detour.
 
@@ -60,19 +61,9 @@ def shorter_way_round(
             without one is unchanged).
         deadline: `time.perf_counter()` value at which to stop.
         vmax: (dof,) velocity limits [rad/s].
-        search_iterations: RRT iterations the search of `path` used (None: unknown). A path
-            that took more than a further search may use (ITERATIONS) is kept without
-            searching: on MotionBenchMaker (20 problems per scene, both goal kinds, with
-            300-iteration further searches) none after a search of more than 300
-            iterations found a path (0 of 12, 140-350 ms per plan), 66 of 70 after
-            quicker ones. (300-iteration further searches cost motion time on 4 of 420
-            problems, hence 500.)
-
     Returns:
         (K', dof) the fastest of `path` and the shortened candidates (by `time_length`).
     """
-    if search_iterations is not None and search_iterations > ITERATIONS:
-        return path  # a narrow passage: a shorter search would not get through either
     start = path[0]
     best = time_length(path, vmax)
     for _ in range(SEARCHES):
