@@ -64,6 +64,11 @@ def _coarse_to_fine(n: int) -> np.ndarray:
     return out
 
 
+def _steps(q0: np.ndarray, q1: np.ndarray, resolution: float) -> int:
+    """ceil(max|q1 - q0| / resolution), at least 1: the intervals a segment is split into."""
+    return max(1, int(math.ceil(float(np.abs(q1 - q0).max()) / resolution - 1e-12)))
+
+
 @functools.lru_cache(maxsize=512)
 def _fractions(n: int) -> np.ndarray:
     """`_coarse_to_fine(n) / n`: the sample parameters t in [0, 1] in bisection order; cached."""
@@ -150,7 +155,7 @@ class SegmentChecks:
         """(`first_collision`, `segment_steps`) of one segment from a collision-free q0 (a node
         of a search tree: its own sample is not checked again), for planners that pass their
         own finite (dof,) arrays and a positive resolution (no input checks)."""
-        steps = max(1, int(math.ceil(float(np.abs(q1 - q0).max()) / resolution - 1e-12)))
+        steps = _steps(q0, q1, resolution)
         return self._first_hit(q0, q1, steps, start=1), steps
 
     @consistent
@@ -163,14 +168,13 @@ class SegmentChecks:
     def _motion_free_at(self, q0: np.ndarray, q1: np.ndarray, resolution: float) -> bool:
         """`motion_valid` for planners that pass their own finite (dof,) arrays and a positive
         resolution (no input checks)."""
-        steps = max(1, int(math.ceil(float(np.abs(q1 - q0).max()) / resolution - 1e-12)))
-        return self._motion_free(q0, q1, steps)
+        return self._motion_free(q0, q1, _steps(q0, q1, resolution))
 
     @staticmethod
     def segment_steps(q0: np.ndarray, q1: np.ndarray, resolution: float = 0.01) -> int:
         """Number of intervals `motion_valid` splits q0 -> q1 into: ceil(max|q1 - q0| / resolution), >= 1."""
         resolution = positive(resolution, "resolution", "rad")
-        return max(1, int(math.ceil(float(np.abs(np.asarray(q1) - np.asarray(q0)).max()) / resolution - 1e-12)))
+        return _steps(np.asarray(q0, dtype=float), np.asarray(q1, dtype=float), resolution)
 
     @consistent
     def motion_valid_batch(self, Q0: np.ndarray, Q1: np.ndarray, resolution: float = 0.01) -> np.ndarray:
