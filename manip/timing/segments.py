@@ -6,9 +6,8 @@ at both ends; `assemble` concatenates segments into one `PiecewiseJerkProfile`.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import ruckig
