@@ -106,13 +106,20 @@ def test_remove_redundant_with_a_screen_keeps_the_same_waypoints_for_fewer_fine_
     assert sum(checked) < fine_plain
 
 
-def test_search_path_repairs_coarse_edges_at_the_fine_resolution():
+def _coarse_search_validity() -> tuple[SimpleNamespace, object]:
+    """A Validity stand-in whose coarse search can jump over the wall (fine checks cannot),
+    and its coarse motion check."""
     coarse = lambda a, b: motion_valid(a, b, resolution=0.2)  # noqa: E731  (can jump over the wall)
     validity = SimpleNamespace(
         kinematics=SimpleNamespace(lower=LOWER, upper=UPPER), resolution=0.005, search_resolution=0.2,
         coarse_motion=coarse, motion=motion_valid, coarse_advance=None, advance=advance,
         segments=segments_valid, path=lambda p: bool(segments_valid(p[:-1], p[1:]).all()),
     )
+    return validity, coarse
+
+
+def test_search_path_repairs_coarse_edges_at_the_fine_resolution():
+    validity, _ = _coarse_search_validity()
     path, _ = search_path(START, GOAL[None], validity, np.random.default_rng(1), time.perf_counter() + 10)
     assert path is not None
     assert_valid_path(path)
@@ -174,12 +181,7 @@ def test_a_path_that_is_no_detour_is_kept_without_searching():
 
 
 def test_search_path_repairs_stop_at_their_iteration_cap():
-    coarse = lambda a, b: motion_valid(a, b, resolution=0.2)  # noqa: E731  (can jump over the wall)
-    validity = SimpleNamespace(
-        kinematics=SimpleNamespace(lower=LOWER, upper=UPPER), resolution=0.005, search_resolution=0.2,
-        coarse_motion=coarse, motion=motion_valid, coarse_advance=None, advance=advance,
-        segments=segments_valid, path=lambda p: bool(segments_valid(p[:-1], p[1:]).all()),
-    )
+    validity, coarse = _coarse_search_validity()
     deadline = time.perf_counter() + 10
     # the same generator state: the same coarse search, then repairs through the gap
     _, coarse_only = rrt_connect(START, GOAL[None], LOWER, UPPER, coarse, np.random.default_rng(1), deadline)

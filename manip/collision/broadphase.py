@@ -54,6 +54,15 @@ def _place(R, p, n, j, c, out):
 
 
 @njit(cache=True, nogil=True, inline="always")
+def _distance(x, i, y, j):
+    """Euclidean distance [m] between the points x[i] and y[j] (rows of (N, 3) arrays)."""
+    d0 = x[i, 0] - y[j, 0]
+    d1 = x[i, 1] - y[j, 1]
+    d2 = x[i, 2] - y[j, 2]
+    return math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+
+
+@njit(cache=True, nogil=True, inline="always")
 def _obstacle_sd(x, o, oR, oc, oh, orho, ocyl):
     """Signed distance [m] of the point x (3,) (base frame) to obstacle o's broadphase shape."""
     d0 = x[0] - oc[o, 0]
@@ -200,10 +209,7 @@ def self_candidates(R, p, margin,
                 m = np.inf
                 for i in range(c_start[ga], c_start[ga] + c_count[ga]):
                     for j in range(c_start[gb], c_start[gb] + c_count[gb]):
-                        d0 = xc[i, 0] - xc[j, 0]
-                        d1 = xc[i, 1] - xc[j, 1]
-                        d2 = xc[i, 2] - xc[j, 2]
-                        s = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) - c_radii[i] - c_radii[j]
+                        s = _distance(xc, i, xc, j) - c_radii[i] - c_radii[j]
                         if s < m:
                             m = s
                 if m >= margin:
@@ -216,10 +222,7 @@ def self_candidates(R, p, margin,
                     for v in range(nb_):
                         i = c_start[ga] + u
                         j = c_start[gb] + v
-                        d0 = xc[i, 0] - xc[j, 0]
-                        d1 = xc[i, 1] - xc[j, 1]
-                        d2 = xc[i, 2] - xc[j, 2]
-                        glb[u * nb_ + v] = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) - g_radii[i] - g_radii[j]
+                        glb[u * nb_ + v] = _distance(xc, i, xc, j) - g_radii[i] - g_radii[j]
                 order = np.argsort(glb[:na * nb_])
                 m = np.inf
                 for w in order:
@@ -232,20 +235,14 @@ def self_candidates(R, p, margin,
                         if not fplaced[i]:
                             _place(R, p, n, part_joint[ga], f_centres[i], xf[i])
                             fplaced[i] = True
-                        d0 = xf[i, 0] - xc[B, 0]
-                        d1 = xf[i, 1] - xc[B, 1]
-                        d2 = xf[i, 2] - xc[B, 2]
-                        if math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) - f_radii[i] - g_radii[B] >= m:
+                        if _distance(xf, i, xc, B) - f_radii[i] - g_radii[B] >= m:
                             continue
                         for jj in range(g_start[B], g_start[B] + g_count[B]):
                             j = g_members[jj]
                             if not fplaced[j]:
                                 _place(R, p, n, part_joint[gb], f_centres[j], xf[j])
                                 fplaced[j] = True
-                            d0 = xf[i, 0] - xf[j, 0]
-                            d1 = xf[i, 1] - xf[j, 1]
-                            d2 = xf[i, 2] - xf[j, 2]
-                            s = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2) - f_radii[i] - f_radii[j]
+                            s = _distance(xf, i, xf, j) - f_radii[i] - f_radii[j]
                             if s < m:
                                 m = s
                 if m < margin:
