@@ -120,15 +120,15 @@ def test_a_failing_optimiser_falls_back_to_the_shortcut_trajectory(mg, monkeypat
 
 
 def test_a_failed_first_round_gets_a_second_chance_from_the_fitted_seed(mg, monkeypatch):
-    """When the round at the seed's duration gives nothing usable, the search starts once more
-    from the seed's spline at a duration where it is within the limits."""
+    """Bisection over durations: when the round at the seed's duration gives nothing usable,
+    the search starts once more from the seed's spline at a duration where it is within the limits."""
     import manip.planning.trajopt as trajopt
 
     cfg = mg.config
     seed = mg.plan_joints(LEFT, RIGHT, trajopt=False, seed=3).trajectory  # round the wall
     args = (seed.positions, seed.times, cfg.velocity_limits, cfg.acceleration_limits, cfg.jerk_limits,
             mg.kinematics.lower, mg.kinematics.upper, mg.clearance, 0.0)
-    real = trajopt._sco
+    real = trajopt.sco_fixed_step
     targets = []
 
     def first_round_fails(prob, c0, h, *rest):
@@ -137,14 +137,16 @@ def test_a_failed_first_round_gets_a_second_chance_from_the_fitted_seed(mg, monk
             return False, c0, 1, "test: the first round fails", rest[0]
         return real(prob, c0, h, *rest)
 
-    monkeypatch.setattr(trajopt, "_sco", first_round_fails)
-    res = optimize_trajectory(*args, time.perf_counter() + 10.0, max_duration=seed.duration)
+    monkeypatch.setattr(trajopt, "sco_fixed_step", first_round_fails)
+    bisection = TrajOptSettings(free_duration=False)
+    res = optimize_trajectory(*args, time.perf_counter() + 10.0, max_duration=seed.duration, settings=bisection)
     assert res.success and res.duration < seed.duration
     fit = bspline.control_from_samples(seed.positions, seed.times, seed.duration, TrajOptSettings().intervals)
     second = max(seed.duration, TrajOptSettings().intervals * bspline.limit_step(fit, *args[2:5]))
     assert targets[0] == pytest.approx(seed.duration) and targets[1] == pytest.approx(second)
     targets.clear()
-    res = optimize_trajectory(*args, time.perf_counter() + 10.0, settings=TrajOptSettings(second_chance=False))
+    res = optimize_trajectory(*args, time.perf_counter() + 10.0,
+                              settings=TrajOptSettings(free_duration=False, second_chance=False))
     assert not res.success and targets == [pytest.approx(seed.duration)]
 
 

@@ -35,9 +35,10 @@ def scaled_limits(limits: TimingLimits, ctx: PlanContext) -> tuple[np.ndarray, n
 #: 16/scene: 3 of the 4 such motions valid with 2 points, the 4th with 4).
 RETRY_RAY_POINTS = (2, 4)
 #: QPs of all the optimiser's tries of one plan together (a count: the same seed gives the
-#: same trajectory on any machine). One try takes 24 QPs (median; p90 36, max ~100 with the
-#: retries); MotionBenchMaker 30/scene joint goals: the optimiser's p98 time 643 -> 233 ms
-#: for +0.2 % motion time against no budget.
+#: same trajectory on any machine). A plan's optimiser takes 13.5 QPs on average (MotionBenchMaker
+#: 15/scene joint goals, free-duration SCO; 22 with the bisection over durations). Measured with
+#: the bisection, 30/scene joint goals: the optimiser's p98 time 643 -> 233 ms for +0.2 %
+#: motion time against no budget.
 QP_BUDGET = 50
 #: Sample density (`TrajOptSettings.samples_per_interval`) of the repair of an optimised motion
 #: that touched an obstacle between the optimiser's clearance samples: the optimisation goes
