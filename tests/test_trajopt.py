@@ -150,6 +150,47 @@ def test_a_failed_first_round_gets_a_second_chance_from_the_fitted_seed(mg, monk
     assert not res.success and targets == [pytest.approx(seed.duration)]
 
 
+def test_free_duration_sco_steps_keep_the_clearance_and_never_slow_the_motion(mg):
+    """Every prefix of the free-duration SCO (the same steps, cut after k QPs) keeps its start's
+    sampled clearance (less 1 mm) and ends no slower than it started; the bisection over
+    durations is the other setting and must give a valid motion too."""
+    from manip.planning.sco import SplineProblem, sco_free_step
+
+    cfg = mg.config
+    seed = mg.plan_joints(LEFT, RIGHT, trajopt=False, seed=3).trajectory  # round the wall
+    s = TrajOptSettings()
+    n = s.intervals
+    prob = SplineProblem(n, 7, s, LEFT, RIGHT)
+    c0 = bspline.control_from_samples(seed.positions, seed.times, seed.duration, n)
+    limits = (cfg.velocity_limits, cfg.acceleration_limits, cfg.jerk_limits)
+    margin, activation = s.margin, s.margin + s.activation
+
+    def nearest(c: np.ndarray) -> float:
+        d = mg.clearance.terms(prob.B @ c, activation).distance
+        return float(d.min()) if d.size else activation
+
+    start = nearest(c0)
+    seen = [start]
+    durations = [n * bspline.limit_step(c0, *limits)]
+    for k in range(1, 7):
+        c, solves = sco_free_step(prob, c0, *limits, mg.kinematics.lower, mg.kinematics.upper, mg.clearance, margin,
+                                  s, time.perf_counter() + 10.0, 0.0, max_solves=k)
+        assert solves <= k
+        assert np.all(c[:3] == LEFT) and np.all(c[n:] == RIGHT)
+        seen.append(nearest(c))
+        assert seen[-1] >= min(margin, start) - 1e-3
+        durations.append(n * bspline.limit_step(c, *limits))
+    assert durations[-1] < durations[0]
+    assert min(seen) < activation  # the motion comes near the wall: the clearance terms were active
+    for settings in (s, TrajOptSettings(free_duration=False)):
+        res = optimize_trajectory(seed.positions, seed.times, *limits, mg.kinematics.lower, mg.kinematics.upper,
+                                  mg.clearance, 0.0, time.perf_counter() + 10.0, settings=settings,
+                                  max_duration=seed.duration)
+        assert res.success and res.duration < seed.duration
+        v, a, j = dense_extrema(res.profile)
+        assert np.all(v <= cfg.velocity_limits * (1 + 1e-9)) and np.all(a <= cfg.acceleration_limits * (1 + 1e-9))
+
+
 def _spy_on_refine(monkeypatch, failures: int, ends_tied: int):
     """Record refine's optimiser calls (seed positions, settings) and validated motions; the
     first `failures` validations fail, and every result reports `ends_tied`."""
