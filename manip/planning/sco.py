@@ -19,16 +19,12 @@ from __future__ import annotations
 
 import logging
 import time
-from typing import TYPE_CHECKING
-
 import numpy as np
 import scipy.sparse as sp
 
 from manip.collision.clearance import ClearanceModel
 from manip.planning import bspline, qp
-
-if TYPE_CHECKING:
-    from manip.planning.trajopt import TrajOptSettings
+from manip.planning.trajopt_settings import TrajOptSettings
 
 logger = logging.getLogger(__name__)
 
