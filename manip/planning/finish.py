@@ -24,6 +24,8 @@ from manip.validation import MAX_SAMPLES
 
 #: Position-limit tolerance [rad] of trajectories whose start is inside the limits.
 LIMIT_TOLERANCE = 1e-6
+#: How far [rad] the blended timing of a path may cut its corners (`timing.time_path`).
+BLEND_DEVIATION = 0.05
 
 
 def validate_trajectory(traj: Trajectory, start: np.ndarray, goal: np.ndarray, validity: Validity) -> str:
@@ -41,6 +43,22 @@ def validate_trajectory(traj: Trajectory, start: np.ndarray, goal: np.ndarray, v
     return ""
 
 
+def time_once(ctx: PlanContext, path: np.ndarray, limits: TimingLimits, validity: Validity, mode: str,
+              deviation: float) -> tuple[Trajectory | None, str]:
+    """(the path (K, dof) timed in `mode` (`timing.time_path`), "") or (None, why not);
+    the stage time goes to ctx.timings ("timing")."""
+    opts = ctx.options
+    t = time.perf_counter()
+    timed = time_path(
+        path, limits, mode=mode, dt=opts.dt,
+        position_tolerance=max(LIMIT_TOLERANCE, validity.limit_excess(path[0])),
+        deviation_tolerance=deviation, velocity_scale=opts.velocity_scale,
+        acceleration_scale=opts.acceleration_scale, jerk_scale=opts.jerk_scale, duration=opts.duration,
+    )
+    ctx.add_time("timing", t)
+    return (timed.trajectory, "") if timed.success else (None, timed.message)
+
+
 def time_and_validate(
     ctx: PlanContext,
     path: np.ndarray,
@@ -48,37 +66,34 @@ def time_and_validate(
     limits: TimingLimits,
     validity: Validity,
     *,
-    deviation: float = 0.05,
+    deviation: float = BLEND_DEVIATION,
     dense_deviation: float | None = None,
+    blended: Trajectory | None = None,
 ) -> tuple[Trajectory | None, str]:
     """Time the path (corners blended within `deviation` rad, else stopping at each) and validate.
 
     With `dense_deviation` given (a dense path sampled from a smooth curve, e.g. a linear
     motion), one smooth motion along a spline through its points, within `dense_deviation`
-    rad of the path, is tried first. Stage times go to ctx.timings ("timing", "validate").
+    rad of the path, is tried first. `blended`: the path's blended timing when the caller
+    has it already (it is validated, not timed again). Stage times go to ctx.timings
+    ("timing", "validate").
 
     Returns:
         (the first valid trajectory, "") or (None, why the last try failed).
     """
-    opts = ctx.options
     modes = (("along_path",) if dense_deviation is not None else ()) + ("blend", "exact")
     reason = ""
     for mode in modes:
+        if mode == "blend" and blended is not None:
+            traj = blended
+        else:
+            traj, reason = time_once(ctx, path, limits, validity, mode,
+                                     dense_deviation if mode == "along_path" else deviation)
+            if traj is None:
+                continue
         t = time.perf_counter()
-        timed = time_path(
-            path, limits, mode=mode, dt=opts.dt,
-            position_tolerance=max(LIMIT_TOLERANCE, validity.limit_excess(path[0])),
-            deviation_tolerance=dense_deviation if mode == "along_path" else deviation,
-            velocity_scale=opts.velocity_scale, acceleration_scale=opts.acceleration_scale,
-            jerk_scale=opts.jerk_scale, duration=opts.duration,
-        )
-        ctx.add_time("timing", t)
-        if not timed.success:
-            reason = timed.message
-            continue
-        t = time.perf_counter()
-        reason = validate_trajectory(timed.trajectory, path[0], goal_q, validity)
+        reason = validate_trajectory(traj, path[0], goal_q, validity)
         ctx.add_time("validate", t)
         if not reason:
-            return timed.trajectory, ""
+            return traj, ""
     return None, reason

@@ -1,9 +1,10 @@
 """The attempts of one plan from a checked start to goal configurations.
 
 Each attempt: a path (the straight line when valid, else the RRT-Connect search towards the
-goals, shortcutting, detour restarts, optional clearance smoothing), its ruckig timing and
-certified validation (`planning.finish`), then the trajectory optimiser (`planning.refine`),
-whose result replaces the timed path only when it is faster and valid too. A path whose
+goals, shortcutting, detour restarts, optional clearance smoothing), its ruckig timing
+(`planning.finish`), the trajectory optimiser seeded by it (`planning.refine`), whose result
+is returned when it is faster and passes the certified validation; otherwise the timed path
+itself, once it passes the same validation. A path whose
 timed trajectory fails the validation (a graze between the configurations the search
 checked) is planned again, until MAX_ATTEMPTS or the time budget runs out. Stage times go
 to `PlanContext.timings`. `MotionGenerator` checks the start and the goals and calls
@@ -19,7 +20,7 @@ import numpy as np
 
 from manip.collision.clearance import ClearanceModel
 from manip.planning.context import PlanContext
-from manip.planning.finish import time_and_validate
+from manip.planning.finish import BLEND_DEVIATION, time_and_validate, time_once
 from manip.planning.optimize import smooth_path
 from manip.planning.refine import refine, scaled_limits
 from manip.planning.restarts import shorter_way_round
@@ -98,18 +99,20 @@ def _plan_once(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: n
         status = PlanStatus.TIMEOUT if ctx.time_left < 0 else PlanStatus.PLAN_FAIL
         return ctx.fail(status, why, attempts=attempt)
     goal_q = path[-1].copy()
-    traj, why = time_and_validate(ctx, path, goal_q, limits, validity)
+    blended = None
+    if ctx.options.trajopt and source == "shortcut":
+        # the optimiser starts from the blended timing; that seed is validated only when the
+        # optimiser gives nothing better (it is what is returned then)
+        blended, _ = time_once(ctx, path, limits, validity, "blend", BLEND_DEVIATION)
+        if blended is not None:
+            checker = validity.checker
+            better = refine(ctx, blended, limits, validity, clearance.bound_to(checker), checker.padding)
+            if better is not None:
+                return ctx.succeed(better, path, goal_q, attempt, "trajopt")
+    traj, why = time_and_validate(ctx, path, goal_q, limits, validity, blended=blended)
     if traj is None:
         return ctx.fail(PlanStatus.TRAJOPT_FAIL, f"no valid timed trajectory: {why}", path=path, goal_q=goal_q,
                         attempts=attempt)
-    if ctx.options.trajopt and source == "shortcut":
-        t = time.perf_counter()
-        checker = validity.checker
-        better = refine(ctx, traj, limits, validity, clearance.bound_to(checker),
-                        checker.padding)
-        ctx.add_time("trajopt", t)
-        if better is not None:
-            traj, source = better, "trajopt"
     return ctx.succeed(traj, path, goal_q, attempt, source)
 
 

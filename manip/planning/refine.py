@@ -8,6 +8,7 @@ exact-mesh validation, so success never depends on the optimiser.
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import replace
 
 import numpy as np
@@ -57,7 +58,9 @@ def refine(
     Skipped (None) when the call asks for a fixed `duration`. An optimised motion that fails
     the validation is first optimised on from itself with denser clearance samples
     (`REPAIR_SAMPLES`), then again from the seed with more of the seed's ends kept
-    (`RETRY_RAY_POINTS`).
+    (`RETRY_RAY_POINTS`). The seed itself need not be valid (the caller validates it only when
+    this gives nothing). Stage times go to ctx.timings ("trajopt"; "validate" for the
+    certification).
     """
     o = ctx.options
     if o.duration is not None:
@@ -75,6 +78,7 @@ def refine(
     def optimize(motion: Trajectory, s: TrajOptSettings) -> tuple[Trajectory | None, int]:
         """(the optimised motion sampled at dt if faster than the seed, else None; its ends tied)."""
         nonlocal left
+        t = time.perf_counter()
         # bounded by its rounds, iterations and QP budget, not by the clock (the same seed
         # gives the same trajectory on any machine); only the call's time budget can cut it short
         result = optimize_trajectory(
@@ -84,10 +88,18 @@ def refine(
         )
         left -= result.solves
         steps = math.ceil(result.duration / o.dt - 1e-9) if result.success else 0
-        if not result.success or steps * o.dt >= seed.duration:
-            return None, result.ends_tied
-        h = steps * o.dt / (result.control.shape[0] - 3)  # a whole number of samples; never faster than the limits
-        return Trajectory.from_profile(bspline.to_profile(result.control, h), o.dt, seed.joint_names), result.ends_tied
+        traj = None
+        if result.success and steps * o.dt < seed.duration:
+            h = steps * o.dt / (result.control.shape[0] - 3)  # a whole number of samples; never faster than the limits
+            traj = Trajectory.from_profile(bspline.to_profile(result.control, h), o.dt, seed.joint_names)
+        ctx.add_time("trajopt", t)
+        return traj, result.ends_tied
+
+    def valid(traj: Trajectory) -> bool:
+        t = time.perf_counter()
+        why = validate_trajectory(traj, start, goal, validity)
+        ctx.add_time("validate", t)
+        return not why
 
     for attempt, s in enumerate([settings, *retries]):
         if left < 1:
@@ -97,12 +109,12 @@ def refine(
             if attempt == 0:
                 return None  # retries are for motions that failed the validation
             continue
-        if not validate_trajectory(traj, start, goal, validity):
+        if valid(traj):
             return traj
         if attempt == 0 and left >= 1:
             # it touched an obstacle between the samples the optimiser kept clear: on from it
             repaired, _ = optimize(traj, replace(s, samples_per_interval=REPAIR_SAMPLES))
-            if repaired is not None and not validate_trajectory(repaired, start, goal, validity):
+            if repaired is not None and valid(repaired):
                 return repaired
         if ends_tied == 0:
             return None  # the retries would give the same motion

@@ -71,7 +71,7 @@ class TrajOptSettings:
     iterations: int = 6
     tolerance: float = 3e-3
     limit_row_slack: float = 0.6
-    trust_region: float = 0.3
+    trust_region: float = 0.15
     rounds: int = 6
     ray_points: int = 1
     bisection: float = 0.3
