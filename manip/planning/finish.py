@@ -68,14 +68,14 @@ def time_and_validate(
     *,
     deviation: float = BLEND_DEVIATION,
     dense_deviation: float | None = None,
-    blended: Trajectory | None = None,
+    timed: dict[str, Trajectory] | None = None,
 ) -> tuple[Trajectory | None, str]:
     """Time the path (corners blended within `deviation` rad, else stopping at each) and validate.
 
     With `dense_deviation` given (a dense path sampled from a smooth curve, e.g. a linear
     motion), one smooth motion along a spline through its points, within `dense_deviation`
-    rad of the path, is tried first. `blended`: the path's blended timing when the caller
-    has it already (it is validated, not timed again). Stage times go to ctx.timings
+    rad of the path, is tried first. `timed`: timings of the path the caller has already, by
+    mode ("blend", "exact"; validated, not timed again). Stage times go to ctx.timings
     ("timing", "validate").
 
     Returns:
@@ -84,8 +84,8 @@ def time_and_validate(
     modes = (("along_path",) if dense_deviation is not None else ()) + ("blend", "exact")
     reason = ""
     for mode in modes:
-        if mode == "blend" and blended is not None:
-            traj = blended
+        if timed and mode in timed:
+            traj = timed[mode]
         else:
             traj, reason = time_once(ctx, path, limits, validity, mode,
                                      dense_deviation if mode == "along_path" else deviation)

@@ -24,13 +24,15 @@ class TrajOptSettings:
         iterations: SCO iterations per duration (at most).
         tolerance: an SCO stops when a step lowers the merit by less than this fraction
             (3e-3 against 1e-3 on MotionBenchMaker 15/scene joint and pose goals: -4 % QPs,
-            the same mean duration; 1e-2: -11 % QPs, +0.15 %).
+            the same mean duration; 1e-2: -11 % QPs, +0.15 %). The free-duration SCO stops
+            when its model predicts less than this fraction of the duration to gain.
         limit_row_slack: limit rows used less than (1 - this) of their limit at the
             current point are left out of the QP (they are soft, and the result is re-timed
             exactly).
         trust_region: largest move of a control point per iteration [rad] at first and at
             most; it halves after a rejected step, and each duration round starts at twice
-            the previous round's final radius.
+            the previous round's final radius (0.15 against 0.3, MotionBenchMaker 15/scene:
+            the same motion times, -7 % QPs).
         line_search: halvings of a step that does not lower the merit tried before the
             trust region shrinks (each costs a clearance evaluation, not a QP; 1 measured
             on MotionBenchMaker 32/scene joint goals: -1.5 % duration, -1 % QPs against 0).
@@ -49,7 +51,9 @@ class TrajOptSettings:
             -0.2 % duration, +10 % QPs, against 0.03 on MotionBenchMaker 16/scene).
         penalty: weight of the clearance violation [1/m] (L1) against the objective.
         velocity_weight, acceleration_weight, jerk_weight: objective weights (terms are
-            squared fractions of the limits).
+            squared fractions of the limits). Velocity 6 against 1 with the free-duration SCO
+            (MotionBenchMaker 15/scene, whole plans): path length -1.8 % (joint and pose
+            goals), motion time -0.1 / -0.3 %; 10: path -2.6 %, motion +0.3 %.
         free_duration: optimise the duration inside the SCO (`sco.sco_free_step`) after
             `first_iterations` at the seed's duration; False: the bisection over fixed
             durations (`rounds`, `bisection`, `duration_tolerance`, `second_chance`).
@@ -79,7 +83,7 @@ class TrajOptSettings:
     penalty: float = 1e4
     second_chance: bool = True
     line_search: int = 1
-    velocity_weight: float = 1.0
+    velocity_weight: float = 6.0
     acceleration_weight: float = 0.01
     jerk_weight: float = 0.001
     free_duration: bool = True
