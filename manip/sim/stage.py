@@ -111,6 +111,10 @@ class ReferencePrim:
         # The model's ArticulationCore, set by the World while a compiled model exists.
         self.core: Any = None
 
+    def _unbind(self) -> None:
+        """Forget the compiled model's core (the prim was removed from the stage)."""
+        self.core = None
+
     def _load_spec(self) -> mujoco.MjSpec:
         try:
             child = mujoco.MjSpec.from_file(str(self.file_path))
@@ -183,10 +187,23 @@ class Stage:
         self._changed("PRIM_ADDED", path)
 
     def remove_prim(self, prim_path: str) -> None:
-        if prim_path in self._prims:
-            del self._prims[prim_path]
-            self._wrappers = [w for w in self._wrappers if w.prim_path != prim_path]
-            self._changed("PRIM_REMOVED", prim_path)
+        """Delete the prim at `prim_path` and, as USD deletes a prim's children, every prim
+        and wrapper at or below it (e.g. a Franka's end-effector frame with the Franka).
+        What is removed is unbound (articulation getters return None, as before a reset);
+        the model changes at the next `World.reset()`."""
+        if prim_path not in self._prims:
+            return
+
+        def below(path: object) -> bool:
+            return isinstance(path, str) and (path == prim_path or path.startswith(prim_path + "/"))
+
+        gone = [self._prims.pop(p) for p in list(self._prims) if below(p)]
+        gone += [w for w in self._wrappers if below(getattr(w, "prim_path", None))]
+        self._wrappers = [w for w in self._wrappers if w not in gone]
+        for obj in gone:
+            if hasattr(obj, "_unbind"):
+                obj._unbind()
+        self._changed("PRIM_REMOVED", prim_path)
 
     def get_prim(self, prim_path: str) -> Any | None:
         return self._prims.get(prim_path)

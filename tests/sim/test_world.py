@@ -402,3 +402,26 @@ def test_recording_writes_an_mp4(tmp_path):
     assert len(frames) == 16  # the first frame, then one every 2 steps of 1/60 s
     assert frames[0].shape == (120, 160, 3)
     assert not np.array_equal(frames[0], frames[-1])  # the cube fell
+
+
+def test_removing_a_robot_removes_its_frames_and_the_world_resets_without_it():
+    world = World()
+    world.scene.add_default_ground_plane()
+    cube = world.scene.add(DynamicCuboid("/World/cube", name="cube", position=[0.5, 0, 0.3], size=0.05))
+    franka = world.scene.add(Franka("/World/Franka", name="franka"))
+    world.reset()
+    assert franka.num_dof == 9
+    world.scene.remove_object("franka")  # its end-effector frame /World/Franka/panda_hand_tcp goes with it
+    world.reset()
+    assert world.model.njnt == 1  # the cube's free joint only
+    assert franka.num_dof is None and franka.end_effector.get_world_pose() is None
+    for _ in range(30):
+        world.step(render=False)
+    assert cube.get_world_pose()[0][2] == pytest.approx(0.025, abs=2e-3)
+    # A new Franka at the same prim path is a robot again.
+    franka = world.scene.add(Franka("/World/Franka", name="franka"))
+    world.reset()
+    assert franka.num_dof == 9 and franka.end_effector.get_world_pose()[0][2] > 0.3
+    world.scene.clear()
+    world.reset()
+    assert world.model.nbody == 1  # the world body only
