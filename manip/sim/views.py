@@ -1,9 +1,12 @@
 """Vectorised views over many prims: `XFormPrimView`, `RigidPrimView`.
 
-A view matches MuJoCo bodies whose name (= prim path) fully matches the regular expression
-`prim_paths_expr` (Isaac's expressions like "/World/Cube_.*" are regular expressions too),
-in model order. It resolves its prims when the World compiles; methods used before the
-first reset raise `SimulationError`.
+A view matches prims as Isaac's `find_matching_prim_paths` does: `prim_paths_expr` is split
+at "/" and each segment is a regular expression that must match the whole path segment
+("/World/Cube_.*" matches "/World/Cube_0" but not its children; the glob "/World/Cube_*"
+matches only "/World/Cube", "/World/Cube_", ...). Prims are MuJoCo bodies (name = prim
+path), in model order. As in Isaac, an expression that matches no prim on the stage when the
+view is created raises; the view resolves its prims when the World compiles, and methods
+used before the first reset raise `SimulationError`.
 """
 
 from __future__ import annotations
@@ -22,6 +25,24 @@ from manip.validation import batch
 logger = logging.getLogger(__name__)
 
 
+def _compile_segments(expr: str) -> list[re.Pattern]:
+    """One compiled regular expression per segment of an absolute prim path expression."""
+    if not isinstance(expr, str) or not expr.startswith("/") or expr.endswith("/"):
+        raise InvalidInputError(f"prim_paths_expr must be an absolute path expression like '/World/Cube_.*'; "
+                                f"got {expr!r}")
+    try:
+        return [re.compile(seg) for seg in expr[1:].split("/")]
+    except re.error as exc:
+        raise InvalidInputError(f"prim_paths_expr {expr!r} is not a valid regular expression: {exc}") from None
+
+
+def _matches(segments: list[re.Pattern], path: str) -> bool:
+    """Whether each segment of `path` fully matches its expression (same number of segments)."""
+    parts = path[1:].split("/") if path.startswith("/") else None
+    return (parts is not None and len(parts) == len(segments)
+            and all(r.fullmatch(p) for r, p in zip(segments, parts)))
+
+
 class XFormPrimView:
     """Poses of every prim matching `prim_paths_expr`.
 
@@ -33,10 +54,7 @@ class XFormPrimView:
 
     def __init__(self, prim_paths_expr: str, name: str = "xform_prim_view", positions=None, translations=None,
                  orientations=None, scales=None, visibilities=None, reset_xform_properties: bool = True):
-        try:
-            self._regex = re.compile(prim_paths_expr)
-        except re.error as exc:
-            raise InvalidInputError(f"prim_paths_expr {prim_paths_expr!r} is not a valid regular expression: {exc}")
+        self._segments = _compile_segments(prim_paths_expr)
         self.prim_paths_expr = prim_paths_expr
         self.prim_path = prim_paths_expr
         self._name = name
@@ -46,7 +64,34 @@ class XFormPrimView:
         self._sim: SimHandle | None = None
         self._bodies = np.zeros(0, dtype=int)
         self._paths: list[str] = []
+        self._check_matches_something()
         get_current_stage().register_wrapper(self)
+
+    def _matches(self, path: str) -> bool:
+        return _matches(self._segments, path)
+
+    def _check_matches_something(self) -> None:
+        """Raise (as Isaac) if no prim of the stage, nor of a referenced model, can match."""
+        stage = get_current_stage()
+        paths = stage.prim_paths()
+        if stage.sim is not None:
+            m = stage.sim.model
+            paths += [m.body(b).name for b in range(1, m.nbody)]
+        if any(self._matches(p) for p in paths):
+            return
+        # Bodies of a referenced model not compiled yet are unknown: accept an expression
+        # that reaches inside a referenced prim.
+        refs = [p for p in stage.prim_paths() if stage.find_reference(p) is not None]
+        for r in refs:
+            n = r.count("/")
+            if len(self._segments) > n and _matches(self._segments[:n], r):
+                return
+        raise InvalidInputError(
+            f"prim_paths_expr {self.prim_paths_expr!r} matches no prim on the stage. Each path segment is a "
+            "regular expression matching the whole segment (as in Isaac): '/World/Cube_.*' or "
+            "'/World/Cube_[0-9]+', not the glob '/World/Cube_*'. Create the prims before the view; "
+            f"prims on the stage: {sorted(stage.prim_paths())}"
+        )
 
     @property
     def name(self) -> str:
@@ -54,7 +99,7 @@ class XFormPrimView:
 
     def _bind(self, sim: SimHandle) -> None:
         m = sim.model
-        ids = [b for b in range(1, m.nbody) if self._regex.fullmatch(m.body(b).name)]
+        ids = [b for b in range(1, m.nbody) if self._matches(m.body(b).name)]
         if not ids:
             logger.warning("view %r: no prim matches %r", self._name, self.prim_paths_expr)
         self._sim = sim
@@ -86,6 +131,9 @@ class XFormPrimView:
     def _need(self) -> SimHandle:
         if self._sim is None:
             raise SimulationError(f"view {self._name!r} is used before world.reset() compiled the world")
+        if not self.count:
+            raise SimulationError(f"view {self._name!r} matches no prim of the compiled world "
+                                  f"({self.prim_paths_expr!r}; were its prims removed?)")
         return self._sim
 
     @property

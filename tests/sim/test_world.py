@@ -287,8 +287,36 @@ def test_views_match_objects():
     assert np.allclose(view.get_velocities()[:, 5], 1.0)
     assert np.allclose(cubes[0].get_angular_velocity(), [0, 0, 1])
     assert np.allclose(view.get_masses(), 0.02)
-    links = XFormPrimView("/World/NoSuchThing.*")
-    assert links.count == 0
+
+
+def test_view_expressions_match_per_path_segment_and_a_view_of_nothing_raises_as_in_isaac():
+    world = World()
+    world.scene.add_default_ground_plane()
+    for i in range(2):
+        world.scene.add(DynamicCuboid(f"/World/Cube_{i}", name=f"cube{i}", position=[i * 0.3, 0, 0.5], size=0.05))
+    franka = world.scene.add(Franka("/World/Franka", name="franka"))
+    # The glob a tutorial reader writes first: Isaac raises at construction, so does manip.
+    with pytest.raises(InvalidInputError, match=r"matches no prim.*'/World/Cube_\.\*'.*not the glob"):
+        RigidPrimView(prim_paths_expr="/World/Cube_*", name="cubes")
+    with pytest.raises(InvalidInputError, match="absolute path expression"):
+        XFormPrimView("World/Cube_.*")
+    cubes = world.scene.add(RigidPrimView(prim_paths_expr="/World/Cube_.*", name="cubes"))
+    links = world.scene.add(XFormPrimView("/World/Franka/panda_link[0-9]", name="links"))  # inside the model
+    everything = XFormPrimView("/World/.*")  # one segment: the top prims, not the Franka's links
+    world.reset()
+    assert cubes.prim_paths == ["/World/Cube_0", "/World/Cube_1"]
+    assert links.count == 8 and links.prim_paths[0] == "/World/Franka/panda_link0"
+    assert "/World/Cube_1" in everything.prim_paths and not any(p.count("/") > 2 for p in everything.prim_paths)
+    for _ in range(60):
+        world.step(render=False)
+    np.testing.assert_allclose(cubes.get_world_poses()[0][:, 2], 0.025, atol=2e-3)
+    np.testing.assert_allclose(links.get_world_poses()[0][0], franka.get_world_pose()[0], atol=1e-9)
+    # A view whose prims were removed says so instead of failing on array shapes.
+    world.scene.remove_object("cube0")
+    world.scene.remove_object("cube1")
+    world.reset()
+    with pytest.raises(SimulationError, match="matches no prim of the compiled world"):
+        cubes.set_world_poses(positions=np.zeros((2, 3)))
 
 
 class CountingTask(BaseTask):
