@@ -56,9 +56,6 @@ from manip.validation import unit_quat, vec
 
 logger = logging.getLogger(__name__)
 
-_LIMIT_TOLERANCE = 1e-3  # [rad or m] how far set_joint_positions may lie outside the limits
-
-
 class Articulation(DefaultPoseMixin):
     """A model referenced on the stage, seen as an articulation (Isaac's `SingleArticulation`).
 
@@ -232,33 +229,11 @@ class Articulation(DefaultPoseMixin):
         farther outside the limits, or a magnitude above MAX_POSITION (unlimited joints);
         nothing changes then.
         """
-        c = self._cs("set_joint_positions")
-        idx = c.indices(joint_indices)
-        q = c.values(positions, idx, "positions", limit=MAX_POSITION, kind="position")
-        low, up = c.lower[idx], c.upper[idx]
-        bad = (q < low - _LIMIT_TOLERANCE) | (q > up + _LIMIT_TOLERANCE)
-        if np.any(bad):
-            i = np.flatnonzero(bad)
-            raise InvalidInputError(
-                "positions outside the joint limits: "
-                + ", ".join(f"{c.dof_names[idx[k]]}={q[k]:.4f} not in [{low[k]:.4f}, {up[k]:.4f}]" for k in i)
-            )
-        q = np.clip(q, low, up)
-        target = c.pos_target.copy()
-        target[idx] = q
-        c.check_drive(c.kps, c.kds, target, c.vel_target, "positions")
-        c.sim.data.qpos[c.qadr[idx]] = q
-        c.pos_target = target
-        c.write_targets()
-        c.sim.mark_stale()
+        self._cs("set_joint_positions").teleport(positions, joint_indices)
 
     def set_joint_velocities(self, velocities, joint_indices=None) -> None:
         """Set joint velocities (K,) [rad/s or m/s] (drive targets unchanged)."""
-        c = self._cs("set_joint_velocities")
-        idx = c.indices(joint_indices)
-        v = c.values(velocities, idx, "velocities", limit=MAX_VELOCITY, kind="velocity")
-        c.sim.data.qvel[c.dadr[idx]] = v
-        c.sim.mark_stale()
+        self._cs("set_joint_velocities").set_velocities(velocities, joint_indices)
 
     def set_joint_efforts(self, efforts, joint_indices=None) -> None:
         """Set the joint efforts (K,) [N m or N] added to the drives (persist until changed).

@@ -25,7 +25,7 @@ from manip.validation import batch
 logger = logging.getLogger(__name__)
 
 
-def _compile_segments(expr: str) -> list[re.Pattern]:
+def compile_path_expression(expr: str) -> list[re.Pattern]:
     """One compiled regular expression per segment of an absolute prim path expression."""
     if not isinstance(expr, str) or not expr.startswith("/") or expr.endswith("/"):
         raise InvalidInputError(f"prim_paths_expr must be an absolute path expression like '/World/Cube_.*'; "
@@ -36,7 +36,7 @@ def _compile_segments(expr: str) -> list[re.Pattern]:
         raise InvalidInputError(f"prim_paths_expr {expr!r} is not a valid regular expression: {exc}") from None
 
 
-def _matches(segments: list[re.Pattern], path: str) -> bool:
+def path_matches(segments: list[re.Pattern], path: str) -> bool:
     """Whether each segment of `path` fully matches its expression (same number of segments)."""
     parts = path[1:].split("/") if path.startswith("/") else None
     return (parts is not None and len(parts) == len(segments)
@@ -54,7 +54,7 @@ class XFormPrimView:
 
     def __init__(self, prim_paths_expr: str, name: str = "xform_prim_view", positions=None, translations=None,
                  orientations=None, scales=None, visibilities=None, reset_xform_properties: bool = True):
-        self._segments = _compile_segments(prim_paths_expr)
+        self._segments = compile_path_expression(prim_paths_expr)
         self.prim_paths_expr = prim_paths_expr
         self.prim_path = prim_paths_expr
         self._name = name
@@ -68,7 +68,7 @@ class XFormPrimView:
         get_current_stage().register_wrapper(self)
 
     def _matches(self, path: str) -> bool:
-        return _matches(self._segments, path)
+        return path_matches(self._segments, path)
 
     def _check_matches_something(self) -> None:
         """Raise (as Isaac) if no prim of the stage, nor of a referenced model, can match."""
@@ -84,7 +84,7 @@ class XFormPrimView:
         refs = [p for p in stage.prim_paths() if stage.find_reference(p) is not None]
         for r in refs:
             n = r.count("/")
-            if len(self._segments) > n and _matches(self._segments[:n], r):
+            if len(self._segments) > n and path_matches(self._segments[:n], r):
                 return
         raise InvalidInputError(
             f"prim_paths_expr {self.prim_paths_expr!r} matches no prim on the stage. Each path segment is a "
