@@ -358,6 +358,11 @@ def test_tasks_are_set_up_once_and_stepped():
     assert world.get_task("counting") is task
     with pytest.raises(UnknownNameError):
         world.get_task("nope")
+    # Methods a task did not override say which and what to return (was a bare NotImplementedError).
+    with pytest.raises(NotImplementedError, match=r"CountingTask.get_params\(\) is not implemented: override it"):
+        task.get_params()
+    with pytest.raises(NotImplementedError, match=r"CountingTask.is_done\(\) is not implemented.*a bool"):
+        world.is_done()
 
 
 def test_pick_place_task_scene_and_observations():
