@@ -204,7 +204,7 @@ class RigidPrimView(XFormPrimView):
                          reset_xform_properties)
 
     def get_velocities(self, indices=None) -> np.ndarray:
-        """(K, 6): linear [m/s] then angular [rad/s] velocity of each body origin, world frame."""
+        """(K, 6): linear [m/s] (at the centre of mass, as PhysX) then angular [rad/s] velocity of each body, world frame."""
         sim = self._need()
         idx = self._idx(indices)
         sim.ensure_kinematics()

@@ -11,6 +11,7 @@ from manip.errors import InvalidInputError, UnknownNameError
 from manip.sim import (
     ArticulationAction,
     Franka,
+    RigidPrim,
     Robot,
     SimulationError,
     World,
@@ -236,3 +237,22 @@ def test_robot_pose_and_unknown_prim():
     world.reset()
     assert np.allclose(robot.get_world_pose()[0], [1.0, 0.5, 0.0])
     assert robot.num_bodies == 11
+
+
+def test_a_rigid_prim_on_a_link_reads_its_velocity_and_survives_resets():
+    world = World()
+    franka = world.scene.add(Franka("/World/Franka", name="franka"))
+    hand = world.scene.add(RigidPrim("/World/Franka/panda_hand", name="hand"))  # Isaac: a link's rigid body
+    assert hand.get_linear_velocity() is None  # unknown before the first reset, like its pose
+    world.reset()  # was AttributeError: the link had no default velocities
+    franka.set_joint_velocities(np.r_[1.0, np.zeros(8)])  # 1 rad/s about the base's vertical axis
+    sim = world.physics_sim_view
+    com = sim.data.xipos[sim.model.body("/World/Franka/panda_hand").id]  # PhysX reports the COM's velocity
+    np.testing.assert_allclose(hand.get_angular_velocity(), [0, 0, 1.0], atol=1e-9)
+    np.testing.assert_allclose(hand.get_linear_velocity(), np.cross([0, 0, 1.0], com), atol=1e-9)
+    with pytest.raises(SimulationError, match="follows the joints"):
+        hand.set_linear_velocity([0, 0, 1.0])
+    assert hand.get_mass() > 0
+    world.step(render=False)
+    world.reset()
+    np.testing.assert_allclose(hand.get_linear_velocity(), 0.0, atol=1e-9)
