@@ -204,7 +204,8 @@ class RigidPrimView(XFormPrimView):
                          reset_xform_properties)
 
     def get_velocities(self, indices=None) -> np.ndarray:
-        """(K, 6): linear [m/s] (at the centre of mass, as PhysX) then angular [rad/s] velocity of each body, world frame."""
+        """(K, 6): linear [m/s] (of the centre of mass, as PhysX) then angular [rad/s]
+        velocity of each body, world frame."""
         sim = self._need()
         idx = self._idx(indices)
         sim.ensure_kinematics()
