@@ -25,7 +25,8 @@ commands kp * target + kd * velocity target above 1e9. If MuJoCo still finds the
 simulation unstable, `World.step()` raises `SimulationInstabilityError`.
 The model's own actuators give the default gains: a `position` actuator gives kp and kv,
 a `velocity` actuator gives kd (kp = 0), a `motor` gives kp = kd = 0; joints without an
-actuator get one with kp = kd = 0. Efforts (effort mode) are added as joint forces, not
+actuator get one with kp = kd = 0 in an MJCF, and Isaac's URDF importer defaults in a URDF
+(kp = 1e3, kd = 1e2, force limited to the URDF effort limit; `manip.sim.stage`). Efforts (effort mode) are added as joint forces, not
 clipped. Actuators with a gear other than 1 are not supported (the gear is reset to 1).
 
 Getters used before the first `World.reset()` return None and log a warning (Isaac's

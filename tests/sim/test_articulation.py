@@ -256,3 +256,38 @@ def test_a_rigid_prim_on_a_link_reads_its_velocity_and_survives_resets():
     world.step(render=False)
     world.reset()
     np.testing.assert_allclose(hand.get_linear_velocity(), 0.0, atol=1e-9)
+
+
+TWO_LINK_URDF = """<robot name="two_link">
+  <link name="base"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/>
+    </inertial></link>
+  <link name="l1"><inertial><origin xyz="0 0 0.25"/><mass value="1"/>
+    <inertia ixx="0.02" iyy="0.02" izz="0.001" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision><origin xyz="0 0 0.25"/><geometry><box size="0.05 0.05 0.4"/></geometry></collision></link>
+  <link name="l2"><inertial><origin xyz="0 0 0.25"/><mass value="1"/>
+    <inertia ixx="0.02" iyy="0.02" izz="0.001" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision><origin xyz="0 0 0.25"/><geometry><box size="0.05 0.05 0.4"/></geometry></collision></link>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="l1"/><origin xyz="0 0 0.1"/>
+    <axis xyz="0 1 0"/><limit lower="-1.5" upper="1.5" effort="40" velocity="2"/></joint>
+  <joint name="elbow" type="revolute"><parent link="l1"/><child link="l2"/><origin xyz="0 0 0.5"/>
+    <axis xyz="0 1 0"/><limit lower="-1.5" upper="1.5" effort="20" velocity="2"/></joint>
+</robot>"""
+
+
+def test_a_referenced_urdf_gets_isaacs_urdf_importer_drives_and_follows_actions(tmp_path):
+    path = tmp_path / "two_link.urdf"
+    path.write_text(TWO_LINK_URDF)
+    world = World()
+    add_reference_to_stage(usd_path=str(path), prim_path="/World/arm")
+    arm = world.scene.add(Robot(prim_path="/World/arm", name="arm"))
+    world.reset()
+    props = arm.dof_properties
+    assert arm.dof_names == ["shoulder", "elbow"]
+    np.testing.assert_allclose(props["stiffness"], 1e3)  # was 0: a limp arm that ignored position actions
+    np.testing.assert_allclose(props["damping"], 1e2)
+    np.testing.assert_allclose(props["maxEffort"], [40.0, 20.0])  # the URDF's effort limits (was inf)
+    target = np.array([0.5, -0.5])
+    arm.apply_action(ArticulationAction(joint_positions=target))
+    for _ in range(120):
+        world.step(render=False)
+    np.testing.assert_allclose(arm.get_joint_positions(), target, atol=0.02)  # against gravity
