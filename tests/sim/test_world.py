@@ -195,6 +195,23 @@ def test_a_second_world_is_the_same_instance(caplog):
     assert "ignored" in caplog.text
 
 
+def test_world_arguments_isaac_has_and_manip_cannot_mirror(caplog):
+    for kwargs, message in (({"stage_units_in_meters": 0.01}, "must be 1.0; got 0.01: manip.sim works in metres"),
+                            ({"backend": "torch"}, "runs MuJoCo on the CPU"),
+                            ({"device": "cuda:0"}, "device must be None or 'cpu'; got 'cuda:0'")):  # was ignored
+        with pytest.raises(InvalidInputError, match=message):
+            World(**kwargs)
+        assert World.instance() is None
+    with caplog.at_level(logging.WARNING):
+        world = World(sim_params={"gravity": [0.0, 0.0, -1.62], "use_gpu_pipeline": False})
+    assert "['use_gpu_pipeline'] are PhysX settings manip.sim does not mirror" in caplog.text
+    ball = world.scene.add(DynamicSphere("/World/ball", name="ball", position=[0, 0, 1.0], radius=0.02))
+    world.reset()  # the ball is back at its default state after the warm-up step
+    for _ in range(60):
+        world.step(render=False)
+    assert ball.get_world_pose()[0][2] == pytest.approx(1.0 - 0.5 * 1.62 * 1.0**2, abs=5e-3)  # the Moon's gravity
+
+
 def test_families_fixed_visual_dynamic_and_materials():
     world = World()
     world.scene.add_default_ground_plane()
