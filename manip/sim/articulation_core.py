@@ -145,8 +145,8 @@ class ArticulationCore:
         kp = np.zeros(self.n)
         kd = np.zeros(self.n)
         affine = m.actuator_biastype[self.act] == int(mujoco.mjtBias.mjBIAS_AFFINE)
-        kp[affine] = -m.actuator_biasprm[self.act[affine], 1]
-        kd[affine] = -m.actuator_biasprm[self.act[affine], 2]
+        kp[affine] = 0.0 - m.actuator_biasprm[self.act[affine], 1]  # 0.0 - x: no negative zeros
+        kd[affine] = 0.0 - m.actuator_biasprm[self.act[affine], 2]
         gear = m.actuator_gear[self.act, 0]
         if np.any(gear != 1.0):
             logger.warning("%s: actuator gears other than 1 are reset to 1", ref.prim_path)

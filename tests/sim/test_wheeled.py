@@ -99,3 +99,5 @@ def test_jetbot_drives_at_the_commanded_speed(jetbot_world):
     assert np.allclose(jetbot.get_wheel_velocities(), 0.2 / R, rtol=0.05)
     with pytest.raises(InvalidInputError, match="2 wheels"):
         jetbot.apply_wheel_actions(ArticulationAction(joint_velocities=[1.0, 1.0, 1.0]))
+    kps, kds = jetbot.get_articulation_controller().get_gains()
+    assert np.all(kps == 0.0) and not np.any(np.signbit(kps)) and np.all(kds > 0)  # velocity drives: 0, not -0
