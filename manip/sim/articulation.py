@@ -128,8 +128,9 @@ class Articulation(DefaultPoseMixin):
             if v is not None and v.size != c.n:
                 self._core = None
                 raise InvalidInputError(f"{self.prim_path}: default joint {what} have {v.size} entries, not {c.n}")
+        all_joints = np.arange(c.n)
         self._default_joints = JointsState(
-            pos.copy() if pos is not None else c.home.copy(),
+            c.onto_limits(pos, all_joints, "default joint positions") if pos is not None else c.home.copy(),
             vel.copy() if vel is not None else np.zeros(c.n),
             eff.copy() if eff is not None else np.zeros(c.n),
         )
@@ -284,6 +285,8 @@ class Articulation(DefaultPoseMixin):
                 raise InvalidInputError(f"default joint {what} need {self._core.n} entries; got {a.size}")
             self._user_default_joints[what] = a.copy()
             if self._default_joints is not None:
+                if what == "positions":
+                    a = self._core.onto_limits(a, np.arange(a.size), "default joint positions")
                 setattr(self._default_joints, what, a.copy())
 
     def get_joints_default_state(self) -> JointsState | None:

@@ -314,6 +314,21 @@ class ArticulationCore:
         self.pos_target, self.vel_target, self.efforts = pos, vel, eff
         self.write_targets()
 
+    def onto_limits(self, positions: np.ndarray, idx: np.ndarray, what: str) -> np.ndarray:
+        """`positions` (K,) of joints `idx` (K,) put inside the joint limits, with a warning
+        naming the joints moved by more than LIMIT_TOLERANCE (for default states, which a
+        reset teleports to: PhysX would push such joints back onto their limits)."""
+        low, up = self.lower[idx], self.upper[idx]
+        out = np.clip(positions, low, up)
+        far = np.flatnonzero(np.abs(out - positions) > LIMIT_TOLERANCE)
+        if far.size:
+            logger.warning(
+                "%s: %s outside the joint limits: %s; the joints start on their limits (as PhysX's limits hold "
+                "them)", self.ref.prim_path, what,
+                ", ".join(f"{self.dof_names[idx[k]]}={positions[k]:.4f} not in [{low[k]:.4f}, {up[k]:.4f}]"
+                          for k in far))
+        return out
+
     def teleport(self, positions, joint_indices=None) -> None:
         """Put joints `joint_indices` (all for None) at `positions` (K,) [rad or m] and make
         these their position targets (Isaac's `set_joint_positions`); velocities are kept.

@@ -11,10 +11,13 @@ from manip.errors import InvalidInputError, UnknownNameError
 from manip.sim import (
     ArticulationAction,
     Franka,
+    ParallelGripper,
     RigidPrim,
     Robot,
     SimulationError,
+    SingleManipulator,
     World,
+    XFormPrim,
     add_reference_to_stage,
     get_assets_root_path,
 )
@@ -291,3 +294,38 @@ def test_a_referenced_urdf_gets_isaacs_urdf_importer_drives_and_follows_actions(
     for _ in range(120):
         world.step(render=False)
     np.testing.assert_allclose(arm.get_joint_positions(), target, atol=0.02)  # against gravity
+
+
+def test_single_manipulator_with_the_tutorials_gripper_opened_past_the_finger_limits(caplog):
+    """Isaac's "Adding a New Manipulator": opened positions 0.05 m on the Panda's 0.04 m fingers."""
+    world = World()
+    world.scene.add_default_ground_plane()
+    add_reference_to_stage(usd_path=get_assets_root_path() + "/Isaac/Robots/Franka/franka.usd", prim_path="/World/Franka")
+    gripper = ParallelGripper(end_effector_prim_path="/World/Franka/panda_rightfinger",
+                              joint_prim_names=["panda_finger_joint1", "panda_finger_joint2"],
+                              joint_opened_positions=np.array([0.05, 0.05]),
+                              joint_closed_positions=np.array([0.02, 0.02]), action_deltas=np.array([0.01, 0.01]))
+    robot = world.scene.add(SingleManipulator(prim_path="/World/Franka", name="my_franka",
+                                              end_effector_prim_name="panda_rightfinger", gripper=gripper))
+    q0 = np.r_[ARM_TARGET, 0.05, 0.05]
+    robot.set_joints_default_state(positions=q0)
+    with caplog.at_level(logging.WARNING):
+        world.reset()  # was InvalidInputError: the gripper's reset teleported the fingers to 0.05 m
+    assert "panda_finger_joint1=0.0500 not in [0.0000, 0.0400]" in caplog.text
+    np.testing.assert_allclose(robot.get_joint_positions(), np.r_[ARM_TARGET, 0.04, 0.04], atol=1e-9)
+    assert robot.gripper is gripper
+    np.testing.assert_allclose(robot.end_effector.get_world_pose()[0],
+                               XFormPrim("/World/Franka/panda_rightfinger").get_world_pose()[0])
+    close = robot.gripper.forward("close")  # with deltas: 0.01 m in from where the fingers are
+    np.testing.assert_allclose(close.joint_positions[7:], 0.03, atol=1e-9)
+    assert np.all(np.isnan(close.joint_positions[:7]))
+    robot.apply_action(close)
+    for _ in range(30):
+        world.step(render=False)
+    np.testing.assert_allclose(robot.gripper.get_joint_positions(), 0.03, atol=2e-3)
+    robot.gripper.open()  # target 0.05: the fingers stop on their 0.04 m limit
+    for _ in range(30):
+        world.step(render=False)
+    np.testing.assert_allclose(robot.gripper.get_joint_positions(), 0.04, atol=1e-4)
+    with pytest.raises(InvalidInputError, match="exactly one"):
+        SingleManipulator(prim_path="/World/Franka", name="other")
