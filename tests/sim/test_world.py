@@ -98,6 +98,14 @@ def test_callback_name_errors_are_logged_like_isaac(caplog):
     assert len(first) == 1 and not world.physics_callback_exists("cb")
     with pytest.raises(InvalidInputError, match="callable"):
         world.add_physics_callback("bad", 3)
+    # A callback that cannot take the step size fails when added, not inside world.step().
+    with pytest.raises(InvalidInputError, match=r"physics callback 'noarg' must take one argument \(step_size"):
+        world.add_physics_callback("noarg", lambda: None)
+    with pytest.raises(InvalidInputError, match="timeline callback 'tl' must take one argument"):
+        world.add_timeline_callback("tl", lambda a, b: None)
+    world.add_physics_callback("default_ok", lambda step_size, extra=1: None)
+    world.add_physics_callback("varargs_ok", lambda *args: None)
+    world.step()
 
 
 def test_pause_stop_play_and_timeline_events():
