@@ -43,6 +43,22 @@ def path_matches(segments: list[re.Pattern], path: str) -> bool:
             and all(r.fullmatch(p) for r, p in zip(segments, parts)))
 
 
+#: Isaac's RigidPrimView options with the default values accepted here.
+RIGID_VIEW_OPTIONS = {
+    "masses": None, "densities": None, "linear_velocities": None, "angular_velocities": None,
+    "track_contact_forces": False, "prepare_contact_sensors": False, "disable_stablization": True,
+    "contact_filter_prim_paths_expr": [], "max_contact_count": 0,
+}
+
+
+def _is_default(value, default) -> bool:
+    if default is None:
+        return value is None
+    if isinstance(default, list):
+        return value is None or (isinstance(value, (list, tuple)) and len(value) == 0)
+    return value == default
+
+
 class XFormPrimView:
     """Poses of every prim matching `prim_paths_expr`.
 
@@ -55,6 +71,10 @@ class XFormPrimView:
     def __init__(self, prim_paths_expr: str, name: str = "xform_prim_view", positions=None, translations=None,
                  orientations=None, scales=None, visibilities=None, reset_xform_properties: bool = True):
         self._segments = compile_path_expression(prim_paths_expr)
+        if scales is not None or visibilities is not None:
+            raise InvalidInputError(
+                f"{type(self).__name__}: scales and visibilities are not supported by views here; set them on each "
+                "object (set_local_scale, set_visibility)")
         self.prim_paths_expr = prim_paths_expr
         self.prim_path = prim_paths_expr
         self._name = name
@@ -200,6 +220,22 @@ class RigidPrimView(XFormPrimView):
 
     def __init__(self, prim_paths_expr: str, name: str = "rigid_prim_view", positions=None, translations=None,
                  orientations=None, scales=None, visibilities=None, reset_xform_properties: bool = True, **kwargs):
+        """Args as `XFormPrimView`; Isaac's PhysX options are accepted at their defaults only
+        (`RIGID_VIEW_OPTIONS`; contact sensors, per-view masses and velocities are not
+        available: set them on the objects).
+
+        Raises:
+            InvalidInputError: an unknown keyword, or an option other than its default.
+        """
+        for key, value in kwargs.items():
+            if key not in RIGID_VIEW_OPTIONS:
+                raise InvalidInputError(f"RigidPrimView got an unknown argument {key!r}; Isaac's options accepted: "
+                                        f"{sorted(RIGID_VIEW_OPTIONS)}")
+            if not _is_default(value, RIGID_VIEW_OPTIONS[key]):
+                raise InvalidInputError(
+                    f"RigidPrimView({key}={value!r}) is not supported (manip has no PhysX contact sensors or per-view "
+                    f"body settings); leave it at {RIGID_VIEW_OPTIONS[key]!r} and set masses and velocities on the "
+                    "objects (set_mass, set_linear_velocity) or on the view after world.reset() (set_velocities)")
         super().__init__(prim_paths_expr, name, positions, translations, orientations, scales, visibilities,
                          reset_xform_properties)
 

@@ -325,7 +325,14 @@ def test_view_expressions_match_per_path_segment_and_a_view_of_nothing_raises_as
         RigidPrimView(prim_paths_expr="/World/Cube_*", name="cubes")
     with pytest.raises(InvalidInputError, match="absolute path expression"):
         XFormPrimView("World/Cube_.*")
-    cubes = world.scene.add(RigidPrimView(prim_paths_expr="/World/Cube_.*", name="cubes"))
+    # Isaac options manip cannot honour raise instead of being dropped.
+    with pytest.raises(InvalidInputError, match="scales and visibilities are not supported"):
+        XFormPrimView("/World/Cube_.*", scales=np.ones((2, 3)))
+    with pytest.raises(InvalidInputError, match=r"track_contact_forces=True\) is not supported"):
+        RigidPrimView("/World/Cube_.*", track_contact_forces=True)
+    with pytest.raises(InvalidInputError, match="unknown argument 'mass'"):
+        RigidPrimView("/World/Cube_.*", mass=1.0)
+    cubes = world.scene.add(RigidPrimView(prim_paths_expr="/World/Cube_.*", name="cubes", track_contact_forces=False))
     links = world.scene.add(XFormPrimView("/World/Franka/panda_link[0-9]", name="links"))  # inside the model
     everything = XFormPrimView("/World/.*")  # one segment: the top prims, not the Franka's links
     world.reset()
