@@ -193,6 +193,7 @@ class SimulationContext:
         self._playing = False
         self._stopped = True
         self._time = 0.0
+        self._time_origin = 0.0
         self._index = 0
         self._physics_callbacks = CallbackTable("physics")
         self._timeline_callbacks = CallbackTable("timeline")
@@ -277,11 +278,17 @@ class SimulationContext:
         return self._rendering_dt
 
     def set_simulation_dt(self, physics_dt: float | None = None, rendering_dt: float | None = None) -> None:
-        """Change the physics step and/or render interval [s] (takes effect immediately)."""
-        if physics_dt is not None:
-            self._physics_dt = positive(physics_dt, "physics_dt", "s")
-        if rendering_dt is not None:
-            self._rendering_dt = positive(rendering_dt, "rendering_dt", "s")
+        """Change the physics step and/or render interval [s] (takes effect immediately;
+        `current_time` goes on from where it is).
+
+        Raises:
+            InvalidInputError: a dt that is not positive and finite (nothing changes then).
+        """
+        new_physics = positive(physics_dt, "physics_dt", "s") if physics_dt is not None else self._physics_dt
+        new_rendering = positive(rendering_dt, "rendering_dt", "s") if rendering_dt is not None else self._rendering_dt
+        # current_time = time_origin + index * physics_dt (no accumulated rounding); keep it continuous.
+        self._time_origin = self._time - self._index * new_physics
+        self._physics_dt, self._rendering_dt = new_physics, new_rendering
         if self._sim is not None:
             self._sim.model.opt.timestep = self._physics_dt / self.physics_substeps
             for core in self._cores:
@@ -382,6 +389,7 @@ class SimulationContext:
     def _play_and_warm_up(self) -> None:
         """Play from time 0, then the physics of one `step(render=True)`, callbacks not called."""
         self._time = 0.0
+        self._time_origin = 0.0
         self._index = 0
         self._restart_pending = False
         self.play()
@@ -424,6 +432,7 @@ class SimulationContext:
         self._playing = False
         self._stopped = True
         self._time = 0.0
+        self._time_origin = 0.0
         self._index = 0
         self._restart_pending = self._sim is not None
         if was:
@@ -495,7 +504,7 @@ class SimulationContext:
         mujoco.mj_step(sim.model, sim.data, nstep=self.physics_substeps)
         sim.kinematics_stale = True
         self._index += 1
-        self._time = self._index * self._physics_dt
+        self._time = self._time_origin + self._index * self._physics_dt
         fatal = self._mujoco_warnings()
         for core in self._cores:
             core.enforce_limits()

@@ -490,3 +490,21 @@ def test_removing_a_robot_removes_its_frames_and_the_world_resets_without_it():
     world.scene.clear()
     world.reset()
     assert world.model.nbody == 1  # the world body only
+
+
+def test_changing_the_physics_step_mid_run_keeps_time_continuous():
+    world = World()
+    ball = world.scene.add(DynamicSphere("/World/ball", name="ball", position=[0, 0, 10.0], radius=0.05))
+    world.reset()
+    for _ in range(59):
+        world.step(render=False)
+    assert world.current_time == pytest.approx(1.0)
+    with pytest.raises(InvalidInputError, match="rendering_dt"):
+        world.set_simulation_dt(physics_dt=1 / 120, rendering_dt=0.0)
+    assert world.get_physics_dt() == pytest.approx(1 / 60)  # nothing changed
+    world.set_simulation_dt(physics_dt=1 / 120, rendering_dt=1 / 120)
+    z0, v0 = ball.get_world_pose()[0][2], ball.get_linear_velocity()[2]
+    for _ in range(120):
+        world.step(render=False)
+    assert world.current_time == pytest.approx(2.0)  # was 121 / 120 s: the past recomputed with the new step
+    assert ball.get_world_pose()[0][2] - z0 == pytest.approx(v0 - 0.5 * 9.81, abs=0.02)  # 1 s of free fall
