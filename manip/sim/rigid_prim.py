@@ -92,6 +92,8 @@ class RigidPrim(XFormPrim):
         """Mass [kg]."""
         if self._sim is not None:
             return float(self._sim.model.body_mass[self._body_id])
+        if self._wrapped_object is not None and hasattr(self._wrapped_object, "get_mass"):
+            return self._wrapped_object.get_mass()
         if getattr(self, "_mass", None) is not None:
             return float(self._mass)
         return float(self._density * self._volume())

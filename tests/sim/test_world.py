@@ -15,12 +15,15 @@ from manip.sim import (
     DynamicSphere,
     FixedCuboid,
     Franka,
+    GeometryPrim,
     PhysicsMaterial,
     PickPlace,
+    RigidPrim,
     RigidPrimView,
     SimulationError,
     VisualCuboid,
     World,
+    XFormPrim,
     XFormPrimView,
 )
 
@@ -508,3 +511,29 @@ def test_changing_the_physics_step_mid_run_keeps_time_continuous():
         world.step(render=False)
     assert world.current_time == pytest.approx(2.0)  # was 121 / 120 s: the past recomputed with the new step
     assert ball.get_world_pose()[0][2] - z0 == pytest.approx(v0 - 0.5 * 9.81, abs=0.02)  # 1 s of free fall
+
+
+def test_xform_rigid_and_geometry_prims_wrap_an_existing_object_as_in_isaac():
+    world = World()
+    world.scene.add_default_ground_plane()
+    DynamicCuboid(prim_path="/World/cube", position=[0, 0, 0.5], size=0.1, mass=0.3)  # not added to the scene
+    FixedCuboid(prim_path="/World/table", position=[1, 0, 0.2], size=0.4, color=np.array([0.2, 0.4, 0.6]))
+    cube = world.scene.add(RigidPrim(prim_path="/World/cube", name="cube"))  # was: "a prim already exists"
+    table = world.scene.add(GeometryPrim(prim_path="/World/table", name="table"))
+    frame = XFormPrim(prim_path="/World/cube", name="cube_frame")
+    assert cube.get_mass() == pytest.approx(0.3) and np.allclose(table.get_color(), [0.2, 0.4, 0.6])
+    np.testing.assert_allclose(frame.get_world_pose()[0], [0, 0, 0.5])
+    with pytest.raises(InvalidInputError, match="wraps the existing DynamicCuboid there; position cannot be given"):
+        XFormPrim(prim_path="/World/cube", name="moved", position=[0, 0, 1.0])
+    world.reset()
+    for _ in range(60):
+        world.step(render=False)
+    assert cube.get_world_pose()[0][2] == pytest.approx(0.05, abs=2e-3)  # the one cube fell onto the ground
+    np.testing.assert_allclose(frame.get_world_pose()[0], cube.get_world_pose()[0])
+    cube.set_world_pose(position=[0.0, 0.5, 0.3])
+    cube.set_linear_velocity([0.5, 0.0, 0.0])
+    world.step(render=False)
+    assert frame.get_world_pose()[0][1] == pytest.approx(0.5) and cube.get_linear_velocity()[0] > 0.4
+    np.testing.assert_allclose(world.scene.compute_object_AABB("table"), [[0.8, -0.2, 0.0], [1.2, 0.2, 0.4]])
+    world.reset()  # the wrapper's default pose is the object's pose when it was wrapped
+    np.testing.assert_allclose(cube.get_world_pose()[0], [0, 0, 0.5])
