@@ -207,6 +207,20 @@ class XFormPrimView:
                     d.mocap_quat[mid] = q[k]
         sim.mark_stale()
 
+    def get_local_scales(self, indices=None) -> np.ndarray:
+        """(K, 3) scales of the matched prims (1 for bodies of referenced models)."""
+        self._need()
+        stage = get_current_stage()
+        out = []
+        for i in self._idx(indices):
+            prim = stage.get_prim(self._paths[i])
+            out.append(prim.get_local_scale() if hasattr(prim, "get_local_scale") else np.ones(3))
+        return np.array(out, dtype=float).reshape(-1, 3)
+
+    def get_world_scales(self, indices=None) -> np.ndarray:
+        """Same as `get_local_scales` (no parent transforms)."""
+        return self.get_local_scales(indices)
+
     def get_local_poses(self, indices=None):
         """Same as get_world_poses (no parent transforms)."""
         return self.get_world_poses(indices)

@@ -345,6 +345,7 @@ def test_view_expressions_match_per_path_segment_and_a_view_of_nothing_raises_as
     for _ in range(60):
         world.step(render=False)
     np.testing.assert_allclose(cubes.get_world_poses()[0][:, 2], 0.025, atol=2e-3)
+    np.testing.assert_allclose(cubes.get_local_scales(), np.ones((2, 3)))  # Isaac's view getter (was missing)
     np.testing.assert_allclose(links.get_world_poses()[0][0], franka.get_world_pose()[0], atol=1e-9)
     # A view whose prims were removed says so instead of failing on array shapes.
     world.scene.remove_object("cube0")
