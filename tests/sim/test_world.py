@@ -321,7 +321,8 @@ def test_view_expressions_match_per_path_segment_and_a_view_of_nothing_raises_as
     world = World()
     world.scene.add_default_ground_plane()
     for i in range(2):
-        world.scene.add(DynamicCuboid(f"/World/Cube_{i}", name=f"cube{i}", position=[i * 0.3, 0, 0.5], size=0.05))
+        world.scene.add(DynamicCuboid(f"/World/Cube_{i}", name=f"cube{i}", position=[i * 0.3, 0, 0.5], size=0.05,
+                                      scale=[1.0, 1.0 + i, 1.0]))
     franka = world.scene.add(Franka("/World/Franka", name="franka"))
     # The glob a tutorial reader writes first: Isaac raises at construction, so does manip.
     with pytest.raises(InvalidInputError, match=r"matches no prim.*'/World/Cube_\.\*'.*not the glob"):
@@ -345,7 +346,8 @@ def test_view_expressions_match_per_path_segment_and_a_view_of_nothing_raises_as
     for _ in range(60):
         world.step(render=False)
     np.testing.assert_allclose(cubes.get_world_poses()[0][:, 2], 0.025, atol=2e-3)
-    np.testing.assert_allclose(cubes.get_local_scales(), np.ones((2, 3)))  # Isaac's view getter (was missing)
+    np.testing.assert_allclose(cubes.get_local_scales(), [[1, 1, 1], [1, 2, 1]])  # Isaac's getter (was missing)
+    np.testing.assert_allclose(links.get_world_scales(), np.ones((8, 3)))
     np.testing.assert_allclose(links.get_world_poses()[0][0], franka.get_world_pose()[0], atol=1e-9)
     # A view whose prims were removed says so instead of failing on array shapes.
     world.scene.remove_object("cube0")
