@@ -321,7 +321,7 @@ def test_view_expressions_match_per_path_segment_and_a_view_of_nothing_raises_as
     world = World()
     world.scene.add_default_ground_plane()
     for i in range(2):
-        world.scene.add(DynamicCuboid(f"/World/Cube_{i}", name=f"cube{i}", position=[i * 0.3, 0, 0.5], size=0.05,
+        world.scene.add(DynamicCuboid(f"/World/Cube_{i}", name=f"cube{i}", position=[i * 0.3, 0.8, 0.5], size=0.05,
                                       scale=[1.0, 1.0 + i, 1.0]))
     franka = world.scene.add(Franka("/World/Franka", name="franka"))
     # The glob a tutorial reader writes first: Isaac raises at construction, so does manip.
