@@ -11,7 +11,7 @@
 from __future__ import annotations
 
 import logging
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -160,8 +160,16 @@ def solution_arrays(solution: dict) -> tuple[list[str], np.ndarray, np.ndarray]:
             `TutorialMotionGen.motion_generate` returns.
 
     Raises:
-        InvalidInputError: the dict lacks a key or its arrays disagree in shape.
+        InvalidInputError: the solution is None (a failed `motion_generate`) or not a
+            dict, lacks a key, or its arrays disagree in shape.
     """
+    if solution is None:
+        raise InvalidInputError(
+            "solution is None: motion_generate returns None when planning fails (the log says why); "
+            "check `if solution is not None` before converting it to actions")
+    if not isinstance(solution, Mapping):
+        raise InvalidInputError(
+            f"solution must be the dict motion_generate returns; got {type(solution).__name__}")
     missing = [k for k in ("joint_names", "positions", "velocities") if k not in solution]
     if missing:
         raise InvalidInputError(f"solution lacks {missing}; it needs joint_names, positions, velocities")

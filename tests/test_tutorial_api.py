@@ -202,6 +202,11 @@ def test_tutorial_motion_generate_with_nine_values_and_isaac_actions(curobo):
     state = curobo.get_joint_state_from_isaac_sim(franka)
     assert state.joint_names == curobo.joint_names[:7]
     np.testing.assert_allclose(state.position, franka.get_joint_positions()[:7])
+    # A failed plan is None; converting it says so (was a TypeError from inside the bridge).
+    failed = curobo.motion_generate(start_joint_angles=start, goal_end_effector_pose=[2.0, 0, 0.3, 0, 0, 0, 1])
+    assert failed is None
+    with pytest.raises(InvalidInputError, match="solution is None: motion_generate returns None when planning fails"):
+        curobo.convert_solution_to_isaac_sim_action(solution=failed, robot_prim=franka)
     World.clear_instance()
 
 

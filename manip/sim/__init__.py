@@ -83,6 +83,7 @@ SingleRigidPrim = RigidPrim
 SingleGeometryPrim = GeometryPrim
 from manip.sim.controllers import BaseController, DifferentialController, WheelBasePoseController
 from manip.sim.pick_place_controller import PickPlaceController
+from manip.sim.manipulator import SingleManipulator
 from manip.sim.robots import (
     Franka,
     ParallelGripper,

@@ -25,7 +25,8 @@ commands kp * target + kd * velocity target above 1e9. If MuJoCo still finds the
 simulation unstable, `World.step()` raises `SimulationInstabilityError`.
 The model's own actuators give the default gains: a `position` actuator gives kp and kv,
 a `velocity` actuator gives kd (kp = 0), a `motor` gives kp = kd = 0; joints without an
-actuator get one with kp = kd = 0. Efforts (effort mode) are added as joint forces, not
+actuator get one with kp = kd = 0 in an MJCF, and Isaac's URDF importer defaults in a URDF
+(kp = 1e3, kd = 1e2, force limited to the URDF effort limit; `manip.sim.stage`). Efforts (effort mode) are added as joint forces, not
 clipped. Actuators with a gear other than 1 are not supported (the gear is reset to 1).
 
 Getters used before the first `World.reset()` return None and log a warning (Isaac's
@@ -55,9 +56,6 @@ from manip.sim.types import DefaultPoseMixin, JointsState, XFormPrimState, posit
 from manip.validation import unit_quat, vec
 
 logger = logging.getLogger(__name__)
-
-_LIMIT_TOLERANCE = 1e-3  # [rad or m] how far set_joint_positions may lie outside the limits
-
 
 class Articulation(DefaultPoseMixin):
     """A model referenced on the stage, seen as an articulation (Isaac's `SingleArticulation`).
@@ -130,8 +128,9 @@ class Articulation(DefaultPoseMixin):
             if v is not None and v.size != c.n:
                 self._core = None
                 raise InvalidInputError(f"{self.prim_path}: default joint {what} have {v.size} entries, not {c.n}")
+        all_joints = np.arange(c.n)
         self._default_joints = JointsState(
-            pos.copy() if pos is not None else c.home.copy(),
+            c.onto_limits(pos, all_joints, "default joint positions") if pos is not None else c.home.copy(),
             vel.copy() if vel is not None else np.zeros(c.n),
             eff.copy() if eff is not None else np.zeros(c.n),
         )
@@ -232,33 +231,11 @@ class Articulation(DefaultPoseMixin):
         farther outside the limits, or a magnitude above MAX_POSITION (unlimited joints);
         nothing changes then.
         """
-        c = self._cs("set_joint_positions")
-        idx = c.indices(joint_indices)
-        q = c.values(positions, idx, "positions", limit=MAX_POSITION, kind="position")
-        low, up = c.lower[idx], c.upper[idx]
-        bad = (q < low - _LIMIT_TOLERANCE) | (q > up + _LIMIT_TOLERANCE)
-        if np.any(bad):
-            i = np.flatnonzero(bad)
-            raise InvalidInputError(
-                "positions outside the joint limits: "
-                + ", ".join(f"{c.dof_names[idx[k]]}={q[k]:.4f} not in [{low[k]:.4f}, {up[k]:.4f}]" for k in i)
-            )
-        q = np.clip(q, low, up)
-        target = c.pos_target.copy()
-        target[idx] = q
-        c.check_drive(c.kps, c.kds, target, c.vel_target, "positions")
-        c.sim.data.qpos[c.qadr[idx]] = q
-        c.pos_target = target
-        c.write_targets()
-        c.sim.mark_stale()
+        self._cs("set_joint_positions").teleport(positions, joint_indices)
 
     def set_joint_velocities(self, velocities, joint_indices=None) -> None:
         """Set joint velocities (K,) [rad/s or m/s] (drive targets unchanged)."""
-        c = self._cs("set_joint_velocities")
-        idx = c.indices(joint_indices)
-        v = c.values(velocities, idx, "velocities", limit=MAX_VELOCITY, kind="velocity")
-        c.sim.data.qvel[c.dadr[idx]] = v
-        c.sim.mark_stale()
+        self._cs("set_joint_velocities").set_velocities(velocities, joint_indices)
 
     def set_joint_efforts(self, efforts, joint_indices=None) -> None:
         """Set the joint efforts (K,) [N m or N] added to the drives (persist until changed).
@@ -308,6 +285,8 @@ class Articulation(DefaultPoseMixin):
                 raise InvalidInputError(f"default joint {what} need {self._core.n} entries; got {a.size}")
             self._user_default_joints[what] = a.copy()
             if self._default_joints is not None:
+                if what == "positions":
+                    a = self._core.onto_limits(a, np.arange(a.size), "default joint positions")
                 setattr(self._default_joints, what, a.copy())
 
     def get_joints_default_state(self) -> JointsState | None:

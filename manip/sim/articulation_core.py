@@ -42,6 +42,9 @@ MAX_EFFORT = 1e6
 #: Largest accepted drive command kp * position target + kd * velocity target [N m or N]:
 #: MuJoCo treats a control above 1e10 as a numerical failure and ignores every control.
 MAX_DRIVE_COMMAND = 1e9
+#: How far outside its limits `teleport` (set_joint_positions) accepts a position [rad or m]:
+#: it is put on the limit.
+LIMIT_TOLERANCE = 1e-3
 #: Solver impedance of the joint limits (MuJoCo `solimp` dmin, dmax, width): harder than
 #: MuJoCo's default (0.9, 0.95, 0.001). Their time constant is two integration substeps, the
 #: stiffest MuJoCo allows.
@@ -142,8 +145,8 @@ class ArticulationCore:
         kp = np.zeros(self.n)
         kd = np.zeros(self.n)
         affine = m.actuator_biastype[self.act] == int(mujoco.mjtBias.mjBIAS_AFFINE)
-        kp[affine] = -m.actuator_biasprm[self.act[affine], 1]
-        kd[affine] = -m.actuator_biasprm[self.act[affine], 2]
+        kp[affine] = 0.0 - m.actuator_biasprm[self.act[affine], 1]  # 0.0 - x: no negative zeros
+        kd[affine] = 0.0 - m.actuator_biasprm[self.act[affine], 2]
         gear = m.actuator_gear[self.act, 0]
         if np.any(gear != 1.0):
             logger.warning("%s: actuator gears other than 1 are reset to 1", ref.prim_path)
@@ -310,6 +313,61 @@ class ArticulationCore:
         self.check_drive(self.kps, self.kds, pos, vel, "ArticulationAction.joint_positions/joint_velocities")
         self.pos_target, self.vel_target, self.efforts = pos, vel, eff
         self.write_targets()
+
+    def onto_limits(self, positions: np.ndarray, idx: np.ndarray, what: str) -> np.ndarray:
+        """`positions` (K,) of joints `idx` (K,) put inside the joint limits, with a warning
+        naming the joints moved by more than LIMIT_TOLERANCE (for default states, which a
+        reset teleports to: PhysX would push such joints back onto their limits)."""
+        low, up = self.lower[idx], self.upper[idx]
+        out = np.clip(positions, low, up)
+        far = np.flatnonzero(np.abs(out - positions) > LIMIT_TOLERANCE)
+        if far.size:
+            logger.warning(
+                "%s: %s outside the joint limits: %s; the joints start on their limits (as PhysX's limits hold "
+                "them)", self.ref.prim_path, what,
+                ", ".join(f"{self.dof_names[idx[k]]}={positions[k]:.4f} not in [{low[k]:.4f}, {up[k]:.4f}]"
+                          for k in far))
+        return out
+
+    def teleport(self, positions, joint_indices=None) -> None:
+        """Put joints `joint_indices` (all for None) at `positions` (K,) [rad or m] and make
+        these their position targets (Isaac's `set_joint_positions`); velocities are kept.
+
+        A position at most `LIMIT_TOLERANCE` outside its limits is put on the limit.
+
+        Raises:
+            InvalidInputError: a wrong length, a non-finite value, a position farther
+                outside the limits or of magnitude above MAX_POSITION; nothing changes then.
+        """
+        idx = self.indices(joint_indices)
+        q = self.values(positions, idx, "positions", limit=MAX_POSITION, kind="position")
+        low, up = self.lower[idx], self.upper[idx]
+        bad = np.flatnonzero((q < low - LIMIT_TOLERANCE) | (q > up + LIMIT_TOLERANCE))
+        if bad.size:
+            raise InvalidInputError(
+                "positions outside the joint limits: "
+                + ", ".join(f"{self.dof_names[idx[k]]}={q[k]:.4f} not in [{low[k]:.4f}, {up[k]:.4f}]" for k in bad)
+            )
+        q = np.clip(q, low, up)
+        target = self.pos_target.copy()
+        target[idx] = q
+        self.check_drive(self.kps, self.kds, target, self.vel_target, "positions")
+        self.sim.data.qpos[self.qadr[idx]] = q
+        self.pos_target = target
+        self.write_targets()
+        self.sim.mark_stale()
+
+    def set_velocities(self, velocities, joint_indices=None) -> None:
+        """Set the velocities (K,) [rad/s or m/s] of joints `joint_indices` (all for None);
+        drive targets unchanged.
+
+        Raises:
+            InvalidInputError: a wrong length, a non-finite value or a magnitude above MAX_VELOCITY.
+        """
+        idx = self.indices(joint_indices)
+        v = self.values(velocities, idx, "velocities", limit=MAX_VELOCITY, kind="velocity")
+        self.sim.data.qvel[self.dadr[idx]] = v
+        self.sim.mark_stale()
 
     def reset_drive_targets(self) -> None:
         """Position targets = current joint positions, velocity targets and efforts 0."""

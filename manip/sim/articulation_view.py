@@ -5,9 +5,14 @@ tutorials read gains, joint counts and limits through it. Here it is a thin view
 articulation's drives (`ArticulationCore`): getters return arrays with a leading batch axis
 of size 1, e.g. `get_gains()` -> (kps (1, num_dof), kds (1, num_dof)).
 
-Differences from Isaac: one articulation only (`indices` may be None or [0]); `num_joints`
-counts one joint per body below the articulation's root (fixed joints included, as USD
-does), since MuJoCo merges no bodies but has no fixed-joint objects.
+A script may also create one as Isaac's tutorials do, from a prim path expression
+(`ArticulationView(prim_paths_expr="/World/Franka", name="franka_view")`, matched per path
+segment as `XFormPrimView`), add it to the scene and use it after `world.reset()`.
+
+Differences from Isaac: one articulation only (`indices` may be None or [0]; an expression
+matching several referenced models raises, naming them: use one view per robot);
+`num_joints` counts one joint per body below the articulation's root (fixed joints
+included, as USD does), since MuJoCo merges no bodies but has no fixed-joint objects.
 """
 
 from __future__ import annotations
@@ -16,9 +21,11 @@ from typing import Protocol
 
 import numpy as np
 
+from manip.articulation_action import ArticulationAction
 from manip.errors import InvalidInputError
 from manip.sim.articulation_core import ArticulationCore
-from manip.sim.stage import SimulationError
+from manip.sim.stage import ReferencePrim, SimulationError, get_current_stage
+from manip.sim.views import compile_path_expression, path_matches
 
 
 class ViewedArticulation(Protocol):
@@ -28,15 +35,75 @@ class ViewedArticulation(Protocol):
     _core: ArticulationCore | None
 
 
+class _ReferencedModel:
+    """A referenced model seen as a `ViewedArticulation` (its core, once compiled)."""
+
+    def __init__(self, ref: ReferencePrim):
+        self._ref = ref
+        self.prim_path = ref.prim_path
+
+    @property
+    def _core(self) -> ArticulationCore | None:
+        return self._ref.core
+
+
+def _find_articulation(prim_paths_expr: str) -> _ReferencedModel:
+    """The one referenced model whose prim path matches `prim_paths_expr` (per segment).
+
+    Raises:
+        InvalidInputError: none or several match (the message lists the referenced models).
+    """
+    segments = compile_path_expression(prim_paths_expr)
+    stage = get_current_stage()
+    refs = [p for p in stage.prim_paths() if stage.find_reference(p) is not None]
+    hits = [p for p in refs if path_matches(segments, p)]
+    if len(hits) != 1:
+        what = "no referenced model" if not hits else f"{len(hits)} referenced models {hits}"
+        raise InvalidInputError(
+            f"ArticulationView(prim_paths_expr={prim_paths_expr!r}) matches {what}; manip's view holds exactly "
+            f"one articulation (one view per robot). Each path segment is a regular expression. Referenced models "
+            f"on the stage: {refs}")
+    return _ReferencedModel(stage.find_reference(hits[0]))
+
+
 class ArticulationView:
     """Batched (count 1) access to one articulation's joints and drives.
 
     Args:
-        articulation: the `Articulation` viewed.
+        prim_paths_expr: the `Articulation` viewed, or (Isaac's form) a prim path expression
+            matching the prim path of exactly one referenced model, e.g. "/World/Franka".
+        name: scene name (`world.scene.add(view)`).
+        positions, translations, orientations, scales, visibilities,
+            reset_xform_properties, enable_dof_force_sensors: accepted for Isaac scripts;
+            given poses raise (move the articulation itself).
+
+    Raises:
+        InvalidInputError: the expression matches no or several referenced models, or a
+            pose is given.
     """
 
-    def __init__(self, articulation: ViewedArticulation):
-        self._articulation = articulation
+    def __init__(self, prim_paths_expr: str | ViewedArticulation, name: str = "articulation_prim_view",
+                 positions=None, translations=None, orientations=None, scales=None, visibilities=None,
+                 reset_xform_properties: bool = True, enable_dof_force_sensors: bool = False):
+        if any(v is not None for v in (positions, translations, orientations, scales)):
+            raise InvalidInputError("ArticulationView: positions/translations/orientations/scales are not supported; "
+                                    "set the pose with Articulation.set_world_pose")
+        if isinstance(prim_paths_expr, str):
+            self._articulation: ViewedArticulation = _find_articulation(prim_paths_expr)
+        else:
+            self._articulation = prim_paths_expr
+        self._name = name
+
+    @property
+    def name(self) -> str:
+        return self._name
+
+    @property
+    def prim_path(self) -> str:
+        return self._articulation.prim_path
+
+    def initialize(self, physics_sim_view=None) -> None:
+        """Nothing to do: the view reads the articulation the World compiled (kept for Isaac scripts)."""
 
     def _c(self, what: str) -> ArticulationCore:
         c = self._articulation._core
@@ -146,6 +213,49 @@ class ArticulationView:
         self._check_indices(indices)
         c = self._c("get_joint_velocities")
         return c.sim.data.qvel[c.dadr[c.indices(joint_indices)]][None, :].copy()
+
+    # ------------------------------------------------------------------ commands
+    @staticmethod
+    def _row(values, what: str):
+        """(1, K) or (K,) values as (K,) (the batch axis of a count-1 view)."""
+        if values is None:
+            return None
+        a = np.asarray(values, dtype=float)
+        if a.ndim == 2:
+            if a.shape[0] != 1:
+                raise InvalidInputError(f"{what} must have shape (1, K) or (K,) for a view of one articulation; "
+                                        f"got {a.shape}")
+            a = a[0]
+        return a
+
+    def set_joint_positions(self, positions, indices=None, joint_indices=None) -> None:
+        """Teleport the joints to `positions` (1, K) [rad or m] and make them their drive targets."""
+        self._check_indices(indices)
+        self._c("set_joint_positions").teleport(self._row(positions, "positions"), joint_indices)
+
+    def set_joint_velocities(self, velocities, indices=None, joint_indices=None) -> None:
+        """Set joint velocities (1, K) [rad/s or m/s] (drive targets unchanged)."""
+        self._check_indices(indices)
+        self._c("set_joint_velocities").set_velocities(self._row(velocities, "velocities"), joint_indices)
+
+    def set_joint_position_targets(self, positions, indices=None, joint_indices=None) -> None:
+        """Drive position targets (1, K) [rad or m] (NaN keeps a joint's target)."""
+        self._check_indices(indices)
+        self._c("set_joint_position_targets").apply_action(
+            ArticulationAction(joint_positions=self._row(positions, "positions"), joint_indices=joint_indices))
+
+    def set_joint_velocity_targets(self, velocities, indices=None, joint_indices=None) -> None:
+        """Drive velocity targets (1, K) [rad/s or m/s] (NaN keeps a joint's target)."""
+        self._check_indices(indices)
+        self._c("set_joint_velocity_targets").apply_action(
+            ArticulationAction(joint_velocities=self._row(velocities, "velocities"), joint_indices=joint_indices))
+
+    def apply_action(self, control_actions: ArticulationAction, indices=None) -> None:
+        """Set drive targets from an action with (K,) or (1, K) fields (Isaac's semantics)."""
+        self._check_indices(indices)
+        if not isinstance(control_actions, ArticulationAction):
+            raise InvalidInputError(f"expected an ArticulationAction; got {type(control_actions).__name__}")
+        self._c("apply_action").apply_action(control_actions)
 
     def __repr__(self) -> str:
         return f"ArticulationView(prim_paths={self.prim_paths})"

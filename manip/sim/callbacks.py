@@ -2,11 +2,13 @@
 
 Names follow Isaac Sim: adding a name that is taken, or removing one that does not exist,
 logs an error through `carb.log_error` (as Isaac's `SimulationContext` does) and changes
-nothing; it does not raise. A callback that is not callable raises InvalidInputError.
+nothing; it does not raise. A callback that is not callable, or cannot be called with one
+argument (the step size or the event), raises InvalidInputError when it is added.
 """
 
 from __future__ import annotations
 
+import inspect
 from typing import Callable
 
 from manip.errors import InvalidInputError
@@ -40,10 +42,20 @@ class CallbackTable:
         is taken; the existing callback is kept.
 
         Raises:
-            InvalidInputError: `fn` is not callable.
+            InvalidInputError: `fn` is not callable, or cannot take the one argument it is
+                called with (found at registration, not at the first step).
         """
         if not callable(fn):
             raise InvalidInputError(f"{self.kind} callback {name!r} must be callable; got {fn!r}")
+        try:
+            inspect.signature(fn).bind(None)
+        except TypeError:
+            arg = "step_size [s]" if self.kind == "physics" else "event"
+            raise InvalidInputError(
+                f"{self.kind} callback {name!r} must take one argument ({arg}), as Isaac calls it; "
+                f"got {getattr(fn, '__qualname__', fn)!r} with signature {inspect.signature(fn)}") from None
+        except ValueError:  # a callable without an inspectable signature (some builtins)
+            pass
         if name in self._fns:
             carb.log_error(
                 f"{self.kind.capitalize()} callback `{name}` already exists; the new one is ignored "

@@ -85,6 +85,8 @@ class GeometryPrim(XFormPrim):
         self._physics_material = physics_material
         self._geom_id = -1
         super().__init__(prim_path, name, position, translation, orientation, scale, visible)
+        if self._wrapped_object is not None and hasattr(self._wrapped_object, "get_color"):
+            self._color = self._wrapped_object.get_color()
 
     # shape parameters: overridden
     def _geom_type_size(self) -> tuple[int, list[float]]:

@@ -26,6 +26,8 @@ class GroundPlane(GeometryPrim):
     _family = "ground"
     _shape = "plane"
 
+    _wraps_existing = False
+
     def __init__(
         self,
         prim_path: str,

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import logging
+
 import mujoco
 import numpy as np
 
@@ -10,27 +12,58 @@ from manip.sim.types import DynamicState
 from manip.sim.xform_prim import XFormPrim
 from manip.validation import positive, vec
 
+logger = logging.getLogger(__name__)
+
 
 class RigidPrim(XFormPrim):
-    """Velocity/mass API of a rigid body (mixed into the Dynamic* shapes)."""
+    """Velocity/mass API of a rigid body: the Dynamic* shapes (free bodies), or, created at
+    a prim path inside a referenced model (e.g. "/World/Franka/panda_hand"), a link of it
+    (velocities and mass readable, not settable: the joints move it)."""
+
+    def _make_default_state(self) -> DynamicState:
+        return DynamicState(self._pose[0].copy(), self._pose[1].copy(), np.zeros(3), np.zeros(3))
 
     def _require_dynamic(self) -> None:
         if self._sim is not None and self._qadr < 0:
-            raise SimulationError(f"{self.prim_path!r} is not a free rigid body")
+            raise SimulationError(f"{self.prim_path!r} is not a free rigid body: its velocity follows the joints "
+                                  "of its articulation (set the joint velocities instead)")
+
+    def _link_velocity(self) -> np.ndarray:
+        """(6,) linear [m/s] then angular [rad/s] world velocity of a link at its centre of
+        mass (what PhysX reports for a rigid body)."""
+        sim = self._sim
+        if self._body_id < 0:
+            raise SimulationError(f"{self.prim_path!r} is a site, not a rigid body: it has no velocity")
+        sim.ensure_kinematics()
+        res = np.zeros(6)
+        mujoco.mj_objectVelocity(sim.model, sim.data, mujoco.mjtObj.mjOBJ_BODY, self._body_id, res, 0)
+        return np.concatenate([res[3:], res[:3]])
 
     def get_linear_velocity(self) -> np.ndarray:
-        """Linear velocity of the body origin (3,) [m/s], world frame."""
+        """Linear velocity of the body origin (3,) [m/s], world frame (a link's: None
+        before the first reset, with a warning, as its pose)."""
         if self._sim is None:
-            return self._default_state.linear_velocity.copy()
+            return self._unbound_velocity("linear_velocity")
+        if self._wrapped_reference is not None:
+            return self._link_velocity()[:3]
         self._require_dynamic()
         return self._sim.data.qvel[self._dadr : self._dadr + 3].copy()
 
     def get_angular_velocity(self) -> np.ndarray:
         """Angular velocity (3,) [rad/s], world frame."""
         if self._sim is None:
-            return self._default_state.angular_velocity.copy()
+            return self._unbound_velocity("angular_velocity")
+        if self._wrapped_reference is not None:
+            return self._link_velocity()[3:]
         self._require_dynamic()
         return self._sim.free_angular_velocity(self._qadr, self._dadr)
+
+    def _unbound_velocity(self, which: str) -> np.ndarray | None:
+        """Before the World compiled: the default velocity, or None for a link (unknown)."""
+        if self._wrapped_reference is not None:
+            logger.warning("%s: velocity unknown before the first World.reset(); returning None", self.prim_path)
+            return None
+        return getattr(self._default_state, which).copy()
 
     def set_linear_velocity(self, velocity) -> None:
         v = vec(velocity, 3, "linear velocity")
@@ -59,6 +92,8 @@ class RigidPrim(XFormPrim):
         """Mass [kg]."""
         if self._sim is not None:
             return float(self._sim.model.body_mass[self._body_id])
+        if self._wrapped_object is not None and hasattr(self._wrapped_object, "get_mass"):
+            return self._wrapped_object.get_mass()
         if getattr(self, "_mass", None) is not None:
             return float(self._mass)
         return float(self._density * self._volume())
@@ -94,5 +129,7 @@ class RigidPrim(XFormPrim):
 
     def post_reset(self) -> None:
         super().post_reset()
+        if self._wrapped_reference is not None:
+            return  # a link: the articulation restores its joints
         self.set_linear_velocity(self._default_state.linear_velocity)
         self.set_angular_velocity(self._default_state.angular_velocity)

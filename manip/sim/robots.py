@@ -12,8 +12,8 @@ from manip.articulation_action import ArticulationAction
 from manip.errors import InvalidInputError, UnknownNameError
 from manip.robot_config import load_robot_config
 from manip.sim.articulation import Robot
-from manip.sim.stage import SimHandle, SimulationError, add_reference_to_stage, get_assets_root_path, get_current_stage
-from manip.sim.xform_prim import XFormPrim
+from manip.sim.manipulator import SingleManipulator
+from manip.sim.stage import SimHandle, SimulationError, add_reference_to_stage, get_assets_root_path
 
 logger = logging.getLogger(__name__)
 
@@ -166,7 +166,7 @@ class ParallelGripper:
             self.set_joint_positions(self._default)
 
 
-class Franka(Robot):
+class Franka(SingleManipulator):
     """The Franka Emika Panda with its parallel gripper (Isaac's `Franka`).
 
     If nothing is referenced at `prim_path`, `usd_path` (default `robots/franka/franka.xml`)
@@ -192,42 +192,20 @@ class Franka(Robot):
     def __init__(self, prim_path: str, name: str = "franka_robot", usd_path: str | None = None, position=None,
                  orientation=None, end_effector_prim_name: str | None = None, gripper_dof_names=None,
                  gripper_open_position=None, gripper_closed_position=None, deltas=None):
-        stage = get_current_stage()
-        if stage.find_reference(prim_path) is None:
-            add_reference_to_stage(usd_path if usd_path is not None else franka_model_path(), prim_path)
-        # The gripper and end effector exist before the Robot registers itself: a model
-        # compiled already binds the robot (and its gripper) at once.
         ee = end_effector_prim_name or "panda_hand_tcp"
-        self._end_effector_prim_path = f"{prim_path}/{ee}"
-        self._end_effector = XFormPrim(self._end_effector_prim_path, name=f"{name}_end_effector")
-        self._gripper = ParallelGripper(
-            self._end_effector_prim_path,
+        gripper = ParallelGripper(
+            f"{prim_path}/{ee}",
             gripper_dof_names or ["panda_finger_joint1", "panda_finger_joint2"],
             gripper_open_position if gripper_open_position is not None else [0.04, 0.04],
             gripper_closed_position if gripper_closed_position is not None else [0.0, 0.0],
             deltas,
         )
-        super().__init__(prim_path, name, position=position, orientation=orientation)
-
-    @property
-    def end_effector(self) -> XFormPrim:
-        """The end-effector frame (pose via `get_world_pose()`)."""
-        return self._end_effector
+        super().__init__(prim_path, ee, name, usd_path if usd_path is not None else franka_model_path(),
+                         position=position, orientation=orientation, gripper=gripper)
 
     @property
     def gripper(self) -> ParallelGripper:
         return self._gripper
-
-    def _bind(self, sim: SimHandle) -> None:
-        super()._bind(sim)
-        self._gripper.initialize(self.apply_action, self.get_joint_positions, self.set_joint_positions,
-                                 self._core.dof_names)
-        if "positions" not in self._user_default_joints:
-            self._default_joints.positions[self._gripper.joint_dof_indices] = self._gripper.get_default_state()
-
-    def post_reset(self) -> None:
-        super().post_reset()
-        self._gripper.post_reset()
 
 
 class WheeledRobot(Robot):

@@ -177,6 +177,8 @@ class _Cone(_RadiusHeight):
 class _ShapePrim(GeometryPrim):
     """Constructor shared by the shape classes (Isaac's argument names and order)."""
 
+    _wraps_existing = False
+
     _shape_params: tuple[str, ...] = ()
 
     def __init__(

@@ -57,6 +57,7 @@ from manip.validation import positive, vec
 logger = logging.getLogger(__name__)
 
 DEFAULT_DT = 1.0 / 60.0
+DEFAULT_GRAVITY = (0.0, 0.0, -9.81)  # [m/s^2]
 
 
 class SimulationInstabilityError(SimulationError):
@@ -113,9 +114,15 @@ class SimulationContext:
         rendering_dt: render interval [s] (default = physics_dt).
         stage_units_in_meters: must be 1.0 (SI units only).
         substep_dt: largest MuJoCo integration step [s] (default 0.002).
-        gravity: (3,) [m/s^2].
-        physics_prim_path, sim_params, set_defaults, backend, device: accepted for Isaac
-            scripts and ignored (backend must be "numpy").
+        gravity: (3,) [m/s^2] (default (0, 0, -9.81)).
+        sim_params: Isaac's physics settings: "gravity" is used (the argument takes
+            precedence); other keys (PhysX/GPU settings) are ignored with a warning.
+        backend, device: "numpy" and None/"cpu" only (MuJoCo runs on the CPU).
+        physics_prim_path, set_defaults: accepted for Isaac scripts and ignored.
+
+    Raises:
+        InvalidInputError: stage units other than metres, another backend or device, a
+            non-positive dt, a bad gravity.
     """
 
     _instance: SimulationContext | None = None
@@ -140,7 +147,7 @@ class SimulationContext:
         device: str | None = None,
         *,
         substep_dt: float = 0.002,
-        gravity=(0.0, 0.0, -9.81),
+        gravity=None,
     ):
         if self._initialized:
             if physics_dt is not None or rendering_dt is not None:
@@ -152,14 +159,27 @@ class SimulationContext:
             return
         try:
             if stage_units_in_meters is not None and float(stage_units_in_meters) != 1.0:
-                raise InvalidInputError("manip.sim works in metres: stage_units_in_meters must be 1.0")
+                raise InvalidInputError(
+                    f"stage_units_in_meters must be 1.0; got {stage_units_in_meters!r}: manip.sim works in metres "
+                    "(there is no USD stage to scale; give lengths in m)")
             if backend != "numpy":
-                raise InvalidInputError(f"backend must be 'numpy'; got {backend!r}")
+                raise InvalidInputError(
+                    f"backend must be 'numpy'; got {backend!r}: manip.sim runs MuJoCo on the CPU and returns NumPy "
+                    "arrays (Isaac's 'torch'/'warp' backends and GPU pipelines have no equivalent here)")
+            if device is not None and str(device).lower() != "cpu":
+                raise InvalidInputError(
+                    f"device must be None or 'cpu'; got {device!r}: manip.sim runs MuJoCo on the CPU (no GPU physics)")
+            if sim_params is not None and "gravity" in sim_params and gravity is None:
+                gravity = sim_params["gravity"]
+            ignored = sorted(set(sim_params or {}) - {"gravity"})
+            if ignored:
+                logger.warning("sim_params %s are PhysX settings manip.sim does not mirror; they are ignored "
+                               "(only 'gravity' is used; give physics_dt/rendering_dt as arguments)", ignored)
             self._physics_dt = positive(physics_dt if physics_dt is not None else DEFAULT_DT, "physics_dt", "s")
             self._rendering_dt = positive(rendering_dt if rendering_dt is not None else self._physics_dt,
                                           "rendering_dt", "s")
             self._substep_dt = positive(substep_dt, "substep_dt", "s")
-            self._gravity = vec(gravity, 3, "gravity")
+            self._gravity = vec(gravity if gravity is not None else DEFAULT_GRAVITY, 3, "gravity")
         except Exception:
             type(self)._instance = None
             raise
@@ -173,6 +193,7 @@ class SimulationContext:
         self._playing = False
         self._stopped = True
         self._time = 0.0
+        self._time_origin = 0.0
         self._index = 0
         self._physics_callbacks = CallbackTable("physics")
         self._timeline_callbacks = CallbackTable("timeline")
@@ -257,11 +278,17 @@ class SimulationContext:
         return self._rendering_dt
 
     def set_simulation_dt(self, physics_dt: float | None = None, rendering_dt: float | None = None) -> None:
-        """Change the physics step and/or render interval [s] (takes effect immediately)."""
-        if physics_dt is not None:
-            self._physics_dt = positive(physics_dt, "physics_dt", "s")
-        if rendering_dt is not None:
-            self._rendering_dt = positive(rendering_dt, "rendering_dt", "s")
+        """Change the physics step and/or render interval [s] (takes effect immediately;
+        `current_time` goes on from where it is).
+
+        Raises:
+            InvalidInputError: a dt that is not positive and finite (nothing changes then).
+        """
+        new_physics = positive(physics_dt, "physics_dt", "s") if physics_dt is not None else self._physics_dt
+        new_rendering = positive(rendering_dt, "rendering_dt", "s") if rendering_dt is not None else self._rendering_dt
+        # current_time = time_origin + index * physics_dt (no accumulated rounding); keep it continuous.
+        self._time_origin = self._time - self._index * new_physics
+        self._physics_dt, self._rendering_dt = new_physics, new_rendering
         if self._sim is not None:
             self._sim.model.opt.timestep = self._physics_dt / self.physics_substeps
             for core in self._cores:
@@ -362,6 +389,7 @@ class SimulationContext:
     def _play_and_warm_up(self) -> None:
         """Play from time 0, then the physics of one `step(render=True)`, callbacks not called."""
         self._time = 0.0
+        self._time_origin = 0.0
         self._index = 0
         self._restart_pending = False
         self.play()
@@ -404,6 +432,7 @@ class SimulationContext:
         self._playing = False
         self._stopped = True
         self._time = 0.0
+        self._time_origin = 0.0
         self._index = 0
         self._restart_pending = self._sim is not None
         if was:
@@ -475,7 +504,7 @@ class SimulationContext:
         mujoco.mj_step(sim.model, sim.data, nstep=self.physics_substeps)
         sim.kinematics_stale = True
         self._index += 1
-        self._time = self._index * self._physics_dt
+        self._time = self._time_origin + self._index * self._physics_dt
         fatal = self._mujoco_warnings()
         for core in self._cores:
             core.enforce_limits()

@@ -10,6 +10,7 @@ MuJoCo names are prefixed by the prim path: the cube at `/World/cube` is the bod
 from __future__ import annotations
 
 import logging
+import xml.etree.ElementTree as ET
 from pathlib import Path
 from typing import Any, Protocol
 
@@ -97,8 +98,10 @@ class ReferencePrim:
     """A model file (MJCF or URDF) referenced on the stage under `prim_path`.
 
     Every MuJoCo name of the file is prefixed by `prim_path + "/"`. Before compiling, the
-    prim's pose places the file's world frame; joints without an actuator get one (a drive
-    with zero gains), as every joint of an Isaac articulation has a drive.
+    prim's pose places the file's world frame; joints without an actuator get one, as every
+    joint of an Isaac articulation has a drive: in an MJCF a drive with zero gains; in a URDF
+    the drive Isaac's URDF importer makes (a position drive, kp = `URDF_DRIVE_STIFFNESS`,
+    kd = `URDF_DRIVE_DAMPING`, force limited to the joint's `<limit effort>`).
     """
 
     def __init__(self, file_path: Path, prim_path: str):
@@ -110,6 +113,10 @@ class ReferencePrim:
         self.home_qpos: dict[str, np.ndarray] = {}  # joint name (unprefixed) -> qpos of the 'home' key
         # The model's ArticulationCore, set by the World while a compiled model exists.
         self.core: Any = None
+
+    def _unbind(self) -> None:
+        """Forget the compiled model's core (the prim was removed from the stage)."""
+        self.core = None
 
     def _load_spec(self) -> mujoco.MjSpec:
         try:
@@ -148,13 +155,48 @@ class ReferencePrim:
         for k in keys:
             child.delete(k)
         actuated = {a.target for a in child.actuators if a.trntype == mujoco.mjtTrn.mjTRN_JOINT}
+        urdf = self.file_path.suffix.lower() == ".urdf"
+        efforts = _urdf_effort_limits(self.file_path) if urdf else {}
         for joint in child.joints:
             if joint.type in (mujoco.mjtJoint.mjJNT_HINGE, mujoco.mjtJoint.mjJNT_SLIDE) and joint.name not in actuated:
                 if not joint.name:
                     continue
-                child.add_actuator(name=joint.name, target=joint.name, trntype=mujoco.mjtTrn.mjTRN_JOINT)
+                act = child.add_actuator(name=joint.name, target=joint.name, trntype=mujoco.mjtTrn.mjTRN_JOINT)
+                if urdf:
+                    _isaac_urdf_drive(act, efforts.get(joint.name))
         frame = spec.worldbody.add_frame(pos=self.position.tolist(), quat=self.orientation.tolist())
         spec.attach(child, prefix=self.prefix, frame=frame)
+
+
+#: Drive gains Isaac's URDF importer gives every joint (its ImportConfig defaults: a position
+#: drive of strength 1e3 and damping 1e2) [N m/rad, N m s/rad or N/m, N s/m].
+URDF_DRIVE_STIFFNESS = 1e3
+URDF_DRIVE_DAMPING = 1e2
+
+
+def _urdf_effort_limits(file_path: Path) -> dict[str, float]:
+    """{joint name: effort limit [N m or N]} of a URDF's `<limit effort>` (> 0 only)."""
+    out = {}
+    try:
+        for joint in ET.parse(file_path).getroot().iter("joint"):
+            limit = joint.find("limit")
+            if limit is not None and float(limit.get("effort", 0.0)) > 0.0:
+                out[joint.get("name")] = float(limit.get("effort"))
+    except (ET.ParseError, ValueError, OSError) as exc:  # MuJoCo reports a malformed file itself
+        logger.warning("%s: no URDF effort limits read (%s)", file_path, exc)
+    return out
+
+
+def _isaac_urdf_drive(act, effort: float | None) -> None:
+    """Make `act` the drive Isaac's URDF importer creates: a position drive with its default
+    gains, its force limited to the joint's URDF effort limit (unlimited without one)."""
+    act.biastype = mujoco.mjtBias.mjBIAS_AFFINE
+    bias = list(act.biasprm)
+    bias[1], bias[2] = -URDF_DRIVE_STIFFNESS, -URDF_DRIVE_DAMPING
+    act.biasprm = bias
+    if effort is not None:
+        act.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
+        act.forcerange = [-effort, effort]
 
 
 class Stage:
@@ -183,10 +225,23 @@ class Stage:
         self._changed("PRIM_ADDED", path)
 
     def remove_prim(self, prim_path: str) -> None:
-        if prim_path in self._prims:
-            del self._prims[prim_path]
-            self._wrappers = [w for w in self._wrappers if w.prim_path != prim_path]
-            self._changed("PRIM_REMOVED", prim_path)
+        """Delete the prim at `prim_path` and, as USD deletes a prim's children, every prim
+        and wrapper at or below it (e.g. a Franka's end-effector frame with the Franka).
+        What is removed is unbound (articulation getters return None, as before a reset);
+        the model changes at the next `World.reset()`."""
+        if prim_path not in self._prims:
+            return
+
+        def below(path: object) -> bool:
+            return isinstance(path, str) and (path == prim_path or path.startswith(prim_path + "/"))
+
+        gone = [self._prims.pop(p) for p in list(self._prims) if below(p)]
+        gone += [w for w in self._wrappers if below(getattr(w, "prim_path", None))]
+        self._wrappers = [w for w in self._wrappers if w not in gone]
+        for obj in gone:
+            if hasattr(obj, "_unbind"):
+                obj._unbind()
+        self._changed("PRIM_REMOVED", prim_path)
 
     def get_prim(self, prim_path: str) -> Any | None:
         return self._prims.get(prim_path)

@@ -74,14 +74,22 @@ class BaseTask:
     def get_task_objects(self) -> dict:
         return dict(self._task_objects)
 
+    def _not_implemented(self, method: str, returns: str) -> NotImplementedError:
+        return NotImplementedError(
+            f"{type(self).__name__}.{method}() is not implemented: override it in your task to return {returns} "
+            "(BaseTask only declares it, as Isaac's)")
+
     def get_observations(self) -> dict:
-        raise NotImplementedError
+        """The task's observations {object name: {quantity: value}} (override it)."""
+        raise self._not_implemented("get_observations", "{object name: {quantity: value}}")
 
     def calculate_metrics(self) -> dict:
-        raise NotImplementedError
+        """The task's metrics {name: value} (override it)."""
+        raise self._not_implemented("calculate_metrics", "a dict of metrics")
 
     def is_done(self) -> bool:
-        raise NotImplementedError
+        """Whether the task is done (override it)."""
+        raise self._not_implemented("is_done", "a bool")
 
     def pre_step(self, time_step_index: int, simulation_time: float) -> None:
         """Called before each World step."""
@@ -93,10 +101,12 @@ class BaseTask:
         return ""
 
     def get_params(self) -> dict:
-        raise NotImplementedError
+        """The task's parameters {name: {"value": ..., "modifiable": bool}} (override it)."""
+        raise self._not_implemented("get_params", '{name: {"value": ..., "modifiable": bool}}')
 
     def set_params(self, *args, **kwargs) -> None:
-        raise NotImplementedError
+        """Change the task's modifiable parameters (override it)."""
+        raise self._not_implemented("set_params", "None after changing the parameters")
 
     def cleanup(self) -> None:
         """Called when the World is cleared."""

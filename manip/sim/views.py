@@ -1,9 +1,12 @@
 """Vectorised views over many prims: `XFormPrimView`, `RigidPrimView`.
 
-A view matches MuJoCo bodies whose name (= prim path) fully matches the regular expression
-`prim_paths_expr` (Isaac's expressions like "/World/Cube_.*" are regular expressions too),
-in model order. It resolves its prims when the World compiles; methods used before the
-first reset raise `SimulationError`.
+A view matches prims as Isaac's `find_matching_prim_paths` does: `prim_paths_expr` is split
+at "/" and each segment is a regular expression that must match the whole path segment
+("/World/Cube_.*" matches "/World/Cube_0" but not its children; the glob "/World/Cube_*"
+matches only "/World/Cube", "/World/Cube_", ...). Prims are MuJoCo bodies (name = prim
+path), in model order. As in Isaac, an expression that matches no prim on the stage when the
+view is created raises; the view resolves its prims when the World compiles, and methods
+used before the first reset raise `SimulationError`.
 """
 
 from __future__ import annotations
@@ -22,6 +25,40 @@ from manip.validation import batch
 logger = logging.getLogger(__name__)
 
 
+def compile_path_expression(expr: str) -> list[re.Pattern]:
+    """One compiled regular expression per segment of an absolute prim path expression."""
+    if not isinstance(expr, str) or not expr.startswith("/") or expr.endswith("/"):
+        raise InvalidInputError(f"prim_paths_expr must be an absolute path expression like '/World/Cube_.*'; "
+                                f"got {expr!r}")
+    try:
+        return [re.compile(seg) for seg in expr[1:].split("/")]
+    except re.error as exc:
+        raise InvalidInputError(f"prim_paths_expr {expr!r} is not a valid regular expression: {exc}") from None
+
+
+def path_matches(segments: list[re.Pattern], path: str) -> bool:
+    """Whether each segment of `path` fully matches its expression (same number of segments)."""
+    parts = path[1:].split("/") if path.startswith("/") else None
+    return (parts is not None and len(parts) == len(segments)
+            and all(r.fullmatch(p) for r, p in zip(segments, parts)))
+
+
+#: Isaac's RigidPrimView options with the default values accepted here.
+RIGID_VIEW_OPTIONS = {
+    "masses": None, "densities": None, "linear_velocities": None, "angular_velocities": None,
+    "track_contact_forces": False, "prepare_contact_sensors": False, "disable_stablization": True,
+    "contact_filter_prim_paths_expr": [], "max_contact_count": 0,
+}
+
+
+def _is_default(value, default) -> bool:
+    if default is None:
+        return value is None
+    if isinstance(default, list):
+        return value is None or (isinstance(value, (list, tuple)) and len(value) == 0)
+    return value == default
+
+
 class XFormPrimView:
     """Poses of every prim matching `prim_paths_expr`.
 
@@ -33,10 +70,11 @@ class XFormPrimView:
 
     def __init__(self, prim_paths_expr: str, name: str = "xform_prim_view", positions=None, translations=None,
                  orientations=None, scales=None, visibilities=None, reset_xform_properties: bool = True):
-        try:
-            self._regex = re.compile(prim_paths_expr)
-        except re.error as exc:
-            raise InvalidInputError(f"prim_paths_expr {prim_paths_expr!r} is not a valid regular expression: {exc}")
+        self._segments = compile_path_expression(prim_paths_expr)
+        if scales is not None or visibilities is not None:
+            raise InvalidInputError(
+                f"{type(self).__name__}: scales and visibilities are not supported by views here; set them on each "
+                "object (set_local_scale, set_visibility)")
         self.prim_paths_expr = prim_paths_expr
         self.prim_path = prim_paths_expr
         self._name = name
@@ -46,7 +84,34 @@ class XFormPrimView:
         self._sim: SimHandle | None = None
         self._bodies = np.zeros(0, dtype=int)
         self._paths: list[str] = []
+        self._check_matches_something()
         get_current_stage().register_wrapper(self)
+
+    def _matches(self, path: str) -> bool:
+        return path_matches(self._segments, path)
+
+    def _check_matches_something(self) -> None:
+        """Raise (as Isaac) if no prim of the stage, nor of a referenced model, can match."""
+        stage = get_current_stage()
+        paths = stage.prim_paths()
+        if stage.sim is not None:
+            m = stage.sim.model
+            paths += [m.body(b).name for b in range(1, m.nbody)]
+        if any(self._matches(p) for p in paths):
+            return
+        # Bodies of a referenced model not compiled yet are unknown: accept an expression
+        # that reaches inside a referenced prim.
+        refs = [p for p in stage.prim_paths() if stage.find_reference(p) is not None]
+        for r in refs:
+            n = r.count("/")
+            if len(self._segments) > n and path_matches(self._segments[:n], r):
+                return
+        raise InvalidInputError(
+            f"prim_paths_expr {self.prim_paths_expr!r} matches no prim on the stage. Each path segment is a "
+            "regular expression matching the whole segment (as in Isaac): '/World/Cube_.*' or "
+            "'/World/Cube_[0-9]+', not the glob '/World/Cube_*'. Create the prims before the view; "
+            f"prims on the stage: {sorted(stage.prim_paths())}"
+        )
 
     @property
     def name(self) -> str:
@@ -54,7 +119,7 @@ class XFormPrimView:
 
     def _bind(self, sim: SimHandle) -> None:
         m = sim.model
-        ids = [b for b in range(1, m.nbody) if self._regex.fullmatch(m.body(b).name)]
+        ids = [b for b in range(1, m.nbody) if self._matches(m.body(b).name)]
         if not ids:
             logger.warning("view %r: no prim matches %r", self._name, self.prim_paths_expr)
         self._sim = sim
@@ -86,6 +151,9 @@ class XFormPrimView:
     def _need(self) -> SimHandle:
         if self._sim is None:
             raise SimulationError(f"view {self._name!r} is used before world.reset() compiled the world")
+        if not self.count:
+            raise SimulationError(f"view {self._name!r} matches no prim of the compiled world "
+                                  f"({self.prim_paths_expr!r}; were its prims removed?)")
         return self._sim
 
     @property
@@ -139,6 +207,20 @@ class XFormPrimView:
                     d.mocap_quat[mid] = q[k]
         sim.mark_stale()
 
+    def get_local_scales(self, indices=None) -> np.ndarray:
+        """(K, 3) scales of the matched prims (1 for bodies of referenced models)."""
+        self._need()
+        stage = get_current_stage()
+        out = []
+        for i in self._idx(indices):
+            prim = stage.get_prim(self._paths[i])
+            out.append(prim.get_local_scale() if hasattr(prim, "get_local_scale") else np.ones(3))
+        return np.array(out, dtype=float).reshape(-1, 3)
+
+    def get_world_scales(self, indices=None) -> np.ndarray:
+        """Same as `get_local_scales` (no parent transforms)."""
+        return self.get_local_scales(indices)
+
     def get_local_poses(self, indices=None):
         """Same as get_world_poses (no parent transforms)."""
         return self.get_world_poses(indices)
@@ -152,11 +234,28 @@ class RigidPrimView(XFormPrimView):
 
     def __init__(self, prim_paths_expr: str, name: str = "rigid_prim_view", positions=None, translations=None,
                  orientations=None, scales=None, visibilities=None, reset_xform_properties: bool = True, **kwargs):
+        """Args as `XFormPrimView`; Isaac's PhysX options are accepted at their defaults only
+        (`RIGID_VIEW_OPTIONS`; contact sensors, per-view masses and velocities are not
+        available: set them on the objects).
+
+        Raises:
+            InvalidInputError: an unknown keyword, or an option other than its default.
+        """
+        for key, value in kwargs.items():
+            if key not in RIGID_VIEW_OPTIONS:
+                raise InvalidInputError(f"RigidPrimView got an unknown argument {key!r}; Isaac's options accepted: "
+                                        f"{sorted(RIGID_VIEW_OPTIONS)}")
+            if not _is_default(value, RIGID_VIEW_OPTIONS[key]):
+                raise InvalidInputError(
+                    f"RigidPrimView({key}={value!r}) is not supported (manip has no PhysX contact sensors or per-view "
+                    f"body settings); leave it at {RIGID_VIEW_OPTIONS[key]!r} and set masses and velocities on the "
+                    "objects (set_mass, set_linear_velocity) or on the view after world.reset() (set_velocities)")
         super().__init__(prim_paths_expr, name, positions, translations, orientations, scales, visibilities,
                          reset_xform_properties)
 
     def get_velocities(self, indices=None) -> np.ndarray:
-        """(K, 6): linear [m/s] then angular [rad/s] velocity of each body origin, world frame."""
+        """(K, 6): linear [m/s] (of the centre of mass, as PhysX) then angular [rad/s]
+        velocity of each body, world frame."""
         sim = self._need()
         idx = self._idx(indices)
         sim.ensure_kinematics()

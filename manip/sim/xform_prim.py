@@ -12,6 +12,7 @@ import mujoco
 import numpy as np
 
 from manip import quaternion as quat
+from manip.errors import InvalidInputError
 from manip.sim.stage import ReferencePrim, SimHandle, SimulationError, get_current_stage, validate_prim_path
 from manip.sim.types import DefaultPoseMixin, XFormPrimState, position_or_translation
 from manip.validation import scale3, unit_quat, vec
@@ -26,7 +27,10 @@ class XFormPrim(DefaultPoseMixin):
 
     Created at a free prim path, it is a new transform (a MuJoCo mocap body without
     geometry). Created at a path inside a referenced model (e.g. `/World/Franka/panda_hand`),
-    it wraps that body (or site) of the model: its pose can be read, not set.
+    it wraps that body (or site) of the model: its pose can be read, not set. Created at the
+    path of an existing object (`XFormPrim`, `RigidPrim` or `GeometryPrim` over a cube made
+    earlier, as Isaac wraps existing prims), it wraps that object's body: its pose (and a
+    RigidPrim's velocities) can be read and set; the other arguments must be left None.
 
     Args:
         prim_path: where the prim lives, e.g. "/World/target".
@@ -39,6 +43,7 @@ class XFormPrim(DefaultPoseMixin):
     """
 
     _default_name = "xform_prim"
+    _wraps_existing = True  # the shape classes and the ground plane always create their prim
 
     def __init__(
         self,
@@ -53,6 +58,20 @@ class XFormPrim(DefaultPoseMixin):
         validate_prim_path(prim_path)
         self.prim_path = prim_path
         self._name = name if name is not None else self._default_name
+        stage = get_current_stage()
+        existing = stage.get_prim(prim_path) if self._wraps_existing else None
+        if isinstance(existing, ReferencePrim):
+            existing = None  # the model's root: use Articulation / Robot for it
+        if existing is not None:
+            given = [k for k, v in (("position", position), ("translation", translation),
+                                    ("orientation", orientation), ("scale", scale), ("visible", visible)) if v is not None]
+            if given:
+                raise InvalidInputError(
+                    f"{type(self).__name__} at {prim_path!r} wraps the existing {type(existing).__name__} there; "
+                    f"{', '.join(given)} cannot be given (set them on the wrapped object)")
+            position, orientation = existing.get_world_pose()
+            scale = existing.get_local_scale()
+        self._wrapped_object = existing
         p = position_or_translation(position, translation)
         self._pose = (
             vec(p, 3, "position") if p is not None else np.zeros(3),
@@ -68,11 +87,10 @@ class XFormPrim(DefaultPoseMixin):
         self._qadr = -1
         self._dadr = -1
         self._wrapped_reference: ReferencePrim | None = None
-        stage = get_current_stage()
         for path in stage.prim_paths():
             if prim_path.startswith(path + "/") and stage.find_reference(path) is not None:
                 self._wrapped_reference = stage.find_reference(path)
-        if self._wrapped_reference is not None:
+        if self._wrapped_reference is not None or self._wrapped_object is not None:
             stage.register_wrapper(self)
         else:
             stage.add_prim(self)
@@ -101,7 +119,10 @@ class XFormPrim(DefaultPoseMixin):
         return body
 
     def _bindable(self) -> bool:
-        """Whether the compiled model holds this prim (a prim of a referenced model compiled already)."""
+        """Whether the compiled model holds this prim (a prim of a referenced model compiled
+        already; a wrapped object compiled already)."""
+        if self._wrapped_object is not None:
+            return self._wrapped_object._sim is not None
         return self._wrapped_reference is None or self._wrapped_reference.core is not None
 
     def _bind(self, sim: SimHandle) -> None:
@@ -140,6 +161,8 @@ class XFormPrim(DefaultPoseMixin):
             if self._wrapped_reference is not None:
                 logger.warning("%s: pose unknown before the first World.reset(); returning None", self.prim_path)
                 return None  # type: ignore[return-value]
+            if self._wrapped_object is not None:
+                return self._wrapped_object.get_world_pose()
             return self._pose[0].copy(), self._pose[1].copy()
         d = sim.data
         if self._qadr >= 0:
@@ -167,6 +190,9 @@ class XFormPrim(DefaultPoseMixin):
             )
         sim = self._sim
         if sim is None:
+            if self._wrapped_object is not None:
+                self._wrapped_object.set_world_pose(p, q)
+                return
             self._pose = (p if p is not None else self._pose[0], q if q is not None else self._pose[1])
             return
         d = sim.data

@@ -11,9 +11,13 @@ from manip.errors import InvalidInputError, UnknownNameError
 from manip.sim import (
     ArticulationAction,
     Franka,
+    ParallelGripper,
+    RigidPrim,
     Robot,
     SimulationError,
+    SingleManipulator,
     World,
+    XFormPrim,
     add_reference_to_stage,
     get_assets_root_path,
 )
@@ -236,3 +240,92 @@ def test_robot_pose_and_unknown_prim():
     world.reset()
     assert np.allclose(robot.get_world_pose()[0], [1.0, 0.5, 0.0])
     assert robot.num_bodies == 11
+
+
+def test_a_rigid_prim_on_a_link_reads_its_velocity_and_survives_resets():
+    world = World()
+    franka = world.scene.add(Franka("/World/Franka", name="franka"))
+    hand = world.scene.add(RigidPrim("/World/Franka/panda_hand", name="hand"))  # Isaac: a link's rigid body
+    assert hand.get_linear_velocity() is None  # unknown before the first reset, like its pose
+    world.reset()  # was AttributeError: the link had no default velocities
+    franka.set_joint_velocities(np.r_[1.0, np.zeros(8)])  # 1 rad/s about the base's vertical axis
+    sim = world.physics_sim_view
+    com = sim.data.xipos[sim.model.body("/World/Franka/panda_hand").id]  # PhysX reports the COM's velocity
+    np.testing.assert_allclose(hand.get_angular_velocity(), [0, 0, 1.0], atol=1e-9)
+    np.testing.assert_allclose(hand.get_linear_velocity(), np.cross([0, 0, 1.0], com), atol=1e-9)
+    with pytest.raises(SimulationError, match="follows the joints"):
+        hand.set_linear_velocity([0, 0, 1.0])
+    assert hand.get_mass() > 0
+    world.step(render=False)
+    world.reset()
+    np.testing.assert_allclose(hand.get_linear_velocity(), 0.0, atol=1e-9)
+
+
+TWO_LINK_URDF = """<robot name="two_link">
+  <link name="base"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/>
+    </inertial></link>
+  <link name="l1"><inertial><origin xyz="0 0 0.25"/><mass value="1"/>
+    <inertia ixx="0.02" iyy="0.02" izz="0.001" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision><origin xyz="0 0 0.25"/><geometry><box size="0.05 0.05 0.4"/></geometry></collision></link>
+  <link name="l2"><inertial><origin xyz="0 0 0.25"/><mass value="1"/>
+    <inertia ixx="0.02" iyy="0.02" izz="0.001" ixy="0" ixz="0" iyz="0"/></inertial>
+    <collision><origin xyz="0 0 0.25"/><geometry><box size="0.05 0.05 0.4"/></geometry></collision></link>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="l1"/><origin xyz="0 0 0.1"/>
+    <axis xyz="0 1 0"/><limit lower="-1.5" upper="1.5" effort="40" velocity="2"/></joint>
+  <joint name="elbow" type="revolute"><parent link="l1"/><child link="l2"/><origin xyz="0 0 0.5"/>
+    <axis xyz="0 1 0"/><limit lower="-1.5" upper="1.5" effort="20" velocity="2"/></joint>
+</robot>"""
+
+
+def test_a_referenced_urdf_gets_isaacs_urdf_importer_drives_and_follows_actions(tmp_path):
+    path = tmp_path / "two_link.urdf"
+    path.write_text(TWO_LINK_URDF)
+    world = World()
+    add_reference_to_stage(usd_path=str(path), prim_path="/World/arm")
+    arm = world.scene.add(Robot(prim_path="/World/arm", name="arm"))
+    world.reset()
+    props = arm.dof_properties
+    assert arm.dof_names == ["shoulder", "elbow"]
+    np.testing.assert_allclose(props["stiffness"], 1e3)  # was 0: a limp arm that ignored position actions
+    np.testing.assert_allclose(props["damping"], 1e2)
+    np.testing.assert_allclose(props["maxEffort"], [40.0, 20.0])  # the URDF's effort limits (was inf)
+    target = np.array([0.5, -0.5])
+    arm.apply_action(ArticulationAction(joint_positions=target))
+    for _ in range(120):
+        world.step(render=False)
+    np.testing.assert_allclose(arm.get_joint_positions(), target, atol=0.02)  # against gravity
+
+
+def test_single_manipulator_with_the_tutorials_gripper_opened_past_the_finger_limits(caplog):
+    """Isaac's "Adding a New Manipulator": opened positions 0.05 m on the Panda's 0.04 m fingers."""
+    world = World()
+    world.scene.add_default_ground_plane()
+    add_reference_to_stage(usd_path=get_assets_root_path() + "/Isaac/Robots/Franka/franka.usd", prim_path="/World/Franka")
+    gripper = ParallelGripper(end_effector_prim_path="/World/Franka/panda_rightfinger",
+                              joint_prim_names=["panda_finger_joint1", "panda_finger_joint2"],
+                              joint_opened_positions=np.array([0.05, 0.05]),
+                              joint_closed_positions=np.array([0.02, 0.02]), action_deltas=np.array([0.01, 0.01]))
+    robot = world.scene.add(SingleManipulator(prim_path="/World/Franka", name="my_franka",
+                                              end_effector_prim_name="panda_rightfinger", gripper=gripper))
+    q0 = np.r_[ARM_TARGET, 0.05, 0.05]
+    robot.set_joints_default_state(positions=q0)
+    with caplog.at_level(logging.WARNING):
+        world.reset()  # was InvalidInputError: the gripper's reset teleported the fingers to 0.05 m
+    assert "panda_finger_joint1=0.0500 not in [0.0000, 0.0400]" in caplog.text
+    np.testing.assert_allclose(robot.get_joint_positions(), np.r_[ARM_TARGET, 0.04, 0.04], atol=1e-9)
+    assert robot.gripper is gripper
+    np.testing.assert_allclose(robot.end_effector.get_world_pose()[0],
+                               XFormPrim("/World/Franka/panda_rightfinger").get_world_pose()[0])
+    close = robot.gripper.forward("close")  # with deltas: 0.01 m in from where the fingers are
+    np.testing.assert_allclose(close.joint_positions[7:], 0.03, atol=1e-9)
+    assert np.all(np.isnan(close.joint_positions[:7]))
+    robot.apply_action(close)
+    for _ in range(30):
+        world.step(render=False)
+    np.testing.assert_allclose(robot.gripper.get_joint_positions(), 0.03, atol=2e-3)
+    robot.gripper.open()  # target 0.05: the fingers stop on their 0.04 m limit
+    for _ in range(30):
+        world.step(render=False)
+    np.testing.assert_allclose(robot.gripper.get_joint_positions(), 0.04, atol=1e-4)
+    with pytest.raises(InvalidInputError, match="exactly one"):
+        SingleManipulator(prim_path="/World/Franka", name="other")

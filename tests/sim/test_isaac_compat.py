@@ -9,7 +9,10 @@ import logging
 import numpy as np
 import pytest
 
+from manip.errors import InvalidInputError
 from manip.sim import (
+    ArticulationAction,
+    ArticulationView,
     BaseSample,
     BaseSampleExtension,
     BaseTask,
@@ -208,6 +211,38 @@ def test_articulation_view_reads_and_sets_gains():
     assert view.get_dof_limits().shape == (1, 9, 2)
     with pytest.raises(Exception, match="one articulation"):
         view.get_gains(indices=[1])
+
+
+def test_articulation_view_from_a_prim_path_expression_as_isaac_scripts_make_it():
+    world = World()
+    world.scene.add_default_ground_plane()
+    add_reference_to_stage(get_assets_root_path() + FRANKA_USD, "/World/Franka")
+    add_reference_to_stage(get_assets_root_path() + FRANKA_USD, "/World/Franka_2")
+    with pytest.raises(InvalidInputError, match=r"matches 2 referenced models \['/World/Franka', '/World/Franka_2'\]"):
+        ArticulationView(prim_paths_expr="/World/Franka.*", name="frankas")
+    with pytest.raises(InvalidInputError, match="matches no referenced model.*'/World/Franka'"):
+        ArticulationView(prim_paths_expr="/World/Panda", name="panda")
+    view = world.scene.add(ArticulationView(prim_paths_expr="/World/Franka", name="franka_view"))
+    robot = Robot("/World/Franka", name="franka")
+    Robot("/World/Franka_2", name="franka_2", position=[0.0, 2.0, 0.0])  # out of the first one's way
+    assert world.scene.get_object("franka_view") is view
+    world.reset()
+    view.initialize()
+    assert view.count == 1 and view.num_dof == 9 and view.dof_names[7] == "panda_finger_joint1"
+    q = np.array([[0.3, -0.5, 0.0, -2.0, 0.0, 1.6, 0.8, 0.02, 0.02]])
+    view.set_joint_positions(q)
+    np.testing.assert_allclose(view.get_joint_positions(), q)
+    np.testing.assert_allclose(robot.get_applied_action().joint_positions, q[0])  # teleport sets the targets
+    view.set_joint_position_targets(np.array([[0.6]]), joint_indices=np.array([0]))
+    for _ in range(60):
+        world.step(render=False)
+    assert view.get_joint_positions(joint_indices=[0])[0, 0] == pytest.approx(0.6, abs=2e-3)
+    view.apply_action(ArticulationAction(joint_positions=[0.04, 0.04], joint_indices=[7, 8]))
+    for _ in range(30):
+        world.step(render=False)
+    np.testing.assert_allclose(robot.get_joint_positions([7, 8]), 0.04, atol=1e-3)
+    with pytest.raises(InvalidInputError, match=r"shape \(1, K\) or \(K,\)"):
+        view.set_joint_positions(np.zeros((2, 9)))
 
 
 def test_clear_stage_empties_the_stage_and_the_scene():

@@ -12,9 +12,12 @@ from manip.sim import (
     ArticulationAction,
     DifferentialController,
     WheelBasePoseController,
+    Robot,
     WheeledRobot,
     World,
+    add_reference_to_stage,
     euler_angles_to_quat,
+    get_assets_root_path,
     jetbot_model_path,
 )
 
@@ -99,3 +102,19 @@ def test_jetbot_drives_at_the_commanded_speed(jetbot_world):
     assert np.allclose(jetbot.get_wheel_velocities(), 0.2 / R, rtol=0.05)
     with pytest.raises(InvalidInputError, match="2 wheels"):
         jetbot.apply_wheel_actions(ArticulationAction(joint_velocities=[1.0, 1.0, 1.0]))
+
+
+def test_jetbot_as_a_plain_robot_has_velocity_drives_and_drives_on_velocity_targets():
+    """Isaac's "Hello Robot": the Jetbot wrapped as a Robot, driven through its controller."""
+    world = World()
+    world.scene.add_default_ground_plane()
+    add_reference_to_stage(usd_path=get_assets_root_path() + "/Isaac/Robots/Jetbot/jetbot.usd",
+                           prim_path="/World/Fancy_Robot")
+    jetbot = world.scene.add(Robot(prim_path="/World/Fancy_Robot", name="fancy_robot"))
+    world.reset()
+    kps, kds = jetbot.get_articulation_controller().get_gains()
+    assert np.all(kps == 0.0) and not np.any(np.signbit(kps)) and np.all(kds > 0)  # 0, not -0 (printed "-0.")
+    jetbot.get_articulation_controller().apply_action(ArticulationAction(joint_velocities=np.array([5.0, 5.0])))
+    for _ in range(120):
+        world.step(render=False)
+    assert jetbot.get_world_pose()[0][0] > 0.2  # about 0.15 m/s for 2 s

@@ -15,12 +15,15 @@ from manip.sim import (
     DynamicSphere,
     FixedCuboid,
     Franka,
+    GeometryPrim,
     PhysicsMaterial,
     PickPlace,
+    RigidPrim,
     RigidPrimView,
     SimulationError,
     VisualCuboid,
     World,
+    XFormPrim,
     XFormPrimView,
 )
 
@@ -98,6 +101,14 @@ def test_callback_name_errors_are_logged_like_isaac(caplog):
     assert len(first) == 1 and not world.physics_callback_exists("cb")
     with pytest.raises(InvalidInputError, match="callable"):
         world.add_physics_callback("bad", 3)
+    # A callback that cannot take the step size fails when added, not inside world.step().
+    with pytest.raises(InvalidInputError, match=r"physics callback 'noarg' must take one argument \(step_size"):
+        world.add_physics_callback("noarg", lambda: None)
+    with pytest.raises(InvalidInputError, match="timeline callback 'tl' must take one argument"):
+        world.add_timeline_callback("tl", lambda a, b: None)
+    world.add_physics_callback("default_ok", lambda step_size, extra=1: None)
+    world.add_physics_callback("varargs_ok", lambda *args: None)
+    world.step()
 
 
 def test_pause_stop_play_and_timeline_events():
@@ -195,6 +206,23 @@ def test_a_second_world_is_the_same_instance(caplog):
     assert "ignored" in caplog.text
 
 
+def test_world_arguments_isaac_has_and_manip_cannot_mirror(caplog):
+    for kwargs, message in (({"stage_units_in_meters": 0.01}, "must be 1.0; got 0.01: manip.sim works in metres"),
+                            ({"backend": "torch"}, "runs MuJoCo on the CPU"),
+                            ({"device": "cuda:0"}, "device must be None or 'cpu'; got 'cuda:0'")):  # was ignored
+        with pytest.raises(InvalidInputError, match=message):
+            World(**kwargs)
+        assert World.instance() is None
+    with caplog.at_level(logging.WARNING):
+        world = World(sim_params={"gravity": [0.0, 0.0, -1.62], "use_gpu_pipeline": False})
+    assert "['use_gpu_pipeline'] are PhysX settings manip.sim does not mirror" in caplog.text
+    ball = world.scene.add(DynamicSphere("/World/ball", name="ball", position=[0, 0, 1.0], radius=0.02))
+    world.reset()  # the ball is back at its default state after the warm-up step
+    for _ in range(60):
+        world.step(render=False)
+    assert ball.get_world_pose()[0][2] == pytest.approx(1.0 - 0.5 * 1.62 * 1.0**2, abs=5e-3)  # the Moon's gravity
+
+
 def test_families_fixed_visual_dynamic_and_materials():
     world = World()
     world.scene.add_default_ground_plane()
@@ -287,8 +315,46 @@ def test_views_match_objects():
     assert np.allclose(view.get_velocities()[:, 5], 1.0)
     assert np.allclose(cubes[0].get_angular_velocity(), [0, 0, 1])
     assert np.allclose(view.get_masses(), 0.02)
-    links = XFormPrimView("/World/NoSuchThing.*")
-    assert links.count == 0
+
+
+def test_view_expressions_match_per_path_segment_and_a_view_of_nothing_raises_as_in_isaac():
+    world = World()
+    world.scene.add_default_ground_plane()
+    for i in range(2):
+        world.scene.add(DynamicCuboid(f"/World/Cube_{i}", name=f"cube{i}", position=[i * 0.3, 0.8, 0.5], size=0.05,
+                                      scale=[1.0, 1.0 + i, 1.0]))
+    franka = world.scene.add(Franka("/World/Franka", name="franka"))
+    # The glob a tutorial reader writes first: Isaac raises at construction, so does manip.
+    with pytest.raises(InvalidInputError, match=r"matches no prim.*'/World/Cube_\.\*'.*not the glob"):
+        RigidPrimView(prim_paths_expr="/World/Cube_*", name="cubes")
+    with pytest.raises(InvalidInputError, match="absolute path expression"):
+        XFormPrimView("World/Cube_.*")
+    # Isaac options manip cannot honour raise instead of being dropped.
+    with pytest.raises(InvalidInputError, match="scales and visibilities are not supported"):
+        XFormPrimView("/World/Cube_.*", scales=np.ones((2, 3)))
+    with pytest.raises(InvalidInputError, match=r"track_contact_forces=True\) is not supported"):
+        RigidPrimView("/World/Cube_.*", track_contact_forces=True)
+    with pytest.raises(InvalidInputError, match="unknown argument 'mass'"):
+        RigidPrimView("/World/Cube_.*", mass=1.0)
+    cubes = world.scene.add(RigidPrimView(prim_paths_expr="/World/Cube_.*", name="cubes", track_contact_forces=False))
+    links = world.scene.add(XFormPrimView("/World/Franka/panda_link[0-9]", name="links"))  # inside the model
+    everything = XFormPrimView("/World/.*")  # one segment: the top prims, not the Franka's links
+    world.reset()
+    assert cubes.prim_paths == ["/World/Cube_0", "/World/Cube_1"]
+    assert links.count == 8 and links.prim_paths[0] == "/World/Franka/panda_link0"
+    assert "/World/Cube_1" in everything.prim_paths and not any(p.count("/") > 2 for p in everything.prim_paths)
+    for _ in range(60):
+        world.step(render=False)
+    np.testing.assert_allclose(cubes.get_world_poses()[0][:, 2], 0.025, atol=2e-3)
+    np.testing.assert_allclose(cubes.get_local_scales(), [[1, 1, 1], [1, 2, 1]])  # Isaac's getter (was missing)
+    np.testing.assert_allclose(links.get_world_scales(), np.ones((8, 3)))
+    np.testing.assert_allclose(links.get_world_poses()[0][0], franka.get_world_pose()[0], atol=1e-9)
+    # A view whose prims were removed says so instead of failing on array shapes.
+    world.scene.remove_object("cube0")
+    world.scene.remove_object("cube1")
+    world.reset()
+    with pytest.raises(SimulationError, match="matches no prim of the compiled world"):
+        cubes.set_world_poses(positions=np.zeros((2, 3)))
 
 
 class CountingTask(BaseTask):
@@ -330,6 +396,11 @@ def test_tasks_are_set_up_once_and_stepped():
     assert world.get_task("counting") is task
     with pytest.raises(UnknownNameError):
         world.get_task("nope")
+    # Methods a task did not override say which and what to return (was a bare NotImplementedError).
+    with pytest.raises(NotImplementedError, match=r"CountingTask.get_params\(\) is not implemented: override it"):
+        task.get_params()
+    with pytest.raises(NotImplementedError, match=r"CountingTask.is_done\(\) is not implemented.*a bool"):
+        world.is_done()
 
 
 def test_pick_place_task_scene_and_observations():
@@ -402,3 +473,70 @@ def test_recording_writes_an_mp4(tmp_path):
     assert len(frames) == 16  # the first frame, then one every 2 steps of 1/60 s
     assert frames[0].shape == (120, 160, 3)
     assert not np.array_equal(frames[0], frames[-1])  # the cube fell
+
+
+def test_removing_a_robot_removes_its_frames_and_the_world_resets_without_it():
+    world = World()
+    world.scene.add_default_ground_plane()
+    cube = world.scene.add(DynamicCuboid("/World/cube", name="cube", position=[0.5, 0, 0.3], size=0.05))
+    franka = world.scene.add(Franka("/World/Franka", name="franka"))
+    world.reset()
+    assert franka.num_dof == 9
+    world.scene.remove_object("franka")  # its end-effector frame /World/Franka/panda_hand_tcp goes with it
+    world.reset()
+    assert world.model.njnt == 1  # the cube's free joint only
+    assert franka.num_dof is None and franka.end_effector.get_world_pose() is None
+    for _ in range(30):
+        world.step(render=False)
+    assert cube.get_world_pose()[0][2] == pytest.approx(0.025, abs=2e-3)
+    # A new Franka at the same prim path is a robot again.
+    franka = world.scene.add(Franka("/World/Franka", name="franka"))
+    world.reset()
+    assert franka.num_dof == 9 and franka.end_effector.get_world_pose()[0][2] > 0.3
+    world.scene.clear()
+    world.reset()
+    assert world.model.nbody == 1  # the world body only
+
+
+def test_changing_the_physics_step_mid_run_keeps_time_continuous():
+    world = World()
+    ball = world.scene.add(DynamicSphere("/World/ball", name="ball", position=[0, 0, 10.0], radius=0.05))
+    world.reset()
+    for _ in range(59):
+        world.step(render=False)
+    assert world.current_time == pytest.approx(1.0)
+    with pytest.raises(InvalidInputError, match="rendering_dt"):
+        world.set_simulation_dt(physics_dt=1 / 120, rendering_dt=0.0)
+    assert world.get_physics_dt() == pytest.approx(1 / 60)  # nothing changed
+    world.set_simulation_dt(physics_dt=1 / 120, rendering_dt=1 / 120)
+    z0, v0 = ball.get_world_pose()[0][2], ball.get_linear_velocity()[2]
+    for _ in range(120):
+        world.step(render=False)
+    assert world.current_time == pytest.approx(2.0)  # was 121 / 120 s: the past recomputed with the new step
+    assert ball.get_world_pose()[0][2] - z0 == pytest.approx(v0 - 0.5 * 9.81, abs=0.02)  # 1 s of free fall
+
+
+def test_xform_rigid_and_geometry_prims_wrap_an_existing_object_as_in_isaac():
+    world = World()
+    world.scene.add_default_ground_plane()
+    DynamicCuboid(prim_path="/World/cube", position=[0, 0, 0.5], size=0.1, mass=0.3)  # not added to the scene
+    FixedCuboid(prim_path="/World/table", position=[1, 0, 0.2], size=0.4, color=np.array([0.2, 0.4, 0.6]))
+    cube = world.scene.add(RigidPrim(prim_path="/World/cube", name="cube"))  # was: "a prim already exists"
+    table = world.scene.add(GeometryPrim(prim_path="/World/table", name="table"))
+    frame = XFormPrim(prim_path="/World/cube", name="cube_frame")
+    assert cube.get_mass() == pytest.approx(0.3) and np.allclose(table.get_color(), [0.2, 0.4, 0.6])
+    np.testing.assert_allclose(frame.get_world_pose()[0], [0, 0, 0.5])
+    with pytest.raises(InvalidInputError, match="wraps the existing DynamicCuboid there; position cannot be given"):
+        XFormPrim(prim_path="/World/cube", name="moved", position=[0, 0, 1.0])
+    world.reset()
+    for _ in range(60):
+        world.step(render=False)
+    assert cube.get_world_pose()[0][2] == pytest.approx(0.05, abs=2e-3)  # the one cube fell onto the ground
+    np.testing.assert_allclose(frame.get_world_pose()[0], cube.get_world_pose()[0])
+    cube.set_world_pose(position=[0.0, 0.5, 0.3])
+    cube.set_linear_velocity([0.5, 0.0, 0.0])
+    world.step(render=False)
+    assert frame.get_world_pose()[0][1] == pytest.approx(0.5) and cube.get_linear_velocity()[0] > 0.4
+    np.testing.assert_allclose(world.scene.compute_object_AABB("table"), [[0.8, -0.2, 0.0], [1.2, 0.2, 0.4]])
+    world.reset()  # the wrapper's default pose is the object's pose when it was wrapped
+    np.testing.assert_allclose(cube.get_world_pose()[0], [0, 0, 0.5])
