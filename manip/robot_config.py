@@ -6,8 +6,8 @@ with `config_from_urdf`.
 
 Self-collision pairs: the SRDF's `<disable_collisions>` pairs are never checked; the yaml's
 `collision: disabled_pairs` only adds pairs, and `collision: disable_adjacent_links: true`
-adds the pairs of adjacent links (for SRDFs that list none). Without an SRDF the adjacent
-links are skipped and every other pair is checked.
+adds the pairs of adjacent links. Without an SRDF, or with an SRDF that lists no pair, the
+adjacent links are skipped and every other pair is checked (logged).
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ import numpy as np
 import yaml
 
 from manip.errors import RobotConfigError, UnknownNameError
-from manip.urdf import MOVABLE_TYPES, UrdfTree, disabled_pairs, srdf_group_states
+from manip.urdf import MOVABLE_TYPES, UrdfTree, disabled_pairs, srdf_end_effector_links, srdf_group_states
 
 logger = logging.getLogger(__name__)
 
@@ -238,7 +238,7 @@ def config_from_urdf(
     base_link: str | None = None,
     ee_link: str | None = None,
     arm_joints: list[str] | None = None,
-    default_joint_positions: np.ndarray | None = None,
+    default_joint_positions: np.ndarray | str | None = None,
     acceleration_limits: float | np.ndarray | None = None,
     jerk_limits: float | np.ndarray | None = None,
     name: str | None = None,
@@ -249,26 +249,31 @@ def config_from_urdf(
     without a velocity limit gets DEFAULT_VELOCITY_LIMIT = 2 rad/s). Acceleration and
     jerk limits are not in a URDF: unless given they are DEFAULT_ACCELERATION_LIMIT = 10
     rad/s^2 and DEFAULT_JERK_LIMIT = 500 rad/s^3 on every joint. The default configuration
-    is the SRDF's first named state (group_state) that sets every arm joint, else the
-    middle of the limits. Each assumed default is logged as a warning. Joints not in the
-    arm (fingers, ...) are locked at zero; there is no gripper.
+    is the SRDF's first named state (group_state) that sets every arm joint within the
+    limits (a revolute joint's value may be turned by whole turns, 2 pi, to get there: the
+    same pose), else the middle of the limits. Each assumed default is logged as a warning.
+    Joints not in the arm (fingers, ...) are locked at zero; there is no gripper.
 
     Args:
         urdf: the .urdf file; `package://` mesh URIs are resolved against its ancestors.
-        srdf: the .srdf file whose disabled collision pairs are skipped; None: the adjacent
-            links are skipped and every other pair is checked.
+        srdf: the .srdf file whose disabled collision pairs are skipped; None (or an SRDF
+            that lists no pair): the adjacent links are skipped and every other pair is checked.
         base_link: root of the planned chain; default the URDF's root link.
-        ee_link: the link pose goals are given for; default the deepest link below
-            `base_link` (the one with the most movable joints above it).
-        arm_joints: the planned joints; default the movable joints from `base_link` to `ee_link`.
-        default_joint_positions: (dof,) [rad]; see above for the default.
+        ee_link: the link pose goals are given for; default the `parent_link` of the SRDF's
+            first `<end_effector>`, else the deepest link below `base_link` (the one with
+            the most movable joints above it).
+        arm_joints: the planned joints (movable, distinct); default the movable joints from
+            `base_link` to `ee_link`.
+        default_joint_positions: (dof,) [rad], or the name of an SRDF group_state; see
+            above for the default.
         acceleration_limits: one value or (dof,) [rad/s^2].
         jerk_limits: one value or (dof,) [rad/s^3].
         name: the robot's name; default the URDF's robot name.
 
     Raises:
-        RobotConfigError: unreadable files, no movable joint, bad limits.
-        UnknownNameError: an unknown link or joint (the message lists the valid ones).
+        RobotConfigError: unreadable files, no movable joint, bad limits, a default
+            configuration that is not finite or not within the limits.
+        UnknownNameError: an unknown link, joint or group_state (the message lists the valid ones).
     """
     urdf_path = Path(urdf).resolve()
     if not urdf_path.is_file():
@@ -279,10 +284,8 @@ def config_from_urdf(
     tree = UrdfTree(urdf_path)
     base = base_link or tree.root_link
     tree.check_link(base)
-    ee = ee_link or tree.deepest_link(base)
+    ee = ee_link or _default_ee_link(tree, base, srdf_path)
     tree.check_link(ee)
-    if ee_link is None:
-        logger.warning("%s: ee_link not given; using '%s' (the deepest link)", urdf_path.name, ee)
     if arm_joints is None:
         joints = tuple(j.name for j in tree.chain_joints(base, ee))
     else:
@@ -290,6 +293,12 @@ def config_from_urdf(
         for j in joints:
             if j not in tree.joints:
                 raise UnknownNameError("joint", j, list(tree.joints))
+        fixed = [j for j in joints if tree.joints[j].type not in MOVABLE_TYPES]
+        if fixed:
+            raise RobotConfigError(f"{urdf_path}: arm joints {fixed} are not movable ({tree.joints[fixed[0]].type}); "
+                                   f"arm joints must be {', '.join(MOVABLE_TYPES)}")
+        if len(set(joints)) != len(joints):
+            raise RobotConfigError(f"arm_joints must be distinct; got {list(joints)}")
     if not joints:
         raise RobotConfigError(f"{urdf_path}: no movable joint between '{base}' and '{ee}'")
     n = len(joints)
@@ -319,18 +328,7 @@ def config_from_urdf(
 
     acc = per_joint(acceleration_limits, DEFAULT_ACCELERATION_LIMIT, "acceleration_limits", "rad/s^2")
     jerk = per_joint(jerk_limits, DEFAULT_JERK_LIMIT, "jerk_limits", "rad/s^3")
-    if default_joint_positions is None:
-        states = srdf_group_states(srdf_path) if srdf_path is not None else {}
-        full = [s for s in states.values() if all(j in s for j in joints)]
-        if full:
-            default = np.array([full[0][j] for j in joints], dtype=float)
-        else:
-            default = (lower + upper) / 2.0
-            logger.warning("%s: no default configuration; using the middle of the limits", urdf_path.name)
-    else:
-        default = np.asarray(default_joint_positions, dtype=float)
-    if default.shape != (n,) or np.any(default < lower) or np.any(default > upper):
-        raise RobotConfigError(f"default_joint_positions must be {n} values within the limits; got {default}")
+    default = _default_configuration(default_joint_positions, spec, lower, upper, srdf_path, urdf_path.name)
     return RobotConfig(
         name=name or tree.name,
         folder=urdf_path.parent,
@@ -353,3 +351,78 @@ def config_from_urdf(
         disabled_collision_pairs=disabled_pairs(tree, srdf_path, []),
         raw={},
     )
+
+
+def _default_ee_link(tree: UrdfTree, base: str, srdf_path: Path | None) -> str:
+    """The SRDF's first end-effector parent link below `base`, else the deepest link (logged)."""
+    if srdf_path is not None:
+        for link in srdf_end_effector_links(srdf_path):
+            if link in tree.links and base in tree.ancestors(link) and link != base:
+                logger.warning("%s: ee_link not given; using '%s' (the SRDF's end_effector parent_link)",
+                               tree.path.name, link)
+                return link
+    ee = tree.deepest_link(base)
+    logger.warning("%s: ee_link not given; using '%s' (the deepest link)", tree.path.name, ee)
+    return ee
+
+
+def _within(value: float, lower: float, upper: float, revolute: bool) -> float | None:
+    """`value`, or for a revolute joint `value` turned by whole turns, within [lower, upper]; None if neither."""
+    tol = 1e-9
+    if lower - tol <= value <= upper + tol:
+        return float(np.clip(value, lower, upper))
+    if revolute:
+        turned = value + 2.0 * np.pi * np.ceil((lower - tol - value) / (2.0 * np.pi))
+        if turned <= upper + tol:
+            return float(np.clip(turned, lower, upper))
+    return None
+
+
+def _default_configuration(given: np.ndarray | str | None, spec: list, lower: np.ndarray, upper: np.ndarray,
+                           srdf_path: Path | None, where: str) -> np.ndarray:
+    """The default configuration of `config_from_urdf` (see its docstring)."""
+    n = len(spec)
+    names = [j.name for j in spec]
+    states = srdf_group_states(srdf_path) if srdf_path is not None and (given is None or isinstance(given, str)) else {}
+
+    def fit(state: dict[str, float]) -> np.ndarray | None:
+        out = [_within(state[j.name], lower[i], upper[i], j.type in ("revolute", "continuous"))
+               for i, j in enumerate(spec)]
+        return None if any(v is None for v in out) else np.array(out, dtype=float)
+
+    if isinstance(given, str):
+        if given not in states:
+            raise UnknownNameError("group_state (default_joint_positions)", given, states)
+        missing = [j for j in names if j not in states[given]]
+        if missing:
+            raise RobotConfigError(f"group_state '{given}' does not set the arm joints {missing}")
+        q = fit(states[given])
+        if q is None:
+            raise RobotConfigError(f"group_state '{given}' is outside the joint limits "
+                                   f"[{lower.tolist()}, {upper.tolist()}]: {states[given]}")
+        return q
+    if given is None:
+        skipped = []
+        for state, values in states.items():
+            if all(j in values for j in names):
+                q = fit(values)
+                if q is not None:
+                    if not np.array_equal(q, [values[j] for j in names]):
+                        logger.warning("%s: default configuration: the SRDF's group_state '%s' turned by whole "
+                                       "turns into the joint limits: %s", where, state, np.round(q, 6).tolist())
+                    return q
+                skipped.append(state)
+        if skipped:
+            logger.warning("%s: the SRDF's group_states %s lie outside the joint limits", where, skipped)
+        logger.warning("%s: no default configuration; using the middle of the limits", where)
+        return (lower + upper) / 2.0
+    try:
+        default = np.asarray(given, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise RobotConfigError(f"default_joint_positions must be {n} numbers [rad] or a group_state name; "
+                               f"got {given!r}") from exc
+    if default.shape != (n,) or not np.all(np.isfinite(default)) or np.any(default < lower) \
+            or np.any(default > upper):
+        raise RobotConfigError(f"default_joint_positions must be {n} finite values within the limits "
+                               f"[{lower.tolist()}, {upper.tolist()}]; got {given!r}")
+    return default.copy()

@@ -71,6 +71,8 @@ class UrdfTree:
             raise RobotConfigError(f"{self.path}: not a readable URDF ({exc})") from exc
         if self.root.tag != "robot":
             raise RobotConfigError(f"{self.path}: the root element is <{self.root.tag}>, expected <robot>")
+        if self.root.find("link") is None:
+            raise RobotConfigError(f"{self.path}: no <link> element: not a URDF (an SRDF given as the URDF?)")
         self.name = self.root.get("name", self.path.stem)
         self.links: list[str] = [el.get("name") for el in self.root.findall("link")]
         self._collision = {el.get("name"): el.find("collision") is not None for el in self.root.findall("link")}
@@ -169,18 +171,31 @@ def build_model(urdf_path: str | Path) -> pin.Model:
     return pin.buildModelFromXML(UrdfTree(urdf_path).bounded_xml())
 
 
+def _srdf_root(path: str | Path) -> ET.Element:
+    """The root element of an SRDF file.
+
+    Raises:
+        RobotConfigError: unreadable, not rooted at <robot>, or a URDF (it has <link> elements).
+    """
+    try:
+        root = ET.parse(path).getroot()
+    except (OSError, ET.ParseError) as exc:
+        raise RobotConfigError(f"{path}: not a readable SRDF ({exc})") from exc
+    if root.tag != "robot":
+        raise RobotConfigError(f"{path}: the root element is <{root.tag}>, expected <robot>")
+    if root.find("link") is not None:
+        raise RobotConfigError(f"{path}: has <link> elements: a URDF, not an SRDF (URDF given as the SRDF?)")
+    return root
+
+
 def srdf_disabled_pairs(path: str | Path) -> list[tuple[str, str]]:
     """The `<disable_collisions link1= link2=/>` pairs of an SRDF file.
 
     Raises:
         RobotConfigError: the file is not a readable SRDF or a pair lacks a link name.
     """
-    try:
-        root = ET.parse(path).getroot()
-    except (OSError, ET.ParseError) as exc:
-        raise RobotConfigError(f"{path}: not a readable SRDF ({exc})") from exc
     pairs = []
-    for el in root.iter("disable_collisions"):
+    for el in _srdf_root(path).iter("disable_collisions"):
         a, b = el.get("link1"), el.get("link2")
         if not a or not b:
             raise RobotConfigError(f"{path}: <disable_collisions> needs link1 and link2; got {el.attrib}")
@@ -189,28 +204,49 @@ def srdf_disabled_pairs(path: str | Path) -> list[tuple[str, str]]:
 
 
 def srdf_group_states(path: str | Path) -> dict[str, dict[str, float]]:
-    """The SRDF's named configurations: {state name: {joint name: value}}."""
-    root = ET.parse(path).getroot()
-    return {el.get("name"): {j.get("name"): float(j.get("value")) for j in el.findall("joint")}
-            for el in root.iter("group_state")}
+    """The SRDF's named configurations: {state name: {joint name: value}}, in file order.
+
+    Raises:
+        RobotConfigError: the file is not a readable SRDF or a joint value is not a number.
+    """
+    states: dict[str, dict[str, float]] = {}
+    for el in _srdf_root(path).iter("group_state"):
+        values = {}
+        for j in el.findall("joint"):
+            try:
+                values[j.get("name")] = float(j.get("value"))
+            except (TypeError, ValueError) as exc:
+                raise RobotConfigError(f"{path}: group_state '{el.get('name')}': joint {j.attrib} needs a "
+                                       "numeric value") from exc
+        states[el.get("name")] = values
+    return states
+
+
+def srdf_end_effector_links(path: str | Path) -> list[str]:
+    """The `parent_link` of each `<end_effector>` of an SRDF, in file order."""
+    return [el.get("parent_link") for el in _srdf_root(path).iter("end_effector") if el.get("parent_link")]
 
 
 def disabled_pairs(tree: UrdfTree, srdf_path: Path | None, extra: list[tuple[str, str]],
                    disable_adjacent: bool = False) -> tuple[tuple[str, str], ...]:
     """The link pairs the self-collision checker skips: the SRDF's pairs (or, without an
-    SRDF, the adjacent links, with a log line), the adjacent links if asked, and `extra`.
+    SRDF or with an SRDF that lists no pair, the adjacent links, with a log line), the
+    adjacent links if asked, and `extra`.
 
     Returns:
         Sorted unique pairs, each (a, b) with a < b.
     """
     pairs = list(extra)
-    if srdf_path is not None:
-        pairs += srdf_disabled_pairs(srdf_path)
-    if srdf_path is None or disable_adjacent:
+    listed = srdf_disabled_pairs(srdf_path) if srdf_path is not None else []
+    pairs += listed
+    if srdf_path is None or not listed or disable_adjacent:
         adjacent = tree.adjacent_pairs()
         if srdf_path is None:
             logger.info("%s: no SRDF; the %d pairs of adjacent links are not checked for self-collision, "
                         "all other pairs are", tree.path.name, len(adjacent))
+        elif not listed and not disable_adjacent:
+            logger.warning("%s lists no <disable_collisions> pair; the %d pairs of adjacent links are not checked "
+                           "for self-collision, all other pairs are", Path(srdf_path).name, len(adjacent))
         pairs += adjacent
     known = set(tree.links)
     unknown = sorted({name for pair in pairs for name in pair} - known)

@@ -12,6 +12,7 @@ from __future__ import annotations
 import hashlib
 import json
 import pickle
+from pathlib import Path
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -23,7 +24,7 @@ from manip.collision import WorldConfig
 from manip.errors import InvalidInputError, ManipError, UnknownNameError
 from manip.planning.options import PlanOptions
 from manip.pose import Pose
-from manip.robot_config import available_robots, load_robot_config
+from manip.robot_config import CONFIG_FILE, available_robots, load_robot_config
 from manip.validation import integer, vec
 
 #: A problem id: an int (default: the problem's index in the batch) or a string.
@@ -40,7 +41,9 @@ class Problem:
             base frame [m].
         start: (dof,) start configuration [rad].
         goal: (dof,) joint goal [rad], or a `Pose` of the end-effector link (`plan_pose`).
-        robot: robot name (one of `manip.available_robots()`).
+        robot: robot name (one of `manip.available_robots()`), or the path of a robot's
+            `robot.yaml` or of its folder, as `MotionGenerator` takes (with backend="ray" the
+            path must exist on every node).
         options: planning options (fields of `PlanOptions` except `seed`, which
             `plan_many` derives from its own seed and the problem id).
         id: an int or a string unique in the batch; None = the problem's index in it.
@@ -49,7 +52,7 @@ class Problem:
     world: dict | WorldConfig = field(repr=False)
     start: Any = field(repr=False)
     goal: Any = field(repr=False)
-    robot: str = "franka"
+    robot: str | Path = "franka"
     options: Mapping[str, Any] | None = None
     id: ProblemId | None = None
 
@@ -60,7 +63,7 @@ class Task:
 
     Attributes:
         id: the problem id.
-        robot: robot name.
+        robot: robot name, or the resolved path of a robot.yaml.
         world: the world as given (dict or WorldConfig); validated.
         world_key: digest of the world's content (equal worlds, equal keys).
         start: (dof,) start [rad].
@@ -102,6 +105,23 @@ def problem_seed(seed: int, problem_id: ProblemId) -> int:
 @lru_cache(maxsize=None)
 def _dof(robot: str) -> int:
     return load_robot_config(robot).dof
+
+
+def _robot(robot: Any, robots: list[str], where: str) -> str:
+    """A problem's robot as a task carries it: a shipped robot's name, or a robot.yaml's resolved path."""
+    if isinstance(robot, str) and robot in robots:
+        return robot
+    if isinstance(robot, (str, Path)) and str(robot):
+        path = Path(robot).expanduser()
+        looks_like_path = isinstance(robot, Path) or "/" in str(robot) or path.suffix in (".yaml", ".yml")
+        if path.is_dir() and (path / CONFIG_FILE).is_file():
+            return str((path / CONFIG_FILE).resolve())
+        if path.suffix in (".yaml", ".yml") and path.is_file():
+            return str(path.resolve())
+        if looks_like_path:
+            raise InvalidInputError(f"{where}: robot {str(robot)!r} is neither a robot.yaml file nor a folder holding "
+                                    f"one; shipped robots: {', '.join(robots)}")
+    raise UnknownNameError("robot", str(robot), robots)
 
 
 def _world_key(world: dict | WorldConfig) -> str:
@@ -155,7 +175,8 @@ def prepare(problems: Iterable[Problem], seed: int) -> list[Task]:
 
     Raises:
         UnknownNameError: an unknown robot (the message lists the valid ones).
-        InvalidInputError: anything else wrong (not a Problem, malformed world, wrong
+        RobotConfigError: a robot.yaml given by path is malformed.
+        InvalidInputError: anything else wrong (a robot path without a robot.yaml, not a Problem, malformed world, wrong
             shapes, NaN, bad or forbidden options, a duplicate or bad id); the message
             names the problem.
     """
@@ -177,9 +198,8 @@ def prepare(problems: Iterable[Problem], seed: int) -> list[Task]:
             raise InvalidInputError(f"problems[{index}]: id {pid!r} is also the id of problems[{seen[pid]}]; ids must be unique")
         seen[pid] = index
         where = f"problem {pid!r} (problems[{index}])"
-        if not isinstance(p.robot, str) or p.robot not in robots:
-            raise UnknownNameError("robot", str(p.robot), robots)
-        dof = _dof(p.robot)
+        robot = _robot(p.robot, robots, where)
+        dof = _dof(robot)
         _check_world(p.world, where)
         start = vec(p.start, dof, f"{where}: start")
         if isinstance(p.goal, Pose):
@@ -193,5 +213,5 @@ def prepare(problems: Iterable[Problem], seed: int) -> list[Task]:
         key = world_keys.get(id(p.world))
         if key is None:
             key = world_keys[id(p.world)] = _world_key(p.world)
-        tasks.append(Task(pid, p.robot, p.world, key, start, goal, options))
+        tasks.append(Task(pid, robot, p.world, key, start, goal, options))
     return tasks
