@@ -9,8 +9,9 @@ import mujoco
 import numpy as np
 import pytest
 
-from manip.errors import UnknownNameError
+from manip.errors import RobotConfigError, UnknownNameError
 from manip.motion_generator import MotionGenerator
+from manip.pose import Pose
 from manip.robot_config import config_from_urdf, load_robot_config
 from manip.sim.mjcf_builder import build_mjcf
 from manip.urdf import srdf_disabled_pairs
@@ -137,3 +138,86 @@ def test_mjcf_of_the_new_robot_matches_its_kinematics(files) -> None:
         d.qpos[:] = q
         mujoco.mj_kinematics(m, d)
         np.testing.assert_allclose(d.site("tool").xpos, mg.fk(q).position, atol=1e-9)
+
+
+# Arms of example-robot-data that are not shipped in robots/, as a new user points at them.
+def _erd(path: str) -> Path:
+    from importlib import metadata
+
+    root = metadata.distribution("example-robot-data").locate_file("cmeel.prefix/share/example-robot-data/robots")
+    return Path(str(root)) / path
+
+
+def test_kinova_from_its_urdf_and_srdf_alone_plans(caplog) -> None:
+    # kinova.srdf lists no disable_collisions pair (adjacent links touch at their joints), its
+    # only state "arm_up" puts joint 3 at -pi/2, outside the URDF's [0.33, 5.95], and it names
+    # the end effector: the robot plans from the two files with no other argument.
+    with caplog.at_level(logging.WARNING):
+        mg = MotionGenerator.from_urdf(_erd("kinova_description/robots/kinova.urdf"),
+                                       _erd("kinova_description/srdf/kinova.srdf"), seed=0)
+    assert mg.config.ee_link == "j2s6s200_end_effector"   # the SRDF's end_effector parent_link
+    assert "lists no <disable_collisions> pair" in caplog.text and "turned by whole turns" in caplog.text
+    # arm_up with joint 3 turned by 2 pi: the shipped robot's retract configuration
+    np.testing.assert_allclose(mg.default_joint_positions, [1.5707, 2.618, -1.5707 + 2 * np.pi, 3.1415, 2.618, 0.0])
+    np.testing.assert_allclose(mg.default_joint_positions, load_robot_config("kinova").default_joint_positions,
+                               atol=1e-4)
+    q0 = mg.default_joint_positions
+    assert not mg.check_collision(q0)
+    hand = mg.fk(q0)
+    target = Pose(hand.position + np.array([0.0, 0.1, -0.1]), hand.quaternion)
+    r = mg.plan_pose(q0, target)
+    assert r.success, r.status
+    assert np.linalg.norm(mg.fk(r.trajectory.positions[-1]).position - target.position) < 1e-3
+    assert not any(mg.check_collision(q) for q in r.trajectory.positions)
+
+
+def test_z1_plans_from_a_named_srdf_state() -> None:
+    urdf, srdf = _erd("z1_description/urdf/z1.urdf"), _erd("z1_description/srdf/z1.srdf")
+    with pytest.raises(UnknownNameError, match="arm_up, home"):
+        config_from_urdf(urdf, srdf, ee_link="link06", default_joint_positions="ready")
+    mg = MotionGenerator.from_urdf(urdf, srdf, ee_link="link06", default_joint_positions="arm_up", seed=0)
+    np.testing.assert_allclose(mg.default_joint_positions, [0.0, 0.26178, -0.26178, 0.0, 0.0, 0.0])
+    assert ("link02", "link03") in mg.config.disabled_collision_pairs   # adjacent: z1.srdf lists no pair
+    q0 = mg.default_joint_positions
+    assert not mg.check_collision(q0)
+    hand = mg.fk(q0)
+    r = mg.plan_pose(q0, Pose(hand.position + np.array([0.0, 0.05, -0.05]), hand.quaternion))
+    assert r.success, r.status
+
+
+@pytest.mark.parametrize("kwargs, error, words", [
+    ({"default_joint_positions": [np.nan, 0.5, -1.0]}, RobotConfigError, ["default_joint_positions", "finite"]),
+    ({"default_joint_positions": "ready?"}, UnknownNameError, ["group_state", "ready"]),
+    ({"arm_joints": ["j1", "jt"]}, RobotConfigError, ["['jt']", "not movable", "fixed"]),
+    ({"arm_joints": ["j1", "j2", "j2"]}, RobotConfigError, ["distinct"]),
+])
+def test_bad_arguments_are_named(files, kwargs, error, words) -> None:
+    urdf, srdf = files
+    with pytest.raises(error) as info:
+        config_from_urdf(urdf, srdf, ee_link="tool", **kwargs)
+    for w in words:
+        assert w in str(info.value)
+
+
+def test_a_urdf_and_an_srdf_given_the_wrong_way_round_are_named(files) -> None:
+    urdf, srdf = files
+    with pytest.raises(RobotConfigError, match="not a URDF"):
+        config_from_urdf(srdf)
+    with pytest.raises(RobotConfigError, match="a URDF, not an SRDF"):
+        config_from_urdf(urdf, urdf)
+
+
+def test_srdf_state_outside_the_limits_is_turned_or_skipped(tmp_path, files) -> None:
+    urdf, _ = files
+    srdf = tmp_path / "states.srdf"
+    # "far": j2 = 2.0 is outside [-1.6, 1.6] and j2 + k 2 pi never fits: skipped;
+    # "turned": j3 = 4.0 is outside [-2.4, 2.4], 4.0 - 2 pi = -2.283 fits. No pair listed.
+    srdf.write_text("""<robot name="tri">
+  <group_state name="far" group="arm"><joint name="j1" value="0"/><joint name="j2" value="2.0"/><joint name="j3" value="0"/></group_state>
+  <group_state name="turned" group="arm"><joint name="j1" value="0.1"/><joint name="j2" value="0.2"/><joint name="j3" value="4.0"/></group_state>
+</robot>""")
+    c = config_from_urdf(urdf, srdf, ee_link="tool")
+    np.testing.assert_allclose(c.default_joint_positions, [0.1, 0.2, 4.0 - 2 * np.pi])
+    assert set(c.disabled_collision_pairs) == {("base", "l1"), ("l1", "l2"), ("l2", "l3")}
+    with pytest.raises(RobotConfigError, match="'far' is outside the joint limits"):
+        config_from_urdf(urdf, srdf, ee_link="tool", default_joint_positions="far")
