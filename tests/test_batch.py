@@ -207,6 +207,40 @@ def test_bad_batch_arguments(problems, kwargs, words):
     assert not mp.active_children()
 
 
+def test_a_robot_yaml_path_plans_as_its_motion_generator_does(tmp_path):
+    # a user's robot folder (here the UR5's configuration, copied), named by its path as
+    # MotionGenerator takes it; a path without a robot.yaml fails before any worker starts
+    import yaml
+
+    from manip.robot_config import robots_root
+
+    cfg = yaml.safe_load((robots_root() / "ur5" / "robot.yaml").read_text())
+    cfg.update(name="my_arm", mjcf=None)
+    folder = tmp_path / "my_arm"
+    folder.mkdir()
+    (folder / "robot.yaml").write_text(yaml.safe_dump(cfg))
+    mg = MotionGenerator(str(folder / "robot.yaml"))
+    q0 = mg.default_joint_positions
+    hand = mg.fk(q0)
+    world = {"cuboid": {"post": {"dims": [0.05, 0.05, 0.3],
+                                 "pose": [*(hand.position + [0.1, 0.1, 0.0]).tolist(), 1, 0, 0, 0]}}}
+    goals = [q0 + np.array([0.6, 0.2, -0.2, 0.1, 0.0, 0.3]), Pose(hand.position + [0.0, 0.1, -0.1], hand.quaternion)]
+    batch = [Problem(world, q0, goals[0], robot=folder, options=OPTIONS, id="joint"),
+             Problem(world, q0, goals[1], robot=str(folder / "robot.yaml"), options=OPTIONS, id="pose")]
+    results = plan_many(batch, workers=1, seed=SEED, progress=False)
+    mg.update_world(world)
+    refs = [mg.plan_joints(q0, goals[0], seed=problem_seed(SEED, "joint"), **OPTIONS),
+            mg.plan_pose(q0, goals[1], seed=problem_seed(SEED, "pose"), **OPTIONS)]
+    for r, ref in zip(results, refs):
+        assert ref.success
+        assert_same(r, ref)
+    with pytest.raises(InvalidInputError, match="neither a robot.yaml file nor a folder"):
+        plan_many([Problem(world, q0, goals[0], robot=tmp_path)], workers=2, progress=False)
+    with pytest.raises(UnknownNameError, match="robot 'my_arm' not found"):
+        plan_many([Problem(world, q0, goals[0], robot="my_arm")], workers=2, progress=False)
+    assert not mp.active_children()
+
+
 # What a fresh interpreter loads: the numba kernels after `worker.warm_up`, and those that
 # planning problems of every scene kind (joint goals, a pose goal, a start in collision) adds.
 KERNEL_PROBE = """

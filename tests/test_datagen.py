@@ -26,11 +26,17 @@ ARGS = ["--scenes", "3", "--problems-per-scene", "2", "--kinds", "table,shelf,bo
 
 
 @pytest.fixture(scope="module")
-def full(tmp_path_factory) -> pd.DataFrame:
-    """The dataset of one uninterrupted run."""
+def full_dir(tmp_path_factory) -> Path:
+    """The folder of one uninterrupted run."""
     out = tmp_path_factory.mktemp("full")
     assert main([*ARGS, "--out", str(out), "--no-progress"]) == 0
-    return read_dataset(out).set_index("problem_id").sort_index()
+    return out
+
+
+@pytest.fixture(scope="module")
+def full(full_dir) -> pd.DataFrame:
+    """The dataset of one uninterrupted run, indexed by problem id."""
+    return read_dataset(full_dir).set_index("problem_id").sort_index()
 
 
 def test_rows_hold_verified_trajectories_of_their_problems(full):
@@ -103,3 +109,37 @@ def test_bad_arguments_are_clear_errors(tmp_path, capsys, args, words):
 def test_reading_an_empty_folder_says_so(tmp_path):
     with pytest.raises(InvalidInputError, match="no part"):
         read_dataset(tmp_path)
+
+
+def test_read_dataset_gives_the_dataset_order_whatever_the_order_rows_were_written(full_dir, tmp_path):
+    import pyarrow.parquet as pq
+
+    dataset_order = [f"{k}-000000-{j:02d}" for k in ("table", "shelf", "box") for j in range(2)]
+    table = pq.read_table(full_dir)
+    # the same rows written in another order (as other workers or a resumed run would)
+    out = tmp_path / "shuffled"
+    out.mkdir()
+    (out / "_manifest.json").write_text((full_dir / "_manifest.json").read_text())
+    ids = table.column("problem_id").to_pylist()
+    pq.write_table(table.take([ids.index(i) for i in reversed(dataset_order)]), out / "part-000000.parquet")
+    assert list(pd.read_parquet(out).problem_id) == dataset_order[::-1]
+    for folder in (full_dir, out):
+        df = read_dataset(folder)
+        assert list(df.problem_id) == dataset_order and list(df.index) == list(range(6))
+        part = read_dataset(folder, columns=["status", "positions"])
+        assert list(part.columns) == ["status", "positions"]
+        assert all(np.array_equal(np.stack(a), np.stack(b)) for a, b in zip(part.positions, df.positions))
+    with pytest.raises(InvalidInputError, match="unknown dataset column.*'positon'.*positions"):
+        read_dataset(out, columns=["positon"])
+
+
+def test_an_unusable_out_folder_is_a_clear_error(tmp_path, capsys):
+    a_file = tmp_path / "a_file"
+    a_file.write_text("")
+    assert main(["--out", str(a_file), "--no-progress"]) == 2
+    assert f"cannot use {a_file} as the dataset folder" in capsys.readouterr().err
+    broken = tmp_path / "broken"
+    broken.mkdir()
+    (broken / "_manifest.json").write_text("{not json")
+    assert main(["--out", str(broken), "--no-progress"]) == 2
+    assert "not a manip.datagen manifest" in capsys.readouterr().err
