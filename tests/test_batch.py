@@ -155,6 +155,15 @@ def test_a_killed_worker_costs_a_retry_not_a_problem(problems, reference, caplog
     assert not mp.active_children()
 
 
+def test_no_more_workers_start_than_there_are_problems(problems, reference):
+    before = set(mp.active_children())
+    stream = plan_stream(problems[:2], workers=4, seed=SEED)
+    pid, result = next(stream)
+    assert len(set(mp.active_children()) - before) == 2   # 4 asked, 2 problems: 2 warm-ups, not 4
+    assert_same(result, reference[pid])
+    stream.close()
+
+
 def test_closing_the_stream_early_stops_the_workers(problems):
     # workers of earlier tests' pools may still be exiting on a loaded machine: only this
     # stream's workers are checked

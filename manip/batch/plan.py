@@ -46,7 +46,7 @@ def plan_stream(
     Args:
         problems: the problems (ids default to their index in this iterable).
         workers: worker processes (or Ray actors); None = all cores this process may use,
-            or for Ray the cluster's CPUs.
+            or for Ray the cluster's CPUs. No more are started than there are problems.
         backend: "process" (local processes, no Ray needed) or "ray".
         seed: batch seed (>= 0); problem i plans with `problem_seed(seed, id_i)`.
         ray_address: for backend="ray" when Ray is not initialised: the `ray.init`

@@ -149,7 +149,7 @@ def run(tasks: Sequence[Any], workers: int, job: Job = worker.solve,
 
     Args:
         tasks: validated tasks (a `Task`, or a job's own picklable task type with `id` and `robot`).
-        workers: number of worker processes (>= 1).
+        workers: number of worker processes (>= 1); no more are started than there are tasks.
         job: the function run on each task in a worker (picklable: module level).
         start_method: "fork", "forkserver" or "spawn"; None = `default_start_method()`.
 
@@ -161,6 +161,7 @@ def run(tasks: Sequence[Any], workers: int, job: Job = worker.solve,
         WorkerLostError: a task's workers died `MAX_ATTEMPTS` times.
     """
     method = check_start_method(start_method)
+    workers = max(1, min(workers, len(tasks)))  # an idle worker would only warm up
     robots = tuple(sorted({t.robot for t in tasks}))
     order = {t.id: i for i, t in enumerate(tasks)}
     queue = deque(tasks)

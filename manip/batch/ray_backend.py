@@ -66,7 +66,8 @@ def run(tasks: Sequence[Any], workers: int | None, address: str | None = None,
 
     Args:
         tasks: validated tasks (a `Task`, or a job's own picklable task type with `id` and `robot`).
-        workers: number of actors (None: the cluster's CPUs).
+        workers: number of actors (None: the cluster's CPUs); no more are started than
+            there are tasks.
         address: passed to `ray.init` when Ray is not initialised yet (None: a local
             instance; "auto" or "ray://host:10001": an existing cluster).
         actors: actors from `start_actors` to use (they are left running); None = start them.
@@ -85,7 +86,7 @@ def run(tasks: Sequence[Any], workers: int | None, address: str | None = None,
     own = actors is None
     try:
         if own:
-            n = workers or max(1, int(ray.cluster_resources().get("CPU", 1)))
+            n = min(workers or max(1, int(ray.cluster_resources().get("CPU", 1))), max(1, len(tasks)))
             actors = start_actors(n, tuple(sorted({t.robot for t in tasks})))
         yield from _dispatch(ray, tasks, list(actors), job)
     finally:
