@@ -246,7 +246,8 @@ def disabled_pairs(tree: UrdfTree, srdf_path: Path | None, extra: list[tuple[str
                         "all other pairs are", tree.path.name, len(adjacent))
         elif not listed and not disable_adjacent:
             logger.warning("%s lists no <disable_collisions> pair; the %d pairs of adjacent links are not checked "
-                           "for self-collision, all other pairs are", Path(srdf_path).name, len(adjacent))
+                           "for self-collision, all other pairs are (a robot.yaml says so with collision: "
+                           "disable_adjacent_links: true)", Path(srdf_path).name, len(adjacent))
         pairs += adjacent
     known = set(tree.links)
     unknown = sorted({name for pair in pairs for name in pair} - known)
