@@ -21,7 +21,8 @@ import numpy as np
 import yaml
 
 from manip.errors import RobotConfigError, UnknownNameError
-from manip.urdf import MOVABLE_TYPES, UrdfTree, disabled_pairs, srdf_end_effector_links, srdf_group_states
+from manip.urdf import (MOVABLE_TYPES, UrdfJoint, UrdfTree, default_ee_link, disabled_pairs, srdf_group_states,
+                        within_limits)
 
 logger = logging.getLogger(__name__)
 
@@ -123,13 +124,41 @@ class RobotConfig:
         return len(self.arm_joints)
 
 
-def _array(d: dict, key: str, n: int, folder: Path) -> np.ndarray:
+#: The keys of a robot.yaml (others are reported: a misspelt optional key would be ignored).
+CONFIG_KEYS = ("name", "urdf", "srdf", "mjcf", "base_link", "ee_link", "tcp_link", "approach_axis", "arm_joints",
+               "default_joint_positions", "lower_limits", "upper_limits", "velocity_limits", "acceleration_limits",
+               "jerk_limits", "gripper", "collision", "sim")
+COLLISION_KEYS = ("padding", "disabled_pairs", "disable_adjacent_links")
+
+
+def _array(d: dict, key: str, n: int, folder: Path, positive: bool = False) -> np.ndarray:
+    where = f"{folder / CONFIG_FILE}: '{key}'"
     if key not in d:
         raise RobotConfigError(f"{folder / CONFIG_FILE}: missing '{key}'")
-    a = np.asarray(d[key], dtype=float)
+    try:
+        a = np.asarray(d[key], dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise RobotConfigError(f"{where} must be {n} numbers (one per arm joint); got {d[key]!r}") from exc
     if a.shape != (n,):
-        raise RobotConfigError(f"{folder / CONFIG_FILE}: '{key}' must have {n} entries (one per arm joint); got {a.shape}")
+        raise RobotConfigError(f"{where} must have {n} entries (one per arm joint); got {a.shape}")
+    if not np.all(np.isfinite(a)) or (positive and np.any(a <= 0)):
+        raise RobotConfigError(f"{where} must be {n} finite{' positive' if positive else ''} numbers; got {a.tolist()}")
     return a
+
+
+def _names(d: dict, key: str, where: Path) -> tuple[str, ...]:
+    value = d.get(key)
+    if not isinstance(value, list) or not value or not all(isinstance(v, str) for v in value):
+        raise RobotConfigError(f"{where}: '{key}' must be a list of joint names; got {value!r}")
+    if len(set(value)) != len(value):
+        raise RobotConfigError(f"{where}: '{key}' must be distinct; got {value}")
+    return tuple(value)
+
+
+def _check_keys(d: dict, valid: tuple[str, ...], where: str) -> None:
+    unknown = sorted(set(d) - set(valid))
+    if unknown:
+        logger.warning("%s: unknown key(s) %s ignored; valid: %s", where, unknown, ", ".join(valid))
 
 
 def _check_within_urdf(tree: UrdfTree, joints: tuple[str, ...], lower: np.ndarray, upper: np.ndarray,
@@ -150,8 +179,11 @@ def load_robot_config(name_or_path: str | Path) -> RobotConfig:
     """Load a robot configuration by name ("franka") or by the path of a robot.yaml/folder.
 
     Raises:
-        UnknownNameError: no robot of that name; the message lists the available ones.
-        RobotConfigError: the file is malformed or names missing model files.
+        UnknownNameError: no robot of that name, or a link or joint the URDF does not have;
+            the message lists the available ones.
+        RobotConfigError: the file is malformed (missing keys, wrong types, non-finite or
+            non-positive limits, limits beyond the URDF's, `ee_link` not below `base_link`)
+            or names missing model files. Unknown keys are logged as a warning.
     """
     if not isinstance(name_or_path, (str, Path)) or not str(name_or_path):
         raise UnknownNameError("robot", repr(name_or_path), available_robots())
@@ -165,10 +197,14 @@ def load_robot_config(name_or_path: str | Path) -> RobotConfig:
         if not cfg_file.is_file():
             raise UnknownNameError("robot", str(name_or_path), available_robots())
     folder = cfg_file.parent.resolve()
-    with open(cfg_file) as f:
-        d = yaml.safe_load(f)
+    try:
+        with open(cfg_file) as f:
+            d = yaml.safe_load(f)
+    except (OSError, yaml.YAMLError) as exc:
+        raise RobotConfigError(f"{cfg_file}: not a readable YAML file ({exc})") from exc
     if not isinstance(d, dict):
         raise RobotConfigError(f"{cfg_file}: expected a mapping at the top level")
+    _check_keys(d, CONFIG_KEYS, str(cfg_file))
 
     urdf = _resolve_file(d.get("urdf"), folder, "urdf")
     if urdf is None:
@@ -177,24 +213,43 @@ def load_robot_config(name_or_path: str | Path) -> RobotConfig:
     # The MuJoCo model is only needed by manip.sim, which checks that it exists.
     mjcf = (folder / d["mjcf"]).resolve() if d.get("mjcf") else None
 
-    joints = tuple(d.get("arm_joints", ()))
-    if not joints:
-        raise RobotConfigError(f"{cfg_file}: 'arm_joints' must list the planned joints")
+    joints = _names(d, "arm_joints", cfg_file)
     n = len(joints)
+    tree = UrdfTree(urdf)
+    for key in ("base_link", "ee_link"):
+        if not isinstance(d.get(key), str):
+            raise RobotConfigError(f"{cfg_file}: '{key}' must name a link of the URDF; got {d.get(key)!r}")
+        tree.check_link(d[key], key)
+    if d.get("tcp_link") is not None:
+        tree.check_link(str(d["tcp_link"]), "tcp_link")
+    tree.chain_joints(d["base_link"], d["ee_link"])  # raises if ee_link is not below base_link
     g = d.get("gripper")
     gripper = None
     if g:
-        gj = tuple(g["joints"])
+        gj = _names(g, "joints", cfg_file)
+        for j in gj:
+            if j not in tree.joints:
+                raise UnknownNameError("joint (gripper: joints)", j, list(tree.joints))
         def _g(key: str, default=None) -> np.ndarray:
-            v = np.asarray(g.get(key, default), dtype=float)
-            if v.shape != (len(gj),):
-                raise RobotConfigError(f"{cfg_file}: gripper '{key}' needs {len(gj)} entries")
+            try:
+                v = np.asarray(g.get(key, default), dtype=float)
+            except (TypeError, ValueError):
+                v = np.zeros(0)
+            if v.shape != (len(gj),) or not np.all(np.isfinite(v)):
+                raise RobotConfigError(f"{cfg_file}: gripper '{key}' needs {len(gj)} finite numbers [m]")
             return v
         gripper = GripperConfig(gj, _g("open_positions"), _g("closed_positions"),
                                 _g("planning_positions", g.get("open_positions")))
     col = d.get("collision", {}) or {}
-    tree = UrdfTree(urdf)
-    extra = [(str(a), str(b)) for a, b in col.get("disabled_pairs", []) or []]
+    if not isinstance(col, dict):
+        raise RobotConfigError(f"{cfg_file}: 'collision' must be a mapping of {', '.join(COLLISION_KEYS)}")
+    _check_keys(col, COLLISION_KEYS, f"{cfg_file}: collision")
+    try:
+        padding = float(col.get("padding", 0.0))
+        extra = [(str(a), str(b)) for a, b in col.get("disabled_pairs", []) or []]
+    except (TypeError, ValueError) as exc:
+        raise RobotConfigError(f"{cfg_file}: collision: 'padding' must be a number [m] and 'disabled_pairs' a list "
+                               f"of [link, link] pairs ({exc})") from exc
     unknown = sorted({name for pair in extra for name in pair} - set(tree.links))
     if unknown:
         raise UnknownNameError("link (collision: disabled_pairs)", unknown[0], tree.links)
@@ -221,11 +276,11 @@ def load_robot_config(name_or_path: str | Path) -> RobotConfig:
         default_joint_positions=default,
         lower_limits=lower,
         upper_limits=upper,
-        velocity_limits=_array(d, "velocity_limits", n, folder),
-        acceleration_limits=_array(d, "acceleration_limits", n, folder),
-        jerk_limits=_array(d, "jerk_limits", n, folder),
+        velocity_limits=_array(d, "velocity_limits", n, folder, positive=True),
+        acceleration_limits=_array(d, "acceleration_limits", n, folder, positive=True),
+        jerk_limits=_array(d, "jerk_limits", n, folder, positive=True),
         gripper=gripper,
-        collision_padding=float(col.get("padding", 0.0)),
+        collision_padding=padding,
         disabled_collision_pairs=pairs,
         raw=d,
     )
@@ -284,7 +339,7 @@ def config_from_urdf(
     tree = UrdfTree(urdf_path)
     base = base_link or tree.root_link
     tree.check_link(base)
-    ee = ee_link or _default_ee_link(tree, base, srdf_path)
+    ee = ee_link or default_ee_link(tree, base, srdf_path)
     tree.check_link(ee)
     if arm_joints is None:
         joints = tuple(j.name for j in tree.chain_joints(base, ee))
@@ -353,32 +408,7 @@ def config_from_urdf(
     )
 
 
-def _default_ee_link(tree: UrdfTree, base: str, srdf_path: Path | None) -> str:
-    """The SRDF's first end-effector parent link below `base`, else the deepest link (logged)."""
-    if srdf_path is not None:
-        for link in srdf_end_effector_links(srdf_path):
-            if link in tree.links and base in tree.ancestors(link) and link != base:
-                logger.warning("%s: ee_link not given; using '%s' (the SRDF's end_effector parent_link)",
-                               tree.path.name, link)
-                return link
-    ee = tree.deepest_link(base)
-    logger.warning("%s: ee_link not given; using '%s' (the deepest link)", tree.path.name, ee)
-    return ee
-
-
-def _within(value: float, lower: float, upper: float, revolute: bool) -> float | None:
-    """`value`, or for a revolute joint `value` turned by whole turns, within [lower, upper]; None if neither."""
-    tol = 1e-9
-    if lower - tol <= value <= upper + tol:
-        return float(np.clip(value, lower, upper))
-    if revolute:
-        turned = value + 2.0 * np.pi * np.ceil((lower - tol - value) / (2.0 * np.pi))
-        if turned <= upper + tol:
-            return float(np.clip(turned, lower, upper))
-    return None
-
-
-def _default_configuration(given: np.ndarray | str | None, spec: list, lower: np.ndarray, upper: np.ndarray,
+def _default_configuration(given: np.ndarray | str | None, spec: list[UrdfJoint], lower: np.ndarray, upper: np.ndarray,
                            srdf_path: Path | None, where: str) -> np.ndarray:
     """The default configuration of `config_from_urdf` (see its docstring)."""
     n = len(spec)
@@ -386,9 +416,7 @@ def _default_configuration(given: np.ndarray | str | None, spec: list, lower: np
     states = srdf_group_states(srdf_path) if srdf_path is not None and (given is None or isinstance(given, str)) else {}
 
     def fit(state: dict[str, float]) -> np.ndarray | None:
-        out = [_within(state[j.name], lower[i], upper[i], j.type in ("revolute", "continuous"))
-               for i, j in enumerate(spec)]
-        return None if any(v is None for v in out) else np.array(out, dtype=float)
+        return within_limits([state[j] for j in names], spec, lower, upper)
 
     if isinstance(given, str):
         if given not in states:

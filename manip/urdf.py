@@ -16,6 +16,7 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
 import pinocchio as pin
 
 from manip.errors import RobotConfigError, UnknownNameError
@@ -98,10 +99,10 @@ class UrdfTree:
         """Whether the link has `<collision>` geometry."""
         return self._collision.get(link, False)
 
-    def check_link(self, link: str) -> None:
-        """Raise UnknownNameError if `link` is not a link of the URDF."""
+    def check_link(self, link: str, what: str = "link") -> None:
+        """Raise UnknownNameError if `link` is not a link of the URDF (`what` names it in the message)."""
         if link not in self._collision:
-            raise UnknownNameError("link", link, self.links)
+            raise UnknownNameError(what if what == "link" else f"link ({what})", link, self.links)
 
     def ancestors(self, link: str) -> list[str]:
         """The links from `link` up to the root (both included)."""
@@ -255,3 +256,39 @@ def disabled_pairs(tree: UrdfTree, srdf_path: Path | None, extra: list[tuple[str
         logger.warning("%s: disabled collision pairs name links not in the URDF (ignored): %s",
                        tree.path.name, unknown)
     return tuple(sorted({tuple(sorted(p)) for p in pairs if p[0] in known and p[1] in known and p[0] != p[1]}))
+
+
+def default_ee_link(tree: UrdfTree, base: str, srdf_path: Path | None) -> str:
+    """The tool link when none is given: the `parent_link` of the SRDF's first end effector
+    below `base`, else `tree.deepest_link(base)`; the choice is logged as a warning."""
+    if srdf_path is not None:
+        for link in srdf_end_effector_links(srdf_path):
+            if link in tree.links and link != base and base in tree.ancestors(link):
+                logger.warning("%s: ee_link not given; using '%s' (the SRDF's end_effector parent_link)",
+                               tree.path.name, link)
+                return link
+    ee = tree.deepest_link(base)
+    logger.warning("%s: ee_link not given; using '%s' (the deepest link)", tree.path.name, ee)
+    return ee
+
+
+def within_limits(values: list[float], joints: list[UrdfJoint], lower: np.ndarray, upper: np.ndarray,
+                  tol: float = 1e-9) -> np.ndarray | None:
+    """`values` (one per joint) within [lower, upper], a revolute or continuous joint's value
+    turned by whole turns (2 pi: the same pose) where that brings it within; None if a value
+    cannot be brought within its limits.
+
+    Args:
+        values: (dof,) joint values [rad or m].
+        joints: the joints (their types say which may turn).
+        lower, upper: (dof,) limits [rad or m].
+        tol: slack on the limits.
+    """
+    out = []
+    for value, joint, lo, hi in zip(values, joints, lower, upper):
+        if joint.type in ("revolute", "continuous") and not lo - tol <= value <= hi + tol:
+            value = value + 2.0 * math.pi * math.ceil((lo - tol - value) / (2.0 * math.pi))
+        if not lo - tol <= value <= hi + tol:
+            return None
+        out.append(min(max(value, lo), hi))
+    return np.array(out, dtype=float)

@@ -221,3 +221,51 @@ def test_srdf_state_outside_the_limits_is_turned_or_skipped(tmp_path, files) -> 
     assert set(c.disabled_collision_pairs) == {("base", "l1"), ("l1", "l2"), ("l2", "l3")}
     with pytest.raises(RobotConfigError, match="'far' is outside the joint limits"):
         config_from_urdf(urdf, srdf, ee_link="tool", default_joint_positions="far")
+
+
+TRI_YAML = {
+    "name": "tri", "base_link": "base", "ee_link": "tool", "arm_joints": ["j1", "j2", "j3"],
+    "default_joint_positions": [0.0, 0.5, -1.0], "lower_limits": [-3.0, -1.6, -2.4], "upper_limits": [3.0, 1.6, 2.4],
+    "velocity_limits": [2.0, 2.0, 2.5], "acceleration_limits": [10.0, 10.0, 10.0], "jerk_limits": [500.0, 500.0, 500.0],
+}
+
+
+@pytest.mark.parametrize("change, error, words", [
+    ({"ee_link": "tool1"}, UnknownNameError, ["link (ee_link) 'tool1'", "tool"]),
+    ({"tcp_link": "tcp"}, UnknownNameError, ["link (tcp_link) 'tcp'"]),
+    ({"base_link": "l2", "ee_link": "l1"}, RobotConfigError, ["'l1' is not below 'l2'"]),
+    ({"base_link": None}, RobotConfigError, ["'base_link' must name a link"]),
+    ({"arm_joints": "j1"}, RobotConfigError, ["'arm_joints' must be a list of joint names"]),
+    ({"arm_joints": ["j1", "j1", "j3"]}, RobotConfigError, ["'arm_joints' must be distinct"]),
+    ({"default_joint_positions": [float("nan"), 0.5, -1.0]}, RobotConfigError, ["'default_joint_positions'", "finite"]),
+    ({"velocity_limits": [0.0, 2.0, 2.5]}, RobotConfigError, ["'velocity_limits'", "positive"]),
+    ({"jerk_limits": ["fast", 500, 500]}, RobotConfigError, ["'jerk_limits' must be 3 numbers"]),
+    ({"collision": {"padding": "thin"}}, RobotConfigError, ["'padding' must be a number"]),
+    ({"gripper": {"joints": ["finger"], "open_positions": [0.04], "closed_positions": [0.0]}}, UnknownNameError,
+     ["joint (gripper: joints) 'finger'"]),
+])
+def test_mistakes_in_a_robot_yaml_are_named_when_it_loads(tmp_path, files, change, error, words) -> None:
+    import yaml
+
+    urdf, srdf = files
+    d = {**TRI_YAML, "urdf": str(urdf), "srdf": str(srdf), **change}
+    (tmp_path / "robot.yaml").write_text(yaml.safe_dump({k: v for k, v in d.items() if v is not None}))
+    with pytest.raises(error) as info:
+        load_robot_config(tmp_path)
+    for w in words:
+        assert w in str(info.value)
+
+
+def test_unknown_robot_yaml_keys_are_reported_and_bad_yaml_is_named(tmp_path, files, caplog) -> None:
+    import yaml
+
+    urdf, srdf = files
+    (tmp_path / "robot.yaml").write_text(yaml.safe_dump({**TRI_YAML, "urdf": str(urdf), "sdrf": str(srdf),
+                                                          "collision": {"pading": 0.01}}))
+    with caplog.at_level(logging.WARNING):
+        c = load_robot_config(tmp_path)
+    assert c.srdf_path is None
+    assert "unknown key(s) ['sdrf'] ignored" in caplog.text and "unknown key(s) ['pading'] ignored" in caplog.text
+    (tmp_path / "robot.yaml").write_text("urdf: [unclosed\n")
+    with pytest.raises(RobotConfigError, match="not a readable YAML file"):
+        load_robot_config(tmp_path)
