@@ -143,3 +143,11 @@ def test_an_unusable_out_folder_is_a_clear_error(tmp_path, capsys):
     (broken / "_manifest.json").write_text("{not json")
     assert main(["--out", str(broken), "--no-progress"]) == 2
     assert "not a manip.datagen manifest" in capsys.readouterr().err
+
+
+def test_kinds_given_as_one_string_to_generate_is_named(tmp_path):
+    from manip.datagen import generate
+
+    with pytest.raises(InvalidInputError, match="list of names.*the string 'table'"):
+        generate(tmp_path / "ds", kinds="table")
+    assert not (tmp_path / "ds").exists()

@@ -269,3 +269,33 @@ def test_unknown_robot_yaml_keys_are_reported_and_bad_yaml_is_named(tmp_path, fi
     (tmp_path / "robot.yaml").write_text("urdf: [unclosed\n")
     with pytest.raises(RobotConfigError, match="not a readable YAML file"):
         load_robot_config(tmp_path)
+
+
+def test_make_mjcf_builds_a_users_robot_folder_and_names_what_is_missing(tmp_path, files) -> None:
+    import subprocess
+    import sys
+
+    import yaml
+
+    from manip.robot_config import robots_root
+
+    tool = robots_root() / "tools" / "make_mjcf.py"
+    urdf, srdf = files
+    folder = tmp_path / "tri"
+    folder.mkdir()
+    d = {**TRI_YAML, "urdf": str(urdf), "srdf": str(srdf)}
+    (folder / "robot.yaml").write_text(yaml.safe_dump(d))
+    out = subprocess.run([sys.executable, str(tool), str(folder)], capture_output=True, text=True, timeout=300)
+    assert out.returncode == 2 and "has no 'mjcf:' entry" in out.stderr
+    out = subprocess.run([sys.executable, str(tool), "no_such_robot"], capture_output=True, text=True, timeout=300)
+    assert out.returncode == 2 and "robot 'no_such_robot' not found" in out.stderr
+    (folder / "robot.yaml").write_text(yaml.safe_dump({**d, "mjcf": "tri.xml"}))
+    out = subprocess.run([sys.executable, str(tool), str(folder)], capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr
+    m = mujoco.MjModel.from_xml_path(str(folder / "tri.xml"))
+    assert [m.actuator(i).name for i in range(m.nu)] == ["j1", "j2", "j3"]
+    mg = MotionGenerator(str(folder))
+    data = mujoco.MjData(m)
+    data.qpos[:] = [0.3, 0.5, -1.0]
+    mujoco.mj_kinematics(m, data)
+    np.testing.assert_allclose(data.site("tool").xpos, mg.fk(np.array([0.3, 0.5, -1.0])).position, atol=1e-9)

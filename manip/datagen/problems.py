@@ -68,6 +68,9 @@ def problem_id(kind: str, scene: int, pair: int) -> str:
 
 def check_kinds(kinds: Sequence[str]) -> tuple[str, ...]:
     """`kinds` as a tuple; unknown or repeated kinds raise InvalidInputError listing the valid ones."""
+    if isinstance(kinds, str):
+        raise InvalidInputError(f"kinds must be a list of names among {list(SCENE_KINDS)} (e.g. ['table', 'shelf']); "
+                                f"got the string {kinds!r}")
     kinds = tuple(kinds)
     bad = [k for k in kinds if k not in SCENE_KINDS]
     if bad or not kinds or len(set(kinds)) != len(kinds):
