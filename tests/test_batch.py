@@ -205,6 +205,8 @@ def test_bad_input_raises_before_any_worker_starts(problems, change, error, word
     ({"seed": -1}, ["seed"]),
     ({"start_method": "thread"}, ["start_method", "spawn", "'thread'"]),
     ({"backend": "ray", "start_method": "spawn"}, ["start_method", 'backend="process"']),
+    ({"ray_address": "auto"}, ["ray_address", 'backend="ray"', "backend='process'"]),
+    ({"backend": "ray", "ray_address": 6379}, ["ray_address", '"auto"', "6379"]),
 ])
 def test_bad_batch_arguments(problems, kwargs, words):
     with pytest.raises(InvalidInputError) as info:

@@ -98,6 +98,7 @@ def test_a_rerun_with_other_settings_is_refused(full, tmp_path, capsys):
     (["--scenes", "0"], ["scenes"]),
     (["--problems-per-scene", "-1"], ["problems_per_scene"]),
     (["--time-budget", "0"], ["time_budget"]),
+    (["--backend", "process", "--ray-address", "auto"], ["ray_address", 'backend="ray"']),
 ])
 def test_bad_arguments_are_clear_errors(tmp_path, capsys, args, words):
     assert main(["--out", str(tmp_path / "x"), "--no-progress", *args]) == 2

@@ -98,7 +98,7 @@ def generate(
     time_budget = positive(time_budget, "time_budget", "s")
     rows_per_part = integer(rows_per_part, "rows_per_part", 1)
     ids = plan_ids(kinds, scenes, problems_per_scene)
-    _, n = validate([], workers, backend, seed)  # a bad worker count or backend fails before any work
+    _, n = validate([], workers, backend, seed, ray_address=ray_address)  # bad settings fail before any work
     settings = {"seed": seed, "kinds": list(kinds), "problems_per_scene": problems_per_scene, "robot": ROBOT,
                 "time_budget": time_budget}
     folder = dataset.open_folder(out, settings)
