@@ -13,6 +13,7 @@ adjacent links are skipped and every other pair is checked (logged).
 from __future__ import annotations
 
 import logging
+import os
 from dataclasses import dataclass, field
 from importlib import metadata
 from pathlib import Path
@@ -78,6 +79,17 @@ def _resolve_file(entry: str | dict | None, folder: Path, what: str) -> Path | N
 def _package_dirs(path: Path) -> list[str]:
     """Folders to resolve `package://` URIs in a URDF: each ancestor of the file."""
     return [str(p) for p in path.parents]
+
+
+def _check_meshes(tree: UrdfTree) -> None:
+    """Raise RobotConfigError naming the collision meshes of `tree` that resolve to no file."""
+    ros = [d for d in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep) if d]  # Pinocchio looks there too
+    missing = tree.missing_meshes(_package_dirs(tree.path.resolve()) + ros)
+    if missing:
+        raise RobotConfigError(
+            f"{tree.path}: {len(missing)} collision mesh(es) not found, e.g. {missing[:3]}; package:// URIs are "
+            "looked for in the URDF's parent folders (keep the URDF inside its package's folder tree), "
+            "relative paths in the URDF's folder")
 
 
 @dataclass(frozen=True)
@@ -216,6 +228,7 @@ def load_robot_config(name_or_path: str | Path) -> RobotConfig:
     joints = _names(d, "arm_joints", cfg_file)
     n = len(joints)
     tree = UrdfTree(urdf)
+    _check_meshes(tree)
     for key in ("base_link", "ee_link"):
         if not isinstance(d.get(key), str):
             raise RobotConfigError(f"{cfg_file}: '{key}' must name a link of the URDF; got {d.get(key)!r}")
@@ -326,8 +339,8 @@ def config_from_urdf(
         name: the robot's name; default the URDF's robot name.
 
     Raises:
-        RobotConfigError: unreadable files, no movable joint, bad limits, a default
-            configuration that is not finite or not within the limits.
+        RobotConfigError: unreadable files, collision meshes not found, no movable joint, bad
+            limits, a default configuration that is not finite or not within the limits.
         UnknownNameError: an unknown link, joint or group_state (the message lists the valid ones).
     """
     urdf_path = Path(urdf).resolve()
@@ -337,6 +350,7 @@ def config_from_urdf(
     if srdf_path is not None and not srdf_path.is_file():
         raise RobotConfigError(f"srdf: file not found: {srdf_path}")
     tree = UrdfTree(urdf_path)
+    _check_meshes(tree)
     base = base_link or tree.root_link
     tree.check_link(base)
     ee = ee_link or default_ee_link(tree, base, srdf_path)

@@ -95,6 +95,28 @@ class UrdfTree:
             raise RobotConfigError(f"{self.path}: expected one root link, found {roots}")
         self.root_link = roots[0]
 
+    def collision_meshes(self) -> list[tuple[str, str]]:
+        """(link, mesh filename as written) of every `<collision>` mesh."""
+        return [(el.get("name"), mesh.get("filename", "")) for el in self.root.findall("link")
+                for mesh in el.findall("collision/geometry/mesh")]
+
+    def missing_meshes(self, package_dirs: list[str]) -> list[str]:
+        """The collision mesh filenames that resolve to no file: `package://PKG/rest` is
+        looked for as `D/PKG/rest` or `D/rest` in each of `package_dirs` (as Pinocchio does),
+        `file://` and plain paths are taken relative to the URDF's folder."""
+        missing = []
+        for _, uri in self.collision_meshes():
+            if uri.startswith("package://"):
+                rel = uri[len("package://"):]
+                found = any((Path(d) / rel).is_file() or (Path(d) / rel.split("/", 1)[-1]).is_file()
+                            for d in package_dirs)
+            else:
+                path = Path(uri[len("file://"):] if uri.startswith("file://") else uri)
+                found = (path if path.is_absolute() else self.path.parent / path).is_file()
+            if not found and uri not in missing:
+                missing.append(uri)
+        return missing
+
     def has_collision(self, link: str) -> bool:
         """Whether the link has `<collision>` geometry."""
         return self._collision.get(link, False)

@@ -299,3 +299,11 @@ def test_make_mjcf_builds_a_users_robot_folder_and_names_what_is_missing(tmp_pat
     data.qpos[:] = [0.3, 0.5, -1.0]
     mujoco.mj_kinematics(m, data)
     np.testing.assert_allclose(data.site("tool").xpos, mg.fk(np.array([0.3, 0.5, -1.0])).position, atol=1e-9)
+
+
+def test_a_urdf_copied_out_of_its_package_names_its_missing_meshes(tmp_path) -> None:
+    # package:// mesh URIs resolve against the URDF's parent folders: a copy elsewhere finds none
+    copy = tmp_path / "z1.urdf"
+    copy.write_text(_erd("z1_description/urdf/z1.urdf").read_text())
+    with pytest.raises(RobotConfigError, match=r"collision mesh\(es\) not found.*z1_GripperStator.STL"):
+        MotionGenerator.from_urdf(copy, ee_link="link06")
