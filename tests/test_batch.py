@@ -20,6 +20,7 @@ from manip.batch.plan import run_tasks
 from manip.batch.problem import prepare
 from manip.benchmarking.scenes import make_problems
 from manip.errors import InvalidInputError
+from manip.planning.options import PlanOptions
 from manip.planning.result import PlanStatus
 
 # Budgets far above the planning times, so that a loaded machine cannot change a result.
@@ -127,6 +128,13 @@ def test_default_start_method():
     assert process_pool.check_start_method(None) == method
 
 
+def test_options_may_be_a_plan_options(problems, reference):
+    # PlanOptions(time_budget=30) is the dict {"time_budget": 30} with every other field at its default
+    batch = [Problem(p.world, p.start, p.goal, options=PlanOptions(**OPTIONS), id=p.id) for p in problems[:3]]
+    for p, r in zip(batch, plan_many(batch, workers=1, seed=SEED, progress=False)):
+        assert_same(r, reference[p.id])
+
+
 def test_seed_changes_searched_paths_and_ids_default_to_indices(problems, reference):
     joint = [Problem(p.world, p.start, p.goal, options=OPTIONS) for p in problems[:7]]
     results = plan_many(joint, workers=2, seed=SEED + 1, progress=False)
@@ -184,6 +192,8 @@ def test_closing_the_stream_early_stops_the_workers(problems):
     ({"options": {"time_budget": -1.0}}, InvalidInputError, ["time_budget"]),
     ({"options": {"speed": 2}}, InvalidInputError, ["speed", "valid"]),
     ({"options": {"seed": 3}}, InvalidInputError, ["seed", "derived"]),
+    ({"options": PlanOptions(time_budget=30.0, seed=3)}, InvalidInputError, ["options.seed", "default", "derived"]),
+    ({"options": [("time_budget", 1.0)]}, InvalidInputError, ["options must be a dict", "PlanOptions", "list"]),
     ({"id": 0}, InvalidInputError, ["id 0", "unique"]),
 ])
 def test_bad_input_raises_before_any_worker_starts(problems, change, error, words):

@@ -14,7 +14,7 @@ import json
 import pickle
 from pathlib import Path
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from functools import lru_cache
 from typing import Any
 
@@ -44,8 +44,9 @@ class Problem:
         robot: robot name (one of `manip.available_robots()`), or the path of a robot's
             `robot.yaml` or of its folder, as `MotionGenerator` takes (with backend="ray" the
             path must exist on every node).
-        options: planning options (fields of `PlanOptions` except `seed`, which
-            `plan_many` derives from its own seed and the problem id).
+        options: planning options: a dict of `PlanOptions` fields except `seed`, or a
+            `PlanOptions` whose seed is left at its default (`plan_many` derives each
+            problem's seed from its own seed and the problem id).
         id: an int or a string unique in the batch; None = the problem's index in it.
     """
 
@@ -53,7 +54,7 @@ class Problem:
     start: Any = field(repr=False)
     goal: Any = field(repr=False)
     robot: str | Path = "franka"
-    options: Mapping[str, Any] | None = None
+    options: Mapping[str, Any] | PlanOptions | None = None
     id: ProblemId | None = None
 
 
@@ -148,8 +149,16 @@ def _check_world(world: Any, where: str) -> None:
 def _check_options(options: Any, where: str) -> dict[str, Any]:
     if options is None:
         return {}
+    if isinstance(options, PlanOptions):
+        if options.seed != PlanOptions.seed:
+            raise InvalidInputError(
+                f"{where}: options.seed must stay at its default ({PlanOptions.seed}); got {options.seed}: each "
+                "problem's seed is derived from plan_many's seed and the problem id (manip.batch.problem_seed)"
+            )
+        return {f.name: getattr(options, f.name) for f in fields(PlanOptions) if f.name != "seed"}
     if not isinstance(options, Mapping):
-        raise InvalidInputError(f"{where}: options must be a dict of PlanOptions fields; got {type(options).__name__}")
+        raise InvalidInputError(f"{where}: options must be a dict of PlanOptions fields or a PlanOptions; "
+                                f"got {type(options).__name__}")
     options = dict(options)
     if "seed" in options:
         raise InvalidInputError(
