@@ -189,6 +189,7 @@ def test_closing_the_stream_early_stops_the_workers(problems):
     ({"world": [1, 2]}, InvalidInputError, ["world must be"]),
     ({"start": np.zeros(6)}, InvalidInputError, ["start", "(7,)"]),
     ({"goal": np.full(7, np.nan)}, InvalidInputError, ["goal", "finite"]),
+    ({"goal": np.eye(4)}, InvalidInputError, ["goal must have shape (7,); got (4, 4)", "a pose goal is a manip.Pose"]),
     ({"options": {"time_budget": -1.0}}, InvalidInputError, ["time_budget"]),
     ({"options": {"speed": 2}}, InvalidInputError, ["speed", "valid"]),
     ({"options": {"seed": 3}}, InvalidInputError, ["seed", "derived"]),

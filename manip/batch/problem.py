@@ -216,7 +216,10 @@ def prepare(problems: Iterable[Problem], seed: int) -> list[Task]:
                 raise InvalidInputError(f"{where}: goal must be a single Pose; got a batch of {len(p.goal)}")
             goal: np.ndarray | Pose = p.goal
         else:
-            goal = vec(p.goal, dof, f"{where}: goal")
+            try:
+                goal = vec(p.goal, dof, f"{where}: goal")
+            except InvalidInputError as exc:
+                raise InvalidInputError(f"{exc} (a joint goal is ({dof},) [rad]; a pose goal is a manip.Pose)") from None
         options = _check_options(p.options, where)
         options["seed"] = problem_seed(seed, pid)
         key = world_keys.get(id(p.world))
