@@ -15,7 +15,10 @@ from manip.errors import ManipError
 
 def main(argv: list[str] | None = None) -> int:
     """Parse the flags, generate, print a final line with problems/s; 0 on success."""
-    ap = argparse.ArgumentParser(prog="python -m manip.datagen", description=__doc__)
+    ap = argparse.ArgumentParser(
+        prog="python -m manip.datagen", description=__doc__,
+        epilog="Read the dataset back with manip.datagen.read_dataset(OUT) (rows in dataset order) or "
+               "pandas.read_parquet(OUT); one row per problem, columns in manip.datagen.dataset.")
     ap.add_argument("--scenes", type=int, default=2, help="scenes, spread over the kinds in turn (default 2)")
     ap.add_argument("--problems-per-scene", type=int, default=2, help="start/goal pairs per scene (default 2)")
     ap.add_argument("--kinds", default=",".join(SCENE_KINDS), help=f"comma-separated scene kinds (default {','.join(SCENE_KINDS)})")
