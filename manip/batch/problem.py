@@ -1,7 +1,7 @@
 """`Problem`: one planning problem of a batch, and its validation before any worker starts.
 
-A batch is validated whole in the calling process (`prepare`): a bad robot name, a
-malformed world, a wrong shape, a NaN or an unknown option raises a `ManipError` naming
+A batch is validated whole in the calling process (`prepare`): a bad robot name (or
+robot.yaml path), a malformed world, a wrong shape, a NaN or an unknown option raises a `ManipError` naming
 the problem, before a single worker is started. What goes to the workers is a `Task`:
 the validated problem with its id, its derived seed and a key of its world (workers
 reuse a warm generator's world when the key repeats).
@@ -12,10 +12,10 @@ from __future__ import annotations
 import hashlib
 import json
 import pickle
-from pathlib import Path
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, fields
 from functools import lru_cache
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -185,9 +185,9 @@ def prepare(problems: Iterable[Problem], seed: int) -> list[Task]:
     Raises:
         UnknownNameError: an unknown robot (the message lists the valid ones).
         RobotConfigError: a robot.yaml given by path is malformed.
-        InvalidInputError: anything else wrong (a robot path without a robot.yaml, not a Problem, malformed world, wrong
-            shapes, NaN, bad or forbidden options, a duplicate or bad id); the message
-            names the problem.
+        InvalidInputError: anything else wrong (a robot path without a robot.yaml, not a
+            Problem, malformed world, wrong shapes, NaN, bad or forbidden options, a
+            duplicate or bad id); the message names the problem.
     """
     seed = integer(seed, "seed", 0)
     if isinstance(problems, (Problem, dict, str)) or not isinstance(problems, Iterable):
