@@ -1,8 +1,8 @@
 """`Problem`: one planning problem of a batch, and its validation before any worker starts.
 
 A batch is validated whole in the calling process (`prepare`): a bad robot name (or
-robot.yaml path), a malformed world, a wrong shape, a NaN or an unknown option raises a `ManipError` naming
-the problem, before a single worker is started. What goes to the workers is a `Task`:
+robot.yaml path), a malformed world, a wrong shape, a NaN or an unknown option raises a
+`ManipError` naming the problem, before a single worker is started. What goes to the workers is a `Task`:
 the validated problem with its id, its derived seed and a key of its world (workers
 reuse a warm generator's world when the key repeats).
 """
