@@ -152,3 +152,31 @@ def test_kinds_given_as_one_string_to_generate_is_named(tmp_path):
     with pytest.raises(InvalidInputError, match="list of names.*the string 'table'"):
         generate(tmp_path / "ds", kinds="table")
     assert not (tmp_path / "ds").exists()
+
+
+def test_a_dataset_of_another_shipped_robot(tmp_path, capsys):
+    from manip.benchmarking.verify import Verifier
+
+    out = tmp_path / "ur5"
+    args = ["--robot", "ur5", "--scenes", "2", "--problems-per-scene", "2", "--kinds", "table,shelf", "--seed", "1",
+            "--workers", "2", "--time-budget", "30", "--out", str(out), "--no-progress"]
+    assert main(args) == 0
+    df = read_dataset(out)
+    assert list(df.problem_id) == [f"{k}-000000-{j:02d}" for k in ("table", "shelf") for j in range(2)]
+    verifier = Verifier("ur5")
+    for _, row in df.iterrows():
+        world = json.loads(row.world)
+        assert row.robot == "ur5" and len(row.start) == 6
+        assert not verifier.check_configuration(row.start, world, "start")[0]
+        assert not verifier.check_configuration(row.goal, world, "goal")[0]
+        assert row.success and row.verified, row.problem_id
+        t = np.stack(row.positions)
+        assert t.shape == (len(row.times), 6)
+        check = verifier.verify_trajectory(world, np.asarray(row.times), t, np.stack(row.velocities),
+                                           np.stack(row.accelerations), start_q=row.start, goal_q=row.goal)
+        assert check.valid, check.reasons
+    capsys.readouterr()
+    assert main([*args[2:], "--robot", "xarm7"]) == 2   # the same folder, another robot
+    assert "other settings" in capsys.readouterr().err
+    assert main(["--robot", "ur3", "--out", str(tmp_path / "x"), "--no-progress"]) == 2
+    assert "robot 'ur3' not found; available: franka" in capsys.readouterr().err

@@ -23,6 +23,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--problems-per-scene", type=int, default=2, help="start/goal pairs per scene (default 2)")
     ap.add_argument("--kinds", default=",".join(SCENE_KINDS), help=f"comma-separated scene kinds (default {','.join(SCENE_KINDS)})")
     ap.add_argument("--seed", type=int, default=0, help="dataset seed (default 0)")
+    ap.add_argument("--robot", default="franka", help="a shipped robot (default franka); scenes scaled to its reach")
     ap.add_argument("--out", required=True, help="dataset folder; rerunning the same command resumes it")
     ap.add_argument("--workers", type=int, default=None, help="worker processes / Ray actors (default: all CPUs)")
     ap.add_argument("--backend", choices=("process", "ray"), default=None,
@@ -52,7 +53,7 @@ def main(argv: list[str] | None = None) -> int:
 
     try:
         s = generate(args.out, scenes=args.scenes, problems_per_scene=args.problems_per_scene,
-                     kinds=[k.strip() for k in args.kinds.split(",") if k.strip()], seed=args.seed,
+                     kinds=[k.strip() for k in args.kinds.split(",") if k.strip()], seed=args.seed, robot=args.robot,
                      workers=args.workers, backend=backend, ray_address=args.ray_address,
                      time_budget=args.time_budget, rows_per_part=args.rows_per_part, on_total=on_total, on_row=on_row)
     except ManipError as exc:

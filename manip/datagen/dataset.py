@@ -11,11 +11,11 @@ reads it in the order the rows were written (order of completion); files startin
 or "." are ignored by pyarrow.
 
 Columns: problem_id, scene_id, kind, scene, pair (ints), seed (the planning seed), robot,
-world (JSON, cuRobo's format), start and goal ((7,) lists [rad]), status, success,
+world (JSON, cuRobo's format), start and goal ((dof,) lists [rad]), status, success,
 verified (independent check of the trajectory), verify_reasons, source, plan_time [s],
 timings (JSON: seconds per stage), motion_time [s], dt [s], times ((T,) [s]), positions,
-velocities, accelerations ((T, 7) nested lists [rad, rad/s, rad/s^2]), path ((K, 7)
-waypoints [rad]). Trajectory columns are null for failed plans.
+velocities, accelerations ((T, dof) nested lists [rad, rad/s, rad/s^2]), path ((K, dof)
+waypoints [rad]); dof = 7 for the Franka. Trajectory columns are null for failed plans.
 """
 
 from __future__ import annotations
