@@ -263,6 +263,31 @@ def test_a_robot_yaml_path_plans_as_its_motion_generator_does(tmp_path):
     assert not mp.active_children()
 
 
+def test_a_from_urdf_robot_plans_in_a_batch_as_its_motion_generator_does():
+    # a robot without a folder: its RobotConfig (MotionGenerator.from_urdf(...).config) is the Problem's robot
+    from importlib import metadata
+    from pathlib import Path
+
+    root = Path(str(metadata.distribution("example-robot-data").locate_file("cmeel.prefix/share/example-robot-data")))
+    urdf, srdf = root / "robots/ur_description/urdf/ur5_robot.urdf", root / "robots/ur_description/srdf/ur5.srdf"
+    q0 = np.array([0.0, -2.2, 1.9, -1.383, -1.57, 0.0])
+    mg = MotionGenerator.from_urdf(urdf, srdf, ee_link="tool0", default_joint_positions=q0, name="my_ur5")
+    hand = mg.fk(q0)
+    goals = [q0 + np.array([0.6, 0.2, -0.2, 0.1, 0.0, 0.3]), Pose(hand.position + [0.0, 0.1, -0.1], hand.quaternion)]
+    batch = [Problem({}, q0, g, robot=mg.config, options=OPTIONS, id=i) for i, g in enumerate(goals)]
+    batch.append(Problem({}, q0, goals[0], robot="ur5", options=OPTIONS, id="shipped"))  # same name space, no clash
+    results = plan_many(batch, workers=2, seed=SEED, progress=False)
+    refs = [mg.plan_joints(q0, goals[0], seed=problem_seed(SEED, 0), **OPTIONS),
+            mg.plan_pose(q0, goals[1], seed=problem_seed(SEED, 1), **OPTIONS)]
+    for r, ref in zip(results, refs):
+        assert ref.success
+        assert_same(r, ref)
+    assert results[2].success
+    with pytest.raises(InvalidInputError, match=r"goal must have shape \(6,\)"):
+        plan_many([Problem({}, q0, np.zeros(7), robot=mg.config)], progress=False)
+    assert not mp.active_children()
+
+
 # What a fresh interpreter loads: the numba kernels after `worker.warm_up`, and those that
 # planning problems of every scene kind (joint goals, a pose goal, a start in collision) adds.
 KERNEL_PROBE = """

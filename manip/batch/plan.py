@@ -61,6 +61,7 @@ def plan_stream(
 
     Raises:
         UnknownNameError: an unknown robot (the message lists the valid ones).
+        RobotConfigError: a robot.yaml given by path is malformed.
         InvalidInputError: a malformed problem, workers < 1, an unknown backend or start
             method (or a start method with backend="ray", a ray_address without it).
         WorkerLostError: workers kept dying on the same problems.

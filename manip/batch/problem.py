@@ -24,7 +24,7 @@ from manip.collision import WorldConfig
 from manip.errors import InvalidInputError, ManipError, UnknownNameError
 from manip.planning.options import PlanOptions
 from manip.pose import Pose
-from manip.robot_config import CONFIG_FILE, available_robots, load_robot_config
+from manip.robot_config import CONFIG_FILE, RobotConfig, available_robots, load_robot_config
 from manip.validation import integer, vec
 
 #: A problem id: an int (default: the problem's index in the batch) or a string.
@@ -41,9 +41,10 @@ class Problem:
             base frame [m].
         start: (dof,) start configuration [rad].
         goal: (dof,) joint goal [rad], or a `Pose` of the end-effector link (`plan_pose`).
-        robot: robot name (one of `manip.available_robots()`), or the path of a robot's
-            `robot.yaml` or of its folder, as `MotionGenerator` takes (with backend="ray" the
-            path must exist on every node).
+        robot: robot name (one of `manip.available_robots()`), the path of a robot's
+            `robot.yaml` or of its folder, or a `RobotConfig` (e.g. the `config` of a
+            `MotionGenerator.from_urdf`), as `MotionGenerator` takes (with backend="ray" the
+            model files must exist at the same paths on every node).
         options: planning options: a dict of `PlanOptions` fields except `seed`, or a
             `PlanOptions` whose seed is left at its default (`plan_many` derives each
             problem's seed from its own seed and the problem id).
@@ -53,9 +54,25 @@ class Problem:
     world: dict | WorldConfig = field(repr=False)
     start: Any = field(repr=False)
     goal: Any = field(repr=False)
-    robot: str | Path = "franka"
+    robot: str | Path | RobotConfig = "franka"
     options: Mapping[str, Any] | PlanOptions | None = None
     id: ProblemId | None = None
+
+
+@dataclass(frozen=True)
+class RobotSpec:
+    """A robot given as a `RobotConfig`, as tasks carry it: equal and hashed by `key` alone.
+
+    Attributes:
+        key: "<name>#<digest of the configuration>" (equal configurations, equal keys).
+        config: the configuration.
+    """
+
+    key: str
+    config: RobotConfig = field(compare=False, repr=False)
+
+    def __str__(self) -> str:
+        return self.key
 
 
 @dataclass(frozen=True)
@@ -64,7 +81,7 @@ class Task:
 
     Attributes:
         id: the problem id.
-        robot: robot name, or the resolved path of a robot.yaml.
+        robot: robot name, the resolved path of a robot.yaml, or a `RobotSpec`.
         world: the world as given (dict or WorldConfig); validated.
         world_key: digest of the world's content (equal worlds, equal keys).
         start: (dof,) start [rad].
@@ -73,7 +90,7 @@ class Task:
     """
 
     id: ProblemId
-    robot: str
+    robot: str | RobotSpec
     world: dict | WorldConfig = field(repr=False)
     world_key: str
     start: np.ndarray = field(repr=False)
@@ -108,8 +125,11 @@ def _dof(robot: str) -> int:
     return load_robot_config(robot).dof
 
 
-def _robot(robot: Any, robots: list[str], where: str) -> str:
-    """A problem's robot as a task carries it: a shipped robot's name, or a robot.yaml's resolved path."""
+def _robot(robot: Any, robots: list[str], where: str) -> str | RobotSpec:
+    """A problem's robot as a task carries it: a shipped robot's name, a robot.yaml's resolved
+    path, or a `RobotSpec` of a RobotConfig."""
+    if isinstance(robot, RobotConfig):
+        return RobotSpec(f"{robot.name}#{hashlib.sha1(pickle.dumps(robot, protocol=5)).hexdigest()[:12]}", robot)
     if isinstance(robot, str) and robot in robots:
         return robot
     if isinstance(robot, (str, Path)) and str(robot):
@@ -208,7 +228,7 @@ def prepare(problems: Iterable[Problem], seed: int) -> list[Task]:
         seen[pid] = index
         where = f"problem {pid!r} (problems[{index}])"
         robot = _robot(p.robot, robots, where)
-        dof = _dof(robot)
+        dof = robot.config.dof if isinstance(robot, RobotSpec) else _dof(robot)
         _check_world(p.world, where)
         start = vec(p.start, dof, f"{where}: start")
         if isinstance(p.goal, Pose):
