@@ -6,13 +6,14 @@ with `config_from_urdf`.
 
 Self-collision pairs: the SRDF's `<disable_collisions>` pairs are never checked; the yaml's
 `collision: disabled_pairs` only adds pairs, and `collision: disable_adjacent_links: true`
-adds the pairs of adjacent links (for SRDFs that list none). Without an SRDF the adjacent
-links are skipped and every other pair is checked.
+adds the pairs of adjacent links. Without an SRDF, or with an SRDF that lists no pair, the
+adjacent links are skipped and every other pair is checked (logged).
 """
 
 from __future__ import annotations
 
 import logging
+import os
 from dataclasses import dataclass, field
 from importlib import metadata
 from pathlib import Path
@@ -21,7 +22,8 @@ import numpy as np
 import yaml
 
 from manip.errors import RobotConfigError, UnknownNameError
-from manip.urdf import MOVABLE_TYPES, UrdfTree, disabled_pairs, srdf_group_states
+from manip.urdf import (MOVABLE_TYPES, UrdfJoint, UrdfTree, default_ee_link, disabled_pairs, srdf_group_states,
+                        within_limits)
 
 logger = logging.getLogger(__name__)
 
@@ -79,6 +81,17 @@ def _package_dirs(path: Path) -> list[str]:
     return [str(p) for p in path.parents]
 
 
+def _check_meshes(tree: UrdfTree) -> None:
+    """Raise RobotConfigError naming the collision meshes of `tree` that resolve to no file."""
+    ros = [d for d in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep) if d]  # Pinocchio looks there too
+    missing = tree.missing_meshes(_package_dirs(tree.path.resolve()) + ros)
+    if missing:
+        raise RobotConfigError(
+            f"{tree.path}: {len(missing)} collision mesh(es) not found, e.g. {missing[:3]}; package:// URIs are "
+            "looked for in the URDF's parent folders (keep the URDF inside its package's folder tree), "
+            "relative paths in the URDF's folder")
+
+
 @dataclass(frozen=True)
 class GripperConfig:
     """Finger joints and their open/closed positions [m]."""
@@ -123,13 +136,41 @@ class RobotConfig:
         return len(self.arm_joints)
 
 
-def _array(d: dict, key: str, n: int, folder: Path) -> np.ndarray:
+#: The keys of a robot.yaml (others are reported: a misspelt optional key would be ignored).
+CONFIG_KEYS = ("name", "urdf", "srdf", "mjcf", "base_link", "ee_link", "tcp_link", "approach_axis", "arm_joints",
+               "default_joint_positions", "lower_limits", "upper_limits", "velocity_limits", "acceleration_limits",
+               "jerk_limits", "gripper", "collision", "sim")
+COLLISION_KEYS = ("padding", "disabled_pairs", "disable_adjacent_links")
+
+
+def _array(d: dict, key: str, n: int, folder: Path, positive: bool = False) -> np.ndarray:
+    where = f"{folder / CONFIG_FILE}: '{key}'"
     if key not in d:
         raise RobotConfigError(f"{folder / CONFIG_FILE}: missing '{key}'")
-    a = np.asarray(d[key], dtype=float)
+    try:
+        a = np.asarray(d[key], dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise RobotConfigError(f"{where} must be {n} numbers (one per arm joint); got {d[key]!r}") from exc
     if a.shape != (n,):
-        raise RobotConfigError(f"{folder / CONFIG_FILE}: '{key}' must have {n} entries (one per arm joint); got {a.shape}")
+        raise RobotConfigError(f"{where} must have {n} entries (one per arm joint); got {a.shape}")
+    if not np.all(np.isfinite(a)) or (positive and np.any(a <= 0)):
+        raise RobotConfigError(f"{where} must be {n} finite{' positive' if positive else ''} numbers; got {a.tolist()}")
     return a
+
+
+def _names(d: dict, key: str, where: Path) -> tuple[str, ...]:
+    value = d.get(key)
+    if not isinstance(value, list) or not value or not all(isinstance(v, str) for v in value):
+        raise RobotConfigError(f"{where}: '{key}' must be a list of joint names; got {value!r}")
+    if len(set(value)) != len(value):
+        raise RobotConfigError(f"{where}: '{key}' must be distinct; got {value}")
+    return tuple(value)
+
+
+def _check_keys(d: dict, valid: tuple[str, ...], where: str) -> None:
+    unknown = sorted(set(d) - set(valid))
+    if unknown:
+        logger.warning("%s: unknown key(s) %s ignored; valid: %s", where, unknown, ", ".join(valid))
 
 
 def _check_within_urdf(tree: UrdfTree, joints: tuple[str, ...], lower: np.ndarray, upper: np.ndarray,
@@ -150,8 +191,11 @@ def load_robot_config(name_or_path: str | Path) -> RobotConfig:
     """Load a robot configuration by name ("franka") or by the path of a robot.yaml/folder.
 
     Raises:
-        UnknownNameError: no robot of that name; the message lists the available ones.
-        RobotConfigError: the file is malformed or names missing model files.
+        UnknownNameError: no robot of that name, or a link or joint the URDF does not have;
+            the message lists the available ones.
+        RobotConfigError: the file is malformed (missing keys, wrong types, non-finite or
+            non-positive limits, limits beyond the URDF's, `ee_link` not below `base_link`)
+            or names missing model files. Unknown keys are logged as a warning.
     """
     if not isinstance(name_or_path, (str, Path)) or not str(name_or_path):
         raise UnknownNameError("robot", repr(name_or_path), available_robots())
@@ -165,10 +209,14 @@ def load_robot_config(name_or_path: str | Path) -> RobotConfig:
         if not cfg_file.is_file():
             raise UnknownNameError("robot", str(name_or_path), available_robots())
     folder = cfg_file.parent.resolve()
-    with open(cfg_file) as f:
-        d = yaml.safe_load(f)
+    try:
+        with open(cfg_file) as f:
+            d = yaml.safe_load(f)
+    except (OSError, yaml.YAMLError) as exc:
+        raise RobotConfigError(f"{cfg_file}: not a readable YAML file ({exc})") from exc
     if not isinstance(d, dict):
         raise RobotConfigError(f"{cfg_file}: expected a mapping at the top level")
+    _check_keys(d, CONFIG_KEYS, str(cfg_file))
 
     urdf = _resolve_file(d.get("urdf"), folder, "urdf")
     if urdf is None:
@@ -177,24 +225,44 @@ def load_robot_config(name_or_path: str | Path) -> RobotConfig:
     # The MuJoCo model is only needed by manip.sim, which checks that it exists.
     mjcf = (folder / d["mjcf"]).resolve() if d.get("mjcf") else None
 
-    joints = tuple(d.get("arm_joints", ()))
-    if not joints:
-        raise RobotConfigError(f"{cfg_file}: 'arm_joints' must list the planned joints")
+    joints = _names(d, "arm_joints", cfg_file)
     n = len(joints)
+    tree = UrdfTree(urdf)
+    _check_meshes(tree)
+    for key in ("base_link", "ee_link"):
+        if not isinstance(d.get(key), str):
+            raise RobotConfigError(f"{cfg_file}: '{key}' must name a link of the URDF; got {d.get(key)!r}")
+        tree.check_link(d[key], key)
+    if d.get("tcp_link") is not None:
+        tree.check_link(str(d["tcp_link"]), "tcp_link")
+    tree.chain_joints(d["base_link"], d["ee_link"])  # raises if ee_link is not below base_link
     g = d.get("gripper")
     gripper = None
     if g:
-        gj = tuple(g["joints"])
+        gj = _names(g, "joints", cfg_file)
+        for j in gj:
+            if j not in tree.joints:
+                raise UnknownNameError("joint (gripper: joints)", j, list(tree.joints))
         def _g(key: str, default=None) -> np.ndarray:
-            v = np.asarray(g.get(key, default), dtype=float)
-            if v.shape != (len(gj),):
-                raise RobotConfigError(f"{cfg_file}: gripper '{key}' needs {len(gj)} entries")
+            try:
+                v = np.asarray(g.get(key, default), dtype=float)
+            except (TypeError, ValueError):
+                v = np.zeros(0)
+            if v.shape != (len(gj),) or not np.all(np.isfinite(v)):
+                raise RobotConfigError(f"{cfg_file}: gripper '{key}' needs {len(gj)} finite numbers [m]")
             return v
         gripper = GripperConfig(gj, _g("open_positions"), _g("closed_positions"),
                                 _g("planning_positions", g.get("open_positions")))
     col = d.get("collision", {}) or {}
-    tree = UrdfTree(urdf)
-    extra = [(str(a), str(b)) for a, b in col.get("disabled_pairs", []) or []]
+    if not isinstance(col, dict):
+        raise RobotConfigError(f"{cfg_file}: 'collision' must be a mapping of {', '.join(COLLISION_KEYS)}")
+    _check_keys(col, COLLISION_KEYS, f"{cfg_file}: collision")
+    try:
+        padding = float(col.get("padding", 0.0))
+        extra = [(str(a), str(b)) for a, b in col.get("disabled_pairs", []) or []]
+    except (TypeError, ValueError) as exc:
+        raise RobotConfigError(f"{cfg_file}: collision: 'padding' must be a number [m] and 'disabled_pairs' a list "
+                               f"of [link, link] pairs ({exc})") from exc
     unknown = sorted({name for pair in extra for name in pair} - set(tree.links))
     if unknown:
         raise UnknownNameError("link (collision: disabled_pairs)", unknown[0], tree.links)
@@ -221,11 +289,11 @@ def load_robot_config(name_or_path: str | Path) -> RobotConfig:
         default_joint_positions=default,
         lower_limits=lower,
         upper_limits=upper,
-        velocity_limits=_array(d, "velocity_limits", n, folder),
-        acceleration_limits=_array(d, "acceleration_limits", n, folder),
-        jerk_limits=_array(d, "jerk_limits", n, folder),
+        velocity_limits=_array(d, "velocity_limits", n, folder, positive=True),
+        acceleration_limits=_array(d, "acceleration_limits", n, folder, positive=True),
+        jerk_limits=_array(d, "jerk_limits", n, folder, positive=True),
         gripper=gripper,
-        collision_padding=float(col.get("padding", 0.0)),
+        collision_padding=padding,
         disabled_collision_pairs=pairs,
         raw=d,
     )
@@ -238,7 +306,7 @@ def config_from_urdf(
     base_link: str | None = None,
     ee_link: str | None = None,
     arm_joints: list[str] | None = None,
-    default_joint_positions: np.ndarray | None = None,
+    default_joint_positions: np.ndarray | str | None = None,
     acceleration_limits: float | np.ndarray | None = None,
     jerk_limits: float | np.ndarray | None = None,
     name: str | None = None,
@@ -249,26 +317,31 @@ def config_from_urdf(
     without a velocity limit gets DEFAULT_VELOCITY_LIMIT = 2 rad/s). Acceleration and
     jerk limits are not in a URDF: unless given they are DEFAULT_ACCELERATION_LIMIT = 10
     rad/s^2 and DEFAULT_JERK_LIMIT = 500 rad/s^3 on every joint. The default configuration
-    is the SRDF's first named state (group_state) that sets every arm joint, else the
-    middle of the limits. Each assumed default is logged as a warning. Joints not in the
-    arm (fingers, ...) are locked at zero; there is no gripper.
+    is the SRDF's first named state (group_state) that sets every arm joint within the
+    limits (a revolute joint's value may be turned by whole turns, 2 pi, to get there: the
+    same pose), else the middle of the limits. Each assumed default is logged as a warning.
+    Joints not in the arm (fingers, ...) are locked at zero; there is no gripper.
 
     Args:
         urdf: the .urdf file; `package://` mesh URIs are resolved against its ancestors.
-        srdf: the .srdf file whose disabled collision pairs are skipped; None: the adjacent
-            links are skipped and every other pair is checked.
+        srdf: the .srdf file whose disabled collision pairs are skipped; None (or an SRDF
+            that lists no pair): the adjacent links are skipped and every other pair is checked.
         base_link: root of the planned chain; default the URDF's root link.
-        ee_link: the link pose goals are given for; default the deepest link below
-            `base_link` (the one with the most movable joints above it).
-        arm_joints: the planned joints; default the movable joints from `base_link` to `ee_link`.
-        default_joint_positions: (dof,) [rad]; see above for the default.
+        ee_link: the link pose goals are given for; default the `parent_link` of the SRDF's
+            first `<end_effector>`, else the deepest link below `base_link` (the one with
+            the most movable joints above it).
+        arm_joints: the planned joints (movable, distinct); default the movable joints from
+            `base_link` to `ee_link`.
+        default_joint_positions: (dof,) [rad], or the name of an SRDF group_state; see
+            above for the default.
         acceleration_limits: one value or (dof,) [rad/s^2].
         jerk_limits: one value or (dof,) [rad/s^3].
         name: the robot's name; default the URDF's robot name.
 
     Raises:
-        RobotConfigError: unreadable files, no movable joint, bad limits.
-        UnknownNameError: an unknown link or joint (the message lists the valid ones).
+        RobotConfigError: unreadable files, collision meshes not found, no movable joint, bad
+            limits, a default configuration that is not finite or not within the limits.
+        UnknownNameError: an unknown link, joint or group_state (the message lists the valid ones).
     """
     urdf_path = Path(urdf).resolve()
     if not urdf_path.is_file():
@@ -277,12 +350,11 @@ def config_from_urdf(
     if srdf_path is not None and not srdf_path.is_file():
         raise RobotConfigError(f"srdf: file not found: {srdf_path}")
     tree = UrdfTree(urdf_path)
+    _check_meshes(tree)
     base = base_link or tree.root_link
     tree.check_link(base)
-    ee = ee_link or tree.deepest_link(base)
+    ee = ee_link or default_ee_link(tree, base, srdf_path)
     tree.check_link(ee)
-    if ee_link is None:
-        logger.warning("%s: ee_link not given; using '%s' (the deepest link)", urdf_path.name, ee)
     if arm_joints is None:
         joints = tuple(j.name for j in tree.chain_joints(base, ee))
     else:
@@ -290,6 +362,12 @@ def config_from_urdf(
         for j in joints:
             if j not in tree.joints:
                 raise UnknownNameError("joint", j, list(tree.joints))
+        fixed = [j for j in joints if tree.joints[j].type not in MOVABLE_TYPES]
+        if fixed:
+            raise RobotConfigError(f"{urdf_path}: arm joints {fixed} are not movable ({tree.joints[fixed[0]].type}); "
+                                   f"arm joints must be {', '.join(MOVABLE_TYPES)}")
+        if len(set(joints)) != len(joints):
+            raise RobotConfigError(f"arm_joints must be distinct; got {list(joints)}")
     if not joints:
         raise RobotConfigError(f"{urdf_path}: no movable joint between '{base}' and '{ee}'")
     n = len(joints)
@@ -319,18 +397,7 @@ def config_from_urdf(
 
     acc = per_joint(acceleration_limits, DEFAULT_ACCELERATION_LIMIT, "acceleration_limits", "rad/s^2")
     jerk = per_joint(jerk_limits, DEFAULT_JERK_LIMIT, "jerk_limits", "rad/s^3")
-    if default_joint_positions is None:
-        states = srdf_group_states(srdf_path) if srdf_path is not None else {}
-        full = [s for s in states.values() if all(j in s for j in joints)]
-        if full:
-            default = np.array([full[0][j] for j in joints], dtype=float)
-        else:
-            default = (lower + upper) / 2.0
-            logger.warning("%s: no default configuration; using the middle of the limits", urdf_path.name)
-    else:
-        default = np.asarray(default_joint_positions, dtype=float)
-    if default.shape != (n,) or np.any(default < lower) or np.any(default > upper):
-        raise RobotConfigError(f"default_joint_positions must be {n} values within the limits; got {default}")
+    default = _default_configuration(default_joint_positions, spec, lower, upper, srdf_path, urdf_path.name)
     return RobotConfig(
         name=name or tree.name,
         folder=urdf_path.parent,
@@ -353,3 +420,51 @@ def config_from_urdf(
         disabled_collision_pairs=disabled_pairs(tree, srdf_path, []),
         raw={},
     )
+
+
+def _default_configuration(given: np.ndarray | str | None, spec: list[UrdfJoint], lower: np.ndarray, upper: np.ndarray,
+                           srdf_path: Path | None, where: str) -> np.ndarray:
+    """The default configuration of `config_from_urdf` (see its docstring)."""
+    n = len(spec)
+    names = [j.name for j in spec]
+    states = srdf_group_states(srdf_path) if srdf_path is not None and (given is None or isinstance(given, str)) else {}
+
+    def fit(state: dict[str, float]) -> np.ndarray | None:
+        return within_limits([state[j] for j in names], spec, lower, upper)
+
+    if isinstance(given, str):
+        if given not in states:
+            raise UnknownNameError("group_state (default_joint_positions)", given, states)
+        missing = [j for j in names if j not in states[given]]
+        if missing:
+            raise RobotConfigError(f"group_state '{given}' does not set the arm joints {missing}")
+        q = fit(states[given])
+        if q is None:
+            raise RobotConfigError(f"group_state '{given}' is outside the joint limits "
+                                   f"[{lower.tolist()}, {upper.tolist()}]: {states[given]}")
+        return q
+    if given is None:
+        skipped = []
+        for state, values in states.items():
+            if all(j in values for j in names):
+                q = fit(values)
+                if q is not None:
+                    if not np.array_equal(q, [values[j] for j in names]):
+                        logger.warning("%s: default configuration: the SRDF's group_state '%s' turned by whole "
+                                       "turns into the joint limits: %s", where, state, np.round(q, 6).tolist())
+                    return q
+                skipped.append(state)
+        if skipped:
+            logger.warning("%s: the SRDF's group_states %s lie outside the joint limits", where, skipped)
+        logger.warning("%s: no default configuration; using the middle of the limits", where)
+        return (lower + upper) / 2.0
+    try:
+        default = np.asarray(given, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise RobotConfigError(f"default_joint_positions must be {n} numbers [rad] or a group_state name; "
+                               f"got {given!r}") from exc
+    if default.shape != (n,) or not np.all(np.isfinite(default)) or np.any(default < lower) \
+            or np.any(default > upper):
+        raise RobotConfigError(f"default_joint_positions must be {n} finite values within the limits "
+                               f"[{lower.tolist()}, {upper.tolist()}]; got {given!r}")
+    return default.copy()

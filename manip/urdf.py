@@ -16,6 +16,7 @@ import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
 import pinocchio as pin
 
 from manip.errors import RobotConfigError, UnknownNameError
@@ -71,6 +72,8 @@ class UrdfTree:
             raise RobotConfigError(f"{self.path}: not a readable URDF ({exc})") from exc
         if self.root.tag != "robot":
             raise RobotConfigError(f"{self.path}: the root element is <{self.root.tag}>, expected <robot>")
+        if self.root.find("link") is None:
+            raise RobotConfigError(f"{self.path}: no <link> element: not a URDF (an SRDF given as the URDF?)")
         self.name = self.root.get("name", self.path.stem)
         self.links: list[str] = [el.get("name") for el in self.root.findall("link")]
         self._collision = {el.get("name"): el.find("collision") is not None for el in self.root.findall("link")}
@@ -92,14 +95,36 @@ class UrdfTree:
             raise RobotConfigError(f"{self.path}: expected one root link, found {roots}")
         self.root_link = roots[0]
 
+    def collision_meshes(self) -> list[tuple[str, str]]:
+        """(link, mesh filename as written) of every `<collision>` mesh."""
+        return [(el.get("name"), mesh.get("filename", "")) for el in self.root.findall("link")
+                for mesh in el.findall("collision/geometry/mesh")]
+
+    def missing_meshes(self, package_dirs: list[str]) -> list[str]:
+        """The collision mesh filenames that resolve to no file: `package://PKG/rest` is
+        looked for as `D/PKG/rest` or `D/rest` in each of `package_dirs` (as Pinocchio does),
+        `file://` and plain paths are taken relative to the URDF's folder."""
+        missing = []
+        for _, uri in self.collision_meshes():
+            if uri.startswith("package://"):
+                rel = uri[len("package://"):]
+                found = any((Path(d) / rel).is_file() or (Path(d) / rel.split("/", 1)[-1]).is_file()
+                            for d in package_dirs)
+            else:
+                path = Path(uri[len("file://"):] if uri.startswith("file://") else uri)
+                found = (path if path.is_absolute() else self.path.parent / path).is_file()
+            if not found and uri not in missing:
+                missing.append(uri)
+        return missing
+
     def has_collision(self, link: str) -> bool:
         """Whether the link has `<collision>` geometry."""
         return self._collision.get(link, False)
 
-    def check_link(self, link: str) -> None:
-        """Raise UnknownNameError if `link` is not a link of the URDF."""
+    def check_link(self, link: str, what: str = "link") -> None:
+        """Raise UnknownNameError if `link` is not a link of the URDF (`what` names it in the message)."""
         if link not in self._collision:
-            raise UnknownNameError("link", link, self.links)
+            raise UnknownNameError(what if what == "link" else f"link ({what})", link, self.links)
 
     def ancestors(self, link: str) -> list[str]:
         """The links from `link` up to the root (both included)."""
@@ -169,18 +194,31 @@ def build_model(urdf_path: str | Path) -> pin.Model:
     return pin.buildModelFromXML(UrdfTree(urdf_path).bounded_xml())
 
 
+def _srdf_root(path: str | Path) -> ET.Element:
+    """The root element of an SRDF file.
+
+    Raises:
+        RobotConfigError: unreadable, not rooted at <robot>, or a URDF (it has <link> elements).
+    """
+    try:
+        root = ET.parse(path).getroot()
+    except (OSError, ET.ParseError) as exc:
+        raise RobotConfigError(f"{path}: not a readable SRDF ({exc})") from exc
+    if root.tag != "robot":
+        raise RobotConfigError(f"{path}: the root element is <{root.tag}>, expected <robot>")
+    if root.find("link") is not None:
+        raise RobotConfigError(f"{path}: has <link> elements: a URDF, not an SRDF (URDF given as the SRDF?)")
+    return root
+
+
 def srdf_disabled_pairs(path: str | Path) -> list[tuple[str, str]]:
     """The `<disable_collisions link1= link2=/>` pairs of an SRDF file.
 
     Raises:
         RobotConfigError: the file is not a readable SRDF or a pair lacks a link name.
     """
-    try:
-        root = ET.parse(path).getroot()
-    except (OSError, ET.ParseError) as exc:
-        raise RobotConfigError(f"{path}: not a readable SRDF ({exc})") from exc
     pairs = []
-    for el in root.iter("disable_collisions"):
+    for el in _srdf_root(path).iter("disable_collisions"):
         a, b = el.get("link1"), el.get("link2")
         if not a or not b:
             raise RobotConfigError(f"{path}: <disable_collisions> needs link1 and link2; got {el.attrib}")
@@ -189,28 +227,50 @@ def srdf_disabled_pairs(path: str | Path) -> list[tuple[str, str]]:
 
 
 def srdf_group_states(path: str | Path) -> dict[str, dict[str, float]]:
-    """The SRDF's named configurations: {state name: {joint name: value}}."""
-    root = ET.parse(path).getroot()
-    return {el.get("name"): {j.get("name"): float(j.get("value")) for j in el.findall("joint")}
-            for el in root.iter("group_state")}
+    """The SRDF's named configurations: {state name: {joint name: value}}, in file order.
+
+    Raises:
+        RobotConfigError: the file is not a readable SRDF or a joint value is not a number.
+    """
+    states: dict[str, dict[str, float]] = {}
+    for el in _srdf_root(path).iter("group_state"):
+        values = {}
+        for j in el.findall("joint"):
+            try:
+                values[j.get("name")] = float(j.get("value"))
+            except (TypeError, ValueError) as exc:
+                raise RobotConfigError(f"{path}: group_state '{el.get('name')}': joint {j.attrib} needs a "
+                                       "numeric value") from exc
+        states[el.get("name")] = values
+    return states
+
+
+def srdf_end_effector_links(path: str | Path) -> list[str]:
+    """The `parent_link` of each `<end_effector>` of an SRDF, in file order."""
+    return [el.get("parent_link") for el in _srdf_root(path).iter("end_effector") if el.get("parent_link")]
 
 
 def disabled_pairs(tree: UrdfTree, srdf_path: Path | None, extra: list[tuple[str, str]],
                    disable_adjacent: bool = False) -> tuple[tuple[str, str], ...]:
     """The link pairs the self-collision checker skips: the SRDF's pairs (or, without an
-    SRDF, the adjacent links, with a log line), the adjacent links if asked, and `extra`.
+    SRDF or with an SRDF that lists no pair, the adjacent links, with a log line), the
+    adjacent links if asked, and `extra`.
 
     Returns:
         Sorted unique pairs, each (a, b) with a < b.
     """
     pairs = list(extra)
-    if srdf_path is not None:
-        pairs += srdf_disabled_pairs(srdf_path)
-    if srdf_path is None or disable_adjacent:
+    listed = srdf_disabled_pairs(srdf_path) if srdf_path is not None else []
+    pairs += listed
+    if srdf_path is None or not listed or disable_adjacent:
         adjacent = tree.adjacent_pairs()
         if srdf_path is None:
             logger.info("%s: no SRDF; the %d pairs of adjacent links are not checked for self-collision, "
                         "all other pairs are", tree.path.name, len(adjacent))
+        elif not listed and not disable_adjacent:
+            logger.warning("%s lists no <disable_collisions> pair; the %d pairs of adjacent links are not checked "
+                           "for self-collision, all other pairs are (a robot.yaml says so with collision: "
+                           "disable_adjacent_links: true)", Path(srdf_path).name, len(adjacent))
         pairs += adjacent
     known = set(tree.links)
     unknown = sorted({name for pair in pairs for name in pair} - known)
@@ -218,3 +278,39 @@ def disabled_pairs(tree: UrdfTree, srdf_path: Path | None, extra: list[tuple[str
         logger.warning("%s: disabled collision pairs name links not in the URDF (ignored): %s",
                        tree.path.name, unknown)
     return tuple(sorted({tuple(sorted(p)) for p in pairs if p[0] in known and p[1] in known and p[0] != p[1]}))
+
+
+def default_ee_link(tree: UrdfTree, base: str, srdf_path: Path | None) -> str:
+    """The tool link when none is given: the `parent_link` of the SRDF's first end effector
+    below `base`, else `tree.deepest_link(base)`; the choice is logged as a warning."""
+    if srdf_path is not None:
+        for link in srdf_end_effector_links(srdf_path):
+            if link in tree.links and link != base and base in tree.ancestors(link):
+                logger.warning("%s: ee_link not given; using '%s' (the SRDF's end_effector parent_link)",
+                               tree.path.name, link)
+                return link
+    ee = tree.deepest_link(base)
+    logger.warning("%s: ee_link not given; using '%s' (the deepest link)", tree.path.name, ee)
+    return ee
+
+
+def within_limits(values: list[float], joints: list[UrdfJoint], lower: np.ndarray, upper: np.ndarray,
+                  tol: float = 1e-9) -> np.ndarray | None:
+    """`values` (one per joint) within [lower, upper], a revolute or continuous joint's value
+    turned by whole turns (2 pi: the same pose) where that brings it within; None if a value
+    cannot be brought within its limits.
+
+    Args:
+        values: (dof,) joint values [rad or m].
+        joints: the joints (their types say which may turn).
+        lower, upper: (dof,) limits [rad or m].
+        tol: slack on the limits.
+    """
+    out = []
+    for value, joint, lo, hi in zip(values, joints, lower, upper):
+        if joint.type in ("revolute", "continuous") and not lo - tol <= value <= hi + tol:
+            value = value + 2.0 * math.pi * math.ceil((lo - tol - value) / (2.0 * math.pi))
+        if not lo - tol <= value <= hi + tol:
+            return None
+        out.append(min(max(value, lo), hi))
+    return np.array(out, dtype=float)

@@ -20,6 +20,7 @@ from manip.batch.plan import run_tasks
 from manip.batch.problem import prepare
 from manip.benchmarking.scenes import make_problems
 from manip.errors import InvalidInputError
+from manip.planning.options import PlanOptions
 from manip.planning.result import PlanStatus
 
 # Budgets far above the planning times, so that a loaded machine cannot change a result.
@@ -127,6 +128,13 @@ def test_default_start_method():
     assert process_pool.check_start_method(None) == method
 
 
+def test_options_may_be_a_plan_options(problems, reference):
+    # PlanOptions(time_budget=30) is the dict {"time_budget": 30} with every other field at its default
+    batch = [Problem(p.world, p.start, p.goal, options=PlanOptions(**OPTIONS), id=p.id) for p in problems[:3]]
+    for p, r in zip(batch, plan_many(batch, workers=1, seed=SEED, progress=False)):
+        assert_same(r, reference[p.id])
+
+
 def test_seed_changes_searched_paths_and_ids_default_to_indices(problems, reference):
     joint = [Problem(p.world, p.start, p.goal, options=OPTIONS) for p in problems[:7]]
     results = plan_many(joint, workers=2, seed=SEED + 1, progress=False)
@@ -155,6 +163,15 @@ def test_a_killed_worker_costs_a_retry_not_a_problem(problems, reference, caplog
     assert not mp.active_children()
 
 
+def test_no_more_workers_start_than_there_are_problems(problems, reference):
+    before = set(mp.active_children())
+    stream = plan_stream(problems[:2], workers=4, seed=SEED)
+    pid, result = next(stream)
+    assert len(set(mp.active_children()) - before) == 2   # 4 asked, 2 problems: 2 warm-ups, not 4
+    assert_same(result, reference[pid])
+    stream.close()
+
+
 def test_closing_the_stream_early_stops_the_workers(problems):
     # workers of earlier tests' pools may still be exiting on a loaded machine: only this
     # stream's workers are checked
@@ -172,9 +189,12 @@ def test_closing_the_stream_early_stops_the_workers(problems):
     ({"world": [1, 2]}, InvalidInputError, ["world must be"]),
     ({"start": np.zeros(6)}, InvalidInputError, ["start", "(7,)"]),
     ({"goal": np.full(7, np.nan)}, InvalidInputError, ["goal", "finite"]),
+    ({"goal": np.eye(4)}, InvalidInputError, ["goal must have shape (7,); got (4, 4)", "a pose goal is a manip.Pose"]),
     ({"options": {"time_budget": -1.0}}, InvalidInputError, ["time_budget"]),
     ({"options": {"speed": 2}}, InvalidInputError, ["speed", "valid"]),
     ({"options": {"seed": 3}}, InvalidInputError, ["seed", "derived"]),
+    ({"options": PlanOptions(time_budget=30.0, seed=3)}, InvalidInputError, ["options.seed", "default", "derived"]),
+    ({"options": [("time_budget", 1.0)]}, InvalidInputError, ["options must be a dict", "PlanOptions", "list"]),
     ({"id": 0}, InvalidInputError, ["id 0", "unique"]),
 ])
 def test_bad_input_raises_before_any_worker_starts(problems, change, error, words):
@@ -196,6 +216,8 @@ def test_bad_input_raises_before_any_worker_starts(problems, change, error, word
     ({"seed": -1}, ["seed"]),
     ({"start_method": "thread"}, ["start_method", "spawn", "'thread'"]),
     ({"backend": "ray", "start_method": "spawn"}, ["start_method", 'backend="process"']),
+    ({"ray_address": "auto"}, ["ray_address", 'backend="ray"', "backend='process'"]),
+    ({"backend": "ray", "ray_address": 6379}, ["ray_address", '"auto"', "6379"]),
 ])
 def test_bad_batch_arguments(problems, kwargs, words):
     with pytest.raises(InvalidInputError) as info:
@@ -204,6 +226,65 @@ def test_bad_batch_arguments(problems, kwargs, words):
         assert w in str(info.value)
     with pytest.raises(InvalidInputError, match="iterable of manip.batch.Problem"):
         plan_many(problems[0], progress=False)
+    assert not mp.active_children()
+
+
+def test_a_robot_yaml_path_plans_as_its_motion_generator_does(tmp_path):
+    # a user's robot folder (here the UR5's configuration, copied), named by its path as
+    # MotionGenerator takes it; a path without a robot.yaml fails before any worker starts
+    import yaml
+
+    from manip.robot_config import robots_root
+
+    cfg = yaml.safe_load((robots_root() / "ur5" / "robot.yaml").read_text())
+    cfg.update(name="my_arm", mjcf=None)
+    folder = tmp_path / "my_arm"
+    folder.mkdir()
+    (folder / "robot.yaml").write_text(yaml.safe_dump(cfg))
+    mg = MotionGenerator(str(folder / "robot.yaml"))
+    q0 = mg.default_joint_positions
+    hand = mg.fk(q0)
+    world = {"cuboid": {"post": {"dims": [0.05, 0.05, 0.3],
+                                 "pose": [*(hand.position + [0.1, 0.1, 0.0]).tolist(), 1, 0, 0, 0]}}}
+    goals = [q0 + np.array([0.6, 0.2, -0.2, 0.1, 0.0, 0.3]), Pose(hand.position + [0.0, 0.1, -0.1], hand.quaternion)]
+    batch = [Problem(world, q0, goals[0], robot=folder, options=OPTIONS, id="joint"),
+             Problem(world, q0, goals[1], robot=str(folder / "robot.yaml"), options=OPTIONS, id="pose")]
+    results = plan_many(batch, workers=1, seed=SEED, progress=False)
+    mg.update_world(world)
+    refs = [mg.plan_joints(q0, goals[0], seed=problem_seed(SEED, "joint"), **OPTIONS),
+            mg.plan_pose(q0, goals[1], seed=problem_seed(SEED, "pose"), **OPTIONS)]
+    for r, ref in zip(results, refs):
+        assert ref.success
+        assert_same(r, ref)
+    with pytest.raises(InvalidInputError, match="neither a robot.yaml file nor a folder"):
+        plan_many([Problem(world, q0, goals[0], robot=tmp_path)], workers=2, progress=False)
+    with pytest.raises(UnknownNameError, match="robot 'my_arm' not found"):
+        plan_many([Problem(world, q0, goals[0], robot="my_arm")], workers=2, progress=False)
+    assert not mp.active_children()
+
+
+def test_a_from_urdf_robot_plans_in_a_batch_as_its_motion_generator_does():
+    # a robot without a folder: its RobotConfig (MotionGenerator.from_urdf(...).config) is the Problem's robot
+    from importlib import metadata
+    from pathlib import Path
+
+    root = Path(str(metadata.distribution("example-robot-data").locate_file("cmeel.prefix/share/example-robot-data")))
+    urdf, srdf = root / "robots/ur_description/urdf/ur5_robot.urdf", root / "robots/ur_description/srdf/ur5.srdf"
+    q0 = np.array([0.0, -2.2, 1.9, -1.383, -1.57, 0.0])
+    mg = MotionGenerator.from_urdf(urdf, srdf, ee_link="tool0", default_joint_positions=q0, name="my_ur5")
+    hand = mg.fk(q0)
+    goals = [q0 + np.array([0.6, 0.2, -0.2, 0.1, 0.0, 0.3]), Pose(hand.position + [0.0, 0.1, -0.1], hand.quaternion)]
+    batch = [Problem({}, q0, g, robot=mg.config, options=OPTIONS, id=i) for i, g in enumerate(goals)]
+    batch.append(Problem({}, q0, goals[0], robot="ur5", options=OPTIONS, id="shipped"))  # same name space, no clash
+    results = plan_many(batch, workers=2, seed=SEED, progress=False)
+    refs = [mg.plan_joints(q0, goals[0], seed=problem_seed(SEED, 0), **OPTIONS),
+            mg.plan_pose(q0, goals[1], seed=problem_seed(SEED, 1), **OPTIONS)]
+    for r, ref in zip(results, refs):
+        assert ref.success
+        assert_same(r, ref)
+    assert results[2].success
+    with pytest.raises(InvalidInputError, match=r"goal must have shape \(6,\)"):
+        plan_many([Problem({}, q0, np.zeros(7), robot=mg.config)], progress=False)
     assert not mp.active_children()
 
 

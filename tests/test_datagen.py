@@ -26,11 +26,17 @@ ARGS = ["--scenes", "3", "--problems-per-scene", "2", "--kinds", "table,shelf,bo
 
 
 @pytest.fixture(scope="module")
-def full(tmp_path_factory) -> pd.DataFrame:
-    """The dataset of one uninterrupted run."""
+def full_dir(tmp_path_factory) -> Path:
+    """The folder of one uninterrupted run."""
     out = tmp_path_factory.mktemp("full")
     assert main([*ARGS, "--out", str(out), "--no-progress"]) == 0
-    return read_dataset(out).set_index("problem_id").sort_index()
+    return out
+
+
+@pytest.fixture(scope="module")
+def full(full_dir) -> pd.DataFrame:
+    """The dataset of one uninterrupted run, indexed by problem id."""
+    return read_dataset(full_dir).set_index("problem_id").sort_index()
 
 
 def test_rows_hold_verified_trajectories_of_their_problems(full):
@@ -92,6 +98,7 @@ def test_a_rerun_with_other_settings_is_refused(full, tmp_path, capsys):
     (["--scenes", "0"], ["scenes"]),
     (["--problems-per-scene", "-1"], ["problems_per_scene"]),
     (["--time-budget", "0"], ["time_budget"]),
+    (["--backend", "process", "--ray-address", "auto"], ["ray_address", 'backend="ray"']),
 ])
 def test_bad_arguments_are_clear_errors(tmp_path, capsys, args, words):
     assert main(["--out", str(tmp_path / "x"), "--no-progress", *args]) == 2
@@ -103,3 +110,73 @@ def test_bad_arguments_are_clear_errors(tmp_path, capsys, args, words):
 def test_reading_an_empty_folder_says_so(tmp_path):
     with pytest.raises(InvalidInputError, match="no part"):
         read_dataset(tmp_path)
+
+
+def test_read_dataset_gives_the_dataset_order_whatever_the_order_rows_were_written(full_dir, tmp_path):
+    import pyarrow.parquet as pq
+
+    dataset_order = [f"{k}-000000-{j:02d}" for k in ("table", "shelf", "box") for j in range(2)]
+    table = pq.read_table(full_dir)
+    # the same rows written in another order (as other workers or a resumed run would)
+    out = tmp_path / "shuffled"
+    out.mkdir()
+    (out / "_manifest.json").write_text((full_dir / "_manifest.json").read_text())
+    ids = table.column("problem_id").to_pylist()
+    pq.write_table(table.take([ids.index(i) for i in reversed(dataset_order)]), out / "part-000000.parquet")
+    assert list(pd.read_parquet(out).problem_id) == dataset_order[::-1]
+    for folder in (full_dir, out):
+        df = read_dataset(folder)
+        assert list(df.problem_id) == dataset_order and list(df.index) == list(range(6))
+        part = read_dataset(folder, columns=["status", "positions"])
+        assert list(part.columns) == ["status", "positions"]
+        assert all(np.array_equal(np.stack(a), np.stack(b)) for a, b in zip(part.positions, df.positions))
+    with pytest.raises(InvalidInputError, match="unknown dataset column.*'positon'.*positions"):
+        read_dataset(out, columns=["positon"])
+
+
+def test_an_unusable_out_folder_is_a_clear_error(tmp_path, capsys):
+    a_file = tmp_path / "a_file"
+    a_file.write_text("")
+    assert main(["--out", str(a_file), "--no-progress"]) == 2
+    assert f"cannot use {a_file} as the dataset folder" in capsys.readouterr().err
+    broken = tmp_path / "broken"
+    broken.mkdir()
+    (broken / "_manifest.json").write_text("{not json")
+    assert main(["--out", str(broken), "--no-progress"]) == 2
+    assert "not a manip.datagen manifest" in capsys.readouterr().err
+
+
+def test_kinds_given_as_one_string_to_generate_is_named(tmp_path):
+    from manip.datagen import generate
+
+    with pytest.raises(InvalidInputError, match="list of names.*the string 'table'"):
+        generate(tmp_path / "ds", kinds="table")
+    assert not (tmp_path / "ds").exists()
+
+
+def test_a_dataset_of_another_shipped_robot(tmp_path, capsys):
+    from manip.benchmarking.verify import Verifier
+
+    out = tmp_path / "ur5"
+    args = ["--robot", "ur5", "--scenes", "2", "--problems-per-scene", "2", "--kinds", "table,shelf", "--seed", "1",
+            "--workers", "2", "--time-budget", "30", "--out", str(out), "--no-progress"]
+    assert main(args) == 0
+    df = read_dataset(out)
+    assert list(df.problem_id) == [f"{k}-000000-{j:02d}" for k in ("table", "shelf") for j in range(2)]
+    verifier = Verifier("ur5")
+    for _, row in df.iterrows():
+        world = json.loads(row.world)
+        assert row.robot == "ur5" and len(row.start) == 6
+        assert not verifier.check_configuration(row.start, world, "start")[0]
+        assert not verifier.check_configuration(row.goal, world, "goal")[0]
+        assert row.success and row.verified, row.problem_id
+        t = np.stack(row.positions)
+        assert t.shape == (len(row.times), 6)
+        check = verifier.verify_trajectory(world, np.asarray(row.times), t, np.stack(row.velocities),
+                                           np.stack(row.accelerations), start_q=row.start, goal_q=row.goal)
+        assert check.valid, check.reasons
+    capsys.readouterr()
+    assert main([*args[2:], "--robot", "xarm7"]) == 2   # the same folder, another robot
+    assert "other settings" in capsys.readouterr().err
+    assert main(["--robot", "ur3", "--out", str(tmp_path / "x"), "--no-progress"]) == 2
+    assert "robot 'ur3' not found; available: franka" in capsys.readouterr().err

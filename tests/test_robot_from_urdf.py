@@ -9,8 +9,9 @@ import mujoco
 import numpy as np
 import pytest
 
-from manip.errors import UnknownNameError
+from manip.errors import RobotConfigError, UnknownNameError
 from manip.motion_generator import MotionGenerator
+from manip.pose import Pose
 from manip.robot_config import config_from_urdf, load_robot_config
 from manip.sim.mjcf_builder import build_mjcf
 from manip.urdf import srdf_disabled_pairs
@@ -137,3 +138,172 @@ def test_mjcf_of_the_new_robot_matches_its_kinematics(files) -> None:
         d.qpos[:] = q
         mujoco.mj_kinematics(m, d)
         np.testing.assert_allclose(d.site("tool").xpos, mg.fk(q).position, atol=1e-9)
+
+
+# Arms of example-robot-data that are not shipped in robots/, as a new user points at them.
+def _erd(path: str) -> Path:
+    from importlib import metadata
+
+    root = metadata.distribution("example-robot-data").locate_file("cmeel.prefix/share/example-robot-data/robots")
+    return Path(str(root)) / path
+
+
+def test_kinova_from_its_urdf_and_srdf_alone_plans(caplog) -> None:
+    # kinova.srdf lists no disable_collisions pair (adjacent links touch at their joints), its
+    # only state "arm_up" puts joint 3 at -pi/2, outside the URDF's [0.33, 5.95], and it names
+    # the end effector: the robot plans from the two files with no other argument.
+    with caplog.at_level(logging.WARNING):
+        mg = MotionGenerator.from_urdf(_erd("kinova_description/robots/kinova.urdf"),
+                                       _erd("kinova_description/srdf/kinova.srdf"), seed=0)
+    assert mg.config.ee_link == "j2s6s200_end_effector"   # the SRDF's end_effector parent_link
+    assert "lists no <disable_collisions> pair" in caplog.text and "turned by whole turns" in caplog.text
+    # arm_up with joint 3 turned by 2 pi: the shipped robot's retract configuration
+    np.testing.assert_allclose(mg.default_joint_positions, [1.5707, 2.618, -1.5707 + 2 * np.pi, 3.1415, 2.618, 0.0])
+    np.testing.assert_allclose(mg.default_joint_positions, load_robot_config("kinova").default_joint_positions,
+                               atol=1e-4)
+    q0 = mg.default_joint_positions
+    assert not mg.check_collision(q0)
+    hand = mg.fk(q0)
+    target = Pose(hand.position + np.array([0.0, 0.1, -0.1]), hand.quaternion)
+    r = mg.plan_pose(q0, target)
+    assert r.success, r.status
+    assert np.linalg.norm(mg.fk(r.trajectory.positions[-1]).position - target.position) < 1e-3
+    assert not any(mg.check_collision(q) for q in r.trajectory.positions)
+
+
+def test_z1_plans_from_a_named_srdf_state() -> None:
+    urdf, srdf = _erd("z1_description/urdf/z1.urdf"), _erd("z1_description/srdf/z1.srdf")
+    with pytest.raises(UnknownNameError, match="arm_up, home"):
+        config_from_urdf(urdf, srdf, ee_link="link06", default_joint_positions="ready")
+    mg = MotionGenerator.from_urdf(urdf, srdf, ee_link="link06", default_joint_positions="arm_up", seed=0)
+    np.testing.assert_allclose(mg.default_joint_positions, [0.0, 0.26178, -0.26178, 0.0, 0.0, 0.0])
+    assert ("link02", "link03") in mg.config.disabled_collision_pairs   # adjacent: z1.srdf lists no pair
+    q0 = mg.default_joint_positions
+    assert not mg.check_collision(q0)
+    hand = mg.fk(q0)
+    r = mg.plan_pose(q0, Pose(hand.position + np.array([0.0, 0.05, -0.05]), hand.quaternion))
+    assert r.success, r.status
+
+
+@pytest.mark.parametrize("kwargs, error, words", [
+    ({"default_joint_positions": [np.nan, 0.5, -1.0]}, RobotConfigError, ["default_joint_positions", "finite"]),
+    ({"default_joint_positions": "ready?"}, UnknownNameError, ["group_state", "ready"]),
+    ({"arm_joints": ["j1", "jt"]}, RobotConfigError, ["['jt']", "not movable", "fixed"]),
+    ({"arm_joints": ["j1", "j2", "j2"]}, RobotConfigError, ["distinct"]),
+])
+def test_bad_arguments_are_named(files, kwargs, error, words) -> None:
+    urdf, srdf = files
+    with pytest.raises(error) as info:
+        config_from_urdf(urdf, srdf, ee_link="tool", **kwargs)
+    for w in words:
+        assert w in str(info.value)
+
+
+def test_a_urdf_and_an_srdf_given_the_wrong_way_round_are_named(files) -> None:
+    urdf, srdf = files
+    with pytest.raises(RobotConfigError, match="not a URDF"):
+        config_from_urdf(srdf)
+    with pytest.raises(RobotConfigError, match="a URDF, not an SRDF"):
+        config_from_urdf(urdf, urdf)
+
+
+def test_srdf_state_outside_the_limits_is_turned_or_skipped(tmp_path, files) -> None:
+    urdf, _ = files
+    srdf = tmp_path / "states.srdf"
+    # "far": j2 = 2.0 is outside [-1.6, 1.6] and j2 + k 2 pi never fits: skipped;
+    # "turned": j3 = 4.0 is outside [-2.4, 2.4], 4.0 - 2 pi = -2.283 fits. No pair listed.
+    srdf.write_text("""<robot name="tri">
+  <group_state name="far" group="arm"><joint name="j1" value="0"/><joint name="j2" value="2.0"/><joint name="j3" value="0"/></group_state>
+  <group_state name="turned" group="arm"><joint name="j1" value="0.1"/><joint name="j2" value="0.2"/><joint name="j3" value="4.0"/></group_state>
+</robot>""")
+    c = config_from_urdf(urdf, srdf, ee_link="tool")
+    np.testing.assert_allclose(c.default_joint_positions, [0.1, 0.2, 4.0 - 2 * np.pi])
+    assert set(c.disabled_collision_pairs) == {("base", "l1"), ("l1", "l2"), ("l2", "l3")}
+    with pytest.raises(RobotConfigError, match="'far' is outside the joint limits"):
+        config_from_urdf(urdf, srdf, ee_link="tool", default_joint_positions="far")
+
+
+TRI_YAML = {
+    "name": "tri", "base_link": "base", "ee_link": "tool", "arm_joints": ["j1", "j2", "j3"],
+    "default_joint_positions": [0.0, 0.5, -1.0], "lower_limits": [-3.0, -1.6, -2.4], "upper_limits": [3.0, 1.6, 2.4],
+    "velocity_limits": [2.0, 2.0, 2.5], "acceleration_limits": [10.0, 10.0, 10.0], "jerk_limits": [500.0, 500.0, 500.0],
+}
+
+
+@pytest.mark.parametrize("change, error, words", [
+    ({"ee_link": "tool1"}, UnknownNameError, ["link (ee_link) 'tool1'", "tool"]),
+    ({"tcp_link": "tcp"}, UnknownNameError, ["link (tcp_link) 'tcp'"]),
+    ({"base_link": "l2", "ee_link": "l1"}, RobotConfigError, ["'l1' is not below 'l2'"]),
+    ({"base_link": None}, RobotConfigError, ["'base_link' must name a link"]),
+    ({"arm_joints": "j1"}, RobotConfigError, ["'arm_joints' must be a list of joint names"]),
+    ({"arm_joints": ["j1", "j1", "j3"]}, RobotConfigError, ["'arm_joints' must be distinct"]),
+    ({"default_joint_positions": [float("nan"), 0.5, -1.0]}, RobotConfigError, ["'default_joint_positions'", "finite"]),
+    ({"velocity_limits": [0.0, 2.0, 2.5]}, RobotConfigError, ["'velocity_limits'", "positive"]),
+    ({"jerk_limits": ["fast", 500, 500]}, RobotConfigError, ["'jerk_limits' must be 3 numbers"]),
+    ({"collision": {"padding": "thin"}}, RobotConfigError, ["'padding' must be a number"]),
+    ({"gripper": {"joints": ["finger"], "open_positions": [0.04], "closed_positions": [0.0]}}, UnknownNameError,
+     ["joint (gripper: joints) 'finger'"]),
+])
+def test_mistakes_in_a_robot_yaml_are_named_when_it_loads(tmp_path, files, change, error, words) -> None:
+    import yaml
+
+    urdf, srdf = files
+    d = {**TRI_YAML, "urdf": str(urdf), "srdf": str(srdf), **change}
+    (tmp_path / "robot.yaml").write_text(yaml.safe_dump({k: v for k, v in d.items() if v is not None}))
+    with pytest.raises(error) as info:
+        load_robot_config(tmp_path)
+    for w in words:
+        assert w in str(info.value)
+
+
+def test_unknown_robot_yaml_keys_are_reported_and_bad_yaml_is_named(tmp_path, files, caplog) -> None:
+    import yaml
+
+    urdf, srdf = files
+    (tmp_path / "robot.yaml").write_text(yaml.safe_dump({**TRI_YAML, "urdf": str(urdf), "sdrf": str(srdf),
+                                                          "collision": {"pading": 0.01}}))
+    with caplog.at_level(logging.WARNING):
+        c = load_robot_config(tmp_path)
+    assert c.srdf_path is None
+    assert "unknown key(s) ['sdrf'] ignored" in caplog.text and "unknown key(s) ['pading'] ignored" in caplog.text
+    (tmp_path / "robot.yaml").write_text("urdf: [unclosed\n")
+    with pytest.raises(RobotConfigError, match="not a readable YAML file"):
+        load_robot_config(tmp_path)
+
+
+def test_make_mjcf_builds_a_users_robot_folder_and_names_what_is_missing(tmp_path, files) -> None:
+    import subprocess
+    import sys
+
+    import yaml
+
+    from manip.robot_config import robots_root
+
+    tool = robots_root() / "tools" / "make_mjcf.py"
+    urdf, srdf = files
+    folder = tmp_path / "tri"
+    folder.mkdir()
+    d = {**TRI_YAML, "urdf": str(urdf), "srdf": str(srdf)}
+    (folder / "robot.yaml").write_text(yaml.safe_dump(d))
+    out = subprocess.run([sys.executable, str(tool), str(folder)], capture_output=True, text=True, timeout=300)
+    assert out.returncode == 2 and "has no 'mjcf:' entry" in out.stderr
+    out = subprocess.run([sys.executable, str(tool), "no_such_robot"], capture_output=True, text=True, timeout=300)
+    assert out.returncode == 2 and "robot 'no_such_robot' not found" in out.stderr
+    (folder / "robot.yaml").write_text(yaml.safe_dump({**d, "mjcf": "tri.xml"}))
+    out = subprocess.run([sys.executable, str(tool), str(folder)], capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr
+    m = mujoco.MjModel.from_xml_path(str(folder / "tri.xml"))
+    assert [m.actuator(i).name for i in range(m.nu)] == ["j1", "j2", "j3"]
+    mg = MotionGenerator(str(folder))
+    data = mujoco.MjData(m)
+    data.qpos[:] = [0.3, 0.5, -1.0]
+    mujoco.mj_kinematics(m, data)
+    np.testing.assert_allclose(data.site("tool").xpos, mg.fk(np.array([0.3, 0.5, -1.0])).position, atol=1e-9)
+
+
+def test_a_urdf_copied_out_of_its_package_names_its_missing_meshes(tmp_path) -> None:
+    # package:// mesh URIs resolve against the URDF's parent folders: a copy elsewhere finds none
+    copy = tmp_path / "z1.urdf"
+    copy.write_text(_erd("z1_description/urdf/z1.urdf").read_text())
+    with pytest.raises(RobotConfigError, match=r"collision mesh\(es\) not found.*z1_GripperStator.STL"):
+        MotionGenerator.from_urdf(copy, ee_link="link06")

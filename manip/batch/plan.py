@@ -46,7 +46,7 @@ def plan_stream(
     Args:
         problems: the problems (ids default to their index in this iterable).
         workers: worker processes (or Ray actors); None = all cores this process may use,
-            or for Ray the cluster's CPUs.
+            or for Ray the cluster's CPUs. No more are started than there are problems.
         backend: "process" (local processes, no Ray needed) or "ray".
         seed: batch seed (>= 0); problem i plans with `problem_seed(seed, id_i)`.
         ray_address: for backend="ray" when Ray is not initialised: the `ray.init`
@@ -61,11 +61,12 @@ def plan_stream(
 
     Raises:
         UnknownNameError: an unknown robot (the message lists the valid ones).
+        RobotConfigError: a robot.yaml given by path is malformed.
         InvalidInputError: a malformed problem, workers < 1, an unknown backend or start
-            method (or a start method with backend="ray").
+            method (or a start method with backend="ray", a ray_address without it).
         WorkerLostError: workers kept dying on the same problems.
     """
-    tasks, n = validate(problems, workers, backend, seed, start_method)
+    tasks, n = validate(problems, workers, backend, seed, start_method, ray_address)
     return run_tasks(tasks, workers=n, backend=backend, ray_address=ray_address, start_method=start_method)
 
 
@@ -135,10 +136,17 @@ def plan_many(
 
 
 def validate(problems: Iterable[Problem], workers: int | None, backend: str,
-             seed: int, start_method: str | None = None) -> tuple[list[Task], int | None]:
+             seed: int, start_method: str | None = None,
+             ray_address: str | None = None) -> tuple[list[Task], int | None]:
     """(tasks, worker count or None) of a batch; raises before anything starts (see `plan_stream`)."""
     if not isinstance(backend, str) or backend not in BACKENDS:
         raise InvalidInputError(f"backend must be one of {list(BACKENDS)}; got {backend!r}")
+    if ray_address is not None:
+        if backend != "ray":
+            raise InvalidInputError(f'ray_address is an option of backend="ray"; got it with backend={backend!r}')
+        if not isinstance(ray_address, str) or not ray_address:
+            raise InvalidInputError(f'ray_address must be a ray.init address such as "auto" or "ray://host:10001"; '
+                                    f"got {ray_address!r}")
     if start_method is not None:
         if backend != "process":
             raise InvalidInputError(f'start_method is an option of backend="process"; got it with backend={backend!r}')

@@ -1,8 +1,8 @@
 """`Problem`: one planning problem of a batch, and its validation before any worker starts.
 
-A batch is validated whole in the calling process (`prepare`): a bad robot name, a
-malformed world, a wrong shape, a NaN or an unknown option raises a `ManipError` naming
-the problem, before a single worker is started. What goes to the workers is a `Task`:
+A batch is validated whole in the calling process (`prepare`): a bad robot name (or
+robot.yaml path), a malformed world, a wrong shape, a NaN or an unknown option raises a
+`ManipError` naming the problem, before a single worker is started. What goes to the workers is a `Task`:
 the validated problem with its id, its derived seed and a key of its world (workers
 reuse a warm generator's world when the key repeats).
 """
@@ -13,8 +13,9 @@ import hashlib
 import json
 import pickle
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from functools import lru_cache
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -23,7 +24,7 @@ from manip.collision import WorldConfig
 from manip.errors import InvalidInputError, ManipError, UnknownNameError
 from manip.planning.options import PlanOptions
 from manip.pose import Pose
-from manip.robot_config import available_robots, load_robot_config
+from manip.robot_config import CONFIG_FILE, RobotConfig, available_robots, load_robot_config
 from manip.validation import integer, vec
 
 #: A problem id: an int (default: the problem's index in the batch) or a string.
@@ -40,18 +41,38 @@ class Problem:
             base frame [m].
         start: (dof,) start configuration [rad].
         goal: (dof,) joint goal [rad], or a `Pose` of the end-effector link (`plan_pose`).
-        robot: robot name (one of `manip.available_robots()`).
-        options: planning options (fields of `PlanOptions` except `seed`, which
-            `plan_many` derives from its own seed and the problem id).
+        robot: robot name (one of `manip.available_robots()`), the path of a robot's
+            `robot.yaml` or of its folder, or a `RobotConfig` (e.g. the `config` of a
+            `MotionGenerator.from_urdf`), as `MotionGenerator` takes (with backend="ray" the
+            model files must exist at the same paths on every node).
+        options: planning options: a dict of `PlanOptions` fields except `seed`, or a
+            `PlanOptions` whose seed is left at its default (`plan_many` derives each
+            problem's seed from its own seed and the problem id).
         id: an int or a string unique in the batch; None = the problem's index in it.
     """
 
     world: dict | WorldConfig = field(repr=False)
     start: Any = field(repr=False)
     goal: Any = field(repr=False)
-    robot: str = "franka"
-    options: Mapping[str, Any] | None = None
+    robot: str | Path | RobotConfig = "franka"
+    options: Mapping[str, Any] | PlanOptions | None = None
     id: ProblemId | None = None
+
+
+@dataclass(frozen=True)
+class RobotSpec:
+    """A robot given as a `RobotConfig`, as tasks carry it: equal and hashed by `key` alone.
+
+    Attributes:
+        key: "<name>#<digest of the configuration>" (equal configurations, equal keys).
+        config: the configuration.
+    """
+
+    key: str
+    config: RobotConfig = field(compare=False, repr=False)
+
+    def __str__(self) -> str:
+        return self.key
 
 
 @dataclass(frozen=True)
@@ -60,7 +81,7 @@ class Task:
 
     Attributes:
         id: the problem id.
-        robot: robot name.
+        robot: robot name, the resolved path of a robot.yaml, or a `RobotSpec`.
         world: the world as given (dict or WorldConfig); validated.
         world_key: digest of the world's content (equal worlds, equal keys).
         start: (dof,) start [rad].
@@ -69,7 +90,7 @@ class Task:
     """
 
     id: ProblemId
-    robot: str
+    robot: str | RobotSpec
     world: dict | WorldConfig = field(repr=False)
     world_key: str
     start: np.ndarray = field(repr=False)
@@ -104,6 +125,26 @@ def _dof(robot: str) -> int:
     return load_robot_config(robot).dof
 
 
+def _robot(robot: Any, robots: list[str], where: str) -> str | RobotSpec:
+    """A problem's robot as a task carries it: a shipped robot's name, a robot.yaml's resolved
+    path, or a `RobotSpec` of a RobotConfig."""
+    if isinstance(robot, RobotConfig):
+        return RobotSpec(f"{robot.name}#{hashlib.sha1(pickle.dumps(robot, protocol=5)).hexdigest()[:12]}", robot)
+    if isinstance(robot, str) and robot in robots:
+        return robot
+    if isinstance(robot, (str, Path)) and str(robot):
+        path = Path(robot).expanduser()
+        looks_like_path = isinstance(robot, Path) or "/" in str(robot) or path.suffix in (".yaml", ".yml")
+        if path.is_dir() and (path / CONFIG_FILE).is_file():
+            return str((path / CONFIG_FILE).resolve())
+        if path.suffix in (".yaml", ".yml") and path.is_file():
+            return str(path.resolve())
+        if looks_like_path:
+            raise InvalidInputError(f"{where}: robot {str(robot)!r} is neither a robot.yaml file nor a folder holding "
+                                    f"one; shipped robots: {', '.join(robots)}")
+    raise UnknownNameError("robot", str(robot), robots)
+
+
 def _world_key(world: dict | WorldConfig) -> str:
     if isinstance(world, dict):
         text = json.dumps(world, sort_keys=True, default=lambda o: np.asarray(o).tolist()).encode()
@@ -128,8 +169,16 @@ def _check_world(world: Any, where: str) -> None:
 def _check_options(options: Any, where: str) -> dict[str, Any]:
     if options is None:
         return {}
+    if isinstance(options, PlanOptions):
+        if options.seed != PlanOptions.seed:
+            raise InvalidInputError(
+                f"{where}: options.seed must stay at its default ({PlanOptions.seed}); got {options.seed}: each "
+                "problem's seed is derived from plan_many's seed and the problem id (manip.batch.problem_seed)"
+            )
+        return {f.name: getattr(options, f.name) for f in fields(PlanOptions) if f.name != "seed"}
     if not isinstance(options, Mapping):
-        raise InvalidInputError(f"{where}: options must be a dict of PlanOptions fields; got {type(options).__name__}")
+        raise InvalidInputError(f"{where}: options must be a dict of PlanOptions fields or a PlanOptions; "
+                                f"got {type(options).__name__}")
     options = dict(options)
     if "seed" in options:
         raise InvalidInputError(
@@ -155,9 +204,10 @@ def prepare(problems: Iterable[Problem], seed: int) -> list[Task]:
 
     Raises:
         UnknownNameError: an unknown robot (the message lists the valid ones).
-        InvalidInputError: anything else wrong (not a Problem, malformed world, wrong
-            shapes, NaN, bad or forbidden options, a duplicate or bad id); the message
-            names the problem.
+        RobotConfigError: a robot.yaml given by path is malformed.
+        InvalidInputError: anything else wrong (a robot path without a robot.yaml, not a
+            Problem, malformed world, wrong shapes, NaN, bad or forbidden options, a
+            duplicate or bad id); the message names the problem.
     """
     seed = integer(seed, "seed", 0)
     if isinstance(problems, (Problem, dict, str)) or not isinstance(problems, Iterable):
@@ -177,9 +227,8 @@ def prepare(problems: Iterable[Problem], seed: int) -> list[Task]:
             raise InvalidInputError(f"problems[{index}]: id {pid!r} is also the id of problems[{seen[pid]}]; ids must be unique")
         seen[pid] = index
         where = f"problem {pid!r} (problems[{index}])"
-        if not isinstance(p.robot, str) or p.robot not in robots:
-            raise UnknownNameError("robot", str(p.robot), robots)
-        dof = _dof(p.robot)
+        robot = _robot(p.robot, robots, where)
+        dof = robot.config.dof if isinstance(robot, RobotSpec) else _dof(robot)
         _check_world(p.world, where)
         start = vec(p.start, dof, f"{where}: start")
         if isinstance(p.goal, Pose):
@@ -187,11 +236,14 @@ def prepare(problems: Iterable[Problem], seed: int) -> list[Task]:
                 raise InvalidInputError(f"{where}: goal must be a single Pose; got a batch of {len(p.goal)}")
             goal: np.ndarray | Pose = p.goal
         else:
-            goal = vec(p.goal, dof, f"{where}: goal")
+            try:
+                goal = vec(p.goal, dof, f"{where}: goal")
+            except InvalidInputError as exc:
+                raise InvalidInputError(f"{exc} (a joint goal is ({dof},) [rad]; a pose goal is a manip.Pose)") from None
         options = _check_options(p.options, where)
         options["seed"] = problem_seed(seed, pid)
         key = world_keys.get(id(p.world))
         if key is None:
             key = world_keys[id(p.world)] = _world_key(p.world)
-        tasks.append(Task(pid, p.robot, p.world, key, start, goal, options))
+        tasks.append(Task(pid, robot, p.world, key, start, goal, options))
     return tasks

@@ -39,7 +39,7 @@ from multiprocessing.context import BaseContext
 from typing import Any
 
 from manip.batch import worker
-from manip.batch.problem import ProblemId, Task
+from manip.batch.problem import ProblemId, RobotSpec, Task
 from manip.errors import InvalidInputError, ManipError
 
 log = logging.getLogger(__name__)
@@ -66,7 +66,7 @@ class WorkerLostError(ManipError):
     """Workers kept dying while these problems were being planned."""
 
 
-def _init_worker(robots: tuple[str, ...], new_session: bool) -> None:
+def _init_worker(robots: tuple[str | RobotSpec, ...], new_session: bool) -> None:
     if new_session:
         os.setsid()
     # Ctrl-C in a terminal reaches the whole process group: the caller stops the workers.
@@ -110,7 +110,7 @@ def _context(method: str) -> BaseContext:
     return ctx
 
 
-def _new_pool(workers: int, robots: tuple[str, ...], method: str) -> ProcessPoolExecutor:
+def _new_pool(workers: int, robots: tuple[str | RobotSpec, ...], method: str) -> ProcessPoolExecutor:
     return ProcessPoolExecutor(workers, mp_context=_context(method), initializer=_init_worker,
                                initargs=(robots, NEW_SESSION))
 
@@ -149,7 +149,7 @@ def run(tasks: Sequence[Any], workers: int, job: Job = worker.solve,
 
     Args:
         tasks: validated tasks (a `Task`, or a job's own picklable task type with `id` and `robot`).
-        workers: number of worker processes (>= 1).
+        workers: number of worker processes (>= 1); no more are started than there are tasks.
         job: the function run on each task in a worker (picklable: module level).
         start_method: "fork", "forkserver" or "spawn"; None = `default_start_method()`.
 
@@ -161,7 +161,8 @@ def run(tasks: Sequence[Any], workers: int, job: Job = worker.solve,
         WorkerLostError: a task's workers died `MAX_ATTEMPTS` times.
     """
     method = check_start_method(start_method)
-    robots = tuple(sorted({t.robot for t in tasks}))
+    workers = max(1, min(workers, len(tasks)))  # an idle worker would only warm up
+    robots = tuple(sorted({t.robot for t in tasks}, key=str))
     order = {t.id: i for i, t in enumerate(tasks)}
     queue = deque(tasks)
     attempts: dict[ProblemId, int] = {}

@@ -22,7 +22,7 @@ from collections.abc import Iterator, Sequence
 from typing import Any
 
 from manip.batch import worker
-from manip.batch.problem import ProblemId, Task
+from manip.batch.problem import ProblemId, RobotSpec, Task
 from manip.batch.process_pool import INFLIGHT_PER_WORKER, MAX_ATTEMPTS, Job, WorkerLostError
 from manip.errors import ManipError
 
@@ -41,7 +41,7 @@ def import_ray() -> Any:
 class PlanActor:
     """A Ray actor holding warm motion generators (wrapped by `ray.remote` in `run`)."""
 
-    def __init__(self, robots: tuple[str, ...]):
+    def __init__(self, robots: tuple[str | RobotSpec, ...]):
         worker.warm_up(robots)
 
     def solve(self, task: Task, job: Job = worker.solve) -> tuple[ProblemId, Any]:
@@ -53,7 +53,7 @@ class PlanActor:
         return os.getpid()
 
 
-def start_actors(workers: int, robots: tuple[str, ...]) -> list[Any]:
+def start_actors(workers: int, robots: tuple[str | RobotSpec, ...]) -> list[Any]:
     """Start `workers` planning actors of one CPU each (they warm up in the background)."""
     ray = import_ray()
     actor = ray.remote(num_cpus=1, max_restarts=MAX_ATTEMPTS, max_task_retries=MAX_ATTEMPTS)(PlanActor)
@@ -66,7 +66,8 @@ def run(tasks: Sequence[Any], workers: int | None, address: str | None = None,
 
     Args:
         tasks: validated tasks (a `Task`, or a job's own picklable task type with `id` and `robot`).
-        workers: number of actors (None: the cluster's CPUs).
+        workers: number of actors (None: the cluster's CPUs); no more are started than
+            there are tasks.
         address: passed to `ray.init` when Ray is not initialised yet (None: a local
             instance; "auto" or "ray://host:10001": an existing cluster).
         actors: actors from `start_actors` to use (they are left running); None = start them.
@@ -85,8 +86,8 @@ def run(tasks: Sequence[Any], workers: int | None, address: str | None = None,
     own = actors is None
     try:
         if own:
-            n = workers or max(1, int(ray.cluster_resources().get("CPU", 1)))
-            actors = start_actors(n, tuple(sorted({t.robot for t in tasks})))
+            n = min(workers or max(1, int(ray.cluster_resources().get("CPU", 1))), max(1, len(tasks)))
+            actors = start_actors(n, tuple(sorted({t.robot for t in tasks}, key=str)))
         yield from _dispatch(ray, tasks, list(actors), job)
     finally:
         if own and actors:

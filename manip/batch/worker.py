@@ -18,7 +18,7 @@ import time
 
 import numpy as np
 
-from manip.batch.problem import ProblemId, Task
+from manip.batch.problem import ProblemId, RobotSpec, Task
 from manip.motion_generator import MotionGenerator
 from manip.planning.result import PlanResult
 from manip.pose import Pose
@@ -32,14 +32,15 @@ _GENERATORS: dict[str, tuple[MotionGenerator, str | None]] = {}
 WARM_UP_BUDGET = 120.0
 
 
-def generator(robot: str) -> MotionGenerator:
+def generator(robot: str | RobotSpec) -> MotionGenerator:
     """This process's warm MotionGenerator of `robot` (built on first use)."""
-    if robot not in _GENERATORS:
-        _GENERATORS[robot] = (MotionGenerator(robot), None)
-    return _GENERATORS[robot][0]
+    key = str(robot)
+    if key not in _GENERATORS:
+        _GENERATORS[key] = (MotionGenerator(robot.config if isinstance(robot, RobotSpec) else robot), None)
+    return _GENERATORS[key][0]
 
 
-def warm_up(robots: tuple[str, ...]) -> dict[str, float]:
+def warm_up(robots: tuple[str | RobotSpec, ...]) -> dict[str, float]:
     """Build the generators of `robots` and load every compiled kernel: one plan, one IK call.
 
     A joint plan from the default configuration to a moved one around a box placed between
@@ -52,7 +53,7 @@ def warm_up(robots: tuple[str, ...]) -> dict[str, float]:
     results are discarded and the world is emptied afterwards.
 
     Args:
-        robots: robot names.
+        robots: robot names, robot.yaml paths or `RobotSpec`s.
 
     Returns:
         Seconds spent per stage, summed over the robots: "build" (the generators), "joint
@@ -78,9 +79,9 @@ def warm_up(robots: tuple[str, ...]) -> dict[str, float]:
         mg.ik(Pose(goal.position + 0.02, goal.quaternion))
         times["ik"] += time.perf_counter() - t
         mg.update_world({})
-        _GENERATORS[robot] = (mg, None)
+        _GENERATORS[str(robot)] = (mg, None)
     times["total"] = time.perf_counter() - t_start
-    log.info("worker %d warm in %.2f s (%s): %s", os.getpid(), times["total"], ", ".join(robots),
+    log.info("worker %d warm in %.2f s (%s): %s", os.getpid(), times["total"], ", ".join(map(str, robots)),
              ", ".join(f"{k} {v:.2f} s" for k, v in times.items() if k != "total"))
     return times
 
@@ -94,12 +95,13 @@ def solve(task: Task) -> tuple[ProblemId, PlanResult]:
     Returns:
         (the task's id, the PlanResult of the single planning call).
     """
-    if task.robot not in _GENERATORS:
+    key = str(task.robot)
+    if key not in _GENERATORS:
         warm_up((task.robot,))
-    mg = _GENERATORS[task.robot][0]
-    if _GENERATORS[task.robot][1] != task.world_key:
+    mg = _GENERATORS[key][0]
+    if _GENERATORS[key][1] != task.world_key:
         mg.update_world(task.world)
-        _GENERATORS[task.robot] = (mg, task.world_key)
+        _GENERATORS[key] = (mg, task.world_key)
     if isinstance(task.goal, Pose):
         result = mg.plan_pose(task.start, task.goal, **task.options)
     else:

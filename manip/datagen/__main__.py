@@ -15,11 +15,15 @@ from manip.errors import ManipError
 
 def main(argv: list[str] | None = None) -> int:
     """Parse the flags, generate, print a final line with problems/s; 0 on success."""
-    ap = argparse.ArgumentParser(prog="python -m manip.datagen", description=__doc__)
+    ap = argparse.ArgumentParser(
+        prog="python -m manip.datagen", description=__doc__,
+        epilog="Read the dataset back with manip.datagen.read_dataset(OUT) (rows in dataset order) or "
+               "pandas.read_parquet(OUT); one row per problem, columns in manip.datagen.dataset.")
     ap.add_argument("--scenes", type=int, default=2, help="scenes, spread over the kinds in turn (default 2)")
     ap.add_argument("--problems-per-scene", type=int, default=2, help="start/goal pairs per scene (default 2)")
     ap.add_argument("--kinds", default=",".join(SCENE_KINDS), help=f"comma-separated scene kinds (default {','.join(SCENE_KINDS)})")
     ap.add_argument("--seed", type=int, default=0, help="dataset seed (default 0)")
+    ap.add_argument("--robot", default="franka", help="a shipped robot (default franka); scenes scaled to its reach")
     ap.add_argument("--out", required=True, help="dataset folder; rerunning the same command resumes it")
     ap.add_argument("--workers", type=int, default=None, help="worker processes / Ray actors (default: all CPUs)")
     ap.add_argument("--backend", choices=("process", "ray"), default=None,
@@ -49,7 +53,7 @@ def main(argv: list[str] | None = None) -> int:
 
     try:
         s = generate(args.out, scenes=args.scenes, problems_per_scene=args.problems_per_scene,
-                     kinds=[k.strip() for k in args.kinds.split(",") if k.strip()], seed=args.seed,
+                     kinds=[k.strip() for k in args.kinds.split(",") if k.strip()], seed=args.seed, robot=args.robot,
                      workers=args.workers, backend=backend, ray_address=args.ray_address,
                      time_budget=args.time_budget, rows_per_part=args.rows_per_part, on_total=on_total, on_row=on_row)
     except ManipError as exc:

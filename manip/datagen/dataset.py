@@ -6,15 +6,16 @@
 
 Every flush writes a new part file (to a hidden temporary name, then renamed), so an
 interrupted run leaves only complete files and a rerun skips the problem ids already in
-them. `pandas.read_parquet(DIR)` (or `read_dataset(DIR)`) reads the whole folder; files
-starting with "_" or "." are ignored by pyarrow.
+them. `read_dataset(DIR)` reads the whole folder in dataset order; `pandas.read_parquet(DIR)`
+reads it in the order the rows were written (order of completion); files starting with "_"
+or "." are ignored by pyarrow.
 
 Columns: problem_id, scene_id, kind, scene, pair (ints), seed (the planning seed), robot,
-world (JSON, cuRobo's format), start and goal ((7,) lists [rad]), status, success,
+world (JSON, cuRobo's format), start and goal ((dof,) lists [rad]), status, success,
 verified (independent check of the trajectory), verify_reasons, source, plan_time [s],
 timings (JSON: seconds per stage), motion_time [s], dt [s], times ((T,) [s]), positions,
-velocities, accelerations ((T, 7) nested lists [rad, rad/s, rad/s^2]), path ((K, 7)
-waypoints [rad]). Trajectory columns are null for failed plans.
+velocities, accelerations ((T, dof) nested lists [rad, rad/s, rad/s^2]), path ((K, dof)
+waypoints [rad]); dof = 7 for the Franka. Trajectory columns are null for failed plans.
 """
 
 from __future__ import annotations
@@ -87,22 +88,30 @@ def open_folder(out: str | Path, settings: dict[str, Any]) -> Path:
     """Create `out` with a manifest of `settings`, or check that its manifest has the same ones.
 
     Raises:
-        InvalidInputError: `out` holds a dataset made with other settings (they are listed).
+        InvalidInputError: `out` holds a dataset made with other settings (they are listed),
+            cannot be created or written, or its manifest is unreadable.
     """
     out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
     manifest = out / MANIFEST
     settings = {"format": FORMAT_VERSION, **settings}
-    if manifest.exists():
-        old = json.loads(manifest.read_text())
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        old = json.loads(manifest.read_text()) if manifest.exists() else None
+        if old is None:
+            manifest.write_text(json.dumps(settings, indent=1, sort_keys=True) + "\n")
+    except OSError as exc:
+        raise InvalidInputError(f"cannot use {out} as the dataset folder: {exc.strerror or exc}") from exc
+    except json.JSONDecodeError as exc:
+        raise InvalidInputError(f"{manifest} is not a manip.datagen manifest ({exc}); use another --out") from exc
+    if old is not None:
+        if not isinstance(old, dict):
+            raise InvalidInputError(f"{manifest} is not a manip.datagen manifest; use another --out")
         diff = {k: (old.get(k), v) for k, v in settings.items() if old.get(k) != v}
         if diff:
             raise InvalidInputError(
                 f"{out} holds a dataset made with other settings (setting: (in {out}, now)): {diff}; "
                 "use another --out or the same settings"
             )
-    else:
-        manifest.write_text(json.dumps(settings, indent=1, sort_keys=True) + "\n")
     return out
 
 
@@ -149,7 +158,13 @@ class PartWriter:
 
 
 def read_dataset(out: str | Path, columns: list[str] | None = None) -> Any:
-    """The dataset in `out` as a pandas DataFrame (`pandas.read_parquet` of the folder).
+    """The dataset in `out` as a pandas DataFrame, one row per problem, in dataset order.
+
+    The rows are those of `pandas.read_parquet(out)` (which gives them in the order they
+    were written: order of completion, which varies with the workers and across resumed
+    runs), sorted into the dataset's own order: scene by scene as `--kinds` alternates
+    (table-000000, shelf-000000, ..., table-000001, ...), pair by pair within a scene. The
+    index is 0..n-1.
 
     Args:
         out: the dataset folder.
@@ -158,6 +173,9 @@ def read_dataset(out: str | Path, columns: list[str] | None = None) -> Any:
     Returns:
         A DataFrame with one row per problem; list columns hold NumPy arrays of arrays
         (`np.stack(df.positions[i])` is the (T, 7) positions of row i).
+
+    Raises:
+        InvalidInputError: pandas missing, no part file in `out`, or an unknown column.
     """
     try:
         import pandas as pd
@@ -165,4 +183,24 @@ def read_dataset(out: str | Path, columns: list[str] | None = None) -> Any:
         raise InvalidInputError('reading a dataset needs pandas: pip install "manip[datagen]"') from exc
     if not any(Path(out).glob("part-*.parquet")):
         raise InvalidInputError(f"no part-*.parquet file in {out}")
-    return pd.read_parquet(out, columns=columns)
+    names = _schema().names
+    if columns is not None:
+        columns = list(columns)
+        unknown = [c for c in columns if c not in names]
+        if unknown:
+            raise InvalidInputError(f"unknown dataset column(s) {unknown}; valid: {names}")
+    read = None if columns is None else list(dict.fromkeys([*columns, "problem_id"]))
+    df = pd.read_parquet(out, columns=read)
+    try:
+        kinds = json.loads((Path(out) / MANIFEST).read_text())["kinds"]
+    except (OSError, ValueError, KeyError, TypeError):
+        kinds = sorted({pid.rsplit("-", 2)[0] for pid in df["problem_id"]})
+    rank = {k: i for i, k in enumerate(kinds)}
+
+    def order(pid: str) -> tuple[int, int, int]:
+        kind, scene, pair = pid.rsplit("-", 2)
+        return int(scene), rank.get(kind, len(rank)), int(pair)
+
+    keys = [order(pid) for pid in df["problem_id"].tolist()]
+    df = df.iloc[sorted(range(len(keys)), key=keys.__getitem__)].reset_index(drop=True)
+    return df if columns is None else df[columns]

@@ -21,11 +21,14 @@ from manip.benchmarking.scenes import SCENE_KINDS
 from manip.datagen import dataset
 from manip.datagen.job import SceneTask, plan_scene
 from manip.datagen.problems import check_kinds, plan_ids, problem_id
+from manip.errors import UnknownNameError
 from manip.planning.options import PlanOptions
+from manip.robot_config import available_robots
 from manip.validation import integer, positive
 
 log = logging.getLogger(__name__)
 
+#: The default robot of a dataset.
 ROBOT = "franka"
 
 
@@ -62,6 +65,7 @@ def generate(
     problems_per_scene: int = 2,
     kinds: Sequence[str] = SCENE_KINDS,
     seed: int = 0,
+    robot: str = ROBOT,
     workers: int | None = None,
     backend: str = "process",
     ray_address: str | None = None,
@@ -78,6 +82,8 @@ def generate(
         problems_per_scene: start/goal pairs per scene.
         kinds: scene kinds, among `manip.benchmarking.scenes.SCENE_KINDS`.
         seed: dataset seed (scenes, pairs and planning seeds derive from it).
+        robot: a shipped robot's name (`manip.available_robots()`); its scenes are the
+            Franka's scaled by its reach.
         workers: workers (None: all cores, or the Ray cluster's CPUs).
         backend: "process" or "ray".
         ray_address: `ray.init` address for backend="ray" (None: a local Ray instance).
@@ -90,6 +96,7 @@ def generate(
         A `Summary`.
 
     Raises:
+        UnknownNameError: `robot` is not a shipped robot (the message lists them).
         InvalidInputError: bad arguments, or `out` holds a dataset made with other settings.
     """
     t0 = time.perf_counter()
@@ -97,9 +104,11 @@ def generate(
     seed = integer(seed, "seed", 0)
     time_budget = positive(time_budget, "time_budget", "s")
     rows_per_part = integer(rows_per_part, "rows_per_part", 1)
+    if not isinstance(robot, str) or robot not in available_robots():
+        raise UnknownNameError("robot", str(robot), available_robots())
     ids = plan_ids(kinds, scenes, problems_per_scene)
-    _, n = validate([], workers, backend, seed)  # a bad worker count or backend fails before any work
-    settings = {"seed": seed, "kinds": list(kinds), "problems_per_scene": problems_per_scene, "robot": ROBOT,
+    _, n = validate([], workers, backend, seed, ray_address=ray_address)  # bad settings fail before any work
+    settings = {"seed": seed, "kinds": list(kinds), "problems_per_scene": problems_per_scene, "robot": robot,
                 "time_budget": time_budget}
     folder = dataset.open_folder(out, settings)
     done = dataset.finished_ids(folder)
@@ -112,7 +121,7 @@ def generate(
     pairs: dict[tuple[str, int], list[int]] = defaultdict(list)
     for kind, scene, pair in wanted:
         pairs[(kind, scene)].append(pair)
-    tasks = [SceneTask(f"{kind}-{scene:06d}", ROBOT, kind, scene, tuple(ps), seed, options)
+    tasks = [SceneTask(f"{kind}-{scene:06d}", robot, kind, scene, tuple(ps), seed, options)
              for (kind, scene), ps in pairs.items()]
     writer = dataset.PartWriter(folder, rows_per_part)
     succeeded = verified = 0
@@ -120,7 +129,7 @@ def generate(
     try:
         for _, planned in stream:
             for problem, problem_seed, result, verdict in planned:
-                row = dataset.make_row(problem, problem_seed, ROBOT, result, verdict)
+                row = dataset.make_row(problem, problem_seed, robot, result, verdict)
                 writer.add(row)
                 succeeded += bool(result.success)
                 verified += verdict.verified

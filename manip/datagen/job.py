@@ -13,7 +13,7 @@ from typing import Any
 
 from manip.batch import worker
 from manip.batch.problem import Task, problem_seed
-from manip.benchmarking.verify import default_verifier
+from manip.benchmarking.verify import Verifier, default_verifier
 from manip.datagen.problems import DataProblem, make_scene
 from manip.planning.result import PlanResult
 
@@ -58,6 +58,18 @@ class SceneTask:
 #: One planned problem: the problem, its planning seed, the result and the verdict.
 Planned = tuple[DataProblem, int, PlanResult, Verdict]
 
+# Per-process verifiers of the robots met (the Franka's is `default_verifier()`).
+_VERIFIERS: dict[str, Verifier] = {}
+
+
+def verifier(robot: str) -> Verifier:
+    """This process's exact-mesh verifier of `robot` (built on first use)."""
+    if robot == "franka":
+        return default_verifier()
+    if robot not in _VERIFIERS:
+        _VERIFIERS[robot] = Verifier(robot)
+    return _VERIFIERS[robot]
+
 
 def plan_scene(task: SceneTask) -> tuple[str, list[Planned]]:
     """Build the scene's problems, plan and verify each (in a worker).
@@ -69,14 +81,15 @@ def plan_scene(task: SceneTask) -> tuple[str, list[Planned]]:
         (the scene id, one `Planned` per pair, in the order of `task.pairs`).
     """
     out: list[Planned] = []
-    for p in make_scene(task.kind, task.scene, task.pairs, task.seed):
+    judge = verifier(task.robot)
+    for p in make_scene(task.kind, task.scene, task.pairs, task.seed, judge, robot=task.robot):
         seed = problem_seed(task.seed, p.id)
         _, result = worker.solve(Task(p.id, task.robot, p.world, task.id, p.start, p.goal, {**task.options, "seed": seed}))
         traj = result.trajectory
         if traj is None:
             verdict = Verdict(False)
         else:
-            v = default_verifier().verify_trajectory(p.world, traj.times, traj.positions, traj.velocities,
+            v = judge.verify_trajectory(p.world, traj.times, traj.positions, traj.velocities,
                                                      traj.accelerations, start_q=p.start, goal_q=p.goal)
             verdict = Verdict(bool(v.valid), tuple(v.reasons))
         out.append((p, seed, result, verdict))

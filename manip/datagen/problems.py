@@ -43,8 +43,8 @@ class DataProblem:
         scene: index of the scene among those of its kind.
         pair: index of the start/goal pair in the scene.
         world: the scene in cuRobo's world format.
-        start: (7,) start [rad].
-        goal: (7,) goal [rad].
+        start: (dof,) start [rad].
+        goal: (dof,) goal [rad].
     """
 
     id: str
@@ -68,6 +68,9 @@ def problem_id(kind: str, scene: int, pair: int) -> str:
 
 def check_kinds(kinds: Sequence[str]) -> tuple[str, ...]:
     """`kinds` as a tuple; unknown or repeated kinds raise InvalidInputError listing the valid ones."""
+    if isinstance(kinds, str):
+        raise InvalidInputError(f"kinds must be a list of names among {list(SCENE_KINDS)} (e.g. ['table', 'shelf']); "
+                                f"got the string {kinds!r}")
     kinds = tuple(kinds)
     bad = [k for k in kinds if k not in SCENE_KINDS]
     if bad or not kinds or len(set(kinds)) != len(kinds):
@@ -100,7 +103,7 @@ def scene_seed(seed: int, kind: str, scene: int) -> int:
 
 
 def make_scene(kind: str, scene: int, pairs: Sequence[int], seed: int,
-               verifier: Verifier | None = None) -> list[DataProblem]:
+               verifier: Verifier | None = None, robot: str = "franka") -> list[DataProblem]:
     """Build pairs `pairs` of scene `scene` of `kind` (constant time in `scene`).
 
     Args:
@@ -108,13 +111,16 @@ def make_scene(kind: str, scene: int, pairs: Sequence[int], seed: int,
         scene: index of the scene among those of its kind.
         pairs: the start/goal pairs wanted (0 = the generator's own).
         seed: dataset seed (>= 0).
-        verifier: the judge of collision-free configurations (default: the Franka verifier).
+        verifier: the judge of collision-free configurations (default: the Franka
+            verifier; give the robot's own for another robot).
+        robot: the robot (its scenes are the Franka's scaled by its reach,
+            `manip.benchmarking.scenes.make_problems`).
 
     Returns:
         One problem per pair, in the order of `pairs`.
     """
-    v = verifier or default_verifier()
-    base = make_problems(kind, 1, scene_seed(seed, kind, scene), v)[0]
+    v = verifier or (default_verifier() if robot == "franka" else Verifier(robot))
+    base = make_problems(kind, 1, scene_seed(seed, kind, scene), v, robot=robot)[0]
     out = []
     for pair in pairs:
         if pair == 0:

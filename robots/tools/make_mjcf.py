@@ -6,8 +6,13 @@ drives, gripper, contact excludes and home keyframe).
 Usage (from the repository root)::
 
     .venv/bin/python robots/tools/make_mjcf.py franka ur5          # write the named robots
+    .venv/bin/python robots/tools/make_mjcf.py path/to/my_arm      # your own robot folder (or its robot.yaml)
     .venv/bin/python robots/tools/make_mjcf.py --all               # every robot with an 'mjcf' entry
     .venv/bin/python robots/tools/make_mjcf.py --all --check       # exit 1 if a file is stale
+
+A robot given by name or path needs an `mjcf:` entry in its robot.yaml (the file to write,
+relative to the yaml's folder). Exit status: 0 done, 1 a file is stale (--check), 2 a robot
+that cannot be loaded or has no `mjcf:` entry.
 """
 
 from __future__ import annotations
@@ -21,11 +26,12 @@ ROBOTS = Path(__file__).resolve().parents[1]
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("robots", nargs="*", help="robot names (folders under robots/)")
+    parser.add_argument("robots", nargs="*", help="robot names (folders under robots/) or paths of robot folders")
     parser.add_argument("--all", action="store_true", help="every robot whose robot.yaml names an mjcf file")
     parser.add_argument("--check", action="store_true", help="only check that the files are up to date")
     args = parser.parse_args()
     sys.path.insert(0, str(ROBOTS.parent))
+    from manip.errors import ManipError
     from manip.robot_config import available_robots, load_robot_config
     from manip.sim.mjcf_builder import build_mjcf, write_mjcf
 
@@ -34,9 +40,17 @@ def main() -> int:
         parser.error("name robots or pass --all")
     stale = 0
     for name in names:
-        cfg = load_robot_config(name)
+        try:
+            cfg = load_robot_config(name)
+        except ManipError as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            return 2
         if cfg.mjcf_path is None:
-            continue
+            if args.all:
+                continue
+            print(f"error: {cfg.folder / 'robot.yaml'} has no 'mjcf:' entry (the MJCF file to write, e.g. "
+                  f"'mjcf: {cfg.name}.xml')", file=sys.stderr)
+            return 2
         if args.check:
             text, assets = build_mjcf(cfg)
             ok = cfg.mjcf_path.is_file() and cfg.mjcf_path.read_text() == text and all(
