@@ -168,6 +168,11 @@ class MotionGenerator:
         jerk_limits, name) or else to the constructor (world, padding, time_budget, ...).
         """
         names = ("arm_joints", "default_joint_positions", "acceleration_limits", "jerk_limits", "name")
+        constructor = ("world", "padding", "time_budget", "interpolation_dt", "resolution", "search_resolution", "seed")
+        unknown = sorted(set(kwargs) - set(names) - set(constructor))
+        if unknown:
+            raise InvalidInputError(f"MotionGenerator.from_urdf got unknown arguments {unknown}; valid: urdf, srdf, "
+                                    f"base_link, ee_link, {', '.join(names + constructor)}")
         config = config_from_urdf(urdf, srdf, base_link=base_link, ee_link=ee_link,
                                   **{k: kwargs.pop(k) for k in names if k in kwargs})
         return cls(config, **kwargs)

@@ -9,7 +9,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from manip.errors import RobotConfigError, UnknownNameError
+from manip.errors import InvalidInputError, RobotConfigError, UnknownNameError
 from manip.motion_generator import MotionGenerator
 from manip.pose import Pose
 from manip.robot_config import config_from_urdf, load_robot_config
@@ -197,6 +197,13 @@ def test_bad_arguments_are_named(files, kwargs, error, words) -> None:
         config_from_urdf(urdf, srdf, ee_link="tool", **kwargs)
     for w in words:
         assert w in str(info.value)
+
+
+def test_from_urdf_names_an_unknown_argument(files) -> None:
+    urdf, srdf = files
+    with pytest.raises(InvalidInputError) as info:
+        MotionGenerator.from_urdf(urdf, srdf, ee_linc="tool")
+    assert "ee_linc" in str(info.value) and "ee_link" in str(info.value) and "time_budget" in str(info.value)
 
 
 def test_a_urdf_and_an_srdf_given_the_wrong_way_round_are_named(files) -> None:
