@@ -119,6 +119,22 @@ def test_workers_start_with_the_chosen_method(problems, method, monkeypatch):
         assert o["server_warmed"] is (method == "forkserver")
 
 
+def _blas_threads(task):
+    """The thread counts of this worker's native thread pools (BLAS: numpy's OpenBLAS)."""
+    from threadpoolctl import threadpool_info
+
+    return task.id, [pool["num_threads"] for pool in threadpool_info()]
+
+
+@pytest.mark.parametrize("method", [m for m in process_pool.START_METHODS if m in mp.get_all_start_methods()])
+def test_workers_run_one_blas_thread(problems, method):
+    """A worker is one CPU: its BLAS threads would compete with the other workers for the cores."""
+    tasks = prepare(problems[:2], SEED)
+    threads = dict(run_tasks(tasks, workers=2, backend="process", job=_blas_threads, start_method=method))
+    assert sorted(threads) == sorted(t.id for t in tasks)
+    assert all(counts and set(counts) == {1} for counts in threads.values()), threads
+
+
 def test_default_start_method():
     method = process_pool.default_start_method()
     if sys.platform.startswith("linux"):

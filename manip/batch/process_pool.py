@@ -72,6 +72,7 @@ def _init_worker(robots: tuple[str | RobotSpec, ...], new_session: bool) -> None
     # Ctrl-C in a terminal reaches the whole process group: the caller stops the workers.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     worker.warm_up(robots)
+    worker.single_threaded()
 
 
 def default_start_method() -> str:

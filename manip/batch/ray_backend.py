@@ -43,6 +43,7 @@ class PlanActor:
 
     def __init__(self, robots: tuple[str | RobotSpec, ...]):
         worker.warm_up(robots)
+        worker.single_threaded()
 
     def solve(self, task: Task, job: Job = worker.solve) -> tuple[ProblemId, Any]:
         """`job(task)` (default `worker.solve`) in the actor's process."""

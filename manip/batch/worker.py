@@ -7,7 +7,10 @@ world; another world costs an `update_world` (milliseconds), not a new generator
 
 `warm_up` plans one small problem and solves one IK problem so that the compiled kernels are
 loaded (or compiled) before real problems arrive: a kernel compiled during a problem would
-eat its time budget.
+eat its time budget. `single_threaded` limits a worker's native thread pools (numpy's
+OpenBLAS, scipy's) to one thread: a worker is one CPU, and two workers whose BLAS threads each
+reach for the other core slow each other down. Both backends call both when a worker starts,
+`single_threaded` second (it limits the libraries loaded so far, and the warm-up loads them).
 """
 
 from __future__ import annotations
@@ -17,6 +20,7 @@ import os
 import time
 
 import numpy as np
+from threadpoolctl import threadpool_limits
 
 from manip.batch.problem import ProblemId, RobotSpec, Task
 from manip.motion_generator import MotionGenerator
@@ -38,6 +42,14 @@ def generator(robot: str | RobotSpec) -> MotionGenerator:
     if key not in _GENERATORS:
         _GENERATORS[key] = (MotionGenerator(robot.config if isinstance(robot, RobotSpec) else robot), None)
     return _GENERATORS[key][0]
+
+
+def single_threaded() -> None:
+    """Limit this process's native thread pools (BLAS, OpenMP) to one thread each, for the
+    rest of its life. `benchmarks/batch.py`, 200 problems on 2 cores: 2 workers 1.49-1.57 x one
+    end to end with numpy's default of a BLAS thread per core (worker CPU per problem 1.11-1.18 x
+    that of a lone worker), 1.67-1.76 x with one thread (0.98-1.02 x)."""
+    threadpool_limits(limits=1)
 
 
 def warm_up(robots: tuple[str | RobotSpec, ...]) -> dict[str, float]:
