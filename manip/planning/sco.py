@@ -17,8 +17,8 @@ a trust region; each iteration one QP, `planning.qp`) share it:
 
 from __future__ import annotations
 
-import logging
 import time
+
 import numpy as np
 import scipy.sparse as sp
 
@@ -26,11 +26,8 @@ from manip.collision.clearance import ClearanceModel
 from manip.planning import bspline, qp
 from manip.planning.trajopt_settings import TrajOptSettings
 
-logger = logging.getLogger(__name__)
-
-
 class SplineProblem:
-    """The QP data that depend only on N and the limits (the constant blocks, per joint)."""
+    """The QP data that depend only on N, the start and the goal (the constant blocks, per joint)."""
 
     def __init__(self, n: int, dof: int, s: TrajOptSettings, start: np.ndarray, goal: np.ndarray):
         self.n, self.dof = n, dof
