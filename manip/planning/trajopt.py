@@ -35,10 +35,10 @@ from manip.errors import InvalidInputError
 from manip.planning import bspline
 from manip.planning.sco import SplineProblem, sco_fixed_step, sco_free_step
 from manip.planning.trajopt_settings import SMOOTH, TrajOptSettings
-
-__all__ = ["SMOOTH", "TrajOptResult", "TrajOptSettings", "optimize_trajectory"]
 from manip.trajectory import PiecewiseJerkProfile
 from manip.validation import non_negative, per_joint
+
+__all__ = ["SMOOTH", "TrajOptResult", "TrajOptSettings", "optimize_trajectory"]
 
 logger = logging.getLogger(__name__)
 
@@ -99,9 +99,11 @@ def optimize_trajectory(
         deadline: `time.perf_counter()` value to stop at (the best result so far is kept).
         settings: see TrajOptSettings.
         min_duration: a lower bound of the duration [s] (e.g. the straight line's): the
-            first target not reached (see `TrajOptSettings.duration_tolerance`).
-        max_duration: the duration to beat [s] (e.g. the seed's): the search stops before
-            a target this long (it could only give slower motions).
+            free-duration SCO's floor, and the bisection's first target not reached (see
+            `TrajOptSettings.duration_tolerance`).
+        max_duration: the duration to beat [s] (e.g. the seed's): the bisection stops before
+            a target this long (it could only give slower motions); the free-duration SCO
+            does not use it (the caller compares).
         max_solves: QPs at most (a count, so the result does not depend on the machine).
         end_rays: keep the motion's first and last two pieces on the seed's first and last
             straight segments (the seed must be a polyline's timing; the pieces near a goal
@@ -146,8 +148,8 @@ def optimize_trajectory(
     for _ in range(settings.rounds):
         if time.perf_counter() > deadline or solves >= max_solves:
             break
-        ok, c_new, used, why, radius = sco_fixed_step(prob, c, h, radius, vmax, amax, jmax, lower, upper, clearance, margin,
-                                            settings, deadline, max_solves - solves)
+        ok, c_new, used, why, radius = sco_fixed_step(prob, c, h, radius, vmax, amax, jmax, lower, upper, clearance,
+                                                      margin, settings, deadline, max_solves - solves)
         # the next round starts from twice the last step size (a step rejected there would
         # be rejected at the same shape again)
         radius = min(settings.trust_region, 2.0 * radius)
