@@ -157,7 +157,8 @@ def _check_world(world: Any, where: str) -> None:
     if isinstance(world, WorldConfig):
         return
     if not isinstance(world, dict):
-        raise InvalidInputError(f"{where}: world must be a cuRobo-style dict or a WorldConfig; got {type(world).__name__}")
+        raise InvalidInputError(f"{where}: world must be a cuRobo-style dict or a WorldConfig; "
+                                f"got {type(world).__name__}")
     try:
         WorldConfig.from_dict(world)
     except ManipError as exc:
@@ -224,7 +225,8 @@ def prepare(problems: Iterable[Problem], seed: int) -> list[Task]:
             raise InvalidInputError(f"problems[{index}].id must be an int, a str or None; got {pid!r}")
         pid = pid if isinstance(pid, str) else integer(pid, f"problems[{index}].id", 0)
         if pid in seen:
-            raise InvalidInputError(f"problems[{index}]: id {pid!r} is also the id of problems[{seen[pid]}]; ids must be unique")
+            raise InvalidInputError(f"problems[{index}]: id {pid!r} is also the id of problems[{seen[pid]}]; "
+                                    "ids must be unique")
         seen[pid] = index
         where = f"problem {pid!r} (problems[{index}])"
         robot = _robot(p.robot, robots, where)
@@ -239,7 +241,8 @@ def prepare(problems: Iterable[Problem], seed: int) -> list[Task]:
             try:
                 goal = vec(p.goal, dof, f"{where}: goal")
             except InvalidInputError as exc:
-                raise InvalidInputError(f"{exc} (a joint goal is ({dof},) [rad]; a pose goal is a manip.Pose)") from None
+                raise InvalidInputError(
+                    f"{exc} (a joint goal is ({dof},) [rad]; a pose goal is a manip.Pose)") from None
         options = _check_options(p.options, where)
         options["seed"] = problem_seed(seed, pid)
         key = world_keys.get(id(p.world))
