@@ -128,6 +128,8 @@ def sco_fixed_step(prob: SplineProblem, c0, h, radius, vmax, amax, jmax, lower, 
     solves = 0
     G_lim, h_lim = _limit_rows(prob, h, vmax, amax, jmax)
     G_lim_slack = prob.limit_G_slack  # the same rows with their slack columns (-1)
+    S = G_lim_slack.shape[1] - G_lim.shape[1]  # one slack per derivative order and joint, >= 0, L1-penalised
+    slack_cost, slack_lb, slack_ub = np.full(S, s.penalty), np.zeros(S), np.full(S, np.inf)
     row_lim = _row_limits(prob, h, vmax, amax, jmax)
     P, q_lin = _objective(prob, h, vmax, amax, jmax, s)
     P_sparse = sp.csc_matrix(P)
@@ -145,7 +147,8 @@ def sco_fixed_step(prob: SplineProblem, c0, h, radius, vmax, amax, jmax, lower, 
         # become active within the trust region's first steps, and limits are soft anyway: the
         # result is re-timed exactly), then collision rows, each with its own slack (L1)
         keep = G_lim @ x0.T.ravel() - h_lim > -s.limit_row_slack * row_lim
-        z = _solve_qp(prob, P_sparse, q_lin, G_lim_slack[keep], h_lim[keep], G_col, h_col, x0, radius, lower, upper, s)
+        z = _solve_qp(prob, P_sparse, q_lin, G_lim_slack[keep], h_lim[keep], G_col, h_col, x0, radius, lower, upper, s,
+                      slack_cost, slack_lb, slack_ub)
         solves += 1
         if z is None:
             return False, c0, solves, "the QP solver failed", radius
@@ -198,7 +201,6 @@ def sco_free_step(prob: SplineProblem, c0: np.ndarray, vmax, amax, jmax, lower, 
     P_sparse = sp.csc_matrix(P)
     nx, R = P.shape[0], len(prob.rays)
     order = prob.limit_slack // dof + 1  # (L,) the derivative order of each limit row
-    A, b = prob.ray_rows(1)
     activation = margin + s.activation
     terms = clearance.terms(prob.B @ c, activation)
     floor = min(margin, _min_distance(terms, activation)) - 1e-3
@@ -206,9 +208,8 @@ def sco_free_step(prob: SplineProblem, c0: np.ndarray, vmax, amax, jmax, lower, 
 
     def merit_of(c_: np.ndarray, terms_) -> float:
         x = c_[3:n].T.ravel()
-        violation = np.maximum(0.0, margin - terms_.distance).sum() if terms_.distance.size else 0.0
         return float(weight * _polygon_step(c_, vmax, amax, jmax) + 0.5 * x @ P @ x + q_lin @ x
-                     + s.penalty * violation)
+                     + s.penalty * _violation(terms_, margin))
 
     merit = merit_of(c, terms)
     radius = s.trust_region
@@ -222,21 +223,9 @@ def sco_free_step(prob: SplineProblem, c0: np.ndarray, vmax, amax, jmax, lower, 
         # G x <= lim(h') - fixed share, with lim(h') >= lim(h) (k h' / h - (k - 1)) for order k
         k, lim = order[keep], row_lim[keep]
         G_col, h_col = _collision_rows(prob, c, terms, margin)
-        L, T = lim.size, h_col.size
-        nz = nx + 1 + R + T  # [x, h, ray parameters, clearance slacks]
-        G_T = np.zeros((nz, L + T))
-        G_T[:nx, :L] = G_lim[keep].T
-        G_T[nx, :L] = -lim * k / h
-        G_T[:nx, L:] = G_col.T
-        G_T[nx + 1 + R + np.arange(T), L + np.arange(T)] = -1.0
-        rhs = np.concatenate([h_lim[keep] - k * lim, h_col])
-        qz = np.concatenate([q_lin, [weight], np.zeros(R), np.full(T, s.penalty)])
-        lb = np.concatenate([np.maximum(lower[None, :], x0 - radius).T.ravel(), [max(h_floor, 0.5 * h)],
-                             np.zeros(R + T)])
-        ub = np.concatenate([np.minimum(upper[None, :], x0 + radius).T.ravel(), [2.0 * h], np.ones(R),
-                             np.full(T, np.inf)])
-        z = qp.solve(qp.regularised(P_sparse, nz - nx), qz, G_T, rhs, qp.with_columns(A, T) if R else None, b,
-                     lb, ub, s.solver)
+        G_h = np.hstack([G_lim[keep], (-lim * k / h)[:, None]])  # [x, h] columns
+        z = _solve_qp(prob, P_sparse, q_lin, G_h, h_lim[keep] - k * lim, G_col, h_col, x0, radius, lower, upper, s,
+                      np.array([weight]), np.array([max(h_floor, 0.5 * h)]), np.array([2.0 * h]))
         solves += 1
         if z is None:
             break
@@ -281,35 +270,39 @@ def _merit(P, q_lin, c, prob: SplineProblem, terms, margin: float, penalty: floa
     limits' excess: per derivative order and joint, the largest excess of its rows (in units
     of the limits' per-step values), as the QP's one slack per order and joint counts it."""
     x = c[3 : prob.n].T.ravel()
-    violation = np.maximum(0.0, margin - terms.distance).sum() if terms.distance.size else 0.0
     largest = np.zeros(3 * prob.dof)
     np.maximum.at(largest, prob.limit_slack, G_lim @ x - h_lim)
-    excess = largest.sum()
-    return float(0.5 * x @ P @ x + q_lin @ x + penalty * (violation + excess))
+    return float(0.5 * x @ P @ x + q_lin @ x + penalty * (_violation(terms, margin) + largest.sum()))
+
+
+def _violation(terms, margin: float) -> float:
+    """Sum [m] of the sampled clearance terms' shortfall below `margin`."""
+    return float(np.maximum(0.0, margin - terms.distance).sum()) if terms.distance.size else 0.0
 
 
 def _solve_qp(prob: SplineProblem, P: sp.csc_matrix, q_lin, G_lim, h_lim, G_col, h_col, x0, radius, lower, upper,
-              s: TrajOptSettings):
-    """One SCO step's QP; the solution z = [x (dof * m), limit slacks (3 dof), ray parameters
-    (R), clearance slacks (T)] (`planning.qp`), or None when the solver fails.
+              s: TrajOptSettings, q_extra, lb_extra, ub_extra):
+    """One SCO step's QP; the solution z = [x (dof * m), E extra variables, ray parameters (R),
+    clearance slacks (T)] (`planning.qp`), or None when the solver fails.
 
-    minimise 1/2 x^T P x + q^T x + penalty * (slacks), subject to the kept limit rows and the
-    clearance rows (each with its slack >= 0), the trust region and the position limits
-    around x0 (m, dof), and the end rays (equalities).
+    minimise 1/2 x^T P x + q^T x + q_extra . extra + penalty * (clearance slacks), subject to
+    the limit rows G_lim (L, dof * m + E: their x and extra columns) <= h_lim, the clearance
+    rows (each with its slack >= 0), the trust region and the position limits around x0
+    (m, dof), lb_extra <= extra <= ub_extra (E,), and the end rays (equalities). The extra
+    variables: the limit slacks of `sco_fixed_step` or the step h of `sco_free_step`.
     """
-    nx, S, R = P.shape[0], 3 * prob.dof, len(prob.rays)
-    L, T = h_lim.size, h_col.size
-    nz = nx + S + R + T
+    nx, R = P.shape[0], len(prob.rays)
+    E, L, T = G_lim.shape[1] - nx, h_lim.size, h_col.size
+    nz = nx + E + R + T
     G_T = np.zeros((nz, L + T))
-    G_T[: nx + S, :L] = G_lim.T
+    G_T[: nx + E, :L] = G_lim.T
     G_T[:nx, L:] = G_col.T
-    G_T[nx + S + R + np.arange(T), L + np.arange(T)] = -1.0
+    G_T[nx + E + R + np.arange(T), L + np.arange(T)] = -1.0
     h = np.concatenate([h_lim, h_col])
-    qz = np.concatenate([q_lin, np.full(S, s.penalty), np.zeros(R), np.full(T, s.penalty)])
-    lb = np.concatenate([np.maximum(lower[None, :], x0 - radius).T.ravel(), np.zeros(S + R + T)])
-    ub = np.concatenate([np.minimum(upper[None, :], x0 + radius).T.ravel(), np.full(S, np.inf), np.ones(R),
-                         np.full(T, np.inf)])
-    A, b = prob.ray_rows(S)
+    qz = np.concatenate([q_lin, q_extra, np.zeros(R), np.full(T, s.penalty)])
+    lb = np.concatenate([np.maximum(lower[None, :], x0 - radius).T.ravel(), lb_extra, np.zeros(R + T)])
+    ub = np.concatenate([np.minimum(upper[None, :], x0 + radius).T.ravel(), ub_extra, np.ones(R), np.full(T, np.inf)])
+    A, b = prob.ray_rows(E)
     return qp.solve(qp.regularised(P, nz - nx), qz, G_T, h, qp.with_columns(A, T) if R else None, b, lb, ub, s.solver)
 
 
