@@ -71,8 +71,7 @@ def _init_worker(robots: tuple[str | RobotSpec, ...], new_session: bool) -> None
         os.setsid()
     # Ctrl-C in a terminal reaches the whole process group: the caller stops the workers.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    worker.warm_up(robots)
-    worker.single_threaded()
+    worker.start(robots)
 
 
 def default_start_method() -> str:

@@ -42,8 +42,7 @@ class PlanActor:
     """A Ray actor holding warm motion generators (wrapped by `ray.remote` in `run`)."""
 
     def __init__(self, robots: tuple[str | RobotSpec, ...]):
-        worker.warm_up(robots)
-        worker.single_threaded()
+        worker.start(robots)
 
     def solve(self, task: Task, job: Job = worker.solve) -> tuple[ProblemId, Any]:
         """`job(task)` (default `worker.solve`) in the actor's process."""

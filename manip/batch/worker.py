@@ -9,8 +9,7 @@ world; another world costs an `update_world` (milliseconds), not a new generator
 loaded (or compiled) before real problems arrive: a kernel compiled during a problem would
 eat its time budget. `single_threaded` limits a worker's native thread pools (numpy's
 OpenBLAS, scipy's) to one thread: a worker is one CPU, and two workers whose BLAS threads each
-reach for the other core slow each other down. Both backends call both when a worker starts,
-`single_threaded` second (it limits the libraries loaded so far, and the warm-up loads them).
+reach for the other core slow each other down. Both backends `start` a worker with both.
 """
 
 from __future__ import annotations
@@ -50,6 +49,13 @@ def single_threaded() -> None:
     end to end with numpy's default of a BLAS thread per core (worker CPU per problem 1.11-1.18 x
     that of a lone worker), 1.67-1.76 x with one thread (0.98-1.02 x)."""
     threadpool_limits(limits=1)
+
+
+def start(robots: tuple[str | RobotSpec, ...]) -> None:
+    """A new worker's start (both backends): `warm_up`, then `single_threaded` (after it: it
+    limits the libraries loaded so far, and the warm-up loads them)."""
+    warm_up(robots)
+    single_threaded()
 
 
 def warm_up(robots: tuple[str | RobotSpec, ...]) -> dict[str, float]:
