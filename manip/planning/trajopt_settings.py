@@ -51,9 +51,12 @@ class TrajOptSettings:
             -0.2 % duration, +10 % QPs, against 0.03 on MotionBenchMaker 16/scene).
         penalty: weight of the clearance violation [1/m] (L1) against the objective.
         velocity_weight, acceleration_weight, jerk_weight: objective weights (terms are
-            squared fractions of the limits). Velocity 6 against 1 with the free-duration SCO
-            (MotionBenchMaker 15/scene, whole plans): path length -1.8 % (joint and pose
-            goals), motion time -0.1 / -0.3 %; 10: path -2.6 %, motion +0.3 %.
+            squared fractions of the limits). Velocity 80 against 6 with the free-duration SCO
+            (MotionBenchMaker, whole plans, 8/scene twice (problems 0-7 and 8-15), joint
+            goals, pose goals, pose goals with cuRobo's limits: 4 sets of ~50): path length
+            -2.1 % in each set, mean motion time -0.07 % (+0.4 .. -1.0 % by set), QPs -6 %;
+            40: path -1.3 %, motion +0.04 %; 150 (two sets): path -2.3 %, motion +0.7 %. (6 against 1:
+            path -1.8 %, motion -0.1 / -0.3 %.)
         free_duration: optimise the duration inside the SCO (`sco.sco_free_step`) after
             `first_iterations` at the seed's duration; False: the bisection over fixed
             durations (`rounds`, `bisection`, `duration_tolerance`, `second_chance`).
@@ -83,7 +86,7 @@ class TrajOptSettings:
     penalty: float = 1e4
     second_chance: bool = True
     line_search: int = 1
-    velocity_weight: float = 6.0
+    velocity_weight: float = 80.0
     acceleration_weight: float = 0.01
     jerk_weight: float = 0.001
     free_duration: bool = True
