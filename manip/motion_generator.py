@@ -58,6 +58,7 @@ from manip.ik import BatchIKResult, IKResult, IKSolver
 from manip.kinematics import Kinematics
 from manip.planning.context import START_LIMIT_TOLERANCE, PlanContext
 from manip.planning.finish import time_and_validate
+from manip.planning.goals import order_goals
 from manip.planning.linear import linear_path
 from manip.planning.options import PlanOptions
 from manip.planning.pipeline import plan_to_configs
@@ -68,7 +69,6 @@ from manip.pose import Pose
 from manip.robot_config import RobotConfig, config_from_urdf, load_robot_config
 from manip.sim_bridge import world_config_from_sim
 from manip.timing import TimingLimits
-from manip.timing.bounds import rest_to_rest_time
 from manip.validation import flag, positive
 
 logger = logging.getLogger(__name__)
@@ -459,11 +459,8 @@ class MotionGenerator:
         ctx.add_time("ik", t_ik)
         if not len(configs):
             return ctx.fail(PlanStatus.IK_FAIL, "no collision-free IK solution within the joint limits")
-        # the goal reached fastest first: the time-optimal rest-to-rest duration (a lower bound
-        # of any motion to it), not the joint-space distance
-        vmax, amax, jmax = scaled_limits(self.timing_limits, ctx)
-        bounds = [rest_to_rest_time(start, q, vmax, amax, jmax) for q in configs]
-        order = np.argsort(bounds, kind="stable")
+        # the goals ranked by the motion they allow (`planning.goals`), not by joint-space distance
+        order = order_goals(start, configs, *scaled_limits(self.timing_limits, ctx))
         ctx.check_sample_count(start, configs[order[0]], self.timing_limits)
         result = plan_to_configs(ctx, validity, start, configs[order], self.timing_limits, self.clearance)
         if result.success:
