@@ -441,8 +441,9 @@ class MotionGenerator:
         """Plan to whichever of several poses (a batched Pose) is best reached.
 
         Collision-free IK solutions of every pose are planned to at once, the ones reachable
-        fastest (by the time-optimal rest-to-rest duration from the start) first; the
-        result's `goal_index` says which pose was reached.
+        fastest (by the time-optimal rest-to-rest duration from the start; among those within
+        5 % of the fastest, the shortest first: `planning.goals`) first; the result's
+        `goal_index` says which pose was reached.
         """
         ctx = self._context(options)
         link = self._link(link)
