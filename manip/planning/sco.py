@@ -18,6 +18,7 @@ a trust region; each iteration one QP, `planning.qp`) share it:
 from __future__ import annotations
 
 import time
+from functools import lru_cache
 
 import numpy as np
 import scipy.sparse as sp
@@ -26,43 +27,62 @@ from manip.collision.clearance import ClearanceModel
 from manip.planning import bspline, qp
 from manip.planning.trajopt_settings import TrajOptSettings
 
+@lru_cache(maxsize=16)
+def _blocks(n: int, dof: int, samples_per_interval: int) -> dict:
+    """The blocks of `SplineProblem` that depend only on N, the dof and the sampling (read-only,
+    shared by every problem of that size: building them costs ~1.2 ms)."""
+    free = np.arange(3, n)
+    fixed = np.setdiff1d(np.arange(n + 3), free)
+    D = {k: bspline.difference_matrix(n + 3, k) for k in (1, 2, 3)}
+    B, sample_t = bspline.basis_matrix(n, samples_per_interval)
+    eye = np.eye(dof)
+    limit_G, limit_order, limit_slack, per_order = [], [], [], {}
+    for k in (1, 2, 3):
+        Df = D[k][:, free]
+        rows = np.flatnonzero(np.any(Df != 0, axis=1))
+        G = np.kron(eye, Df[rows])
+        limit_G += [G, -G]
+        limit_order += [(k, rows.size)] * 2
+        limit_slack += [np.repeat((k - 1) * dof + np.arange(dof), rows.size)] * 2
+        # (fixed points' rows of the limit rows, D on the fixed points, Df^T Df, Df^T)
+        per_order[k] = (D[k][rows][:, fixed], D[k][:, fixed], Df.T @ Df, Df.T)
+    limit_G = np.vstack(limit_G)
+    limit_slack = np.concatenate(limit_slack)
+    slack = np.zeros((limit_G.shape[0], 3 * dof))
+    slack[np.arange(slack.shape[0]), limit_slack] = -1.0
+    blocks = dict(free=free, fixed=fixed, D=D, B=B, sample_t=sample_t, B_free=B[:, free], B_fixed=B[:, fixed],
+                  limit_G=limit_G, limit_order=limit_order, limit_slack=limit_slack,
+                  limit_G_slack=np.hstack([limit_G, slack]), per_order=per_order)
+    for a in [v for v in blocks.values() if isinstance(v, np.ndarray)] + [m for t in per_order.values() for m in t]:
+        a.flags.writeable = False
+    return blocks
+
+
 class SplineProblem:
     """The QP data that depend only on N, the start and the goal (the constant blocks, per joint)."""
 
     def __init__(self, n: int, dof: int, s: TrajOptSettings, start: np.ndarray, goal: np.ndarray):
         self.n, self.dof = n, dof
-        self.free = np.arange(3, n)  # indices of the free control points
-        self.fixed = np.setdiff1d(np.arange(n + 3), self.free)
+        b = _blocks(n, dof, s.samples_per_interval)
+        self.free, self.fixed = b["free"], b["fixed"]  # indices of the free / fixed control points
         self.c_fixed = np.empty((n + 3, dof))
         self.c_fixed[:3] = start
         self.c_fixed[n:] = goal
-        self.D = {k: bspline.difference_matrix(n + 3, k) for k in (1, 2, 3)}
-        self.B, self.sample_t = bspline.basis_matrix(n, s.samples_per_interval)
-        self.B_free = self.B[:, self.free]
+        self.D, self.B, self.sample_t, self.B_free = b["D"], b["B"], b["sample_t"], b["B_free"]
         self.rays: list = []  # (control point index, anchor (dof,), direction (dof,))
         self._ray_rows: dict = {}  # ray_rows() by gap
         self.ends_tied = 0
-        self.q_fixed = self.B[:, self.fixed] @ self.c_fixed[self.fixed]  # (M, dof) fixed points' share
-        eye = np.eye(dof)
+        fixed_c = self.c_fixed[self.fixed]
+        self.q_fixed = b["B_fixed"] @ fixed_c  # (M, dof) fixed points' share
         # limit rows: per order, rows touching a free point; G = +-kron(I, Df), rhs = lim -+ fixed share
-        self.limit_G, self.limit_fixed, self.limit_order, self.limit_slack = [], [], [], []
-        self.cost = {}
+        self.limit_G, self.limit_order = b["limit_G"], b["limit_order"]
+        self.limit_slack, self.limit_G_slack = b["limit_slack"], b["limit_G_slack"]  # (L,), (L, dof * m + 3 dof)
+        self.limit_fixed, self.cost = [], {}
         for k in (1, 2, 3):
-            D = self.D[k]
-            Df = D[:, self.free]
-            rows = np.flatnonzero(np.any(Df != 0, axis=1))
-            G = np.kron(eye, Df[rows])
-            self.limit_G += [G, -G]
-            fixed = (D[rows][:, self.fixed] @ self.c_fixed[self.fixed]).T.ravel()  # joint-major (dof * R,)
-            self.limit_fixed += [fixed, -fixed]
-            self.limit_order += [(k, rows.size)] * 2
-            self.limit_slack += [np.repeat((k - 1) * dof + np.arange(dof), rows.size)] * 2
-            self.cost[k] = (Df.T @ Df, Df.T @ (D[:, self.fixed] @ self.c_fixed[self.fixed]))  # (m, m), (m, dof)
-        self.limit_G = np.vstack(self.limit_G)
-        self.limit_slack = np.concatenate(self.limit_slack)  # (L,) which limit slack each row may use
-        slack = np.zeros((self.limit_G.shape[0], 3 * dof))
-        slack[np.arange(slack.shape[0]), self.limit_slack] = -1.0
-        self.limit_G_slack = np.hstack([self.limit_G, slack])  # (L, dof * m + 3 dof): rows with their slacks
+            rows_fixed, D_fixed, DtD, Dt = b["per_order"][k]
+            share = (rows_fixed @ fixed_c).T.ravel()  # joint-major (dof * R,)
+            self.limit_fixed += [share, -share]
+            self.cost[k] = (DtD, Dt @ (D_fixed @ fixed_c))  # (m, m), (m, dof)
 
     def set_rays(self, d_start: np.ndarray | None, d_goal: np.ndarray | None, points: int) -> None:
         """Tie the first `points` free control points to start + a d_start and the last ones to
