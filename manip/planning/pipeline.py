@@ -33,8 +33,8 @@ from manip.trajectory import Trajectory
 
 logger = logging.getLogger(__name__)
 
-#: Goal sets: the search first tries this many goals (those reached fastest) alone, for at
-#: most FOCUS_ITERATIONS RRT iterations, before searching towards all of them.
+#: Goal sets: the search first tries this many goals (the best of `planning.goals`' ranking)
+#: alone, for at most FOCUS_ITERATIONS RRT iterations, before searching towards all of them.
 FOCUS_GOALS = 2
 FOCUS_ITERATIONS = 200
 #: Plans tried when a path's timed trajectory fails the validation (its certificate).
@@ -143,8 +143,8 @@ def _path(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.nda
                 path, source = np.stack([start, g]), "straight_line"
                 break
     if path is None and len(goals) > FOCUS_GOALS:
-        # the goals reached fastest first (goal sets are ordered by their rest-to-rest
-        # duration): a short search towards them alone, then towards every goal
+        # the best-ranked goals first (`planning.goals.order_goals`): a short search towards
+        # them alone, then towards every goal
         path, iterations = search_path(start, goals[:FOCUS_GOALS], validity, ctx.rng, ctx.deadline,
                                        max_iterations=FOCUS_ITERATIONS)
     if path is None:
