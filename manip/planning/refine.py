@@ -1,8 +1,9 @@
 """The trajectory-optimisation stage of a plan: refine a valid timed trajectory.
 
-The shortcut path's ruckig timing (valid, certified) seeds `optimize_trajectory`;
-the optimised motion replaces it only when it is faster and passes the same certified
-exact-mesh validation, so success never depends on the optimiser.
+The shortcut path's ruckig timing (stopping at each waypoint) seeds `optimize_trajectory`;
+the optimised motion is returned only when it is faster than that timing and passes the
+certified exact-mesh validation; otherwise the caller validates the path's timings, so success
+never depends on the optimiser.
 """
 
 from __future__ import annotations
