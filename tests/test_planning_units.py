@@ -11,8 +11,9 @@ import pytest
 
 from manip.errors import InvalidInputError
 from manip.planning.options import PlanOptions
+from manip.planning import restarts
 from manip.planning.restarts import GAIN, shorter_way_round, time_length
-from manip.planning.rrt_connect import rrt_connect
+from manip.planning.rrt_connect import informed_sampler, rrt_connect
 from manip.planning.search import search_path
 from manip.planning.shortcut import path_length, remove_redundant, shortcut
 
@@ -74,6 +75,36 @@ def test_rrt_connect_gives_up_when_there_is_no_way():
     path, _ = rrt_connect(START, GOAL[None], LOWER, UPPER, closed, np.random.default_rng(0), time.perf_counter() + 0.3,
                           step_size=0.2, max_iterations=300)
     assert path is None
+
+
+def test_informed_samples_lie_where_a_shorter_path_can_pass():
+    lower, upper = -np.ones(3), np.ones(3)
+    start, goal = np.array([-0.5, 0.0, 0.0]), np.array([0.5, 0.0, 0.0])
+    sample = informed_sampler(start, goal, 1.6, lower, upper)
+    Q = np.array([sample(np.random.default_rng(s)) for s in range(400)])
+    via = np.linalg.norm(Q - start, axis=1) + np.linalg.norm(Q - goal, axis=1)
+    assert np.all(via <= 1.6 + 1e-9)  # a path through any sample is at most 1.6 long
+    assert np.all((Q >= lower) & (Q <= upper))
+    assert np.max(np.abs(Q[:, 1])) > 0.5  # the set is filled, not only the segment
+    np.testing.assert_array_equal(sample(np.random.default_rng(7)), sample(np.random.default_rng(7)))
+    # no longer than the straight line: samples on the segment
+    on_line = informed_sampler(start, goal, 0.5, lower, upper)(np.random.default_rng(0))
+    assert np.allclose(on_line[1:], 0.0) and -0.5 <= on_line[0] <= 0.5
+
+
+def test_rrt_connect_draws_its_global_samples_from_the_given_sampler():
+    """Samples only above the wall's gap: the trees grow through it, never below the start."""
+    drawn = []
+
+    def above(rng):
+        drawn.append(np.array([rng.uniform(0.0, 1.0), rng.uniform(0.8, 1.0)]))
+        return drawn[-1]
+
+    path, _ = rrt_connect(START, GOAL[None], LOWER, UPPER, motion_valid, np.random.default_rng(0),
+                          time.perf_counter() + 10, step_size=0.2, local_fraction=0.0, sample=above)
+    assert path is not None and drawn
+    assert_valid_path(path)
+    assert np.min(path[:, 1]) >= START[1] - 1e-12
 
 
 def test_shortcut_shortens_and_stays_valid():
@@ -156,7 +187,11 @@ def _two_gap_validity():
     )
 
 
-def test_a_detour_is_replaced_by_a_shorter_way_round():
+@pytest.mark.parametrize("informed", [False, True])
+def test_a_detour_is_replaced_by_a_shorter_way_round(informed, monkeypatch):
+    """A path over the far gap is replaced by a restart's way through the near one, with
+    uniform and with informed samples."""
+    monkeypatch.setattr(restarts, "INFORMED", informed)
     validity = _two_gap_validity()
     start, goal = np.array([0.1, 0.2]), np.array([0.9, 0.2])
     far = np.array([start, [0.4, 0.9], [0.6, 0.9], goal])  # through the far gap: a detour
@@ -193,13 +228,3 @@ def test_search_path_repairs_stop_at_their_iteration_cap():
         assert iterations - coarse_only <= cap
         assert path is None  # the repairs did not finish within the cap
 
-
-def test_a_detour_is_replaced_by_a_shorter_way_round():
-    """A path that goes the long way round (over the far gap) is replaced by a restart's shorter one."""
-    validity = _two_gap_validity()
-    start, goal = np.array([0.1, 0.2]), np.array([0.9, 0.2])
-    far = np.array([start, [0.4, 0.9], [0.6, 0.9], goal])
-    shorten = lambda p: shortcut(p, validity.segments, np.random.default_rng(0), time.perf_counter() + 5)  # noqa: E731
-    out = shorter_way_round(far, goal[None], validity, shorten, np.random.default_rng(3), time.perf_counter() + 10,
-                            np.ones(2))
-    assert time_length(out, np.ones(2)) <= GAIN * time_length(far, np.ones(2))

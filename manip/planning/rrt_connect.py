@@ -14,6 +14,19 @@ import numpy as np
 
 MotionCheck = Callable[[np.ndarray, np.ndarray], bool]
 Advance = Callable[[np.ndarray, np.ndarray], "np.ndarray | None"]
+Sampler = Callable[[np.random.Generator], np.ndarray]
+
+#: Share of the samples drawn near a random node of the growing tree, and their spread
+#: (Gaussian, per joint) [rad]. Measured on the MotionBenchMaker joint goals whose straight
+#: line is blocked (609 problems, 100/scene, seeds 0, 1, 2; iterations are counts, so these
+#: figures do not depend on the machine): 0.2 / 0.15 rad (before): mean 112 iterations (p98
+#: 799 / 863 / 926 by seed, max 7288); 0.3 / 0.25: 85 / 81; 0.3 / 0.5: 82 / 70 / 85; 0.4 /
+#: 0.5: 80 / 64 / 71; 0.5 / 0.5: 62 / 57 / 68 (p98 709 / 346 / 589, max 3641), search mean
+#: 50 -> 31 ms, the shortcut path 2 % shorter; 0.6 / 0.5: 73 / 70. Whole plans (MBM 30/scene,
+#: both goal kinds, two problem sets and seeds, variants interleaved): motion time +1.1 %
+#: / +0.1 %, path length +0.5 % / -0.7 %, planning time mean -4 % / -12 %.
+LOCAL_FRACTION = 0.5
+LOCAL_SIGMA = 0.5
 
 
 class _Tree:
@@ -69,9 +82,10 @@ def rrt_connect(
     advance: Advance | None = None,
     step_size: float = 1.5,
     short_step: float = 0.1,
-    local_fraction: float = 0.2,
-    local_sigma: float = 0.15,
+    local_fraction: float = LOCAL_FRACTION,
+    local_sigma: float = LOCAL_SIGMA,
     max_iterations: int = 20000,
+    sample: Sampler | None = None,
 ) -> tuple[np.ndarray | None, int]:
     """Find a collision-free piecewise-linear path from `start` to any of `goals`.
 
@@ -96,6 +110,8 @@ def rrt_connect(
             (Gaussian, `local_sigma` [rad]), which lets trees leave narrow pockets such as
             a hand deep in a shelf.
         max_iterations: bound on sampling iterations.
+        sample: `f(rng) -> q (dof,)`, the global samples (default: uniform within the
+            joint limits), e.g. `informed_sampler`'s set of shorter paths.
 
     Returns:
         (path (K, dof) from start to a goal, or None; iterations used).
@@ -125,8 +141,10 @@ def rrt_connect(
         ta, tb = trees[a], trees[b]
         if rng.random() < local_fraction:
             q_rand = np.clip(ta.nodes[rng.integers(ta.n)] + rng.normal(0.0, local_sigma, len(lower)), lower, upper)
-        else:
+        elif sample is None:
             q_rand = rng.uniform(lower, upper)
+        else:
+            q_rand = sample(rng)
         i_new = extend(ta, ta.nearest(q_rand), q_rand, step_size)
         if i_new is not None:
             q_new = ta.nodes[i_new]
@@ -140,3 +158,41 @@ def rrt_connect(
                 return np.asarray(path), it
         a, b = b, a
     return None, max_iterations
+
+
+def informed_sampler(start: np.ndarray, goal: np.ndarray, length: float, lower: np.ndarray, upper: np.ndarray,
+                     tries: int = 8) -> Sampler:
+    """Uniform samples of the configurations through which a path from `start` to `goal`
+    can be shorter than `length` (Informed RRT*, Gammell et al. 2014).
+
+    That set is the prolate hyperspheroid with foci `start` and `goal` (dof,) [rad] and
+    transverse diameter `length` [rad] (joint-space L2): a unit-ball sample scaled by its
+    radii and turned so that its first axis runs from start to goal. A sample outside the
+    joint limits `lower`, `upper` (dof,) is drawn again, at most `tries` times, then clipped.
+    A `length` at most the straight line's gives samples on the segment.
+    """
+    start, goal = np.asarray(start, dtype=float), np.asarray(goal, dtype=float)
+    dof = len(start)
+    c_min = float(np.linalg.norm(goal - start))
+    centre = 0.5 * (start + goal)
+    radii = np.full(dof, 0.5 * np.sqrt(max(length * length - c_min * c_min, 0.0)))
+    radii[0] = 0.5 * max(length, c_min)
+    # a Householder reflection taking the first axis onto start -> goal (any orthogonal map
+    # keeps the distribution uniform)
+    turn = np.eye(dof)
+    if c_min > 1e-12:
+        v = np.eye(dof)[0] - (goal - start) / c_min
+        if float(v @ v) > 1e-24:
+            turn -= 2.0 * np.outer(v, v) / float(v @ v)
+    shape = turn * radii  # columns scaled: turn @ diag(radii)
+
+    def sample(rng: np.random.Generator) -> np.ndarray:
+        for _ in range(tries):
+            x = rng.normal(size=dof)
+            x *= rng.random() ** (1.0 / dof) / max(float(np.linalg.norm(x)), 1e-12)
+            q = centre + shape @ x
+            if np.all(q >= lower) and np.all(q <= upper):
+                return q
+        return np.clip(q, lower, upper)
+
+    return sample

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from manip.planning.rrt_connect import rrt_connect
+from manip.planning.rrt_connect import Sampler, rrt_connect
 from manip.planning.validity import Validity
 
 #: Edges of a coarse search path replaced by fine searches before giving up on the path.
@@ -20,12 +20,14 @@ def search_path(
     start: np.ndarray, goals: np.ndarray, validity: Validity, rng: np.random.Generator, deadline: float,
     max_iterations: int = 20000,
     max_repair_iterations: int = 20000,
+    sample: Sampler | None = None,
 ) -> tuple[np.ndarray | None, int]:
     """A collision-free polyline from `start` (dof,) to one of `goals` (G, dof).
 
     `max_iterations` caps the coarse search and `max_repair_iterations` the fine repair
     searches together (counts, not times: the result depends only on the generator's state).
-    A repair that runs out of iterations fails the search (None).
+    A repair that runs out of iterations fails the search (None). `sample` replaces the
+    coarse search's uniform samples (`rrt_connect`).
 
     Returns:
         (path (K, dof) valid at the fine resolution, or None; RRT iterations used).
@@ -33,7 +35,7 @@ def search_path(
     lower, upper = validity.kinematics.lower, validity.kinematics.upper
     path, iterations = rrt_connect(
         start, goals, lower, upper, validity.coarse_motion, rng, deadline, advance=validity.coarse_advance,
-        max_iterations=max_iterations,
+        max_iterations=max_iterations, sample=sample,
     )
     if validity.search_resolution == validity.resolution:
         return path, iterations
