@@ -141,7 +141,7 @@ class CollisionChecker(WorldEdits, SegmentChecks):
             if n.size:
                 found.append((n, np.zeros(n.size, dtype=np.int64), g, o, d))
         if self_ and self._bpairs.shape[0]:
-            n, k, d = broadphase.self_candidates(R, p, self._self_padding + 1e-9, *self._bp_self)
+            n, k, d = broadphase.self_candidates(R, p, Q, self._self_padding + 1e-9, *self._bp_self)
             if n.size:
                 pairs = self._bp_pairs
                 found.append((n, np.ones(n.size, dtype=np.int64), pairs[k, 0], pairs[k, 1], d))
