@@ -40,8 +40,16 @@ from manip.kinematics import Kinematics
 
 logger = logging.getLogger(__name__)
 
-#: Pairs whose relative placement depends on more joints than this get no map.
+#: Pairs whose relative placement depends on more joints than this get no map, except
+#: pairs of one more joint where one part is carried by one of them (it turns about its
+#: own axis): mapped over the others against that part swept over a whole turn, when
+#: their fine covers overlap at >= `SWEEP_OVERLAP` of `OVERLAP_SAMPLES` seeded random
+#: configurations (such maps cost more to build; only where the covers fail often).
 MAX_MAP_JOINTS = 2
+SWEEP_OVERLAP = 0.25
+OVERLAP_SAMPLES = 500
+#: Angles of the polygons circumscribing the circles of a swept part.
+_SWEEP_ANGLES = 32
 #: Cells per turn of each joint in the lookup grid (the finest level).
 LOOKUP_CELLS = 128
 #: Cells per turn of each joint at the first level of the refinement.
@@ -107,8 +115,16 @@ def build_pair_map(parts: Sequence, a: int, b: int, kinematics: Kinematics, *, d
     pa, pb = parts[a], parts[b]
     rel = relative_joints(kinematics, pa.joint, pb.joint)
     specs = kinematics._joints
-    if not rel or len(rel) > MAX_MAP_JOINTS or not all(specs[k - 1].revolute for k in rel):
+    if not rel or len(rel) > MAX_MAP_JOINTS + 1 or not all(specs[k - 1].revolute for k in rel):
         return None
+    sweep = ""
+    if len(rel) == MAX_MAP_JOINTS + 1:
+        found = _swept_pair(pa, pb, rel, kinematics)
+        if found is None:
+            return None
+        pa, pb = found
+        rel = [k for k in rel if k != pb.joint]
+        sweep = f"swept/{pb.name}/{_SWEEP_ANGLES}/{SWEEP_OVERLAP!r}/{OVERLAP_SAMPLES}"
     qidx = np.array([specs[k - 1].q_index for k in rel], dtype=np.int64)
     base = np.clip(np.zeros(kinematics.dof), kinematics.lower, kinematics.upper)
     chain_a = set(relative_joints(kinematics, pa.joint, 0))
@@ -116,7 +132,7 @@ def build_pair_map(parts: Sequence, a: int, b: int, kinematics: Kinematics, *, d
     lo = kinematics.lower[qidx].astype(float)
     hi = kinematics.upper[qidx].astype(float)
     h = hashlib.sha1(f"{_VERSION}/{PROOF_CLEARANCE!r}/{LOOKUP_CELLS}/{BASE_CELLS}/{MAP_QUERIES}".encode())
-    h.update(f"{digests[a]}/{digests[b]}".encode())
+    h.update(f"{digests[a]}/{digests[b]}/{sweep}".encode())
     for s in specs:
         h.update(s.R_placement.tobytes() + s.p_placement.tobytes() + s.axis.tobytes() + bytes([s.revolute]))
     h.update(np.asarray(rel, dtype=np.int64).tobytes() + lo.tobytes() + hi.tobytes() + base.tobytes())
@@ -124,11 +140,103 @@ def build_pair_map(parts: Sequence, a: int, b: int, kinematics: Kinematics, *, d
     if key not in _MEMORY:
         bounds = _cached(cache, key)
         if bounds is None:
-            bounds = _refine(pa, pb, kinematics, qidx, rel, lo, hi, L, base)
+            bounds = _refine(pa, pb, kinematics, qidx, rel, lo, hi, L, base, balls=not sweep)
             _store(cache, key, bounds)
         _MEMORY[key] = PairMap(qidx, bounds)
     out = _MEMORY[key]
     return out if np.isfinite(out.bounds).any() else None
+
+
+class _Swept(NamedTuple):
+    """A part swept over a whole turn of its own joint: a convex solid of revolution about
+    the joint's axis (in the joint frame) holding the part at every angle, with one ball
+    (at the joint's origin) holding it, for the motion bounds of the joints further up."""
+
+    name: str
+    joint: int
+    R: np.ndarray
+    p: np.ndarray
+    geometry: object
+    centres: np.ndarray
+    radii: np.ndarray
+
+
+def _points(part) -> np.ndarray | None:
+    """(V, 3) points whose convex hull holds the part, in its joint frame (meshes, boxes)."""
+    g = part.geometry
+    if hasattr(g, "num_tris") and hasattr(g, "vertices"):
+        V = np.array(g.vertices(), dtype=float).reshape(-1, 3)
+    elif isinstance(g, coal.Box):
+        V = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float)
+        V *= np.asarray(g.halfSide, dtype=float)
+    else:
+        return None
+    return V @ np.asarray(part.R).T + np.asarray(part.p)
+
+
+def _sweep(part, axis: np.ndarray) -> tuple[object, float] | None:
+    """(convex solid of revolution holding `part` turned by any angle about `axis` through
+    its joint's origin, its largest distance from the axis [m]).
+
+    The part's points at (z, r) (along and from the axis) lie in the 2-D convex hull of
+    those pairs and of their feet on the axis; revolving it, each vertex (z_i, r_i) gives a
+    circle, held by the polygon circumscribing it (`_SWEEP_ANGLES` corners at r_i /
+    cos(pi / angles)); the hull of all the corners holds every circle, hence every point
+    of the part at every angle (each is a convex combination of circle points).
+    """
+    X = _points(part)
+    if X is None:
+        return None
+    axis = axis / np.linalg.norm(axis)
+    z = X @ axis
+    r = np.linalg.norm(X - np.outer(z, axis), axis=1)
+    prof = np.unique(np.round(np.c_[np.r_[z, z], np.r_[r, np.zeros_like(r)]], 12), axis=0)
+    try:
+        from scipy.spatial import ConvexHull
+
+        prof = prof[ConvexHull(prof).vertices]
+    except Exception:  # degenerate (flat) profiles: every point is kept
+        pass
+    u = np.cross(axis, [1.0, 0.0, 0.0] if abs(axis[0]) < 0.9 else [0.0, 1.0, 0.0])
+    u /= np.linalg.norm(u)
+    w = np.cross(axis, u)
+    th = 2.0 * math.pi * np.arange(_SWEEP_ANGLES) / _SWEEP_ANGLES
+    ring = np.outer(np.cos(th), u) + np.outer(np.sin(th), w)  # (A, 3)
+    P = (prof[:, 0, None, None] * axis + (prof[:, 1, None, None] / math.cos(math.pi / _SWEEP_ANGLES)) * ring[None])
+    points = coal.StdVec_Vec3s()
+    for x in P.reshape(-1, 3):
+        points.append(x)
+    return coal.ConvexBase.convexHull(points, False, "Qt"), float(r.max())
+
+
+def _overlap(pa, pb, kinematics: Kinematics) -> float:
+    """The fraction of `OVERLAP_SAMPLES` seeded random configurations (within the limits) at
+    which the fine sphere covers of parts pa and pb overlap."""
+    Q = np.random.default_rng(0).uniform(kinematics.lower, kinematics.upper, size=(OVERLAP_SAMPLES, kinematics.dof))
+    R, p = kinematics.joint_transforms(Q)
+    Xa = np.einsum("nij,kj->nki", R[:, pa.joint], pa.centres) + p[:, pa.joint][:, None]
+    Xb = np.einsum("nij,kj->nki", R[:, pb.joint], pb.centres) + p[:, pb.joint][:, None]
+    gap = np.linalg.norm(Xa[:, :, None] - Xb[:, None], axis=3) - pa.radii[None, :, None] - pb.radii[None, None]
+    return float((gap.min(axis=(1, 2)) < 0.0).mean())
+
+
+def _swept_pair(pa, pb, rel: list[int], kinematics: Kinematics) -> tuple[object, _Swept] | None:
+    """(the other part, the swept part) for a pair moved by `rel` (MAX_MAP_JOINTS + 1 joints)
+    whose fine covers overlap often, sweeping the part carried by one of those joints that
+    turns closest about its axis; None when there is none."""
+    if _overlap(pa, pb, kinematics) < SWEEP_OVERLAP:
+        return None
+    best = None
+    for part, other in ((pa, pb), (pb, pa)):
+        if part.joint not in rel:
+            continue
+        found = _sweep(part, kinematics._joints[part.joint - 1].axis)
+        if found is not None and (best is None or found[1] < best[0]):
+            geom, radius = found
+            reach = float(np.max(np.linalg.norm(_points(part), axis=1)))
+            best = (radius, other, _Swept(f"{part.name} (swept)", part.joint, np.eye(3), np.zeros(3), geom,
+                                          np.zeros((1, 3)), np.array([reach])))
+    return None if best is None else (best[1], best[2])
 
 
 def _cached(cache: Path | None, key: str) -> np.ndarray | None:
@@ -179,8 +287,9 @@ def _distances(pa, pb, geoms: tuple, R: np.ndarray, p: np.ndarray) -> np.ndarray
 
 
 def _refine(pa, pb, kinematics: Kinematics, qidx: np.ndarray, rel: list[int], lo: np.ndarray, hi: np.ndarray,
-            L: np.ndarray, base: np.ndarray) -> np.ndarray:
-    """The map's bounds (LOOKUP_CELLS,) * n, refined level by level (deterministic)."""
+            L: np.ndarray, base: np.ndarray, balls: bool = True) -> np.ndarray:
+    """The map's bounds (LOOKUP_CELLS,) * n, refined level by level (deterministic); `balls`:
+    also bound ball by ball (not for a swept part, whose cover is one ball)."""
     n = qidx.size
     w = 2.0 * math.pi / LOOKUP_CELLS
     inside = [_in_limits(lo[k], hi[k]) for k in range(n)]
@@ -210,6 +319,8 @@ def _refine(pa, pb, kinematics: Kinematics, qidx: np.ndarray, rel: list[int], lo
         R, p = kinematics.joint_transforms(Q)
 
         def slack(d: np.ndarray) -> np.ndarray:
+            if not balls:
+                return d - H @ L
             parts_slack = [ball_slack(kinematics, pa, pb, rel, R[s:s + 256], p[s:s + 256], H[s:s + 256], L,
                                       d[s:s + 256]) for s in range(0, d.size, 256)]
             return np.maximum(d - H @ L, np.concatenate(parts_slack) if parts_slack else np.zeros(0))
