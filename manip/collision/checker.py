@@ -141,6 +141,8 @@ class CollisionChecker(WorldEdits, SegmentChecks):
             if n.size:
                 found.append((n, np.zeros(n.size, dtype=np.int64), g, o, d))
         if self_ and self._bpairs.shape[0]:
+            if not (Q.flags.c_contiguous and Q.flags.writeable and Q.dtype == np.float64):
+                Q = np.array(Q, dtype=np.float64)  # one compiled signature of the kernel
             n, k, d = broadphase.self_candidates(R, p, Q, self._self_padding + 1e-9, *self._bp_self)
             if n.size:
                 pairs = self._bp_pairs
