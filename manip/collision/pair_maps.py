@@ -17,6 +17,13 @@ sphere covers (`ball_slack`). The grid is refined like a quadtree, from `BASE_CE
 `LOOKUP_CELLS` cells per turn; a cell whose bound stays below `PROOF_CLEARANCE` at the
 finest level (the pair touches or nearly does there) is stored as -inf and stays checked.
 
+A pair moved by one joint more (the UR10 forearm and wrist_3 link: wrist_1, wrist_2 and
+wrist_3) is mapped when its fine covers overlap often (`SWEEP_OVERLAP`) and one of its parts
+is carried by one of those joints: over the other joints, against that part swept over a
+whole turn of its own joint (`_sweep`: a convex solid of revolution holding it at every
+angle), so the bound holds whatever that joint's angle; only the part-wide motion bound is
+used there (the swept part's cover is one ball).
+
 A revolute joint's placement is 2 pi-periodic whatever its limits, so a configuration
 outside the limits looks up a valid cell too (cells wholly outside the limits are never
 computed: -inf). Results are cached on disk beside the sphere covers.
@@ -34,6 +41,7 @@ from typing import NamedTuple
 
 import coal
 import numpy as np
+from scipy.spatial import ConvexHull, QhullError
 
 from manip.collision.self_pairs import PROOF_CLEARANCE, ball_slack, joint_reach, relative_joints
 from manip.kinematics import Kinematics
@@ -77,7 +85,7 @@ class PairMap(NamedTuple):
 
     def bound_at(self, q: np.ndarray) -> float:
         """The map's bound [m] at configuration q (dof,) (-inf where none was proved)."""
-        n = LOOKUP_CELLS
+        n = self.bounds.shape[0]
         cell = tuple(int(math.floor(float(q[i]) * n / (2.0 * math.pi))) % n for i in self.q_index)
         return float(self.bounds[cell])
 
@@ -103,7 +111,8 @@ def convex_hull(geometry):
 def build_pair_map(parts: Sequence, a: int, b: int, kinematics: Kinematics, *, digests: Sequence[str],
                    cache: Path | None = None) -> PairMap | None:
     """The clearance map of parts a and b, or None when their relative placement depends on
-    no joint, on more than `MAX_MAP_JOINTS` or on a prismatic one, or no cell was proved.
+    no joint, on a prismatic one, on more than `MAX_MAP_JOINTS` (one more when one part can
+    be swept and the covers overlap often: see the module doc), or no cell was proved.
 
     Args:
         parts: the robot's parts (`RobotPart`: geometry, joint, placement, sphere cover).
@@ -192,10 +201,8 @@ def _sweep(part, axis: np.ndarray) -> tuple[object, float] | None:
     r = np.linalg.norm(X - np.outer(z, axis), axis=1)
     prof = np.unique(np.round(np.c_[np.r_[z, z], np.r_[r, np.zeros_like(r)]], 12), axis=0)
     try:
-        from scipy.spatial import ConvexHull
-
         prof = prof[ConvexHull(prof).vertices]
-    except Exception:  # degenerate (flat) profiles: every point is kept
+    except QhullError:  # a degenerate (flat) profile: every point is kept
         pass
     u = np.cross(axis, [1.0, 0.0, 0.0] if abs(axis[0]) < 0.9 else [0.0, 1.0, 0.0])
     u /= np.linalg.norm(u)
