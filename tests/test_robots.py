@@ -168,3 +168,85 @@ def test_pairs_proved_clear_keep_their_bound_and_come_back_with_a_larger_self_pa
         cc = CollisionChecker(c, mg.kinematics)
         cc.self_padding = max(proved.values()) + 1e-3
         assert {tuple(map(int, pr)) for pr in cc._bp_pairs} == set(rg.self_pairs)
+
+
+def test_clearance_maps_bound_the_pairs_distance_and_keep_the_answers(mg: MotionGenerator) -> None:
+    """Self pairs moved by at most two joints that can touch get a clearance map
+    (`manip.collision.pair_maps`): at random configurations (also one turn outside the
+    limits) coal's exact distance of a mapped pair is at least the bound of its cell, and
+    with a self padding the maps' bounds must beat, the checks still give coal's answers."""
+    import coal
+
+    from manip.collision.checker import CollisionChecker
+
+    rg = mg.checker.robot
+    maps = rg.clearance_maps
+    assert set(maps).isdisjoint(rg.proved_clear)
+    if mg.config.name == "ur10":
+        names = {(rg.parts[a].link, rg.parts[b].link) for a, b in maps}
+        assert ("forearm_link", "wrist_2_link") in names
+        assert ("forearm_link", "wrist_3_link") in names  # three joints: wrist_3 swept about its axis
+    c = mg.config
+    Q = np.random.default_rng(6).uniform(c.lower_limits, c.upper_limits, size=(300, c.dof))
+    R, p = mg.kinematics.joint_transforms(Q)
+    for (a, b), m in maps.items():
+        assert 0.0 < m.proved_fraction <= 1.0
+        pa, pb = rg.parts[a], rg.parts[b]
+        for n in range(Q.shape[0]):
+            bound = m.bound_at(Q[n])
+            assert bound == m.bound_at(Q[n] + 2.0 * np.pi)  # a revolute joint's turn
+            if not np.isfinite(bound):
+                continue
+            tfs = [coal.Transform3s(R[n, x.joint] @ x.R, p[n, x.joint] + R[n, x.joint] @ x.p) for x in (pa, pb)]
+            d = coal.distance(pa.geometry, tfs[0], pb.geometry, tfs[1], coal.DistanceRequest(), coal.DistanceResult())
+            assert d >= bound, (pa.name, pb.name, d, bound)
+    if maps:
+        cc = CollisionChecker(c, mg.kinematics)
+        cc.self_padding = float(np.median([np.median(m.bounds[np.isfinite(m.bounds)]) for m in maps.values()]))
+        got = cc.in_collision_batch(Q[:150])
+        expected = np.array([cc.in_collision_exact(q) for q in Q[:150]])
+        np.testing.assert_array_equal(got, expected)
+
+
+def test_ur10_forearm_and_wrist_links_reach_coal_only_where_they_can_touch() -> None:
+    """The UR10's forearm and wrist_2 link are 19 mm apart at most wrist angles, closer than
+    their sphere covers can tell: their clearance map drops them from the self checks at
+    most configurations (they were a coal query at every check before the maps); the
+    forearm and the wrist_3 link (three joints apart, covers overlapping at 42 % of random
+    configurations) likewise through the map against the wrist_3 link swept about its axis."""
+    from manip.collision import broadphase
+
+    mg = MotionGenerator("ur10", seed=0)
+    ck = mg.checker
+    c = mg.config
+    Q = np.random.default_rng(7).uniform(c.lower_limits, c.upper_limits, size=(500, c.dof))
+    R, p = mg.kinematics.joint_transforms(Q)
+    n, k, _ = broadphase.self_candidates(R, p, Q, ck.self_padding + 1e-9, *ck._bp_self)
+    names = [(ck._parts[a].name, ck._parts[b].name) for a, b in ck._bp_pairs[k]]
+    share = sum(pair == ("forearm_link", "wrist_2_link") for pair in names) / Q.shape[0]
+    assert share < 0.1
+    share = sum(pair == ("forearm_link", "wrist_3_link") for pair in names) / Q.shape[0]
+    assert share < 0.2
+
+
+def test_a_swept_part_holds_the_part_at_every_angle() -> None:
+    """The solid a clearance map sweeps a part into (`manip.collision.pair_maps`) holds every
+    vertex of the part's mesh turned by any angle about its joint's axis."""
+    import coal
+
+    from manip.collision.pair_maps import _sweep
+
+    mg = MotionGenerator("ur10", seed=0)
+    part = next(p for p in mg.checker.robot.parts if p.link == "wrist_3_link")
+    axis = mg.kinematics._joints[part.joint - 1].axis
+    solid, radius = _sweep(part, axis)
+    V = np.array(part.geometry.vertices(), dtype=float).reshape(-1, 3) @ part.R.T + part.p
+    assert radius > 0.0
+    point = coal.Sphere(1e-9)
+    K = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0.0]])
+    for angle in np.random.default_rng(8).uniform(0.0, 2.0 * np.pi, size=20):
+        Rot = np.eye(3) + np.sin(angle) * K + (1.0 - np.cos(angle)) * K @ K
+        for x in V @ Rot.T:
+            inside = coal.collide(solid, coal.Transform3s(), point, coal.Transform3s(np.eye(3), x),
+                                  coal.CollisionRequest(), coal.CollisionResult())
+            assert inside, (angle, x)

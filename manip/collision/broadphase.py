@@ -8,8 +8,10 @@ collision. Each configuration is visited once, with the hierarchy
 
 - world: one bounding ball per moving joint (all its parts) against each obstacle, then
   the part's coarse cover, then its fine cover;
-- self: one bounding ball per body (parts moving together), then the coarse covers of each
-  enabled part pair, then their fine covers.
+- self: one bounding ball per body (parts moving together), then the pair's clearance map
+  when it has one (a proved bound per cell of the few joints moving the pair,
+  `manip.collision.pair_maps`), then the coarse covers of each enabled part pair, then
+  their fine covers.
 
 Obstacles are seen through their broadphase shape: a box (cuboids, mesh bounding boxes), a
 rounded box (spheres, capsules) or a cylinder, given in their own frame by a centre `oc`,
@@ -25,6 +27,8 @@ import math
 
 import numpy as np
 from numba import njit
+
+_TWO_PI = 2.0 * math.pi
 
 
 @njit(cache=True, nogil=True)
@@ -148,14 +152,16 @@ def world_candidates(R, p, margin,
 
 
 @njit(cache=True, nogil=True)
-def self_candidates(R, p, margin,
+def self_candidates(R, p, Q, margin,
                     body_joint, body_c, body_r, bpairs, pp_start, pp_count, pairs,
                     part_joint, c_start, c_count, c_centres, c_radii,
-                    f_centres, f_radii, g_radii, g_start, g_count, g_members):
+                    f_centres, f_radii, g_radii, g_start, g_count, g_members,
+                    m_of_pair, m_q, m_count, m_start, m_bounds):
     """(configuration, part pair) candidates of self-collision the covers cannot clear.
 
     Args:
         R, p: joint frames of N configurations.
+        Q: (N, dof) the configurations [rad] (the clearance maps' cells).
         margin: the self padding [m].
         body_joint (B,), body_c (B, 3), body_r (B,): one bounding ball per body.
         bpairs (P, 2): body pairs with at least one enabled part pair.
@@ -169,9 +175,15 @@ def self_candidates(R, p, margin,
             `g_members[g_start[k]:g_start[k] + g_count[k]]`, all inside the ball of coarse
             ball k's centre and radius g_radii[k]. Groups that cannot come closer than
             the best fine pair found so far are skipped (the clearance stays exact).
+        m_of_pair (Q,): the clearance map of each pair of `pairs` (-1: none;
+            `manip.collision.pair_maps`); map m bounds the pair's distance over the cells of
+            a grid over one turn of the joints m_q[m] (2,) (q indices), m_count[m] (2,) cells
+            each (1 for a map over one joint), row-major from m_bounds[m_start[m]]. A pair
+            whose bound at a configuration's cell is >= margin is dropped there.
     Returns:
-        n, pair index into `pairs` (T,) int64 and depth (T,): the smallest fine-ball
-        clearance of the part pair [m] (a lower bound of the pair's distance).
+        n, pair index into `pairs` (T,) int64 and depth (T,): the larger of the smallest
+        fine-ball clearance of the part pair and its map's bound [m] (a lower bound of the
+        pair's distance).
     """
     N = R.shape[0]
     ids = np.empty((64, 3), dtype=np.int64)
@@ -199,6 +211,16 @@ def self_candidates(R, p, margin,
             if d0 * d0 + d1 * d1 + d2 * d2 >= reach * reach:
                 continue
             for k in range(pp_start[e], pp_start[e] + pp_count[e]):
+                mb = -np.inf
+                mi = m_of_pair[k]
+                if mi >= 0:
+                    cell = 0
+                    for d in range(2):
+                        cnt = m_count[mi, d]
+                        cell = cell * cnt + int(math.floor(Q[n, m_q[mi, d]] * cnt / _TWO_PI)) % cnt
+                    mb = m_bounds[m_start[mi] + cell]
+                    if mb >= margin:
+                        continue
                 ga = pairs[k, 0]
                 gb = pairs[k, 1]
                 for g in (ga, gb):
@@ -246,7 +268,7 @@ def self_candidates(R, p, margin,
                             if s < m:
                                 m = s
                 if m < margin:
-                    ids, depth = _push(ids, depth, T, n, k, 0, m)
+                    ids, depth = _push(ids, depth, T, n, k, 0, max(m, mb))
                     T += 1
     return ids[:T, 0].copy(), ids[:T, 1].copy(), depth[:T].copy()
 

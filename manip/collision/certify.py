@@ -422,14 +422,16 @@ def _contract(D: np.ndarray, T: np.ndarray) -> np.ndarray:
     return (D @ T.reshape(G * K, M).T).reshape(D.shape[0], G, K)
 
 
-def _candidates(kernel, R, p, margins: np.ndarray, tables) -> tuple:
+def _candidates(kernel, R, p, margins: np.ndarray, tables, Q: np.ndarray | None = None) -> tuple:
     """A broadphase kernel with a margin per configuration: configurations are grouped by
-    their margin rounded up to a power of four (a few calls), results merged in order."""
+    their margin rounded up to a power of four (a few calls), results merged in order.
+    `Q` (N, dof): the configurations, for the kernels that take them after R, p."""
     level = np.ceil(np.log(np.maximum(margins, 1e-4)) / np.log(4.0)).astype(np.int64)
     outs = []
     for lv in np.unique(level):
         idx = np.flatnonzero(level == lv)
-        res = kernel(R[idx], p[idx], float(4.0 ** lv) + _EPS, *tables)
+        head = (R[idx], p[idx]) if Q is None else (R[idx], p[idx], Q[idx])
+        res = kernel(*head, float(4.0 ** lv) + _EPS, *tables)
         outs.append((idx[res[0]],) + tuple(res[1:]))
     return tuple(np.concatenate([o[k] for o in outs]) for k in range(len(outs[0])))
 
@@ -503,7 +505,7 @@ def certify_path(checker, path: np.ndarray) -> MotionCertificate:
     if bp_pairs.shape[0]:
         rel = rho_seg[:, bp_pairs[:, 0]] * tb.pair_mask_a[None] + rho_seg[:, bp_pairs[:, 1]] * tb.pair_mask_b[None]
         M_pair = np.matmul(rel, Dj[:, :, None])[:, :, 0]
-        n, k, d = _candidates(broadphase.self_candidates, R, p, sample_margins(M_pair, spad), ck._bp_self)
+        n, k, d = _candidates(broadphase.self_candidates, R, p, sample_margins(M_pair, spad), ck._bp_self, Q)
         if n.size:
             s, k, _, da, db = both_ends(n, k, np.zeros(n.size, dtype=np.int64), d, (bp_pairs.shape[0], 1))
             bad = _lower_batch(da, db, M_pair[s, k]) <= spad

@@ -12,7 +12,9 @@ broadphase, `manip.collision.broadphase`, that can only say "free", never "colli
    the fine cover of each part still flagged; parts fixed to the base are checked once per
    world;
 3. self: one bounding ball per body (a link's parts, or an attached object) for the enabled
-   pairs, then the coarse covers of each enabled part pair, then their fine covers;
+   pairs, then the pair's clearance map if it has one (`manip.collision.pair_maps`: a
+   proved distance bound per cell of the few joints moving the pair), then the coarse
+   covers of each enabled part pair, then their fine covers;
 4. coal's exact narrowphase for the (configuration, pair) candidates left (a mesh of more
    than `HULL_SCREEN_TRIANGLES` triangles is first tested through its convex hull, which
    holds it: a hull kept clear answers "free" at the cost of one GJK), stopping at the
@@ -141,7 +143,9 @@ class CollisionChecker(WorldEdits, SegmentChecks):
             if n.size:
                 found.append((n, np.zeros(n.size, dtype=np.int64), g, o, d))
         if self_ and self._bpairs.shape[0]:
-            n, k, d = broadphase.self_candidates(R, p, self._self_padding + 1e-9, *self._bp_self)
+            if not (Q.flags.c_contiguous and Q.flags.writeable and Q.dtype == np.float64):
+                Q = np.array(Q, dtype=np.float64)  # one compiled signature of the kernel
+            n, k, d = broadphase.self_candidates(R, p, Q, self._self_padding + 1e-9, *self._bp_self)
             if n.size:
                 pairs = self._bp_pairs
                 found.append((n, np.ones(n.size, dtype=np.int64), pairs[k, 0], pairs[k, 1], d))

@@ -163,7 +163,7 @@ class WorldEdits:
         """The robot side's tables (`manip.collision.tables`), after a change of parts."""
         self._parts, pairs = collect_parts(self.robot, self.kinematics, self._attached)
         self._skipped_pairs = self._proved_clear_pairs()
-        t = part_tables(self._parts, pairs, self._skipped_pairs)
+        t = part_tables(self._parts, pairs, self._skipped_pairs, self.robot.clearance_maps)
         self._pj, self._fine, self._coarse = t.joint, t.fine, t.coarse
         self._pbc, self._pbr, self._l0_joint, self._pairs, self._bpairs = (
             t.ball_centres, t.ball_radii, t.l0_joint, t.pairs, t.body_pairs)

@@ -20,6 +20,7 @@ import coal
 import numpy as np
 import pinocchio as pin
 
+from manip.collision.pair_maps import PairMap, build_pair_map
 from manip.collision.self_pairs import prove_pair_clear
 from manip.collision.spheres import cover_with_spheres
 from manip.errors import InvalidInputError
@@ -256,8 +257,16 @@ class RobotGeometry:
             bound = prove_pair_clear(parts, a, b, kin, digests=digests, cache=cache)
             if bound is not None:
                 self.proved_clear[(a, b)] = bound
-        logger.debug("robot geometry: %d parts, %d spheres, %d self pairs (%d proved clear)", len(parts),
-                     sum(len(p.radii) for p in parts), len(pairs), len(self.proved_clear))
+        # the others, when few joints move them: a proved bound per cell of those joints
+        # (`manip.collision.pair_maps`), looked up by the broadphase
+        self.clearance_maps: dict[tuple[int, int], PairMap] = {}
+        for a, b in pairs:
+            if (a, b) not in self.proved_clear:
+                found = build_pair_map(parts, a, b, kin, digests=digests, cache=cache)
+                if found is not None:
+                    self.clearance_maps[(a, b)] = found
+        logger.debug("robot geometry: %d parts, %d spheres, %d self pairs (%d proved clear, %d mapped)", len(parts),
+                     sum(len(p.radii) for p in parts), len(pairs), len(self.proved_clear), len(self.clearance_maps))
 
     @property
     def link_names(self) -> list[str]:

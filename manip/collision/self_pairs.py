@@ -14,7 +14,7 @@ range of 2 pi or more only needs one turn: the placement is 2 pi-periodic):
   for a joint further up, |x - o_k| (o_k: the origin of joint k, on its axis) by the
   placements between the two joints plus the part's extent. So if coal's exact distance
   of the pair at the cell's centre is d, the pair keeps at least d - sum_k h_k D_k over the
-  whole cell. Ball by ball (`_ball_slack`) the bound is tighter: two balls of the covers
+  whole cell. Ball by ball (`ball_slack`) the bound is tighter: two balls of the covers
   are at least max(d, their clearance) apart at the centre and each moves by at most
   sum_k h_k rho_k, rho_k its own distance from joint k's axis (the balls near the other
   part are usually near the axes); the cell keeps the larger of the two bounds.
@@ -74,7 +74,7 @@ def relative_joints(kinematics: Kinematics, joint_a: int, joint_b: int) -> list[
     return sorted(chain(joint_a) ^ chain(joint_b))
 
 
-def _reach(kinematics: Kinematics, part, k: int) -> float:
+def joint_reach(kinematics: Kinematics, part, k: int) -> float:
     """Bound [m] of the distance from joint k's axis of the points of `part` (k on its chain):
     for the part's own joint, the largest distance of its balls from the axis; for a joint
     further up, |x - o_k| <= the placements between the two joints + the part's extent."""
@@ -129,7 +129,7 @@ def prove_pair_clear(parts: Sequence, a: int, b: int, kinematics: Kinematics, *,
     base = np.clip(np.zeros(kinematics.dof), kinematics.lower, kinematics.upper)
     chain_a = set(relative_joints(kinematics, pa.joint, 0))
     # speed bound per joint: the part it moves (a joint moves exactly one of the two)
-    L = np.array([_reach(kinematics, pa if k in chain_a else pb, k) for k in rel])
+    L = np.array([joint_reach(kinematics, pa if k in chain_a else pb, k) for k in rel])
     key = _key(digests, a, b, kinematics, rel, lo, hi, base)
     if key in _MEMORY:
         return _MEMORY[key]
@@ -160,7 +160,7 @@ def _cached_or_proved(key: str, cache: Path | None, pa, pb, kinematics: Kinemati
     return bound
 
 
-def _ball_slack(kinematics: Kinematics, pa, pb, rel: list[int], R: np.ndarray, p: np.ndarray, H: np.ndarray,
+def ball_slack(kinematics: Kinematics, pa, pb, rel: list[int], R: np.ndarray, p: np.ndarray, H: np.ndarray,
                 L: np.ndarray, d: np.ndarray) -> np.ndarray:
     """(M,) a lower bound [m] of the pair's distance over each of M cells, ball by ball.
 
@@ -232,7 +232,7 @@ def _subdivide(pa, pb, kinematics: Kinematics, qidx: np.ndarray, rel: list[int],
         if np.any(d <= PROOF_CLEARANCE):
             return None  # the pair comes within the clearance: it stays checked
         slack = np.maximum(d - H @ L, np.concatenate([
-            _ball_slack(kinematics, pa, pb, rel, R[s:s + 256], p[s:s + 256], H[s:s + 256], L, d[s:s + 256])
+            ball_slack(kinematics, pa, pb, rel, R[s:s + 256], p[s:s + 256], H[s:s + 256], L, d[s:s + 256])
             for s in range(0, C.shape[0], 256)]))
         done = slack > PROOF_CLEARANCE
         if done.any():

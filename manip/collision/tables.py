@@ -19,6 +19,7 @@ from typing import Mapping, NamedTuple, Sequence
 import coal
 import numpy as np
 
+from manip.collision.pair_maps import PairMap, convex_hull
 from manip.collision.results import AttachedObject
 from manip.collision.robot_geometry import COARSE_MAX_SPHERES, COARSE_TOLERANCE, RobotGeometry, sphere_cover
 from manip.collision.shapes import Capsule, Cylinder, Obstacle, Sphere, coal_geometry
@@ -47,15 +48,8 @@ class _Part:
 
 def _hull(geometry):
     """Convex hull of a coal mesh (for fast signed distances), or the geometry itself."""
-    if hasattr(geometry, "num_tris") and hasattr(geometry, "buildConvexHull"):
-        try:
-            if geometry.convex is None:
-                geometry.buildConvexHull(True, "Qt")
-            if geometry.convex is not None:
-                return geometry.convex
-        except Exception:  # pragma: no cover - qhull failure on degenerate meshes
-            logger.debug("convex hull failed; distances use the mesh itself")
-    return geometry
+    hull = convex_hull(geometry)
+    return geometry if hull is None else hull
 
 
 def _tf(R: np.ndarray, p: np.ndarray) -> coal.Transform3s:
@@ -171,11 +165,37 @@ def _fine_groups(fine: _SphereTable, coarse: _SphereTable) -> tuple[np.ndarray, 
     return (np.ascontiguousarray(radii), np.ascontiguousarray(np.cumsum(count) - count), count, flat)
 
 
+def _map_tables(bp_pairs: np.ndarray, maps: Mapping[tuple[int, int], PairMap]) -> tuple[np.ndarray, ...]:
+    """The clearance maps of the checked pairs `bp_pairs` (P, 2) as the tables of
+    `broadphase.self_candidates`: (map of each pair (P,) or -1, q indices (M, 2), cells per
+    joint (M, 2), start of each map in the flat bounds (M,), flat bounds)."""
+    of_pair = np.full(bp_pairs.shape[0], -1, dtype=np.int64)
+    q_rows, count_rows, starts, flat = [], [], [], []
+    offset = 0
+    for k, (a, b) in enumerate(bp_pairs.tolist()):
+        m = maps.get((a, b))
+        if m is None:
+            continue
+        of_pair[k] = len(q_rows)
+        q = [int(i) for i in m.q_index]
+        c = list(m.bounds.shape)
+        q_rows.append(q + [q[0]] * (2 - len(q)))  # a map over one joint: one cell along the second
+        count_rows.append(c + [1] * (2 - len(c)))
+        starts.append(offset)
+        flat.append(m.bounds.ravel())
+        offset += m.bounds.size
+    i64 = lambda a: np.ascontiguousarray(np.asarray(a, dtype=np.int64).reshape(-1, 2))  # noqa: E731
+    return (of_pair, i64(q_rows), i64(count_rows), np.ascontiguousarray(starts, dtype=np.int64),
+            np.ascontiguousarray(np.concatenate(flat) if flat else np.zeros(0), dtype=np.float64))
+
+
 def part_tables(parts: Sequence[_Part], pairs: Sequence[tuple[int, int]],
-                skip: frozenset[tuple[int, int]] = frozenset()) -> PartTables:
+                skip: frozenset[tuple[int, int]] = frozenset(),
+                maps: Mapping[tuple[int, int], PairMap] | None = None) -> PartTables:
     """The broadphase tables of `parts` and their enabled self-collision `pairs`; the pairs
     in `skip` (proved clear at the self padding) are left out of the broadphase tables (the
-    checks and certificates) but kept in `pairs` (exact references, distances)."""
+    checks and certificates) but kept in `pairs` (exact references, distances); `maps`
+    gives the clearance maps of some pairs (`manip.collision.pair_maps`)."""
     G = len(parts)
     pj = np.array([p.joint for p in parts])
     fine = _SphereTable([p.centres for p in parts], [p.radii for p in parts], pj)
@@ -233,7 +253,7 @@ def part_tables(parts: Sequence[_Part], pairs: Sequence[tuple[int, int]],
     bp_pairs = i64(pair_arr[pair_order].reshape(-1, 2))
     bp_self = (body_joint, f64(np.array([c for c, _ in body_balls]).reshape(-1, 3)), f64([r for _, r in body_balls]),
                body_pairs, i64(np.cumsum(pair_count) - pair_count), pair_count, bp_pairs, *covers,
-               f64(fine.centres), f64(fine.radii), *_fine_groups(fine, coarse))
+               f64(fine.centres), f64(fine.radii), *_fine_groups(fine, coarse), *_map_tables(bp_pairs, maps or {}))
     # geometry placements in joint frames, for batched transforms of the exact checks
     gR = np.array([p.R for p in parts])
     gp = np.array([p.p for p in parts])
