@@ -36,6 +36,7 @@ import logging
 import math
 import os
 from collections.abc import Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import NamedTuple
 
@@ -156,20 +157,6 @@ def build_pair_map(parts: Sequence, a: int, b: int, kinematics: Kinematics, *, d
     return out if np.isfinite(out.bounds).any() else None
 
 
-class _Swept(NamedTuple):
-    """A part swept over a whole turn of its own joint: a convex solid of revolution about
-    the joint's axis (in the joint frame) holding the part at every angle, with one ball
-    (at the joint's origin) holding it, for the motion bounds of the joints further up."""
-
-    name: str
-    joint: int
-    R: np.ndarray
-    p: np.ndarray
-    geometry: object
-    centres: np.ndarray
-    radii: np.ndarray
-
-
 def _points(part) -> np.ndarray | None:
     """(V, 3) points whose convex hull holds the part, in its joint frame (meshes, boxes)."""
     g = part.geometry
@@ -227,7 +214,7 @@ def _overlap(pa, pb, kinematics: Kinematics) -> float:
     return float((gap.min(axis=(1, 2)) < 0.0).mean())
 
 
-def _swept_pair(pa, pb, rel: list[int], kinematics: Kinematics) -> tuple[object, _Swept] | None:
+def _swept_pair(pa, pb, rel: list[int], kinematics: Kinematics) -> tuple[object, object] | None:
     """(the other part, the swept part) for a pair moved by `rel` (MAX_MAP_JOINTS + 1 joints)
     whose fine covers overlap often, sweeping the part carried by one of those joints that
     turns closest about its axis; None when there is none."""
@@ -241,8 +228,11 @@ def _swept_pair(pa, pb, rel: list[int], kinematics: Kinematics) -> tuple[object,
         if found is not None and (best is None or found[1] < best[0]):
             geom, radius = found
             reach = float(np.max(np.linalg.norm(_points(part), axis=1)))
-            best = (radius, other, _Swept(f"{part.name} (swept)", part.joint, np.eye(3), np.zeros(3), geom,
-                                          np.zeros((1, 3)), np.array([reach])))
+            # the part swept about its joint: the solid in the joint frame, with one ball at the
+            # joint's origin holding it (for the motion bounds of the joints further up)
+            ball, radii = np.zeros((1, 3)), np.array([reach])
+            best = (radius, other, replace(part, name=f"{part.name} (swept)", R=np.eye(3), p=np.zeros(3), geometry=geom,
+                                           centres=ball, radii=radii, coarse_centres=ball, coarse_radii=radii))
     return None if best is None else (best[1], best[2])
 
 
