@@ -77,6 +77,9 @@ __all__ = ["MotionGenerator", "START_LIMIT_TOLERANCE"]
 
 #: Random IK starts tried for a pose goal when the first round finds no collision-free solution.
 IK_RETRY_ATTEMPTS = 400
+#: Pose goals of redundant arms: each IK solution is also offered moved along its self-motion
+#: towards the start (`IKSolver.solve_many(toward_seed=True)`): nearer goals, shorter motions.
+IK_TOWARD_START = True
 #: Largest joint-space deviation [rad] of a linear motion's timing from its dense IK path
 #: (about 1 mm at the hand).
 LINEAR_DEVIATION = 1e-3
@@ -440,9 +443,10 @@ class MotionGenerator:
     def plan_goalset(self, start_q, goals: Pose, link: str | None = None, **options) -> PlanResult:
         """Plan to whichever of several poses (a batched Pose) is best reached.
 
-        Collision-free IK solutions of every pose are planned to at once, the ones reachable
-        fastest (by the time-optimal rest-to-rest duration from the start; among those within
-        5 % of the fastest, the shortest first: `planning.goals`) first; the result's
+        Collision-free IK solutions of every pose (for a redundant arm, each also moved along
+        its self-motion towards the start) are planned to at once, the ones reachable fastest
+        (by the time-optimal rest-to-rest duration from the start; among those within 10 % of
+        the fastest, the shortest first: `planning.goals`) first; the result's
         `goal_index` says which pose was reached.
         """
         ctx = self._context(options)
@@ -510,6 +514,7 @@ class MotionGenerator:
         for i, g in enumerate(goals):
             sols = self.ik_solver.solve_many(
                 g, link, n=ctx.options.ik_solutions, seed_q=start, validity_fn=validity.configs,
+                toward_seed=IK_TOWARD_START,
             )
             if len(sols) == 0:
                 # tight goals (a hand between obstacles, a joint on its limit) have few

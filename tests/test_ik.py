@@ -319,6 +319,60 @@ def test_solve_many_num_seeds_is_a_deprecated_name_of_attempts(solver: IKSolver,
         solver.solve_many(goal, HAND, attempts=0)
 
 
+def test_solve_many_toward_seed_offers_the_nearest_configuration_of_each_branch(solver: IKSolver,
+                                                                                franka_kinematics: Kinematics):
+    """With toward_seed the solutions include, for each branch, the configuration of its
+    self-motion nearest seed_q: there the step towards seed_q has no component left that keeps
+    the hand on the goal (it is orthogonal to the self-motion), unless a joint is at its limit
+    or the arm is near a singularity (where the self-motion's tangent is not J's null space)."""
+    k = franka_kinematics
+    rng = np.random.default_rng(5)
+    closer = checked = 0
+    for q_true in random_configs(k, 12, seed=71):
+        goal = k.fk(q_true, HAND)
+        seed_q = np.clip(q_true + rng.normal(0.0, 0.8, k.dof), k.lower, k.upper)
+        plain = solver.solve_many(goal, HAND, n=8, seed_q=seed_q, seed=3)
+        slid = solver.solve_many(goal, HAND, n=8, seed_q=seed_q, seed=3, toward_seed=True)
+        assert slid.success and len(slid) >= len(plain) > 0
+        for q in slid:
+            assert_reaches(k, q, goal)
+        d_plain = np.linalg.norm(plain.q - seed_q, axis=1).min()
+        d_slid = np.linalg.norm(slid.q - seed_q, axis=1)
+        assert d_slid.min() <= d_plain + 1e-9 and np.all(np.diff(d_slid) >= 0)
+        closer += d_slid.min() < d_plain - 1e-3
+        q = slid.q[0]
+        if np.any(np.minimum(q - k.lower, k.upper - q) < 1e-3):
+            continue  # held by a limit: the nearest point of the branch lies on the boundary
+        fid = k.model.getFrameId(HAND)
+        k.frame_transform(q, fid)
+        J = k.frame_jacobian(q, fid)
+        if np.linalg.svd(J, compute_uv=False).min() < 0.05:
+            continue  # near a singularity
+        null = np.eye(k.dof) - np.linalg.pinv(J) @ J
+        towards = seed_q - q
+        assert np.linalg.norm(null @ towards) <= 0.02 * max(np.linalg.norm(towards), 1.0)
+        checked += 1
+    assert checked >= 6 and closer >= 6  # the plain solutions are rarely the nearest of their branch
+
+
+def test_solve_many_toward_seed_is_checked_and_a_no_op_without_redundancy(solver: IKSolver,
+                                                                            franka_kinematics: Kinematics):
+    goal = franka_kinematics.fk(np.array([0.3, 0.2, -0.4, -2.0, 0.5, 2.0, 0.3]), HAND)
+    for bad in (1, "yes", None):
+        with pytest.raises(InvalidInputError, match="toward_seed must be True or False"):
+            solver.solve_many(goal, HAND, toward_seed=bad)
+    from manip.robot_config import load_robot_config
+
+    ur5 = Kinematics(load_robot_config("ur5"))
+    six = IKSolver(ur5, seed=0)
+    tool = ur5.config.ee_link
+    goal = ur5.fk(np.array([0.3, -1.2, 1.4, -1.0, -1.5, 0.4]), tool)
+    a = six.solve_many(goal, tool, n=6, seed=2)
+    b = six.solve_many(goal, tool, n=6, seed=2, toward_seed=True)
+    assert len(a) >= 1
+    np.testing.assert_array_equal(a.q, b.q)
+
+
 # ---------------------------------------------------------------------- batch
 def test_batch_solves_reachable_and_flags_unreachable(solver: IKSolver, franka_kinematics: Kinematics):
     k = franka_kinematics

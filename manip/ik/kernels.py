@@ -237,3 +237,121 @@ def _solve_spd(A: np.ndarray, b: np.ndarray) -> np.ndarray:
     if bad.any():
         x[bad] = np.linalg.solve(A[bad], b[bad])
     return x
+
+
+@njit(cache=True, nogil=True)
+def _pose_error_into(q, q_index, parent, table, chain, axes, revolute, f_joint, f_R, f_p, R_goal, p_goal, R, p, Rf, pf,
+                     E, w, Jac, e):
+    """Frame Jacobian Jac (6, dof) and error e (6,) (as in `_lm_lanes`) at q; returns (|e_p|, |e_r|)."""
+    chain_frames(q, q_index, parent, table, R, p)
+    frame_jacobian_into(R, p, chain, axes, revolute, q_index, f_joint, f_R, f_p, Rf, pf, Jac)
+    for r in range(3):
+        e[r] = p_goal[r] - pf[r]
+        for c in range(3):
+            E[r, c] = R_goal[r, 0] * Rf[c, 0] + R_goal[r, 1] * Rf[c, 1] + R_goal[r, 2] * Rf[c, 2]
+    _log3_into(E, w)
+    e[3], e[4], e[5] = w[0], w[1], w[2]
+    return math.sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]), math.sqrt(e[3] * e[3] + e[4] * e[4] + e[5] * e[5])
+
+
+@njit(cache=True, nogil=True)
+def _slide_lanes(Q0, q_ref, q_index, parent, table, chain, axes, revolute, f_joint, f_R, f_p, R_goal, p_goal, lower,
+                 upper, gain, lam, max_step, max_iterations, tol_step, tol_p, tol_r):
+    """Each row of Q0 (K, dof) (a solution of one frame pose) moved along its self-motion towards q_ref.
+
+    A predictor-corrector walk on the configurations that keep the frame on the goal: each
+    step moves by the part of gain (q_ref - q) that leaves the frame in place to first order,
+    (I - J+ J) gain (q_ref - q) with J+ = J^T (J J^T + lam I)^-1, at most `step` [rad] (joints at
+    a limit that it would push further take no part), then up to 4 Newton corrections J+ e back
+    onto the goal (within tol_p [m] and tol_r [rad]). A step that does not get back, or gets
+    no nearer q_ref, is undone and `step` halves; one that does is kept and `step` doubles (at
+    most `max_step`). Stops when `step` falls below `tol_step` [rad] (locally the configuration
+    of the branch nearest q_ref) or after `max_iterations` steps. Rows of Q0 that are not
+    within the tolerances of the goal are returned as they are.
+    Returns (Q (K, dof), position errors (K,), rotation errors (K,)).
+    """
+    K, dof = Q0.shape
+    J = table.shape[0]
+    R = np.empty((J + 1, 3, 3))
+    p = np.empty((J + 1, 3))
+    Rf = np.empty((3, 3))
+    pf = np.empty(3)
+    E = np.empty((3, 3))
+    Jac = np.empty((6, dof))
+    e = np.empty(6)
+    Jv = np.empty(6)
+    w = np.empty(3)
+    dq = np.empty(dof)
+    v = np.empty(dof)
+    Q = Q0.copy()
+    ep_out = np.empty(K)
+    er_out = np.empty(K)
+    for k in range(K):
+        q = Q[k]
+        ep, er = _pose_error_into(q, q_index, parent, table, chain, axes, revolute, f_joint, f_R, f_p, R_goal, p_goal,
+                                  R, p, Rf, pf, E, w, Jac, e)
+        ep_out[k], er_out[k] = ep, er
+        if ep > tol_p or er > tol_r:
+            continue
+        d_now = 0.0
+        for i in range(dof):
+            d_now += (q[i] - q_ref[i]) ** 2
+        step = max_step
+        q_try = np.empty(dof)
+        for _ in range(max_iterations):
+            if step < tol_step:
+                break
+            # predictor: the self-motion part of the way to q_ref (Jac and e are at q)
+            for i in range(dof):
+                v[i] = gain * (q_ref[i] - q[i])
+            for attempt in range(2):
+                for r in range(6):
+                    acc = 0.0
+                    for i in range(dof):
+                        acc += Jac[r, i] * v[i]
+                    Jv[r] = acc
+                _dls_step(Jac, Jv, lam, dq)
+                blocked = False
+                for i in range(dof):
+                    dq[i] = v[i] - dq[i]
+                    if (q[i] <= lower[i] and dq[i] < 0.0) or (q[i] >= upper[i] and dq[i] > 0.0):
+                        blocked = True
+                        v[i] = 0.0
+                        for r in range(6):
+                            Jac[r, i] = 0.0
+                if not blocked:
+                    break
+            big = 0.0
+            for i in range(dof):
+                big = max(big, abs(dq[i]))
+            scale = step / big if big > step else 1.0
+            for i in range(dof):
+                q_try[i] = min(max(q[i] + scale * dq[i], lower[i]), upper[i])
+            # corrector: Newton steps back onto the goal
+            ok = False
+            for c in range(5):
+                ep, er = _pose_error_into(q_try, q_index, parent, table, chain, axes, revolute, f_joint, f_R, f_p, R_goal,
+                                          p_goal, R, p, Rf, pf, E, w, Jac, e)
+                if ep <= tol_p and er <= tol_r:
+                    ok = True
+                    break
+                if c == 4:
+                    break
+                _dls_step(Jac, e, lam, dq)
+                for i in range(dof):
+                    q_try[i] = min(max(q_try[i] + dq[i], lower[i]), upper[i])
+            d_try = 0.0
+            for i in range(dof):
+                d_try += (q_try[i] - q_ref[i]) ** 2
+            if ok and d_try < d_now:
+                for i in range(dof):
+                    q[i] = q_try[i]
+                d_now = d_try
+                ep_out[k], er_out[k] = ep, er
+                step = min(2.0 * step, max_step)
+            else:
+                step *= 0.5
+            # Jac and e at q for the next predictor
+            _pose_error_into(q, q_index, parent, table, chain, axes, revolute, f_joint, f_R, f_p, R_goal, p_goal, R, p,
+                             Rf, pf, E, w, Jac, e)
+    return Q, ep_out, er_out

@@ -56,7 +56,9 @@ class TrajOptSettings:
             goals, pose goals, pose goals with cuRobo's limits: 4 sets of ~50): path length
             -2.1 % in each set, mean motion time -0.07 % (+0.4 .. -1.0 % by set), QPs -6 %;
             40: path -1.3 %, motion +0.04 %; 150 (two sets): path -2.3 %, motion +0.7 %. (6 against 1:
-            path -1.8 %, motion -0.1 / -0.3 %.)
+            path -1.8 %, motion -0.1 / -0.3 %.) 200 against 80 (joint goals, 8/scene three times:
+            problems 0-7, 8-15, 16-23): path -0.55 / -1.19 / -0.90 %, motion +0.26 / +0.58 / -0.11 %;
+            400: path -1.1 %, motion +2.1 %.
         free_duration: optimise the duration inside the SCO (`sco.sco_free_step`) after
             `first_iterations` at the seed's duration; False: the bisection over fixed
             durations (`rounds`, `bisection`, `duration_tolerance`, `second_chance`).
@@ -86,7 +88,7 @@ class TrajOptSettings:
     penalty: float = 1e4
     second_chance: bool = True
     line_search: int = 1
-    velocity_weight: float = 80.0
+    velocity_weight: float = 200.0
     acceleration_weight: float = 0.01
     jerk_weight: float = 0.001
     free_duration: bool = True
