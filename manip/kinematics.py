@@ -273,7 +273,10 @@ class Kinematics:
 
         Index 0 is the universe (identity). Q: (N, dof).
         """
-        return _joint_frames(np.ascontiguousarray(Q, dtype=np.float64), self._sb_q, self._sb_parent_a, self._sb_table)
+        Q = np.ascontiguousarray(Q, dtype=np.float64)
+        if not Q.flags.writeable:  # a read-only array would compile (~1 s) a second version of the kernel
+            Q = Q.copy()
+        return _joint_frames(Q, self._sb_q, self._sb_parent_a, self._sb_table)
 
     def fk_tables(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(q_index (J,), parent (J,), table (J, 3|4, 16)): the inputs of `chain_frames`."""
