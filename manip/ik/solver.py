@@ -340,8 +340,8 @@ class IKSolver:
             idx = idx[self._verify_batch(Q[idx], fid, np.broadcast_to(R_goal, (idx.size, 3, 3)),
                                          np.broadcast_to(p_goal, (idx.size, 3)))]
         if idx.size and toward_seed and k.dof > 6:
-            # the distinct solutions (at most n), each after its slid version
-            Q, idx = self._with_slid(Q, idx[_distinct(Q[idx], min_distance, n)], q_ref, fid, R_goal, p_goal)
+            # the distinct solutions, each after its slid version
+            Q, idx = self._with_slid(Q, idx[_distinct(Q[idx], min_distance, idx.size)], q_ref, fid, R_goal, p_goal)
         verified = idx.size
         if idx.size and validity_fn is not None:
             idx = idx[np.asarray(validity_fn(Q[idx]), dtype=bool).reshape(-1)]
