@@ -330,8 +330,8 @@ def _slide_lanes(Q0, q_ref, q_index, parent, table, chain, axes, revolute, f_joi
             # corrector: Newton steps back onto the goal
             ok = False
             for c in range(5):
-                ep, er = _pose_error_into(q_try, q_index, parent, table, chain, axes, revolute, f_joint, f_R, f_p, R_goal,
-                                          p_goal, R, p, Rf, pf, E, w, Jac, e)
+                ep, er = _pose_error_into(q_try, q_index, parent, table, chain, axes, revolute, f_joint, f_R, f_p,
+                                          R_goal, p_goal, R, p, Rf, pf, E, w, Jac, e)
                 if ep <= tol_p and er <= tol_r:
                     ok = True
                     break
