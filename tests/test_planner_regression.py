@@ -103,6 +103,15 @@ def test_planning_is_deterministic_for_a_seed(mg):
 #: deterministic for a seed.
 MAX_MOTION_RATIO = 1.40
 MIN_IMPROVEMENT = 0.92  # trajopt ratio <= this x the shortcut pipeline's on the same problems
+#: Path length on the same subset (measured 2026-11-23: joint goals 1.076 x the straight line;
+#: pose goals 3.87 rad mean, 1.10 x the lower bound), with margin.
+MAX_PATH_RATIO = 1.15
+MAX_POSE_PATH = 4.1  # [rad]
+MAX_POSE_MOTION_RATIO = 1.25
+
+
+def _path_length(positions: np.ndarray) -> float:
+    return float(np.linalg.norm(np.diff(positions, axis=0), axis=1).sum())
 
 
 @pytest.mark.skipif(not DATASET.exists(), reason=f"MotionBenchMaker dataset not found at {DATASET} (set MANIP_MBM_DATASET)")
@@ -113,6 +122,9 @@ def test_motion_quality_on_a_motionbenchmaker_subset(mg):
     cfg = mg.config
     times = {True: [], False: []}
     bounds = []
+    paths, lines = [], []
+    pose_paths, pose_times, pose_bounds = [], [], []
+    limits = (cfg.velocity_limits, cfg.acceleration_limits, cfg.jerk_limits)
     for scene in MBM_SCENES:
         problems = [p for p in load_mbm_problems(DATASET, scenes=[scene], limit_per_scene=8)
                     if verifier.check_problem(p).valid][:2]
@@ -122,8 +134,18 @@ def test_motion_quality_on_a_motionbenchmaker_subset(mg):
                 r = mg.plan_joints(p.start, p.goal, seed=0, time_budget=TIME_BUDGET, trajopt=trajopt)
                 assert r.success, f"{p.name}: {r.status.name} {r.message}"
                 times[trajopt].append(r.motion_time)
-            bounds.append(lower_bound_time(p.start, p.goal, cfg.velocity_limits, cfg.acceleration_limits,
-                                           cfg.jerk_limits))
+                if trajopt:
+                    paths.append(_path_length(r.trajectory.positions))
+                    lines.append(float(np.linalg.norm(p.goal - p.start)))
+            bounds.append(lower_bound_time(p.start, p.goal, *limits))
+            r = mg.plan_pose(p.start, goal_pose(p), link="panda_hand", seed=0, time_budget=TIME_BUDGET)
+            assert r.success, f"{p.name} (pose goal): {r.status.name} {r.message}"
+            pose_paths.append(_path_length(r.trajectory.positions))
+            pose_times.append(r.motion_time)
+            pose_bounds.append(lower_bound_time(p.start, r.goal_q, *limits))
     ratio = {k: sum(v) / sum(bounds) for k, v in times.items()}
     assert ratio[True] <= MAX_MOTION_RATIO, ratio
     assert ratio[True] <= MIN_IMPROVEMENT * ratio[False], ratio
+    assert sum(paths) / sum(lines) <= MAX_PATH_RATIO, sum(paths) / sum(lines)
+    assert np.mean(pose_paths) <= MAX_POSE_PATH, np.mean(pose_paths)
+    assert sum(pose_times) / sum(pose_bounds) <= MAX_POSE_MOTION_RATIO, sum(pose_times) / sum(pose_bounds)
