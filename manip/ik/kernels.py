@@ -135,6 +135,29 @@ def _dls_step(Jac, e, lam, dq):
 
 
 @njit(cache=True, nogil=True)
+def _work_arrays(joints, dof):
+    """Work arrays of `_pose_error_into` for a chain of `joints` joints: R, p, Rf, pf, E, w, Jac, e."""
+    return (np.empty((joints + 1, 3, 3)), np.empty((joints + 1, 3)), np.empty((3, 3)), np.empty(3), np.empty((3, 3)),
+            np.empty(3), np.empty((6, dof)), np.empty(6))
+
+
+@njit(cache=True, nogil=True)
+def _pose_error_into(q, q_index, parent, table, chain, axes, revolute, f_joint, f_R, f_p, R_goal, p_goal, R, p, Rf, pf,
+                     E, w, Jac, e):
+    """Frame Jacobian Jac (6, dof) and pose error e (6,) = [p_goal - p(q); log(R_goal R(q)^T)] at q
+    (world-aligned; R, p, Rf, pf, E, w are work arrays); returns (|e_p| [m], |e_r| [rad])."""
+    chain_frames(q, q_index, parent, table, R, p)
+    frame_jacobian_into(R, p, chain, axes, revolute, q_index, f_joint, f_R, f_p, Rf, pf, Jac)
+    for r in range(3):
+        e[r] = p_goal[r] - pf[r]
+        for c in range(3):
+            E[r, c] = R_goal[r, 0] * Rf[c, 0] + R_goal[r, 1] * Rf[c, 1] + R_goal[r, 2] * Rf[c, 2]
+    _log3_into(E, w)
+    e[3], e[4], e[5] = w[0], w[1], w[2]
+    return math.sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]), math.sqrt(e[3] * e[3] + e[4] * e[4] + e[5] * e[5])
+
+
+@njit(cache=True, nogil=True)
 def _lm_lanes(Q0, q_index, parent, table, chain, axes, revolute, f_joint, f_R, f_p, R_goal, p_goal, lower, upper,
               tol_p, tol_r, damping, min_damping, max_step, max_iterations, stall):
     """One damped-least-squares descent from each row of Q0 (K, dof) to one frame pose.
@@ -145,15 +168,7 @@ def _lm_lanes(Q0, q_index, parent, table, chain, axes, revolute, f_joint, f_R, f
     the limits. Returns (Q (K, dof), position errors (K,), rotation errors (K,), iterations (K,)).
     """
     K, dof = Q0.shape
-    J = table.shape[0]
-    R = np.empty((J + 1, 3, 3))
-    p = np.empty((J + 1, 3))
-    Rf = np.empty((3, 3))
-    pf = np.empty(3)
-    E = np.empty((3, 3))
-    Jac = np.empty((6, dof))
-    e = np.empty(6)
-    w = np.empty(3)
+    R, p, Rf, pf, E, w, Jac, e = _work_arrays(table.shape[0], dof)
     dq = np.empty(dof)
     Q = Q0.copy()
     ep_out = np.empty(K)
@@ -165,16 +180,8 @@ def _lm_lanes(Q0, q_index, parent, table, chain, axes, revolute, f_joint, f_R, f
         best_it = 0
         it = 0
         while True:
-            chain_frames(q, q_index, parent, table, R, p)
-            frame_jacobian_into(R, p, chain, axes, revolute, q_index, f_joint, f_R, f_p, Rf, pf, Jac)
-            for r in range(3):
-                e[r] = p_goal[r] - pf[r]
-                for c in range(3):  # R_goal Rf^T
-                    E[r, c] = R_goal[r, 0] * Rf[c, 0] + R_goal[r, 1] * Rf[c, 1] + R_goal[r, 2] * Rf[c, 2]
-            _log3_into(E, w)
-            e[3], e[4], e[5] = w[0], w[1], w[2]
-            ep = math.sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2])
-            er = math.sqrt(e[3] * e[3] + e[4] * e[4] + e[5] * e[5])
+            ep, er = _pose_error_into(q, q_index, parent, table, chain, axes, revolute, f_joint, f_R, f_p, R_goal,
+                                      p_goal, R, p, Rf, pf, E, w, Jac, e)
             if (ep <= tol_p and er <= tol_r) or it >= max_iterations:
                 break
             err2 = ep * ep + er * er
@@ -240,21 +247,6 @@ def _solve_spd(A: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True, nogil=True)
-def _pose_error_into(q, q_index, parent, table, chain, axes, revolute, f_joint, f_R, f_p, R_goal, p_goal, R, p, Rf, pf,
-                     E, w, Jac, e):
-    """Frame Jacobian Jac (6, dof) and error e (6,) (as in `_lm_lanes`) at q; returns (|e_p|, |e_r|)."""
-    chain_frames(q, q_index, parent, table, R, p)
-    frame_jacobian_into(R, p, chain, axes, revolute, q_index, f_joint, f_R, f_p, Rf, pf, Jac)
-    for r in range(3):
-        e[r] = p_goal[r] - pf[r]
-        for c in range(3):
-            E[r, c] = R_goal[r, 0] * Rf[c, 0] + R_goal[r, 1] * Rf[c, 1] + R_goal[r, 2] * Rf[c, 2]
-    _log3_into(E, w)
-    e[3], e[4], e[5] = w[0], w[1], w[2]
-    return math.sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]), math.sqrt(e[3] * e[3] + e[4] * e[4] + e[5] * e[5])
-
-
-@njit(cache=True, nogil=True)
 def _slide_lanes(Q0, q_ref, q_index, parent, table, chain, axes, revolute, f_joint, f_R, f_p, R_goal, p_goal, lower,
                  upper, gain, lam, max_step, max_iterations, tol_step, tol_p, tol_r):
     """Each row of Q0 (K, dof) (a solution of one frame pose) moved along its self-motion towards q_ref.
@@ -271,16 +263,8 @@ def _slide_lanes(Q0, q_ref, q_index, parent, table, chain, axes, revolute, f_joi
     Returns (Q (K, dof), position errors (K,), rotation errors (K,)).
     """
     K, dof = Q0.shape
-    J = table.shape[0]
-    R = np.empty((J + 1, 3, 3))
-    p = np.empty((J + 1, 3))
-    Rf = np.empty((3, 3))
-    pf = np.empty(3)
-    E = np.empty((3, 3))
-    Jac = np.empty((6, dof))
-    e = np.empty(6)
+    R, p, Rf, pf, E, w, Jac, e = _work_arrays(table.shape[0], dof)
     Jv = np.empty(6)
-    w = np.empty(3)
     dq = np.empty(dof)
     v = np.empty(dof)
     Q = Q0.copy()
