@@ -94,7 +94,8 @@ def warm_up(robots: tuple[str | RobotSpec, ...]) -> dict[str, float]:
         mg.plan_joints(q0, q1, seed=0, time_budget=WARM_UP_BUDGET)
         times["joint plan"] += time.perf_counter() - t
         t = time.perf_counter()
-        mg.ik(Pose(goal.position + 0.02, goal.quaternion))
+        # as a pose goal's IK (several solutions, moved along the self-motion towards the start)
+        mg.ik_solver.solve_many(Pose(goal.position + 0.02, goal.quaternion), n=2, seed_q=q0, toward_seed=True)
         times["ik"] += time.perf_counter() - t
         mg.update_world({})
         _GENERATORS[str(robot)] = (mg, None)
