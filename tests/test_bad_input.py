@@ -117,6 +117,8 @@ def test_unknown_link_lists_the_frames(mg):
 # ---------------------------------------------------------------------------- options
 BAD_OPTIONS = [
     ("time_budget", 0), ("time_budget", -1.0), ("time_budget", np.nan), ("time_budget", np.inf), ("time_budget", "1"),
+    ("search_iterations", 0), ("search_iterations", 2.5), ("search_iterations", "100"), ("search_iterations", True),
+    ("search_iterations", 10**7),
     ("seed", "abc"), ("seed", -1), ("seed", 1.5), ("seed", True), ("seed", None),
     ("dt", 0.0), ("dt", -0.01), ("dt", "0.01"), ("dt", 1 + 1j),
     ("velocity_scale", 0.0), ("velocity_scale", 1.5), ("velocity_scale", "1"),

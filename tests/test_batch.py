@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from manip import MotionGenerator, Pose, UnknownNameError
-from manip.batch import Problem, WorkerLostError, plan_many, plan_stream, problem_seed
+from manip.batch import BATCH_OPTIONS, Problem, WorkerLostError, plan_many, plan_stream, problem_seed
 from manip.batch import process_pool, worker
 from manip.batch.plan import run_tasks
 from manip.batch.problem import prepare
@@ -25,6 +25,9 @@ from manip.planning.result import PlanStatus
 
 # Budgets far above the planning times, so that a loaded machine cannot change a result.
 OPTIONS = {"time_budget": 30.0}
+# The options of a single call that plans as a batch problem with OPTIONS does (the batch's count
+# budget for the search where the problem gives none).
+SINGLE = {**BATCH_OPTIONS, **OPTIONS}
 SEED = 7
 
 
@@ -51,9 +54,9 @@ def reference(problems):
         mg = MotionGenerator("franka", p.world)
         seed = problem_seed(SEED, p.id)
         if isinstance(p.goal, Pose):
-            out[p.id] = mg.plan_pose(p.start, p.goal, seed=seed, **p.options)
+            out[p.id] = mg.plan_pose(p.start, p.goal, seed=seed, **SINGLE)
         else:
-            out[p.id] = mg.plan_joints(p.start, p.goal, seed=seed, **p.options)
+            out[p.id] = mg.plan_joints(p.start, p.goal, seed=seed, **SINGLE)
     return out
 
 
@@ -151,6 +154,23 @@ def test_options_may_be_a_plan_options(problems, reference):
         assert_same(r, reference[p.id])
 
 
+def test_options_not_given_take_the_batch_defaults(problems):
+    # a dict without the key, or a PlanOptions field left at its default, is not given; an
+    # explicit {"search_iterations": None} plans until the time budget, as a single call does
+    given = [None, {"time_budget": 9.0}, PlanOptions(time_budget=9.0, trajopt=False), {"search_iterations": None},
+             PlanOptions(search_iterations=500)]
+    p = problems[0]
+    tasks = prepare([Problem(p.world, p.start, p.goal, options=o, id=i) for i, o in enumerate(given)], SEED)
+    assert [{k: v for k, v in t.options.items() if k != "seed"} for t in tasks] == [
+        BATCH_OPTIONS,
+        {**BATCH_OPTIONS, "time_budget": 9.0},
+        {**BATCH_OPTIONS, "time_budget": 9.0, "trajopt": False},
+        {**BATCH_OPTIONS, "search_iterations": None},
+        {**BATCH_OPTIONS, "search_iterations": 500},
+    ]
+    assert BATCH_OPTIONS["search_iterations"] >= 1 and BATCH_OPTIONS["time_budget"] > PlanOptions().time_budget
+
+
 def test_seed_changes_searched_paths_and_ids_default_to_indices(problems, reference):
     joint = [Problem(p.world, p.start, p.goal, options=OPTIONS) for p in problems[:7]]
     results = plan_many(joint, workers=2, seed=SEED + 1, progress=False)
@@ -208,6 +228,7 @@ def test_closing_the_stream_early_stops_the_workers(problems):
     ({"goal": np.eye(4)}, InvalidInputError, ["goal must have shape (7,); got (4, 4)", "a pose goal is a manip.Pose"]),
     ({"options": {"time_budget": -1.0}}, InvalidInputError, ["time_budget"]),
     ({"options": {"speed": 2}}, InvalidInputError, ["speed", "valid"]),
+    ({"options": {"search_iterations": 0}}, InvalidInputError, ["problem 2", "search_iterations", "None"]),
     ({"options": {"seed": 3}}, InvalidInputError, ["seed", "derived"]),
     ({"options": PlanOptions(time_budget=30.0, seed=3)}, InvalidInputError, ["options.seed", "default", "derived"]),
     ({"options": [("time_budget", 1.0)]}, InvalidInputError, ["options must be a dict", "PlanOptions", "list"]),
@@ -267,8 +288,8 @@ def test_a_robot_yaml_path_plans_as_its_motion_generator_does(tmp_path):
              Problem(world, q0, goals[1], robot=str(folder / "robot.yaml"), options=OPTIONS, id="pose")]
     results = plan_many(batch, workers=1, seed=SEED, progress=False)
     mg.update_world(world)
-    refs = [mg.plan_joints(q0, goals[0], seed=problem_seed(SEED, "joint"), **OPTIONS),
-            mg.plan_pose(q0, goals[1], seed=problem_seed(SEED, "pose"), **OPTIONS)]
+    refs = [mg.plan_joints(q0, goals[0], seed=problem_seed(SEED, "joint"), **SINGLE),
+            mg.plan_pose(q0, goals[1], seed=problem_seed(SEED, "pose"), **SINGLE)]
     for r, ref in zip(results, refs):
         assert ref.success
         assert_same(r, ref)
@@ -293,8 +314,8 @@ def test_a_from_urdf_robot_plans_in_a_batch_as_its_motion_generator_does():
     batch = [Problem({}, q0, g, robot=mg.config, options=OPTIONS, id=i) for i, g in enumerate(goals)]
     batch.append(Problem({}, q0, goals[0], robot="ur5", options=OPTIONS, id="shipped"))  # same name space, no clash
     results = plan_many(batch, workers=2, seed=SEED, progress=False)
-    refs = [mg.plan_joints(q0, goals[0], seed=problem_seed(SEED, 0), **OPTIONS),
-            mg.plan_pose(q0, goals[1], seed=problem_seed(SEED, 1), **OPTIONS)]
+    refs = [mg.plan_joints(q0, goals[0], seed=problem_seed(SEED, 0), **SINGLE),
+            mg.plan_pose(q0, goals[1], seed=problem_seed(SEED, 1), **SINGLE)]
     for r, ref in zip(results, refs):
         assert ref.success
         assert_same(r, ref)

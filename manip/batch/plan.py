@@ -5,9 +5,11 @@
 
 Results are the `PlanResult`s of the single planning calls (`plan_joints` for a joint goal,
 `plan_pose` for a Pose goal), in input order. A failed plan is a result with its status.
-Each problem's seed is `problem_seed(seed, id)`, so a problem plans the same on any backend,
-with any worker count and in any order of completion (as long as no stage runs out of its
-time budget, which is wall time: keep budgets well above the planning times of the batch).
+Each problem's seed is `problem_seed(seed, id)` and its path search is bounded by a count
+(`problem.BATCH_OPTIONS`: `search_iterations`, with a generous `time_budget` as a safety net),
+so a problem plans the same on any backend, with any worker count, in any order of completion
+and on any machine, unless the safety net fires (then the result is TIMEOUT or its message
+ends with `planning.context.SAFETY_NET`).
 """
 
 from __future__ import annotations

@@ -30,6 +30,22 @@ from manip.validation import integer, vec
 #: A problem id: an int (default: the problem's index in the batch) or a string.
 ProblemId = int | str
 
+#: RRT iterations of a batch plan's main search (`PlanOptions.search_iterations`): a count, so a
+#: batch plans the same on any machine. The seeded problems of `benchmarks/batch.py` (200, batch
+#: seeds 0-5) and of `manip.datagen` (2,200, seeds 0-1), a 120 s budget: all solved but 5 datagen
+#: pairs (20,000 iterations without a path, 5.6-8.7 s each), every solved one within 4,100
+#: iterations except cage/28, whose search needs 1,600-14,600 (median 2,000, 46 seeds); at
+#: 10,000 it is solved with 44 of 46 seeds, every other problem is unchanged, and a search that
+#: finds nothing costs 2-4.4 s instead of 5.6-8.7 s (datagen: -24 % planning time). 5,000: cage/28
+#: 34 of 46, -36 %. BENCHMARKS.md, "Batch planning", run K.
+BATCH_SEARCH_ITERATIONS = 10_000
+#: Time budget of a batch plan [s]: only a safety net (the counts bound every stage; a plan cut
+#: short by it says so in its message, `planning.context.SAFETY_NET`); the slowest seeded batch
+#: plan takes about 3 s on one core of the 2-core VM.
+BATCH_TIME_BUDGET = 60.0
+#: A batch's planning options where a problem gives none.
+BATCH_OPTIONS = {"search_iterations": BATCH_SEARCH_ITERATIONS, "time_budget": BATCH_TIME_BUDGET}
+
 
 @dataclass(frozen=True)
 class Problem:
@@ -47,7 +63,10 @@ class Problem:
             model files must exist at the same paths on every node).
         options: planning options: a dict of `PlanOptions` fields except `seed`, or a
             `PlanOptions` whose seed is left at its default (`plan_many` derives each
-            problem's seed from its own seed and the problem id).
+            problem's seed from its own seed and the problem id). Options not given (in a
+            `PlanOptions`: left at their defaults) take the batch's defaults, `BATCH_OPTIONS`
+            (a count budget for the search, the clock only a safety net) before the single
+            call's; `{"search_iterations": None}` plans until the time budget, as one call does.
         id: an int or a string unique in the batch; None = the problem's index in it.
     """
 
@@ -86,7 +105,8 @@ class Task:
         world_key: digest of the world's content (equal worlds, equal keys).
         start: (dof,) start [rad].
         goal: (dof,) joint goal [rad] or a Pose.
-        options: planning options, with the derived `seed`.
+        options: planning options: the problem's, `BATCH_OPTIONS` where it gives none, and the
+            derived `seed`.
     """
 
     id: ProblemId
@@ -168,15 +188,18 @@ def _check_world(world: Any, where: str) -> None:
 
 
 def _check_options(options: Any, where: str) -> dict[str, Any]:
+    """A problem's options as a dict with BATCH_OPTIONS where it gives none (without `seed`)."""
     if options is None:
-        return {}
+        return dict(BATCH_OPTIONS)
     if isinstance(options, PlanOptions):
         if options.seed != PlanOptions.seed:
             raise InvalidInputError(
                 f"{where}: options.seed must stay at its default ({PlanOptions.seed}); got {options.seed}: each "
                 "problem's seed is derived from plan_many's seed and the problem id (manip.batch.problem_seed)"
             )
-        return {f.name: getattr(options, f.name) for f in fields(PlanOptions) if f.name != "seed"}
+        default = PlanOptions()
+        return {**BATCH_OPTIONS, **{f.name: getattr(options, f.name) for f in fields(PlanOptions)
+                                    if getattr(options, f.name) != getattr(default, f.name)}}
     if not isinstance(options, Mapping):
         raise InvalidInputError(f"{where}: options must be a dict of PlanOptions fields or a PlanOptions; "
                                 f"got {type(options).__name__}")
@@ -190,7 +213,7 @@ def _check_options(options: Any, where: str) -> dict[str, Any]:
         PlanOptions().updated(options)
     except ManipError as exc:
         raise InvalidInputError(f"{where}: {exc}") from exc
-    return options
+    return {**BATCH_OPTIONS, **options}
 
 
 def prepare(problems: Iterable[Problem], seed: int) -> list[Task]:

@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from manip.batch.problem import BATCH_SEARCH_ITERATIONS, BATCH_TIME_BUDGET
 from manip.benchmarking.scenes import SCENE_KINDS
 from manip.errors import ManipError
 
@@ -29,7 +30,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--backend", choices=("process", "ray"), default=None,
                     help="process (default) or ray (implied by --ray-address)")
     ap.add_argument("--ray-address", default=None, help="Ray cluster address for ray.init, e.g. auto or ray://head:10001")
-    ap.add_argument("--time-budget", type=float, default=5.0, help="planning budget per problem [s] (default 5)")
+    ap.add_argument("--time-budget", type=float, default=BATCH_TIME_BUDGET,
+                    help=f"planning wall-time budget per problem [s], a safety net (default {BATCH_TIME_BUDGET:g})")
+    ap.add_argument("--search-iterations", type=int, default=BATCH_SEARCH_ITERATIONS,
+                    help="RRT iterations of a plan's path search, a count: the dataset does not depend on the "
+                         f"machine (default {BATCH_SEARCH_ITERATIONS})")
     ap.add_argument("--rows-per-part", type=int, default=256, help="rows per Parquet part file (default 256)")
     ap.add_argument("--no-progress", action="store_true", help="no progress bar")
     args = ap.parse_args(argv)
@@ -55,7 +60,8 @@ def main(argv: list[str] | None = None) -> int:
         s = generate(args.out, scenes=args.scenes, problems_per_scene=args.problems_per_scene,
                      kinds=[k.strip() for k in args.kinds.split(",") if k.strip()], seed=args.seed, robot=args.robot,
                      workers=args.workers, backend=backend, ray_address=args.ray_address,
-                     time_budget=args.time_budget, rows_per_part=args.rows_per_part, on_total=on_total, on_row=on_row)
+                     time_budget=args.time_budget, search_iterations=args.search_iterations,
+                     rows_per_part=args.rows_per_part, on_total=on_total, on_row=on_row)
     except ManipError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2

@@ -11,8 +11,8 @@ reads it in the order the rows were written (order of completion); files startin
 or "." are ignored by pyarrow.
 
 Columns: problem_id, scene_id, kind, scene, pair (ints), seed (the planning seed), robot,
-world (JSON, cuRobo's format), start and goal ((dof,) lists [rad]), status, success,
-verified (independent check of the trajectory), verify_reasons, source, plan_time [s],
+world (JSON, cuRobo's format), start and goal ((dof,) lists [rad]), status, message (the
+result's: empty, why a plan failed, or `planning.context.SAFETY_NET`), success, verified (independent check of the trajectory), verify_reasons, source, plan_time [s],
 timings (JSON: seconds per stage), motion_time [s], dt [s], times ((T,) [s]), positions,
 velocities, accelerations ((T, dof) nested lists [rad, rad/s, rad/s^2]), path ((K, dof)
 waypoints [rad]); dof = 7 for the Franka. Trajectory columns are null for failed plans.
@@ -36,7 +36,8 @@ from manip.planning.result import PlanResult
 log = logging.getLogger(__name__)
 
 MANIFEST = "_manifest.json"
-FORMAT_VERSION = 1
+#: 2: the message column, and search_iterations among the settings.
+FORMAT_VERSION = 2
 
 
 def _pa() -> Any:
@@ -55,7 +56,8 @@ def _schema() -> Any:
     return pa.schema([
         ("problem_id", pa.string()), ("scene_id", pa.string()), ("kind", pa.string()), ("scene", pa.int64()),
         ("pair", pa.int64()), ("seed", pa.int64()), ("robot", pa.string()), ("world", pa.string()),
-        ("start", vec), ("goal", vec), ("status", pa.string()), ("success", pa.bool_()), ("verified", pa.bool_()),
+        ("start", vec), ("goal", vec), ("status", pa.string()), ("message", pa.string()),
+        ("success", pa.bool_()), ("verified", pa.bool_()),
         ("verify_reasons", pa.list_(pa.string())), ("source", pa.string()), ("plan_time", pa.float64()),
         ("timings", pa.string()), ("motion_time", pa.float64()), ("dt", pa.float64()), ("times", vec),
         ("positions", mat), ("velocities", mat), ("accelerations", mat), ("path", mat),
@@ -73,6 +75,7 @@ def make_row(problem: DataProblem, seed: int, robot: str, result: PlanResult, ve
         "problem_id": problem.id, "scene_id": problem.scene_id, "kind": problem.kind, "scene": problem.scene,
         "pair": problem.pair, "seed": seed, "robot": robot, "world": json.dumps(problem.world, sort_keys=True),
         "start": arr(problem.start), "goal": arr(problem.goal), "status": result.status.value,
+        "message": result.message,
         "success": bool(result.success), "verified": verdict.verified, "verify_reasons": list(verdict.reasons),
         "source": result.source, "plan_time": float(result.plan_time), "timings": json.dumps(result.timings),
         "motion_time": float(result.motion_time), "dt": None if traj is None else float(traj.dt),

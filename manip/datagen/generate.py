@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from manip.batch.plan import run_tasks, validate
+from manip.batch.problem import BATCH_SEARCH_ITERATIONS, BATCH_TIME_BUDGET
 from manip.benchmarking.scenes import SCENE_KINDS
 from manip.datagen import dataset
 from manip.datagen.job import SceneTask, plan_scene
@@ -24,7 +25,7 @@ from manip.datagen.problems import check_kinds, plan_ids, problem_id
 from manip.errors import UnknownNameError
 from manip.planning.options import PlanOptions
 from manip.robot_config import available_robots
-from manip.validation import integer, positive
+from manip.validation import integer
 
 log = logging.getLogger(__name__)
 
@@ -69,7 +70,8 @@ def generate(
     workers: int | None = None,
     backend: str = "process",
     ray_address: str | None = None,
-    time_budget: float = 5.0,
+    time_budget: float = BATCH_TIME_BUDGET,
+    search_iterations: int | None = BATCH_SEARCH_ITERATIONS,
     rows_per_part: int = 256,
     on_total: Callable[[int], None] | None = None,
     on_row: Callable[[dict], None] | None = None,
@@ -87,7 +89,10 @@ def generate(
         workers: workers (None: all cores, or the Ray cluster's CPUs).
         backend: "process" or "ray".
         ray_address: `ray.init` address for backend="ray" (None: a local Ray instance).
-        time_budget: planning budget per problem [s].
+        time_budget: planning wall-time budget per problem [s], a safety net (a row planned
+            past it has `planning.context.SAFETY_NET` in its message).
+        search_iterations: RRT iterations of a plan's main search (`PlanOptions.search_iterations`;
+            a count: the dataset is the same on any machine); None = until the time budget.
         rows_per_part: rows per Parquet part file.
         on_total: called once with the number of problems to plan (e.g. to size a progress bar).
         on_row: called with each row once it is buffered for writing.
@@ -102,22 +107,21 @@ def generate(
     t0 = time.perf_counter()
     kinds = check_kinds(kinds)
     seed = integer(seed, "seed", 0)
-    time_budget = positive(time_budget, "time_budget", "s")
     rows_per_part = integer(rows_per_part, "rows_per_part", 1)
     if not isinstance(robot, str) or robot not in available_robots():
         raise UnknownNameError("robot", str(robot), available_robots())
     ids = plan_ids(kinds, scenes, problems_per_scene)
     _, n = validate([], workers, backend, seed, ray_address=ray_address)  # bad settings fail before any work
+    checked = PlanOptions(time_budget=time_budget, search_iterations=search_iterations)  # bad values raise here
+    options = {"time_budget": checked.time_budget, "search_iterations": checked.search_iterations}
     settings = {"seed": seed, "kinds": list(kinds), "problems_per_scene": problems_per_scene, "robot": robot,
-                "time_budget": time_budget}
+                **options}
     folder = dataset.open_folder(out, settings)
     done = dataset.finished_ids(folder)
     wanted = [t for t in ids if problem_id(*t) not in done]
     skipped = len(ids) - len(wanted)
     if on_total is not None:
         on_total(len(wanted))
-    options = {"time_budget": time_budget}
-    PlanOptions().updated(options)
     pairs: dict[tuple[str, int], list[int]] = defaultdict(list)
     for kind, scene, pair in wanted:
         pairs[(kind, scene)].append(pair)

@@ -23,6 +23,12 @@ START_LIMIT_TOLERANCE = 1e-4
 #: A joint goal this far outside a joint limit [rad] is moved onto the limit (a goal read
 #: from a simulated joint resting on its limit); one further out is INVALID_GOAL.
 GOAL_LIMIT_TOLERANCE = START_LIMIT_TOLERANCE
+#: Ends the message of a result returned after its time budget ran out. Every stage is bounded
+#: by counts and stops early only when the budget has run out, so a result without this note
+#: does not depend on the machine's speed or load; one with it may (a stage was perhaps cut
+#: short by the clock).
+SAFETY_NET = ("the time budget ran out during the plan: a stage may have stopped early, so this result may depend on "
+              "the machine")
 
 
 class PlanContext:
@@ -129,8 +135,9 @@ class PlanContext:
             )
 
     def fail(self, status: PlanStatus, message: str, path=None, goal_q=None, attempts: int = 1) -> PlanResult:
-        """Record and return a failed PlanResult."""
-        self.timings["total"] = time.perf_counter() - self.t0
+        """Record and return a failed PlanResult (its message ends with SAFETY_NET when the
+        time budget has run out)."""
+        message = self._finish(message)
         logger.info("planning failed: %s (%s)", status.name, message)
         self._failure = PlanResult(
             success=False, status=status, path=path, goal_q=goal_q, timings=dict(self.timings), message=message,
@@ -139,9 +146,20 @@ class PlanContext:
         return self._failure
 
     def succeed(self, trajectory, path, goal_q, attempts: int, source: str) -> PlanResult:
-        """A successful PlanResult with the timings so far."""
-        self.timings["total"] = time.perf_counter() - self.t0
+        """A successful PlanResult with the timings so far (its message is SAFETY_NET when the
+        time budget has run out, else empty)."""
+        message = self._finish("")
         return PlanResult(
             success=True, status=PlanStatus.SUCCESS, trajectory=trajectory, path=path, goal_q=goal_q,
             timings=dict(self.timings), position_error=0.0, rotation_error=0.0, attempts=attempts, source=source,
+            message=message,
         )
+
+    def _finish(self, message: str) -> str:
+        """Record the total time; `message` with SAFETY_NET added when the deadline has passed
+        (then some stage may have seen it: every deadline check is `perf_counter() > deadline`)."""
+        now = time.perf_counter()
+        self.timings["total"] = now - self.t0
+        if now <= self.deadline:
+            return message
+        return f"{message}; {SAFETY_NET}" if message else SAFETY_NET

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numbers
 from dataclasses import dataclass, fields
 
 import numpy as np
@@ -15,6 +16,8 @@ SMOOTHNESS = ("time_optimal", "smooth")
 SMOOTH_JERK_FRACTION = 0.25
 #: Largest `ik_solutions` (each is a goal the planner tries to reach).
 MAX_IK_SOLUTIONS = 1000
+#: Largest `search_iterations` (each iteration may add a node to the search's trees: memory).
+MAX_SEARCH_ITERATIONS = 1_000_000
 
 
 @dataclass(frozen=True)
@@ -22,7 +25,16 @@ class PlanOptions:
     """Options of one planning call (`plan_joints`, `plan_pose`, `plan_goalset`, `plan_batch`).
 
     Attributes:
-        time_budget: planning wall-time budget [s].
+        time_budget: planning wall-time budget [s]. Every stage of a plan is also bounded by
+            counts (RRT iterations, shortcut rounds, optimiser QPs, attempts), so a plan that
+            finishes within its budget gives the same result on any machine; one cut short by
+            it may not (a TIMEOUT, or a note in `PlanResult.message`: `context.SAFETY_NET`).
+        search_iterations: RRT-Connect iterations of a plan's main path search at most (the
+            coarse search; its fine-resolution repairs get as many again), a count: a plan
+            bounded by it does not depend on the machine's speed. None = the search's own cap
+            (`planning.search.MAX_ITERATIONS`), which in hard scenes the time budget usually
+            cuts first (as before this option). `manip.batch.plan_many` and `manip.datagen`
+            set it (`manip.batch.problem.BATCH_SEARCH_ITERATIONS`).
         seed: random seed of this call (IK restarts, sampling, shortcutting).
         dt: sample period of the returned trajectory [s].
         velocity_scale: factor in (0, 1] on the velocity limits.
@@ -44,6 +56,7 @@ class PlanOptions:
     """
 
     time_budget: float = 5.0
+    search_iterations: int | None = None
     seed: int = 0
     dt: float = 1.0 / 60.0
     velocity_scale: float = 1.0
@@ -60,6 +73,12 @@ class PlanOptions:
             object.__setattr__(self, name, value)
 
         put("time_budget", positive(self.time_budget, "time_budget", "s"))
+        if self.search_iterations is not None:
+            n = self.search_iterations
+            if isinstance(n, (bool, np.bool_)) or not isinstance(n, numbers.Integral) or not 1 <= n <= MAX_SEARCH_ITERATIONS:
+                raise InvalidInputError(f"search_iterations must be None or an integer in [1, {MAX_SEARCH_ITERATIONS}]; "
+                                        f"got {n!r}")
+            put("search_iterations", int(n))
         put("dt", positive(self.dt, "dt", "s"))
         put("velocity_scale", fraction(self.velocity_scale, "velocity_scale"))
         put("acceleration_scale", fraction(self.acceleration_scale, "acceleration_scale"))

@@ -155,7 +155,9 @@ def _path(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.nda
         path, iterations = search_path(start, goals[:FOCUS_GOALS], validity, ctx.rng, ctx.deadline,
                                        max_iterations=FOCUS_ITERATIONS)
     if path is None:
-        path, more = search_path(start, goals, validity, ctx.rng, ctx.deadline)
+        budget = ctx.options.search_iterations  # a count (None: the search's own cap)
+        path, more = search_path(start, goals, validity, ctx.rng, ctx.deadline, max_iterations=budget,
+                                 max_repair_iterations=budget)
         iterations += more
     ctx.add_time("plan", t)
     if path is None:

@@ -14,18 +14,21 @@ from manip.planning.validity import Validity
 
 #: Edges of a coarse search path replaced by fine searches before giving up on the path.
 MAX_REPAIRS = 6
+#: RRT iterations of a search (and of its repairs together) when the caller gives no count.
+MAX_ITERATIONS = 20000
 
 
 def search_path(
     start: np.ndarray, goals: np.ndarray, validity: Validity, rng: np.random.Generator, deadline: float,
-    max_iterations: int = 20000,
-    max_repair_iterations: int = 20000,
+    max_iterations: int | None = MAX_ITERATIONS,
+    max_repair_iterations: int | None = MAX_ITERATIONS,
     sample: Sampler | None = None,
 ) -> tuple[np.ndarray | None, int]:
     """A collision-free polyline from `start` (dof,) to one of `goals` (G, dof).
 
     `max_iterations` caps the coarse search and `max_repair_iterations` the fine repair
-    searches together (counts, not times: the result depends only on the generator's state).
+    searches together (counts, not times: the result depends only on the generator's state,
+    unless `deadline`, a `time.perf_counter()` value, comes first); None = MAX_ITERATIONS.
     A repair that runs out of iterations fails the search (None). `sample` replaces the
     coarse search's uniform samples (`rrt_connect`).
 
@@ -35,17 +38,18 @@ def search_path(
     lower, upper = validity.kinematics.lower, validity.kinematics.upper
     path, iterations = rrt_connect(
         start, goals, lower, upper, validity.coarse_motion, rng, deadline, advance=validity.coarse_advance,
-        max_iterations=max_iterations, sample=sample,
+        max_iterations=MAX_ITERATIONS if max_iterations is None else max_iterations, sample=sample,
     )
     if validity.search_resolution == validity.resolution:
         return path, iterations
-    path, more = repair_path(path, validity, rng, deadline, max_iterations=max_repair_iterations)
+    path, more = repair_path(path, validity, rng, deadline,
+                             max_iterations=MAX_ITERATIONS if max_repair_iterations is None else max_repair_iterations)
     return path, iterations + more
 
 
 def repair_path(
     path: np.ndarray | None, validity: Validity, rng: np.random.Generator, deadline: float,
-    max_iterations: int = 20000,
+    max_iterations: int = MAX_ITERATIONS,
 ) -> tuple[np.ndarray | None, int]:
     """`path` (K, dof) with its failing segments (by `validity.segments`) replaced by searches.
 
