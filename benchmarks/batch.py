@@ -20,7 +20,10 @@ ratios within one run.
 Workers start with the default start method (`process_pool.default_start_method()`: "fork"
 on Linux with Python < 3.12), or with each of `--start-methods` in turn (interleaved rounds).
 A fork server lives as long as the calling process, so only the first "forkserver" run of a
-benchmark pays for starting it: its later rounds are not first calls.
+benchmark pays for starting it: its later rounds are not first calls. Likewise with "fork" the
+caller warms up once (`process_pool.WARM_CALLER`): it does so here before the timed runs, so
+they are all later batches of a warm caller; `--cold-caller` turns that off (every run then
+a first call: each worker warms up itself).
 
 Usage:
     .venv/bin/python benchmarks/batch.py [--n 200] [--no-ray] [--start-methods fork,spawn]
@@ -185,17 +188,22 @@ def main() -> None:
     ap.add_argument("--start-methods", default=None,
                     help="comma-separated start methods of the process workers, measured in interleaved "
                          "rounds (default: the default method only)")
+    ap.add_argument("--cold-caller", action="store_true",
+                    help="forked workers warm up themselves, the caller does not (process_pool.WARM_CALLER off)")
     ap.add_argument("--worker-sessions", action="store_true",
                     help="process workers in sessions of their own (process_pool.NEW_SESSION), as Ray's are")
     args = ap.parse_args()
     batch = problems(args.n)
     process_pool.NEW_SESSION = args.worker_sessions
+    process_pool.WARM_CALLER = not args.cold_caller
     rows = []
     load = os.getloadavg()[0]
     alone, pair = calibrate()
 
     default = process_pool.default_start_method()
     methods = args.start_methods.split(",") if args.start_methods else [default]
+    if process_pool.WARM_CALLER and "fork" in methods:
+        worker.warm_up(("franka",))  # untimed: every timed run is a later batch of a warm caller
     pairs = []  # (method, round, 1-worker run, 2-worker run)
     for k in range(args.rounds):
         for m in methods:
@@ -234,7 +242,7 @@ def main() -> None:
           f"{time.strftime('%Y-%m-%d %H:%M', time.gmtime())} UTC; load average {load:.1f} before the run (shared machine).\n")
     print(f"{args.n} problems ({args.n // 5} of each seeded kind), joint goals, {BATCH_OPTIONS}, seed 0; "
           f"process workers in {'sessions of their own' if args.worker_sessions else 'the caller session'}; "
-          f"default start method {default}; PYTHONDONTWRITEBYTECODE={os.environ.get('PYTHONDONTWRITEBYTECODE', '')!r}.\n")
+          f"default start method {default}; caller warm-up {'off' if args.cold_caller else 'on'}; PYTHONDONTWRITEBYTECODE={os.environ.get('PYTHONDONTWRITEBYTECODE', '')!r}.\n")
     print("| backend | workers | wall [s] | problems/s end to end | problems/s steady | first result [s] "
           "| worker CPU s / problem | start-up CPU s / worker | caller CPU [s] | mean plan time [s] | success "
           "| past budget | identical to 1 process |")

@@ -6,8 +6,9 @@ they finish and an interrupt has little to cancel.
 
 Start methods (`default_start_method`): on Linux with Python < 3.12 the workers are forked
 from the caller ("fork", the interpreter's own default there), which has already imported
-manip to validate the batch: a worker starts with the warm-up alone (about 0.7 s of CPU)
-instead of a fresh interpreter's imports and warm-up (about 1.5 s with "spawn"). On Linux
+manip to validate the batch and warms up once itself (`WARM_CALLER`): a worker starts with
+nothing left to do, instead of a fresh interpreter's imports and warm-up (about 1.5 s of CPU
+with "spawn"). On Linux
 with Python >= 3.12, where forking a process that runs threads (numpy's OpenBLAS threads,
 for one) is deprecated, a fork server is used: a fresh process that imports and warms manip
 once (`FORKSERVER_PRELOAD`) and forks the workers; it lives as long as the caller, so later
@@ -53,6 +54,13 @@ MAX_ATTEMPTS = 4
 #: one session share one session's slice (Ray's workers run in sessions of their own).
 #: Off by default: the machine's policy stays the user's; `benchmarks/batch.py` measures both.
 NEW_SESSION = False
+#: With "fork", warm the batch's robots up in the caller (`worker.warm_up`, once per process and
+#: robot) before forking: the workers inherit the generators and loaded kernels and start at
+#: once. A first batch costs the same (the caller warms up instead of each worker, in
+#: parallel); later batches of the process skip it (about 0.4 s of CPU per worker; plans
+#: take about 0.03 s, so a 200-problem batch with 2 workers lasts about 3.5 s). The caller
+#: keeps one generator per robot.
+WARM_CALLER = True
 #: Seconds to wait for terminated workers to exit.
 STOP_TIMEOUT = 5.0
 #: Start methods of the local backend (those this platform offers are valid).
@@ -167,6 +175,8 @@ def run(tasks: Sequence[Any], workers: int, job: Job = worker.solve,
     queue = deque(tasks)
     attempts: dict[ProblemId, int] = {}
     inflight: dict[Future, Task] = {}
+    if method == "fork" and WARM_CALLER:
+        worker.warm_up(robots)  # once per caller process and robot
     pool = _new_pool(workers, robots, method)
     log.debug("%d %s workers", workers, method)
     known: set = set()  # every worker process of this run's pools

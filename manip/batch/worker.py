@@ -30,6 +30,9 @@ log = logging.getLogger(__name__)
 
 # Per-process state of a worker: robot name -> (generator, key of its loaded world).
 _GENERATORS: dict[str, tuple[MotionGenerator, str | None]] = {}
+# Robots (keys) whose generator this process has warmed up: a process forked from a warm one
+# inherits them (and the loaded kernels) and skips their warm-up.
+_WARM: set[str] = set()
 
 #: Budget of the warm-up plans [s] (long: they include compiling or loading kernels).
 WARM_UP_BUDGET = 120.0
@@ -70,6 +73,8 @@ def warm_up(robots: tuple[str | RobotSpec, ...]) -> dict[str, float]:
     warm-up plans would only add their own planning time to the worker's start-up. The
     results are discarded and the world is emptied afterwards.
 
+    A robot this process (or the process it was forked from) has warmed up already is skipped.
+
     Args:
         robots: robot names, robot.yaml paths or `RobotSpec`s.
 
@@ -80,6 +85,8 @@ def warm_up(robots: tuple[str | RobotSpec, ...]) -> dict[str, float]:
     times = {"build": 0.0, "joint plan": 0.0, "ik": 0.0}
     t_start = time.perf_counter()
     for robot in robots:
+        if str(robot) in _WARM:
+            continue
         t = time.perf_counter()
         mg = generator(robot)
         times["build"] += time.perf_counter() - t
@@ -99,6 +106,7 @@ def warm_up(robots: tuple[str | RobotSpec, ...]) -> dict[str, float]:
         times["ik"] += time.perf_counter() - t
         mg.update_world({})
         _GENERATORS[str(robot)] = (mg, None)
+        _WARM.add(str(robot))
     times["total"] = time.perf_counter() - t_start
     log.info("worker %d warm in %.2f s (%s): %s", os.getpid(), times["total"], ", ".join(map(str, robots)),
              ", ".join(f"{k} {v:.2f} s" for k, v in times.items() if k != "total"))
