@@ -122,6 +122,35 @@ def test_workers_start_with_the_chosen_method(problems, method, monkeypatch):
         assert o["server_warmed"] is (method == "forkserver")
 
 
+# Plans made in this process since the counter was installed (a forked worker starts with a copy).
+_PLANS: list[int] = []
+
+
+def _plans_before(task):
+    """How many plans this worker made before its task (a warm-up plan is one)."""
+    return task.id, len(_PLANS)
+
+
+@pytest.mark.skipif("fork" not in mp.get_all_start_methods(), reason="needs the fork start method")
+def test_workers_forked_from_a_warm_caller_skip_the_warm_up(problems, monkeypatch):
+    worker.warm_up(("franka",))  # the caller (as process_pool.WARM_CALLER makes it on its first batch)
+    plan = MotionGenerator.plan_joints
+
+    def counted(self, *args, **kwargs):
+        _PLANS.append(1)
+        return plan(self, *args, **kwargs)
+
+    monkeypatch.setattr(MotionGenerator, "plan_joints", counted)
+    monkeypatch.setattr(sys.modules[__name__], "_PLANS", [])
+    tasks = prepare(problems[:4], SEED)
+    before = dict(run_tasks(tasks, workers=2, backend="process", job=_plans_before, start_method="fork"))
+    assert before == {t.id: 0 for t in tasks}
+    monkeypatch.setattr(process_pool, "WARM_CALLER", False)
+    monkeypatch.setattr(worker, "_WARM", set())  # as if the caller had never warmed up: each worker does
+    before = dict(run_tasks(tasks, workers=2, backend="process", job=_plans_before, start_method="fork"))
+    assert before == {t.id: 1 for t in tasks}
+
+
 def _blas_threads(task):
     """The thread counts of this worker's native thread pools (BLAS: numpy's OpenBLAS)."""
     from threadpoolctl import threadpool_info
