@@ -49,6 +49,7 @@ def test_rows_hold_verified_trajectories_of_their_problems(full):
         assert not verifier.check_configuration(row.start, world, "start")[0]
         assert not verifier.check_configuration(row.goal, world, "goal")[0]
         assert row.success and row.verified and row.status == "success", pid
+        assert row.message == "", pid  # planned within its time budget: the same on any machine
         positions = np.stack(row.positions)
         assert positions.shape == (len(row.times), 7) and np.stack(row.velocities).shape == positions.shape
         np.testing.assert_allclose(positions[0], row.start, atol=1e-6)
@@ -98,6 +99,7 @@ def test_a_rerun_with_other_settings_is_refused(full, tmp_path, capsys):
     (["--scenes", "0"], ["scenes"]),
     (["--problems-per-scene", "-1"], ["problems_per_scene"]),
     (["--time-budget", "0"], ["time_budget"]),
+    (["--search-iterations", "0"], ["search_iterations", "None"]),
     (["--backend", "process", "--ray-address", "auto"], ["ray_address", 'backend="ray"']),
 ])
 def test_bad_arguments_are_clear_errors(tmp_path, capsys, args, words):
