@@ -12,7 +12,8 @@ or "." are ignored by pyarrow.
 
 Columns: problem_id, scene_id, kind, scene, pair (ints), seed (the planning seed), robot,
 world (JSON, cuRobo's format), start and goal ((dof,) lists [rad]), status, message (the
-result's: empty, why a plan failed, or `planning.context.SAFETY_NET`), success, verified (independent check of the trajectory), verify_reasons, source, plan_time [s],
+result's: empty, why a plan failed, or `planning.context.SAFETY_NET`), success, verified
+(independent check of the trajectory), verify_reasons, source, plan_time [s],
 timings (JSON: seconds per stage), motion_time [s], dt [s], times ((T,) [s]), positions,
 velocities, accelerations ((T, dof) nested lists [rad, rad/s, rad/s^2]), path ((K, dof)
 waypoints [rad]); dof = 7 for the Franka. Trajectory columns are null for failed plans.
