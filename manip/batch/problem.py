@@ -36,8 +36,9 @@ ProblemId = int | str
 #: pairs (20,000 iterations without a path, 5.6-8.7 s each), every solved one within 4,100
 #: iterations except cage/28, whose search needs 1,600-14,600 (median 2,000, 46 seeds); at
 #: 10,000 it is solved with 44 of 46 seeds, every other problem is unchanged, and a search that
-#: finds nothing costs 2-4.4 s instead of 5.6-8.7 s (datagen: -24 % planning time). 5,000: cage/28
-#: 34 of 46, -36 %. BENCHMARKS.md, "Batch planning", run K.
+#: finds nothing stops after 2.1-2.9 s (measured: datagen 2,000 pairs planned in 40.6 s, against
+#: 56.4 s with a single call's 5 s budget, whose 5 TIMEOUTs depend on the machine). 5,000:
+#: cage/28 34 of 46. BENCHMARKS.md, "Batch planning", run K.
 BATCH_SEARCH_ITERATIONS = 10_000
 #: Time budget of a batch plan [s]: only a safety net (the counts bound every stage; a plan cut
 #: short by it says so in its message, `planning.context.SAFETY_NET`); the slowest seeded batch
