@@ -42,7 +42,6 @@ from typing import NamedTuple
 
 import coal
 import numpy as np
-from scipy.spatial import ConvexHull, QhullError
 
 from manip.collision.self_pairs import PROOF_CLEARANCE, ball_slack, joint_reach, relative_joints
 from manip.kinematics import Kinematics
@@ -180,6 +179,8 @@ def _sweep(part, axis: np.ndarray) -> tuple[object, float] | None:
     cos(pi / angles)); the hull of all the corners holds every circle, hence every point
     of the part at every angle (each is a convex combination of circle points).
     """
+    from scipy.spatial import ConvexHull, QhullError  # here: scipy.spatial costs ~0.25 s to import
+
     X = _points(part)
     if X is None:
         return None
