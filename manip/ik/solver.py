@@ -335,10 +335,7 @@ class IKSolver:
         # every attempt at once (one compiled call), then the filters in attempt order
         Q0 = np.vstack([np.clip(q_ref, k.lower, k.upper)[None], rng.uniform(k.lower, k.upper, (m - 1, k.dof))])
         Q, ep, er, _ = self._descend(Q0, fid, R_goal, p_goal)
-        idx = np.flatnonzero((ep <= self.position_tolerance) & (er <= self.rotation_tolerance))
-        if idx.size:
-            idx = idx[self._verify_batch(Q[idx], fid, np.broadcast_to(R_goal, (idx.size, 3, 3)),
-                                         np.broadcast_to(p_goal, (idx.size, 3)))]
+        idx = np.flatnonzero(self._solved(Q, ep, er, fid, R_goal, p_goal))
         if idx.size and toward_seed and k.dof > 6:
             # the distinct solutions, each after its slid version
             Q, idx = self._with_slid(Q, idx[_distinct(Q[idx], min_distance, idx.size)], q_ref, fid, R_goal, p_goal)
@@ -513,6 +510,18 @@ class IKSolver:
                          k.lower, k.upper, self._tol_p, self._tol_r, self.damping, _MIN_DAMPING, self.max_step,
                          self.max_iterations, _STALL_ITERATIONS)
 
+    def _solved(self, Q: np.ndarray, ep: np.ndarray, er: np.ndarray, fid: int, R_goal: np.ndarray,
+                p_goal: np.ndarray, among: np.ndarray | None = None) -> np.ndarray:
+        """(K,) bool: rows of Q (K, dof) within the tolerances (errors ep, er (K,)) and verified
+        by `_verify_batch`, only among the rows `among` (K,) bool when given."""
+        ok = (ep <= self.position_tolerance) & (er <= self.rotation_tolerance)
+        if among is not None:
+            ok &= among
+        if ok.any():
+            m = int(ok.sum())
+            ok[ok] = self._verify_batch(Q[ok], fid, np.broadcast_to(R_goal, (m, 3, 3)), np.broadcast_to(p_goal, (m, 3)))
+        return ok
+
     def _with_slid(self, Q: np.ndarray, idx: np.ndarray, q_ref: np.ndarray, fid: int, R_goal: np.ndarray,
                    p_goal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(Q with the verified solutions Q[idx] moved along their self-motion towards q_ref
@@ -527,10 +536,7 @@ class IKSolver:
                                self.position_tolerance * 0.1, self.rotation_tolerance * 0.1)
         S, ep, er, _ = self._descend(S, fid, R_goal, p_goal)  # back onto the goal to the solver's tolerance
         nearer = np.linalg.norm(S - q_ref, axis=1) < np.linalg.norm(Q[idx] - q_ref, axis=1)
-        ok = (ep <= self.position_tolerance) & (er <= self.rotation_tolerance) & nearer
-        if ok.any():
-            ok[ok] = self._verify_batch(S[ok], fid, np.broadcast_to(R_goal, (int(ok.sum()), 3, 3)),
-                                        np.broadcast_to(p_goal, (int(ok.sum()), 3)))
+        ok = self._solved(S, ep, er, fid, R_goal, p_goal, nearer)
         order = np.empty(2 * idx.size, dtype=np.int64)
         order[0::2] = Q.shape[0] + np.arange(idx.size)
         order[1::2] = idx
