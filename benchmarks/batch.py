@@ -2,6 +2,11 @@
 pool, a two-node Ray test cluster against the local run (bit for bit), and a worker killed
 in the middle of the batch. Prints a markdown section for BENCHMARKS.md.
 
+Ray actors are measured twice: on the first batch of the Ray session (the actors start:
+a fresh interpreter each, imports and warm-up) and on later batches, which run on the
+actors the batch before kept warm (`ray_backend.KEEP_WARM`), interleaved round by round
+with the process pool's later batches (workers forked from the warm caller).
+
 The problems: `make_problems(kind, n / 5, seed)` of each of the five seeded scene kinds
 (table, shelf, box, cage, clutter), joint goals, the batch's default options
 (`manip.batch.BATCH_OPTIONS`: a count budget for the path search, the time budget a safety
@@ -44,7 +49,7 @@ from collections import Counter
 
 import numpy as np
 
-from manip.batch import BATCH_OPTIONS, Problem, process_pool, worker
+from manip.batch import BATCH_OPTIONS, Problem, process_pool, ray_backend, worker
 from manip.batch.plan import run_tasks, validate
 from manip.batch.problem import prepare
 from manip.benchmarking.scenes import SCENE_KINDS, make_problems
@@ -102,7 +107,8 @@ def run(batch, kill_after: int | None = None, workers: int | None = None, backen
     n = len(batch)
     return {
         "wall": wall, "e2e": n / wall, "steady": (n - 1) / (times[-1] - times[0]), "first": times[0] - t0,
-        "results": results, "seen": seen, "cpu": float(np.mean(cpu)), "startup": float(np.mean(startup)),
+        "results": results, "seen": seen, "cpu": float(np.mean(cpu)),
+        "startup": float(np.mean(startup)) if startup else float("nan"),  # none: workers kept from a batch before
         "cpu_with_startup": (sum(cpu) + sum(startup)) / n, "parent": _self_cpu() - parent0,
         "plan_mean": float(np.mean([r.plan_time for r in results.values()])),
         "success": sum(r.success for r in results.values()), "late": late(results),
@@ -215,14 +221,21 @@ def main() -> None:
     _, _, r1, r2 = next(p for p in pairs if p[0] == default) if default in methods else pairs[0]
     fault = run(batch, workers=2, kill_after=args.n // 2)
     upd, new = world_switch_cost(batch)  # after the timed runs: it warms up this process
-    extra = {}
+    extra, ray_pairs = {}, []
     if not args.no_ray:
         import ray
         from ray.cluster_utils import Cluster
 
         ray.init(num_cpus=2, log_to_driver=False)
-        rr = run(batch, workers=2, backend="ray")
-        rows.append(("ray actors", 2, rr))
+        rr = run(batch, workers=2, backend="ray")  # the first batch: the actors start and warm up
+        rows.append(("ray actors, first batch (actors start)", 2, rr))
+        for k in range(args.rounds):  # later batches, interleaved with the pool's (the load drifts)
+            p = run(batch, workers=2, start_method=default)
+            rows.append((f"process, {default}, beside Ray (round {k + 1})", 2, p))
+            w = run(batch, workers=2, backend="ray")  # on the actors kept warm by the batch before
+            rows.append((f"ray actors, kept warm (round {k + 1})", 2, w))
+            ray_pairs.append((p, w))
+        ray_backend.release_actors()
         rt = ray_tasks(ray, batch, 0)
         rows.append(("ray tasks", 2, rt))
         ray.shutdown()
@@ -260,9 +273,12 @@ def main() -> None:
               f"{b['steady'] / a['steady']:.2f}x steady; worker CPU per problem {b['cpu'] / a['cpu']:.2f}x "
               f"({b['cpu_with_startup'] / a['cpu_with_startup']:.2f}x with the start-up counted in, as before).")
     if extra:
-        for key, label in (("ray", "Ray actors"), ("tasks", "Ray tasks")):
+        for key, label in (("ray", "Ray actors, first batch (the actors start)"), ("tasks", "Ray tasks")):
             print(f"- {label} / process pool at 2 workers: {extra[key]['e2e'] / r2['e2e']:.2f}x end to end, "
                   f"{extra[key]['steady'] / r2['steady']:.2f}x steady.")
+        for k, (p, w) in enumerate(ray_pairs):
+            print(f"- Round {k + 1}, Ray actors kept warm / process pool (warm caller), 2 workers, batches run one "
+                  f"after the other: {w['e2e'] / p['e2e']:.2f}x end to end, {w['steady'] / p['steady']:.2f}x steady.")
         print(f"- 2-node Ray cluster vs local 2-process run: {identical(extra['cluster'], r2)}/{args.n} bit-identical.")
     print(f"- Fault run (2 workers, one SIGKILLed after {args.n // 2} results): {len(fault['seen'])}/{args.n} ids back, "
           f"each once: {set(fault['seen'].values()) == {1}}; identical to the undisturbed run: "

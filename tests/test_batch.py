@@ -8,6 +8,7 @@ import os
 import signal
 import subprocess
 import sys
+import time
 from collections import Counter
 
 import numpy as np
@@ -408,8 +409,18 @@ def ray_cluster():
     cluster.add_node(num_cpus=1)
     ray.init(address=cluster.address, log_to_driver=False)
     yield ray
+    from manip.batch import release_ray_actors
+
+    release_ray_actors()
     ray.shutdown()
     cluster.shutdown()
+
+
+def kept_pids(ray) -> list[int]:
+    """Process ids of the actors kept warm after the last Ray batch."""
+    from manip.batch import ray_backend
+
+    return sorted(ray.get([a.pid.remote() for a in ray_backend.kept_actors()]))
 
 
 def test_ray_two_node_cluster_gives_the_local_results_bit_for_bit(ray_cluster, problems, reference):
@@ -419,10 +430,55 @@ def test_ray_two_node_cluster_gives_the_local_results_bit_for_bit(ray_cluster, p
         assert_same(r, reference[p.id])
 
 
+def test_ray_actors_stay_warm_for_the_next_batch_until_released(ray_cluster, problems, reference):
+    from manip.batch import release_ray_actors, ray_backend
+
+    release_ray_actors()
+    plan_many(problems[:3], backend="ray", seed=SEED, progress=False)
+    first = kept_pids(ray_cluster)
+    assert len(first) == 2  # one per CPU of the cluster, kept after the batch
+    results = plan_many(problems, backend="ray", seed=SEED, progress=False)
+    for p, r in zip(problems, results):
+        assert_same(r, reference[p.id])
+    assert kept_pids(ray_cluster) == first  # the second batch ran on the same warm processes
+    # a kept actor that dies while idle is replaced before the next batch uses it
+    os.kill(first[0], signal.SIGKILL)
+    results = plan_many(problems[:4], backend="ray", seed=SEED, progress=False)
+    for p, r in zip(problems[:4], results):
+        assert_same(r, reference[p.id])
+    assert len(kept_pids(ray_cluster)) == 2 and first[0] not in kept_pids(ray_cluster)
+    assert release_ray_actors() == 2
+    assert ray_backend.kept_actors() == []
+    # with KEEP_WARM the actors of a batch are released after that many idle seconds
+    keep = ray_backend.KEEP_WARM
+    ray_backend.KEEP_WARM = 0.5
+    try:
+        plan_many(problems[:2], backend="ray", seed=SEED, progress=False)
+        assert len(ray_backend.kept_actors()) == 2
+        deadline = time.monotonic() + 10.0
+        while ray_backend.kept_actors() and time.monotonic() < deadline:
+            time.sleep(0.1)
+        assert ray_backend.kept_actors() == []
+    finally:
+        ray_backend.KEEP_WARM = keep
+
+
+def test_ray_batch_closed_early_does_not_keep_its_actors(ray_cluster, problems):
+    from manip.batch import release_ray_actors, ray_backend
+
+    release_ray_actors()
+    stream = plan_stream(problems, backend="ray", seed=SEED)
+    next(stream)
+    stream.close()  # its actors may still be planning queued problems: they are stopped
+    assert ray_backend.kept_actors() == []
+    assert len(plan_many(problems[:2], backend="ray", seed=SEED, progress=False)) == 2  # the CPUs were freed
+
+
 def test_ray_killed_actor_costs_a_retry_not_a_problem(ray_cluster, problems, reference):
-    from manip.batch import ray_backend
+    from manip.batch import release_ray_actors, ray_backend
     from manip.batch.problem import prepare
 
+    release_ray_actors()  # frees the cluster's CPUs for the actors started here
     actors = ray_backend.start_actors(2, ("franka",))
     try:
         pids = ray_cluster.get([a.pid.remote() for a in actors])

@@ -7,7 +7,8 @@ Workers are long-lived and keep one warm `MotionGenerator` per robot; a problem'
 derived from the batch seed and its id (`problem_seed`), and its search is bounded by a count
 (`BATCH_OPTIONS`), so results do not depend on the backend, the worker count, the order of
 completion or the machine's speed (unless the time budget, a safety net, runs out: the
-result's message says so). See `python -m manip.datagen` for datasets.
+result's message says so). With Ray, the actors stay warm between the batches of a process
+(`ray_backend.KEEP_WARM` s; `release_ray_actors()` stops them now). See `python -m manip.datagen` for datasets.
 """
 
 from __future__ import annotations
@@ -15,5 +16,7 @@ from __future__ import annotations
 from manip.batch.plan import BACKENDS, plan_many, plan_stream
 from manip.batch.problem import BATCH_OPTIONS, Problem, ProblemId, problem_seed
 from manip.batch.process_pool import WorkerLostError
+from manip.batch.ray_backend import release_actors as release_ray_actors
 
-__all__ = ["BACKENDS", "BATCH_OPTIONS", "Problem", "ProblemId", "WorkerLostError", "plan_many", "plan_stream", "problem_seed"]
+__all__ = ["BACKENDS", "BATCH_OPTIONS", "Problem", "ProblemId", "WorkerLostError", "plan_many", "plan_stream", "problem_seed",
+           "release_ray_actors"]

@@ -6,17 +6,35 @@ back with `ray.wait`. Actors, not tasks: a Ray task may land on a fresh worker p
 would compile or load its kernels inside a problem's time budget (see BENCHMARKS.md for
 the measured difference).
 
+Warm actors across batches: an actor is a fresh interpreter that imports manip and loads
+its kernels (about 2 s of CPU) before its first result, while a batch of 200 problems
+plans in 4-7 s on two CPUs. So when the caller runs Ray itself (`ray.init` before the
+batch), the actors a batch used stay alive and warm for `KEEP_WARM` seconds and the next
+batch of this process in the same Ray session starts on them at once (measured in
+BENCHMARKS.md, "Batch planning"). While kept, each holds its CPU of the cluster: other Ray
+work waits for it until `release_actors()`, the idle timeout, `ray.shutdown()` or the end
+of this process. A batch started while another runs in this process does not share actors;
+when a batch needs more actors than are kept, the idle ones are released first (so their
+CPUs are free for the new ones). A Ray runtime started here (no `ray.init` before) is shut
+down at the end of the batch, with its actors.
+
 Faults: an actor whose process or node dies is restarted by Ray (`max_restarts`) and the
 task it was running is retried (`max_task_retries`), on the restarted actor, which Ray
 places on a live node. A task whose retries run out goes back to the driver's queue for
-another actor; `WorkerLostError` after `MAX_ATTEMPTS` of those. On KeyboardInterrupt the
-actors are killed. A Ray runtime started here (no `ray.init` before) is shut down at the end.
+another actor; `WorkerLostError` after `MAX_ATTEMPTS` of those. A kept actor is checked
+(`PING_TIMEOUT`) before a batch uses it, and replaced if it died while idle. On
+KeyboardInterrupt (or any exception, or the stream closed early) the batch's actors are
+killed, not kept.
+
+Thread safety: batches may run on several threads of one process; the kept actors are
+handed out under a lock (each to one batch at a time).
 """
 
 from __future__ import annotations
 
 import logging
 import os
+import threading
 from collections import deque
 from collections.abc import Iterator, Sequence
 from typing import Any
@@ -27,6 +45,20 @@ from manip.batch.process_pool import INFLIGHT_PER_WORKER, MAX_ATTEMPTS, Job, Wor
 from manip.errors import ManipError
 
 log = logging.getLogger(__name__)
+
+#: Seconds the actors of a finished batch stay warm for the next batch of this process (in
+#: the same Ray session, which the caller started); 0 = stop them at the end of every batch.
+KEEP_WARM = 30.0
+#: Seconds a kept actor has to answer before a batch uses it (else it is replaced).
+PING_TIMEOUT = 30.0
+
+# Idle warm actors kept between batches: their Ray session, the handles, the timer that
+# releases them, and the number of batches of this process running on Ray.
+_lock = threading.Lock()
+_kept: list[Any] = []
+_kept_session: tuple[str, str] | None = None
+_timer: threading.Timer | None = None
+_active = 0
 
 
 def import_ray() -> Any:
@@ -39,10 +71,15 @@ def import_ray() -> Any:
 
 
 class PlanActor:
-    """A Ray actor holding warm motion generators (wrapped by `ray.remote` in `run`)."""
+    """A Ray actor holding warm motion generators (wrapped by `ray.remote` in `start_actors`)."""
 
     def __init__(self, robots: tuple[str | RobotSpec, ...]):
         worker.start(robots)
+
+    def warm(self, robots: tuple[str | RobotSpec, ...]) -> int:
+        """Warm up the generators of `robots` this actor has not warmed yet; its process id."""
+        worker.warm_up(robots)
+        return os.getpid()
 
     def solve(self, task: Task, job: Job = worker.solve) -> tuple[ProblemId, Any]:
         """`job(task)` (default `worker.solve`) in the actor's process."""
@@ -60,17 +97,37 @@ def start_actors(workers: int, robots: tuple[str | RobotSpec, ...]) -> list[Any]
     return [actor.remote(robots) for _ in range(workers)]
 
 
+def release_actors() -> int:
+    """Stop the warm actors kept after the last Ray batch of this process (see the module
+    docstring); returns how many were stopped. Safe to call at any time, from any thread."""
+    global _timer
+    with _lock:
+        if _timer is not None:
+            _timer.cancel()
+            _timer = None
+        actors = _take_kept(None)
+    _kill(actors)
+    return len(actors)
+
+
+def kept_actors() -> list[Any]:
+    """The handles of the actors kept warm now (a copy of the list)."""
+    with _lock:
+        return list(_kept)
+
+
 def run(tasks: Sequence[Any], workers: int | None, address: str | None = None,
         actors: list[Any] | None = None, job: Job = worker.solve) -> Iterator[tuple[ProblemId, Any]]:
     """Plan `tasks` on Ray actors; yield (id, result) as plans finish.
 
     Args:
         tasks: validated tasks (a `Task`, or a job's own picklable task type with `id` and `robot`).
-        workers: number of actors (None: the cluster's CPUs); no more are started than
+        workers: number of actors (None: the cluster's CPUs); no more are used than
             there are tasks.
         address: passed to `ray.init` when Ray is not initialised yet (None: a local
             instance; "auto" or "ray://host:10001": an existing cluster).
-        actors: actors from `start_actors` to use (they are left running); None = start them.
+        actors: actors from `start_actors` to use (they are left running, never kept);
+            None = actors kept warm from an earlier batch, and new ones as needed.
         job: the function run on each task (module level, importable on the cluster).
 
     Yields:
@@ -79,29 +136,126 @@ def run(tasks: Sequence[Any], workers: int | None, address: str | None = None,
     Raises:
         WorkerLostError: a task failed on `MAX_ATTEMPTS` actors.
     """
+    global _active
     ray = import_ray()
     started = not ray.is_initialized()
     if started:
         ray.init(address=address, log_to_driver=False)
     own = actors is None
+    robots = tuple(sorted({t.robot for t in tasks}, key=str))
+    dead: set[int] = set()
+    finished = False
+    if own:
+        with _lock:
+            _active += 1
+            if _timer is not None:  # kept actors stay until this batch ends
+                _timer.cancel()
     try:
         if own:
             n = min(workers or max(1, int(ray.cluster_resources().get("CPU", 1))), max(1, len(tasks)))
-            actors = start_actors(n, tuple(sorted({t.robot for t in tasks}, key=str)))
-        yield from _dispatch(ray, tasks, list(actors), job)
+            actors = _actors(ray, n, robots)
+        yield from _dispatch(ray, tasks, list(actors), job, dead)
+        finished = True
     finally:
-        if own and actors:
-            for a in actors:
-                ray.kill(a, no_restart=True)
+        if own:
+            with _lock:
+                _active -= 1
+            alive = [a for i, a in enumerate(actors or []) if i not in dead]
+            _kill([a for i, a in enumerate(actors or []) if i in dead])
+            if finished and not started:
+                _keep(ray, alive)
+            else:
+                _kill(alive)
+                with _lock:
+                    _arm_timer()
         if started:
             ray.shutdown()
 
 
-def _dispatch(ray: Any, tasks: Sequence[Any], actors: list[Any], job: Job) -> Iterator[tuple[ProblemId, Any]]:
+def _session(ray: Any) -> tuple[str, str]:
+    """The Ray session this process is connected to (actors of another one are gone)."""
+    context = ray.get_runtime_context()
+    return str(context.gcs_address), str(context.get_job_id())
+
+
+def _take_kept(session: tuple[str, str] | None) -> list[Any]:
+    """Empty the kept list (under `_lock`); its actors if they belong to `session` (None: any)."""
+    global _kept, _kept_session
+    actors = _kept if session is None or _kept_session == session else []
+    _kept, _kept_session = [], None
+    return actors
+
+
+def _actors(ray: Any, n: int, robots: tuple[str | RobotSpec, ...]) -> list[Any]:
+    """`n` actors for a batch: kept warm ones that answer, then new ones."""
+    global _kept, _kept_session
+    session = _session(ray)
+    with _lock:
+        kept = _take_kept(session)
+        reuse = kept[:n]
+        if kept[n:]:  # more kept than needed: they stay kept for other batches
+            _kept, _kept_session = kept[n:], session
+    alive = []
+    if reuse:
+        pings = {a.pid.remote(): a for a in reuse}
+        ready, late = ray.wait(list(pings), num_returns=len(pings), timeout=PING_TIMEOUT)
+        for ref in ready:
+            try:
+                ray.get(ref)
+                alive.append(pings[ref])
+            except ray.exceptions.RayError as exc:
+                log.warning("a kept actor is gone (%s); starting a new one", type(exc).__name__)
+                _kill([pings[ref]])
+        _kill([pings[ref] for ref in late])
+        for a in alive:
+            a.warm.remote(robots)  # robots new to the actor (runs before the batch's tasks)
+    return alive + start_actors(n - len(alive), robots)
+
+
+def _keep(ray: Any, actors: list[Any]) -> None:
+    """Keep a finished batch's live actors warm for `KEEP_WARM` s (or stop them)."""
+    global _kept, _kept_session
+    session = _session(ray)
+    with _lock:
+        keep = KEEP_WARM > 0 and _active == 0 and _kept_session in (None, session)
+        if keep:
+            _kept, _kept_session = _kept + actors, session
+        _arm_timer()
+    if not keep:  # another batch of this process runs (it may need the CPUs), or keeping is off
+        _kill(actors)
+
+
+def _arm_timer() -> None:
+    """(Under `_lock`.) Release the kept actors after `KEEP_WARM` s unless a batch takes them."""
+    global _timer
+    if _timer is not None:
+        _timer.cancel()
+        _timer = None
+    if _kept:
+        _timer = threading.Timer(KEEP_WARM, release_actors)
+        _timer.daemon = True
+        _timer.start()
+
+
+def _kill(actors: list[Any]) -> None:
+    if not actors:
+        return
+    ray = import_ray()
+    if not ray.is_initialized():
+        return  # their session is over: they are gone with it
+    for a in actors:
+        try:
+            ray.kill(a, no_restart=True)
+        except Exception as exc:  # an actor of an earlier session, or already gone
+            log.debug("ray.kill: %s", exc)
+
+
+def _dispatch(ray: Any, tasks: Sequence[Any], actors: list[Any], job: Job,
+              dead: set[int]) -> Iterator[tuple[ProblemId, Any]]:
+    """Run `tasks` on `actors`; the indices of actors that died for good are added to `dead`."""
     queue = deque(tasks)
     attempts: dict[ProblemId, int] = {}
     load = [0] * len(actors)
-    dead: set[int] = set()
     inflight: dict[Any, tuple[Task, int]] = {}
     while queue or inflight:
         for a in sorted(set(range(len(actors))) - dead, key=load.__getitem__):
