@@ -214,5 +214,6 @@ def run(tasks: Sequence[Any], workers: int, job: Job = worker.solve,
             log.warning("a worker died; restarting the pool and resubmitting %d problems", len(lost))
             queue.extendleft(reversed(lost))
             pool = _new_pool(workers, robots, method)
+        pool.shutdown(wait=True)  # idle workers exit on their own (a terminated one may log a signal)
     finally:
         _stop(pool, known)
