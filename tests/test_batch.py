@@ -463,6 +463,22 @@ def test_ray_actors_stay_warm_for_the_next_batch_until_released(ray_cluster, pro
         ray_backend.KEEP_WARM = keep
 
 
+def test_ray_batches_on_two_threads_at_once_share_no_actor(ray_cluster, problems, reference):
+    from concurrent.futures import ThreadPoolExecutor
+
+    from manip.batch import release_ray_actors, ray_backend
+
+    release_ray_actors()
+    halves = [problems[::2], problems[1::2]]
+    with ThreadPoolExecutor(2) as threads:
+        results = list(threads.map(lambda ps: plan_many(ps, backend="ray", workers=1, seed=SEED, progress=False), halves))
+    for ps, rs in zip(halves, results):
+        for p, r in zip(ps, rs):
+            assert_same(r, reference[p.id])
+    # the batch that ended first stopped its actor (the other batch might have waited for its CPU)
+    assert len(ray_backend.kept_actors()) == 1
+
+
 def test_ray_batch_closed_early_does_not_keep_its_actors(ray_cluster, problems):
     from manip.batch import release_ray_actors, ray_backend
 

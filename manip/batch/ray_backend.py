@@ -1,10 +1,10 @@
 """The Ray backend: long-lived planning actors on a Ray cluster (or a local Ray instance).
 
 Each actor (one CPU) warms up once (`worker.warm_up`) and keeps its generators for its
-life; the driver keeps `INFLIGHT_PER_WORKER` tasks queued per actor and streams results
-back with `ray.wait`. Actors, not tasks: a Ray task may land on a fresh worker process that
-would compile or load its kernels inside a problem's time budget (see BENCHMARKS.md for
-the measured difference).
+life; the driver keeps `INFLIGHT_PER_WORKER` calls queued per actor, each with up to `CHUNK`
+problems, and streams results back with `ray.wait`. Actors, not tasks: a Ray task may land
+on a fresh worker process that would compile or load its kernels inside a problem's time
+budget (see BENCHMARKS.md for the measured difference).
 
 Warm actors across batches: an actor is a fresh interpreter that imports manip and loads
 its kernels (about 2 s of CPU) before its first result, while a batch of 200 problems
@@ -13,10 +13,10 @@ batch), the actors a batch used stay alive and warm for `KEEP_WARM` seconds and 
 batch of this process in the same Ray session starts on them at once (measured in
 BENCHMARKS.md, "Batch planning"). While kept, each holds its CPU of the cluster: other Ray
 work waits for it until `release_actors()`, the idle timeout, `ray.shutdown()` or the end
-of this process. A batch started while another runs in this process does not share actors;
-when a batch needs more actors than are kept, the idle ones are released first (so their
-CPUs are free for the new ones). A Ray runtime started here (no `ray.init` before) is shut
-down at the end of the batch, with its actors.
+of this process. A batch takes the kept actors it needs (the others stay kept) and starts
+new ones for the rest; a batch that ends while another batch of this process runs stops its
+actors (the other may be waiting for their CPUs). A Ray runtime started here (no `ray.init`
+before) is shut down at the end of the batch, with its actors.
 
 Faults: an actor whose process or node dies is restarted by Ray (`max_restarts`) and the
 task it was running is retried (`max_task_retries`), on the restarted actor, which Ray
@@ -52,8 +52,9 @@ KEEP_WARM = 30.0
 #: Tasks per actor call at most (fewer near the end of a batch). One call costs the driver and
 #: the actor about 2 ms of CPU (serialisation, scheduling), against plans of about 30 ms.
 CHUNK = 4
-#: Seconds a kept actor has to answer before a batch uses it (else it is replaced).
-PING_TIMEOUT = 30.0
+#: Seconds a batch waits for its kept actors to answer (one that is gone is replaced; one that
+#: has not answered yet, e.g. restarted and warming up again, is used all the same).
+PING_TIMEOUT = 10.0
 
 # Idle warm actors kept between batches: their Ray session, the handles, the timer that
 # releases them, and the number of batches of this process running on Ray.
@@ -84,12 +85,9 @@ class PlanActor:
         worker.warm_up(robots)
         return os.getpid()
 
-    def solve(self, task: Task, job: Job = worker.solve) -> tuple[ProblemId, Any]:
-        """`job(task)` (default `worker.solve`) in the actor's process."""
-        return job(task)
-
     def solve_many(self, tasks: list[Task], job: Job = worker.solve) -> list[tuple[ProblemId, Any]]:
-        """`job(task)` for each of `tasks`, in order (one Ray call for several problems)."""
+        """`job(task)` (default `worker.solve`) for each of `tasks`, in order, in the actor's
+        process (one Ray call for several problems)."""
         return [job(task) for task in tasks]
 
     def pid(self) -> int:
@@ -165,16 +163,8 @@ def run(tasks: Sequence[Any], workers: int | None, address: str | None = None,
         finished = True
     finally:
         if own:
-            with _lock:
-                _active -= 1
-            alive = [a for i, a in enumerate(actors or []) if i not in dead]
             _kill([a for i, a in enumerate(actors or []) if i in dead])
-            if finished and not started:
-                _keep(ray, alive)
-            else:
-                _kill(alive)
-                with _lock:
-                    _arm_timer()
+            _finish(ray, [a for i, a in enumerate(actors or []) if i not in dead], finished and not started)
         if started:
             ray.shutdown()
 
@@ -213,22 +203,33 @@ def _actors(ray: Any, n: int, robots: tuple[str | RobotSpec, ...]) -> list[Any]:
             except ray.exceptions.RayError as exc:
                 log.warning("a kept actor is gone (%s); starting a new one", type(exc).__name__)
                 _kill([pings[ref]])
-        _kill([pings[ref] for ref in late])
+        if late:  # busy or still starting (a restarted actor warms up again): used all the same
+            log.info("%d kept actors did not answer within %.0f s", len(late), PING_TIMEOUT)
+            alive += [pings[ref] for ref in late]
         for a in alive:
             a.warm.remote(robots)  # robots new to the actor (runs before the batch's tasks)
     return alive + start_actors(n - len(alive), robots)
 
 
-def _keep(ray: Any, actors: list[Any]) -> None:
-    """Keep a finished batch's live actors warm for `KEEP_WARM` s (or stop them)."""
-    global _kept, _kept_session
-    session = _session(ray)
+def _finish(ray: Any, actors: list[Any], keep: bool) -> None:
+    """The end of a batch that started its own actors: keep its live `actors` warm for
+    `KEEP_WARM` s if `keep` and no other batch of this process runs (it may be waiting for
+    their CPUs), else stop them."""
+    global _kept, _kept_session, _active
+    session = None
+    if keep:
+        try:
+            session = _session(ray)
+        except Exception as exc:  # Ray shut down meanwhile (by another thread): nothing to keep
+            log.debug("no Ray session: %s", exc)
+            keep = False
     with _lock:
-        keep = KEEP_WARM > 0 and _active == 0 and _kept_session in (None, session)
+        _active -= 1
+        keep = keep and KEEP_WARM > 0 and _active == 0 and _kept_session in (None, session)
         if keep:
             _kept, _kept_session = _kept + actors, session
         _arm_timer()
-    if not keep:  # another batch of this process runs (it may need the CPUs), or keeping is off
+    if not keep:
         _kill(actors)
 
 
