@@ -20,7 +20,8 @@ and start-up CPU per worker are separate (getrusage of the children, used before
 each worker's start-up in the CPU per problem). The calling process's own CPU (validation,
 dispatch, result unpickling) is given too. A calibration runs a fixed pure-Python loop in
 1 and then 2 processes: the machine's own 2-core scaling. The machine is shared: compare
-ratios within one run.
+ratios within one run; "CPU stolen" is the share of the machine's CPU time the hypervisor
+gave to other guests during a run (/proc/stat), the part of the drift that can be seen.
 
 Workers start with the default start method (`process_pool.default_start_method()`: "fork"
 on Linux with Python < 3.12), or with each of `--start-methods` in turn (interleaved rounds).
@@ -31,7 +32,7 @@ they are all later batches of a warm caller; `--cold-caller` turns that off (eve
 a first call: each worker warms up itself).
 
 Usage:
-    .venv/bin/python benchmarks/batch.py [--n 200] [--no-ray] [--start-methods fork,spawn]
+    .venv/bin/python benchmarks/batch.py [--n 200] [--rounds 6] [--no-ray] [--start-methods fork,spawn]
 """
 
 from __future__ import annotations
@@ -72,6 +73,16 @@ def _self_cpu() -> float:
     return r.ru_utime + r.ru_stime
 
 
+def _cpu_ticks() -> tuple[int, int]:
+    """(steal, total) CPU ticks of the machine so far (/proc/stat; (0, 0) where there is none)."""
+    try:
+        with open("/proc/stat") as f:
+            fields = [int(x) for x in f.readline().split()[1:]]
+    except OSError:
+        return 0, 0
+    return (fields[7] if len(fields) > 7 else 0), sum(fields[:8])
+
+
 def timed_solve(task):
     """`worker.solve` with the worker's CPU time [s] of the call, and on the worker's first
     call the CPU time it spent before (start-up: interpreter, imports, warm-up)."""
@@ -89,6 +100,7 @@ def run(batch, kill_after: int | None = None, workers: int | None = None, backen
         seed: int = 0, start_method: str | None = None) -> dict:
     """Plan `batch` as `plan_stream` does (validation, then the backend) with `timed_solve`."""
     parent0 = _self_cpu()
+    ticks0 = _cpu_ticks()
     t0 = time.perf_counter()
     times, results, seen, cpu, startup = [], {}, Counter(), [], []
     tasks, n_workers = validate(batch, workers, backend, seed, start_method)
@@ -111,8 +123,14 @@ def run(batch, kill_after: int | None = None, workers: int | None = None, backen
         "startup": float(np.mean(startup)) if startup else float("nan"),  # none: workers kept from a batch before
         "cpu_with_startup": (sum(cpu) + sum(startup)) / n, "parent": _self_cpu() - parent0,
         "plan_mean": float(np.mean([r.plan_time for r in results.values()])),
-        "success": sum(r.success for r in results.values()), "late": late(results),
+        "success": sum(r.success for r in results.values()), "late": late(results), "steal": _steal(ticks0),
     }
+
+
+def _steal(ticks0: tuple[int, int]) -> float:
+    """Share of the machine's CPU time the hypervisor gave to other guests since `ticks0` [%]."""
+    steal, total = _cpu_ticks()
+    return 100.0 * (steal - ticks0[0]) / max(1, total - ticks0[1])
 
 
 CALIBRATION = "import time\nt = time.perf_counter()\nx = 0\nfor i in range(20_000_000): x += i & 7\nprint(time.perf_counter() - t)"
@@ -163,6 +181,7 @@ def world_switch_cost(batch) -> tuple[float, float]:
 def ray_tasks(ray, batch, seed: int) -> dict:
     """The same batch as Ray tasks (worker processes warm up on their first task)."""
     parent0 = _self_cpu()
+    ticks0 = _cpu_ticks()
     t0 = time.perf_counter()
     tasks = prepare(batch, seed)
     solve = ray.remote(num_cpus=1)(timed_solve)
@@ -181,7 +200,7 @@ def ray_tasks(ray, batch, seed: int) -> dict:
     return {"wall": wall, "e2e": n / wall, "steady": (n - 1) / (times[-1] - times[0]), "first": times[0] - t0,
             "results": results, "seen": Counter(results), "cpu": float(np.mean(cpu)), "startup": float("nan"),
             "cpu_with_startup": float("nan"), "parent": _self_cpu() - parent0,
-            "success": sum(r.success for r in results.values()), "late": late(results),
+            "success": sum(r.success for r in results.values()), "late": late(results), "steal": _steal(ticks0),
             "plan_mean": float(np.mean([r.plan_time for r in results.values()]))}
 
 
@@ -258,13 +277,13 @@ def main() -> None:
           f"default start method {default}; caller warm-up {'off' if args.cold_caller else 'on'}; PYTHONDONTWRITEBYTECODE={os.environ.get('PYTHONDONTWRITEBYTECODE', '')!r}.\n")
     print("| backend | workers | wall [s] | problems/s end to end | problems/s steady | first result [s] "
           "| worker CPU s / problem | start-up CPU s / worker | caller CPU [s] | mean plan time [s] | success "
-          "| past budget | identical to 1 process |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+          "| past budget | identical to 1 process | CPU stolen [%] |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for name, w, r in rows:
         start = "n/a" if np.isnan(r["startup"]) else f"{r['startup']:.2f}"
         print(f"| {name} | {w} | {r['wall']:.1f} | {r['e2e']:.2f} | {r['steady']:.2f} | {r['first']:.2f} | "
               f"{r['cpu']:.3f} | {start} | {r['parent']:.2f} | {r['plan_mean']:.3f} | {r['success']}/{args.n} | "
-              f"{r['late']} | {identical(r, r1)}/{args.n} |")
+              f"{r['late']} | {identical(r, r1)}/{args.n} | {r['steal']:.1f} |")
     print()
     print(f"- Calibration, a fixed pure-Python loop: {alone:.2f} s alone, {pair:.2f} s each with two at once "
           f"(the machine's 2-process scaling: {2 * alone / pair:.2f}x).")
