@@ -246,6 +246,8 @@ def main() -> None:
         from ray.cluster_utils import Cluster
 
         ray.init(num_cpus=2, log_to_driver=False)
+        # the pool's batch between two Ray batches may last longer than the default idle time
+        ray_backend.KEEP_WARM = 3600.0
         rr = run(batch, workers=2, backend="ray")  # the first batch: the actors start and warm up
         rows.append(("ray actors, first batch (actors start)", 2, rr))
         for k in range(args.rounds):  # later batches, interleaved with the pool's (the load drifts)
