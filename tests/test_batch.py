@@ -451,11 +451,11 @@ def test_ray_actors_stay_warm_for_the_next_batch_until_released(ray_cluster, pro
     assert ray_backend.kept_actors() == []
     # with KEEP_WARM the actors of a batch are released after that many idle seconds
     keep = ray_backend.KEEP_WARM
-    ray_backend.KEEP_WARM = 0.5
+    ray_backend.KEEP_WARM = 2.0
     try:
         plan_many(problems[:2], backend="ray", seed=SEED, progress=False)
         assert len(ray_backend.kept_actors()) == 2
-        deadline = time.monotonic() + 10.0
+        deadline = time.monotonic() + 20.0
         while ray_backend.kept_actors() and time.monotonic() < deadline:
             time.sleep(0.1)
         assert ray_backend.kept_actors() == []
@@ -463,7 +463,7 @@ def test_ray_actors_stay_warm_for_the_next_batch_until_released(ray_cluster, pro
         ray_backend.KEEP_WARM = keep
 
 
-def test_ray_batches_on_two_threads_at_once_share_no_actor(ray_cluster, problems, reference):
+def test_ray_batches_on_two_threads_at_once_give_the_single_results(ray_cluster, problems, reference):
     from concurrent.futures import ThreadPoolExecutor
 
     from manip.batch import release_ray_actors, ray_backend
@@ -475,7 +475,8 @@ def test_ray_batches_on_two_threads_at_once_share_no_actor(ray_cluster, problems
     for ps, rs in zip(halves, results):
         for p, r in zip(ps, rs):
             assert_same(r, reference[p.id])
-    # the batch that ended first stopped its actor (the other batch might have waited for its CPU)
+    # one actor is kept: the batch that ended first, if the other still ran, stopped its own (the other might
+    # have waited for its CPU); if they ran one after the other, the second took the first one's
     assert len(ray_backend.kept_actors()) == 1
 
 
