@@ -480,6 +480,18 @@ def test_ray_batches_on_two_threads_at_once_give_the_single_results(ray_cluster,
     assert len(ray_backend.kept_actors()) == 1
 
 
+def test_ray_more_workers_than_cpus_plan_on_the_cpus_there_are(ray_cluster, problems, reference):
+    from manip.batch import release_ray_actors, ray_backend
+
+    release_ray_actors()
+    results = plan_many(problems, backend="ray", workers=3, seed=SEED, progress=False)  # the cluster has 2 CPUs
+    for p, r in zip(problems, results):
+        assert_same(r, reference[p.id])
+    # the third never got a CPU: stopped, not kept (one of the two with a CPU may not have started
+    # before the other planned the whole batch: not kept either)
+    assert 1 <= len(ray_backend.kept_actors()) <= 2
+
+
 def test_ray_batch_closed_early_does_not_keep_its_actors(ray_cluster, problems):
     from manip.batch import release_ray_actors, ray_backend
 

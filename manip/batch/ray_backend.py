@@ -2,7 +2,10 @@
 
 Each actor (one CPU) warms up once (`worker.warm_up`) and keeps its generators for its
 life; the driver keeps `INFLIGHT_PER_WORKER` calls queued per actor, each with up to `CHUNK`
-problems, and streams results back with `ray.wait`. Actors, not tasks: a Ray task may land
+problems, and streams results back with `ray.wait`. An actor gets work once it has started:
+with more workers than the cluster has CPUs, the extra actors wait for a CPU (a warning is
+logged) and the others plan the batch; those that never started are stopped at its end.
+Actors, not tasks: a Ray task may land
 on a fresh worker process that would compile or load its kernels inside a problem's time
 budget (see BENCHMARKS.md for the measured difference).
 
@@ -149,7 +152,8 @@ def run(tasks: Sequence[Any], workers: int | None, address: str | None = None,
     own = actors is None
     robots = tuple(sorted({t.robot for t in tasks}, key=str))
     dead: set[int] = set()
-    finished = False
+    ready: set[int] = set()
+    finished = oversubscribed = False
     if own:
         with _lock:
             _active += 1
@@ -157,14 +161,22 @@ def run(tasks: Sequence[Any], workers: int | None, address: str | None = None,
                 _timer.cancel()
     try:
         if own:
-            n = min(workers or max(1, int(ray.cluster_resources().get("CPU", 1))), max(1, len(tasks)))
+            cpus = max(1, int(ray.cluster_resources().get("CPU", 1)))
+            n = min(workers or cpus, max(1, len(tasks)))
+            oversubscribed = n > cpus
+            if oversubscribed:
+                log.warning("%d Ray actors of one CPU asked for; the cluster has %d CPUs: the others start when "
+                            "CPUs free up (or nodes join)", n, cpus)
             actors = _actors(ray, n, robots)
-        yield from _dispatch(ray, tasks, list(actors), job, dead)
+        yield from _dispatch(ray, tasks, list(actors), job, dead, ready)
         finished = True
     finally:
         if own:
-            _kill([a for i, a in enumerate(actors or []) if i in dead])
-            _finish(ray, [a for i, a in enumerate(actors or []) if i not in dead], finished and not started)
+            # not kept: actors that died, and with more actors than CPUs those that never started
+            # (waiting for a CPU); one still starting in a small batch is kept
+            gone = [i in dead or (oversubscribed and i not in ready) for i in range(len(actors or []))]
+            _kill([a for a, g in zip(actors or [], gone) if g])
+            _finish(ray, [a for a, g in zip(actors or [], gone) if not g], finished and not started)
         if started:
             ray.shutdown()
 
@@ -258,16 +270,20 @@ def _kill(actors: list[Any]) -> None:
             log.debug("ray.kill: %s", exc)
 
 
-def _dispatch(ray: Any, tasks: Sequence[Any], actors: list[Any], job: Job,
-              dead: set[int]) -> Iterator[tuple[ProblemId, Any]]:
-    """Run `tasks` on `actors`, `CHUNK` at most per call; the indices of actors that died for
-    good are added to `dead`."""
+def _dispatch(ray: Any, tasks: Sequence[Any], actors: list[Any], job: Job, dead: set[int],
+              ready: set[int]) -> Iterator[tuple[ProblemId, Any]]:
+    """Run `tasks` on `actors`, `CHUNK` at most per call. An actor gets work once it has
+    started (answered a ping): one that waits for a CPU the cluster does not have (more
+    workers than CPUs) gets none, and the others finish the batch. The indices of actors
+    that started are added to `ready`, of those that died for good to `dead`."""
     queue = deque(tasks)
     attempts: dict[ProblemId, int] = {}
     load = [0] * len(actors)
     inflight: dict[Any, tuple[list[Any], int]] = {}
+    starting = {actors[a].pid.remote(): a for a in range(len(actors)) if a not in dead}
+    lost: Exception | None = None
     while queue or inflight:
-        live = sorted(set(range(len(actors))) - dead, key=load.__getitem__)
+        live = sorted(ready - dead, key=load.__getitem__)
         for a in live:
             while queue and load[a] < INFLIGHT_PER_WORKER:
                 # smaller calls towards the end of the batch, so that the actors finish together
@@ -277,10 +293,20 @@ def _dispatch(ray: Any, tasks: Sequence[Any], actors: list[Any], job: Job,
                     attempts[task.id] = attempts.get(task.id, 0) + 1
                 inflight[actors[a].solve_many.remote(chunk, job)] = (chunk, a)
                 load[a] += 1
-        if not inflight:
-            raise WorkerLostError(f"every actor died; {len(queue)} problems not planned")
-        ready, _ = ray.wait(list(inflight), num_returns=1)
-        for ref in ready:
+        if not inflight and not starting:
+            raise WorkerLostError(f"every actor died; {len(queue)} problems not planned (last error: {lost})")
+        done, _ = ray.wait([*inflight, *starting], num_returns=1)
+        for ref in done:
+            if ref in starting:
+                a = starting.pop(ref)
+                try:
+                    ray.get(ref)
+                    ready.add(a)
+                except ray.exceptions.RayError as exc:  # it could not start (its restarts are used up)
+                    log.warning("an actor failed to start: %s", exc)
+                    dead.add(a)
+                    lost = exc
+                continue
             chunk, a = inflight.pop(ref)
             load[a] -= 1
             try:
@@ -288,6 +314,7 @@ def _dispatch(ray: Any, tasks: Sequence[Any], actors: list[Any], job: Job,
             except ray.exceptions.RayTaskError as exc:  # the planning code raised: a bug, not a fault
                 raise exc.as_instanceof_cause() from None
             except ray.exceptions.RayError as exc:  # the actor (process or node) died, retries exhausted
+                lost = exc
                 if isinstance(exc, ray.exceptions.ActorDiedError):
                     dead.add(a)  # its restarts are used up: no more tasks for it
                 hopeless = [t.id for t in chunk if attempts[t.id] >= MAX_ATTEMPTS]
