@@ -5,9 +5,8 @@ life; the driver keeps `INFLIGHT_PER_WORKER` calls queued per actor, each with u
 problems, and streams results back with `ray.wait`. An actor gets work once it has started:
 with more workers than the cluster has CPUs, the extra actors wait for a CPU (a warning is
 logged) and the others plan the batch; those that never started are stopped at its end.
-Actors, not tasks: a Ray task may land
-on a fresh worker process that would compile or load its kernels inside a problem's time
-budget (see BENCHMARKS.md for the measured difference).
+Actors, not tasks: a Ray task may land on a fresh worker process that would compile or load
+its kernels inside a problem's time budget (see BENCHMARKS.md for the measured difference).
 
 Warm actors across batches: an actor is a fresh interpreter that imports manip and loads
 its kernels (about 2 s of CPU) before its first result, while a batch of 200 problems
