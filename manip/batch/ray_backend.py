@@ -107,12 +107,9 @@ def start_actors(workers: int, robots: tuple[str | RobotSpec, ...]) -> list[Any]
 def release_actors() -> int:
     """Stop the warm actors kept after the last Ray batch of this process (see the module
     docstring); returns how many were stopped. Safe to call at any time, from any thread."""
-    global _timer
     with _lock:
-        if _timer is not None:
-            _timer.cancel()
-            _timer = None
         actors = _take_kept(None)
+        _arm_timer()  # cancels it (nothing is kept)
     _kill(actors)
     return len(actors)
 
@@ -166,7 +163,8 @@ def run(tasks: Sequence[Any], workers: int | None, address: str | None = None,
             if oversubscribed:
                 log.warning("%d Ray actors of one CPU asked for; the cluster has %d CPUs: the others start when "
                             "CPUs free up (or nodes join)", n, cpus)
-            actors = _actors(ray, n, robots)
+            actors, answered = _actors(ray, n, robots)
+            ready.update(range(answered))
         yield from _dispatch(ray, tasks, list(actors), job, dead, ready)
         finished = True
     finally:
@@ -194,8 +192,9 @@ def _take_kept(session: tuple[str, str] | None) -> list[Any]:
     return actors
 
 
-def _actors(ray: Any, n: int, robots: tuple[str | RobotSpec, ...]) -> list[Any]:
-    """`n` actors for a batch: kept warm ones that answer, then new ones."""
+def _actors(ray: Any, n: int, robots: tuple[str | RobotSpec, ...]) -> tuple[list[Any], int]:
+    """`n` actors for a batch: kept warm ones (those that answered a ping first), then new
+    ones; and how many answered (they need no other ping before they get work)."""
     global _kept, _kept_session
     session = _session(ray)
     with _lock:
@@ -203,23 +202,24 @@ def _actors(ray: Any, n: int, robots: tuple[str | RobotSpec, ...]) -> list[Any]:
         reuse = kept[:n]
         if kept[n:]:  # more kept than needed: they stay kept for other batches
             _kept, _kept_session = kept[n:], session
-    alive = []
+    alive, late = [], []
     if reuse:
         pings = {a.pid.remote(): a for a in reuse}
-        ready, late = ray.wait(list(pings), num_returns=len(pings), timeout=PING_TIMEOUT)
-        for ref in ready:
+        answered, pending = ray.wait(list(pings), num_returns=len(pings), timeout=PING_TIMEOUT)
+        for ref in answered:
             try:
                 ray.get(ref)
                 alive.append(pings[ref])
             except ray.exceptions.RayError as exc:
                 log.warning("a kept actor is gone (%s); starting a new one", type(exc).__name__)
                 _kill([pings[ref]])
-        if late:  # busy or still starting (a restarted actor warms up again): used all the same
+        # busy or still starting (a restarted actor warms up again): used once it answers
+        late = [pings[ref] for ref in pending]
+        if late:
             log.info("%d kept actors did not answer within %.0f s", len(late), PING_TIMEOUT)
-            alive += [pings[ref] for ref in late]
-        for a in alive:
+        for a in alive + late:
             a.warm.remote(robots)  # robots new to the actor (runs before the batch's tasks)
-    return alive + start_actors(n - len(alive), robots)
+    return alive + late + start_actors(n - len(alive) - len(late), robots), len(alive)
 
 
 def _finish(ray: Any, actors: list[Any], keep: bool) -> None:
@@ -274,12 +274,13 @@ def _dispatch(ray: Any, tasks: Sequence[Any], actors: list[Any], job: Job, dead:
     """Run `tasks` on `actors`, `CHUNK` at most per call. An actor gets work once it has
     started (answered a ping): one that waits for a CPU the cluster does not have (more
     workers than CPUs) gets none, and the others finish the batch. The indices of actors
-    that started are added to `ready`, of those that died for good to `dead`."""
+    that started are added to `ready` (those in it already are not pinged again), of those
+    that died for good to `dead`."""
     queue = deque(tasks)
     attempts: dict[ProblemId, int] = {}
     load = [0] * len(actors)
     inflight: dict[Any, tuple[list[Any], int]] = {}
-    starting = {actors[a].pid.remote(): a for a in range(len(actors)) if a not in dead}
+    starting = {actors[a].pid.remote(): a for a in range(len(actors)) if a not in dead | ready}
     lost: Exception | None = None
     while queue or inflight:
         live = sorted(ready - dead, key=load.__getitem__)
