@@ -1,36 +1,60 @@
 # Two commands do everything on a fresh machine with Python >= 3.10 and pip:
-#   make test   set up .venv, install manip[dev,video,ray], run the test suite
-#   make demo   set up .venv, run the flagship example headless
+#   make demo   set up .venv with manip alone (no extras), prebuild its kernels, run the
+#               flagship pick-and-place headless (fresh clone, 2-core machine: MEASURED_DEMO)
+#   make test   set up .venv with manip[dev,video,viz,ray,datagen], prebuild, run the test
+#               suite (fresh clone, 2-core machine: MEASURED_TEST)
+# Both install into .venv only. `make wheel` builds the wheel (with the prebuilt kernels) and
+# the sdist into dist/ and checks them.
 PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
-STAMP  := $(VENV)/.installed
+CORE   := $(VENV)/.installed-core
+FULL   := $(VENV)/.installed-full
+# the compiled kernels and the Panda's collision geometry, built ahead of time (manip.prebuild)
+PREBUILT := manip/_prebuilt/kernels/manifest.json
+KERNEL_SOURCES := $(shell grep -rl --include='*.py' '^@kernel' manip) manip/jit.py manip/prebuild.py
 
-.PHONY: setup test demo bench clean
+.PHONY: setup test demo bench wheel clean
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
 
-$(STAMP): $(PY) pyproject.toml
+$(CORE): $(PY) pyproject.toml
 	$(PY) -m pip install --upgrade pip
-	$(PY) -m pip install -e ".[dev,video,viz,ray]"
-	touch $(STAMP)
+	$(PY) -m pip install -e .
+	touch $(CORE)
 
-setup: $(STAMP)
+$(FULL): $(CORE)
+	$(PY) -m pip install -e ".[dev,video,viz,ray,datagen]"
+	touch $(FULL)
 
-test: $(STAMP)
+$(PREBUILT): $(CORE) $(KERNEL_SOURCES)
+	$(PY) -m manip.prebuild --robots franka
+
+setup: $(FULL) $(PREBUILT)
+
+test: $(FULL) $(PREBUILT)
 	$(PY) -m pytest -q $(PYTEST_ARGS)
 
-demo: $(STAMP)
+demo: $(CORE) $(PREBUILT)
 	$(PY) examples/pick_and_place.py --episodes 3
 
+# The wheel carries the prebuilt kernels and every shipped robot's geometry.
+wheel: $(FULL)
+	$(PY) -m manip.prebuild --robots all
+	$(PY) -m pip install --quiet build twine
+	rm -rf dist
+	$(PY) -m build
+	$(PY) -m twine check dist/*
+
 # Benchmarks (results go to BENCHMARKS.md); the peers come with the bench extra.
-bench: $(STAMP)
+bench: $(FULL) $(PREBUILT)
 	$(PY) -m pip install -e ".[bench]"
+	$(PY) benchmarks/cold_start.py --write-md
 	$(PY) benchmarks/kinematics.py --write-md
 	$(PY) benchmarks/sim.py --write-md
 	$(PY) benchmarks/pick_and_place.py --episodes 100 --write-md
 	$(PY) benchmarks/mbm.py --goal both --planners manip,roboplan,ompl --write-md
 
 clean:
-	rm -rf $(VENV) build dist *.egg-info .pytest_cache
+	rm -rf $(VENV) build dist *.egg-info .pytest_cache manip/_prebuilt

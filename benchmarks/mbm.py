@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """MotionBenchMaker benchmark: manip and its peers, side by side, every trajectory verified.
 
-    python benchmarks/mbm.py --dataset ../shared/data/mbm/panda_problems.tar.bz2 \\
+    python benchmarks/mbm.py [--dataset benchmarks/data/mbm/panda_problems.tar.bz2] \\
         [--scenes box_panda cage_panda ...] [--limit-per-scene N] [--goal joint|pose|both] \\
         [--planners manip,roboplan,ompl] [--seeded N] [--timeout S] [--json OUT] \\
         [--curobo-limits] [--smoothness time_optimal|smooth] [--no-trajopt] [--label NAME] [--write-md]

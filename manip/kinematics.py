@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
-from numba import njit
+from manip.jit import kernel
 
 from manip import quaternion as quat
 from manip.errors import InvalidInputError, UnknownNameError
@@ -65,7 +65,7 @@ def _joint_spec(model: pin.Model, j: int) -> _JointSpec:
     return _JointSpec(int(model.parents[j]), M.rotation.copy(), M.translation.copy(), axis, revolute, jm.idx_q)
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def chain_frames(q, q_index, parent, table, R, p):
     """Joint frames of one configuration q (dof,) into R (J+1, 3, 3), p (J+1, 3).
 
@@ -95,7 +95,7 @@ def chain_frames(q, q_index, parent, table, R, p):
             p[j + 1, r] = R[a, r, 0] * B[3] + R[a, r, 1] * B[7] + R[a, r, 2] * B[11] + p[a, r]
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _joint_frames(Q, q_index, parent, table):
     """Batched forward kinematics: joint frames R (N, J+1, 3, 3), p (N, J+1, 3) of Q (N, dof)."""
     N = Q.shape[0]
@@ -107,7 +107,7 @@ def _joint_frames(Q, q_index, parent, table):
     return R, p
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def frame_jacobian_into(R, p, chain, axes, revolute, q_index, f_joint, f_R, f_p, Rf, pf, Jac):
     """Pose Rf (3, 3), pf (3,) of a frame and its (6, dof) world-aligned Jacobian
     [linear; angular] into Jac, from the joint frames R, p of `chain_frames`.
@@ -142,7 +142,7 @@ def frame_jacobian_into(R, p, chain, axes, revolute, q_index, f_joint, f_R, f_p,
             Jac[2, c] = a2
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _frame_jacobians(Q, q_index, parent, table, chain, axes, revolute, f_joint, f_R, f_p):
     """Batched `frame_jacobian_into`: (R (N, 3, 3), p (N, 3), J (N, 6, dof)) of a frame."""
     N, dof = Q.shape

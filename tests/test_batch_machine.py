@@ -1,5 +1,10 @@
 """manip.batch: a batch plans the same on a slow machine (its search is bounded by a count, the
-clock is only a safety net), and a result the clock did cut short says so."""
+clock is only a safety net), and a result the clock did cut short says so.
+
+The "slow machine" is a worker whose clock reads SLOWDOWN times its own CPU time: a plan sees
+the seconds of a machine SLOWDOWN times slower, whatever else this machine runs meanwhile (a
+wall clock would also count the time the worker waits for a CPU, and the verdict would depend
+on the load)."""
 
 from __future__ import annotations
 
@@ -17,22 +22,23 @@ from manip.planning.context import SAFETY_NET
 from manip.planning.result import PlanStatus
 
 SEED = 0
-#: The clock of a "slow machine" worker runs this many times too fast: each plan sees SLOWDOWN
-#: times the seconds it takes, as on a machine SLOWDOWN times slower (or that loaded).
-SLOWDOWN = 30.0
-#: A single call's defaults (`PlanOptions()`): no count budget for the search, the 5 s time
-#: budget, which the slowed clock reaches after 0.17 s of planning (cage/28 takes longer).
-CLOCK_ONLY = {"search_iterations": None, "time_budget": 5.0}
+#: The clock of a "slow machine" worker reads SLOWDOWN times its CPU seconds: the batch's 60 s
+#: safety net is 4 s of CPU per plan (cage/28, the longest, takes about 1 s here).
+SLOWDOWN = 15.0
+#: The clock as the only bound: no count budget for the search, a 2 s time budget, which the
+#: slowed clock reaches after 0.13 s of CPU (cage/28's search needs about 1 s).
+CLOCK_ONLY = {"search_iterations": None, "time_budget": 2.0}
 
 
 def _on_a_slow_machine(task):
-    """`worker.solve` in a worker whose `time.perf_counter` runs SLOWDOWN x too fast."""
+    """`worker.solve` in a worker whose `time.perf_counter` reads SLOWDOWN x its CPU time."""
     if not getattr(time.perf_counter, "slowed", False):
-        real = time.perf_counter
-        origin = real()
+        origin = time.perf_counter()
+        cpu = time.process_time
+        cpu0 = cpu()
 
         def slow() -> float:
-            return origin + SLOWDOWN * (real() - origin)
+            return origin + SLOWDOWN * (cpu() - cpu0)
 
         slow.slowed = True
         time.perf_counter = slow
@@ -75,7 +81,8 @@ def test_a_batch_plans_the_same_on_a_slow_machine(batch):
 
 def test_without_a_count_the_slow_machine_changes_results_and_says_so(batch):
     """The control: with the clock as the only bound the slowed worker's plans are cut short (so
-    the test above could fail), and every result that differs carries the note."""
+    the test above could fail), and every result that differs carries the note (the plans on
+    the real clock may be cut short too on a loaded machine: then they carry it)."""
     clock_only = [Problem(p.world, p.start, p.goal, options=CLOCK_ONLY, id=p.id) for p in batch]
     normal = dict(zip([p.id for p in batch], plan_many(clock_only, workers=2, seed=SEED, progress=False)))
     slow = dict(run_tasks(prepare(clock_only, SEED), workers=2, backend="process", job=_on_a_slow_machine))

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 import yaml
@@ -16,9 +18,6 @@ from manip.benchmarking.mbm_problems import (
 from manip.errors import UnknownNameError
 
 DATASET = default_dataset_path()
-needs_dataset = pytest.mark.skipif(
-    not DATASET.exists(), reason=f"MotionBenchMaker dataset not found at {DATASET} (set MANIP_MBM_DATASET)"
-)
 
 
 def test_scene_to_world_converts_orientation_and_cylinder_dims():
@@ -43,7 +42,6 @@ world:
     np.testing.assert_allclose(w["cuboid"]["shelf"]["pose"], [0.6, 0, 0.3, 1, 0, 0, 0])
 
 
-@needs_dataset
 def test_loads_all_700_problems():
     problems = load_mbm_problems(DATASET)
     assert len(problems) == 700
@@ -61,7 +59,6 @@ def test_loads_all_700_problems():
                 assert np.linalg.norm(q) == pytest.approx(1.0)
 
 
-@needs_dataset
 def test_box_panda_1_matches_the_yaml():
     # Values read by hand from problems/box_panda/scene0001.yaml and request0001.yaml.
     (p,) = load_mbm_problems(DATASET, scenes=["box_panda"], limit_per_scene=1)
@@ -75,7 +72,6 @@ def test_box_panda_1_matches_the_yaml():
     np.testing.assert_allclose(p.world["cuboid"]["base"]["dims"], [0.7, 0.7, 0.04])
 
 
-@needs_dataset
 def test_scene_filter_limit_and_unknown_scene():
     ps = load_mbm_problems(DATASET, scenes=["cage_panda", "box_panda"], limit_per_scene=3)
     assert [p.name for p in ps] == [f"{s}/{i}" for s in ("box_panda", "cage_panda") for i in (1, 2, 3)]
@@ -83,12 +79,20 @@ def test_scene_filter_limit_and_unknown_scene():
         load_mbm_problems(DATASET, scenes=["boxes"])
 
 
+def test_the_dataset_ships_with_the_repository(monkeypatch):
+    # the planner regression tests and benchmarks/mbm.py run from a fresh clone, with nothing beside it
+    monkeypatch.delenv("MANIP_MBM_DATASET", raising=False)
+    shipped = default_dataset_path()
+    assert shipped == Path(__file__).resolve().parents[1] / "benchmarks" / "data" / "mbm" / "panda_problems.tar.bz2"
+    assert shipped.is_file() and (shipped.parent / "LICENSE-vamp-Apache-2.0.txt").is_file()
+    assert len(load_mbm_problems(shipped, scenes=["box_panda"], limit_per_scene=2)) == 2
+
+
 def test_missing_dataset_raises_with_the_path(tmp_path):
     with pytest.raises(FileNotFoundError, match="MANIP_MBM_DATASET"):
         load_mbm_problems(tmp_path / "nope.tar.bz2")
 
 
-@needs_dataset
 def test_goal_pose_is_fk_of_the_goal_at_the_hand():
     import pinocchio as pin
 

@@ -153,7 +153,6 @@ def test_malformed_output_is_invalid_not_an_exception(verifier):
     assert not verifier.verify_trajectory({}, np.array([0.0, 1.0]), np.stack([Q0, Q0 * np.nan])).valid
 
 
-@pytest.mark.skipif(not default_dataset_path().exists(), reason=f"MotionBenchMaker dataset not found at {default_dataset_path()}")
 def test_mbm_problem_validity_and_broadphase_agree_with_all_pairs(verifier):
     problems = load_mbm_problems(default_dataset_path(), limit_per_scene=10)
     invalid = {p.name: verifier.check_problem(p) for p in problems}

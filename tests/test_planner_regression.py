@@ -67,7 +67,6 @@ def _run(mg: MotionGenerator, problems) -> tuple[int, list[str], list[str]]:
     return n, failures, invalid
 
 
-@pytest.mark.skipif(not DATASET.exists(), reason=f"MotionBenchMaker dataset not found at {DATASET} (set MANIP_MBM_DATASET)")
 def test_motionbenchmaker_subset(mg):
     verifier = default_verifier()
     problems = []
@@ -114,7 +113,6 @@ def _path_length(positions: np.ndarray) -> float:
     return float(np.linalg.norm(np.diff(positions, axis=0), axis=1).sum())
 
 
-@pytest.mark.skipif(not DATASET.exists(), reason=f"MotionBenchMaker dataset not found at {DATASET} (set MANIP_MBM_DATASET)")
 def test_motion_quality_on_a_motionbenchmaker_subset(mg):
     from manip.benchmarking.quality import lower_bound_time
 

@@ -53,7 +53,7 @@ def assert_valid_path(path: np.ndarray) -> None:
 @pytest.mark.parametrize("with_advance", [False, True])
 def test_rrt_connect_finds_the_gap(with_advance):
     path, iterations = rrt_connect(
-        START, GOAL[None], LOWER, UPPER, motion_valid, np.random.default_rng(0), time.perf_counter() + 10,
+        START, GOAL[None], LOWER, UPPER, motion_valid, np.random.default_rng(0), time.perf_counter() + 60.0,
         advance=advance if with_advance else None, step_size=0.2, short_step=0.05,
     )
     assert path is not None and iterations > 0
@@ -63,7 +63,7 @@ def test_rrt_connect_finds_the_gap(with_advance):
 
 def test_rrt_connect_is_deterministic_for_a_seed():
     runs = [
-        rrt_connect(START, GOAL[None], LOWER, UPPER, motion_valid, np.random.default_rng(7), time.perf_counter() + 10,
+        rrt_connect(START, GOAL[None], LOWER, UPPER, motion_valid, np.random.default_rng(7), time.perf_counter() + 60.0,
                     step_size=0.2)[0]
         for _ in range(2)
     ]
@@ -101,7 +101,7 @@ def test_rrt_connect_draws_its_global_samples_from_the_given_sampler():
         return drawn[-1]
 
     path, _ = rrt_connect(START, GOAL[None], LOWER, UPPER, motion_valid, np.random.default_rng(0),
-                          time.perf_counter() + 10, step_size=0.2, local_fraction=0.0, sample=above)
+                          time.perf_counter() + 60.0, step_size=0.2, local_fraction=0.0, sample=above)
     assert path is not None and drawn
     assert_valid_path(path)
     assert np.min(path[:, 1]) >= START[1] - 1e-12
@@ -110,7 +110,7 @@ def test_rrt_connect_draws_its_global_samples_from_the_given_sampler():
 def test_shortcut_shortens_and_stays_valid():
     detour = np.array([START, [0.1, 0.95], [0.3, 0.95], [0.5, 0.85], [0.7, 0.95], [0.9, 0.95], GOAL])
     assert_valid_path(detour)
-    short = shortcut(detour, segments_valid, np.random.default_rng(0), time.perf_counter() + 5, rounds=20)
+    short = shortcut(detour, segments_valid, np.random.default_rng(0), time.perf_counter() + 60.0, rounds=20)
     assert_valid_path(short)
     assert path_length(short) < path_length(detour) - 0.2
 
@@ -151,7 +151,7 @@ def _coarse_search_validity() -> tuple[SimpleNamespace, object]:
 
 def test_search_path_repairs_coarse_edges_at_the_fine_resolution():
     validity, _ = _coarse_search_validity()
-    path, _ = search_path(START, GOAL[None], validity, np.random.default_rng(1), time.perf_counter() + 10)
+    path, _ = search_path(START, GOAL[None], validity, np.random.default_rng(1), time.perf_counter() + 60.0)
     assert path is not None
     assert_valid_path(path)
 
@@ -197,8 +197,8 @@ def test_a_detour_is_replaced_by_a_shorter_way_round(informed, monkeypatch):
     far = np.array([start, [0.4, 0.9], [0.6, 0.9], goal])  # through the far gap: a detour
     assert validity.path(far)
     vmax = np.ones(2)
-    shorten = lambda p: shortcut(p, validity.segments, np.random.default_rng(0), time.perf_counter() + 5)  # noqa: E731
-    path = shorter_way_round(far, goal[None], validity, shorten, np.random.default_rng(3), time.perf_counter() + 10,
+    shorten = lambda p: shortcut(p, validity.segments, np.random.default_rng(0), time.perf_counter() + 60.0)  # noqa: E731
+    path = shorter_way_round(far, goal[None], validity, shorten, np.random.default_rng(3), time.perf_counter() + 60.0,
                              vmax)
     assert validity.path(path) and np.array_equal(path[0], start) and np.array_equal(path[-1], goal)
     assert time_length(path, vmax) <= GAIN * time_length(far, vmax)
@@ -211,7 +211,7 @@ def test_a_path_that_is_no_detour_is_kept_without_searching():
     straight = np.array([start, [0.5, 0.35], goal])
     rng = np.random.default_rng(0)
     state = rng.bit_generator.state
-    out = shorter_way_round(straight, goal[None], validity, lambda p: p, rng, time.perf_counter() + 10, np.ones(2))
+    out = shorter_way_round(straight, goal[None], validity, lambda p: p, rng, time.perf_counter() + 60.0, np.ones(2))
     assert out is straight and rng.bit_generator.state == state  # no search drew from the generator
 
 

@@ -12,8 +12,9 @@ Two conversions matter (Chamzas et al., RA-L 2022; see the dataset's README):
 MBM orientations are ROS order (x, y, z, w) and become (w, x, y, z) here; MBM cylinder
 dimensions are [height, radius].
 
-The data is never unpacked to disk and never copied into this repository: pass the path
-of the archive, set `MANIP_MBM_DATASET`, or keep the checkout next to `../shared/data/mbm/`.
+The archive ships with the repository (`benchmarks/data/mbm/`, Apache-2.0 from VAMP; not in
+the wheel) and is read without unpacking it to disk; `MANIP_MBM_DATASET` or a path argument
+points at another copy.
 """
 
 from __future__ import annotations
@@ -92,13 +93,14 @@ def repo_root() -> Path:
 def default_dataset_path() -> Path:
     """Where the dataset is looked for when no path is given.
 
-    `$MANIP_MBM_DATASET` if set, else `<repo root>/../shared/data/mbm/panda_problems.tar.bz2`.
-    The path may not exist; `dataset_available()` says whether it does.
+    `$MANIP_MBM_DATASET` if set, else the copy shipped in the repository,
+    `<repo root>/benchmarks/data/mbm/panda_problems.tar.bz2` (not in the wheel). The path may
+    not exist (an installed wheel); `dataset_available()` says whether it does.
     """
     env = os.environ.get(ENV_VAR)
     if env:
         return Path(env).expanduser()
-    return (repo_root().parent / "shared" / "data" / "mbm" / "panda_problems.tar.bz2").resolve()
+    return repo_root() / "benchmarks" / "data" / "mbm" / "panda_problems.tar.bz2"
 
 
 def dataset_available(path: str | Path | None = None) -> bool:
@@ -215,8 +217,8 @@ def load_mbm_problems(
 
     Args:
         path: the `panda_problems.tar.bz2` archive (or a folder it was unpacked to). Default:
-            `default_dataset_path()` (`$MANIP_MBM_DATASET`, else `../shared/data/mbm/`
-            next to the repository).
+            `default_dataset_path()` (`$MANIP_MBM_DATASET`, else the repository's
+            `benchmarks/data/mbm/`).
         scenes: scene names to keep (default: all, sorted); see `MBM_SCENES`.
         limit_per_scene: keep only the first N problems (by index) of each scene.
 
@@ -232,7 +234,8 @@ def load_mbm_problems(
     p = Path(path).expanduser() if path is not None else default_dataset_path()
     if not p.exists():
         raise FileNotFoundError(
-            f"MotionBenchMaker dataset not found at {p}; pass its path or set ${ENV_VAR}"
+            f"MotionBenchMaker dataset not found at {p}; pass its path or set ${ENV_VAR} (the "
+            "archive ships in manip's repository under benchmarks/data/mbm/, not in the wheel)"
         )
     if limit_per_scene is not None and limit_per_scene < 0:
         raise InvalidInputError(f"limit_per_scene must be >= 0 or None; got {limit_per_scene}")

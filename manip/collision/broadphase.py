@@ -26,12 +26,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from manip.jit import kernel
 
 _TWO_PI = 2.0 * math.pi
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _push(ids, depth, T, a, b, c, d):
     """Row T of the growing outputs ids (cap, 3) int64 and depth (cap,): (a, b, c) and d.
 
@@ -50,14 +50,14 @@ def _push(ids, depth, T, a, b, c, d):
     return ids, depth
 
 
-@njit(cache=True, nogil=True, inline="always")
+@kernel(inline="always")
 def _place(R, p, n, j, c, out):
     """out (3,) = R[n, j] @ c + p[n, j]: a point of joint j's frame in the base frame."""
     for r in range(3):
         out[r] = R[n, j, r, 0] * c[0] + R[n, j, r, 1] * c[1] + R[n, j, r, 2] * c[2] + p[n, j, r]
 
 
-@njit(cache=True, nogil=True, inline="always")
+@kernel(inline="always")
 def _distance(x, i, y, j):
     """Euclidean distance [m] between the points x[i] and y[j] (rows of (N, 3) arrays)."""
     d0 = x[i, 0] - y[j, 0]
@@ -66,7 +66,7 @@ def _distance(x, i, y, j):
     return math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
 
 
-@njit(cache=True, nogil=True, inline="always")
+@kernel(inline="always")
 def _obstacle_sd(x, o, oR, oc, oh, orho, ocyl):
     """Signed distance [m] of the point x (3,) (base frame) to obstacle o's broadphase shape."""
     d0 = x[0] - oc[o, 0]
@@ -92,7 +92,7 @@ def _obstacle_sd(x, o, oR, oc, oh, orho, ocyl):
     return math.sqrt(a * a + b * b + z * z) + inside - orho[o]
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def world_candidates(R, p, margin,
                      l0_joint, l0_c, l0_r, mem_start, mem_count, mem_parts,
                      part_joint, c_start, c_count, c_centres, c_radii,
@@ -151,7 +151,7 @@ def world_candidates(R, p, margin,
     return ids[:T, 0].copy(), ids[:T, 1].copy(), ids[:T, 2].copy(), depth[:T].copy()
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def self_candidates(R, p, Q, margin,
                     body_joint, body_c, body_r, bpairs, pp_start, pp_count, pairs,
                     part_joint, c_start, c_count, c_centres, c_radii,
@@ -273,7 +273,7 @@ def self_candidates(R, p, Q, margin,
     return ids[:T, 0].copy(), ids[:T, 1].copy(), depth[:T].copy()
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def part_placements(R, p, n, g, part_joint, gR, gp):
     """Base-frame placements of parts g (T,) in configurations n (T,).
 

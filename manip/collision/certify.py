@@ -44,7 +44,7 @@ from typing import NamedTuple
 
 import coal
 import numpy as np
-from numba import njit
+from manip.jit import kernel
 
 from manip.collision import broadphase
 from manip.collision.robot_geometry import geometry_triangles
@@ -219,7 +219,7 @@ def _obstacle_support(ob, n: np.ndarray, cache: dict) -> float:
     return -math.inf  # pragma: no cover - unknown shape: no bound
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _axis_reach(R, p, centres, radii, ball_part, ball_joint, ancestors, axes, revolute, n_parts):
     """rho (N, G, J+1): for each configuration, part and supporting joint k, the largest
     distance of the part's balls (centre distance from k's axis plus radius); 1 for a

@@ -17,7 +17,7 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
+from manip.jit import kernel
 
 from manip.collision.broadphase import _obstacle_sd, _place
 
@@ -111,7 +111,7 @@ class ClearanceModel:
         return ClearanceTerms(n_i, dist, grad)
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _term_gradients(R, p, n_i, body, x, normal, ancestors, axes, revolute, q_index, dof):
     """grad[t] = n_t^T J_p(x_t) (T, dof): the normal times the translational Jacobian of each
     term's ball centre x_t on body `body[t]` (a joint index) at configuration n_i[t]."""
@@ -137,7 +137,7 @@ def _term_gradients(R, p, n_i, body, x, normal, ancestors, axes, revolute, q_ind
     return grad
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _nearest_terms(R, p, centres, radii, joint, bodies, start, count, body_centre, body_radius, activation,
                    oR, oc, oh, orho, ocyl):
     """For each (configuration, body, obstacle) the nearest ball, kept when closer than `activation`.

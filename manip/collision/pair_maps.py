@@ -34,15 +34,14 @@ from __future__ import annotations
 import hashlib
 import logging
 import math
-import os
 from collections.abc import Sequence
 from dataclasses import replace
-from pathlib import Path
 from typing import NamedTuple
 
 import coal
 import numpy as np
 
+from manip.disk_cache import DiskCache
 from manip.collision.self_pairs import PROOF_CLEARANCE, ball_slack, joint_reach, relative_joints
 from manip.kinematics import Kinematics
 
@@ -109,7 +108,7 @@ def convex_hull(geometry):
 
 
 def build_pair_map(parts: Sequence, a: int, b: int, kinematics: Kinematics, *, digests: Sequence[str],
-                   cache: Path | None = None) -> PairMap | None:
+                   cache: DiskCache | None = None) -> PairMap | None:
     """The clearance map of parts a and b, or None when their relative placement depends on
     no joint, on a prismatic one, on more than `MAX_MAP_JOINTS` (one more when one part can
     be swept and the covers overlap often: see the module doc), or no cell was proved.
@@ -119,7 +118,7 @@ def build_pair_map(parts: Sequence, a: int, b: int, kinematics: Kinematics, *, d
         a, b: indices into `parts`.
         kinematics: the robot's `Kinematics`.
         digests: one string per part identifying its geometry, placement and cover.
-        cache: folder of the on-disk cache (None: no cache).
+        cache: the on-disk cache (None: no cache).
     """
     pa, pb = parts[a], parts[b]
     rel = relative_joints(kinematics, pa.joint, pb.joint)
@@ -237,9 +236,9 @@ def _swept_pair(pa, pb, rel: list[int], kinematics: Kinematics) -> tuple[object,
     return None if best is None else (best[1], best[2])
 
 
-def _cached(cache: Path | None, key: str) -> np.ndarray | None:
-    file = cache / f"pairmap-{key}.npz" if cache is not None else None
-    if file is None or not file.is_file():
+def _cached(cache: DiskCache | None, key: str) -> np.ndarray | None:
+    file = cache.find(f"pairmap-{key}.npz") if cache is not None else None
+    if file is None:
         return None
     try:
         with np.load(file) as z:
@@ -248,17 +247,9 @@ def _cached(cache: Path | None, key: str) -> np.ndarray | None:
         return None
 
 
-def _store(cache: Path | None, key: str, bounds: np.ndarray) -> None:
-    if cache is None:
-        return
-    file = cache / f"pairmap-{key}.npz"
-    try:
-        cache.mkdir(parents=True, exist_ok=True)
-        tmp = file.with_suffix(f".{os.getpid()}.tmp.npz")
-        np.savez(tmp, bounds=bounds)
-        os.replace(tmp, file)
-    except OSError as exc:
-        logger.debug("self-pair map not cached (%s)", exc)
+def _store(cache: DiskCache | None, key: str, bounds: np.ndarray) -> None:
+    if cache is not None:
+        cache.write(f"pairmap-{key}.npz", lambda path: np.savez(path, bounds=bounds))
 
 
 def _in_limits(lo: float, hi: float) -> np.ndarray:

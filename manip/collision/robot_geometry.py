@@ -12,9 +12,7 @@ from __future__ import annotations
 
 import hashlib
 import logging
-import os
 from dataclasses import dataclass
-from pathlib import Path
 
 import coal
 import numpy as np
@@ -23,6 +21,7 @@ import pinocchio as pin
 from manip.collision.pair_maps import PairMap, build_pair_map
 from manip.collision.self_pairs import prove_pair_clear
 from manip.collision.spheres import cover_with_spheres
+from manip.disk_cache import default_cache, user_folder
 from manip.errors import InvalidInputError
 from manip.kinematics import Kinematics
 from manip.robot_config import RobotConfig
@@ -33,6 +32,7 @@ logger = logging.getLogger(__name__)
 COARSE_TOLERANCE = 0.05  # [m] protrusion of the coarse covers (first broadphase level)
 COARSE_MAX_SPHERES = 6
 _COVER_CACHE: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
+_ANNOUNCED: set[str] = set()
 
 
 @dataclass(frozen=True, eq=False)
@@ -113,23 +113,24 @@ def geometry_triangles(geometry) -> tuple[np.ndarray, np.ndarray] | None:
 _CACHE_VERSION = "cover-v7"
 
 
-def _cache_dir() -> Path | None:
-    """Folder of the on-disk cache of sphere covers: $MANIP_CACHE_DIR, else ~/.cache/manip
-    ($XDG_CACHE_HOME honoured); MANIP_CACHE_DIR=off disables it."""
-    env = os.environ.get("MANIP_CACHE_DIR")
-    if env is not None:
-        return None if env.lower() in ("", "0", "off", "none") else Path(env)
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base) / "manip"
+def _announce(robot: str | None) -> None:
+    """One log line per robot and process when its geometry is computed rather than read."""
+    if robot is not None and robot not in _ANNOUNCED:
+        _ANNOUNCED.add(robot)
+        folder = user_folder()
+        logger.warning("computing the collision geometry of '%s' (sphere covers, self-pair bounds): 5-70 s of CPU "
+                       "once, cached %s", robot, f"in {folder}" if folder is not None else "nowhere (MANIP_CACHE_DIR=off)")
 
 
-def sphere_cover(geometry, tolerance: float = 0.02, max_spheres: int = 48) -> tuple[np.ndarray, np.ndarray]:
+def sphere_cover(geometry, tolerance: float = 0.02, max_spheres: int = 48, *,
+                 robot: str | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Sphere cover (centres (K, 3), radii (K,)) of a coal geometry in its own frame.
 
     Triangle meshes are surfaces for coal, so their cover holds their surface; primitives
     (boxes, cylinders, capsules) are solids, so theirs holds their whole bounding box.
-    Covers are cached in memory and on disk (`_cache_dir()`), keyed by the triangles and
-    the parameters; computing one takes 0.1-1 s for a robot link.
+    Covers are cached in memory and on disk (`manip.disk_cache`), keyed by the triangles and
+    the parameters; computing one takes 0.1-1 s for a robot link (`robot`: the name a log line
+    gives when it is computed).
     """
     if isinstance(geometry, coal.Sphere):
         return np.zeros((1, 3)), np.array([float(geometry.radius)])
@@ -141,25 +142,20 @@ def sphere_cover(geometry, tolerance: float = 0.02, max_spheres: int = 48) -> tu
     digest = hashlib.sha1(V.tobytes() + F.astype(np.int64).tobytes()
                           + f"{_CACHE_VERSION}/{tolerance!r}/{max_spheres}/{solid}".encode()).hexdigest()
     if digest not in _COVER_CACHE:
-        folder = _cache_dir()
-        file = folder / f"spheres-{digest}.npz" if folder is not None else None
+        cache = default_cache()
+        name = f"spheres-{digest}.npz"
+        file = cache.find(name)
         C = R = None
-        if file is not None and file.is_file():
+        if file is not None:
             try:
                 with np.load(file) as z:
                     C, R = z["centres"], z["radii"]
             except Exception:  # a corrupt cache entry is recomputed
                 C = R = None
         if C is None:
+            _announce(robot)
             C, R = cover_with_spheres(V, F, tolerance=tolerance, max_spheres=max_spheres, solid=solid)
-            if file is not None:
-                try:
-                    folder.mkdir(parents=True, exist_ok=True)
-                    tmp = file.with_suffix(f".{os.getpid()}.tmp.npz")
-                    np.savez(tmp, centres=C, radii=R)
-                    os.replace(tmp, file)
-                except OSError as exc:
-                    logger.debug("sphere cache not written (%s)", exc)
+            cache.write(name, lambda path: np.savez(path, centres=C, radii=R))
         _COVER_CACHE[digest] = (np.asarray(C, dtype=float), np.asarray(R, dtype=float))
     C, R = _COVER_CACHE[digest]
     return C.copy(), R.copy()
@@ -230,8 +226,8 @@ class RobotGeometry:
         for go in geom.geometryObjects:
             link = model.frames[go.parentFrame].name
             joint = joint_names.index(model.names[go.parentJoint])
-            C, R = sphere_cover(go.geometry, self.sphere_tolerance)
-            Cc, Rc = sphere_cover(go.geometry, COARSE_TOLERANCE, COARSE_MAX_SPHERES)
+            C, R = sphere_cover(go.geometry, self.sphere_tolerance, robot=config.name)
+            Cc, Rc = sphere_cover(go.geometry, COARSE_TOLERANCE, COARSE_MAX_SPHERES, robot=config.name)
             Rg = go.placement.rotation.copy()
             pg = go.placement.translation.copy()
             parts.append(RobotPart(go.name, link, joint, Rg, pg, go.geometry, C @ Rg.T + pg, R, Cc @ Rg.T + pg, Rc))
@@ -251,7 +247,7 @@ class RobotGeometry:
         self.self_pairs: list[tuple[int, int]] = pairs
         # pairs that can never come within PROOF_CLEARANCE (`manip.collision.self_pairs`)
         digests = [_part_digest(part) for part in parts]
-        cache = _cache_dir()
+        cache = default_cache()
         self.proved_clear: dict[tuple[int, int], float] = {}
         for a, b in pairs:
             bound = prove_pair_clear(parts, a, b, kin, digests=digests, cache=cache)

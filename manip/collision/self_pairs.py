@@ -35,13 +35,12 @@ import hashlib
 import json
 import logging
 import math
-import os
 from collections.abc import Sequence
-from pathlib import Path
 
 import coal
 import numpy as np
 
+from manip.disk_cache import DiskCache
 from manip.kinematics import Kinematics
 
 logger = logging.getLogger(__name__)
@@ -103,7 +102,7 @@ def _key(digests: Sequence[str], a: int, b: int, kinematics: Kinematics, rel: li
 
 
 def prove_pair_clear(parts: Sequence, a: int, b: int, kinematics: Kinematics, *, digests: Sequence[str],
-                     cache: Path | None = None) -> float | None:
+                     cache: DiskCache | None = None) -> float | None:
     """A lower bound [m] (>= PROOF_CLEARANCE) of the distance between parts a and b over
     every configuration within the joint limits, or None when it cannot be proved.
 
@@ -114,7 +113,7 @@ def prove_pair_clear(parts: Sequence, a: int, b: int, kinematics: Kinematics, *,
         kinematics: the robot's `Kinematics` (joint chain, limits).
         digests: one string per part identifying its geometry, placement and cover (the
             key of the on-disk cache, with the joint chain and limits).
-        cache: folder of the on-disk cache (None: no cache).
+        cache: the on-disk cache (None: no cache).
     """
     pa, pb = parts[a], parts[b]
     rel = relative_joints(kinematics, pa.joint, pb.joint)
@@ -137,26 +136,20 @@ def prove_pair_clear(parts: Sequence, a: int, b: int, kinematics: Kinematics, *,
     return bound
 
 
-def _cached_or_proved(key: str, cache: Path | None, pa, pb, kinematics: Kinematics, qidx: np.ndarray,
+def _cached_or_proved(key: str, cache: DiskCache | None, pa, pb, kinematics: Kinematics, qidx: np.ndarray,
                       rel: list[int], lo: np.ndarray, hi: np.ndarray, L: np.ndarray, base: np.ndarray) -> float | None:
     """The proof's result from the disk cache, else computed (and written to the cache)."""
-    folder = cache
-    file = folder / f"selfpair-{key}.json" if folder is not None else None
-    if file is not None and file.is_file():
+    name = f"selfpair-{key}.json"
+    file = cache.find(name) if cache is not None else None
+    if file is not None:
         try:
             bound = json.loads(file.read_text())["bound"]
             return None if bound is None else float(bound)
         except (OSError, ValueError, KeyError):  # a corrupt entry is recomputed
             pass
     bound = _subdivide(pa, pb, kinematics, qidx, rel, lo, hi, L, base)
-    if file is not None:
-        try:
-            folder.mkdir(parents=True, exist_ok=True)
-            tmp = file.with_suffix(f".{os.getpid()}.tmp")
-            tmp.write_text(json.dumps({"bound": bound}))
-            os.replace(tmp, file)
-        except OSError as exc:
-            logger.debug("self-pair proof not cached (%s)", exc)
+    if cache is not None:
+        cache.write(name, lambda path: path.write_text(json.dumps({"bound": bound})))
     return bound
 
 

@@ -37,7 +37,7 @@ import math
 import mujoco
 import numpy as np
 from mink import Configuration, Constraint, Limit
-from numba import njit
+from manip.jit import kernel
 
 #: Rows of a pair's local box in `model.geom_aabb`: centre (3) then half extents (3).
 _AABB_CENTRE = slice(0, 3)
@@ -89,7 +89,7 @@ def self_collision_pairs(
     return pairs
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _aabb_candidates(xpos, xmat, geoms, centre, half, s1, s2, distance):  # pragma: no cover (compiled)
     """Pairs (s1[k], s2[k]) of `geoms` whose world-aligned boxes are closer than `distance`.
 

@@ -29,7 +29,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from manip.jit import kernel
 
 from manip import quaternion as quat
 from manip.kinematics import chain_frames, frame_jacobian_into
@@ -61,7 +61,7 @@ def _log3_batch(E: np.ndarray) -> np.ndarray:
     return out
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _log3_into(E, out):
     """Rotation vector out (3,) of the rotation matrix E (3, 3), robust up to pi (see `_log3_batch`)."""
     cos = min(max(0.5 * (E[0, 0] + E[1, 1] + E[2, 2] - 1.0), -1.0), 1.0)
@@ -93,7 +93,7 @@ def _log3_into(E, out):
     out[2] = f * (E[1, 0] - E[0, 1])
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _dls_step(Jac, e, lam, dq):
     """dq = J^T (J J^T + lam I)^-1 e (damped least squares; Cholesky of the 6x6 matrix)."""
     m, n = Jac.shape
@@ -134,14 +134,14 @@ def _dls_step(Jac, e, lam, dq):
         dq[k] = acc
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _work_arrays(joints, dof):
     """Work arrays of `_pose_error_into` for a chain of `joints` joints: R, p, Rf, pf, E, w, Jac, e."""
     return (np.empty((joints + 1, 3, 3)), np.empty((joints + 1, 3)), np.empty((3, 3)), np.empty(3), np.empty((3, 3)),
             np.empty(3), np.empty((6, dof)), np.empty(6))
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _pose_error_into(q, q_index, parent, table, chain, axes, revolute, f_joint, f_R, f_p, R_goal, p_goal, R, p, Rf, pf,
                      E, w, Jac, e):
     """Frame Jacobian Jac (6, dof) and pose error e (6,) = [p_goal - p(q); log(R_goal R(q)^T)] at q
@@ -157,7 +157,7 @@ def _pose_error_into(q, q_index, parent, table, chain, axes, revolute, f_joint, 
     return math.sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]), math.sqrt(e[3] * e[3] + e[4] * e[4] + e[5] * e[5])
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _lm_lanes(Q0, q_index, parent, table, chain, axes, revolute, f_joint, f_R, f_p, R_goal, p_goal, lower, upper,
               tol_p, tol_r, damping, min_damping, max_step, max_iterations, stall):
     """One damped-least-squares descent from each row of Q0 (K, dof) to one frame pose.
@@ -246,7 +246,7 @@ def _solve_spd(A: np.ndarray, b: np.ndarray) -> np.ndarray:
     return x
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _slide_lanes(Q0, q_ref, q_index, parent, table, chain, axes, revolute, f_joint, f_R, f_p, R_goal, p_goal, lower,
                  upper, gain, lam, max_step, max_iterations, tol_step, tol_p, tol_r):
     """Each row of Q0 (K, dof) (a solution of one frame pose) moved along its self-motion towards q_ref.

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import piqp
 import scipy.sparse as sp
-from numba import njit
+from manip.jit import kernel
 
 #: Regularisation of the slack and ray variables (their objective is linear).
 SLACK_REGULARISATION = 1e-9
@@ -27,7 +27,7 @@ PIQP_EPS = 1e-6
 _SOLVER_OPTIONS = {"osqp": {"eps_abs": 1e-6, "eps_rel": 1e-6, "polish": True, "verbose": False}}
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _nonzeros_by_row(M: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(data, indices, indptr) of M (r, c) compressed by rows (= M.T in CSC)."""
     r, c = M.shape

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import ruckig
-from numba import njit
+from manip.jit import kernel
 
 from manip.timing.shared import LIMIT_MARGIN, RestToRest, RuckigFailure
 from manip.trajectory import PiecewiseJerkProfile
@@ -156,7 +156,7 @@ def segment_deviation(seg: Segment, sub_path: np.ndarray) -> float:
                                         np.ascontiguousarray(sub_path, dtype=np.float64)))
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def max_polyline_distance(knots, p0, v0, a0, j, ts, path):  # pragma: no cover - compiled
     """max over the times ts (N,) of the Euclidean distance [rad] from the constant-jerk
     pieces (`evaluate_pieces`' arrays: knots (dof, M+1), p0, v0, a0, j (dof, M)) to the

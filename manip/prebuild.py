@@ -1,0 +1,139 @@
+"""Build manip's prebuilt files: the compiled kernels and the shipped robots' geometry.
+
+    python -m manip.prebuild            # into manip/_prebuilt/ (about 1-2 min of CPU)
+
+Run once where manip is installed from source (`make setup` does) and before building a
+wheel (the wheel carries `manip/_prebuilt/`). It starts one child process that
+
+- compiles every kernel for the generic CPU of this architecture (`manip.jit`) by running
+  a workload that meets every one of them: plans of each kind, IK, clearance and the reactive
+  controller on the Panda, a joint plan and an IK call on every shipped arm;
+- computes the shipped robots' sphere covers and self-pair proofs (`manip.disk_cache`),
+
+then writes `_prebuilt/kernels/manifest.json` (numba, Python, architecture and the digest of
+every kernel module: the kernels are used only where all of these match). A first plan in a
+fresh environment then loads kernels instead of compiling them (`benchmarks/cold_start.py`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from manip import jit
+from manip.disk_cache import PREBUILT_GEOMETRY
+from manip.robot_config import available_robots
+
+logger = logging.getLogger(__name__)
+
+
+def workload(robots: list[str]) -> list[str]:
+    """Meet every kernel, and build the geometry of `robots`: returns the names of the kernels
+    compiled (in this process). Raises RuntimeError when a plan of the workload fails."""
+    from manip import MotionGenerator, Pose, WorldConfig
+
+    world = WorldConfig.from_dict({
+        "cuboid": {"table": {"dims": [0.8, 1.2, 0.04], "pose": [0.55, 0, -0.02, 1, 0, 0, 0]},
+                   "post": {"dims": [0.06, 0.06, 0.5], "pose": [0.45, 0.0, 0.25, 1, 0, 0, 0]}},
+        "sphere": {"ball": {"radius": 0.05, "position": [-0.4, 0.4, 0.6]}},
+        "capsule": {"rod": {"radius": 0.02, "base": [0, 0, 0], "tip": [0, 0, 0.2],
+                            "pose": [-0.4, -0.4, 0.3, 1, 0, 0, 0]}},
+        "cylinder": {"can": {"radius": 0.03, "height": 0.12, "pose": [0.6, 0.3, 0.06, 1, 0, 0, 0]}},
+    })
+    mg = MotionGenerator("franka", world)
+    q0 = mg.default_joint_positions
+    goal = Pose([0.45, 0.3, 0.35], [0, 1, 0, 0])
+    q1 = mg.ik(goal, seed_q=q0).q
+    goals = Pose(np.array([[0.45, -0.3, 0.35], [0.5, 0.3, 0.3]]), np.array([[0, 1, 0, 0]] * 2))
+    results = [
+        mg.plan_joints(q0, q1, seed=0),
+        mg.plan_pose(q0, goal, seed=0),
+        mg.plan_pose(q0, goal, seed=0, smoothness="smooth", optimize_clearance=True),
+        mg.plan_pose(q1, Pose(goal.position + [0, 0, 0.1], goal.quaternion), linear=True),
+        mg.plan_goalset(q0, goals, seed=0),
+        *mg.plan_batch(np.array([q0, q1]), np.array([q1, q0]), seed=0),
+    ]
+    failed = [r.status.name for r in results if not r.success]
+    if failed:
+        raise RuntimeError(f"the prebuild workload's plans failed: {failed}")
+    mg.batch_ik(goals)
+    mg.distance(q0)
+    mg.check_collision(q0)
+    _reactive_control()
+    for name in robots:
+        if name != "franka":
+            MotionGenerator(name)
+    return sorted(jit.compiled_names())
+
+
+def _reactive_control() -> None:
+    """One step of the reactive controller with an obstacle (its collision kernel)."""
+    from manip.control import ReactiveController
+
+    from manip import Pose, WorldConfig
+
+    world = WorldConfig.from_dict({"cuboid": {"box": {"dims": [0.1, 0.1, 0.1], "pose": [0.45, 0.0, 0.45, 1, 0, 0, 0]}}})
+    ctl = ReactiveController("franka", world)
+    q = ctl.rest_configuration
+    for _ in range(3):
+        q = ctl.step(q, Pose([0.45, 0.0, 0.3], [0, 1, 0, 0]), 1 / 60).q
+
+
+def _child(out: Path, robots: list[str]) -> None:
+    started = time.process_time()
+    names = workload(robots)
+    manifest = {"environment": jit.environment(), "sources": jit.source_digest(jit.kernel_files()),
+                "kernels": names, "built": time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime()),
+                "cpu_seconds": round(time.process_time() - started, 1)}
+    (out / "manifest.json").write_text(json.dumps(manifest, indent=1))
+
+
+def build(robots: list[str], out_kernels: Path = jit.PREBUILT_KERNELS, out_geometry: Path = PREBUILT_GEOMETRY) -> dict:
+    """Rebuild the prebuilt kernels and the geometry of `robots` (in a child process); returns
+    the manifest."""
+    for folder in (out_kernels, out_geometry):
+        shutil.rmtree(folder, ignore_errors=True)
+        folder.mkdir(parents=True)
+    with tempfile.TemporaryDirectory(prefix="manip-prebuild-") as numba_cache:
+        env = dict(os.environ, NUMBA_CPU_NAME=jit.PORTABLE_CPU, NUMBA_CPU_FEATURES="", NUMBA_CACHE_DIR=numba_cache,
+                   MANIP_CACHE_DIR=str(out_geometry), **{jit.BUILD_ENV: str(out_kernels)})
+        subprocess.run([sys.executable, "-m", "manip.prebuild", "--child", str(out_kernels), "--robots", *robots],
+                       env=env, check=True)
+    return json.loads((out_kernels / "manifest.json").read_text())
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--robots", nargs="+", default=["all"], metavar="NAME",
+                        help="shipped robots whose collision geometry is prebuilt (default: all of them; the "
+                             "kernels are built either way)")
+    parser.add_argument("--child", metavar="DIR", help=argparse.SUPPRESS)
+    args = parser.parse_args(argv)
+    logging.basicConfig(level=logging.WARNING, format="%(message)s")
+    robots = available_robots() if args.robots == ["all"] else args.robots
+    unknown = sorted(set(robots) - set(available_robots()))
+    if unknown:
+        parser.error(f"unknown robots {unknown}; shipped: {available_robots()}")
+    if args.child:
+        _child(Path(args.child), robots)
+        return 0
+    t = time.perf_counter()
+    manifest = build(robots)
+    print(f"prebuilt {len(manifest['kernels'])} kernels and the geometry of {', '.join(robots)} "
+          f"({manifest['cpu_seconds']} s of CPU) for {manifest['environment']} into {jit.PREBUILT_KERNELS.parent} "
+          f"in {time.perf_counter() - t:.0f} s")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
