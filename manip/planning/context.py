@@ -159,6 +159,11 @@ class PlanContext:
         """Record the total time; `message` with SAFETY_NET added when the deadline has passed
         (then some stage may have seen it: every deadline check is `perf_counter() > deadline`)."""
         now = time.perf_counter()
+        self.timings.pop("other", None)
+        staged = sum(self.timings.get(k, 0.0) for k in self.timings if k != "total")
+        # the stages account for all of "total": what ran outside them (input and start/goal
+        # checks, the world snapshot) is "other"
+        self.timings["other"] = max(0.0, (now - self.t0) - staged)
         self.timings["total"] = now - self.t0
         if now <= self.deadline:
             return message

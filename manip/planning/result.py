@@ -64,7 +64,8 @@ class PlanResult:
             planning failed before a path existed).
         goal_q: (dof,) the goal configuration reached (or aimed at).
         timings: seconds per stage ("ik", "plan", "optimize" (shortcutting), "restarts"
-            (more searches after a detour), "trajopt", "timing", "validate", "total").
+            (more searches after a detour), "trajopt", "timing", "validate", "other" (input and
+            start/goal checks: everything outside the named stages) and "total", their sum).
         position_error: final link position error [m] (pose goals; 0 for joint goals).
         rotation_error: final link rotation error [rad] (pose goals; 0 for joint goals).
         attempts: planning attempts used.
