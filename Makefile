@@ -44,7 +44,8 @@ wheel: $(FULL)
 	$(PY) -m manip.prebuild --robots all
 	$(PY) -m pip install --quiet build twine
 	rm -rf dist
-	$(PY) -m build
+	$(PY) -m build --wheel    # from the checkout: the sdist leaves the prebuilt files out
+	$(PY) -m build --sdist
 	$(PY) -m twine check dist/*
 
 # Benchmarks (results go to BENCHMARKS.md); the peers come with the bench extra.

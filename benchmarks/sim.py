@@ -7,7 +7,7 @@ it. Each physics step (1/60 s, 9 MuJoCo substeps) the arm gets new position targ
 smooth joint-space motion through `apply_action` (the wrapper work a controller causes) and
 the cube pose and joint positions are read back. The process is pinned to one core.
 Real-time factor = simulated time / wall time; the median of the repeats is reported.
-`--web` adds the browser viewer's cost (`SimulationApp({"viewer": "web"})`, manip[viz]):
+`--web` adds the browser viewer's cost (`SimulationApp({"viewer": "web"})`, manip-robotics[viz]):
 the same stepping while the World is streamed at 30 Hz of wall time, and the cost of one
 streamed frame; `--web-client` keeps a headless chromium connected to it meanwhile.
 `--write-md` replaces the `## Simulation` section of BENCHMARKS.md. Exit status 1 when the
@@ -207,7 +207,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--seconds", type=float, default=20.0, help="simulated seconds per run")
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--video", action="store_true", help="also time MP4 recording (needs EGL/OSMesa)")
-    parser.add_argument("--web", action="store_true", help="also time the browser viewer (manip[viz])")
+    parser.add_argument("--web", action="store_true", help="also time the browser viewer (manip-robotics[viz])")
     parser.add_argument("--web-client", action="store_true", help="with --web: keep headless chromium connected")
     parser.add_argument("--write-md", action="store_true", help="update the Simulation section of BENCHMARKS.md")
     args = parser.parse_args(argv)

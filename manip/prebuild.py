@@ -55,13 +55,14 @@ def workload(robots: list[str]) -> list[str]:
     goal = Pose([0.45, 0.3, 0.35], [0, 1, 0, 0])
     q1 = mg.ik(goal, seed_q=q0).q
     goals = Pose(np.array([[0.45, -0.3, 0.35], [0.5, 0.3, 0.3]]), np.array([[0, 1, 0, 0]] * 2))
+    slow = {"seed": 0, "time_budget": 900.0}  # the first plans compile kernels for tens of seconds
     results = [
-        mg.plan_joints(q0, q1, seed=0),
-        mg.plan_pose(q0, goal, seed=0),
-        mg.plan_pose(q0, goal, seed=0, smoothness="smooth", optimize_clearance=True),
-        mg.plan_pose(q1, Pose(goal.position + [0, 0, 0.1], goal.quaternion), linear=True),
-        mg.plan_goalset(q0, goals, seed=0),
-        *mg.plan_batch(np.array([q0, q1]), np.array([q1, q0]), seed=0),
+        mg.plan_joints(q0, q1, **slow),
+        mg.plan_pose(q0, goal, **slow),
+        mg.plan_pose(q0, goal, smoothness="smooth", optimize_clearance=True, **slow),
+        mg.plan_pose(q1, Pose(goal.position + [0, 0, 0.1], goal.quaternion), linear=True, **slow),
+        mg.plan_goalset(q0, goals, **slow),
+        *mg.plan_batch(np.array([q0, q1]), np.array([q1, q0]), **slow),
     ]
     failed = [r.status.name for r in results if not r.success]
     if failed:

@@ -402,7 +402,7 @@ def test_warm_up_loads_every_kernel_that_planning_meets():
 @pytest.fixture(scope="module")
 def ray_cluster():
     """Ray's test cluster: two nodes of one CPU each, on this machine."""
-    ray = pytest.importorskip("ray", reason="the Ray backend needs the ray extra: pip install 'manip[ray]'")
+    ray = pytest.importorskip("ray", reason="the Ray backend needs the ray extra: pip install 'manip-robotics[ray]'")
     from ray.cluster_utils import Cluster
 
     cluster = Cluster(initialize_head=True, head_node_args={"num_cpus": 1})

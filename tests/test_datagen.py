@@ -12,8 +12,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-pytest.importorskip("pyarrow", reason="manip.datagen needs the datagen extra: pip install 'manip[datagen]'")
-pd = pytest.importorskip("pandas", reason="manip.datagen needs the datagen extra: pip install 'manip[datagen]'")
+pytest.importorskip("pyarrow", reason="manip.datagen needs the datagen extra: pip install 'manip-robotics[datagen]'")
+pd = pytest.importorskip("pandas", reason="manip.datagen needs the datagen extra: pip install 'manip-robotics[datagen]'")
 
 from manip.batch import problem_seed  # noqa: E402
 from manip.benchmarking.verify import default_verifier  # noqa: E402

@@ -72,7 +72,7 @@ def import_ray() -> Any:
     try:
         import ray
     except ImportError as exc:
-        raise ManipError('backend="ray" needs Ray: pip install "manip[ray]"') from exc
+        raise ManipError('backend="ray" needs Ray: pip install "manip-robotics[ray]"') from exc
     return ray
 
 

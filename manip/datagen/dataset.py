@@ -46,7 +46,7 @@ def _pa() -> Any:
         import pyarrow as pa
         import pyarrow.parquet as pq
     except ImportError as exc:
-        raise InvalidInputError('writing a dataset needs pyarrow: pip install "manip[datagen]"') from exc
+        raise InvalidInputError('writing a dataset needs pyarrow: pip install "manip-robotics[datagen]"') from exc
     return pa, pq
 
 
@@ -184,7 +184,7 @@ def read_dataset(out: str | Path, columns: list[str] | None = None) -> Any:
     try:
         import pandas as pd
     except ImportError as exc:
-        raise InvalidInputError('reading a dataset needs pandas: pip install "manip[datagen]"') from exc
+        raise InvalidInputError('reading a dataset needs pandas: pip install "manip-robotics[datagen]"') from exc
     if not any(Path(out).glob("part-*.parquet")):
         raise InvalidInputError(f"no part-*.parquet file in {out}")
     names = _schema().names

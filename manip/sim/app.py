@@ -6,7 +6,7 @@ render of the World (`world.step(render=True)`, `world.render()`, `app.update()`
 it, paced to real time. Headless runs need no display.
 
 `SimulationApp({"headless": False, "viewer": "web"})` serves the World in the browser
-instead (viser, `pip install "manip[viz]"`; no display needed): the bodies' poses are
+instead (viser, `pip install "manip-robotics[viz]"`; no display needed): the bodies' poses are
 streamed at each render, at most `web_rate` (30) times per second of wall time, to
 http://localhost:`web_port` (8080; the next free port if taken, see `viewer_url`). The
 web viewer is created lazily: importing `manip.sim` never imports viser.
@@ -176,7 +176,7 @@ class SimulationApp:
             from manip.viz.sim_stream import SimStream
         except ImportError as exc:
             raise SimulationError(
-                f"the web viewer needs viser ({exc}): pip install \"manip[viz]\"; or run headless"
+                f"the web viewer needs viser ({exc}): pip install \"manip-robotics[viz]\"; or run headless"
             ) from exc
         if self._web_server is None:
             self._web_server = start_server(self.config["web_host"], self.config["web_port"], grid=False)

@@ -4,7 +4,7 @@ MuJoCo renders offscreen through EGL (GPU or Mesa; Debian/Ubuntu package `libegl
 OSMesa (pure software; package `libosmesa6`). The backend is chosen once, at the first
 render, by `manip.sim.gl_backend.ensure_offscreen_gl` (EGL or OSMesa when `MUJOCO_GL` is
 unset and there is no display). Writing MP4 needs the `video` extra
-(`pip install manip[video]`: imageio + imageio-ffmpeg).
+(`pip install "manip-robotics[video]"`: imageio + imageio-ffmpeg).
 """
 
 from __future__ import annotations
@@ -74,7 +74,7 @@ class Recorder:
         try:
             import imageio.v2 as imageio
         except ImportError as exc:
-            raise OffscreenRenderingError("writing MP4 needs the video extra: pip install 'manip[video]'") from exc
+            raise OffscreenRenderingError("writing MP4 needs the video extra: pip install 'manip-robotics[video]'") from exc
         if width <= 0 or height <= 0 or width > model.vis.global_.offwidth or height > model.vis.global_.offheight:
             raise InvalidInputError(
                 f"frame size {width}x{height} must be positive and at most "

@@ -13,7 +13,7 @@ import subprocess
 import numpy as np
 import pytest
 
-pytest.importorskip("viser", reason="the viewer needs the viz extra: pip install 'manip[viz]'")
+pytest.importorskip("viser", reason="the viewer needs the viz extra: pip install 'manip-robotics[viz]'")
 imageio = pytest.importorskip("imageio.v3", reason="reading the screenshot needs imageio (the video extra)")
 
 from manip import MotionGenerator  # noqa: E402

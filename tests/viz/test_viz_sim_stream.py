@@ -29,7 +29,7 @@ def test_bad_viewer_settings_are_refused():
 
 
 def test_world_bodies_stream_to_the_browser(port, monkeypatch):
-    pytest.importorskip("viser", reason="the web viewer needs the viz extra: pip install 'manip[viz]'")
+    pytest.importorskip("viser", reason="the web viewer needs the viz extra: pip install 'manip-robotics[viz]'")
     rate = 50.0
     app = SimulationApp({"headless": False, "viewer": "web", "web_port": port, "web_rate": rate, "realtime": False})
     try:

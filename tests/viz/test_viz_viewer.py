@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-pytest.importorskip("viser", reason="the viewer needs the viz extra: pip install 'manip[viz]'")
+pytest.importorskip("viser", reason="the viewer needs the viz extra: pip install 'manip-robotics[viz]'")
 
 from manip import MotionGenerator, Pose  # noqa: E402
 from manip.collision import Capsule, Cuboid, Cylinder, Mesh, Sphere, WorldConfig  # noqa: E402
