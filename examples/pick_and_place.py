@@ -61,9 +61,10 @@ PICK_AREA_Y = (-0.35, 0.35)
 MIN_DISTANCE_TO_PLACE = 0.15  # [m] random cubes start at least this far from the place position
 REPICK_DISTANCE = 0.03  # [m] a resting cube farther than this from the place position is picked again
 SUCCESS_TOLERANCE = 0.01  # [m] placed = final cube centre within this of the place position
-#: --video's measured cost (1 episode, 4.9 s simulated, 61 s of wall time, EGL on Mesa's
-#: software renderer, 2-core VM, 2026-11-28).
-VIDEO_COST = "12 s of wall time per simulated second (0.08x real time) with software OpenGL on a 2-core VM"
+#: --video's measured cost (`--episodes 1`, 4.9 s simulated: 61.3 s of wall time with
+#: `--video`, 0.70 s without; EGL on Mesa's software renderer, 2-core VM, 2026-11-28).
+VIDEO_COST = ("12 s of wall time per simulated second (0.08x real time, against 7x without a video; measured with "
+              "software OpenGL on a 2-core VM)")
 
 APPROACH_HEIGHT = 0.15  # [m] pre-grasp / pre-place / lift height of the TCP above the grasp
 GRASP_HEIGHT = 0.003  # [m] TCP this far above the cube centre at the grasp
@@ -670,7 +671,7 @@ def main(argv: list[str] | None = None) -> int:
                              "needed; pip install \"manip-robotics[viz]\"), served until Ctrl-C.")
     parser.add_argument("--video", metavar="PATH",
                         help=f"Record an MP4 (offscreen). Rendering costs about {VIDEO_COST}, so a run with "
-                             "a video takes several times longer.")
+                             "a video takes about 90 times as long.")
     parser.add_argument("--plot", metavar="PATH", help="Write a PNG of the joint position, velocity, acceleration "
                         "and jerk of the last episode's motions, limits drawn.")
     parser.add_argument("--quiet", action="store_true", help="Print no per-phase progress lines.")
