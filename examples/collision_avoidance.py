@@ -21,8 +21,8 @@ DOWN = np.array([0.0, 1.0, 0.0, 0.0])
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--seed", type=int, default=0)
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--seed", type=int, default=0, help="Seed of the planning (default 0).")
     args = parser.parse_args(argv)
 
     world = WorldConfig(

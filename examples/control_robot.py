@@ -18,12 +18,12 @@ import numpy as np
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--targets", type=int, default=5, help="number of random targets")
-    parser.add_argument("--hold", type=float, default=2.0, help="seconds per target")
-    parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--viewer", action="store_true", help="open the interactive viewer")
-    parser.add_argument("--video", metavar="PATH", help="write an MP4 (offscreen)")
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--targets", type=int, default=5, help="Number of random joint targets (default 5).")
+    parser.add_argument("--hold", type=float, default=2.0, help="Seconds spent on each target (default 2).")
+    parser.add_argument("--seed", type=int, default=0, help="Seed of the random targets (default 0).")
+    parser.add_argument("--viewer", action="store_true", help="Open MuJoCo's interactive viewer (needs a display).")
+    parser.add_argument("--video", metavar="PATH", help="Write an MP4 video (offscreen rendering, slower).")
     args = parser.parse_args(argv)
 
     from manip.sim import ArticulationAction, Franka, SimulationApp, World

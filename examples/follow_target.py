@@ -174,15 +174,16 @@ def report(r: dict) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--duration", type=float, default=20.0, help="seconds of target motion (default 20)")
-    parser.add_argument("--speed", type=float, default=0.2, help="target speed [m/s] (default 0.2)")
-    parser.add_argument("--no-obstacle", action="store_true", help="no box on the path")
-    parser.add_argument("--solver", default="daqp", help="qpsolvers backend (default daqp)")
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--duration", type=float, default=20.0, help="Seconds of target motion (default 20).")
+    parser.add_argument("--speed", type=float, default=0.2, help="Target speed [m/s] (default 0.2).")
+    parser.add_argument("--no-obstacle", action="store_true", help="Put no box on the target's path.")
+    parser.add_argument("--solver", default="daqp", help="The qpsolvers backend of the controller's QP (default daqp).")
     parser.add_argument("--viewer", nargs="?", const="native", choices=("native", "web"), default=None,
-                        help="--viewer: MuJoCo's window (needs a display); --viewer web: the browser (manip[viz])")
-    parser.add_argument("--video", metavar="PATH", help="write an MP4 (offscreen)")
-    parser.add_argument("--verbose", action="store_true", help="print a line every 2 s")
+                        help="--viewer: MuJoCo's window (needs a display). --viewer web: the browser (no display "
+                             "needed; pip install \"manip-robotics[viz]\").")
+    parser.add_argument("--video", metavar="PATH", help="Write an MP4 video (offscreen rendering, slower).")
+    parser.add_argument("--verbose", action="store_true", help="Print a line every 2 s of simulated time.")
     args = parser.parse_args(argv)
     r = run(args.duration, args.speed, not args.no_obstacle, args.solver, args.viewer, args.video, args.verbose)
     print(report(r))

@@ -3,7 +3,8 @@
     python examples/forward_kinematics.py
     python examples/forward_kinematics.py --batch 8 --links panda_link4 panda_hand panda_hand_tcp
 
-Every pose is in the robot's base frame (panda_link0): position [m] and quaternion (w, x, y, z).
+Every pose is in the robot's base frame (panda_link0): position [m] and quaternion (w, x, y, z),
+manip's order everywhere (ROS's (x, y, z, w) converts with `Pose.from_xyz_xyzw` / `to_xyz_xyzw`).
 """
 
 from __future__ import annotations
@@ -24,11 +25,14 @@ def fmt(pose: Pose) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--robot", default="franka")
-    parser.add_argument("--links", nargs="+", default=["panda_link4", "panda_hand", "panda_hand_tcp"])
-    parser.add_argument("--batch", type=int, default=5, help="random configurations to evaluate at once")
-    parser.add_argument("--seed", type=int, default=0)
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--robot", default="franka",
+                        help="A shipped robot's name or the folder of a robot.yaml (default franka).")
+    parser.add_argument("--links", nargs="+", default=["panda_link4", "panda_hand", "panda_hand_tcp"],
+                        help="Links (any frames of the URDF) whose poses are printed.")
+    parser.add_argument("--batch", type=int, default=5,
+                        help="Number of random configurations evaluated at once (default 5).")
+    parser.add_argument("--seed", type=int, default=0, help="Seed of the random configurations (default 0).")
     args = parser.parse_args(argv)
 
     mg = MotionGenerator(args.robot)
@@ -44,8 +48,9 @@ def main(argv: list[str] | None = None) -> int:
     Q = rng.uniform(mg.lower_limits, mg.upper_limits, (args.batch, len(mg.joint_names)))
     for link in args.links:
         poses = mg.fk(Q, link)
-        print(f"\n{link}: batch of {len(poses)}, [x, y, z, qx, qy, qz, qw] (ROS order) per row:")
-        print(np.array2string(poses.to_xyz_xyzw(), precision=4, suppress_small=True, separator=", "))
+        print(f"\n{link}: batch of {len(poses)}, one [x, y, z, qw, qx, qy, qz] per row "
+              "(position [m], quaternion (w, x, y, z)):")
+        print(np.array2string(poses.to_xyz_wxyz(), precision=4, suppress_small=True, separator=", "))
         # the batch agrees with one-at-a-time evaluation
         for i in range(len(poses)):
             if not poses[i].isclose(mg.fk(Q[i], link), position_tol=1e-9, rotation_tol=1e-6):

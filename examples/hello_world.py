@@ -16,10 +16,10 @@ import numpy as np
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--steps", type=int, default=500, help="world steps (1/60 s each)")
-    parser.add_argument("--viewer", action="store_true", help="open the interactive viewer")
-    parser.add_argument("--video", metavar="PATH", help="write an MP4 (offscreen)")
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--steps", type=int, default=500, help="World steps of 1/60 s each (default 500).")
+    parser.add_argument("--viewer", action="store_true", help="Open MuJoCo's interactive viewer (needs a display).")
+    parser.add_argument("--video", metavar="PATH", help="Write an MP4 video (offscreen rendering, slower).")
     args = parser.parse_args(argv)
 
     from manip.sim import DynamicCuboid, SimulationApp, World

@@ -28,10 +28,13 @@ def show(name: str, r) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--robot", default="franka")
-    parser.add_argument("--batch", type=int, default=200, help="number of random reachable goals")
-    parser.add_argument("--seed", type=int, default=0)
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--robot", default="franka",
+                        help="A shipped robot's name or the folder of a robot.yaml (default franka).")
+    parser.add_argument("--batch", type=int, default=200,
+                        help="Number of random reachable goals solved as one batch (default 200).")
+    parser.add_argument("--seed", type=int, default=0,
+                        help="Seed of the random goals and of the IK restarts (default 0).")
     args = parser.parse_args(argv)
 
     mg = MotionGenerator(args.robot, seed=args.seed)
@@ -53,7 +56,7 @@ def main(argv: list[str] | None = None) -> int:
     rng = np.random.default_rng(args.seed)
     Q = rng.uniform(mg.lower_limits, mg.upper_limits, (args.batch, len(mg.joint_names)))
     goals = mg.fk(Q)
-    b = mg.ik(goals)
+    b = mg.batch_ik(goals)
     print(
         f"\nbatch of {len(goals)}: {int(b.success.sum())} solved in {b.solve_time * 1e3:.0f} ms "
         f"({b.success.sum() / b.solve_time:,.0f} solutions/s); worst errors "

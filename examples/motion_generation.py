@@ -45,12 +45,16 @@ def describe(label: str, result) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--time-budget", type=float, default=5.0, help="per plan [s]")
-    parser.add_argument("--plot", type=Path, default=None, metavar="PNG", help="write joint plots (limits drawn)")
-    parser.add_argument("--viewer", choices=("web",), default=None, help="show the plans in the browser (manip[viz])")
-    parser.add_argument("--port", type=int, default=8080, help="--viewer web: the port served")
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--seed", type=int, default=0, help="Seed of the planning (default 0).")
+    parser.add_argument("--time-budget", type=float, default=5.0, help="Time budget of each plan [s] (default 5).")
+    parser.add_argument("--plot", type=Path, default=None, metavar="PNG",
+                        help="Write joint plots with the limits drawn to this PNG file.")
+    parser.add_argument("--viewer", choices=("web",), default=None,
+                        help="Show the plans in the browser (pip install \"manip-robotics[viz]\"), served until "
+                             "Ctrl-C.")
+    parser.add_argument("--port", type=int, default=8080,
+                        help="The port --viewer web serves (default 8080; the next free one if taken).")
     args = parser.parse_args(argv)
 
     mg = MotionGenerator("franka", WorldConfig.from_dict(WORLD), seed=args.seed, time_budget=args.time_budget)

@@ -16,9 +16,9 @@ import numpy as np
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--steps", type=int, default=300, help="world steps (1/60 s each)")
-    parser.add_argument("--viewer", action="store_true", help="open the interactive viewer")
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--steps", type=int, default=300, help="World steps of 1/60 s each (default 300).")
+    parser.add_argument("--viewer", action="store_true", help="Open MuJoCo's interactive viewer (needs a display).")
     args = parser.parse_args(argv)
 
     from manip.sim import (ArticulationAction, BaseController, SimulationApp, WheeledRobot, World,

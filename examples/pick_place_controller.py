@@ -27,9 +27,9 @@ TOLERANCE = 0.02  # [m]
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--viewer", action="store_true", help="open the interactive viewer")
-    parser.add_argument("--video", metavar="PATH", help="write an MP4 (offscreen)")
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--viewer", action="store_true", help="Open MuJoCo's interactive viewer (needs a display).")
+    parser.add_argument("--video", metavar="PATH", help="Write an MP4 video (offscreen rendering, slower).")
     args = parser.parse_args(argv)
 
     from manip.sim import DynamicCuboid, Franka, PickPlaceController, SimulationApp, World

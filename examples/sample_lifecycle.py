@@ -19,9 +19,10 @@ import numpy as np
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--steps", type=int, default=120, help="world steps (1/60 s each) before the reset")
-    parser.add_argument("--viewer", action="store_true", help="open the interactive viewer")
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--steps", type=int, default=120,
+                        help="World steps of 1/60 s each before the reset (default 120).")
+    parser.add_argument("--viewer", action="store_true", help="Open MuJoCo's interactive viewer (needs a display).")
     args = parser.parse_args(argv)
 
     from manip.sim import BaseSample, PickPlace, SimulationApp, World

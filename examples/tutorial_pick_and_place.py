@@ -8,20 +8,30 @@ tutorial's code is below unchanged except:
   `from manip import TutorialMotionGen as CuroboMotionGenerator` (README, "Porting a tutorial");
 - the lines marked `# [manip]`: headless by default (`--viewer` opens MuJoCo's viewer, where
   a double-click selects the cube and Ctrl + right-drag moves it), the main loop bounded by
-  `--steps` in headless runs (the tutorial loops until its window closes), and an exit
-  status that says whether the cube ended at the place position.
+  `--steps` in headless runs (the tutorial loops until its window closes), the tutorial's
+  own output (800 lines of progress, "Please click PLAY to start.") hidden in headless runs
+  unless `--verbose`, and an exit status that says whether the cube ended at the place position.
 
-    python examples/tutorial_pick_and_place.py [--steps 1500] [--viewer]
+    python examples/tutorial_pick_and_place.py [--steps 1500] [--viewer] [--verbose]
 """
 import argparse  # [manip]
+import os  # [manip]
 import sys  # [manip]
 
-_parser = argparse.ArgumentParser(description="The Isaac Sim tutorial's pick and place on manip")  # [manip]
-_parser.add_argument("--viewer", action="store_true", help="open the interactive viewer (no step limit)")  # [manip]
+_parser = argparse.ArgumentParser(  # [manip]
+    description="The Isaac Sim tutorial's cuRobo pick and place on manip, with only its imports changed.")  # [manip]
+_parser.add_argument("--viewer", action="store_true",  # [manip]
+                     help="Open MuJoCo's interactive viewer (needs a display), with no step limit.")  # [manip]
 _parser.add_argument("--steps", type=int, default=None,  # [manip]
-                     help="world steps before stopping (default 1500 headless, unlimited with --viewer)")  # [manip]
+                     help="World steps before stopping (default 1500 headless, unlimited with --viewer).")  # [manip]
+_parser.add_argument("--verbose", action="store_true",  # [manip]
+                     help="Print the tutorial's own output when headless too (hidden by default).")  # [manip]
 _args = _parser.parse_args()  # [manip]
 _max_steps = _args.steps if _args.steps is not None else (None if _args.viewer else 1500)  # [manip]
+_quiet = not (_args.viewer or _args.verbose)  # [manip] headless: the tutorial's prints are for its GUI user
+if _quiet:  # [manip]
+    print("the Isaac Sim tutorial's pick and place, headless; its own output is hidden (--verbose shows it)")  # [manip]
+    _stdout, sys.stdout = sys.stdout, open(os.devnull, "w")  # [manip]
 
 # pick_and_place.py
 import numpy as np
@@ -416,6 +426,9 @@ while simulation_app.is_running() and (_max_steps is None  # [manip] bounded whe
 
 simulation_app.close()
 
+if _quiet:  # [manip]
+    sys.stdout.close()  # [manip]
+    sys.stdout = _stdout  # [manip]
 # [manip] exit status: the cube rests at the place position (within 2 cm)
 _place = np.array([0.06303193, 0.43660322, 0.02499907])  # [manip]
 _error = float(np.linalg.norm(target_cuboid.get_world_pose()[0] - _place))  # [manip]

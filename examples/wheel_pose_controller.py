@@ -14,10 +14,12 @@ import numpy as np
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--steps", type=int, default=1200, help="maximum world steps (1/60 s each)")
-    parser.add_argument("--goal", type=float, nargs=2, default=[0.8, 0.8], metavar=("X", "Y"))
-    parser.add_argument("--viewer", action="store_true", help="open the interactive viewer")
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--steps", type=int, default=1200,
+                        help="Largest number of world steps of 1/60 s each (default 1200).")
+    parser.add_argument("--goal", type=float, nargs=2, default=[0.8, 0.8], metavar=("X", "Y"),
+                        help="The goal position of the Jetbot [m] (default 0.8 0.8).")
+    parser.add_argument("--viewer", action="store_true", help="Open MuJoCo's interactive viewer (needs a display).")
     args = parser.parse_args(argv)
 
     from manip.sim import (DifferentialController, SimulationApp, WheelBasePoseController, WheeledRobot, World,

@@ -54,7 +54,7 @@ import numpy as np
 from manip.collision import CollisionChecker, WorldConfig
 from manip.collision.clearance import ClearanceModel
 from manip.errors import InvalidInputError
-from manip.ik import BatchIKResult, IKResult, IKSolver
+from manip.ik import BatchIKResult, IKResult, IKSolver, IKStatus
 from manip.kinematics import Kinematics
 from manip.planning.context import START_LIMIT_TOLERANCE, PlanContext
 from manip.planning.finish import time_and_validate
@@ -69,7 +69,7 @@ from manip.pose import Pose
 from manip.robot_config import RobotConfig, config_from_urdf, load_robot_config
 from manip.sim_bridge import world_config_from_sim
 from manip.timing import TimingLimits
-from manip.validation import flag, positive
+from manip.validation import as_real_array, flag, positive
 
 logger = logging.getLogger(__name__)
 
@@ -77,6 +77,10 @@ __all__ = ["MotionGenerator", "START_LIMIT_TOLERANCE"]
 
 #: Random IK starts tried for a pose goal when the first round finds no collision-free solution.
 IK_RETRY_ATTEMPTS = 400
+#: IK_FAIL messages report the first of these reasons found among the poses of a goal set
+#: (a pose out of reach says more than one whose solutions collide, which says more than one
+#: where IK did not converge).
+IK_FAILURE_ORDER = (IKStatus.OUT_OF_REACH, IKStatus.REJECTED_BY_VALIDITY, IKStatus.NOT_CONVERGED)
 #: Pose goals of redundant arms: each IK solution is also offered moved along its self-motion
 #: towards the start (`IKSolver.solve_many(toward_seed=True)`): nearer goals, shorter motions.
 IK_TOWARD_START = True
@@ -106,7 +110,7 @@ class MotionGenerator:
     """Kinematics, collision checking and motion planning for one robot.
 
     Args:
-        robot: a robot name under `robots/` ("franka") or a path to a robot.yaml, or a RobotConfig.
+        robot: a robot name under `robots/` ("franka", in any case) or a path to a robot.yaml, or a RobotConfig.
         world: obstacles in the robot base frame (a WorldConfig or a cuRobo-style dict).
         padding: extra clearance [m] kept from the world (default: the robot config's).
         time_budget: default planning time budget [s] per call.
@@ -117,6 +121,11 @@ class MotionGenerator:
         search_resolution: coarser resolution of the path search's edge checks [rad]; the
             found path is re-checked (and repaired) at `resolution`.
         seed: default random seed of IK restarts and sampling-based planning.
+
+    Configurations (`start_q`, `goal_q`, `q`, `seed_q`) are the arm joints, (dof,) in
+    `joint_names` order; a robot with a gripper also takes its full state (dof + G,), the
+    gripper's G joints last, as `franka.get_joint_positions()` gives (7 + 2 values): the
+    gripper's values are ignored, and trajectories are the arm joints' only.
 
     The Isaac Sim tutorial wrapper's names (`motion_generate`, ...) live on
     `manip.TutorialMotionGen`, which holds a MotionGenerator.
@@ -265,7 +274,7 @@ class MotionGenerator:
             q: (dof,) -> a single Pose, or (N, dof) -> a batched Pose [rad].
             link: any frame of the URDF (None: `ee_link`).
         """
-        return self.kinematics.fk(q, self._link(link))
+        return self.kinematics.fk(self._arm_q(q, "q"), self._link(link))
 
     def ik(
         self,
@@ -291,7 +300,7 @@ class MotionGenerator:
             return self.batch_ik(goal, link, seed_q, collision_free=collision_free, **kwargs)  # type: ignore[return-value]
         link = self._link(link)
         if seed_q is not None:
-            seed_q = self.kinematics.check_q(seed_q, "seed_q")
+            seed_q = self.kinematics.check_q(self._arm_q(seed_q, "seed_q"), "seed_q")
         if flag(collision_free, "collision_free"):
             kwargs.setdefault("validity_fn", self._validity().configs)
         return self.ik_solver.solve(goal, link, seed_q=seed_q, **kwargs)
@@ -312,11 +321,34 @@ class MotionGenerator:
             raise InvalidInputError(f"goals must be a manip.Pose; got {type(goals).__name__}")
         link = self._link(link)
         if seed_q is not None:
-            seed_q = self.kinematics.check_q(seed_q, "seed_q")
+            seed_q = self.kinematics.check_q(self._arm_q(seed_q, "seed_q"), "seed_q")
         if flag(collision_free, "collision_free"):
             kwargs.setdefault("validity_fn", self._validity().configs)
         return self.ik_solver.solve_batch(goals if goals.is_batch else Pose.stack([goals]), link, seed_q=seed_q,
                                           **kwargs)
+
+    def _arm_q(self, q, what: str):
+        """`q` with the gripper's values of a full robot state dropped: (..., dof + G) ->
+        (..., dof), when the robot has a gripper of G joints (the Franka's state from
+        `franka.get_joint_positions()`: 7 arm joints, then 2 fingers). Any other shape is
+        returned as given (the callers' checks name what is valid), except one longer than
+        dof, which raises saying which values to pass.
+        """
+        if q is None or isinstance(q, Pose):
+            return q
+        a = as_real_array(q, what)
+        n, gripper = self.robot_dof, self.config.gripper
+        g = len(gripper.joints) if gripper is not None else 0
+        if a.ndim not in (1, 2) or a.shape[-1] <= n:
+            return a
+        if g and a.shape[-1] == n + g:
+            return a[..., :n]
+        full = f" or ({n + g},): a full robot state, the gripper's joints {list(gripper.joints)} last" if g else ""
+        head = f"{what}[:{n}]" if a.ndim == 1 else f"{what}[:, :{n}]"
+        raise InvalidInputError(
+            f"{what} must have shape ({n},) (the arm joints {self.joint_names}){full}; got {a.shape}. If its first "
+            f"{n} values are the arm joints in this order, pass {head}."
+        )
 
     def _link(self, link) -> str:
         """`link` checked as a frame name; None means `ee_link` (an empty or non-string name raises)."""
@@ -384,7 +416,7 @@ class MotionGenerator:
         return self.checker.detach_object(qq, **kwargs)
 
     def _one_q(self, q, what: str) -> np.ndarray:
-        q = self.kinematics.check_q(q, what)
+        q = self.kinematics.check_q(self._arm_q(q, what), what)
         if q.ndim != 1:
             raise InvalidInputError(f"{what} must have shape ({self.robot_dof},) (one configuration); got {q.shape}")
         return q
@@ -395,6 +427,14 @@ class MotionGenerator:
         Objects are expressed in the robot's base frame. The robot itself and objects whose
         name or prim path starts with an entry of `ignore` are skipped. Attached objects
         stay attached. Returns the new WorldConfig.
+
+        The ground plane (or table) the robot stands on stays an obstacle and needs no
+        `ignore`: an obstacle wholly below the base frame's xy-plane (its top within 1 mm of
+        z = 0) is not checked against the links fixed to the base (panda_link0), which no
+        motion moves; every moving link is checked against it.
+
+        Raises:
+            InvalidInputError: called before the World's first `reset()`.
         """
         cfg = world_config_from_sim(world, robot, ignore)
         self.update_world(cfg)
@@ -405,7 +445,8 @@ class MotionGenerator:
         """Plan a collision-free, time-parameterised motion from `start_q` to `goal_q`.
 
         Args:
-            start_q: (dof,) start configuration [rad] (at rest).
+            start_q: (dof,) start configuration [rad] (at rest); a full robot state (arm then
+                gripper joints, e.g. `franka.get_joint_positions()`) is taken as its arm joints.
             goal_q: (dof,) goal configuration [rad]; a goal up to 1e-4 rad outside a
                 joint limit is moved onto the limit (like a start, see
                 `START_LIMIT_TOLERANCE`), one further out is INVALID_GOAL.
@@ -416,8 +457,8 @@ class MotionGenerator:
         """
         ctx = self._context(options)
         validity = self._validity()
-        start = ctx.check_start(start_q, self.kinematics, validity)
-        goal = ctx.check_goal(goal_q, self.kinematics, validity)
+        start = ctx.check_start(self._arm_q(start_q, "start_q"), self.kinematics, validity)
+        goal = ctx.check_goal(self._arm_q(goal_q, "goal_q"), self.kinematics, validity)
         if ctx.failed:
             return ctx.result()
         ctx.check_sample_count(start, goal, self.timing_limits)
@@ -427,7 +468,7 @@ class MotionGenerator:
         """Plan a motion that brings `link` (default `ee_link`) to the pose `goal`.
 
         Args:
-            start_q: (dof,) start configuration [rad].
+            start_q: (dof,) start configuration [rad] (or a full robot state, see `plan_joints`).
             goal: a single Pose in the base frame.
             link: any frame of the URDF.
             linear: move the link along the straight line from its start pose to the goal,
@@ -436,6 +477,7 @@ class MotionGenerator:
         """
         if not isinstance(goal, Pose) or goal.is_batch:
             raise InvalidInputError("goal must be a single manip.Pose (use plan_goalset for several)")
+        start_q = self._arm_q(start_q, "start_q")
         if flag(linear, "linear"):
             return self._plan_linear(start_q, goal, self._link(link), options)
         return self.plan_goalset(start_q, Pose.stack([goal]), link, **options)
@@ -456,14 +498,14 @@ class MotionGenerator:
         if not goals.is_batch:
             goals = Pose.stack([goals])
         validity = self._validity()
-        start = ctx.check_start(start_q, self.kinematics, validity)
+        start = ctx.check_start(self._arm_q(start_q, "start_q"), self.kinematics, validity)
         if ctx.failed:
             return ctx.result()
         t_ik = time.perf_counter()
-        configs, owners = self._goal_configs(ctx, validity, start, goals, link)
+        configs, owners, why = self._goal_configs(ctx, validity, start, goals, link)
         ctx.add_time("ik", t_ik)
         if not len(configs):
-            return ctx.fail(PlanStatus.IK_FAIL, "no collision-free IK solution within the joint limits")
+            return ctx.fail(PlanStatus.IK_FAIL, why)
         # the goals ranked by the motion they allow (`planning.goals`), not by joint-space distance
         order = order_goals(start, configs, *scaled_limits(self.timing_limits, ctx))
         ctx.check_sample_count(start, configs[order[0]], self.timing_limits)
@@ -477,7 +519,7 @@ class MotionGenerator:
 
     def plan_batch(self, start_qs, goals, link: str | None = None, **options) -> list[PlanResult]:
         """Plan several problems: `goals` is (N, dof) joint goals, a batched Pose or a list of Poses."""
-        start_qs = np.atleast_2d(self.kinematics.check_q(start_qs, "start_qs"))
+        start_qs = np.atleast_2d(self.kinematics.check_q(self._arm_q(start_qs, "start_qs"), "start_qs"))
         if isinstance(goals, (list, tuple)) and goals and all(isinstance(g, Pose) for g in goals):
             goals = Pose.stack(list(goals))
         if isinstance(goals, Pose):
@@ -485,7 +527,7 @@ class MotionGenerator:
         else:
             if isinstance(goals, (list, tuple)) and any(isinstance(g, Pose) for g in goals):
                 raise InvalidInputError("goals must be all joint configurations or all Poses, not a mix")
-            goal_list = list(np.atleast_2d(self.kinematics.check_q(goals, "goals")))
+            goal_list = list(np.atleast_2d(self.kinematics.check_q(self._arm_q(goals, "goals"), "goals")))
         if len(start_qs) == 1 and len(goal_list) > 1:
             start_qs = np.repeat(start_qs, len(goal_list), axis=0)
         if len(start_qs) != len(goal_list):
@@ -508,9 +550,11 @@ class MotionGenerator:
         return PlanContext(base.updated(options), t0)
 
     def _goal_configs(self, ctx: PlanContext, validity: Validity, start: np.ndarray, goals: Pose,
-                      link: str) -> tuple[np.ndarray, list[int]]:
-        """(M, dof) collision-free IK solutions of the poses and, for each, its pose index."""
-        configs, owners = [], []
+                      link: str) -> tuple[np.ndarray, list[int], str]:
+        """(M, dof) collision-free IK solutions of the poses, for each its pose index, and
+        when there is none, why (the most telling reason found: out of reach, in collision
+        and with what, or not converged)."""
+        configs, owners, reasons = [], [], []
         for i, g in enumerate(goals):
             sols = self.ik_solver.solve_many(
                 g, link, n=ctx.options.ik_solutions, seed_q=start, validity_fn=validity.configs,
@@ -526,7 +570,27 @@ class MotionGenerator:
             for q in sols:
                 configs.append(q)
                 owners.append(i)
-        return np.asarray(configs).reshape(-1, self.robot_dof), owners
+            if len(sols) == 0:
+                reasons.append(self._ik_failure(sols, g, link, start, validity))
+        why = ""
+        if not configs:
+            # one reason per pose; the first of the most telling kind (see IK_FAILURE_ORDER)
+            rank = {s: k for k, s in enumerate(IK_FAILURE_ORDER)}
+            status, detail = min(reasons, key=lambda r: rank.get(r[0], len(rank)))
+            which = "" if len(goals) == 1 else f" for any of the {len(goals)} poses"
+            why = f"no collision-free IK solution within the joint limits{which}: {status.name}: {detail}"
+        return np.asarray(configs).reshape(-1, self.robot_dof), owners, why
+
+    def _ik_failure(self, sols, goal: Pose, link: str, start: np.ndarray, validity: Validity) -> tuple:
+        """(IKStatus, detail) of a pose without collision-free IK solutions. When solutions
+        exist but all collide, one of them (the nearest the start) says with what."""
+        if sols.status is not IKStatus.REJECTED_BY_VALIDITY:
+            return sols.status, sols.message
+        found = self.ik_solver.solve_many(goal, link, n=1, seed_q=start)
+        if len(found) == 0:
+            return sols.status, "every IK solution found is in collision"
+        problem = validity.goal_problem(found[0]) or "in collision"
+        return sols.status, f"every IK solution found is in collision; the one nearest the start: {problem}"
 
     def _plan_linear(self, start_q, goal: Pose, link: str, options: dict) -> PlanResult:
         """Straight-line motion of `link` from its current pose to `goal`."""

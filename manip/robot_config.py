@@ -188,7 +188,7 @@ def _check_within_urdf(tree: UrdfTree, joints: tuple[str, ...], lower: np.ndarra
 
 
 def load_robot_config(name_or_path: str | Path) -> RobotConfig:
-    """Load a robot configuration by name ("franka") or by the path of a robot.yaml/folder.
+    """Load a robot configuration by name ("franka"; any case) or by the path of a robot.yaml/folder.
 
     Raises:
         UnknownNameError: no robot of that name, or a link or joint the URDF does not have;
@@ -205,7 +205,10 @@ def load_robot_config(name_or_path: str | Path) -> RobotConfig:
     elif candidate.is_dir() and (candidate / CONFIG_FILE).is_file():
         cfg_file = candidate / CONFIG_FILE
     else:
-        cfg_file = robots_root() / str(name_or_path) / CONFIG_FILE
+        # a shipped robot's name, in any case ("Franka" is "franka")
+        names = {n.lower(): n for n in available_robots()}
+        name = names.get(str(name_or_path).lower(), str(name_or_path))
+        cfg_file = robots_root() / name / CONFIG_FILE
         if not cfg_file.is_file():
             raise UnknownNameError("robot", str(name_or_path), available_robots())
     folder = cfg_file.parent.resolve()

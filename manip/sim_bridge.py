@@ -38,12 +38,22 @@ def world_config_from_sim(world, robot, ignore: Sequence[str] = ()) -> WorldConf
     Args:
         world: a `manip.sim.World` after `reset()`.
         robot: the planned robot (its own geoms are skipped; other robots are obstacles).
-        ignore: names or prim-path prefixes to leave out (e.g. the object to pick, the ground).
+        ignore: names or prim-path prefixes to leave out (e.g. the object to pick).
 
     Ellipsoids become their bounding sphere (conservative); cones and meshes become meshes;
-    planes become large boxes under their surface.
+    planes become large boxes under their surface. The ground the robot stands on need not
+    be ignored: an obstacle wholly below the robot's base frame is not checked against the
+    links fixed to the base (`ObstacleTables.below_base`), only against the moving ones.
+
+    Raises:
+        InvalidInputError: before the world's first `reset()` (the robot's pose is unknown).
     """
-    position, orientation = robot.get_world_pose()
+    robot_pose = robot.get_world_pose()
+    if robot_pose is None:
+        raise InvalidInputError(
+            f"robot {getattr(robot, 'name', robot)!r}: its pose is not known before the world's first reset(); "
+            "call world.reset() before reading the world (update_world_from_sim)")
+    position, orientation = robot_pose
     T_base_world = Pose(np.asarray(position, dtype=float), np.asarray(orientation, dtype=float)).inverse()
     robot_path = getattr(robot, "prim_path", None)
     cfg = WorldConfig()

@@ -361,7 +361,9 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         best_w, pair_w = math.inf, None
         O = len(self._obs)
         if O:
-            lb = (self._sd_all(bc) - self._pbr[:, None]).ravel()
+            lb = self._sd_all(bc) - self._pbr[:, None]
+            lb[np.ix_(pj == 0, self._world_tables.below_base())] = math.inf  # the surface the base stands on
+            lb = lb.ravel()
             for flat in np.argsort(lb):
                 if lb[flat] >= best_w:
                     break

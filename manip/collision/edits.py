@@ -201,8 +201,11 @@ class WorldEdits:
             self._static_world = static
 
     def _static_pairs(self, tables: ObstacleTables, o: int) -> list[tuple[int, int]]:
-        """The (part fixed to the base, obstacle o) pairs of `tables` that collide."""
+        """The (part fixed to the base, obstacle o) pairs of `tables` that collide; none when
+        o is below the base (the surface the robot stands on, `ObstacleTables.below_base`)."""
         out = []
+        if tables.below_base(o):
+            return out
         res = coal.CollisionResult()
         for g in np.nonzero(self._pj == 0)[0]:
             part = self._parts[int(g)]

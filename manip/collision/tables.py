@@ -261,6 +261,11 @@ def part_tables(parts: Sequence[_Part], pairs: Sequence[tuple[int, int]],
 
 
 # ---------------------------------------------------------------------- world side
+#: An obstacle whose top lies at most this far [m] above the base frame's xy-plane counts as
+#: the surface the robot stands on (`ObstacleTables.below_base`).
+SUPPORT_TOLERANCE = 1e-3
+
+
 class ObstacleTables:
     """The obstacles as broadphase shapes (`broadphase` arrays, closed-form signed distances)
     and as coal geometries with their placements.
@@ -339,6 +344,16 @@ class ObstacleTables:
         for lst, v in zip(lists, (obstacle, row[5], row[6])):
             lst[index] = v
         return self._derived(lists[0], *arrays, lists[1], lists[2])
+
+    def below_base(self, index: int | slice = slice(None)) -> np.ndarray:
+        """(O,) True for the obstacles wholly below the base frame's xy-plane (their bounding
+        shape's top at most SUPPORT_TOLERANCE [m] above z = 0): the ground or table the
+        robot stands on (or that entry only, for an int `index`). Their contacts with the
+        parts fixed to the base are not checked (no motion changes them); every moving part
+        is checked against them."""
+        R, h = self.R[index], self.h[index]
+        top = self.c[index, 2] + (np.abs(R[..., 2, :]) * h).sum(axis=-1) + self.rho[index]
+        return top <= SUPPORT_TOLERANCE
 
     def signed_distances(self, X: np.ndarray) -> np.ndarray:
         """Signed distances (M, O) of points X (M, 3) to every obstacle's broadphase shape."""

@@ -8,7 +8,9 @@ to the equivalent manip settings below (facts of those files: see the wrapper co
 
 - Robot configs (`ROBOT_CONFIGS`): the robot, its cuRobo c-space (the 7 arm joints then the
   2 locked fingers), the retract configuration, and the wrapper's `ee_link` as a fixed frame
-  on the planner's end-effector link.
+  on the planner's end-effector link. The tutorial's `my_franka_robot_config.yml` and
+  cuRobo's own `franka.yml` (whose `ee_link` is panda_hand) are known; for cuRobo's files of
+  arms manip ships in another version (`ur5e.yml`, ...) the error says what to use.
 - World configs (`WORLD_CONFIGS`): obstacles in the robot base frame (cuRobo dict form).
 - User configs (`USER_CONFIGS`): the planner settings that change behaviour
   (`interpolation_dt` [s], planning `time_budget` [s]); cuRobo's IK thresholds and seed
@@ -69,6 +71,30 @@ ROBOT_CONFIGS: dict[str, TutorialRobotConfig] = {
         T_link_ee=FRANKA_T_HAND_EE,
         base_link="panda_link0",
     ),
+    # cuRobo's own Franka file (content/configs/robot/franka.yml): the same c-space and
+    # retract configuration, its ee_link is panda_hand itself (cuRobo writes the second
+    # finger's 0.04 m as -0.04 for its USD's flipped joint; manip's finger limits are [0, 0.04])
+    "franka.yml": TutorialRobotConfig(
+        file_name="franka.yml",
+        robot="franka",
+        joint_names=_FRANKA_ARM + _FINGERS,
+        retract_config=(0.0, -1.3, 0.0, -2.5, 0.0, 1.0, 0.0, 0.04, 0.04),
+        locked_joints={"panda_finger_joint1": 0.04, "panda_finger_joint2": 0.04},
+        ee_link="panda_hand",
+        base_link="panda_link0",
+    ),
+}
+
+#: cuRobo's robot files of arms manip does not ship in that form: what to use instead.
+OTHER_ROBOT_FILES: dict[str, str] = {
+    "ur5e.yml": "manip ships the UR5 (CB-series), whose link lengths differ from the UR5e's: give robot='ur5' to plan "
+                "for it, or the folder of your own UR5e robot.yaml (README, \"Robots\")",
+    "ur10e.yml": "manip ships the UR10 (CB-series), whose link lengths differ from the UR10e's: give robot='ur10' to "
+                 "plan for it, or the folder of your own UR10e robot.yaml (README, \"Robots\")",
+    "kinova_gen3.yml": "manip ships the Kinova Jaco2 j2s6s200 (6 joints) as robot='kinova', no Gen3: give the folder "
+                       "of your own Gen3 robot.yaml (README, \"Robots\")",
+    "jaco7.yml": "manip ships the 6-joint Kinova Jaco2 j2s6s200 as robot='kinova', not the 7-joint Jaco: give the "
+                 "folder of your own robot.yaml (README, \"Robots\")",
 }
 
 #: cuRobo's collision_base.yml: a post under the robot base (the base frame's z = 0 is the
@@ -94,10 +120,14 @@ def robot_config(file_name: str) -> TutorialRobotConfig:
     """The settings of a known robot config file name.
 
     Raises:
-        UnknownNameError: not a known name (the message lists them).
+        UnknownNameError: not a known name (the message lists them; for cuRobo's file of an
+            arm manip ships in another version, it says what to use instead).
     """
     if file_name not in ROBOT_CONFIGS:
-        raise UnknownNameError("robot config file", file_name, ROBOT_CONFIGS)
+        error = UnknownNameError("robot config file", file_name, ROBOT_CONFIGS)
+        if file_name in OTHER_ROBOT_FILES:
+            error.args = (f"{error.args[0]}. {OTHER_ROBOT_FILES[file_name]}",)
+        raise error
     return ROBOT_CONFIGS[file_name]
 
 

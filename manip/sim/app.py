@@ -153,8 +153,10 @@ class SimulationApp:
         if not has_display():
             # MuJoCo's viewer aborts the process when GLFW cannot open a window: check first.
             raise SimulationError(
-                "cannot open the MuJoCo viewer: no display (DISPLAY/WAYLAND_DISPLAY unset). Run headless "
-                "(SimulationApp({'headless': True}), the default) or record a video instead."
+                "cannot open the MuJoCo viewer: no display (DISPLAY/WAYLAND_DISPLAY unset). Watch it in the browser "
+                "instead: SimulationApp({'headless': False, 'viewer': 'web'}) (needs pip install \"manip-robotics[viz]\"; "
+                "in examples/pick_and_place.py, follow_target.py and motion_generation.py: `--viewer web`), or run "
+                "headless (the default) or record a video."
             )
         try:
             import mujoco.viewer
@@ -163,8 +165,9 @@ class SimulationApp:
                                                         show_left_ui=False, show_right_ui=False)
         except Exception as exc:
             raise SimulationError(
-                f"cannot open the MuJoCo viewer ({exc}); it needs a display (DISPLAY/WAYLAND_DISPLAY). "
-                "Run headless (SimulationApp({'headless': True}), the default) on machines without one."
+                f"cannot open the MuJoCo viewer ({exc}); it needs a display (DISPLAY/WAYLAND_DISPLAY). On machines "
+                "without one, watch it in the browser: SimulationApp({'headless': False, 'viewer': 'web'}) (in the "
+                "examples: `--viewer web`), or run headless (SimulationApp({'headless': True}), the default)."
             ) from exc
         self._viewer_model = world.model
         world.get_camera_view().apply(self._viewer.cam)
