@@ -1,7 +1,7 @@
 # Two commands do everything on a fresh machine with Python >= 3.10 and pip:
 #   make demo   set up .venv with manip alone (no extras), prebuild its kernels, run the
 #               flagship pick-and-place headless (fresh clone, 2-core machine: MEASURED_DEMO)
-#   make test   set up .venv with manip[dev,video,viz,ray,datagen], prebuild, run the test
+#   make test   set up .venv with manip-robotics[dev,video,viz,ray,datagen], prebuild, run the test
 #               suite (fresh clone, 2-core machine: MEASURED_TEST)
 # Both install into .venv only. `make wheel` builds the wheel (with the prebuilt kernels) and
 # the sdist into dist/ and checks them.

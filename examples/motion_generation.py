@@ -6,7 +6,7 @@ per-stage timings and trajectory quality, and shows what a failure looks like.
     python examples/motion_generation.py [--seed 0] [--time-budget 5] [--plot joints.png] [--viewer web]
 
 `--plot` writes the joint position/velocity/acceleration/jerk of the four motions with the
-limits drawn; `--viewer web` shows the scene and the plans in the browser (manip[viz]).
+limits drawn; `--viewer web` shows the scene and the plans in the browser ("manip-robotics[viz]").
 """
 
 from __future__ import annotations

@@ -223,7 +223,7 @@ class PickAndPlace:
         obstacles: add fixed boxes the motions must avoid.
         cube_mass: [kg].
         viewer: "native" (or True): open MuJoCo's interactive viewer (needs a display);
-            "web": show the World in the browser (manip[viz]); False/None: headless.
+            "web": show the World in the browser ("manip-robotics[viz]"); False/None: headless.
         video: path of an MP4 to record (offscreen), or None.
         verbose: print a progress line per phase.
         record_joints: keep the trajectories executed in the current episode (for --plot).
