@@ -23,6 +23,7 @@ from manip.collision import (
 from manip.errors import InvalidInputError, ManipError, RobotConfigError, UnknownNameError
 from manip.ik import BatchIKResult, IKResult, IKSolutions, IKSolver, IKStatus
 from manip.kinematics import Kinematics
+from manip.limits import JointLimits
 from manip.motion_generator import MotionGenerator
 from manip.compat import TutorialMotionGen, wxyz_to_xyzw, xyzw_to_wxyz
 from manip.planning import PlanOptions, PlanResult, PlanStatus
@@ -53,6 +54,7 @@ __all__ = [
     "IKSolver",
     "IKStatus",
     "InvalidInputError",
+    "JointLimits",
     "Kinematics",
     "ManipError",
     "Mesh",

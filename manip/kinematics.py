@@ -195,8 +195,10 @@ class Kinematics:
             )
         self.joint_names: tuple[str, ...] = tuple(config.arm_joints)
         self.dof = len(self.joint_names)
-        self.lower = config.lower_limits.copy()
-        self.upper = config.upper_limits.copy()
+        #: The robot's `JointLimits` (`config.limits`); `lower` / `upper` are its (dof,) position limits [rad].
+        self.limits = config.limits
+        self.lower = self.limits.lower
+        self.upper = self.limits.upper
         urdf_lo = self.model.lowerPositionLimit
         urdf_hi = self.model.upperPositionLimit
         if np.any(self.lower < urdf_lo - 1e-9) or np.any(self.upper > urdf_hi + 1e-9):

@@ -62,13 +62,11 @@ from manip.planning.goals import order_goals
 from manip.planning.linear import linear_path
 from manip.planning.options import PlanOptions
 from manip.planning.pipeline import plan_to_configs
-from manip.planning.refine import scaled_limits
 from manip.planning.result import PlanResult, PlanStatus
 from manip.planning.validity import Validity
 from manip.pose import Pose
 from manip.robot_config import RobotConfig, config_from_urdf, load_robot_config
 from manip.sim_bridge import world_config_from_sim
-from manip.timing import TimingLimits
 from manip.validation import flag, positive
 
 logger = logging.getLogger(__name__)
@@ -154,7 +152,9 @@ class MotionGenerator:
         self.validity = Validity(self.checker, self.kinematics, resolution, search_resolution)
         self.clearance = ClearanceModel(self.checker)
         self.ik_solver = IKSolver(self.kinematics, seed=seed)
-        self.timing_limits = TimingLimits.from_robot(self.config)
+        #: The robot's `JointLimits` (`config.limits`; `timing_limits` is the old name).
+        self.limits = self.config.limits
+        self.timing_limits = self.limits
         self.velocity_scale = 1.0
         self.acceleration_scale = 1.0
         if world is not None:
@@ -420,8 +420,8 @@ class MotionGenerator:
         goal = ctx.check_goal(goal_q, self.kinematics, validity)
         if ctx.failed:
             return ctx.result()
-        ctx.check_sample_count(start, goal, self.timing_limits)
-        return plan_to_configs(ctx, validity, start, goal[None, :], self.timing_limits, self.clearance)
+        ctx.check_sample_count(start, goal, self.limits)
+        return plan_to_configs(ctx, validity, start, goal[None, :], limits=self.limits, clearance=self.clearance)
 
     def plan_pose(self, start_q, goal: Pose, link: str | None = None, *, linear: bool = False, **options) -> PlanResult:
         """Plan a motion that brings `link` (default `ee_link`) to the pose `goal`.
@@ -465,9 +465,10 @@ class MotionGenerator:
         if not len(configs):
             return ctx.fail(PlanStatus.IK_FAIL, "no collision-free IK solution within the joint limits")
         # the goals ranked by the motion they allow (`planning.goals`), not by joint-space distance
-        order = order_goals(start, configs, *scaled_limits(self.timing_limits, ctx))
-        ctx.check_sample_count(start, configs[order[0]], self.timing_limits)
-        result = plan_to_configs(ctx, validity, start, configs[order], self.timing_limits, self.clearance)
+        order = order_goals(start, configs, ctx.scaled_limits(self.limits))
+        ctx.check_sample_count(start, configs[order[0]], self.limits)
+        result = plan_to_configs(ctx, validity, start, configs[order], limits=self.limits,
+                                 clearance=self.clearance)
         if result.success:
             reached = result.goal_q
             k = int(order[np.argmin(np.linalg.norm(configs[order] - reached, axis=1))])
@@ -552,8 +553,8 @@ class MotionGenerator:
         if path is None:
             return ctx.fail(PlanStatus.LINEAR_PATH_FAIL, why)
         goal_q = path[-1].copy()
-        ctx.check_sample_count(start, goal_q, self.timing_limits)
-        traj, why = time_and_validate(ctx, path, goal_q, self.timing_limits, validity,
+        ctx.check_sample_count(start, goal_q, self.limits)
+        traj, why = time_and_validate(ctx, path, goal_q, limits=self.limits, validity=validity,
                                       deviation=LINEAR_DEVIATION, dense_deviation=LINEAR_SPLINE_DEVIATION)
         if traj is None:
             return ctx.fail(PlanStatus.TRAJOPT_FAIL, f"no valid timed trajectory: {why}", path=path, goal_q=goal_q)

@@ -64,7 +64,7 @@ def assert_same_result(r1, r2):
             np.testing.assert_array_equal(getattr(t1, f), getattr(t2, f))
 
 
-# ---------------------------------------------------------------------------- TimingLimits
+# ---------------------------------------------------------------------------- limits (TimingLimits = JointLimits)
 def test_limits_from_robot(cfg, limits):
     assert limits.dof == 7 and limits.joint_names == tuple(cfg.arm_joints)
     np.testing.assert_array_equal(limits.velocity, cfg.velocity_limits)
@@ -73,8 +73,7 @@ def test_limits_from_robot(cfg, limits):
     np.testing.assert_array_equal(limits.lower, cfg.lower_limits)
     np.testing.assert_array_equal(limits.upper, cfg.upper_limits)
     for a in (limits.velocity, limits.acceleration, limits.jerk, limits.lower, limits.upper):
-        assert not a.flags.writeable
-        assert a is not cfg.velocity_limits
+        assert not a.flags.writeable  # shared with the config, which cannot change them either
     with pytest.raises(Exception):
         limits.velocity = np.ones(7)  # frozen
 
@@ -89,9 +88,9 @@ def test_limits_defaults_and_scalars():
 
 
 def test_limits_validate():
-    with pytest.raises(InvalidInputError, match="TimingLimits.velocity"):
+    with pytest.raises(InvalidInputError, match="JointLimits.velocity"):
         TimingLimits([1.0, -1.0], 1.0, 1.0)
-    with pytest.raises(InvalidInputError, match="TimingLimits.jerk"):
+    with pytest.raises(InvalidInputError, match="JointLimits.jerk"):
         TimingLimits([1.0, 1.0], 1.0, [1.0, 2.0, 3.0])
     with pytest.raises(InvalidInputError, match="both lower and upper"):
         TimingLimits([1.0, 1.0], 1.0, 1.0, lower=[0.0, 0.0])
@@ -158,7 +157,7 @@ def test_time_path_unknown_mode_lists_the_valid_ones(limits, corner_path):
 
 
 def test_time_path_bad_inputs(limits, corner_path):
-    with pytest.raises(InvalidInputError, match="TimingLimits"):
+    with pytest.raises(InvalidInputError, match="JointLimits"):
         time_path(corner_path, {"velocity": 1.0})
     with pytest.raises(InvalidInputError, match="6 joints per waypoint but limits are for 7"):
         time_path(corner_path[:, :6], limits)

@@ -10,6 +10,7 @@ import pytest
 from manip import MotionGenerator, WorldConfig
 from manip.collision.clearance import ClearanceModel
 from manip.errors import InvalidInputError
+from manip.limits import JointLimits
 from manip.planning import bspline
 from manip.planning.trajopt import TrajOptSettings, optimize_trajectory
 from manip.timing.bounds import rest_to_rest_time
@@ -38,7 +39,7 @@ def test_bspline_limits_hold_for_the_continuous_motion():
     c = np.cumsum(rng.normal(0, 0.2, (19, 3)), axis=0)
     c[:3], c[-3:] = c[0], c[-1]
     vmax, amax, jmax = np.array([2.0, 1.5, 1.0]), np.array([10.0, 8.0, 6.0]), np.array([500.0, 300.0, 200.0])
-    h = bspline.limit_step(c, vmax, amax, jmax)
+    h = bspline.limit_step(c, JointLimits(vmax, amax, jmax))
     prof = bspline.to_profile(c, h)
     v, a, j = dense_extrema(prof)
     assert np.all(v <= vmax * (1 + 1e-9)) and np.all(a <= amax * (1 + 1e-9)) and np.all(j <= jmax * (1 + 1e-9))
@@ -62,10 +63,10 @@ def test_optimiser_in_free_space_comes_close_to_the_time_optimal_line(mg, solver
     positions = np.concatenate([detour[0] + timed[:31] * 2 * (detour[1] - detour[0]),
                                 detour[1] + (timed[31:] - 0.5) * 2 * (detour[2] - detour[1])])
     times = np.linspace(0.0, 3.0, 61)
-    bound = rest_to_rest_time(start, goal, cfg.velocity_limits, cfg.acceleration_limits, cfg.jerk_limits)
-    res = optimize_trajectory(positions, times, cfg.velocity_limits, cfg.acceleration_limits, cfg.jerk_limits,
-                              free.kinematics.lower, free.kinematics.upper, free.clearance, 0.0,
-                              time.perf_counter() + 5.0, min_duration=bound, settings=TrajOptSettings(solver=solver))
+    bound = rest_to_rest_time(start, goal, cfg.limits)
+    res = optimize_trajectory(positions, times, limits=cfg.limits, clearance=free.clearance, padding=0.0,
+                              deadline=time.perf_counter() + 5.0, min_duration=bound,
+                              settings=TrajOptSettings(solver=solver))
     assert res.success, res.message
     assert res.duration < 1.25 * bound < times[-1]
     v, a, j = dense_extrema(res.profile)
@@ -126,26 +127,27 @@ def test_a_failed_first_round_gets_a_second_chance_from_the_fitted_seed(mg, monk
 
     cfg = mg.config
     seed = mg.plan_joints(LEFT, RIGHT, trajopt=False, seed=3).trajectory  # round the wall
-    args = (seed.positions, seed.times, cfg.velocity_limits, cfg.acceleration_limits, cfg.jerk_limits,
-            mg.kinematics.lower, mg.kinematics.upper, mg.clearance, 0.0)
+    args = (seed.positions, seed.times)
+    kw = dict(limits=cfg.limits, clearance=mg.clearance, padding=0.0)
     real = trajopt.sco_fixed_step
     targets = []
 
-    def first_round_fails(prob, c0, h, *rest):
+    def first_round_fails(prob, c0, h, radius, **rest):
         targets.append(h * prob.n)
         if len(targets) == 1:
-            return False, c0, 1, "test: the first round fails", rest[0]
-        return real(prob, c0, h, *rest)
+            return False, c0, 1, "test: the first round fails", radius
+        return real(prob, c0, h, radius, **rest)
 
     monkeypatch.setattr(trajopt, "sco_fixed_step", first_round_fails)
     bisection = TrajOptSettings(free_duration=False)
-    res = optimize_trajectory(*args, time.perf_counter() + 10.0, max_duration=seed.duration, settings=bisection)
+    res = optimize_trajectory(*args, **kw, deadline=time.perf_counter() + 10.0, max_duration=seed.duration,
+                              settings=bisection)
     assert res.success and res.duration < seed.duration
     fit = bspline.control_from_samples(seed.positions, seed.times, seed.duration, TrajOptSettings().intervals)
-    second = max(seed.duration, TrajOptSettings().intervals * bspline.limit_step(fit, *args[2:5]))
+    second = max(seed.duration, TrajOptSettings().intervals * bspline.limit_step(fit, cfg.limits))
     assert targets[0] == pytest.approx(seed.duration) and targets[1] == pytest.approx(second)
     targets.clear()
-    res = optimize_trajectory(*args, time.perf_counter() + 10.0,
+    res = optimize_trajectory(*args, **kw, deadline=time.perf_counter() + 10.0,
                               settings=TrajOptSettings(free_duration=False, second_chance=False))
     assert not res.success and targets == [pytest.approx(seed.duration)]
 
@@ -162,7 +164,7 @@ def test_free_duration_sco_steps_keep_the_clearance_and_never_slow_the_motion(mg
     n = s.intervals
     prob = SplineProblem(n, 7, s, LEFT, RIGHT)
     c0 = bspline.control_from_samples(seed.positions, seed.times, seed.duration, n)
-    limits = (cfg.velocity_limits, cfg.acceleration_limits, cfg.jerk_limits)
+    limits = cfg.limits
     margin, activation = s.margin, s.margin + s.activation
 
     def nearest(c: np.ndarray) -> float:
@@ -171,20 +173,20 @@ def test_free_duration_sco_steps_keep_the_clearance_and_never_slow_the_motion(mg
 
     start = nearest(c0)
     seen = [start]
-    durations = [n * bspline.limit_step(c0, *limits)]
+    durations = [n * bspline.limit_step(c0, limits)]
     for k in range(1, 7):
-        c, solves = sco_free_step(prob, c0, *limits, mg.kinematics.lower, mg.kinematics.upper, mg.clearance, margin,
-                                  s, time.perf_counter() + 10.0, 0.0, max_solves=k)
+        c, solves = sco_free_step(prob, c0, limits=limits, clearance=mg.clearance, margin=margin, settings=s,
+                                  deadline=time.perf_counter() + 10.0, h_floor=0.0, max_solves=k)
         assert solves <= k
         assert np.all(c[:3] == LEFT) and np.all(c[n:] == RIGHT)
         seen.append(nearest(c))
         assert seen[-1] >= min(margin, start) - 1e-3
-        durations.append(n * bspline.limit_step(c, *limits))
+        durations.append(n * bspline.limit_step(c, limits))
     assert durations[-1] < durations[0]
     assert min(seen) < activation  # the motion comes near the wall: the clearance terms were active
     for settings in (s, TrajOptSettings(free_duration=False)):
-        res = optimize_trajectory(seed.positions, seed.times, *limits, mg.kinematics.lower, mg.kinematics.upper,
-                                  mg.clearance, 0.0, time.perf_counter() + 10.0, settings=settings,
+        res = optimize_trajectory(seed.positions, seed.times, limits=limits, clearance=mg.clearance, padding=0.0,
+                                  deadline=time.perf_counter() + 10.0, settings=settings,
                                   max_duration=seed.duration)
         assert res.success and res.duration < seed.duration
         v, a, j = dense_extrema(res.profile)
@@ -244,14 +246,14 @@ def test_the_optimiser_keeps_to_its_qp_budget(mg):
     """`max_solves` bounds the QPs (a count: the result does not depend on the machine's speed)."""
     cfg = mg.config
     seed = mg.plan_joints(LEFT, RIGHT, trajopt=False, seed=3).trajectory
-    args = (seed.positions, seed.times, cfg.velocity_limits, cfg.acceleration_limits, cfg.jerk_limits,
-            mg.kinematics.lower, mg.kinematics.upper, mg.clearance, 0.0, time.perf_counter() + 10.0)
-    free = optimize_trajectory(*args)
+    args = (seed.positions, seed.times)
+    kw = dict(limits=cfg.limits, clearance=mg.clearance, padding=0.0, deadline=time.perf_counter() + 10.0)
+    free = optimize_trajectory(*args, **kw)
     assert free.solves > 4
     for budget in (1, 4):
-        res = optimize_trajectory(*args, max_solves=budget)
+        res = optimize_trajectory(*args, **kw, max_solves=budget)
         assert res.solves == budget
-    a, b = optimize_trajectory(*args, max_solves=4), optimize_trajectory(*args, max_solves=4)
+    a, b = optimize_trajectory(*args, **kw, max_solves=4), optimize_trajectory(*args, **kw, max_solves=4)
     np.testing.assert_array_equal(a.control, b.control)
 
 
@@ -262,21 +264,28 @@ def test_smooth_motions_keep_jerk_well_under_the_limit(mg):
 
 
 def test_optimiser_rejects_bad_input(mg):
-    lim = (mg.velocity_limits, mg.acceleration_limits, mg.jerk_limits, mg.lower_limits, mg.upper_limits)
-    args = lambda q, t: (q, t, *lim, mg.clearance, 0.0, time.perf_counter() + 1)  # noqa: E731
+    kw = dict(limits=mg.limits, clearance=mg.clearance, padding=0.0, deadline=time.perf_counter() + 1)
     q = np.stack([READY, READY + 0.1])
+    t01 = np.array([0.0, 1.0])
     with pytest.raises(InvalidInputError, match="shape"):
-        optimize_trajectory(*args(READY, np.array([0.0])))
+        optimize_trajectory(READY, np.array([0.0]), **kw)
     with pytest.raises(InvalidInputError, match="finite"):
-        optimize_trajectory(*args(np.stack([READY, READY * np.nan]), np.array([0.0, 1.0])))
+        optimize_trajectory(np.stack([READY, READY * np.nan]), t01, **kw)
     with pytest.raises(InvalidInputError, match="increase"):
-        optimize_trajectory(*args(q, np.array([0.0, 0.0])))
-    with pytest.raises(InvalidInputError, match="vmax"):
-        optimize_trajectory(q, np.array([0.0, 1.0]), -mg.velocity_limits, *lim[1:], mg.clearance, 0.0, 1.0)
+        optimize_trajectory(q, np.array([0.0, 0.0]), **kw)
+    with pytest.raises(InvalidInputError, match="JointLimits.velocity"):
+        JointLimits(-mg.velocity_limits, mg.acceleration_limits, mg.jerk_limits)
+    with pytest.raises(InvalidInputError, match="limits must be a manip.JointLimits"):
+        optimize_trajectory(q, t01, **{**kw, "limits": (mg.velocity_limits, mg.acceleration_limits)})
+    with pytest.raises(InvalidInputError, match="position limits"):
+        optimize_trajectory(q, t01, **{**kw, "limits": JointLimits(1.0, 1.0, 1.0, joint_names=mg.joint_names)})
+    with pytest.raises(InvalidInputError, match="for the seed's 7 joints"):
+        optimize_trajectory(q, t01, **{**kw, "limits": JointLimits([1.0] * 6, 1.0, 1.0, lower=[-1] * 6,
+                                                                      upper=[1] * 6)})
     with pytest.raises(InvalidInputError, match="max_duration"):
-        optimize_trajectory(*args(q, np.array([0.0, 1.0])), max_duration=0.0)
+        optimize_trajectory(q, t01, **kw, max_duration=0.0)
     with pytest.raises(InvalidInputError, match="max_solves"):
-        optimize_trajectory(*args(q, np.array([0.0, 1.0])), max_solves=0)
+        optimize_trajectory(q, t01, **kw, max_solves=0)
     for bad in ({"intervals": 2}, {"bisection": 1.0}, {"margin": -0.01}, {"line_search": -1}, {"iterations": 2.5},
                 {"ray_points": 7}, {"penalty": 0.0}, {"solver": "no-such-solver"}):
         with pytest.raises(InvalidInputError, match=next(iter(bad))):

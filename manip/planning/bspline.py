@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from manip.limits import JointLimits
 from manip.trajectory import PiecewiseJerkProfile
 
 #: Rows: coefficients of u^3, u^2, u, 1; columns: control points k .. k+3 of one piece.
@@ -69,10 +70,11 @@ def max_speed(control: np.ndarray) -> np.ndarray:
     return np.maximum(best, np.where(inside, np.abs(vertex), 0.0).max(axis=0))
 
 
-def limit_step(control: np.ndarray, vmax: np.ndarray, amax: np.ndarray, jmax: np.ndarray) -> float:
+def limit_step(control: np.ndarray, limits: JointLimits) -> float:
     """The shortest knot spacing h [s] at which the spline with control points (N + 3, dof)
-    respects the limits (exact: velocity from each piece's quadratic, acceleration at the
-    knots, jerk per piece)."""
+    respects the velocity, acceleration and jerk limits of `limits` (exact: velocity from each
+    piece's quadratic, acceleration at the knots, jerk per piece)."""
+    vmax, amax, jmax = limits.velocity, limits.acceleration, limits.jerk
     d1 = max_speed(control)
     d2 = np.abs(np.diff(control, 2, axis=0)).max(axis=0)
     d3 = np.abs(np.diff(control, 3, axis=0)).max(axis=0)

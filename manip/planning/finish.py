@@ -18,7 +18,8 @@ import numpy as np
 
 from manip.planning.context import PlanContext
 from manip.planning.validity import Validity
-from manip.timing import TimingLimits, time_path
+from manip.limits import JointLimits
+from manip.timing import time_path
 from manip.trajectory import Trajectory
 from manip.validation import MAX_SAMPLES
 
@@ -43,7 +44,7 @@ def validate_trajectory(traj: Trajectory, start: np.ndarray, goal: np.ndarray, v
     return ""
 
 
-def time_once(ctx: PlanContext, path: np.ndarray, limits: TimingLimits, validity: Validity, mode: str,
+def time_once(ctx: PlanContext, path: np.ndarray, *, limits: JointLimits, validity: Validity, mode: str,
               deviation: float) -> tuple[Trajectory | None, str]:
     """(the path (K, dof) timed in `mode` (`timing.time_path`), "") or (None, why not);
     the stage time goes to ctx.timings ("timing")."""
@@ -63,9 +64,9 @@ def time_and_validate(
     ctx: PlanContext,
     path: np.ndarray,
     goal_q: np.ndarray,
-    limits: TimingLimits,
-    validity: Validity,
     *,
+    limits: JointLimits,
+    validity: Validity,
     deviation: float = BLEND_DEVIATION,
     dense_deviation: float | None = None,
     timed: dict[str, Trajectory] | None = None,
@@ -87,8 +88,8 @@ def time_and_validate(
         if timed and mode in timed:
             traj = timed[mode]
         else:
-            traj, reason = time_once(ctx, path, limits, validity, mode,
-                                     dense_deviation if mode == "along_path" else deviation)
+            traj, reason = time_once(ctx, path, limits=limits, validity=validity, mode=mode,
+                                     deviation=dense_deviation if mode == "along_path" else deviation)
             if traj is None:
                 continue
         t = time.perf_counter()

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from manip.limits import JointLimits
 from manip.timing.bounds import rest_to_rest_time
 
 #: Goals whose lower-bound duration is within this fraction of the fastest one's are ranked by
@@ -24,19 +25,18 @@ from manip.timing.bounds import rest_to_rest_time
 TIME_BAND = 0.10
 
 
-def order_goals(start: np.ndarray, configs: np.ndarray, vmax: np.ndarray, amax: np.ndarray,
-                jmax: np.ndarray) -> np.ndarray:
+def order_goals(start: np.ndarray, configs: np.ndarray, limits: JointLimits) -> np.ndarray:
     """Indices of `configs` (G, dof) in the order a plan tries them (see the module docstring).
 
     Args:
         start: (dof,) start configuration [rad].
         configs: (G, dof) goal configurations [rad].
-        vmax, amax, jmax: (dof,) the call's velocity, acceleration and jerk limits.
+        limits: the call's limits (`PlanContext.scaled_limits`).
 
     Returns:
         (G,) a permutation of range(G).
     """
-    bounds = np.array([rest_to_rest_time(start, q, vmax, amax, jmax) for q in configs])
+    bounds = np.array([rest_to_rest_time(start, q, limits) for q in configs])
     lengths = np.linalg.norm(configs - start, axis=1)
     near = bounds <= bounds.min() * (1.0 + TIME_BAND)
     # near goals first, by length; then the others, by their bound (stable: ties keep IK order)

@@ -20,16 +20,16 @@ import time
 import numpy as np
 
 from manip.collision.clearance import ClearanceModel
+from manip.limits import JointLimits
 from manip.planning.context import PlanContext
 from manip.planning.finish import BLEND_DEVIATION, time_and_validate, time_once
 from manip.planning.optimize import smooth_path
-from manip.planning.refine import refine, scaled_limits
+from manip.planning.refine import refine
 from manip.planning.restarts import shorter_way_round
 from manip.planning.result import PlanResult, PlanStatus
 from manip.planning.search import repair_path, search_path
 from manip.planning.shortcut import shortcut
 from manip.planning.validity import Validity
-from manip.timing import TimingLimits
 from manip.trajectory import Trajectory
 
 logger = logging.getLogger(__name__)
@@ -63,8 +63,8 @@ STRICT_REPAIR_ITERATIONS = 500
 COMPARE_BLEND = False
 
 
-def plan_to_configs(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.ndarray, limits: TimingLimits,
-                    clearance: ClearanceModel) -> PlanResult:
+def plan_to_configs(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.ndarray, *,
+                    limits: JointLimits, clearance: ClearanceModel) -> PlanResult:
     """Path, shortcutting, timing and validation to the best reachable of `goals` (G, dof).
 
     A path whose timed trajectory fails the validation (a graze between the
@@ -79,15 +79,16 @@ def plan_to_configs(ctx: PlanContext, validity: Validity, start: np.ndarray, goa
     result = None
     for attempt in range(1, MAX_ATTEMPTS + 1):
         strict = attempt >= STRICT_ATTEMPT
-        result = _plan_once(ctx, validity.strict() if strict else validity, start, goals, attempt, limits, clearance)
+        result = _plan_once(ctx, validity.strict() if strict else validity, start, goals, attempt, limits=limits,
+                            clearance=clearance)
         if result.success or result.status is not PlanStatus.TRAJOPT_FAIL or ctx.time_left < 0:
             break
         logger.info("attempt %d: %s; planning again", attempt, result.message)
     return result
 
 
-def _plan_once(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.ndarray, attempt: int,
-               limits: TimingLimits, clearance: ClearanceModel) -> PlanResult:
+def _plan_once(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.ndarray, attempt: int, *,
+               limits: JointLimits, clearance: ClearanceModel) -> PlanResult:
     """One attempt: a path, its timing and validation, then the optimiser."""
     path, source = None, "shortcut"
     if validity.certified and LAZY_STRICT:
@@ -115,14 +116,14 @@ def _plan_once(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: n
         # MotionBenchMaker 15/scene: mean motion time -1.8 % joint, -2.1 % pose); the timings are
         # validated only when the optimiser gives nothing faster
         for mode in ("exact", "blend") if COMPARE_BLEND else ("exact",):
-            traj, _ = time_once(ctx, path, limits, validity, mode, BLEND_DEVIATION)
+            traj, _ = time_once(ctx, path, limits=limits, validity=validity, mode=mode, deviation=BLEND_DEVIATION)
             if traj is not None:
                 timed[mode] = traj
         if "exact" in timed:
             better = _refine(ctx, timed["exact"], limits, validity, clearance)
         if better is not None and ("blend" not in timed or better.duration <= timed["blend"].duration):
             return ctx.succeed(better, path, goal_q, attempt, "trajopt")
-    traj, why = time_and_validate(ctx, path, goal_q, limits, validity, timed=timed)
+    traj, why = time_and_validate(ctx, path, goal_q, limits=limits, validity=validity, timed=timed)
     if traj is None:
         return ctx.fail(PlanStatus.TRAJOPT_FAIL, f"no valid timed trajectory: {why}", path=path, goal_q=goal_q,
                         attempts=attempt)
@@ -131,15 +132,16 @@ def _plan_once(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: n
     return ctx.succeed(traj, path, goal_q, attempt, source)
 
 
-def _refine(ctx: PlanContext, seed: Trajectory, limits: TimingLimits, validity: Validity,
+def _refine(ctx: PlanContext, seed: Trajectory, limits: JointLimits, validity: Validity,
             clearance: ClearanceModel) -> Trajectory | None:
     """`refine.refine` with the clearance model bound to the validity's checker."""
     checker = validity.checker
-    return refine(ctx, seed, limits, validity, clearance.bound_to(checker), checker.padding)
+    return refine(ctx, seed, limits=limits, validity=validity, clearance=clearance.bound_to(checker),
+                  padding=checker.padding)
 
 
 def _path(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.ndarray, attempt: int,
-          limits: TimingLimits) -> tuple[np.ndarray | None, str, str]:
+          limits: JointLimits) -> tuple[np.ndarray | None, str, str]:
     """(path (K, dof) to one of `goals` (G, dof) or None, its source, why there is none):
     the straight line, else a search, shortcutting, restarts and clearance smoothing."""
     t = time.perf_counter()
@@ -172,7 +174,7 @@ def _path(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.nda
         if STRICT_RESTARTS or not validity.certified:
             t = time.perf_counter()
             path = shorter_way_round(path, goals, validity, shorten, ctx.rng, ctx.deadline,
-                                     scaled_limits(limits, ctx)[0])
+                                     ctx.scaled_limits(limits).velocity)
             ctx.add_time("restarts", t)
         t = time.perf_counter()
         if ctx.options.optimize_clearance:

@@ -20,15 +20,9 @@ from manip.planning.context import PlanContext
 from manip.planning.finish import validate_trajectory
 from manip.planning.trajopt import SMOOTH, TrajOptSettings, optimize_trajectory
 from manip.planning.validity import Validity
-from manip.timing import TimingLimits
+from manip.limits import JointLimits
 from manip.timing.bounds import rest_to_rest_time
 from manip.trajectory import Trajectory
-
-
-def scaled_limits(limits: TimingLimits, ctx: PlanContext) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(vmax, amax, jmax) (dof,) of this call: the robot's limits times the call's scales."""
-    o = ctx.options
-    return limits.velocity * o.velocity_scale, limits.acceleration * o.acceleration_scale, limits.jerk * o.jerk_scale
 
 
 #: Ray points (`TrajOptSettings.ray_points`) of the optimiser's further tries when its motion
@@ -51,7 +45,7 @@ REPAIR_SAMPLES = 8
 
 
 def refine(
-    ctx: PlanContext, seed: Trajectory, limits: TimingLimits, validity: Validity, clearance: ClearanceModel,
+    ctx: PlanContext, seed: Trajectory, *, limits: JointLimits, validity: Validity, clearance: ClearanceModel,
     padding: float,
 ) -> Trajectory | None:
     """A faster valid trajectory between the same configurations than `seed`, or None.
@@ -66,9 +60,9 @@ def refine(
     o = ctx.options
     if o.duration is not None:
         return None
-    vmax, amax, jmax = scaled_limits(limits, ctx)
+    limits = ctx.scaled_limits(limits)
     start, goal = seed.positions[0], seed.positions[-1]
-    bound = rest_to_rest_time(start, goal, vmax, amax, jmax)
+    bound = rest_to_rest_time(start, goal, limits)
     if seed.duration <= bound * 1.03:
         return None
     settings = SMOOTH if o.smoothness == "smooth" else TrajOptSettings()
@@ -83,9 +77,8 @@ def refine(
         # bounded by its rounds, iterations and QP budget, not by the clock (the same seed
         # gives the same trajectory on any machine); only the call's time budget can cut it short
         result = optimize_trajectory(
-            motion.positions, motion.times, vmax, amax, jmax, validity.kinematics.lower, validity.kinematics.upper,
-            clearance, padding, ctx.deadline, settings=s, min_duration=bound, max_duration=seed.duration,
-            max_solves=left,
+            motion.positions, motion.times, limits=limits, clearance=clearance, padding=padding,
+            deadline=ctx.deadline, settings=s, min_duration=bound, max_duration=seed.duration, max_solves=left,
         )
         left -= result.solves
         steps = math.ceil(result.duration / o.dt - 1e-9) if result.success else 0

@@ -24,6 +24,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from manip.collision.clearance import ClearanceModel
+from manip.limits import JointLimits
 from manip.planning import bspline, qp
 from manip.planning.trajopt_settings import TrajOptSettings
 
@@ -130,9 +131,13 @@ class SplineProblem:
         return c
 
 
-def sco_fixed_step(prob: SplineProblem, c0, h, radius, vmax, amax, jmax, lower, upper, clearance, margin,
-                   s: TrajOptSettings, deadline, max_solves=np.inf):
+def sco_fixed_step(prob: SplineProblem, c0: np.ndarray, h: float, radius: float, *, limits: JointLimits,
+                   clearance: ClearanceModel, margin: float, settings: TrajOptSettings, deadline: float,
+                   max_solves: int | float = np.inf):
     """Sequential convex optimisation at step h (an L1 penalty method with a trust region).
+
+    `limits`: the call's scaled limits (with position limits); `margin` [m]; `radius`: the
+    trust region's first radius [rad]; `deadline`: a `time.perf_counter()` value.
 
     The velocity, acceleration and jerk limits at step h and the clearance above `margin`
     are soft (slack variables with `s.penalty`): the QP is always feasible, and the caller
@@ -144,14 +149,16 @@ def sco_fixed_step(prob: SplineProblem, c0, h, radius, vmax, amax, jmax, lower, 
         (ok: the clearance stayed above the seed's floor, control points, QPs solved, why not
         ok, the trust region's radius at the end [rad]).
     """
+    s = settings
+    lower, upper = limits.lower, limits.upper
     c = c0.copy()
     solves = 0
-    G_lim, h_lim = _limit_rows(prob, h, vmax, amax, jmax)
+    G_lim, h_lim = _limit_rows(prob, h, limits)
     G_lim_slack = prob.limit_G_slack  # the same rows with their slack columns (-1)
     S = G_lim_slack.shape[1] - G_lim.shape[1]  # one slack per derivative order and joint, >= 0, L1-penalised
     slack_cost, slack_lb, slack_ub = np.full(S, s.penalty), np.zeros(S), np.full(S, np.inf)
-    row_lim = _row_limits(prob, h, vmax, amax, jmax)
-    P, q_lin = _objective(prob, h, vmax, amax, jmax, s)
+    row_lim = _row_limits(prob, h, limits)
+    P, q_lin = _objective(prob, h, limits, s)
     P_sparse = sp.csc_matrix(P)
     activation = margin + s.activation
     terms = clearance.terms(prob.B @ c, activation)
@@ -199,8 +206,8 @@ def sco_fixed_step(prob: SplineProblem, c0, h, radius, vmax, amax, jmax, lower, 
     return True, c, solves, "", radius
 
 
-def sco_free_step(prob: SplineProblem, c0: np.ndarray, vmax, amax, jmax, lower, upper, clearance: ClearanceModel,
-                  margin: float, s: TrajOptSettings, deadline: float, h_floor: float,
+def sco_free_step(prob: SplineProblem, c0: np.ndarray, *, limits: JointLimits, clearance: ClearanceModel,
+                  margin: float, settings: TrajOptSettings, deadline: float, h_floor: float,
                   max_solves: int | float = np.inf) -> tuple[np.ndarray, int]:
     """SCO over the control points and the knot step h together, from c0 (N + 3, dof).
 
@@ -214,10 +221,12 @@ def sco_free_step(prob: SplineProblem, c0: np.ndarray, vmax, amax, jmax, lower, 
         (control points (N + 3, dof) no worse than c0, QPs solved); their shortest step is
         `bspline.limit_step`.
     """
+    s = settings
+    lower, upper = limits.lower, limits.upper
     n, dof = prob.n, prob.dof
     c = c0.copy()
-    h_ref = _polygon_step(c, vmax, amax, jmax)
-    P, q_lin = _objective(prob, h_ref, vmax, amax, jmax, s)
+    h_ref = _polygon_step(c, limits)
+    P, q_lin = _objective(prob, h_ref, limits, s)
     P_sparse = sp.csc_matrix(P)
     nx, R = P.shape[0], len(prob.rays)
     order = prob.limit_slack // dof + 1  # (L,) the derivative order of each limit row
@@ -228,17 +237,17 @@ def sco_free_step(prob: SplineProblem, c0: np.ndarray, vmax, amax, jmax, lower, 
 
     def merit_of(c_: np.ndarray, terms_) -> float:
         x = c_[3:n].T.ravel()
-        return float(weight * _polygon_step(c_, vmax, amax, jmax) + 0.5 * x @ P @ x + q_lin @ x
+        return float(weight * _polygon_step(c_, limits) + 0.5 * x @ P @ x + q_lin @ x
                      + s.penalty * _violation(terms_, margin))
 
     merit = merit_of(c, terms)
     radius = s.trust_region
     solves = 0
     while solves < min(s.free_iterations, max_solves) and time.perf_counter() <= deadline:
-        h = _polygon_step(c, vmax, amax, jmax)
+        h = _polygon_step(c, limits)
         x0 = c[3:n]
-        G_lim, h_lim = _limit_rows(prob, h, vmax, amax, jmax)
-        row_lim = _row_limits(prob, h, vmax, amax, jmax)
+        G_lim, h_lim = _limit_rows(prob, h, limits)
+        row_lim = _row_limits(prob, h, limits)
         keep = G_lim @ x0.T.ravel() - h_lim > -s.limit_row_slack * row_lim
         # G x <= lim(h') - fixed share, with lim(h') >= lim(h) (k h' / h - (k - 1)) for order k
         k, lim = order[keep], row_lim[keep]
@@ -275,14 +284,15 @@ def sco_free_step(prob: SplineProblem, c0: np.ndarray, vmax, amax, jmax, lower, 
     return c, solves
 
 
-def _polygon_step(c: np.ndarray, vmax, amax, jmax) -> float:
+def _polygon_step(c: np.ndarray, limits: JointLimits) -> float:
     """The shortest step h [s] at which the control points' differences (N + 3, dof) respect
     the limits as the QP rows count them (velocity by the control polygon, so h >=
     `bspline.limit_step`)."""
     d1 = np.abs(np.diff(c, 1, axis=0)).max(axis=0)
     d2 = np.abs(np.diff(c, 2, axis=0)).max(axis=0)
     d3 = np.abs(np.diff(c, 3, axis=0)).max(axis=0)
-    return float(max(np.max(d1 / vmax), np.sqrt(np.max(d2 / amax)), np.cbrt(np.max(d3 / jmax)), 1e-9))
+    return float(max(np.max(d1 / limits.velocity), np.sqrt(np.max(d2 / limits.acceleration)),
+                     np.cbrt(np.max(d3 / limits.jerk)), 1e-9))
 
 
 def _merit(P, q_lin, c, prob: SplineProblem, terms, margin: float, penalty: float, G_lim, h_lim) -> float:
@@ -330,28 +340,29 @@ def _min_distance(terms, activation: float) -> float:
     return float(terms.distance.min()) if terms.distance.size else activation
 
 
-def _limit_rows(prob: SplineProblem, h: float, vmax, amax, jmax) -> tuple[np.ndarray, np.ndarray]:
+def _limit_rows(prob: SplineProblem, h: float, limits: JointLimits) -> tuple[np.ndarray, np.ndarray]:
     """G x <= hv for the velocity, acceleration and jerk limits at step h (joint-major x)."""
     rhs = []
-    lims = {1: vmax * h, 2: amax * h**2, 3: jmax * h**3}
+    lims = {1: limits.velocity * h, 2: limits.acceleration * h**2, 3: limits.jerk * h**3}
     for (order, rows), fixed in zip(prob.limit_order, prob.limit_fixed):
         rhs.append(np.repeat(lims[order], rows) - fixed)
     return prob.limit_G, np.concatenate(rhs)
 
 
-def _row_limits(prob: SplineProblem, h: float, vmax, amax, jmax) -> np.ndarray:
+def _row_limits(prob: SplineProblem, h: float, limits: JointLimits) -> np.ndarray:
     """(L,) the limit of each limit row at step h [rad of control-point difference]."""
-    lims = np.concatenate([vmax * h, amax * h**2, jmax * h**3])  # indexed like limit_slack
+    lims = np.concatenate([limits.velocity * h, limits.acceleration * h**2, limits.jerk * h**3])  # indexed like limit_slack
     return lims[prob.limit_slack]
 
 
-def _objective(prob: SplineProblem, h: float, vmax, amax, jmax, s: TrajOptSettings):
+def _objective(prob: SplineProblem, h: float, limits: JointLimits, s: TrajOptSettings):
     """P, q of 1/2 x^T P x + q^T x: weighted squared limit fractions of velocity, acceleration, jerk."""
     m = prob.free.size
     P = np.zeros((prob.dof * m, prob.dof * m))
     q = np.zeros(prob.dof * m)
-    for order, lim, w in ((1, vmax * h, s.velocity_weight), (2, amax * h**2, s.acceleration_weight),
-                          (3, jmax * h**3, s.jerk_weight)):
+    for order, lim, w in ((1, limits.velocity * h, s.velocity_weight),
+                          (2, limits.acceleration * h**2, s.acceleration_weight),
+                          (3, limits.jerk * h**3, s.jerk_weight)):
         DtD, Dtf = prob.cost[order]
         for i in range(prob.dof):
             k = 2 * w / lim[i] ** 2

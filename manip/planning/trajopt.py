@@ -32,11 +32,12 @@ import numpy as np
 
 from manip.collision.clearance import ClearanceModel
 from manip.errors import InvalidInputError
+from manip.limits import JointLimits
 from manip.planning import bspline
 from manip.planning.sco import SplineProblem, sco_fixed_step, sco_free_step
 from manip.planning.trajopt_settings import SMOOTH, TrajOptSettings
 from manip.trajectory import PiecewiseJerkProfile
-from manip.validation import non_negative, per_joint
+from manip.validation import non_negative
 
 __all__ = ["SMOOTH", "TrajOptResult", "TrajOptSettings", "optimize_trajectory"]
 
@@ -71,15 +72,11 @@ class TrajOptResult:
 def optimize_trajectory(
     seed_positions: np.ndarray,
     seed_times: np.ndarray,
-    vmax: np.ndarray,
-    amax: np.ndarray,
-    jmax: np.ndarray,
-    lower: np.ndarray,
-    upper: np.ndarray,
+    *,
+    limits: JointLimits,
     clearance: ClearanceModel,
     padding: float,
     deadline: float,
-    *,
     settings: TrajOptSettings = TrajOptSettings(),
     min_duration: float = 0.0,
     max_duration: float = np.inf,
@@ -92,8 +89,8 @@ def optimize_trajectory(
         seed_positions: (T, dof) samples of a limit-respecting motion, collision-free or
             nearly so (its sampled sphere clearance is the floor the result keeps) [rad].
         seed_times: (T,) their times [s] (the last is the seed's duration).
-        vmax, amax, jmax: (dof,) velocity, acceleration, jerk limits (already scaled).
-        lower, upper: (dof,) position limits [rad].
+        limits: the velocity, acceleration and jerk limits (already scaled) and the
+            position limits (required) of the dof joints.
         clearance: the sphere-cover clearance model of the robot and world.
         padding: clearance the planner keeps [m] (added to `settings.margin`).
         deadline: `time.perf_counter()` value to stop at (the best result so far is kept).
@@ -116,9 +113,12 @@ def optimize_trajectory(
         raise InvalidInputError(f"min_duration must be finite and >= 0 and max_duration > 0 [s]; got {min_duration!r}, "
                                 f"{max_duration!r}")
     dof = seed_positions.shape[1]
-    vmax, amax, jmax = (per_joint(v, dof, name, positive=True) for v, name in
-                        ((vmax, "vmax"), (amax, "amax"), (jmax, "jmax")))
-    lower, upper = per_joint(lower, dof, "lower", positive=False), per_joint(upper, dof, "upper", positive=False)
+    if not isinstance(limits, JointLimits):
+        raise InvalidInputError(f"limits must be a manip.JointLimits; got {type(limits).__name__}")
+    if limits.dof != dof or limits.lower is None:
+        raise InvalidInputError(f"limits must be for the seed's {dof} joints, with position limits; got {limits.dof} "
+                                f"joints{'' if limits.lower is not None else ', no position limits'}")
+    lower, upper = limits.lower, limits.upper
     non_negative(padding, "padding", "m")
     start, goal = seed_positions[0], seed_positions[-1]
     n = settings.intervals
@@ -133,8 +133,9 @@ def optimize_trajectory(
         c = prob.project_rays(c)
     margin = padding + settings.margin
     if settings.free_duration:
-        return _free_duration(prob, c, float(seed_times[-1]) / n, vmax, amax, jmax, lower, upper, clearance, margin,
-                              settings, deadline, max(min_duration, 0.0) / n, max_solves)
+        return _free_duration(prob, c, float(seed_times[-1]) / n, limits=limits, clearance=clearance, margin=margin,
+                              settings=settings, deadline=deadline, h_floor=max(min_duration, 0.0) / n,
+                              max_solves=max_solves)
     h = float(seed_times[-1]) / n
     h_floor = max(min_duration, 0.0) / n  # no motion is faster than the lower bound
     h_max = max_duration / n
@@ -148,14 +149,15 @@ def optimize_trajectory(
     for _ in range(settings.rounds):
         if time.perf_counter() > deadline or solves >= max_solves:
             break
-        ok, c_new, used, why, radius = sco_fixed_step(prob, c, h, radius, vmax, amax, jmax, lower, upper, clearance,
-                                                      margin, settings, deadline, max_solves - solves)
+        ok, c_new, used, why, radius = sco_fixed_step(prob, c, h, radius, limits=limits, clearance=clearance,
+                                                      margin=margin, settings=settings, deadline=deadline,
+                                                      max_solves=max_solves - solves)
         # the next round starts from twice the last step size (a step rejected there would
         # be rejected at the same shape again)
         radius = min(settings.trust_region, 2.0 * radius)
         solves += used
         # the optimised shape, uniformly re-timed until a limit is active (limits are soft in the QP)
-        h_star = bspline.limit_step(c_new, vmax, amax, jmax) if ok else np.inf
+        h_star = bspline.limit_step(c_new, limits) if ok else np.inf
         logger.debug("trajopt: target T = %.3f s: %s, feasible T = %.3f s (%d QPs) %s", n * h,
                      "ok" if ok else "failed", n * h_star, used, why)
         if ok and (best is None or h_star < best[1]):
@@ -165,7 +167,7 @@ def optimize_trajectory(
             # limits there, and repairing both limits and clearance failed): once more from
             # the fit, at the duration where it is within the limits
             second_chance = False
-            c, h, h_low, radius = fit, max(h, bspline.limit_step(fit, vmax, amax, jmax)), h_floor, settings.trust_region
+            c, h, h_low, radius = fit, max(h, bspline.limit_step(fit, limits)), h_floor, settings.trust_region
             continue
         if best is None:
             message = why
@@ -188,24 +190,26 @@ def optimize_trajectory(
     return TrajOptResult(True, bspline.to_profile(c, h), c, n * h, solves, "", prob.ends_tied)
 
 
-def _free_duration(prob: SplineProblem, c: np.ndarray, h_seed: float, vmax, amax, jmax, lower, upper,
-                   clearance: ClearanceModel, margin: float, s: TrajOptSettings, deadline: float, h_floor: float,
-                   max_solves: int | float) -> TrajOptResult:
+def _free_duration(prob: SplineProblem, c: np.ndarray, h_seed: float, *, limits: JointLimits,
+                   clearance: ClearanceModel, margin: float, settings: TrajOptSettings, deadline: float,
+                   h_floor: float, max_solves: int | float) -> TrajOptResult:
     """`s.first_iterations` at the seed's step h_seed [s] (kept when they end above the
     clearance floor), then the free-duration SCO from there."""
+    s = settings
     solves = 0
     if s.first_iterations:
-        ok, first, solves, why, _ = sco_fixed_step(prob, c, h_seed, s.trust_region, vmax, amax, jmax, lower, upper,
-                                                   clearance, margin, replace(s, iterations=s.first_iterations),
-                                                   deadline, max_solves)
+        ok, first, solves, why, _ = sco_fixed_step(prob, c, h_seed, s.trust_region, limits=limits,
+                                                   clearance=clearance, margin=margin,
+                                                   settings=replace(s, iterations=s.first_iterations),
+                                                   deadline=deadline, max_solves=max_solves)
         logger.debug("trajopt: at the seed's T = %.3f s: %s (%d QPs) %s", prob.n * h_seed, "ok" if ok else "failed",
                      solves, why)
         c = first if ok else c
     if solves < max_solves:
-        c, used = sco_free_step(prob, c, vmax, amax, jmax, lower, upper, clearance, margin, s, deadline, h_floor,
-                                max_solves - solves)
+        c, used = sco_free_step(prob, c, limits=limits, clearance=clearance, margin=margin, settings=s,
+                                deadline=deadline, h_floor=h_floor, max_solves=max_solves - solves)
         solves += used
-    h = bspline.limit_step(c, vmax, amax, jmax)
+    h = bspline.limit_step(c, limits)
     logger.debug("trajopt: free duration T = %.3f s (%d QPs)", prob.n * h, solves)
     return TrajOptResult(True, bspline.to_profile(c, h), c, prob.n * h, solves, "", prob.ends_tied)
 
