@@ -423,13 +423,13 @@ def test_incremental_edits_answer_like_a_rebuilt_world(franka_config, franka_kin
         else:
             ck.update_obstacle_pose(names[int(rng.integers(len(names)))], list(rng.uniform(-0.5, 0.5, 3) + [0.4, 0, 0.4]))
         fresh = CollisionChecker(franka_config, franka_kinematics, ck.world)
-        assert ck._static_world == fresh._static_world
+        assert ck.state.always_colliding == fresh.state.always_colliding
         assert np.array_equal(ck.in_collision_batch(random_q[:200]), fresh.in_collision_batch(random_q[:200]))
     # the obstacle at the base makes every configuration collide until it is removed
     if "at_base" in ck.world:
         assert ck.in_collision_batch(random_q[:5]).all()
         ck.remove_obstacle("at_base")
-    assert not ck._static_world
+    assert not ck.state.every_configuration_collides
 
 
 def test_edits_keep_snapshots_unchanged(franka_config, franka_kinematics, world, random_q):

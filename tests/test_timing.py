@@ -10,7 +10,6 @@ from manip.errors import InvalidInputError
 from manip.robot_config import load_robot_config
 from manip.timing import (
     TimingStatus,
-    _SegmentSolver,
     time_parameterize,
     time_parameterize_dense,
     time_parameterize_for_robot,
@@ -261,7 +260,7 @@ def test_profile_matches_ruckig_at_time(cfg):
     vmax, amax, jmax, lo, hi = limits(cfg)
     from manip.trajectory import evaluate_pieces
 
-    solver = _SegmentSolver(vmax, amax, jmax)
+    solver = SegmentSolver(vmax, amax, jmax)
     a = np.array(cfg.default_joint_positions)
     b = a + np.array([0.4, -0.2, 0.3, 0.1, -0.5, 0.2, 0.6])
     v0 = np.array([0.5, 0.1, 0.0, -0.2, 0.3, 0.0, 0.4])

@@ -182,7 +182,7 @@ class SimulationApp:
             self._web_server = start_server(self.config["web_host"], self.config["web_port"], grid=False)
         self._viewer = SimStream(self._web_server, world.model, max_rate=self.config["web_rate"])
         self._viewer_model = world.model
-        world._sim.ensure_kinematics()
+        world.physics_sim_view.ensure_kinematics()
         self._viewer.push(world.data, force=True)
 
     def _close_viewer(self) -> None:
@@ -203,12 +203,12 @@ class SimulationApp:
             self._open_viewer(world)
         if self.web:
             if self._viewer.due():  # the stream's rate limit: no kinematics between frames
-                world._sim.ensure_kinematics()
+                world.physics_sim_view.ensure_kinematics()
                 self._viewer.push(world.data)
         elif not self._viewer.is_running():
             return
         else:
-            world._sim.ensure_kinematics()
+            world.physics_sim_view.ensure_kinematics()
             self._viewer.sync()
         if self.config.get("realtime", True):
             now = time.perf_counter()

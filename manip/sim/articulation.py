@@ -51,7 +51,7 @@ from manip.sim.articulation_controller import CONTROL_MODES, ArticulationControl
 from manip.sim.articulation_core import MAX_EFFORT, MAX_POSITION, MAX_VELOCITY, ArticulationCore
 from manip.sim.articulation_view import ArticulationView
 from manip.sim.dof_properties import DOF_PROPERTIES_DTYPE, dof_properties  # noqa: F401 (DTYPE re-exported)
-from manip.sim.stage import SimHandle, SimulationError, get_current_stage, validate_prim_path
+from manip.sim.stage import ReferencePrim, SimHandle, SimulationError, get_current_stage, validate_prim_path
 from manip.sim.types import DefaultPoseMixin, JointsState, XFormPrimState, position_or_translation
 from manip.validation import unit_quat, vec
 
@@ -117,7 +117,7 @@ class Articulation(DefaultPoseMixin):
         """Whether the model is compiled with this articulation in it."""
         return self._ref.core is not None
 
-    def _bind(self, sim: SimHandle) -> None:
+    def bind_simulation(self, sim: SimHandle) -> None:
         self._core = self._ref.core
         c = self._core
         self._controller.initialize(self)
@@ -135,7 +135,7 @@ class Articulation(DefaultPoseMixin):
             eff.copy() if eff is not None else np.zeros(c.n),
         )
 
-    def _unbind(self) -> None:
+    def unbind_simulation(self) -> None:
         self._core = None
 
     def initialize(self, physics_sim_view=None) -> None:
@@ -143,7 +143,18 @@ class Articulation(DefaultPoseMixin):
         at every reset; Isaac scripts call this after a reset). Before the model holding
         this articulation is compiled, nothing happens: the next `World.reset()` binds it."""
         if self._core is None and self._bindable():
-            self._bind(self._ref.core.sim)
+            self.bind_simulation(self._ref.core.sim)
+
+    @property
+    def core(self) -> ArticulationCore | None:
+        """The compiled model's view of this articulation (joint indices, limits, drives);
+        None before the World binds it at a reset."""
+        return self._core
+
+    @property
+    def reference(self) -> ReferencePrim:
+        """The referenced model (MJCF/URDF on the stage) this articulation wraps."""
+        return self._ref
 
     @property
     def handles_initialized(self) -> bool:

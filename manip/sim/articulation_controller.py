@@ -22,7 +22,7 @@ class DrivenArticulation(Protocol):
     """What the controller drives: an object holding the compiled model's core (None before
     the World compiles), e.g. an `Articulation`."""
 
-    _core: ArticulationCore | None
+    core: ArticulationCore | None
 
 
 class ArticulationController:
@@ -36,9 +36,9 @@ class ArticulationController:
         self._articulation = articulation
 
     def _core(self) -> ArticulationCore:
-        if self._articulation is None or self._articulation._core is None:
+        if self._articulation is None or self._articulation.core is None:
             raise SimulationError("the articulation controller is used before World.reset() compiled the world")
-        return self._articulation._core
+        return self._articulation.core
 
     def apply_action(self, control_actions: ArticulationAction) -> None:
         """Set drive targets; they take effect from the next physics step and persist.

@@ -32,7 +32,7 @@ class ViewedArticulation(Protocol):
     """What the view reads: the articulation's core (None before the World compiles)."""
 
     prim_path: str
-    _core: ArticulationCore | None
+    core: ArticulationCore | None
 
 
 class _ReferencedModel:
@@ -43,7 +43,7 @@ class _ReferencedModel:
         self.prim_path = ref.prim_path
 
     @property
-    def _core(self) -> ArticulationCore | None:
+    def core(self) -> ArticulationCore | None:
         return self._ref.core
 
 
@@ -106,7 +106,7 @@ class ArticulationView:
         """Nothing to do: the view reads the articulation the World compiled (kept for Isaac scripts)."""
 
     def _c(self, what: str) -> ArticulationCore:
-        c = self._articulation._core
+        c = self._articulation.core
         if c is None:
             raise SimulationError(f"articulation view {self.prim_paths[0]!r}: {what} before world.reset()")
         return c
@@ -154,7 +154,7 @@ class ArticulationView:
         return names.index(dof_name)
 
     def is_physics_handle_valid(self) -> bool:
-        return self._articulation._core is not None
+        return self._articulation.core is not None
 
     # ------------------------------------------------------------------ drives
     def get_gains(self, indices=None, joint_indices=None, clone: bool = True) -> tuple[np.ndarray, np.ndarray]:

@@ -36,7 +36,7 @@ def compile_stage(stage: Stage, *, timestep: float, gravity: np.ndarray) -> SimH
                              type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL, diffuse=[0.6, 0.6, 0.6],
                              castshadow=True)
     for prim in stage.prims():
-        prim._build(spec)
+        prim.add_to_spec(spec)
     try:
         model = spec.compile()
     except ValueError as exc:

@@ -121,8 +121,8 @@ class BaseSampleExtension:
     def on_shutdown(self) -> None:
         """Called when the extension stops: the sample's world is cleaned up (not cleared)."""
         self._extra_frames = []
-        if self._sample is not None and self._sample._world is not None:
-            self._sample._world_cleanup()
+        if self._sample is not None and self._sample.get_world() is not None:
+            self._sample.release_world()
         self._menu_items = None
         if self._buttons is not None:
             self._buttons["Load World"].enabled = True
@@ -169,11 +169,11 @@ class BaseSampleExtension:
 
         async def _on_load_world_async() -> None:
             await sample.load_world_async()
-            sample._world.add_stage_callback("stage_event_1", self.on_stage_event)
+            sample.get_world().add_stage_callback("stage_event_1", self.on_stage_event)
             self._enable_all_buttons(True)
             self._buttons["Load World"].enabled = False
             self.post_load_button_event()
-            sample._world.add_timeline_callback("stop_reset_event", self._reset_on_stop_event)
+            sample.get_world().add_timeline_callback("stop_reset_event", self._reset_on_stop_event)
 
         return _run(_on_load_world_async(), "the Load button's coroutine")
 
@@ -209,9 +209,9 @@ class BaseSampleExtension:
     def on_stage_event(self, event: StageEvent) -> None:
         """A cleared stage (Isaac: closed) ends the World: clean it up, Load enabled again."""
         if event.type == "CLEARED" and World.instance() is not None and self._sample is not None \
-                and self._sample._world is not None:
-            self._sample._world_cleanup()
-            self._sample._world.clear_instance()
+                and self._sample.get_world() is not None:
+            self._sample.release_world()
+            self._sample.get_world().clear_instance()
             if self._buttons is not None:
                 self._enable_all_buttons(False)
                 self._buttons["Load World"].enabled = True

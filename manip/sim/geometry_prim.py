@@ -63,7 +63,7 @@ class GeometryPrim(XFormPrim):
     """A prim with one geometry (base of the shape classes)."""
 
     _family = "visual"
-    _shape = "cuboid"
+    shape_kind = "cuboid"  # the geometry type, as the planner names it
 
     def __init__(
         self,
@@ -92,7 +92,7 @@ class GeometryPrim(XFormPrim):
     def _geom_type_size(self) -> tuple[int, list[float]]:
         raise NotImplementedError
 
-    def _build(self, spec: mujoco.MjSpec) -> mujoco.MjsBody:
+    def add_to_spec(self, spec: mujoco.MjSpec) -> mujoco.MjsBody:
         dynamic = self._family == "dynamic"
         body = spec.worldbody.add_body(
             name=self.prim_path, pos=self._pose[0].tolist(), quat=self._pose[1].tolist(), mocap=not dynamic
@@ -127,8 +127,8 @@ class GeometryPrim(XFormPrim):
     def _set_mass_props(self, geom) -> None:
         pass
 
-    def _bind(self, sim: SimHandle) -> None:
-        super()._bind(sim)
+    def bind_simulation(self, sim: SimHandle) -> None:
+        super().bind_simulation(sim)
         self._geom_id = mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_GEOM, self.prim_path + "/geom")
 
     def _apply_visibility(self) -> None:
@@ -166,6 +166,6 @@ class GeometryPrim(XFormPrim):
         """Index of the MuJoCo geom (-1 before the World compiles)."""
         return self._geom_id
 
-    def _shape_dimensions(self) -> np.ndarray:
+    def shape_dimensions(self) -> np.ndarray:
         """Dimensions in the `CollisionObject` convention (see Scene.get_collision_objects)."""
         raise NotImplementedError

@@ -24,7 +24,7 @@ class GroundPlane(GeometryPrim):
     """
 
     _family = "ground"
-    _shape = "plane"
+    shape_kind = "plane"  # the geometry type, as the planner names it
 
     _wraps_existing = False
 
@@ -56,18 +56,18 @@ class GroundPlane(GeometryPrim):
     def _geom_type_size(self):
         return mujoco.mjtGeom.mjGEOM_PLANE, [self._size, self._size, 0.05]
 
-    def _build(self, spec: mujoco.MjSpec) -> mujoco.MjsBody:
+    def add_to_spec(self, spec: mujoco.MjSpec) -> mujoco.MjsBody:
         tex_name = self.prim_path + "/texture"
         c = self._color
         spec.add_texture(name=tex_name, type=mujoco.mjtTexture.mjTEXTURE_2D, builtin=mujoco.mjtBuiltin.mjBUILTIN_CHECKER,
                          rgb1=c.tolist(), rgb2=np.clip(c + 0.1, 0, 1).tolist(), width=300, height=300)
         mat = spec.add_material(name=self.prim_path + "/material", texrepeat=[5, 5], texuniform=True, reflectance=0.1)
         mat.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = tex_name
-        body = super()._build(spec)
+        body = super().add_to_spec(spec)
         geom = body.first_geom()
         geom.material = self.prim_path + "/material"
         geom.rgba = [1.0, 1.0, 1.0, 1.0 if self._visible else 0.0]
         return body
 
-    def _shape_dimensions(self) -> np.ndarray:
+    def shape_dimensions(self) -> np.ndarray:
         return np.zeros(0)

@@ -78,8 +78,8 @@ class SingleManipulator(Robot):
     def gripper(self) -> Gripper | None:
         return self._gripper
 
-    def _bind(self, sim: SimHandle) -> None:
-        super()._bind(sim)
+    def bind_simulation(self, sim: SimHandle) -> None:
+        super().bind_simulation(sim)
         if self._gripper is None:
             return
         self._gripper.initialize(self.apply_action, self.get_joint_positions, self.set_joint_positions,

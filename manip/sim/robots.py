@@ -236,8 +236,8 @@ class WheeledRobot(Robot):
         self._wheel_idx: np.ndarray | None = None
         super().__init__(prim_path, name, position=position, orientation=orientation)
 
-    def _bind(self, sim: SimHandle) -> None:
-        super()._bind(sim)
+    def bind_simulation(self, sim: SimHandle) -> None:
+        super().bind_simulation(sim)
         if self._wheel_names is not None:
             self._wheel_idx = np.array([self.get_dof_index(n) for n in self._wheel_names], dtype=int)
         else:

@@ -128,7 +128,7 @@ class BaseSample:
         """The Clear button: a new stage, the World cleaned up and forgotten, `setup_post_clear()`."""
         await create_new_stage_async()
         if self._world is not None:
-            self._world_cleanup()
+            self.release_world()
             self._world.clear_instance()
             self._world = None
             gc.collect()
@@ -151,11 +151,15 @@ class BaseSample:
             raise SimulationError(f"{what}: the sample's world is not loaded; call load_world() (the Load button) first")
         return self._world
 
-    def _world_cleanup(self) -> None:
+    def release_world(self) -> None:
+        """Stop the World, drop its callbacks and tasks, then run the `world_cleanup` hook
+        (the extension calls this on shutdown and when the stage is cleared)."""
         self._world.stop()
         self._world.clear_all_callbacks()
         self._current_tasks = None
         self.world_cleanup()
+
+    _world_cleanup = release_world  # Isaac's name (its extension calls it)
 
     # ------------------------------------------------------------------ hooks (sync or async)
     def setup_scene(self) -> None:

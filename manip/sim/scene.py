@@ -186,7 +186,7 @@ class Scene:
 
     # ------------------------------------------------------------------ geometry queries
     def _geoms_of(self, obj: Any) -> list[int]:
-        sim = self._world._sim
+        sim = self._world.physics_sim_view
         if sim is None:
             raise SimulationError("the world is not compiled yet; call world.reset() first")
         m = sim.model
@@ -206,7 +206,7 @@ class Scene:
         obj = self._objects.get(name)
         if obj is None:
             raise InvalidInputError(f"no object named {name!r} in the scene; names: {sorted(self._objects)}")
-        sim = self._world._sim
+        sim = self._world.physics_sim_view
         geoms = self._geoms_of(obj)
         if not geoms:
             p = obj.get_world_pose()[0]
@@ -235,7 +235,7 @@ class Scene:
         Raises:
             SimulationError: before the first `World.reset()`.
         """
-        sim = self._world._sim
+        sim = self._world.physics_sim_view
         if sim is None:
             raise SimulationError("get_collision_objects: the world is not compiled yet; call world.reset() first")
         sim.ensure_kinematics()
@@ -261,14 +261,14 @@ class Scene:
             if obj is not None:
                 # The object's frame is its body frame (MuJoCo recentres meshes, so a cone's
                 # geom frame sits at its centroid, not at the centre of its height).
-                dims = obj._shape_dimensions()
+                dims = obj.shape_dimensions()
                 pose = Pose(d.xpos[b].copy(), d.xquat[b].copy())
                 verts = faces = None
-                if obj._shape == "cone":
+                if obj.shape_kind == "cone":
                     verts, faces = _mesh_arrays(m, int(m.geom_dataid[g]))
                     Rg, Rb = d.geom_xmat[g].reshape(3, 3), d.xmat[b].reshape(3, 3)
                     verts = (verts @ Rg.T + d.geom_xpos[g] - d.xpos[b]) @ Rb
-                out.append(CollisionObject(names.get(id(obj), obj.prim_path), obj.prim_path, obj._shape, dims, pose,
+                out.append(CollisionObject(names.get(id(obj), obj.prim_path), obj.prim_path, obj.shape_kind, dims, pose,
                                            False, None, body, dynamic, verts, faces))
                 continue
             ref = next((r for r in refs if body.startswith(r.prefix)), None)

@@ -35,7 +35,7 @@ def _length(value, what: str) -> float:
 class _Cuboid:
     """Edge `size` [m] before scaling: the edges are size * scale (3,)."""
 
-    _shape = "cuboid"
+    shape_kind = "cuboid"  # the geometry type, as the planner names it
     _shape_params = ("size",)
 
     def _init_shape(self, size, radius, height) -> None:
@@ -53,11 +53,11 @@ class _Cuboid:
     def _geom_type_size(self):
         return mujoco.mjtGeom.mjGEOM_BOX, (0.5 * self._size * self._scale).tolist()
 
-    def _shape_dimensions(self) -> np.ndarray:
+    def shape_dimensions(self) -> np.ndarray:
         return self._size * self._scale
 
     def _volume(self) -> float:
-        return float(np.prod(self._shape_dimensions()))
+        return float(np.prod(self.shape_dimensions()))
 
 
 class _Radius:
@@ -75,7 +75,7 @@ class _Radius:
 class _Sphere(_Radius):
     """Radius times scale: a sphere, or an ellipsoid if the scale is not uniform."""
 
-    _shape = "sphere"
+    shape_kind = "sphere"  # the geometry type, as the planner names it
     _shape_params = ("radius",)
 
     def _init_shape(self, size, radius, height) -> None:
@@ -87,12 +87,12 @@ class _Sphere(_Radius):
             return mujoco.mjtGeom.mjGEOM_SPHERE, [float(r[0]), 0.0, 0.0]
         return mujoco.mjtGeom.mjGEOM_ELLIPSOID, r.tolist()
 
-    def _shape_dimensions(self) -> np.ndarray:
+    def shape_dimensions(self) -> np.ndarray:
         r = self._radius * self._scale
         return np.array([r[0]]) if np.allclose(r, r[0]) else r
 
     def _volume(self) -> float:
-        d = self._shape_dimensions()
+        d = self.shape_dimensions()
         return float(4.0 / 3.0 * np.pi * np.prod(d) if d.size == 3 else 4.0 / 3.0 * np.pi * d[0] ** 3)
 
 
@@ -118,16 +118,16 @@ class _RadiusHeight(_Radius):
     def _rh(self) -> tuple[float, float]:
         return self._radius * self._scale[0], self._height * self._scale[2]
 
-    def _shape_dimensions(self) -> np.ndarray:
+    def shape_dimensions(self) -> np.ndarray:
         return np.array(self._rh())
 
     def _cylinder_volume(self) -> float:
-        r, h = self._shape_dimensions()
+        r, h = self.shape_dimensions()
         return np.pi * r * r * h
 
 
 class _Cylinder(_RadiusHeight):
-    _shape = "cylinder"
+    shape_kind = "cylinder"  # the geometry type, as the planner names it
 
     def _geom_type_size(self):
         r, h = self._rh()
@@ -140,14 +140,14 @@ class _Cylinder(_RadiusHeight):
 class _Capsule(_RadiusHeight):
     """Height is the length of the cylindrical part (as in USD); the total length is height + 2 radius."""
 
-    _shape = "capsule"
+    shape_kind = "capsule"  # the geometry type, as the planner names it
 
     def _geom_type_size(self):
         r, h = self._rh()
         return mujoco.mjtGeom.mjGEOM_CAPSULE, [r, 0.5 * h, 0.0]
 
     def _volume(self) -> float:
-        r = self._shape_dimensions()[0]
+        r = self.shape_dimensions()[0]
         return float(self._cylinder_volume() + 4.0 / 3.0 * np.pi * r**3)
 
 
@@ -155,7 +155,7 @@ class _Cone(_RadiusHeight):
     """A cone along z, centred on its prim: base disc at -height/2, apex at +height/2
     (USD's convention). MuJoCo has no cone primitive: it is a 48-sided convex mesh."""
 
-    _shape = "cone"
+    shape_kind = "cone"  # the geometry type, as the planner names it
     _EDGES = 48
 
     def _geom_type_size(self):
@@ -236,7 +236,7 @@ class _ShapePrim(GeometryPrim):
 
     def _title(self, family: str | None = None) -> str:
         """E.g. "DynamicCuboid" (of this shape in `family`, default its own)."""
-        return (family or self._family).capitalize() + self._shape.capitalize()
+        return (family or self._family).capitalize() + self.shape_kind.capitalize()
 
     def _check_family_args(self, physics_material, body_args: tuple) -> None:
         if any(v is not None for v in body_args):

@@ -126,13 +126,12 @@ class SimulationContext:
     """
 
     _instance: SimulationContext | None = None
+    _initialized = False  # per instance: True once __init__ has run (the singleton is initialised once)
     _observers: list[WorldObserver] = []  # shared by every World of the process
 
     def __new__(cls, *args, **kwargs):
         if cls._instance is None:
-            inst = super().__new__(cls)
-            inst._initialized = False
-            cls._instance = inst
+            cls._instance = super().__new__(cls)  # `_initialized` is False until __init__ ends
         return cls._instance
 
     def __init__(
@@ -300,12 +299,12 @@ class SimulationContext:
 
     def _unbind_all(self) -> None:
         for prim in self._stage.prims():
-            if hasattr(prim, "_unbind"):
-                prim._unbind()
+            if hasattr(prim, "unbind_simulation"):
+                prim.unbind_simulation()
             if isinstance(prim, ReferencePrim):
                 prim.core = None
         for w in self._stage.wrappers():
-            w._unbind()
+            w.unbind_simulation()
         self._sim = None
         self._cores = []
         self._stage.sim = None
@@ -323,17 +322,17 @@ class SimulationContext:
                 prim.core = ArticulationCore(prim, sim)
                 cores.append(prim.core)
             else:
-                prim._bind(sim)
+                prim.bind_simulation(sim)
         self._cores = cores
         self._warning_counts = sim.data.warning.number  # a view (MjData's buffers never move)
         self._set_warnings_seen(np.zeros(int(_W.mjNWARNING)))
         for w in self._stage.wrappers():
-            w._bind(sim)
+            w.bind_simulation(sim)
         self._sim = sim
         self._stage.sim = sim
         self._compiled_version = self._stage.version
         self._warned_dirty = False
-        self._stage._changed("COMPILED", "/")
+        self._stage.notify_changed("COMPILED", "/")
         self._compiled_version = self._stage.version
         logger.info("compiled the stage: %d bodies, %d DoF, %d actuators, %d substeps of %.4f s",
                     model.nbody, model.nv, model.nu, self.physics_substeps, model.opt.timestep)
@@ -606,13 +605,13 @@ class SimulationContext:
     def add_stage_callback(self, callback_name: str, callback_fn: Callable[[StageEvent], None]) -> None:
         """Call `callback_fn(event)` when the stage changes (`event.type`: "PRIM_ADDED",
         "PRIM_REMOVED", "PRIM_CHANGED", "CLEARED", "COMPILED"; `event.path`)."""
-        self._stage._callbacks.add(callback_name, callback_fn)
+        self._stage.callbacks.add(callback_name, callback_fn)
 
     def remove_stage_callback(self, callback_name: str) -> None:
-        self._stage._callbacks.remove(callback_name)
+        self._stage.callbacks.remove(callback_name)
 
     def stage_callback_exists(self, callback_name: str) -> bool:
-        return callback_name in self._stage._callbacks
+        return callback_name in self._stage.callbacks
 
     def add_render_callback(self, callback_name: str, callback_fn: Callable) -> None:
         """Call `callback_fn(event)` after every render."""
@@ -623,7 +622,7 @@ class SimulationContext:
 
     def clear_all_callbacks(self) -> None:
         """Remove every physics, timeline, stage and render callback."""
-        for table in (self._physics_callbacks, self._timeline_callbacks, self._stage._callbacks,
+        for table in (self._physics_callbacks, self._timeline_callbacks, self._stage.callbacks,
                       self._render_callbacks):
             table.clear()
 

@@ -89,9 +89,9 @@ class StagePrim(Protocol):
 
     prim_path: str
 
-    def _build(self, spec: mujoco.MjSpec) -> None: ...
+    def add_to_spec(self, spec: mujoco.MjSpec) -> None: ...
 
-    def _bind(self, sim: SimHandle) -> None: ...
+    def bind_simulation(self, sim: SimHandle) -> None: ...
 
 
 class ReferencePrim:
@@ -114,7 +114,7 @@ class ReferencePrim:
         # The model's ArticulationCore, set by the World while a compiled model exists.
         self.core: Any = None
 
-    def _unbind(self) -> None:
+    def unbind_simulation(self) -> None:
         """Forget the compiled model's core (the prim was removed from the stage)."""
         self.core = None
 
@@ -125,7 +125,7 @@ class ReferencePrim:
             raise SimulationError(f"cannot load {self.file_path} for prim {self.prim_path}: {exc}") from exc
         return child
 
-    def _build(self, spec: mujoco.MjSpec) -> None:
+    def add_to_spec(self, spec: mujoco.MjSpec) -> None:
         child = self._load_spec()
         # Make asset paths absolute: after attaching, relative paths would resolve against
         # the parent's (non-existent) folder.
@@ -206,7 +206,8 @@ class Stage:
         self._prims: dict[str, Any] = {}
         self._wrappers: list[Any] = []  # objects bound after each compile (Articulations)
         self.version = 0
-        self._callbacks = CallbackTable("stage")
+        #: The stage-event callbacks (`World.add_stage_callback` adds to it).
+        self.callbacks = CallbackTable("stage")
         self.sim: SimHandle | None = None  # set by the World while a compiled model exists
 
     def add_prim(self, prim: Any) -> None:
@@ -222,7 +223,7 @@ class Stage:
                     f"{path!r} lies inside the referenced model at {existing!r}; objects must be created outside it"
                 )
         self._prims[path] = prim
-        self._changed("PRIM_ADDED", path)
+        self.notify_changed("PRIM_ADDED", path)
 
     def remove_prim(self, prim_path: str) -> None:
         """Delete the prim at `prim_path` and, as USD deletes a prim's children, every prim
@@ -239,9 +240,9 @@ class Stage:
         gone += [w for w in self._wrappers if below(getattr(w, "prim_path", None))]
         self._wrappers = [w for w in self._wrappers if w not in gone]
         for obj in gone:
-            if hasattr(obj, "_unbind"):
-                obj._unbind()
-        self._changed("PRIM_REMOVED", prim_path)
+            if hasattr(obj, "unbind_simulation"):
+                obj.unbind_simulation()
+        self.notify_changed("PRIM_REMOVED", prim_path)
 
     def get_prim(self, prim_path: str) -> Any | None:
         return self._prims.get(prim_path)
@@ -260,7 +261,7 @@ class Stage:
             self._wrappers.append(wrapper)
             bindable = getattr(wrapper, "_bindable", None)
             if self.sim is not None and (bindable is None or bindable()):
-                wrapper._bind(self.sim)
+                wrapper.bind_simulation(self.sim)
 
     def wrappers(self) -> list[Any]:
         return list(self._wrappers)
@@ -271,17 +272,17 @@ class Stage:
 
     def mark_changed(self, prim_path: str) -> None:
         """Note that the prim at `prim_path` changed: the World recompiles at its next reset."""
-        self._changed("PRIM_CHANGED", prim_path)
+        self.notify_changed("PRIM_CHANGED", prim_path)
 
-    def _changed(self, kind: str, path: str) -> None:
+    def notify_changed(self, kind: str, path: str) -> None:
         self.version += 1
-        self._callbacks.call(StageEvent(kind, path))
+        self.callbacks.call(StageEvent(kind, path))
 
     def clear(self) -> None:
         self.sim = None
         self._prims.clear()
         self._wrappers.clear()
-        self._changed("CLEARED", "/")
+        self.notify_changed("CLEARED", "/")
 
 
 class StageEvent:

@@ -65,8 +65,8 @@ class BaseTask:
             if hasattr(obj, "get_default_state") and hasattr(obj, "set_default_state"):
                 s = obj.get_default_state()
                 obj.set_default_state(position=s.position + self._offset)
-            if hasattr(obj, "_ref"):  # articulation: move the referenced model's frame
-                obj._ref.position = obj._ref.position + self._offset
+            if hasattr(obj, "reference"):  # articulation: move the referenced model's frame
+                obj.reference.position = obj.reference.position + self._offset
             elif hasattr(obj, "set_world_pose"):
                 p, q = obj.get_world_pose()
                 obj.set_world_pose(p + self._offset, q)

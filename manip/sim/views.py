@@ -117,7 +117,7 @@ class XFormPrimView:
     def name(self) -> str:
         return self._name
 
-    def _bind(self, sim: SimHandle) -> None:
+    def bind_simulation(self, sim: SimHandle) -> None:
         m = sim.model
         ids = [b for b in range(1, m.nbody) if self._matches(m.body(b).name)]
         if not ids:
@@ -136,7 +136,7 @@ class XFormPrimView:
             self.set_world_poses(p, q)
             self._initial = (None, None)
 
-    def _unbind(self) -> None:
+    def unbind_simulation(self) -> None:
         self._sim = None
 
     def initialize(self, physics_sim_view=None) -> None:

@@ -39,7 +39,7 @@ class World(SimulationContext):
 
     def _init_components(self) -> None:
         self._scene = Scene(self)
-        self._tasks = TaskRegistry()
+        self._task_registry = TaskRegistry()
         self._last_pre_step_index = -1  # step index whose task pre_steps ran
 
     @classmethod
@@ -48,7 +48,7 @@ class World(SimulationContext):
         w = cls._instance
         if w is not None and getattr(w, "_initialized", False):
             w.stop_recording()
-            w._tasks.cleanup()
+            w._task_registry.cleanup()
         super().clear_instance()
 
     @property
@@ -67,20 +67,20 @@ class World(SimulationContext):
         Physics callbacks are kept. `soft=True` (after a first reset) only restores the
         default states and calls the tasks' `post_reset()`, without restarting physics.
         """
-        self._tasks.set_up_scenes(self._scene)
+        self._task_registry.set_up_scenes(self._scene)
         if soft and self._sim is None:
             logger.warning("reset(soft=True) before the first reset: doing a full reset")
         if not (soft and self._sim is not None):
             self.initialize_physics()
         self._scene.post_reset()
         self._forward()
-        self._tasks.post_reset()
+        self._task_registry.post_reset()
         self._last_pre_step_index = -1
         self._notify("on_world_rendered")
 
     def initialize_physics(self) -> None:
         """Stop, compile if needed, play and take the warm-up step (no default states restored)."""
-        self._tasks.set_up_scenes(self._scene)
+        self._task_registry.set_up_scenes(self._scene)
         super().initialize_physics()
 
     def stop(self) -> None:
@@ -99,7 +99,7 @@ class World(SimulationContext):
 
     async def reset_async_set_up_scene(self, soft: bool = False) -> None:
         """Build the task scenes that are not built yet (Isaac's first half of `reset_async`)."""
-        self._tasks.set_up_scenes(self._scene)
+        self._task_registry.set_up_scenes(self._scene)
 
     async def reset_async_no_set_up_scene(self, soft: bool = False) -> None:
         """`reset()` without building task scenes first (they are built already)."""
@@ -111,7 +111,7 @@ class World(SimulationContext):
         if self._last_pre_step_index == self._index:
             return
         self._last_pre_step_index = self._index
-        self._tasks.pre_step(self._index, self._time)
+        self._task_registry.pre_step(self._index, self._time)
 
     # ------------------------------------------------------------------ tasks
     def add_task(self, task) -> None:
@@ -120,7 +120,7 @@ class World(SimulationContext):
         Raises:
             InvalidInputError: a task of that name exists.
         """
-        self._tasks.add(task)
+        self._task_registry.add(task)
 
     def get_task(self, name: str):
         """The task named `name`.
@@ -128,30 +128,30 @@ class World(SimulationContext):
         Raises:
             UnknownNameError: no such task (the message lists them).
         """
-        return self._tasks.get(name)
+        return self._task_registry.get(name)
 
     def get_current_tasks(self) -> dict:
-        return self._tasks.as_dict()
+        return self._task_registry.as_dict()
 
     def is_tasks_scene_built(self) -> bool:
-        return self._tasks.scenes_built()
+        return self._task_registry.scenes_built()
 
     def get_observations(self, task_name: str | None = None) -> dict:
         """One task's observations, or all tasks' merged into one dict."""
-        return self._tasks.observations(task_name)
+        return self._task_registry.observations(task_name)
 
     def calculate_metrics(self, task_name: str | None = None) -> dict:
-        return self._tasks.metrics(task_name)
+        return self._task_registry.metrics(task_name)
 
     def is_done(self, task_name: str | None = None) -> bool:
         """Whether the task (or every task) is done."""
-        return self._tasks.is_done(task_name)
+        return self._task_registry.is_done(task_name)
 
     def clear(self) -> None:
         """Remove every scene object (and its prim) and every task; the stage is emptied."""
         self.stop_recording()
-        self._tasks.cleanup()
-        self._tasks.clear()
+        self._task_registry.cleanup()
+        self._task_registry.clear()
         self._scene.clear(registry_only=True)
         self._unbind_all()
         self._stage.clear()

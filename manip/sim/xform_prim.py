@@ -112,7 +112,7 @@ class XFormPrim(DefaultPoseMixin):
         """Nothing to do: objects are bound when the World compiles (kept for Isaac scripts)."""
 
     # ------------------------------------------------------------------ building
-    def _build(self, spec: mujoco.MjSpec) -> mujoco.MjsBody:
+    def add_to_spec(self, spec: mujoco.MjSpec) -> mujoco.MjsBody:
         body = spec.worldbody.add_body(
             name=self.prim_path, pos=self._pose[0].tolist(), quat=self._pose[1].tolist(), mocap=True
         )
@@ -122,10 +122,10 @@ class XFormPrim(DefaultPoseMixin):
         """Whether the compiled model holds this prim (a prim of a referenced model compiled
         already; a wrapped object compiled already)."""
         if self._wrapped_object is not None:
-            return self._wrapped_object._sim is not None
+            return self._wrapped_object.is_valid
         return self._wrapped_reference is None or self._wrapped_reference.core is not None
 
-    def _bind(self, sim: SimHandle) -> None:
+    def bind_simulation(self, sim: SimHandle) -> None:
         m = sim.model
         self._sim = sim
         if self._wrapped_reference is not None:
@@ -146,7 +146,7 @@ class XFormPrim(DefaultPoseMixin):
             self._qadr = int(m.jnt_qposadr[jnt])
             self._dadr = int(m.jnt_dofadr[jnt])
 
-    def _unbind(self) -> None:
+    def unbind_simulation(self) -> None:
         self._sim = None
 
     # ------------------------------------------------------------------ pose

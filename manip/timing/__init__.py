@@ -33,7 +33,6 @@ from manip.timing.checks import MODES
 from manip.timing.dense import time_parameterize_dense
 from manip.timing.dispatch import TimingLimits, time_parameterize, time_parameterize_for_robot, time_path
 from manip.timing.result import TimingResult, TimingStatus
-from manip.timing.segments import SegmentSolver as _SegmentSolver  # noqa: F401  (tests inspect ruckig's state)
 
 __all__ = [
     "MODES",

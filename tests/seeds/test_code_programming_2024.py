@@ -148,7 +148,7 @@ def _record_robot(world, samples) -> None:
 def _touching(world, robot) -> bool:
     """Whether a link of the robot (its base excepted) touches something now."""
     m, d = world.model, world.data
-    links = {m.body(b).name for b in robot._core.body_ids} - {robot.prim_path + "/panda_link0"}
+    links = {m.body(b).name for b in robot.core.body_ids} - {robot.prim_path + "/panda_link0"}
     for k in range(d.ncon):
         c = d.contact[k]
         if {m.body(m.geom_bodyid[c.geom1]).name, m.body(m.geom_bodyid[c.geom2]).name} & links:
