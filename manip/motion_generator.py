@@ -7,14 +7,14 @@ The pipeline of every plan (each stage timed in `PlanResult.timings`):
 2. goals: joint goals are checked (INVALID_GOAL); pose goals become several collision-free
    IK solutions (IK_FAIL when there is none);
 3. path: the straight joint-space line when it is valid, else the coarse-to-fine
-   RRT-Connect search towards all goal configurations at once (`planning.search`);
-4. shortcut: batched random shortcutting, optionally clearance smoothing (`planning.optimize`);
+   RRT-Connect search towards all goal configurations at once (`planning.path.search`);
+4. shortcut: batched random shortcutting, optionally clearance smoothing (`planning.path.smoothing`);
 5. timing: ruckig segments with blended corners (`manip.timing`);
 6. validate: the continuous interpolation of the returned samples is certified
-   collision-free against the exact collision model (`planning.finish`,
+   collision-free against the exact collision model (`planning.time_and_validate`,
    `CollisionChecker.certify_path`). Only a trajectory that passes is returned with
    `success=True`; one that fails is planned again (`planning.pipeline`);
-7. trajectory optimisation (`planning.refine`, `planning.trajopt`): the valid trajectory of a
+7. trajectory optimisation (`planning.trajopt.refine`, `planning.trajopt.optimizer`): the valid trajectory of a
    searched path seeds a B-spline optimiser; its result replaces the seed only when it is
    faster and passes the same validation (`PlanResult.source == "trajopt"`).
 
@@ -22,7 +22,7 @@ The planners are handed a `planning.Validity` (collision and limit questions) an
 `PlanContext` (options, deadline, random generator, timings); this class checks the start
 and the goals and hands them to `planning.pipeline.plan_to_configs`, which runs the attempts.
 
-Guarantees of a trajectory returned with `success=True` (`planning.finish`): it starts at
+Guarantees of a trajectory returned with `success=True` (`planning.time_and_validate`): it starts at
 the start and ends at the goal at rest, keeps the position, velocity, acceleration and
 jerk limits, and its continuous interpolation (straight joint-space lines between the
 samples) is certified collision-free against the exact meshes with the padding
@@ -57,9 +57,9 @@ from manip.errors import InvalidInputError
 from manip.ik import BatchIKResult, IKResult, IKSolver
 from manip.kinematics import Kinematics
 from manip.planning.context import START_LIMIT_TOLERANCE, PlanContext
-from manip.planning.finish import time_and_validate
-from manip.planning.goals import order_goals
-from manip.planning.linear import linear_path
+from manip.planning.time_and_validate import time_and_validate
+from manip.planning.path.goals import order_goals
+from manip.planning.path.linear import linear_path
 from manip.planning.options import PlanOptions
 from manip.planning.pipeline import plan_to_configs
 from manip.planning.result import PlanResult, PlanStatus
@@ -446,7 +446,7 @@ class MotionGenerator:
         Collision-free IK solutions of every pose (for a redundant arm, each also moved along
         its self-motion towards the start) are planned to at once, the ones reachable fastest
         (by the time-optimal rest-to-rest duration from the start; among those within 10 % of
-        the fastest, the shortest first: `planning.goals`) first; the result's
+        the fastest, the shortest first: `planning.path.goals`) first; the result's
         `goal_index` says which pose was reached.
         """
         ctx = self._context(options)
@@ -464,7 +464,7 @@ class MotionGenerator:
         ctx.add_time("ik", t_ik)
         if not len(configs):
             return ctx.fail(PlanStatus.IK_FAIL, "no collision-free IK solution within the joint limits")
-        # the goals ranked by the motion they allow (`planning.goals`), not by joint-space distance
+        # the goals ranked by the motion they allow (`planning.path.goals`), not by joint-space distance
         order = order_goals(start, configs, ctx.scaled_limits(self.limits))
         ctx.check_sample_count(start, configs[order[0]], self.limits)
         result = plan_to_configs(ctx, validity, start, configs[order], limits=self.limits,

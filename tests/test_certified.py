@@ -21,8 +21,8 @@ from manip.benchmarking.mbm_problems import dataset_available, load_mbm_problems
 from manip.benchmarking.scenes import make_problems
 from manip.benchmarking.verify import Verifier
 from manip.collision import Cuboid, WorldConfig
-from manip.planning.finish import validate_trajectory
-from manip.planning.search import repair_path
+from manip.planning.time_and_validate import validate_trajectory
+from manip.planning.path.search import repair_path
 from manip.trajectory import Trajectory
 from robot_constants import FRANKA_READY
 

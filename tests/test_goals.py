@@ -1,12 +1,12 @@
-"""The order in which a plan tries goal configurations (`manip.planning.goals`)."""
+"""The order in which a plan tries goal configurations (`manip.planning.path.goals`)."""
 
 from __future__ import annotations
 
 import numpy as np
 
 from manip import MotionGenerator
-from manip.planning import goals
-from manip.planning.goals import TIME_BAND, order_goals
+from manip.planning.path import goals
+from manip.planning.path.goals import TIME_BAND, order_goals
 from manip.timing.bounds import rest_to_rest_time
 
 

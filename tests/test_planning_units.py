@@ -11,11 +11,10 @@ import pytest
 
 from manip.errors import InvalidInputError
 from manip.planning.options import PlanOptions
-from manip.planning import restarts
-from manip.planning.restarts import GAIN, shorter_way_round, time_length
-from manip.planning.rrt_connect import informed_sampler, rrt_connect
-from manip.planning.search import search_path
-from manip.planning.shortcut import path_length, remove_redundant, shortcut
+from manip.planning.path.restarts import GAIN, shorter_way_round, time_length
+from manip.planning.path.rrt_connect import informed_sampler, rrt_connect
+from manip.planning.path.search import search_path
+from manip.planning.path.shortcut import path_length, remove_redundant, shortcut
 
 LOWER, UPPER = np.zeros(2), np.ones(2)
 START, GOAL = np.array([0.1, 0.1]), np.array([0.9, 0.1])
@@ -187,11 +186,8 @@ def _two_gap_validity():
     )
 
 
-@pytest.mark.parametrize("informed", [False, True])
-def test_a_detour_is_replaced_by_a_shorter_way_round(informed, monkeypatch):
-    """A path over the far gap is replaced by a restart's way through the near one, with
-    uniform and with informed samples."""
-    monkeypatch.setattr(restarts, "INFORMED", informed)
+def test_a_detour_is_replaced_by_a_shorter_way_round():
+    """A path over the far gap is replaced by a restart's way through the near one (informed samples)."""
     validity = _two_gap_validity()
     start, goal = np.array([0.1, 0.2]), np.array([0.9, 0.2])
     far = np.array([start, [0.4, 0.9], [0.6, 0.9], goal])  # through the far gap: a detour

@@ -11,8 +11,8 @@ from manip import MotionGenerator, WorldConfig
 from manip.collision.clearance import ClearanceModel
 from manip.errors import InvalidInputError
 from manip.limits import JointLimits
-from manip.planning import bspline
-from manip.planning.trajopt import TrajOptSettings, optimize_trajectory
+from manip.planning.trajopt import bspline
+from manip.planning.trajopt.optimizer import TrajOptSettings, optimize_trajectory
 from manip.timing.bounds import rest_to_rest_time
 from robot_constants import FRANKA_READY
 
@@ -103,13 +103,13 @@ def test_same_seed_same_trajectory(mg):
 
 
 def test_a_failing_optimiser_falls_back_to_the_shortcut_trajectory(mg, monkeypatch):
-    import manip.planning.refine as refine
+    import manip.planning.trajopt.refine as refine
 
     def broken(*args, **kwargs):
         raise AssertionError("must not be reached")
 
     def failing(*args, **kwargs):
-        from manip.planning.trajopt import TrajOptResult
+        from manip.planning.trajopt.optimizer import TrajOptResult
         return TrajOptResult(False, None, None, float("nan"), 0, "test: no solution")
 
     monkeypatch.setattr(refine, "optimize_trajectory", failing)
@@ -123,7 +123,7 @@ def test_a_failing_optimiser_falls_back_to_the_shortcut_trajectory(mg, monkeypat
 def test_a_failed_first_round_gets_a_second_chance_from_the_fitted_seed(mg, monkeypatch):
     """Bisection over durations: when the round at the seed's duration gives nothing usable,
     the search starts once more from the seed's spline at a duration where it is within the limits."""
-    import manip.planning.trajopt as trajopt
+    import manip.planning.trajopt.optimizer as trajopt
 
     cfg = mg.config
     seed = mg.plan_joints(LEFT, RIGHT, trajopt=False, seed=3).trajectory  # round the wall
@@ -156,7 +156,7 @@ def test_free_duration_sco_steps_keep_the_clearance_and_never_slow_the_motion(mg
     """Every prefix of the free-duration SCO (the same steps, cut after k QPs) keeps its start's
     sampled clearance (less 1 mm) and ends no slower than it started; the bisection over
     durations is the other setting and must give a valid motion too."""
-    from manip.planning.sco import SplineProblem, sco_free_step
+    from manip.planning.trajopt.sco import SplineProblem, sco_free_step
 
     cfg = mg.config
     seed = mg.plan_joints(LEFT, RIGHT, trajopt=False, seed=3).trajectory  # round the wall
@@ -198,7 +198,7 @@ def _spy_on_refine(monkeypatch, failures: int, ends_tied: int):
     first `failures` validations fail, and every result reports `ends_tied`."""
     import dataclasses
 
-    import manip.planning.refine as refine
+    import manip.planning.trajopt.refine as refine
 
     real_optimize, real_validate = refine.optimize_trajectory, refine.validate_trajectory
     calls, validations = [], []

@@ -32,7 +32,7 @@ class PlanOptions:
         search_iterations: RRT-Connect iterations of a plan's main path search at most (the
             coarse search; its fine-resolution repairs get as many again), a count: a plan
             bounded by it does not depend on the machine's speed. None = the search's own cap
-            (`planning.search.MAX_ITERATIONS`), which in hard scenes the time budget usually
+            (`planning.path.search.MAX_ITERATIONS`), which in hard scenes the time budget usually
             cuts first (as before this option). `manip.batch.plan_many` and `manip.datagen`
             set it (`manip.batch.problem.BATCH_SEARCH_ITERATIONS`).
         seed: random seed of this call (IK restarts, sampling, shortcutting).

@@ -12,7 +12,7 @@ A strict Validity (`strict()`) also certifies every straight motion it accepts o
 whole continuous length (the fine resolution can miss a graze thinner than its step): the
 planner's later attempts use it once timed trajectories failed the certificate
 (`planning.pipeline.STRICT_ATTEMPT`): first only on the segments of a path planned without
-it (`planning.search.repair_path`), then, if that fails, for a whole strict plan.
+it (`planning.path.search.repair_path`), then, if that fails, for a whole strict plan.
 """
 
 from __future__ import annotations

@@ -15,10 +15,10 @@ from dataclasses import replace
 import numpy as np
 
 from manip.collision.clearance import ClearanceModel
-from manip.planning import bspline
+from manip.planning.trajopt import bspline
 from manip.planning.context import PlanContext
-from manip.planning.finish import validate_trajectory
-from manip.planning.trajopt import SMOOTH, TrajOptSettings, optimize_trajectory
+from manip.planning.time_and_validate import validate_trajectory
+from manip.planning.trajopt.optimizer import SMOOTH, TrajOptSettings, optimize_trajectory
 from manip.planning.validity import Validity
 from manip.limits import JointLimits
 from manip.timing.bounds import rest_to_rest_time
@@ -26,21 +26,14 @@ from manip.trajectory import Trajectory
 
 
 #: Ray points (`TrajOptSettings.ray_points`) of the optimiser's further tries when its motion
-#: fails the exact validation: near an obstacle the sphere cover is too coarse, and keeping
-#: more of the seed's approach to an end there keeps the motion valid (MotionBenchMaker
-#: 16/scene: 3 of the 4 such motions valid with 2 points, the 4th with 4).
+#: fails the exact validation (near an obstacle the sphere cover is too coarse: more of the
+#: seed's approach to an end is kept). Measurements: BENCHMARKS.md, "Constants".
 RETRY_RAY_POINTS = (2, 4)
 #: QPs of all the optimiser's tries of one plan together (a count: the same seed gives the
-#: same trajectory on any machine). A plan's optimiser takes 13.5 QPs on average (MotionBenchMaker
-#: 15/scene joint goals, free-duration SCO; 22 with the bisection over durations). Measured with
-#: the bisection, 30/scene joint goals: the optimiser's p98 time 643 -> 233 ms for +0.2 %
-#: motion time against no budget.
+#: same trajectory on any machine).
 QP_BUDGET = 50
-#: Sample density (`TrajOptSettings.samples_per_interval`) of the repair of an optimised motion
-#: that touched an obstacle between the optimiser's clearance samples: the optimisation goes
-#: on from that motion with this many samples per piece (MotionBenchMaker 30/scene, joint and
-#: pose goals, 364 calls: mean motion time -1.2 %, as many QPs, against retrying from the seed
-#: alone; 5, 6, 10 samples: -0.5 .. -0.9 %).
+#: Samples per piece (`TrajOptSettings.samples_per_interval`) of the repair of an optimised
+#: motion that touched an obstacle between the optimiser's clearance samples.
 REPAIR_SAMPLES = 8
 
 

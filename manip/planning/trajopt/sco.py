@@ -1,8 +1,8 @@
-"""Sequential convex optimisation (SCO) of a B-spline motion: the steps of `planning.trajopt`.
+"""Sequential convex optimisation (SCO) of a B-spline motion: the steps of `planning.trajopt.optimizer`.
 
 `SplineProblem` holds what depends only on the number of pieces N and the end configurations
 (difference, sample and limit matrices, the end rays). Two SCO loops (L1 penalty methods with
-a trust region; each iteration one QP, `planning.qp`) share it:
+a trust region; each iteration one QP, `planning.trajopt.qp`) share it:
 
 - `sco_fixed_step`: the control points at a fixed knot step h, minimising the weighted
   squared velocity/acceleration/jerk fractions of the limits; the limits and the clearance
@@ -25,8 +25,8 @@ import scipy.sparse as sp
 
 from manip.collision.clearance import ClearanceModel
 from manip.limits import JointLimits
-from manip.planning import bspline, qp
-from manip.planning.trajopt_settings import TrajOptSettings
+from manip.planning.trajopt import bspline, qp
+from manip.planning.trajopt.settings import TrajOptSettings
 
 @lru_cache(maxsize=16)
 def _blocks(n: int, dof: int, samples_per_interval: int) -> dict:
@@ -99,7 +99,7 @@ class SplineProblem:
                 self.rays.append((n - 1 - k, self.c_fixed[n], d_goal))
 
     def ray_rows(self, gap: int) -> tuple[sp.csc_matrix | None, np.ndarray | None]:
-        """The end rays' equalities A z = b (A over the columns [x, `gap` others, R], `planning.qp`),
+        """The end rays' equalities A z = b (A over the columns [x, `gap` others, R], `planning.trajopt.qp`),
         or (None, None) without rays."""
         if not self.rays:
             return None, None
@@ -313,7 +313,7 @@ def _violation(terms, margin: float) -> float:
 def _solve_qp(prob: SplineProblem, P: sp.csc_matrix, q_lin, G_lim, h_lim, G_col, h_col, x0, radius, lower, upper,
               s: TrajOptSettings, q_extra, lb_extra, ub_extra):
     """One SCO step's QP; the solution z = [x (dof * m), E extra variables, ray parameters (R),
-    clearance slacks (T)] (`planning.qp`), or None when the solver fails.
+    clearance slacks (T)] (`planning.trajopt.qp`), or None when the solver fails.
 
     minimise 1/2 x^T P x + q^T x + q_extra . extra + penalty * (clearance slacks), subject to
     the limit rows G_lim (L, dof * m + E: their x and extra columns) <= h_lim, the clearance

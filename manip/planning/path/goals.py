@@ -13,15 +13,7 @@ from manip.limits import JointLimits
 from manip.timing.bounds import rest_to_rest_time
 
 #: Goals whose lower-bound duration is within this fraction of the fastest one's are ranked by
-#: their joint-space distance from the start instead (shortest first). 0.05 against 0 (the
-#: fastest first), MotionBenchMaker pose goals, whole plans, 8/scene twice (problems 0-7 with
-#: the robot's limits, 8-15 with cuRobo's; ~50 each): path length -1.3 / -1.5 %, motion time
-#: +0.2 / -0.7 %; 0.02: path -1.2 / -0.3 %, motion +0.05 / +0.2 %; 0.10: path -1.8 / -2.0 %,
-#: motion +0.7 / +0.1 %. (Among the ~13 IK solutions of a pose, the shortest is 3 % shorter
-#: than the fastest one on average, and its bound 0.3 % longer.) With the IK solutions also
-#: offered moved along their self-motion towards the start (`IKSolver.solve_many(toward_seed=True)`),
-#: 0.10 against 0.05, 8/scene three times (problems 0-7, 8-15 with cuRobo's limits, 16-23): path
-#: -1.0 / -0.7 / -0.8 %, motion time +0.25 / +0.6 / +0.5 %.
+#: their joint-space distance from the start instead (shortest first; BENCHMARKS.md, "Constants").
 TIME_BAND = 0.10
 
 

@@ -1,9 +1,9 @@
 """Trajectory optimisation: fast, short, smooth motions from a collision-free seed.
 
-The motion is a uniform cubic B-spline at rest at both ends (`planning.bspline`), whose
+The motion is a uniform cubic B-spline at rest at both ends (`planning.trajopt.bspline`), whose
 velocity, acceleration, jerk and position limits are linear constraints on its control
 points that hold for the continuous motion. Sequential convex optimisation with a trust
-region (`planning.sco`; each iteration one QP, PIQP's sparse interface or any `qpsolvers`
+region (`planning.trajopt.sco`; each iteration one QP, PIQP's sparse interface or any `qpsolvers`
 solver) improves it, with the clearance of the robot's sphere cover above `margin`
 (linearised at samples of the current motion, `collision.clearance`) as an L1 penalty
 (TrajOpt's formulation: every QP is feasible); at an end whose configuration is near an
@@ -33,9 +33,9 @@ import numpy as np
 from manip.collision.clearance import ClearanceModel
 from manip.errors import InvalidInputError
 from manip.limits import JointLimits
-from manip.planning import bspline
-from manip.planning.sco import SplineProblem, sco_fixed_step, sco_free_step
-from manip.planning.trajopt_settings import SMOOTH, TrajOptSettings
+from manip.planning.trajopt import bspline
+from manip.planning.trajopt.sco import SplineProblem, sco_fixed_step, sco_free_step
+from manip.planning.trajopt.settings import SMOOTH, TrajOptSettings
 from manip.trajectory import PiecewiseJerkProfile
 from manip.validation import non_negative
 

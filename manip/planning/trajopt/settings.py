@@ -1,4 +1,4 @@
-"""Settings of the trajectory optimiser (`planning.trajopt`, `planning.sco`), with the
+"""Settings of the trajectory optimiser (`planning.trajopt.optimizer`, `planning.trajopt.sco`), with the
 measurements behind their defaults."""
 
 from __future__ import annotations
@@ -6,7 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from manip.errors import InvalidInputError
-from manip.planning import qp
+from manip.planning.trajopt import qp
 from manip.validation import flag, integer, non_negative, positive
 
 __all__ = ["SMOOTH", "TrajOptSettings"]

@@ -1,7 +1,7 @@
 """The last stages of a plan: time a path, then validate the timed trajectory.
 
 `validate_trajectory` is the guarantee of every successful plan (the timing stage's and the
-optimiser's, `planning.refine`): the returned samples are what a user executes and what a
+optimiser's, `planning.trajopt.refine`): the returned samples are what a user executes and what a
 verifier checks, so the continuous linear interpolation between consecutive samples is
 certified collision-free against the exact meshes with the padding
 (`CollisionChecker.certify_path`: conservative advancement), whatever resolution a

@@ -3,12 +3,11 @@
 RRT-Connect finds some path; shortcutting only straightens it within its homotopy class (the
 way it goes round the obstacles: over or under a bar of a cage, left or right of a post).
 When the shortened path still takes much longer than the straight line would (a detour),
-a few more short searches may find a shorter way round (sampling only where a shorter path
-can pass, `INFORMED`); the fastest of the shortened candidates is kept. Only detours pay
-for the searches (measured on MotionBenchMaker's cage scene: mean motion time 2.21 -> 1.82
-s; on the shelves and tables, where detours are rare, within +-3 %). Skipping them after a
-search that needed more than ITERATIONS iterations (a narrow passage) was measured too: MBM
-cage_panda joint goals, motion time +3.4 % for -3 % planning time: they stay.
+a few more short searches may find a shorter way round, drawing their global samples only
+where a path shorter than the current one can pass (`rrt_connect.informed_sampler`: the
+ellipsoid of the path's joint length around its start and goal), towards the goals closer
+than that length; the fastest of the shortened candidates is kept. Only detours pay for the
+searches (the measurements behind the constants: BENCHMARKS.md, "Constants").
 """
 
 from __future__ import annotations
@@ -17,9 +16,9 @@ from collections.abc import Callable
 
 import numpy as np
 
-from manip.planning.rrt_connect import informed_sampler
-from manip.planning.search import search_path
-from manip.planning.shortcut import path_length
+from manip.planning.path.rrt_connect import informed_sampler
+from manip.planning.path.search import search_path
+from manip.planning.path.shortcut import path_length
 from manip.planning.validity import Validity
 
 #: A path taking longer than this times the straight line (in `time_length`) is a detour.
@@ -27,25 +26,12 @@ DETOUR = 1.5
 #: Further searches for a detour.
 SEARCHES = 2
 #: RRT iterations of each further search (a count: results do not depend on the machine).
-#: On MBM 20/scene (125 joint + 125 pose problems) every candidate that replaced a path
-#: was found within 261 iterations, and the searches that ran to their cap found nothing
-#: (160-240 ms each): 300 instead of 500 gave the same motion time and path length, restart
-#: stage p98 302 -> 169 ms, plan p98 614 -> 538 ms (one run, variants interleaved).
 ITERATIONS = 300
 #: RRT iterations of the fine-resolution repairs of each further search, together (a count).
-#: Uncapped, a repair in a narrow passage cost as much as the search itself (MBM bookshelf
-#: and table scenes: 200-450 ms for one detour candidate).
 REPAIR_ITERATIONS = 200
 #: A candidate replaces the path only when it takes at most this fraction of its time (a
 #: small gain in `time_length` is within what the optimiser changes anyway).
 GAIN = 0.9
-#: The further searches draw their global samples only where a path shorter than the
-#: current one can pass (`rrt_connect.informed_sampler`: the ellipsoid of the path's joint
-#: length around its start and goal), towards the goals closer than that length. MBM, whole
-#: plans, both goal kinds, variants interleaved (250 and 316 runs, two problem sets and
-#: seeds): motion time -0.9 % / -1.1 %, path length -0.8 % / -0.7 %, planning time the same.
-#: (With the former RRT sampling, 0.2 / 0.15 rad local, it lost cage paths: +14 % motion.)
-INFORMED = True
 
 
 def time_length(path: np.ndarray, vmax: np.ndarray) -> float:
@@ -82,11 +68,9 @@ def shorter_way_round(
     for _ in range(SEARCHES):
         if best <= DETOUR * time_length(np.stack([start, path[-1]]), vmax):
             break  # no (longer a) detour
-        roots, sample = goals, None
-        if INFORMED:
-            length = path_length(path)
-            roots = goals[np.linalg.norm(goals - start, axis=1) <= length]  # path[-1] among them
-            sample = informed_sampler(start, path[-1], length, validity.kinematics.lower, validity.kinematics.upper)
+        length = path_length(path)
+        roots = goals[np.linalg.norm(goals - start, axis=1) <= length]  # path[-1] among them
+        sample = informed_sampler(start, path[-1], length, validity.kinematics.lower, validity.kinematics.upper)
         candidate, _ = search_path(start, roots, validity, rng, deadline, max_iterations=ITERATIONS,
                                    max_repair_iterations=REPAIR_ITERATIONS, sample=sample)
         if candidate is None:

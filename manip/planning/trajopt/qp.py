@@ -1,4 +1,4 @@
-"""The QP of one trajectory-optimisation step (`planning.trajopt`), assembled and solved.
+"""The QP of one trajectory-optimisation step (`planning.trajopt.optimizer`), assembled and solved.
 
 Variables z = [x (dof * m, joint-major control points), limit slacks (S), ray parameters (R),
 clearance slacks (T)]; the clearance slacks come last so that the equality rows (the end

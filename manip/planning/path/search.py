@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from manip.planning.rrt_connect import Sampler, rrt_connect
+from manip.planning.path.rrt_connect import Sampler, rrt_connect
 from manip.planning.validity import Validity
 
 #: Edges of a coarse search path replaced by fine searches before giving up on the path.
