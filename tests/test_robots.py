@@ -93,10 +93,10 @@ def test_plans_seeded_scenes_with_verified_trajectories(mg: MotionGenerator, kin
 
 
 def test_sim_tracks_a_planned_trajectory_within_2cm(mg: MotionGenerator, fresh_world) -> None:
-    from manip.sim.articulation import Robot
+    from manip.sim.articulations.articulation import Robot
     from manip.sim.playback import play_trajectory
-    from manip.sim.robots import robot_model_path
-    from manip.sim.stage import add_reference_to_stage
+    from manip.sim.robots.robot import robot_model_path
+    from manip.sim.scenes.stage import add_reference_to_stage
 
     c = mg.config
     mg.update_world({})
@@ -118,7 +118,7 @@ def test_sim_tracks_a_planned_trajectory_within_2cm(mg: MotionGenerator, fresh_w
 
 
 def test_mjcf_files_are_up_to_date(mg: MotionGenerator) -> None:
-    from manip.sim.mjcf_builder import build_mjcf
+    from manip.sim.scenes.mjcf_builder import build_mjcf
 
     text, assets = build_mjcf(mg.config)
     assert mg.config.mjcf_path.read_text() == text, "rerun robots/tools/make_mjcf.py"

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from manip.sim import World, create_new_stage
-from manip.sim.app import get_app
+from manip.sim.core.app import get_app
 
 
 def _fresh() -> None:

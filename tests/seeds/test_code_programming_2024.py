@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from manip.sim import World, get_current_stage
-from manip.sim.app import get_app
+from manip.sim.core.app import get_app
 from seed_glue import Session, Watcher, play, run_in_event_loop, run_listing
 
 pytestmark = pytest.mark.filterwarnings("error::RuntimeWarning")

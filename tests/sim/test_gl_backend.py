@@ -9,7 +9,7 @@ import sys
 
 import pytest
 
-from manip.sim import gl_backend
+from manip.sim.core import gl_backend
 
 _HEADLESS_ENV = {k: v for k, v in os.environ.items()
                  if k not in ("DISPLAY", "WAYLAND_DISPLAY", "MUJOCO_GL", "PYOPENGL_PLATFORM")}
@@ -39,7 +39,7 @@ def test_import_leaves_the_environment_unchanged():
 def test_first_render_without_display_picks_egl_or_osmesa():
     out = _run(
         "import json, os\n"
-        "from manip.sim import World, DynamicCuboid, gl_backend\n"
+        "from manip.sim import World, DynamicCuboid\nfrom manip.sim.core import gl_backend\n"
         "w = World(); w.scene.add(DynamicCuboid('/World/c', name='c', size=0.1)); w.reset()\n"
         "before = os.environ.get('MUJOCO_GL')\n"
         "image = w.render_image(32, 24)\n"

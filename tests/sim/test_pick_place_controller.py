@@ -12,7 +12,7 @@ import pytest
 
 from manip.errors import InvalidInputError
 from manip.sim import DynamicCuboid, Franka, PickPlaceController, SimulationError, World
-from manip.sim.pick_place_controller import FRANKA_EVENTS_DT
+from manip.sim.controllers.pick_place_controller import FRANKA_EVENTS_DT
 
 CUBE_START = np.array([0.4, 0.2, 0.025])
 PLACE = np.array([0.4, -0.3, 0.025])

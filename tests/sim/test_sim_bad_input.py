@@ -10,8 +10,8 @@ import pytest
 
 from manip.errors import InvalidInputError
 from manip.sim import ArticulationAction, Articulation, Franka, World, add_reference_to_stage
-from manip.sim.articulation_core import MAX_DRIVE_COMMAND, MAX_EFFORT, MAX_POSITION
-from manip.sim.world import SimulationInstabilityError, SimulationWarning
+from manip.sim.articulations.articulation_core import MAX_DRIVE_COMMAND, MAX_EFFORT, MAX_POSITION
+from manip.sim.core.world import SimulationInstabilityError, SimulationWarning
 
 ARM = list(range(7))
 FINGERS = [7, 8]
