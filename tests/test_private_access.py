@@ -12,8 +12,9 @@ from __future__ import annotations
 import ast
 from collections import defaultdict
 from pathlib import Path
+from robot_constants import REPO_ROOT
 
-PACKAGE_ROOT = Path(__file__).resolve().parents[1] / "manip"
+PACKAGE_ROOT = REPO_ROOT / "manip"
 
 #: (module file relative to the repository, the access as written): why it stays.
 ALLOWED: dict[tuple[str, str], str] = {

@@ -12,7 +12,6 @@ import math
 import time
 from dataclasses import replace
 
-import numpy as np
 
 from manip.collision.clearance import ClearanceModel
 from manip.planning.trajopt import bspline

@@ -11,35 +11,26 @@ warm-up `step(render=True)` without physics callbacks, so `current_time_step_ind
 right after a reset (with the default dts) and the world is playing.
 
 Callback names follow Isaac: a duplicate name or removing an unknown one logs an error
-(`carb.log_error`) and changes nothing. The `*_async` methods (`reset_async`, `play_async`,
-`pause_async`, `stop_async`, `render_async`, `initialize_simulation_context_async`) are
-coroutines doing the same as the plain ones, for Isaac's extension workflow
-(`asyncio.run(world.reset_async())`).
+(`carb.log_error`) and changes nothing. The `*_async` methods are coroutines doing the same
+as the plain ones, for Isaac's extension workflow (`asyncio.run(world.reset_async())`).
 
-Solver options (`manip.sim.scenes.compiler`): the `implicitfast` integrator (implicit drive
-damping), elliptic friction cones and gravity -9.81 m/s^2 along z. The same script gives
-the same trajectory run after run (MuJoCo is deterministic on one machine; nothing here is
-random).
+Solver options (`manip.sim.scenes.compiler`): `implicitfast`, elliptic cones, gravity -9.81
+m/s^2 along z; the same script gives the same trajectory run after run (nothing is random).
 
 Observers (`add_observer`, e.g. the SimulationApp's viewer) follow every instance through
 the `WorldObserver` methods; this module imports no viewer.
 
 Joint limits hold after every physics step (see `manip.sim.articulations.articulation`). MuJoCo's own
-warnings become Python ones after every physics step: NaN, infinite or huge (> 1e10)
-positions, velocities or accelerations (MuJoCo then resets the physics state to the
-compiled initial state) and bad controls (MuJoCo then ignores every control) raise
-`SimulationInstabilityError` naming the joint or actuator; the drive targets are then set
-to the current joint positions and the efforts to 0, so that the world can go on (call
-`reset()` to restart from the default states). A full contact or constraint buffer and a
-bad inertia issue a `SimulationWarning` (`warnings.warn`; filter them or turn them into
-errors with the `warnings` module).
+warnings become Python ones after every physics step (`manip.sim.core.mujoco_warnings`): an
+unstable step raises `SimulationInstabilityError` naming the joint or actuator, with the drive
+targets set to the current joint positions and the efforts to 0, so that the world can go on
+(call `reset()` to restart from the default states); milder ones are `SimulationWarning`s.
 """
 
 from __future__ import annotations
 
 import logging
 import math
-import warnings
 from pathlib import Path
 from typing import Callable, Protocol
 
@@ -50,6 +41,7 @@ from manip.errors import InvalidInputError, UnknownNameError
 from manip.sim.core import recording as rec
 from manip.sim.articulations.articulation_core import ArticulationCore
 from manip.sim.core.callbacks import CallbackTable, TimelineEvent
+from manip.sim.core.mujoco_warnings import SimulationInstabilityError, SimulationWarning, WarningMonitor  # noqa: F401 (re-exported)
 from manip.sim.scenes.compiler import compile_stage
 from manip.sim.scenes.stage import ReferencePrim, SimHandle, SimulationError, StageEvent, get_current_stage
 from manip.validation import positive, vec
@@ -58,32 +50,6 @@ logger = logging.getLogger(__name__)
 
 DEFAULT_DT = 1.0 / 60.0
 DEFAULT_GRAVITY = (0.0, 0.0, -9.81)  # [m/s^2]
-
-
-class SimulationInstabilityError(SimulationError):
-    """MuJoCo found the simulation numerically unstable (NaN, infinite or huge values) in a
-    physics step and reset its state or ignored the controls; the message says where."""
-
-
-class SimulationWarning(UserWarning):
-    """A MuJoCo warning that does not stop the simulation (e.g. a full contact buffer)."""
-
-
-_W = mujoco.mjtWarning
-#: MuJoCo warnings that mean the physics state is lost: what MuJoCo did, and what was bad.
-_FATAL_WARNINGS = {
-    int(_W.mjWARN_BADQPOS): ("positions", "DoF"),
-    int(_W.mjWARN_BADQVEL): ("velocities", "DoF"),
-    int(_W.mjWARN_BADQACC): ("accelerations", "DoF"),
-    int(_W.mjWARN_BADCTRL): ("controls", "actuator"),
-}
-_MILD_WARNINGS = {
-    int(_W.mjWARN_INERTIA): "a body has a mass or an inertia too small or invalid (body index {info})",
-    int(_W.mjWARN_CONTACTFULL): "the contact buffer is full: contacts were dropped (increase the model's nconmax "
-                                "/ memory)",
-    int(_W.mjWARN_CNSTRFULL): "the constraint buffer is full: constraints were dropped (increase the model's "
-                              "njmax / memory)",
-}
 
 
 class WorldObserver(Protocol):
@@ -185,9 +151,7 @@ class SimulationContext:
         self._stage = get_current_stage()
         self._sim: SimHandle | None = None
         self._cores: list[ArticulationCore] = []  # of the compiled model
-        self._warnings_seen = np.zeros(0)  # MuJoCo's warning counts reported (set when compiled)
-        self._warnings_seen_bytes = b""
-        self._warning_counts = np.zeros(0, dtype=np.int32)
+        self._warnings = WarningMonitor()  # MuJoCo's warnings, each reported once
         self._compiled_version = -1
         self._playing = False
         self._stopped = True
@@ -324,8 +288,7 @@ class SimulationContext:
             else:
                 prim.bind_simulation(sim)
         self._cores = cores
-        self._warning_counts = sim.data.warning.number  # a view (MjData's buffers never move)
-        self._set_warnings_seen(np.zeros(int(_W.mjNWARNING)))
+        self._warnings.watch(sim.data)
         for w in self._stage.wrappers():
             w.bind_simulation(sim)
         self._sim = sim
@@ -342,7 +305,7 @@ class SimulationContext:
         """Back to the compiled initial state (qpos0, mocap at their build pose, targets = qpos0)."""
         sim = self._sim
         mujoco.mj_resetData(sim.model, sim.data)
-        self._set_warnings_seen(np.zeros(int(_W.mjNWARNING)))
+        self._warnings.reset()
         for core in self._cores:
             core.reset_drive_targets()
         sim.mark_stale()
@@ -504,7 +467,7 @@ class SimulationContext:
         sim.kinematics_stale = True
         self._index += 1
         self._time = self._time_origin + self._index * self._physics_dt
-        fatal = self._mujoco_warnings()
+        fatal = self._warnings.check(sim.model, sim.data, self._time)
         for core in self._cores:
             core.enforce_limits()
         if fatal is not None:
@@ -512,55 +475,6 @@ class SimulationContext:
                 core.reset_drive_targets()
             sim.mark_stale()
             raise SimulationInstabilityError(fatal)
-
-    def _mujoco_warnings(self) -> str | None:
-        """Report the MuJoCo warnings raised since the last check: a `SimulationWarning` for
-        each new mild one; the message of the first fatal one (its count is cleared) or None."""
-        counts = self._warning_counts  # a view of MuJoCo's counts
-        if counts.tobytes() == self._warnings_seen_bytes:  # the usual case, fast
-            return None
-        stats = self._sim.data.warning
-        new = counts - self._warnings_seen
-        new = np.where(new < 0, counts, new)  # counts cleared by a reset of the data
-        fatal = None
-        for kind in np.flatnonzero(new):
-            kind = int(kind)
-            info = int(stats.lastinfo[kind])
-            if kind in _FATAL_WARNINGS and fatal is None:
-                fatal = self._fatal_message(kind, info)
-            elif kind in _MILD_WARNINGS:
-                warnings.warn(f"MuJoCo: {_MILD_WARNINGS[kind].format(info=info)}", SimulationWarning, stacklevel=3)
-        for kind in _FATAL_WARNINGS:
-            counts[kind] = 0  # so that the next one is seen (and MuJoCo prints it again)
-        self._set_warnings_seen(counts)
-        return fatal
-
-    def _set_warnings_seen(self, counts: np.ndarray) -> None:
-        """MuJoCo's warning counts (mjNWARNING,) that are reported already."""
-        self._warnings_seen = np.array(counts, dtype=np.int32)  # MuJoCo's type (int)
-        self._warnings_seen_bytes = self._warnings_seen.tobytes()
-
-    def _fatal_message(self, kind: int, info: int) -> str:
-        m = self._sim.model
-        what, unit = _FATAL_WARNINGS[kind]
-        if unit == "DoF":
-            where = f"DoF {info}"
-            if 0 <= info < m.nv:
-                where += f" (joint {m.joint(int(m.dof_jntid[info])).name!r})"
-        else:
-            where = f"actuator {info}"
-            if 0 <= info < m.nu:
-                where += f" ({m.actuator(info).name!r})"
-        t = f"{self._time:.4f} s"
-        if kind == int(_W.mjWARN_BADCTRL):
-            done = ("MuJoCo ignored every control in that step. Controls come from the drive targets and gains "
-                    "(checked by the articulation API); a control written to world.data.ctrl directly is not checked")
-        else:
-            done = ("MuJoCo reset the physics state to the compiled model's initial state. Usual causes: huge "
-                    "efforts, velocities or gains, or objects placed deep inside each other")
-        return (f"the simulation became unstable at t = {t}: NaN, infinite or huge (> 1e10) {what} at {where}. "
-                f"{done}. The drive targets are now the current joint positions and the efforts 0; call "
-                "world.reset() to restart from the default states.")
 
     def render(self) -> None:
         """Capture a video frame if recording, update the viewer if one is open, and run the

@@ -10,8 +10,9 @@ from __future__ import annotations
 
 import ast
 from pathlib import Path
+from robot_constants import REPO_ROOT
 
-PACKAGE_ROOT = Path(__file__).resolve().parents[2] / "manip"
+PACKAGE_ROOT = REPO_ROOT / "manip"
 
 
 def _module_name(path: Path, root: Path) -> str:

@@ -5,7 +5,6 @@ from __future__ import annotations
 import math
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,6 +12,7 @@ import pytest
 from manip.errors import InvalidInputError
 from manip.sim import DynamicCuboid, Franka, PickPlaceController, SimulationError, World
 from manip.sim.controllers.pick_place_controller import FRANKA_EVENTS_DT
+from robot_constants import REPO_ROOT
 
 CUBE_START = np.array([0.4, 0.2, 0.025])
 PLACE = np.array([0.4, -0.3, 0.025])
@@ -152,7 +152,7 @@ def test_bad_input_raises_and_leaves_the_state():
 
 def test_example_runs_headless():
     """The tutorial port (cube dropped at (0.3, 0.3), goal (-0.3, -0.3)) exits 0: placed within 2 cm."""
-    script = Path(__file__).resolve().parents[2] / "examples" / "pick_place_controller.py"
+    script = REPO_ROOT / "examples" / "pick_place_controller.py"
     proc = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, f"{proc.stdout[-2000:]}\n{proc.stderr[-2000:]}"
     assert "done picking and placing" in proc.stdout
@@ -199,7 +199,7 @@ def test_the_flagship_reports_a_failed_grasp_and_picks_the_cube_again_where_it_i
     picks it up again where it now lies."""
     import importlib.util
 
-    path = Path(__file__).resolve().parents[2] / "examples" / "pick_and_place.py"
+    path = REPO_ROOT / "examples" / "pick_and_place.py"
     spec = importlib.util.spec_from_file_location("pick_and_place_grasp_check", path)
     pp = importlib.util.module_from_spec(spec)
     sys.modules[spec.name] = pp
