@@ -41,8 +41,7 @@ logger = logging.getLogger(__name__)
 #: `solve_many(toward_seed=True)`: the self-motion iteration (`kernels._slide_lanes`): the
 #: fraction of the way to the reference taken per step, the damping of its pseudo-inverse,
 #: its largest self-motion step [rad], its iterations at most and the step [rad] below which
-#: it has arrived. (MotionBenchMaker goal poses, 70: the same nearest solutions, to 0.01 rad in
-#: sum, as 0.5 / 0.1 rad / 100 iterations / 1e-3 rad, for 1.2 ms instead of 1.7 ms per call.)
+#: it has arrived (BENCHMARKS.md, "Constants").
 SLIDE_GAIN = 1.0
 SLIDE_DAMPING = 1e-6
 SLIDE_STEP = 0.2

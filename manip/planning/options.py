@@ -43,8 +43,7 @@ class PlanOptions:
             feasible); None = as fast as the limits allow. duration / dt may not exceed
             `manip.validation.MAX_SAMPLES` (and neither may the fastest motion's length / dt).
         ik_solutions: collision-free IK solutions sought per goal pose (the goals reached
-            fastest are planned to first; 24 against 12 on MotionBenchMaker 30/scene pose goals
-            with cuRobo's limits: motion time -1.8 %, path length -2.6 %, IK +2-3 ms).
+            fastest are planned to first; BENCHMARKS.md, "Constants").
         linear_step: Cartesian step of linear motions [m].
         optimize_clearance: push the shortcut path's waypoints away from obstacles (tens of
             ms in cluttered scenes).

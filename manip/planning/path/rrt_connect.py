@@ -17,14 +17,7 @@ Advance = Callable[[np.ndarray, np.ndarray], "np.ndarray | None"]
 Sampler = Callable[[np.random.Generator], np.ndarray]
 
 #: Share of the samples drawn near a random node of the growing tree, and their spread
-#: (Gaussian, per joint) [rad]. Measured on the MotionBenchMaker joint goals whose straight
-#: line is blocked (609 problems, 100/scene, seeds 0, 1, 2; iterations are counts, so these
-#: figures do not depend on the machine): 0.2 / 0.15 rad (before): mean 112 iterations (p98
-#: 799 / 863 / 926 by seed, max 7288); 0.3 / 0.25: 85 / 81; 0.3 / 0.5: 82 / 70 / 85; 0.4 /
-#: 0.5: 80 / 64 / 71; 0.5 / 0.5: 62 / 57 / 68 (p98 709 / 346 / 589, max 3641), search mean
-#: 50 -> 31 ms, the shortcut path 2 % shorter; 0.6 / 0.5: 73 / 70. Whole plans (MBM 30/scene,
-#: both goal kinds, two problem sets and seeds, variants interleaved): motion time +1.1 %
-#: / +0.1 %, path length +0.5 % / -0.7 %, planning time mean -4 % / -12 %.
+#: (Gaussian, per joint) [rad] (BENCHMARKS.md, "Constants").
 LOCAL_FRACTION = 0.5
 LOCAL_SIGMA = 0.5
 

@@ -76,11 +76,7 @@ def shortcut(
     saves the most length. The points lie on already-valid segments, so the result stays
     valid. Deterministic for a given generator state.
 
-    Three rounds by default (four before): MBM whole plans, both goal kinds, variants
-    interleaved (250 and 316 runs, two problem sets and seeds): shortcut stage median 15 ->
-    12 ms, motion time -0.4 % / -1.3 %, path length +0.3 % / -0.4 % (the optimiser shortens
-    the path further either way); two rounds: 9 ms, the same motion, path +0.2 %, but more
-    restarts (a shortened path that is still a detour).
+    Three rounds by default (BENCHMARKS.md, "Constants").
 
     Args:
         segments_valid: the validity the result must have (e.g. a fine-resolution check).

@@ -22,20 +22,17 @@ class TrajOptSettings:
         margin: sphere-cover clearance [m] kept from obstacles (on top of the padding).
         activation: terms farther than margin + activation are left out of the QP [m].
         iterations: SCO iterations per duration (at most).
-        tolerance: an SCO stops when a step lowers the merit by less than this fraction
-            (3e-3 against 1e-3 on MotionBenchMaker 15/scene joint and pose goals: -4 % QPs,
-            the same mean duration; 1e-2: -11 % QPs, +0.15 %). The free-duration SCO stops
-            when its model predicts less than this fraction of the duration to gain.
+        tolerance: an SCO stops when a step lowers the merit by less than this fraction;
+            the free-duration SCO stops when its model predicts less than this fraction of
+            the duration to gain.
         limit_row_slack: limit rows used less than (1 - this) of their limit at the
             current point are left out of the QP (they are soft, and the result is re-timed
             exactly).
         trust_region: largest move of a control point per iteration [rad] at first and at
             most; it halves after a rejected step, and each duration round starts at twice
-            the previous round's final radius (0.15 against 0.3, MotionBenchMaker 15/scene:
-            the same motion times, -7 % QPs).
+            the previous round's final radius.
         line_search: halvings of a step that does not lower the merit tried before the
-            trust region shrinks (each costs a clearance evaluation, not a QP; 1 measured
-            on MotionBenchMaker 32/scene joint goals: -1.5 % duration, -1 % QPs against 0).
+            trust region shrinks (each costs a clearance evaluation, not a QP).
         ray_points: control points tied to the seed's first / last segment at an end near
             an obstacle (each keeps one more piece of the motion on that segment).
         rounds: durations tried (the seed's first, then by bisection towards the lower bound).
@@ -44,33 +41,23 @@ class TrajOptSettings:
             at the duration where it is within the limits (the fit of a ruckig-timed polyline
             exceeds the acceleration limits about 1.9 x at the seed's own duration).
         bisection: where the next duration lies between the longest infeasible and the
-            shortest feasible one (0.5: halfway; 0.3 measured on MotionBenchMaker 32/scene
-            joint goals: -0.5 % duration and -5 % QPs against 0.5).
+            shortest feasible one (0.5: halfway).
         duration_tolerance: the search stops once the best duration is within this fraction
-            of the longest target not reached (0.05: +0.6 % duration, -12 % QPs; 0.02:
-            -0.2 % duration, +10 % QPs, against 0.03 on MotionBenchMaker 16/scene).
+            of the longest target not reached.
         penalty: weight of the clearance violation [1/m] (L1) against the objective.
         velocity_weight, acceleration_weight, jerk_weight: objective weights (terms are
-            squared fractions of the limits). Velocity 80 against 6 with the free-duration SCO
-            (MotionBenchMaker, whole plans, 8/scene twice (problems 0-7 and 8-15), joint
-            goals, pose goals, pose goals with cuRobo's limits: 4 sets of ~50): path length
-            -2.1 % in each set, mean motion time -0.07 % (+0.4 .. -1.0 % by set), QPs -6 %;
-            40: path -1.3 %, motion +0.04 %; 150 (two sets): path -2.3 %, motion +0.7 %. (6 against 1:
-            path -1.8 %, motion -0.1 / -0.3 %.) 200 against 80 (joint goals, 8/scene three times:
-            problems 0-7, 8-15, 16-23): path -0.55 / -1.19 / -0.90 %, motion +0.26 / +0.58 / -0.11 %;
-            400: path -1.1 %, motion +2.1 %.
+            squared fractions of the limits).
         free_duration: optimise the duration inside the SCO (`sco.sco_free_step`) after
             `first_iterations` at the seed's duration; False: the bisection over fixed
             durations (`rounds`, `bisection`, `duration_tolerance`, `second_chance`).
-            MotionBenchMaker 15/scene (94 joint, 95 pose problems), whole plans: mean motion
-            time -1.5 % (joint) and -4.4 % (pose), QPs -39 % / -37 %, path length +1 %.
         time_weight: weight of the duration (as a fraction of the starting one) against the
-            regulariser and the clearance penalty in the free-duration SCO (1e4 / 1e5 against
-            3e4: +0.3 / +1.0 % joint motion time; 1e3: +21 %).
+            regulariser and the clearance penalty in the free-duration SCO.
         free_iterations: QPs of the free-duration SCO at most.
         first_iterations: SCO iterations at the seed's duration before the free-duration SCO
-            (0: start it from the fitted seed; 3 against 6: the same motion times, -10 % QPs).
+            (0: start it from the fitted seed).
         solver: a `qpsolvers` solver name ("osqp", "daqp", ...).
+
+    The measurements behind the defaults: BENCHMARKS.md, "Constants".
     """
 
     intervals: int = 16
@@ -123,5 +110,5 @@ class TrajOptSettings:
 
 
 #: `smoothness="smooth"`: a jerk objective at fixed durations (the free-duration SCO would
-#: trade the jerk for time: MotionBenchMaker 8/scene, +21..38 % motion time at the same jerk).
+#: trade the jerk for time; BENCHMARKS.md, "Constants").
 SMOOTH = TrajOptSettings(velocity_weight=0.05, acceleration_weight=0.05, jerk_weight=1.0, free_duration=False)
