@@ -155,8 +155,8 @@ def _path(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.nda
         ctx.add_time("optimize", t)
         if not validity.certified:  # certified, further searches cost ~10 x more for a rare gain
             t = time.perf_counter()
-            path = shorter_way_round(path, goals, validity, shorten, ctx.rng, ctx.deadline,
-                                     ctx.scaled_limits(limits).velocity)
+            path = shorter_way_round(path, goals, validity, shorten, rng=ctx.rng, deadline=ctx.deadline,
+                                     velocity=ctx.scaled_limits(limits).velocity)
             ctx.add_time("restarts", t)
         t = time.perf_counter()
         if ctx.options.optimize_clearance:

@@ -45,9 +45,10 @@ def shorter_way_round(
     goals: np.ndarray,
     validity: Validity,
     shorten: Callable[[np.ndarray], np.ndarray],
+    *,
     rng: np.random.Generator,
     deadline: float,
-    vmax: np.ndarray,
+    velocity: np.ndarray,
 ) -> np.ndarray:
     """`path`, or a faster valid path between its start and one of `goals` when it is a detour.
 
@@ -59,14 +60,14 @@ def shorter_way_round(
         rng: the plan's generator (the searches draw from it only for a detour, so a plan
             without one is unchanged).
         deadline: `time.perf_counter()` value at which to stop.
-        vmax: (dof,) velocity limits [rad/s].
+        velocity: (dof,) the call's velocity limits [rad/s].
     Returns:
         (K', dof) the fastest of `path` and the shortened candidates (by `time_length`).
     """
     start = path[0]
-    best = time_length(path, vmax)
+    best = time_length(path, velocity)
     for _ in range(SEARCHES):
-        if best <= DETOUR * time_length(np.stack([start, path[-1]]), vmax):
+        if best <= DETOUR * time_length(np.stack([start, path[-1]]), velocity):
             break  # no (longer a) detour
         length = path_length(path)
         roots = goals[np.linalg.norm(goals - start, axis=1) <= length]  # path[-1] among them
@@ -77,7 +78,7 @@ def shorter_way_round(
             continue
         if len(candidate) > 2:
             candidate = shorten(candidate)
-        length = time_length(candidate, vmax)
+        length = time_length(candidate, velocity)
         if length <= GAIN * best:
             path, best = candidate, length
     return path

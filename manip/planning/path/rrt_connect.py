@@ -72,6 +72,7 @@ def rrt_connect(
     motion_valid: MotionCheck,
     rng: np.random.Generator,
     deadline: float,
+    *,
     advance: Advance | None = None,
     step_size: float = 1.5,
     short_step: float = 0.1,

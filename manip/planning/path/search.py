@@ -19,7 +19,7 @@ MAX_ITERATIONS = 20000
 
 
 def search_path(
-    start: np.ndarray, goals: np.ndarray, validity: Validity, rng: np.random.Generator, deadline: float,
+    start: np.ndarray, goals: np.ndarray, validity: Validity, rng: np.random.Generator, deadline: float, *,
     max_iterations: int | None = MAX_ITERATIONS,
     max_repair_iterations: int | None = MAX_ITERATIONS,
     sample: Sampler | None = None,

@@ -65,6 +65,7 @@ def shortcut(
     segments_valid: SegmentsValid,
     rng: np.random.Generator,
     deadline: float,
+    *,
     rounds: int = 3,
     candidates: int = 16,
     screen: SegmentsValid | None = None,

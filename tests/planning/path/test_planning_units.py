@@ -194,8 +194,8 @@ def test_a_detour_is_replaced_by_a_shorter_way_round():
     assert validity.path(far)
     vmax = np.ones(2)
     shorten = lambda p: shortcut(p, validity.segments, np.random.default_rng(0), time.perf_counter() + 5)  # noqa: E731
-    path = shorter_way_round(far, goal[None], validity, shorten, np.random.default_rng(3), time.perf_counter() + 10,
-                             vmax)
+    path = shorter_way_round(far, goal[None], validity, shorten, rng=np.random.default_rng(3),
+                             deadline=time.perf_counter() + 10, velocity=vmax)
     assert validity.path(path) and np.array_equal(path[0], start) and np.array_equal(path[-1], goal)
     assert time_length(path, vmax) <= GAIN * time_length(far, vmax)
     assert np.max(path[:, 1]) < 0.6  # through the near gap
@@ -207,7 +207,8 @@ def test_a_path_that_is_no_detour_is_kept_without_searching():
     straight = np.array([start, [0.5, 0.35], goal])
     rng = np.random.default_rng(0)
     state = rng.bit_generator.state
-    out = shorter_way_round(straight, goal[None], validity, lambda p: p, rng, time.perf_counter() + 10, np.ones(2))
+    out = shorter_way_round(straight, goal[None], validity, lambda p: p, rng=rng, deadline=time.perf_counter() + 10,
+                            velocity=np.ones(2))
     assert out is straight and rng.bit_generator.state == state  # no search drew from the generator
 
 
