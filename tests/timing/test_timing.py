@@ -7,7 +7,6 @@ import pytest
 import ruckig
 
 from manip.errors import InvalidInputError
-from manip.robot_config import load_robot_config
 from manip.timing import (
     TimingStatus,
     time_parameterize,
@@ -17,11 +16,6 @@ from manip.timing import (
 from manip.timing.segments import DEVIATION_STEP, SegmentSolver, segment_deviation
 from manip.timing.shared import polyline_distances
 from manip.trajectory import PathProfile, evaluate_pieces
-
-
-@pytest.fixture(scope="module")
-def cfg():
-    return load_robot_config("franka")
 
 
 def limits(cfg):

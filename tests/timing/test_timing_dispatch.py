@@ -10,7 +10,6 @@ import pytest
 
 import manip.timing
 from manip.errors import InvalidInputError
-from manip.robot_config import load_robot_config
 from manip.status import Status
 from manip.timing import (
     MODES,
@@ -23,11 +22,6 @@ from manip.timing import (
 )
 
 TIMING_DIR = Path(manip.timing.__file__).parent
-
-
-@pytest.fixture(scope="module")
-def cfg():
-    return load_robot_config("franka")
 
 
 @pytest.fixture(scope="module")

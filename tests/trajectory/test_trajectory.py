@@ -7,14 +7,8 @@ import pytest
 
 from manip.articulation_action import ArticulationAction
 from manip.errors import InvalidInputError, UnknownNameError
-from manip.robot_config import load_robot_config
 from manip.timing import time_parameterize_for_robot
 from manip.trajectory import CubicSplinePath, PathProfile, PiecewiseJerkProfile, Trajectory, sample_times
-
-
-@pytest.fixture(scope="module")
-def cfg():
-    return load_robot_config("franka")
 
 
 @pytest.fixture(scope="module")
