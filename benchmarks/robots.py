@@ -21,10 +21,10 @@ from manip.benchmarking.verify import Verifier
 from manip.motion_generator import MotionGenerator
 from manip.pose import Pose
 from manip.sim import World, create_new_stage
-from manip.sim.articulation import Robot
+from manip.sim.articulations.articulation import Robot
 from manip.sim.playback import play_trajectory
-from manip.sim.robots import robot_model_path
-from manip.sim.stage import add_reference_to_stage
+from manip.sim.robots.robot import robot_model_path
+from manip.sim.scenes.stage import add_reference_to_stage
 
 ROBOTS = ["franka", "ur5", "ur10", "kinova", "xarm7"]
 

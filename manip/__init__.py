@@ -8,6 +8,8 @@ kinematics / collision / trajectory / timing -> planning -> MotionGenerator -> c
 
 from __future__ import annotations
 
+import warnings
+
 from manip.articulation_action import ArticulationAction
 from manip.collision import (
     Capsule,
@@ -23,6 +25,7 @@ from manip.collision import (
 from manip.errors import InvalidInputError, ManipError, RobotConfigError, UnknownNameError
 from manip.ik import BatchIKResult, IKResult, IKSolutions, IKSolver, IKStatus
 from manip.kinematics import Kinematics
+from manip.limits import JointLimits
 from manip.motion_generator import MotionGenerator
 from manip.compat import TutorialMotionGen, wxyz_to_xyzw, xyzw_to_wxyz
 from manip.planning import PlanOptions, PlanResult, PlanStatus
@@ -35,7 +38,6 @@ from manip.timing import (
     time_parameterize_dense,
     time_parameterize_for_robot,
 )
-from manip.tutorial_api import TutorialAPI  # deprecated alias of TutorialMotionGen
 from manip.trajectory import CubicSplinePath, PathProfile, PiecewiseJerkProfile, Trajectory
 
 __all__ = [
@@ -53,6 +55,7 @@ __all__ = [
     "IKSolver",
     "IKStatus",
     "InvalidInputError",
+    "JointLimits",
     "Kinematics",
     "ManipError",
     "Mesh",
@@ -69,7 +72,6 @@ __all__ = [
     "TimingResult",
     "TimingStatus",
     "Trajectory",
-    "TutorialAPI",
     "TutorialMotionGen",
     "UnknownNameError",
     "WorldConfig",
@@ -82,3 +84,13 @@ __all__ = [
     "wxyz_to_xyzw",
     "xyzw_to_wxyz",
 ]
+
+
+def __getattr__(name: str):
+    """`manip.TutorialAPI`: the deprecated name of `TutorialMotionGen` (a DeprecationWarning)."""
+    if name == "TutorialAPI":
+        warnings.warn("manip.TutorialAPI is deprecated: use manip.TutorialMotionGen", DeprecationWarning, stacklevel=2)
+        from manip.tutorial_api import TutorialAPI
+
+        return TutorialAPI
+    raise AttributeError(f"module 'manip' has no attribute {name!r}")

@@ -35,7 +35,7 @@ _AXES = {"X": np.array([1.0, 0.0, 0.0]), "Y": np.array([0.0, 1.0, 0.0]), "Z": np
 
 
 @dataclass(frozen=True)
-class _JointSpec:
+class JointSpec:
     """One joint of the reduced model (the source of the compiled kernels' tables)."""
 
     parent: int          # index of the parent joint (0 = universe)
@@ -46,7 +46,7 @@ class _JointSpec:
     q_index: int         # index into q
 
 
-def _joint_spec(model: pin.Model, j: int) -> _JointSpec:
+def _joint_spec(model: pin.Model, j: int) -> JointSpec:
     jm = model.joints[j]
     name = jm.shortname()
     if name.startswith("JointModelR") and name[-1] in _AXES:
@@ -62,7 +62,7 @@ def _joint_spec(model: pin.Model, j: int) -> _JointSpec:
             f"joint '{model.names[j]}' is of type {name}; manip supports revolute and prismatic joints"
         )
     M = model.jointPlacements[j]
-    return _JointSpec(int(model.parents[j]), M.rotation.copy(), M.translation.copy(), axis, revolute, jm.idx_q)
+    return JointSpec(int(model.parents[j]), M.rotation.copy(), M.translation.copy(), axis, revolute, jm.idx_q)
 
 
 @kernel
@@ -195,13 +195,16 @@ class Kinematics:
             )
         self.joint_names: tuple[str, ...] = tuple(config.arm_joints)
         self.dof = len(self.joint_names)
-        self.lower = config.lower_limits.copy()
-        self.upper = config.upper_limits.copy()
+        #: The robot's `JointLimits` (`config.limits`); `lower` / `upper` are its (dof,) position limits [rad].
+        self.limits = config.limits
+        self.lower = self.limits.lower
+        self.upper = self.limits.upper
         urdf_lo = self.model.lowerPositionLimit
         urdf_hi = self.model.upperPositionLimit
         if np.any(self.lower < urdf_lo - 1e-9) or np.any(self.upper > urdf_hi + 1e-9):
             raise InvalidInputError(f"{config.name}: configured joint limits exceed the URDF's")
         self._joints = [_joint_spec(self.model, j) for j in range(1, self.model.njoints)]
+        self._joint_specs = tuple(self._joints)
         self._build_small_batch_tables()
         self.frame_names: tuple[str, ...] = tuple(f.name for f in self.model.frames)
         self._frame_ids = {f.name: i for i, f in enumerate(self.model.frames)}
@@ -277,6 +280,22 @@ class Kinematics:
         if not Q.flags.writeable:  # a read-only array would compile (~1 s) a second version of the kernel
             Q = Q.copy()
         return _joint_frames(Q, self._sb_q, self._sb_parent_a, self._sb_table)
+
+    @property
+    def joint_specs(self) -> tuple[JointSpec, ...]:
+        """The reduced model's J joints in tree order (joint frame j + 1 is joint_specs[j]):
+        parent joint, placement in the parent [m], axis, revolute or prismatic, index in q."""
+        return self._joint_specs
+
+    @property
+    def joint_axes(self) -> np.ndarray:
+        """(J, 3) each joint's unit axis in its own frame (shared: do not modify)."""
+        return self._axes
+
+    @property
+    def joint_revolute(self) -> np.ndarray:
+        """(J,) bool: True for a revolute joint, False for a prismatic one (shared: do not modify)."""
+        return self._revolute
 
     def fk_tables(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(q_index (J,), parent (J,), table (J, 3|4, 16)): the inputs of `chain_frames`."""

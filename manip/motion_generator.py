@@ -7,14 +7,14 @@ The pipeline of every plan (each stage timed in `PlanResult.timings`):
 2. goals: joint goals are checked (INVALID_GOAL); pose goals become several collision-free
    IK solutions (IK_FAIL when there is none);
 3. path: the straight joint-space line when it is valid, else the coarse-to-fine
-   RRT-Connect search towards all goal configurations at once (`planning.search`);
-4. shortcut: batched random shortcutting, optionally clearance smoothing (`planning.optimize`);
+   RRT-Connect search towards all goal configurations at once (`planning.path.search`);
+4. shortcut: batched random shortcutting, optionally clearance smoothing (`planning.path.smoothing`);
 5. timing: ruckig segments with blended corners (`manip.timing`);
 6. validate: the continuous interpolation of the returned samples is certified
-   collision-free against the exact collision model (`planning.finish`,
+   collision-free against the exact collision model (`planning.time_and_validate`,
    `CollisionChecker.certify_path`). Only a trajectory that passes is returned with
    `success=True`; one that fails is planned again (`planning.pipeline`);
-7. trajectory optimisation (`planning.refine`, `planning.trajopt`): the valid trajectory of a
+7. trajectory optimisation (`planning.trajopt.refine`, `planning.trajopt.optimizer`): the valid trajectory of a
    searched path seeds a B-spline optimiser; its result replaces the seed only when it is
    faster and passes the same validation (`PlanResult.source == "trajopt"`).
 
@@ -22,7 +22,7 @@ The planners are handed a `planning.Validity` (collision and limit questions) an
 `PlanContext` (options, deadline, random generator, timings); this class checks the start
 and the goals and hands them to `planning.pipeline.plan_to_configs`, which runs the attempts.
 
-Guarantees of a trajectory returned with `success=True` (`planning.finish`): it starts at
+Guarantees of a trajectory returned with `success=True` (`planning.time_and_validate`): it starts at
 the start and ends at the goal at rest, keeps the position, velocity, acceleration and
 jerk limits, and its continuous interpolation (straight joint-space lines between the
 samples) is certified collision-free against the exact meshes with the padding
@@ -57,18 +57,16 @@ from manip.errors import InvalidInputError
 from manip.ik import BatchIKResult, IKResult, IKSolver, IKStatus
 from manip.kinematics import Kinematics
 from manip.planning.context import START_LIMIT_TOLERANCE, PlanContext
-from manip.planning.finish import time_and_validate
-from manip.planning.goals import order_goals
-from manip.planning.linear import linear_path
+from manip.planning.time_and_validate import time_and_validate
+from manip.planning.path.goals import order_goals
+from manip.planning.path.linear import linear_path
 from manip.planning.options import PlanOptions
 from manip.planning.pipeline import plan_to_configs
-from manip.planning.refine import scaled_limits
 from manip.planning.result import PlanResult, PlanStatus
 from manip.planning.validity import Validity
 from manip.pose import Pose
 from manip.robot_config import RobotConfig, config_from_urdf, load_robot_config
 from manip.sim_bridge import world_config_from_sim
-from manip.timing import TimingLimits
 from manip.validation import as_real_array, flag, positive
 
 logger = logging.getLogger(__name__)
@@ -163,7 +161,9 @@ class MotionGenerator:
         self.validity = Validity(self.checker, self.kinematics, resolution, search_resolution)
         self.clearance = ClearanceModel(self.checker)
         self.ik_solver = IKSolver(self.kinematics, seed=seed)
-        self.timing_limits = TimingLimits.from_robot(self.config)
+        #: The robot's `JointLimits` (`config.limits`; `timing_limits` is the old name).
+        self.limits = self.config.limits
+        self.timing_limits = self.limits
         self.velocity_scale = 1.0
         self.acceleration_scale = 1.0
         if world is not None:
@@ -461,8 +461,8 @@ class MotionGenerator:
         goal = ctx.check_goal(self._arm_q(goal_q, "goal_q"), self.kinematics, validity)
         if ctx.failed:
             return ctx.result()
-        ctx.check_sample_count(start, goal, self.timing_limits)
-        return plan_to_configs(ctx, validity, start, goal[None, :], self.timing_limits, self.clearance)
+        ctx.check_sample_count(start, goal, self.limits)
+        return plan_to_configs(ctx, validity, start, goal[None, :], limits=self.limits, clearance=self.clearance)
 
     def plan_pose(self, start_q, goal: Pose, link: str | None = None, *, linear: bool = False, **options) -> PlanResult:
         """Plan a motion that brings `link` (default `ee_link`) to the pose `goal`.
@@ -488,7 +488,7 @@ class MotionGenerator:
         Collision-free IK solutions of every pose (for a redundant arm, each also moved along
         its self-motion towards the start) are planned to at once, the ones reachable fastest
         (by the time-optimal rest-to-rest duration from the start; among those within 10 % of
-        the fastest, the shortest first: `planning.goals`) first; the result's
+        the fastest, the shortest first: `planning.path.goals`) first; the result's
         `goal_index` says which pose was reached.
         """
         ctx = self._context(options)
@@ -506,10 +506,11 @@ class MotionGenerator:
         ctx.add_time("ik", t_ik)
         if not len(configs):
             return ctx.fail(PlanStatus.IK_FAIL, why)
-        # the goals ranked by the motion they allow (`planning.goals`), not by joint-space distance
-        order = order_goals(start, configs, *scaled_limits(self.timing_limits, ctx))
-        ctx.check_sample_count(start, configs[order[0]], self.timing_limits)
-        result = plan_to_configs(ctx, validity, start, configs[order], self.timing_limits, self.clearance)
+        # the goals ranked by the motion they allow (`planning.path.goals`), not by joint-space distance
+        order = order_goals(start, configs, ctx.scaled_limits(self.limits))
+        ctx.check_sample_count(start, configs[order[0]], self.limits)
+        result = plan_to_configs(ctx, validity, start, configs[order], limits=self.limits,
+                                 clearance=self.clearance)
         if result.success:
             reached = result.goal_q
             k = int(order[np.argmin(np.linalg.norm(configs[order] - reached, axis=1))])
@@ -616,8 +617,8 @@ class MotionGenerator:
         if path is None:
             return ctx.fail(PlanStatus.LINEAR_PATH_FAIL, why)
         goal_q = path[-1].copy()
-        ctx.check_sample_count(start, goal_q, self.timing_limits)
-        traj, why = time_and_validate(ctx, path, goal_q, self.timing_limits, validity,
+        ctx.check_sample_count(start, goal_q, self.limits)
+        traj, why = time_and_validate(ctx, path, goal_q, limits=self.limits, validity=validity,
                                       deviation=LINEAR_DEVIATION, dense_deviation=LINEAR_SPLINE_DEVIATION)
         if traj is None:
             return ctx.fail(PlanStatus.TRAJOPT_FAIL, f"no valid timed trajectory: {why}", path=path, goal_q=goal_q)

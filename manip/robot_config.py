@@ -22,6 +22,7 @@ import numpy as np
 import yaml
 
 from manip.errors import RobotConfigError, UnknownNameError
+from manip.limits import JointLimits
 from manip.urdf import (MOVABLE_TYPES, UrdfJoint, UrdfTree, default_ee_link, disabled_pairs, srdf_group_states,
                         within_limits)
 
@@ -106,7 +107,8 @@ class GripperConfig:
 class RobotConfig:
     """Everything manip needs to know about one robot.
 
-    Array fields have one entry per arm joint, in `arm_joints` order, in SI units.
+    Array fields have one entry per arm joint, in `arm_joints` order, in SI units; the five
+    limit arrays are read-only and are also `limits`, one `JointLimits` built from them.
     """
 
     name: str
@@ -129,6 +131,17 @@ class RobotConfig:
     collision_padding: float
     disabled_collision_pairs: tuple[tuple[str, str], ...]
     raw: dict = field(repr=False, default_factory=dict)
+    limits: JointLimits = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        limits = JointLimits(velocity=self.velocity_limits, acceleration=self.acceleration_limits,
+                             jerk=self.jerk_limits, lower=self.lower_limits, upper=self.upper_limits,
+                             joint_names=tuple(self.arm_joints))
+        object.__setattr__(self, "limits", limits)
+        for name, value in (("lower_limits", limits.lower), ("upper_limits", limits.upper),
+                            ("velocity_limits", limits.velocity), ("acceleration_limits", limits.acceleration),
+                            ("jerk_limits", limits.jerk)):
+            object.__setattr__(self, name, value)
 
     @property
     def dof(self) -> int:

@@ -29,6 +29,12 @@ def franka_config() -> RobotConfig:
 
 
 @pytest.fixture(scope="session")
+def cfg(franka_config: RobotConfig) -> RobotConfig:
+    """`franka_config` by its short name (the timing and trajectory tests use it)."""
+    return franka_config
+
+
+@pytest.fixture(scope="session")
 def franka_kinematics(franka_config: RobotConfig) -> Kinematics:
     """Kinematics of the Franka's 7 arm joints (fingers locked at their planning positions)."""
     return Kinematics(franka_config)

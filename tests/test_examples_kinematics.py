@@ -7,8 +7,9 @@ import sys
 from pathlib import Path
 
 import pytest
+from robot_constants import REPO_ROOT
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = REPO_ROOT / "examples"
 
 
 @pytest.mark.parametrize(

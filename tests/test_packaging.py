@@ -12,8 +12,9 @@ import zipfile
 from pathlib import Path
 
 import pytest
+from robot_constants import REPO_ROOT
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = REPO_ROOT
 
 
 @pytest.fixture(scope="module")

@@ -9,12 +9,12 @@ from __future__ import annotations
 
 import sys
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 import pytest
+from robot_constants import REPO_ROOT
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # make `benchmarks` importable
+sys.path.insert(0, str(REPO_ROOT))  # make `benchmarks` importable
 
 from benchmarks.peers import (  # noqa: E402
     PEER_NAMES,
@@ -24,7 +24,7 @@ from benchmarks.peers import (  # noqa: E402
 )
 from benchmarks.peers._common import uniform_times, world_obstacles  # noqa: E402
 from manip.errors import InvalidInputError, UnknownNameError  # noqa: E402
-from robot_constants import FRANKA_READY
+from robot_constants import FRANKA_READY  # noqa: E402
 
 AVAILABLE = available_peers()
 RUNNABLE = [n for n in ("roboplan", "ompl") if AVAILABLE[n] == "ok"]

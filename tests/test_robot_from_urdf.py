@@ -13,7 +13,7 @@ from manip.errors import InvalidInputError, RobotConfigError, UnknownNameError
 from manip.motion_generator import MotionGenerator
 from manip.pose import Pose
 from manip.robot_config import config_from_urdf, load_robot_config
-from manip.sim.mjcf_builder import build_mjcf
+from manip.sim.scenes.mjcf_builder import build_mjcf
 from manip.urdf import srdf_disabled_pairs
 
 # A 3-link arm on a base: boxes and cylinders only, a continuous first joint, a tool frame.

@@ -93,10 +93,10 @@ def test_plans_seeded_scenes_with_verified_trajectories(mg: MotionGenerator, kin
 
 
 def test_sim_tracks_a_planned_trajectory_within_2cm(mg: MotionGenerator, fresh_world) -> None:
-    from manip.sim.articulation import Robot
+    from manip.sim.articulations.articulation import Robot
     from manip.sim.playback import play_trajectory
-    from manip.sim.robots import robot_model_path
-    from manip.sim.stage import add_reference_to_stage
+    from manip.sim.robots.robot import robot_model_path
+    from manip.sim.scenes.stage import add_reference_to_stage
 
     c = mg.config
     mg.update_world({})
@@ -118,7 +118,7 @@ def test_sim_tracks_a_planned_trajectory_within_2cm(mg: MotionGenerator, fresh_w
 
 
 def test_mjcf_files_are_up_to_date(mg: MotionGenerator) -> None:
-    from manip.sim.mjcf_builder import build_mjcf
+    from manip.sim.scenes.mjcf_builder import build_mjcf
 
     text, assets = build_mjcf(mg.config)
     assert mg.config.mjcf_path.read_text() == text, "rerun robots/tools/make_mjcf.py"
@@ -161,13 +161,13 @@ def test_pairs_proved_clear_keep_their_bound_and_come_back_with_a_larger_self_pa
             tfs = [coal.Transform3s(R[n, x.joint] @ x.R, p[n, x.joint] + R[n, x.joint] @ x.p) for x in (pa, pb)]
             d = coal.distance(pa.geometry, tfs[0], pb.geometry, tfs[1], coal.DistanceRequest(), coal.DistanceResult())
             assert d >= bound - 1e-9, (pa.name, pb.name, d, bound)
-    checked = {tuple(map(int, pr)) for pr in mg.checker._bp_pairs}
+    checked = {tuple(map(int, pr)) for pr in mg.checker.state.self_pairs}
     assert checked.isdisjoint(proved)
     assert checked | set(proved) == set(rg.self_pairs)
     if proved:
         cc = CollisionChecker(c, mg.kinematics)
         cc.self_padding = max(proved.values()) + 1e-3
-        assert {tuple(map(int, pr)) for pr in cc._bp_pairs} == set(rg.self_pairs)
+        assert {tuple(map(int, pr)) for pr in cc.state.self_pairs} == set(rg.self_pairs)
 
 
 def test_clearance_maps_bound_the_pairs_distance_and_keep_the_answers(mg: MotionGenerator) -> None:
@@ -221,8 +221,8 @@ def test_ur10_forearm_and_wrist_links_reach_coal_only_where_they_can_touch() -> 
     c = mg.config
     Q = np.random.default_rng(7).uniform(c.lower_limits, c.upper_limits, size=(500, c.dof))
     R, p = mg.kinematics.joint_transforms(Q)
-    n, k, _ = broadphase.self_candidates(R, p, Q, ck.self_padding + 1e-9, *ck._bp_self)
-    names = [(ck._parts[a].name, ck._parts[b].name) for a, b in ck._bp_pairs[k]]
+    n, k, _ = broadphase.self_candidates(R, p, Q, ck.self_padding + 1e-9, *ck.state.self_tables)
+    names = [(ck.state.parts[a].name, ck.state.parts[b].name) for a, b in ck.state.self_pairs[k]]
     share = sum(pair == ("forearm_link", "wrist_2_link") for pair in names) / Q.shape[0]
     assert share < 0.1
     share = sum(pair == ("forearm_link", "wrist_3_link") for pair in names) / Q.shape[0]
@@ -238,7 +238,7 @@ def test_a_swept_part_holds_the_part_at_every_angle() -> None:
 
     mg = MotionGenerator("ur10", seed=0)
     part = next(p for p in mg.checker.robot.parts if p.link == "wrist_3_link")
-    axis = mg.kinematics._joints[part.joint - 1].axis
+    axis = mg.kinematics.joint_specs[part.joint - 1].axis
     solid, radius = _sweep(part, axis)
     V = np.array(part.geometry.vertices(), dtype=float).reshape(-1, 3) @ part.R.T + part.p
     assert radius > 0.0

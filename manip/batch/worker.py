@@ -68,7 +68,7 @@ def warm_up(robots: tuple[str | RobotSpec, ...]) -> dict[str, float]:
     the two hand positions (collision checking, path search, shortcutting, timing, the
     optimiser) and an IK call for a pose near the moved hand load every numba kernel that
     planning can meet (compiling those missing from the on-disk cache), so that no kernel
-    is loaded or compiled inside a problem's time budget; `tests/test_batch.py` checks that
+    is loaded or compiled inside a problem's time budget; `tests/batch/test_batch.py` checks that
     planning every scene kind afterwards, to joint and pose goals, loads no other. More
     warm-up plans would only add their own planning time to the worker's start-up. The
     results are discarded and the world is emptied afterwards.

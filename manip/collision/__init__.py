@@ -8,7 +8,8 @@
   is in `manip.collision.results`; `certify_path` proves a joint-space polyline free over
   its whole continuous interpolation (`manip.collision.certify`, a `MotionCertificate`);
   `snapshot()` gives a read-only view of one state of the world for other threads
-  (`manip.collision.edits`).
+  (`manip.collision.edits`), and `state` that state's tables as one read-only
+  `CollisionState` (`manip.collision.state`: what certify, clearance and the planners read).
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from manip.collision.results import AttachedObject, CollisionReport, Contact, Di
 from manip.collision.robot_geometry import RobotGeometry, RobotPart
 from manip.collision.shapes import Capsule, Cuboid, Cylinder, Mesh, Obstacle, Sphere
 from manip.collision.spheres import cover_with_spheres
+from manip.collision.state import CollisionState
 from manip.collision.world import WorldConfig
 
 __all__ = [
@@ -26,6 +28,7 @@ __all__ = [
     "Capsule",
     "CollisionChecker",
     "CollisionReport",
+    "CollisionState",
     "Contact",
     "Cuboid",
     "Cylinder",

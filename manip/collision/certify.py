@@ -1,6 +1,6 @@
 """Certified continuous collision checking of joint-space polylines.
 
-`certify_path(checker, path)` proves that the straight joint-space interpolation between
+`certify_path(state, path)` proves that the straight joint-space interpolation between
 consecutive configurations of `path` (K, dof) never comes within the padding of an obstacle
 (or within the self padding of another link), over the whole continuous motion, not only
 at sampled configurations. Each pair of geometries (a robot part or attached object against
@@ -34,7 +34,7 @@ margin of its motion bound is proved free on each segment by the first test that
    path is then reported as not certified: callers reject it).
 
 The geometry (the URDF's meshes, the obstacles' shapes) and the padding are those of the
-`CollisionChecker`; nothing is inflated.
+`CollisionChecker`'s state (`manip.collision.state.CollisionState`); nothing is inflated.
 """
 
 from __future__ import annotations
@@ -49,6 +49,7 @@ from manip.jit import kernel
 from manip.collision import broadphase
 from manip.collision.robot_geometry import geometry_triangles
 from manip.collision.shapes import Capsule, Cuboid, Cylinder, Mesh, Sphere
+from manip.collision.state import CollisionState
 
 #: A pair is not certified after this many halvings of a segment (2^-40 of its length).
 MAX_DEPTH = 40
@@ -88,14 +89,14 @@ class MotionBoundTables:
     """The robot-side constants of the motion bound (built once per set of parts).
 
     Args:
-        parts: the checker's parts (`manip.collision.tables._Part`).
-        fine: the parts' fine sphere table (`_SphereTable`).
+        parts: the checker's parts (`manip.collision.tables.Part`).
+        fine: the parts' fine sphere table (`SphereTable`).
         kinematics: the robot's `Kinematics`.
         pairs: (P, 2) the self-collision part pairs in the broadphase's order.
     """
 
     def __init__(self, parts, fine, kinematics, pairs: np.ndarray):
-        specs = kinematics._joints
+        specs = kinematics.joint_specs
         J = len(specs)
         G = len(parts)
         parent = np.array([0] + [s.parent for s in specs], dtype=np.int64)  # parent[j] of joint frame j
@@ -333,10 +334,10 @@ class _End:
 class _Context:
     """The exact queries of one `certify_path` call: placements, distances, counters."""
 
-    def __init__(self, checker, R: np.ndarray, p: np.ndarray):
-        self.ck = checker
-        self.tb = checker._motion_bounds
-        self.parts = checker._parts
+    def __init__(self, state: CollisionState, R: np.ndarray, p: np.ndarray):
+        self.state = state
+        self.tb = state.motion_bounds
+        self.parts = state.parts
         self._pj = np.array([pt.joint for pt in self.parts], dtype=np.int64)
         self._gR = np.array([pt.R for pt in self.parts])
         self._gp = np.array([pt.p for pt in self.parts])
@@ -360,7 +361,8 @@ class _Context:
         res = self.res
         res.clear()
         if kind == 0:
-            d = coal.distance(pa.geometry if mesh else pa.hull, tf[0], self.ck._ogeom[j], self.ck._otf[j], self.req, res)
+            d = coal.distance(pa.geometry if mesh else pa.hull, tf[0], self.state.obstacle_geometries[j],
+                              self.state.obstacle_transforms[j], self.req, res)
         else:
             pb = self.parts[j]
             d = coal.distance(pa.geometry if mesh else pa.hull, tf[0], pb.geometry if mesh else pb.hull, tf[1],
@@ -386,7 +388,7 @@ class _Context:
         return end
 
     def at_config(self, pair, q: np.ndarray) -> _End:
-        R, p = self.ck._fk(q[None])
+        R, p = self.state.joint_transforms(q[None])
         Rw, pw = [], []
         for g in (pair[1], pair[2] if pair[0] else pair[1]):
             Rj = R[0, self._pj[g]]
@@ -410,7 +412,7 @@ class _Context:
         tb = self.tb
         hi = max(a.support(0, n)[0], b.support(0, n)[0]) + E[0] + tb.support_radius[i]
         if kind == 0:
-            lo = _obstacle_support(self.ck._obs[j], n, self.obstacle_frames)
+            lo = _obstacle_support(self.state.obstacles[j], n, self.obstacle_frames)
         else:
             lo = min(a.support(1, n)[1], b.support(1, n)[1]) - E[1] - tb.support_radius[j]
         return lo - hi > margin
@@ -436,11 +438,11 @@ def _candidates(kernel, R, p, margins: np.ndarray, tables, Q: np.ndarray | None 
     return tuple(np.concatenate([o[k] for o in outs]) for k in range(len(outs[0])))
 
 
-def certify_path(checker, path: np.ndarray) -> MotionCertificate:
+def certify_path(state: CollisionState, path: np.ndarray) -> MotionCertificate:
     """Prove the straight interpolation of `path` (K, dof) collision-free (see the module doc).
 
     Args:
-        checker: a `CollisionChecker` (read as it is: give a snapshot for concurrent edits).
+        state: the checker's tables (`CollisionChecker.state`: one world, whatever edits follow).
         path: (K, dof) configurations [rad], K >= 1.
 
     Returns:
@@ -449,14 +451,14 @@ def certify_path(checker, path: np.ndarray) -> MotionCertificate:
     Q = np.array(path, dtype=np.float64)  # a writable copy (the kernels' signature)
     if Q.shape[0] == 1:
         Q = np.vstack([Q, Q])
-    ck = checker
-    if ck._static_world:
-        g, o = ck._static_world[0]
-        return MotionCertificate(False, 0, "collision", (ck._parts[g].name, ck._obs[o].name))
-    tb: MotionBoundTables = ck._motion_bounds
-    R, p = ck._fk(Q)
+    st = state
+    if st.every_configuration_collides:
+        g, o = st.always_colliding[0]
+        return MotionCertificate(False, 0, "collision", (st.parts[g].name, st.obstacles[o].name))
+    tb: MotionBoundTables = st.motion_bounds
+    R, p = st.joint_transforms(Q)
     rho, chord = _axis_reach(R, p, tb.centres, tb.radii, tb.ball_part, tb.ball_joint, tb.ancestors, tb.axes,
-                             tb.revolute, len(ck._parts))
+                             tb.revolute, len(st.parts))
     S = Q.shape[0] - 1
     Dj = np.zeros((S, tb.axes.shape[0]))
     Dj[:, 1:] = np.abs(np.diff(Q, axis=0))[:, tb.q_of_joint[1:]]
@@ -470,7 +472,7 @@ def certify_path(checker, path: np.ndarray) -> MotionCertificate:
     E_part[:, tb.no_chord] = np.inf
     # how far a ball of each part can get from its place at either end of a segment
     B_part = np.minimum(M_part, chord + E_part)
-    pad, spad = ck._padding, ck._self_padding
+    pad, spad = st.padding, st.self_padding
     segments: list[np.ndarray] = []  # per pair kind: (segment, i, j) rows left uncertified
     motion: list[np.ndarray] = []
 
@@ -490,22 +492,22 @@ def certify_path(checker, path: np.ndarray) -> MotionCertificate:
         return base + np.maximum(np.r_[m, 0.0], np.r_[0.0, m])
 
     # world pairs
-    O = len(ck._obs)
-    if O and ck._l0_joint.size:
+    O = len(st.obstacles)
+    if O and st.moving_world_parts:
         n, g, o, d = _candidates(broadphase.world_candidates, R, p, sample_margins(B_part, pad),
-                                 (*ck._bp_world, *ck._bp_obstacles))
+                                 (*st.world_tables, *st.obstacle_tables))
         if n.size:
-            s, g, o, da, db = both_ends(n, g, o, d, (len(ck._parts), O))
+            s, g, o, da, db = both_ends(n, g, o, d, (len(st.parts), O))
             lower = np.maximum(_lower_batch(da, db, M_part[s, g]), _lower_batch(da, db, chord[s, g]) - E_part[s, g])
             bad = lower <= pad
             segments.append(np.stack([s[bad], np.zeros(int(bad.sum()), dtype=np.int64), g[bad], o[bad]], axis=1))
             motion.append(M_part[:, g[bad]])
     # self pairs
-    bp_pairs = ck._bp_pairs
+    bp_pairs = st.self_pairs
     if bp_pairs.shape[0]:
         rel = rho_seg[:, bp_pairs[:, 0]] * tb.pair_mask_a[None] + rho_seg[:, bp_pairs[:, 1]] * tb.pair_mask_b[None]
         M_pair = np.matmul(rel, Dj[:, :, None])[:, :, 0]
-        n, k, d = _candidates(broadphase.self_candidates, R, p, sample_margins(M_pair, spad), ck._bp_self, Q)
+        n, k, d = _candidates(broadphase.self_candidates, R, p, sample_margins(M_pair, spad), st.self_tables, Q)
         if n.size:
             s, k, _, da, db = both_ends(n, k, np.zeros(n.size, dtype=np.int64), d, (bp_pairs.shape[0], 1))
             bad = _lower_batch(da, db, M_pair[s, k]) <= spad
@@ -516,7 +518,7 @@ def certify_path(checker, path: np.ndarray) -> MotionCertificate:
     if rows.shape[0] == 0:
         return MotionCertificate(True)
     Ms = np.concatenate(motion, axis=1)  # (S, rows): the motion bound of each row's pair
-    ctx = _Context(ck, R, p)
+    ctx = _Context(st, R, p)
     # rows in segment order, a block of segments at a time: exact (hull) distances at both
     # ends of every row and the two-sided advancement bound for the block at once, then the
     # plane test and bisection for the rows it leaves; the first failure ends the proof (it
@@ -540,7 +542,7 @@ def certify_path(checker, path: np.ndarray) -> MotionCertificate:
             E = (float(E_part[seg, i]), float(E_part[seg, j]) if kind else 0.0)
             why = _certify_segment(ctx, Q, (kind, i, j), seg, float(M[b0 + r]), E, float(margins[b0 + r]))
             if why:
-                names = (ck._parts[i].name, ck._obs[j].name if kind == 0 else ck._parts[j].name)
+                names = (st.parts[i].name, st.obstacles[j].name if kind == 0 else st.parts[j].name)
                 return MotionCertificate(False, seg, why, names, ctx.queries)
     return MotionCertificate(True, queries=ctx.queries)
 
@@ -568,7 +570,7 @@ def _certify_segment(ctx: _Context, Q: np.ndarray, pair, seg: int, M: float, E: 
             if end.hull() <= margin and end.best(not convex) <= margin:
                 # within the padding up to the distance's slack: the checker's own answer
                 # names it a collision; either way the segment is not certified
-                return "collision" if ctx.ck._check(q[None])[0] else "uncertified"
+                return "collision" if ctx.state.collides(q[None])[0] else "uncertified"
         if depth >= MAX_DEPTH or ctx.queries >= MAX_QUERIES:
             return "uncertified"
         qm = 0.5 * (qa + qb)

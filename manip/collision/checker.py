@@ -58,15 +58,10 @@ from manip.collision.results import (  # noqa: F401  (re-exported: manip.collisi
     PathCheck,
 )
 from manip.collision.robot_geometry import RobotGeometry
-from manip.collision.segments import SegmentChecks, _coarse_to_fine, consistent  # noqa: F401  (_coarse_to_fine: re-exported)
+from manip.collision.segments import SegmentChecks, consistent
 from manip.collision.shapes import Obstacle  # noqa: F401  (re-exported)
-from manip.collision.tables import (  # noqa: F401  (_Part, _hull, _sd_local, _SphereTable: re-exported)
-    _hull,
-    _Part,
-    _sd_local,
-    _SphereTable,
-    _tf,
-)
+from manip.collision.state import CollisionState
+from manip.collision.tables import coal_transform
 from manip.collision.world import WorldConfig
 from manip.errors import InvalidInputError
 from manip.kinematics import Kinematics
@@ -113,6 +108,25 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         self._rebuild_parts()
         self.set_world(world if world is not None else WorldConfig())
 
+    # ------------------------------------------------------------------ state
+    @property
+    def state(self) -> CollisionState:
+        """The checker's tables as they are now, read-only (`manip.collision.state`): what the
+        certificate, the clearance model and the planners read. Later edits do not change it."""
+        if not self._is_snapshot:
+            return self.snapshot().state
+        state = self.__dict__.get("_state_of_snapshot")
+        if state is None:
+            state = self._state_of_snapshot = CollisionState(
+                kinematics=self.kinematics, parts=tuple(self._parts), obstacles=tuple(self._obs),
+                obstacle_geometries=tuple(self._ogeom), obstacle_transforms=tuple(self._otf), padding=self._padding,
+                self_padding=self._self_padding, always_colliding=tuple(self._always_colliding), fine=self._fine,
+                motion_bounds=self._motion_bounds, world_tables=tuple(self._bp_world),
+                moving_world_parts=bool(self._l0_joint.size), obstacle_tables=tuple(self._bp_obstacles),
+                self_tables=tuple(self._bp_self), self_pairs=self._bp_pairs, _collides=self._check,
+                _motion_free=self._motion_free_at, _segments_free=self._segments_free, _advance=self._advance_to)
+        return state
+
     # ------------------------------------------------------------------ geometry helpers
     def _sd_all(self, X: np.ndarray) -> np.ndarray:
         """Signed distances (M, O) of points X (M, 3) to every obstacle's broadphase shape."""
@@ -125,7 +139,7 @@ class CollisionChecker(WorldEdits, SegmentChecks):
     def _part_tf(self, R: np.ndarray, p: np.ndarray, n: int, g: int) -> coal.Transform3s:
         part = self._parts[g]
         Rj, pj = R[n, part.joint], p[n, part.joint]
-        return _tf(Rj @ part.R, pj + Rj @ part.p)
+        return coal_transform(Rj @ part.R, pj + Rj @ part.p)
 
     # ------------------------------------------------------------------ broadphase
     def _candidates(self, Q: np.ndarray, R: np.ndarray, p: np.ndarray, world: bool = True, self_: bool = True,
@@ -184,7 +198,7 @@ class CollisionChecker(WorldEdits, SegmentChecks):
                 pairs first (the likeliest collisions); else go in configuration order, so
                 that with `stop_at_first` the first True is the first colliding row.
         """
-        if self._static_world:
+        if self._always_colliding:
             return np.ones(Q.shape[0], dtype=bool)
         out = np.zeros(Q.shape[0], dtype=bool)
         if stop_at_first:  # one group: no bookkeeping, stop at the first collision found
@@ -324,7 +338,7 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         n, kind, i, j = self._candidates(Q, R, p)
         tfs: dict = {}
         contacts = []
-        for g, o in self._static_world:
+        for g, o in self._always_colliding:
             tfs[(0, g)] = self._part_tf(R, p, 0, g)
             n, kind, i, j = np.r_[0, n], np.r_[0, kind], np.r_[g, i], np.r_[o, j]
         for t in range(n.size):
@@ -402,7 +416,7 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         path = self.kinematics.check_q(path, "path")
         if path.ndim != 2 or path.shape[0] < 1:
             raise InvalidInputError(f"path must have shape (K, {self.kinematics.dof}) with K >= 1; got {path.shape}")
-        return certify_path(self, path)
+        return certify_path(self.state, path)
 
     def distance(self, q: np.ndarray) -> float:
         """Signed distance [m] of q (dof,): min over world and self pairs (negative = penetration)."""

@@ -52,8 +52,8 @@ class ClearanceModel:
         self.dof = kin.dof
         q_index, parent, _ = kin.fk_tables()
         self._q_index = np.asarray(q_index)
-        self._axes = np.asarray(kin._axes)
-        self._revolute = np.asarray(kin._revolute)
+        self._axes = np.asarray(kin.joint_axes)
+        self._revolute = np.asarray(kin.joint_revolute)
         J = len(self._q_index)
         # ancestors[j, k]: joint k (1-based) moves the frame of joint j (1-based); row 0 = universe
         self._ancestors = np.zeros((J + 1, J + 1), dtype=bool)
@@ -94,15 +94,15 @@ class ClearanceModel:
     def terms(self, Q: np.ndarray, activation: float) -> ClearanceTerms:
         """The terms of configurations Q (N, dof) closer than `activation` [m] (padding not included)."""
         Q = np.atleast_2d(np.asarray(Q, dtype=float))
-        ck = self.checker
-        fine = ck._fine
+        st = self.checker.state
+        fine = st.fine
         empty = ClearanceTerms(np.zeros(0, dtype=np.int64), np.zeros(0), np.zeros((0, self.dof)))
         moving = np.flatnonzero(fine.joint != 0)
-        if len(ck._obs) == 0 or moving.size == 0:
+        if len(st.obstacles) == 0 or moving.size == 0:
             return empty
-        R, p = ck._fk(Q)
+        R, p = st.joint_transforms(Q)
         tables = self._tables(fine, moving)
-        n_i, s_i, o_i, dist, x, normal = _nearest_terms(R, p, *tables, float(activation), *ck._bp_obstacles)
+        n_i, s_i, o_i, dist, x, normal = _nearest_terms(R, p, *tables, float(activation), *st.obstacle_tables)
         sj = tables[2]
         if n_i.size == 0:
             return empty

@@ -22,7 +22,7 @@ import numpy as np
 from manip.collision.certify import MotionBoundTables
 from manip.collision.results import AttachedObject
 from manip.collision.shapes import Obstacle, as_pose
-from manip.collision.tables import ObstacleTables, _tf, collect_parts, part_tables
+from manip.collision.tables import ObstacleTables, coal_transform, collect_parts, part_tables
 from manip.collision.world import WorldConfig
 from manip.errors import InvalidInputError, UnknownNameError
 from manip.pose import Pose
@@ -52,7 +52,7 @@ class WorldEdits:
         with self._writing():
             self._padding = value
             self._req_world = _request(value)
-            self._update_static()
+            self._update_always_colliding()
 
     @property
     def self_padding(self) -> float:
@@ -105,7 +105,7 @@ class WorldEdits:
             world = self._world.copy()
             world.add(obstacle)  # validates the shape and the name
             tables = self._world_tables.added(obstacle, self._obstacle_cache)
-            static = self._static_world + self._static_pairs(tables, len(tables.obstacles) - 1)
+            static = self._always_colliding + self._fixed_part_collisions(tables, len(tables.obstacles) - 1)
             self._set_world_tables(world, tables, static)
 
     def remove_obstacle(self, name: str) -> Obstacle:
@@ -115,7 +115,7 @@ class WorldEdits:
             index = world.index(name)
             ob = world.remove(name)
             tables = self._world_tables.removed(index, self._obstacle_cache)
-            static = [(g, o - (o > index)) for g, o in self._static_world if o != index]
+            static = [(g, o - (o > index)) for g, o in self._always_colliding if o != index]
             self._set_world_tables(world, tables, static)
             return ob
 
@@ -127,7 +127,7 @@ class WorldEdits:
             ob = world.get(name).with_pose(pose)
             world.replace(ob)
             tables = self._world_tables.replaced(index, ob, self._obstacle_cache)
-            static = [(g, o) for g, o in self._static_world if o != index] + self._static_pairs(tables, index)
+            static = [(g, o) for g, o in self._always_colliding if o != index] + self._fixed_part_collisions(tables, index)
             self._set_world_tables(world, tables, static)
 
     def set_gripper_positions(self, positions: Sequence[float] | np.ndarray | None) -> None:
@@ -148,8 +148,7 @@ class WorldEdits:
             return self
         with self._lock:
             view = object.__new__(type(self))
-            view.__dict__.update(self.__dict__)
-        view._is_snapshot = True
+            view.__dict__.update(self.__dict__, _is_snapshot=True)
         return view
 
     def _writing(self):
@@ -177,7 +176,7 @@ class WorldEdits:
         self._bp_world, self._bp_pairs, self._bp_self = t.bp_world, t.bp_pairs, t.bp_self
         self._motion_bounds = MotionBoundTables(self._parts, t.fine, self.kinematics, t.bp_pairs)
         self._req_self = _request(self._self_padding)
-        self._update_static()
+        self._update_always_colliding()
 
     def _proved_clear_pairs(self) -> frozenset[tuple[int, int]]:
         """The robot's self pairs proved to keep more than the self padding at every
@@ -196,11 +195,11 @@ class WorldEdits:
         self._world_tables = w
         self._obs, self._ogeom, self._otf, self._bp_obstacles = w.obstacles, w.geometries, w.transforms, w.broadphase
         if static is None:
-            self._update_static()
+            self._update_always_colliding()
         else:
-            self._static_world = static
+            self._always_colliding = static
 
-    def _static_pairs(self, tables: ObstacleTables, o: int) -> list[tuple[int, int]]:
+    def _fixed_part_collisions(self, tables: ObstacleTables, o: int) -> list[tuple[int, int]]:
         """The (part fixed to the base, obstacle o) pairs of `tables` that collide; none when
         o is below the base (the surface the robot stands on, `ObstacleTables.below_base`)."""
         out = []
@@ -210,19 +209,20 @@ class WorldEdits:
         for g in np.nonzero(self._pj == 0)[0]:
             part = self._parts[int(g)]
             res.clear()
-            if coal.collide(part.geometry, _tf(part.R, part.p), tables.geometries[o], tables.transforms[o],
+            if coal.collide(part.geometry, coal_transform(part.R, part.p), tables.geometries[o], tables.transforms[o],
                             self._req_world, res):
                 out.append((int(g), o))
         return out
 
-    def _update_static(self) -> None:
-        """Parts fixed to the base (joint 0) vs the world: the same answer for every q."""
+    def _update_always_colliding(self) -> None:
+        """Parts fixed to the base (joint 0) vs the world: the same answer for every q, so a
+        non-empty `_always_colliding` (pairs (part, obstacle)) means every configuration collides."""
         if not hasattr(self, "_world_tables") or not hasattr(self, "_parts"):
             return
         static = []
         for o in range(len(self._obs)):
-            static += self._static_pairs(self._world_tables, o)
-        self._static_world = sorted(static)
+            static += self._fixed_part_collisions(self._world_tables, o)
+        self._always_colliding = sorted(static)
 
     # ------------------------------------------------------------------ attached objects
     def attach_object(

@@ -122,7 +122,7 @@ def build_pair_map(parts: Sequence, a: int, b: int, kinematics: Kinematics, *, d
     """
     pa, pb = parts[a], parts[b]
     rel = relative_joints(kinematics, pa.joint, pb.joint)
-    specs = kinematics._joints
+    specs = kinematics.joint_specs
     if not rel or len(rel) > MAX_MAP_JOINTS + 1 or not all(specs[k - 1].revolute for k in rel):
         return None
     sweep = ""
@@ -224,7 +224,7 @@ def _swept_pair(pa, pb, rel: list[int], kinematics: Kinematics) -> tuple[object,
     for part, other in ((pa, pb), (pb, pa)):
         if part.joint not in rel:
             continue
-        found = _sweep(part, kinematics._joints[part.joint - 1].axis)
+        found = _sweep(part, kinematics.joint_specs[part.joint - 1].axis)
         if found is not None and (best is None or found[1] < best[0]):
             geom, radius = found
             reach = float(np.max(np.linalg.norm(_points(part), axis=1)))

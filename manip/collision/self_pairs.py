@@ -61,7 +61,7 @@ _MEMORY: dict[str, float | None] = {}
 def relative_joints(kinematics: Kinematics, joint_a: int, joint_b: int) -> list[int]:
     """Joints (indices of `Kinematics.joint_transforms`, 1..J) that move one of the two joint
     frames relative to the other: those on one frame's chain to the base but not both."""
-    parent = [0] + [s.parent for s in kinematics._joints]
+    parent = [0] + [s.parent for s in kinematics.joint_specs]
 
     def chain(j: int) -> set[int]:
         out = set()
@@ -77,7 +77,7 @@ def joint_reach(kinematics: Kinematics, part, k: int) -> float:
     """Bound [m] of the distance from joint k's axis of the points of `part` (k on its chain):
     for the part's own joint, the largest distance of its balls from the axis; for a joint
     further up, |x - o_k| <= the placements between the two joints + the part's extent."""
-    specs = kinematics._joints
+    specs = kinematics.joint_specs
     C, r = np.asarray(part.centres, dtype=float), np.asarray(part.radii, dtype=float)
     if r.size == 0:
         return 0.0
@@ -95,7 +95,7 @@ def _key(digests: Sequence[str], a: int, b: int, kinematics: Kinematics, rel: li
          hi: np.ndarray, base: np.ndarray) -> str:
     h = hashlib.sha1(_VERSION.encode() + f"/{PROOF_CLEARANCE!r}/{PROOF_QUERIES}/{_START_WIDTH!r}".encode())
     h.update(f"{digests[a]}/{digests[b]}".encode())
-    for s in kinematics._joints:  # the whole chain: the placements between the parts
+    for s in kinematics.joint_specs:  # the whole chain: the placements between the parts
         h.update(s.R_placement.tobytes() + s.p_placement.tobytes() + s.axis.tobytes() + bytes([s.revolute]))
     h.update(np.asarray(rel, dtype=np.int64).tobytes() + lo.tobytes() + hi.tobytes() + base.tobytes())
     return h.hexdigest()
@@ -117,7 +117,7 @@ def prove_pair_clear(parts: Sequence, a: int, b: int, kinematics: Kinematics, *,
     """
     pa, pb = parts[a], parts[b]
     rel = relative_joints(kinematics, pa.joint, pb.joint)
-    specs = kinematics._joints
+    specs = kinematics.joint_specs
     if not rel or len(rel) > MAX_PROOF_JOINTS or not all(specs[k - 1].revolute for k in rel):
         return None
     qidx = np.array([specs[k - 1].q_index for k in rel], dtype=np.int64)
@@ -169,7 +169,7 @@ def ball_slack(kinematics: Kinematics, pa, pb, rel: list[int], R: np.ndarray, p:
         H: (M, n) the cells' half widths along the joints `rel`; L: (n,) part-wide reaches.
         d: (M,) the exact distances at the centres [m].
     """
-    specs = kinematics._joints
+    specs = kinematics.joint_specs
     chains = {k: set(relative_joints(kinematics, k, 0)) for k in rel}
 
     def moves(part) -> tuple[np.ndarray, np.ndarray]:

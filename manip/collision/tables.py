@@ -30,7 +30,7 @@ logger = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True, eq=False)
-class _Part:
+class Part:
     """A geometry moving with the robot: a robot part or an attached object."""
 
     name: str           # robot link or attached object name
@@ -52,7 +52,7 @@ def _hull(geometry):
     return geometry if hull is None else hull
 
 
-def _tf(R: np.ndarray, p: np.ndarray) -> coal.Transform3s:
+def coal_transform(R: np.ndarray, p: np.ndarray) -> coal.Transform3s:
     return coal.Transform3s(R, p)
 
 
@@ -78,7 +78,7 @@ def _sd_local(L: np.ndarray, h: np.ndarray, rho: np.ndarray, cyl: np.ndarray | N
     return out
 
 
-class _SphereTable:
+class SphereTable:
     """The balls of all parts in flat arrays (ragged by part), centres in joint frames."""
 
     def __init__(self, centres: list[np.ndarray], radii: list[np.ndarray], joints: np.ndarray):
@@ -98,12 +98,12 @@ class _SphereTable:
 
 # ---------------------------------------------------------------------- robot side
 def collect_parts(robot: RobotGeometry, kinematics: Kinematics,
-                  attached: Mapping[str, AttachedObject]) -> tuple[list[_Part], list[tuple[int, int]]]:
+                  attached: Mapping[str, AttachedObject]) -> tuple[list[Part], list[tuple[int, int]]]:
     """The robot's parts then the attached objects, and the part pairs checked for self-collision
     (the robot's enabled pairs, then every attached object against every link it may touch)."""
-    parts: list[_Part] = []
+    parts: list[Part] = []
     for rp in robot.parts:
-        parts.append(_Part(rp.link, False, rp.joint, rp.R, rp.p, rp.geometry, _hull(rp.geometry), rp.centres, rp.radii,
+        parts.append(Part(rp.link, False, rp.joint, rp.R, rp.p, rp.geometry, _hull(rp.geometry), rp.centres, rp.radii,
                            rp.coarse_centres, rp.coarse_radii))
     n_robot = len(parts)
     pairs = list(robot.self_pairs)
@@ -117,7 +117,7 @@ def collect_parts(robot: RobotGeometry, kinematics: Kinematics,
         Cc, rc = sphere_cover(geom, COARSE_TOLERANCE, COARSE_MAX_SPHERES)
         Rj = T_joint_obj.rotation
         pj = T_joint_obj.position
-        parts.append(_Part(name, True, f.parentJoint, Rj, pj, geom, _hull(geom), C @ Rj.T + pj, r, Cc @ Rj.T + pj, rc))
+        parts.append(Part(name, True, f.parentJoint, Rj, pj, geom, _hull(geom), C @ Rj.T + pj, r, Cc @ Rj.T + pj, rc))
         ai = len(parts) - 1
         for i in range(n_robot):
             if parts[i].name not in att.allowed_links:
@@ -129,8 +129,8 @@ class PartTables(NamedTuple):
     """The arrays of the robot side (see `part_tables`)."""
 
     joint: np.ndarray         # (G,) joint of each part (0 = fixed to the base)
-    fine: _SphereTable        # the parts' fine sphere covers
-    coarse: _SphereTable      # the parts' coarse sphere covers
+    fine: SphereTable        # the parts' fine sphere covers
+    coarse: SphereTable      # the parts' coarse sphere covers
     ball_centres: np.ndarray  # (G, 3) one bounding ball per part (joint frame)
     ball_radii: np.ndarray    # (G,)
     l0_joint: np.ndarray      # the moving joints (level 0 of the world broadphase)
@@ -143,7 +143,7 @@ class PartTables(NamedTuple):
     bp_self: tuple            # tables of `broadphase.self_candidates`
 
 
-def _fine_groups(fine: _SphereTable, coarse: _SphereTable) -> tuple[np.ndarray, ...]:
+def _fine_groups(fine: SphereTable, coarse: SphereTable) -> tuple[np.ndarray, ...]:
     """Each part's fine balls grouped by their nearest coarse ball (the tables of
     `broadphase.self_candidates`): (radii (Kc,), start (Kc,), count (Kc,), members (Kf,)),
     group k centred at coarse ball k's centre and holding its member fine balls."""
@@ -189,7 +189,7 @@ def _map_tables(bp_pairs: np.ndarray, maps: Mapping[tuple[int, int], PairMap]) -
             np.ascontiguousarray(np.concatenate(flat) if flat else np.zeros(0), dtype=np.float64))
 
 
-def part_tables(parts: Sequence[_Part], pairs: Sequence[tuple[int, int]],
+def part_tables(parts: Sequence[Part], pairs: Sequence[tuple[int, int]],
                 skip: frozenset[tuple[int, int]] = frozenset(),
                 maps: Mapping[tuple[int, int], PairMap] | None = None) -> PartTables:
     """The broadphase tables of `parts` and their enabled self-collision `pairs`; the pairs
@@ -198,8 +198,8 @@ def part_tables(parts: Sequence[_Part], pairs: Sequence[tuple[int, int]],
     gives the clearance maps of some pairs (`manip.collision.pair_maps`)."""
     G = len(parts)
     pj = np.array([p.joint for p in parts])
-    fine = _SphereTable([p.centres for p in parts], [p.radii for p in parts], pj)
-    coarse = _SphereTable([p.coarse_centres for p in parts], [p.coarse_radii for p in parts], pj)
+    fine = SphereTable([p.centres for p in parts], [p.radii for p in parts], pj)
+    coarse = SphereTable([p.coarse_centres for p in parts], [p.coarse_radii for p in parts], pj)
 
     def bounding_ball(gs: Sequence[int]) -> tuple[np.ndarray, float]:
         """A ball holding every fine and coarse ball of the parts gs (joint frame)."""
@@ -299,9 +299,9 @@ class ObstacleTables:
         live = {id(o) for o in obstacles}
         for key in [k for k in cache if k not in live]:
             del cache[key]
-        self._finish()
+        self._index_broadphase()
 
-    def _finish(self) -> None:
+    def _index_broadphase(self) -> None:
         self.any_cyl = bool(self.cyl.any())
         #: the obstacle tables of `broadphase.world_candidates`
         self.broadphase = (np.ascontiguousarray(self.R), np.ascontiguousarray(self.c), np.ascontiguousarray(self.h),
@@ -311,7 +311,7 @@ class ObstacleTables:
         out = ObstacleTables.__new__(ObstacleTables)
         out.obstacles, out.R, out.c, out.h, out.rho, out.cyl = obstacles, R, c, h, rho, cyl
         out.geometries, out.transforms = geometries, transforms
-        out._finish()
+        out._index_broadphase()
         return out
 
     def added(self, obstacle: Obstacle, cache: dict[int, tuple]) -> ObstacleTables:
@@ -378,4 +378,4 @@ def _obstacle_row(ob: Obstacle, cache: dict[int, tuple]) -> tuple:
     key = id(ob)
     if key not in cache:  # keep coal geometries of unchanged obstacles
         cache[key] = (ob, coal_geometry(ob))
-    return R, c, np.asarray(h, dtype=float), float(rho), cyl, cache[key][1], _tf(R, ob.pose.position)
+    return R, c, np.asarray(h, dtype=float), float(rho), cyl, cache[key][1], coal_transform(R, ob.pose.position)

@@ -90,7 +90,7 @@ class WorldConfig:
     def copy(self) -> WorldConfig:
         """A shallow copy (shapes are immutable); O(obstacles) without re-validating them."""
         out = WorldConfig.__new__(WorldConfig)
-        out._obstacles = dict(self._obstacles)
+        out.__dict__["_obstacles"] = dict(self._obstacles)
         return out
 
     def index(self, name: str) -> int:

@@ -52,7 +52,7 @@ import numpy as np
 
 from manip.collision.shapes import as_pose
 from manip.collision.world import WorldConfig
-from manip.control.limits import JointLimits
+from manip.control.limits import StepBounds
 from manip.control.collision import CollisionLimit, robot_collision_geoms, self_collision_pairs
 from manip.control.model import ControlModel
 from manip.control.obstacles import geom_shape
@@ -144,13 +144,10 @@ class ReactiveController:
         self._velocity_scale = fraction(velocity_scale, "velocity_scale")
         self._self_collision = bool(self_collision)
         cfg = self._config
-        self._lower = np.asarray(cfg.lower_limits, dtype=float)
-        self._upper = np.asarray(cfg.upper_limits, dtype=float)
-        self._vmax = np.asarray(cfg.velocity_limits, dtype=float) * self._velocity_scale
-        self._amax = None
-        if acceleration_scale is not None:
-            self._amax = np.asarray(cfg.acceleration_limits, dtype=float) * fraction(acceleration_scale,
-                                                                                     "acceleration_scale")
+        self._use_acceleration = acceleration_scale is not None
+        self._limits = cfg.limits.scaled(
+            self._velocity_scale, 1.0 if acceleration_scale is None else fraction(acceleration_scale,
+                                                                                 "acceleration_scale"))
         self._v_prev: np.ndarray | None = None
         self._max_speed = positive(max_speed, "max_speed", "m/s")
         self._max_angular_speed = positive(max_angular_speed, "max_angular_speed", "rad/s")
@@ -183,7 +180,7 @@ class ReactiveController:
             self_pairs = self_collision_pairs(m, self._model.robot_bodies, disabled)
         self._collision = CollisionLimit(m, obstacle_pairs, self_pairs, self._margin, self._detection,
                                          self._collision_gain)
-        self._joint_limits = JointLimits(self._lower, self._upper, self._vmax, self._limit_gain, self._amax)
+        self._joint_limits = StepBounds(self._limits, self._limit_gain, use_acceleration=self._use_acceleration)
 
     # ------------------------------------------------------------------ properties
     @property
@@ -255,22 +252,22 @@ class ReactiveController:
 
     @property
     def lower_limits(self) -> np.ndarray:
-        return self._lower.copy()
+        return self._limits.lower.copy()
 
     @property
     def upper_limits(self) -> np.ndarray:
-        return self._upper.copy()
+        return self._limits.upper.copy()
 
     @property
     def velocity_limits(self) -> np.ndarray:
         """(dof,) the velocity limits the controller keeps [rad/s] (configuration's times
         `velocity_scale`)."""
-        return self._vmax.copy()
+        return self._limits.velocity.copy()
 
     @property
     def acceleration_limits(self) -> np.ndarray | None:
         """(dof,) the acceleration limits the controller keeps [rad/s^2], or None."""
-        return None if self._amax is None else self._amax.copy()
+        return self._limits.acceleration.copy() if self._use_acceleration else None
 
     def reset(self) -> None:
         """Forget the previous step's velocities (the next step starts from rest)."""
@@ -452,7 +449,7 @@ class ReactiveController:
         con = self._collision.compute_qp_inequalities(conf, dt)
         idx = self._model.qpos_index  # arm joint k is the model's dof idx[k] (hinge/slide joints only)
         x = self._solve(H, c, con, q, dt, v0, idx)
-        if x is None and self._amax is not None:
+        if x is None and self._use_acceleration:
             # Stopping for an obstacle may need more deceleration than allowed: joint and
             # collision limits come first.
             x = self._solve(H, c, con, q, dt, None, idx)

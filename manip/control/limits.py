@@ -22,35 +22,36 @@ from __future__ import annotations
 
 import numpy as np
 
+from manip.limits import JointLimits
 
-class JointLimits:
-    """Position limits (rad) and velocity limits (rad/s) of the arm joints.
+
+class StepBounds:
+    """The displacement bounds of one control step from a robot's `manip.JointLimits`.
 
     Args:
-        lower, upper: (dof,) position limits [rad].
-        velocity: (dof,) velocity limits [rad/s] (> 0).
+        limits: the joints' position [rad], velocity [rad/s] and acceleration [rad/s^2]
+            limits (already scaled by the controller's factors).
         gain: fraction of the remaining range a joint may use per step, (0, 1].
+        use_acceleration: bound the step by the acceleration limits too (when `v0` is given).
     """
 
-    def __init__(self, lower: np.ndarray, upper: np.ndarray, velocity: np.ndarray, gain: float,
-                 acceleration: np.ndarray | None = None):
-        self.lower = np.asarray(lower, dtype=float).copy()
-        self.upper = np.asarray(upper, dtype=float).copy()
-        self.velocity = np.asarray(velocity, dtype=float).copy()
-        self.acceleration = None if acceleration is None else np.asarray(acceleration, dtype=float).copy()
+    def __init__(self, limits: JointLimits, gain: float, *, use_acceleration: bool):
+        self.limits = limits
         self.gain = float(gain)
+        self.use_acceleration = bool(use_acceleration)
 
     def bounds(self, q: np.ndarray, dt: float, v0: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """(lb, ub), (dof,) each: the displacement bounds of a step of `dt` [s] from `q`
-        (with acceleration limits if this object has them and `v0` is given)."""
-        step = self.velocity * dt
-        lb = np.maximum(-step, self.gain * (self.lower - q))
-        ub = np.minimum(step, self.gain * (self.upper - q))
+        (with acceleration limits if `use_acceleration` and `v0` is given)."""
+        lim = self.limits
+        step = lim.velocity * dt
+        lb = np.maximum(-step, self.gain * (lim.lower - q))
+        ub = np.minimum(step, self.gain * (lim.upper - q))
         # Outside the range by more than one step can fix: move back as fast as allowed.
         np.minimum(lb, step, out=lb)
         np.maximum(ub, -step, out=ub)
-        if self.acceleration is not None and v0 is not None:
-            reach = self.acceleration * dt * dt
+        if self.use_acceleration and v0 is not None:
+            reach = lim.acceleration * dt * dt
             centre = v0 * dt
             lb_a = np.minimum(np.maximum(lb, centre - reach), ub)
             ub_a = np.maximum(np.minimum(ub, centre + reach), lb)
@@ -60,6 +61,7 @@ class JointLimits:
     def clamp(self, q: np.ndarray, dq: np.ndarray, dt: float) -> np.ndarray:
         """q + dq with dq inside the velocity bounds and the result inside the position
         limits (or no farther outside than `q` was): removes the QP solver's tolerance."""
-        step = self.velocity * dt
+        lim = self.limits
+        step = lim.velocity * dt
         q_next = q + np.maximum(np.minimum(dq, step), -step)
-        return np.maximum(np.minimum(q_next, np.maximum(self.upper, q)), np.minimum(self.lower, q))
+        return np.maximum(np.minimum(q_next, np.maximum(lim.upper, q)), np.minimum(lim.lower, q))

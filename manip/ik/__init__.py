@@ -9,7 +9,6 @@
 
 from __future__ import annotations
 
-from manip.ik.kernels import _dls_step, _lm_lanes, _log3_batch, _log3_into, _solve_spd  # noqa: F401
 from manip.ik.result import BatchIKResult, IKResult, IKSolutions, IKStatus
 from manip.ik.solver import IKSolver
 from manip.ik.result import ValidityFn

@@ -56,7 +56,7 @@ def run_lanes(
     status: list[IKStatus] = [IKStatus.NOT_CONVERGED] * n
     first_over = np.zeros(n, dtype=bool)  # the goal's first attempt (from q_start) has ended
 
-    far = solver._out_of_reach(fid, p_goal)
+    far = solver.out_of_reach(fid, p_goal)
     for i in np.flatnonzero(far):
         status[i] = IKStatus.OUT_OF_REACH
     done |= far
@@ -74,7 +74,7 @@ def run_lanes(
     best_err = np.full(goal.size, np.inf)
     best_it = np.zeros(goal.size, dtype=int)
 
-    tol_p, tol_r = solver._tol_p, solver._tol_r
+    tol_p, tol_r = solver.internal_tolerances
     eye6 = np.eye(6)
     while goal.size:
         if time_limit is not None and time.perf_counter() - t0 > time_limit:
@@ -102,7 +102,7 @@ def run_lanes(
             e_idx = np.flatnonzero(ended)
             good = e_idx[(ep[e_idx] <= solver.position_tolerance) & (er[e_idx] <= solver.rotation_tolerance)]
             if good.size:
-                good = good[solver._verify_batch(Q[good], fid, Rg[good], pg[good])]
+                good = good[solver.verify_batch(Q[good], fid, Rg[good], pg[good])]
             if good.size and validity_fn is not None:
                 ok = np.asarray(validity_fn(Q[good]), dtype=bool).reshape(-1)
                 rejected[goal[good[~ok]]] = True

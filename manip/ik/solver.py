@@ -41,8 +41,7 @@ logger = logging.getLogger(__name__)
 #: `solve_many(toward_seed=True)`: the self-motion iteration (`kernels._slide_lanes`): the
 #: fraction of the way to the reference taken per step, the damping of its pseudo-inverse,
 #: its largest self-motion step [rad], its iterations at most and the step [rad] below which
-#: it has arrived. (MotionBenchMaker goal poses, 70: the same nearest solutions, to 0.01 rad in
-#: sum, as 0.5 / 0.1 rad / 100 iterations / 1e-3 rad, for 1.2 ms instead of 1.7 ms per call.)
+#: it has arrived (BENCHMARKS.md, "Constants").
 SLIDE_GAIN = 1.0
 SLIDE_DAMPING = 1e-6
 SLIDE_STEP = 0.2
@@ -142,8 +141,10 @@ class IKSolver:
         self.seed = integer(seed, "seed", 0)
         self.damping = positive(damping, "damping")
         self.max_step = positive(max_step, "max_step", "rad")
-        self._tol_p = min(_INTERNAL_TOLERANCE, self.position_tolerance)
-        self._tol_r = min(_INTERNAL_TOLERANCE, self.rotation_tolerance)
+        #: The descent's own stopping tolerances [m], [rad] (at most the reported ones).
+        self.internal_tolerances = (min(_INTERNAL_TOLERANCE, self.position_tolerance),
+                                    min(_INTERNAL_TOLERANCE, self.rotation_tolerance))
+        self._tol_p, self._tol_r = self.internal_tolerances
         self._model = kinematics.model
         # Independent check: the full model (fingers at their planning positions), its own
         # data (one per thread: a solver may be shared by threads).
@@ -196,7 +197,7 @@ class IKSolver:
         R_goal = goal.rotation
         p_goal = goal.position
 
-        if self._out_of_reach(fid, p_goal[None])[0]:
+        if self.out_of_reach(fid, p_goal[None])[0]:
             ep, er = self._pose_error(q_ref, fid, R_goal, p_goal)
             status = IKStatus.OUT_OF_REACH
             return IKResult(False, _freeze(q_ref.copy()), ep, er, status, 0, time.perf_counter() - t0, 0,
@@ -328,7 +329,7 @@ class IKSolver:
         rng = _LazyRng(seed)
         k = self.kinematics
         R_goal, p_goal = goal.rotation, goal.position
-        if self._out_of_reach(fid, p_goal[None])[0]:
+        if self.out_of_reach(fid, p_goal[None])[0]:
             status = IKStatus.OUT_OF_REACH
             return IKSolutions(_freeze(np.empty((0, k.dof))), status,
                                self._failure_message(status, 0, np.inf, np.inf, fid, p_goal, None), 0)
@@ -428,7 +429,7 @@ class IKSolver:
             radius = float(np.linalg.norm(frame.placement.translation))
             j = frame.parentJoint
             anchor = np.zeros(3)
-            specs = self.kinematics._joints
+            specs = self.kinematics.joint_specs
             if j == 0:
                 anchor, radius = frame.placement.translation.copy(), 0.0
             while j > 0:
@@ -443,7 +444,9 @@ class IKSolver:
             self._reach_cache[fid] = (anchor, radius)
         return self._reach_cache[fid]
 
-    def _out_of_reach(self, fid: int, p_goal: np.ndarray) -> np.ndarray:
+    def out_of_reach(self, fid: int, p_goal: np.ndarray) -> np.ndarray:
+        """(N,) bool: goal positions p_goal (N, 3) [m] of frame `fid` farther from the chain's
+        first moving joint than the chain can reach (plus the position tolerance)."""
         anchor, radius = self._reach(fid)
         return np.linalg.norm(p_goal - anchor, axis=-1) > radius + self.position_tolerance
 
@@ -519,7 +522,7 @@ class IKSolver:
             ok &= among
         if ok.any():
             m = int(ok.sum())
-            ok[ok] = self._verify_batch(Q[ok], fid, np.broadcast_to(R_goal, (m, 3, 3)), np.broadcast_to(p_goal, (m, 3)))
+            ok[ok] = self.verify_batch(Q[ok], fid, np.broadcast_to(R_goal, (m, 3, 3)), np.broadcast_to(p_goal, (m, 3)))
         return ok
 
     def _with_slid(self, Q: np.ndarray, idx: np.ndarray, q_ref: np.ndarray, fid: int, R_goal: np.ndarray,
@@ -549,9 +552,9 @@ class IKSolver:
 
     def _verify(self, q: np.ndarray, fid: int, R_goal: np.ndarray, p_goal: np.ndarray) -> bool:
         """Independent check of one solution: joint limits and the full model's FK."""
-        return bool(self._verify_batch(q[None], fid, R_goal[None], p_goal[None])[0])
+        return bool(self.verify_batch(q[None], fid, R_goal[None], p_goal[None])[0])
 
-    def _verify_batch(self, Q: np.ndarray, fid: int, R_goal: np.ndarray, p_goal: np.ndarray) -> np.ndarray:
+    def verify_batch(self, Q: np.ndarray, fid: int, R_goal: np.ndarray, p_goal: np.ndarray) -> np.ndarray:
         """Independent check of solutions Q (K, dof) for goals (K, 3, 3), (K, 3): (K,) bool.
 
         Uses Pinocchio's full model (fingers included, its own data), not the solver's

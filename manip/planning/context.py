@@ -10,6 +10,7 @@ import numpy as np
 
 from manip.errors import InvalidInputError
 from manip.kinematics import Kinematics
+from manip.limits import JointLimits
 from manip.planning.options import PlanOptions
 from manip.planning.result import PlanResult, PlanStatus
 from manip.planning.validity import Validity, describe_contacts
@@ -108,7 +109,13 @@ class PlanContext:
             self.fail(PlanStatus.INVALID_GOAL, problem)
         return q
 
-    def check_sample_count(self, start: np.ndarray, goal: np.ndarray, limits) -> None:
+    def scaled_limits(self, limits: JointLimits) -> JointLimits:
+        """The limits of this call: the robot's `limits` times the options' velocity,
+        acceleration and jerk scales."""
+        o = self.options
+        return limits.scaled(o.velocity_scale, o.acceleration_scale, jerk=o.jerk_scale)
+
+    def check_sample_count(self, start: np.ndarray, goal: np.ndarray, limits: JointLimits) -> None:
         """Refuse a call whose trajectory would have more than MAX_SAMPLES samples.
 
         Any motion from `start` to `goal` at rest lasts at least max over joints of d / v,
@@ -122,10 +129,9 @@ class PlanContext:
         if o.duration is not None:
             return  # checked with the options
         d = np.abs(np.asarray(goal, dtype=float) - np.asarray(start, dtype=float))
-        vmax = limits.velocity * o.velocity_scale
-        amax = limits.acceleration * o.acceleration_scale
-        jmax = limits.jerk * o.jerk_scale
-        bound = float(np.max(np.maximum.reduce([d / vmax, 2.0 * np.sqrt(d / amax), np.cbrt(32.0 * d / jmax)])))
+        lim = self.scaled_limits(limits)
+        bound = float(np.max(np.maximum.reduce([d / lim.velocity, 2.0 * np.sqrt(d / lim.acceleration),
+                                                np.cbrt(32.0 * d / lim.jerk)])))
         if bound / o.dt + 1 > MAX_SAMPLES:
             scaled = [n for n in ("velocity_scale", "acceleration_scale") if getattr(o, n) < 1.0]
             what = " or ".join(["dt"] + scaled)

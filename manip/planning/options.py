@@ -32,7 +32,7 @@ class PlanOptions:
         search_iterations: RRT-Connect iterations of a plan's main path search at most (the
             coarse search; its fine-resolution repairs get as many again), a count: a plan
             bounded by it does not depend on the machine's speed. None = the search's own cap
-            (`planning.search.MAX_ITERATIONS`), which in hard scenes the time budget usually
+            (`planning.path.search.MAX_ITERATIONS`), which in hard scenes the time budget usually
             cuts first (as before this option). `manip.batch.plan_many` and `manip.datagen`
             set it (`manip.batch.problem.BATCH_SEARCH_ITERATIONS`).
         seed: random seed of this call (IK restarts, sampling, shortcutting).
@@ -43,8 +43,7 @@ class PlanOptions:
             feasible); None = as fast as the limits allow. duration / dt may not exceed
             `manip.validation.MAX_SAMPLES` (and neither may the fastest motion's length / dt).
         ik_solutions: collision-free IK solutions sought per goal pose (the goals reached
-            fastest are planned to first; 24 against 12 on MotionBenchMaker 30/scene pose goals
-            with cuRobo's limits: motion time -1.8 %, path length -2.6 %, IK +2-3 ms).
+            fastest are planned to first; BENCHMARKS.md, "Constants").
         linear_step: Cartesian step of linear motions [m].
         optimize_clearance: push the shortcut path's waypoints away from obstacles (tens of
             ms in cluttered scenes).

@@ -2,8 +2,8 @@
 
 Each attempt: a path (the straight line when valid, else the RRT-Connect search towards the
 goals, shortcutting, detour restarts, optional clearance smoothing), its ruckig timing
-stopping at each waypoint (`planning.finish`), the trajectory optimiser seeded by it
-(`planning.refine`), whose result is returned when it is faster and passes the certified
+stopping at each waypoint (`planning.time_and_validate`), the trajectory optimiser seeded by it
+(`planning.trajopt.refine`), whose result is returned when it is faster and passes the certified
 validation; otherwise the path's ruckig timings (corners blended, then stopping at each
 waypoint), the first that passes the same validation. A path whose timed trajectory
 fails the validation (a graze between the configurations the search checked) is planned
@@ -20,21 +20,21 @@ import time
 import numpy as np
 
 from manip.collision.clearance import ClearanceModel
+from manip.limits import JointLimits
 from manip.planning.context import PlanContext
-from manip.planning.finish import BLEND_DEVIATION, time_and_validate, time_once
-from manip.planning.optimize import smooth_path
-from manip.planning.refine import refine, scaled_limits
-from manip.planning.restarts import shorter_way_round
+from manip.planning.time_and_validate import BLEND_DEVIATION, time_and_validate, time_once
+from manip.planning.path.smoothing import smooth_path
+from manip.planning.trajopt.refine import refine
+from manip.planning.path.restarts import shorter_way_round
 from manip.planning.result import PlanResult, PlanStatus
-from manip.planning.search import repair_path, search_path
-from manip.planning.shortcut import shortcut
+from manip.planning.path.search import repair_path, search_path
+from manip.planning.path.shortcut import shortcut
 from manip.planning.validity import Validity
-from manip.timing import TimingLimits
 from manip.trajectory import Trajectory
 
 logger = logging.getLogger(__name__)
 
-#: Goal sets: the search first tries this many goals (the best of `planning.goals`' ranking)
+#: Goal sets: the search first tries this many goals (the best of `planning.path.goals`' ranking)
 #: alone, for at most FOCUS_ITERATIONS RRT iterations, before searching towards all of them.
 FOCUS_GOALS = 2
 FOCUS_ITERATIONS = 200
@@ -44,27 +44,15 @@ MAX_ATTEMPTS = 4
 #: (`Validity.strict`: about 10 x slower searches and shortcuts; attempt 2 alone usually
 #: succeeds with a new search).
 STRICT_ATTEMPT = 3
-#: Whether a plan with every motion certified (a strict attempt's fallback, see
-#: LAZY_STRICT) also searches for a shorter way round a detour (`planning.restarts`). Off:
-#: certified, the further searches cost about 10 x more (MBM table_under_pick_panda/14:
-#: 1.2 s of a 1.9 s plan) for a rare gain in motion time (the optimiser still shortens).
-STRICT_RESTARTS = False
 #: Strict attempts first plan without certification and then certify only the path's
-#: segments, searching the failing ones again with certified motions (at most
-#: STRICT_REPAIR_ITERATIONS RRT iterations together, a count); a path that cannot be
-#: repaired so is planned again with every motion certified.
-LAZY_STRICT = True
+#: segments, searching the failing ones again with certified motions (at most this many RRT
+#: iterations together, a count); a path that cannot be repaired so is planned again with
+#: every motion certified, without the detour restarts (BENCHMARKS.md, "Constants").
 STRICT_REPAIR_ITERATIONS = 500
-#: Whether a valid optimised motion is also compared with the path's blended ruckig timing
-#: (and loses to it when slower). Off: the blended timing is made only when the optimiser gives
-#: nothing (it costs 4.6 ms median per plan against 1.8 ms for the timing that seeds the
-#: optimiser; MotionBenchMaker 12/scene, joint and pose goals, 148 plans: the optimised motion
-#: was slower than the blended timing in 2, by 4.5 %: -0.06 % mean motion time).
-COMPARE_BLEND = False
 
 
-def plan_to_configs(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.ndarray, limits: TimingLimits,
-                    clearance: ClearanceModel) -> PlanResult:
+def plan_to_configs(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.ndarray, *,
+                    limits: JointLimits, clearance: ClearanceModel) -> PlanResult:
     """Path, shortcutting, timing and validation to the best reachable of `goals` (G, dof).
 
     A path whose timed trajectory fails the validation (a graze between the
@@ -73,24 +61,25 @@ def plan_to_configs(ctx: PlanContext, validity: Validity, start: np.ndarray, goa
     (`Validity.strict`: slower, but a graze thinner than the check resolution, e.g. a
     finger passing an object a fraction of a millimetre deep, cannot come back). A strict
     attempt plans as the others do, then certifies the path's segments and searches the
-    failing ones again with certified motions (`LAZY_STRICT`); only when that fails does
-    it search with every motion certified.
+    failing ones again with certified motions (`STRICT_REPAIR_ITERATIONS`); only when that
+    fails does it search with every motion certified.
     """
     result = None
     for attempt in range(1, MAX_ATTEMPTS + 1):
         strict = attempt >= STRICT_ATTEMPT
-        result = _plan_once(ctx, validity.strict() if strict else validity, start, goals, attempt, limits, clearance)
+        result = _plan_once(ctx, validity.strict() if strict else validity, start, goals, attempt, limits=limits,
+                            clearance=clearance)
         if result.success or result.status is not PlanStatus.TRAJOPT_FAIL or ctx.time_left < 0:
             break
         logger.info("attempt %d: %s; planning again", attempt, result.message)
     return result
 
 
-def _plan_once(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.ndarray, attempt: int,
-               limits: TimingLimits, clearance: ClearanceModel) -> PlanResult:
+def _plan_once(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.ndarray, attempt: int, *,
+               limits: JointLimits, clearance: ClearanceModel) -> PlanResult:
     """One attempt: a path, its timing and validation, then the optimiser."""
     path, source = None, "shortcut"
-    if validity.certified and LAZY_STRICT:
+    if validity.certified:
         # a path planned without certification, then only its segments certified (and
         # the failing ones searched again with certified motions): most segments pass,
         # and certifying every motion the search and shortcutting try costs ~10 x more
@@ -108,38 +97,33 @@ def _plan_once(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: n
         return ctx.fail(status, why, attempts=attempt)
     goal_q = path[-1].copy()
     timed: dict[str, Trajectory] = {}
-    better = None
     if ctx.options.trajopt and source == "shortcut":
         # the optimiser's seed: the path timed stopping at each waypoint (its spline fit
-        # follows the path's corners more closely than the blended timing's, which cuts them:
-        # MotionBenchMaker 15/scene: mean motion time -1.8 % joint, -2.1 % pose); the timings are
-        # validated only when the optimiser gives nothing faster
-        for mode in ("exact", "blend") if COMPARE_BLEND else ("exact",):
-            traj, _ = time_once(ctx, path, limits, validity, mode, BLEND_DEVIATION)
-            if traj is not None:
-                timed[mode] = traj
-        if "exact" in timed:
-            better = _refine(ctx, timed["exact"], limits, validity, clearance)
-        if better is not None and ("blend" not in timed or better.duration <= timed["blend"].duration):
+        # follows the path's corners more closely than the blended timing's, which cuts them);
+        # the timings are validated only when the optimiser gives nothing faster
+        traj, _ = time_once(ctx, path, limits=limits, validity=validity, mode="exact", deviation=BLEND_DEVIATION)
+        if traj is not None:
+            timed["exact"] = traj
+            better = _refine(ctx, traj, limits, validity, clearance)
+        if better is not None:
             return ctx.succeed(better, path, goal_q, attempt, "trajopt")
-    traj, why = time_and_validate(ctx, path, goal_q, limits, validity, timed=timed)
+    traj, why = time_and_validate(ctx, path, goal_q, limits=limits, validity=validity, timed=timed)
     if traj is None:
         return ctx.fail(PlanStatus.TRAJOPT_FAIL, f"no valid timed trajectory: {why}", path=path, goal_q=goal_q,
                         attempts=attempt)
-    if better is not None and better.duration < traj.duration:
-        return ctx.succeed(better, path, goal_q, attempt, "trajopt")
     return ctx.succeed(traj, path, goal_q, attempt, source)
 
 
-def _refine(ctx: PlanContext, seed: Trajectory, limits: TimingLimits, validity: Validity,
+def _refine(ctx: PlanContext, seed: Trajectory, limits: JointLimits, validity: Validity,
             clearance: ClearanceModel) -> Trajectory | None:
     """`refine.refine` with the clearance model bound to the validity's checker."""
     checker = validity.checker
-    return refine(ctx, seed, limits, validity, clearance.bound_to(checker), checker.padding)
+    return refine(ctx, seed, limits=limits, validity=validity, clearance=clearance.bound_to(checker),
+                  padding=checker.padding)
 
 
 def _path(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.ndarray, attempt: int,
-          limits: TimingLimits) -> tuple[np.ndarray | None, str, str]:
+          limits: JointLimits) -> tuple[np.ndarray | None, str, str]:
     """(path (K, dof) to one of `goals` (G, dof) or None, its source, why there is none):
     the straight line, else a search, shortcutting, restarts and clearance smoothing."""
     t = time.perf_counter()
@@ -150,7 +134,7 @@ def _path(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.nda
                 path, source = np.stack([start, g]), "straight_line"
                 break
     if path is None and len(goals) > FOCUS_GOALS:
-        # the best-ranked goals first (`planning.goals.order_goals`): a short search towards
+        # the best-ranked goals first (`planning.path.goals.order_goals`): a short search towards
         # them alone, then towards every goal
         path, iterations = search_path(start, goals[:FOCUS_GOALS], validity, ctx.rng, ctx.deadline,
                                        max_iterations=FOCUS_ITERATIONS)
@@ -169,10 +153,10 @@ def _path(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.nda
 
         path = shorten(path)
         ctx.add_time("optimize", t)
-        if STRICT_RESTARTS or not validity.certified:
+        if not validity.certified:  # certified, further searches cost ~10 x more for a rare gain
             t = time.perf_counter()
-            path = shorter_way_round(path, goals, validity, shorten, ctx.rng, ctx.deadline,
-                                     scaled_limits(limits, ctx)[0])
+            path = shorter_way_round(path, goals, validity, shorten, rng=ctx.rng, deadline=ctx.deadline,
+                                     velocity=ctx.scaled_limits(limits).velocity)
             ctx.add_time("restarts", t)
         t = time.perf_counter()
         if ctx.options.optimize_clearance:

@@ -12,7 +12,7 @@ A strict Validity (`strict()`) also certifies every straight motion it accepts o
 whole continuous length (the fine resolution can miss a graze thinner than its step): the
 planner's later attempts use it once timed trajectories failed the certificate
 (`planning.pipeline.STRICT_ATTEMPT`): first only on the segments of a path planned without
-it (`planning.search.repair_path`), then, if that fails, for a whole strict plan.
+it (`planning.path.search.repair_path`), then, if that fails, for a whole strict plan.
 """
 
 from __future__ import annotations
@@ -63,7 +63,7 @@ class Validity:
     def motion(self, q0: np.ndarray, q1: np.ndarray, resolution: float | None = None) -> bool:
         """True when the straight motion q0 -> q1 is free at `resolution` (default: the fine one;
         a strict validity also certifies it at the fine resolution)."""
-        if not self.checker._motion_free_at(q0, q1, self.resolution if resolution is None else resolution):
+        if not self.checker.state.motion_free(q0, q1, self.resolution if resolution is None else resolution):
             return False
         return not self.certified or resolution not in (None, self.resolution) or self._certified(q0, q1)
 
@@ -75,7 +75,7 @@ class Validity:
         """(M,) validity of the segments Q0[i] -> Q1[i] at the fine resolution (screened coarsely first)."""
         ok = self.screen(Q0, Q1)
         if ok.any() and self.search_resolution > self.resolution:
-            ok[ok] = self.checker._segments_free(Q0[ok], Q1[ok], self.resolution)
+            ok[ok] = self.checker.state.segments_free(Q0[ok], Q1[ok], self.resolution)
         if self.certified:
             for i in np.flatnonzero(ok):
                 ok[i] = self._certified(Q0[i], Q1[i])
@@ -84,7 +84,7 @@ class Validity:
     def screen(self, Q0: np.ndarray, Q1: np.ndarray) -> np.ndarray:
         """(M,) validity at the search resolution (a necessary condition, cheaper)."""
         Q0, Q1 = np.asarray(Q0, dtype=float), np.asarray(Q1, dtype=float)
-        return self.checker._segments_free(Q0, Q1, self.search_resolution)
+        return self.checker.state.segments_free(Q0, Q1, self.search_resolution)
 
     def certify(self, path: np.ndarray):
         """`CollisionChecker.certify_path`: the continuous interpolation of `path` (K, dof)
@@ -103,7 +103,7 @@ class Validity:
         sample after it."""
         fine = resolution in (None, self.resolution)
         resolution = self.resolution if resolution is None else resolution
-        t, steps = self.checker._advance_to(q0, q1, resolution)
+        t, steps = self.checker.state.advance(q0, q1, resolution)
         t_stop = 1.0 if t is None else t - ADVANCE_BACKOFF_STEPS / steps
         if self.certified and fine:
             while t_stop > 0 and not self._certified(q0, q0 + t_stop * (q1 - q0)):

@@ -17,19 +17,28 @@ Every `omni.isaac.core...`, `omni.isaac.wheeled_robots...`, `omni.isaac.franka..
 `from manip.sim import NAME`; `import carb` becomes `from manip.sim import carb` (the README's
 "Porting a tutorial" has the table). Isaac asset paths such as
 `get_assets_root_path() + "/Isaac/Robots/Franka/franka.usd"` load the bundled models
-(`manip.sim.assets`). Quaternions are (w, x, y, z); units are SI. See `manip.sim.simulation_context` for time
-stepping, `manip.sim.articulation` for the drives, `manip.sim.recording` for offscreen video.
+(`manip.sim.assets`). Quaternions are (w, x, y, z); units are SI.
+
+Layout, grouped as Isaac groups its API: `core/` (SimulationApp, SimulationContext, World,
+callbacks, carb, rendering), `scenes/` (Scene, the stage and the MJCF it compiles to),
+`prims/` (XFormPrim, RigidPrim, GeometryPrim, views), `objects/` (the shapes, the ground
+plane), `articulations/` (Articulation and its view, the compiled core), `robots/` (Robot
+wrappers, Franka, WheeledRobot, SingleManipulator), `controllers/`, `tasks/`, `samples/`
+(BaseSample, its extension, HelloWorld), `utils/` (types, rotations); beside them
+`assets` (Isaac's asset paths) and `playback` (a planned trajectory played in the World).
+See `manip.sim.core.simulation_context` for time stepping, `manip.sim.articulations.articulation`
+for the drives, `manip.sim.core.recording` for offscreen video.
 Importing this package changes no environment variable: the offscreen GL backend is
-chosen at the first render (`manip.sim.gl_backend`).
+chosen at the first render (`manip.sim.core.gl_backend`).
 """
 
 from __future__ import annotations
 
 from manip.articulation_action import ArticulationAction
-from manip.sim import carb
-from manip.sim.app import SimulationApp
-from manip.sim.articulation import DOF_PROPERTIES_DTYPE, Articulation, ArticulationController, Robot, SingleArticulation
-from manip.sim.articulation_view import ArticulationView
+from manip.sim.core.carb_logging import carb
+from manip.sim.core.app import SimulationApp
+from manip.sim.articulations.articulation import DOF_PROPERTIES_DTYPE, Articulation, ArticulationController, Robot, SingleArticulation
+from manip.sim.articulations.articulation_view import ArticulationView
 from manip.sim.assets import ISAAC_ASSETS, available_assets, resolve_asset_path
 from manip.sim.objects import (
     DynamicCapsule,
@@ -53,8 +62,8 @@ from manip.sim.objects import (
     VisualSphere,
     XFormPrim,
 )
-from manip.sim.recording import CameraView, OffscreenRenderingError
-from manip.sim.rotations import (
+from manip.sim.core.recording import CameraView, OffscreenRenderingError
+from manip.sim.utils.rotations import (
     euler_angles_to_quat,
     euler_angles_to_rot_matrix,
     quat_to_euler_angles,
@@ -62,9 +71,9 @@ from manip.sim.rotations import (
     rot_matrix_to_euler_angles,
     rot_matrix_to_quat,
 )
-from manip.sim.scene import CollisionObject, Scene
-from manip.sim.simulation_context import SimulationContext, SimulationInstabilityError, SimulationWarning
-from manip.sim.stage import (
+from manip.sim.scenes.scene import CollisionObject, Scene
+from manip.sim.core.simulation_context import SimulationContext, SimulationInstabilityError, SimulationWarning
+from manip.sim.scenes.stage import (
     SimulationError,
     add_reference_to_stage,
     create_new_stage,
@@ -75,16 +84,16 @@ from manip.sim.stage import (
     update_stage,
     update_stage_async,
 )
-from manip.sim.types import DynamicState, JointsState, XFormPrimState
-from manip.sim.world import World, clear_stage
+from manip.sim.utils.types import DynamicState, JointsState, XFormPrimState
+from manip.sim.core.world import World, clear_stage
 
 SingleXFormPrim = XFormPrim
 SingleRigidPrim = RigidPrim
 SingleGeometryPrim = GeometryPrim
-from manip.sim.controllers import BaseController, DifferentialController, WheelBasePoseController
-from manip.sim.pick_place_controller import PickPlaceController
-from manip.sim.manipulator import SingleManipulator
-from manip.sim.robots import (
+from manip.sim.controllers.base_controller import BaseController, DifferentialController, WheelBasePoseController
+from manip.sim.controllers.pick_place_controller import PickPlaceController
+from manip.sim.robots.manipulator import SingleManipulator
+from manip.sim.robots.robot import (
     Franka,
     ParallelGripper,
     WheeledRobot,
@@ -92,12 +101,29 @@ from manip.sim.robots import (
     jetbot_model_path,
     robot_model_path,
 )
-from manip.sim.sample import BaseSample
-from manip.sim.extension import BaseSampleExtension
-from manip.sim.hello_world import HelloWorld
-from manip.sim.tasks import BaseTask, PickPlace, find_unique_string_name
-from manip.sim.views import RigidPrimView, XFormPrimView
-from manip.sim.follow_target import FollowTarget
-from manip.sim.rmpflow import RMPFlowController
+from manip.sim.samples.base_sample import BaseSample
+from manip.sim.samples.extension import BaseSampleExtension
+from manip.sim.samples.hello_world import HelloWorld
+from manip.sim.tasks.base_task import BaseTask, PickPlace, find_unique_string_name
+from manip.sim.prims.views import RigidPrimView, XFormPrimView
+from manip.sim.tasks.follow_target import FollowTarget
+from manip.sim.controllers.rmpflow import RMPFlowController
 
-__all__ = [name for name in dir() if not name.startswith("_")]
+#: Every name a ported Isaac script imports (no submodules: `from manip.sim import *` binds names only).
+__all__ = [
+    "Articulation", "ArticulationAction", "ArticulationController", "ArticulationView", "BaseController",
+    "BaseSample", "BaseSampleExtension", "BaseTask", "CameraView", "CollisionObject", "DOF_PROPERTIES_DTYPE",
+    "DifferentialController", "DynamicCapsule", "DynamicCone", "DynamicCuboid", "DynamicCylinder", "DynamicSphere",
+    "DynamicState", "FixedCapsule", "FixedCone", "FixedCuboid", "FixedCylinder", "FixedSphere", "FollowTarget",
+    "Franka", "GeometryPrim", "GroundPlane", "HelloWorld", "ISAAC_ASSETS", "JointsState", "OffscreenRenderingError",
+    "ParallelGripper", "PhysicsMaterial", "PickPlace", "PickPlaceController", "RMPFlowController", "RigidPrim",
+    "RigidPrimView", "Robot", "Scene", "SimulationApp", "SimulationContext", "SimulationError",
+    "SimulationInstabilityError", "SimulationWarning", "SingleArticulation", "SingleGeometryPrim",
+    "SingleManipulator", "SingleRigidPrim", "SingleXFormPrim", "VisualCapsule", "VisualCone", "VisualCuboid",
+    "VisualCylinder", "VisualSphere", "WheelBasePoseController", "WheeledRobot", "World", "XFormPrim",
+    "XFormPrimState", "XFormPrimView", "add_reference_to_stage", "available_assets", "carb", "clear_stage",
+    "create_new_stage", "create_new_stage_async", "euler_angles_to_quat", "euler_angles_to_rot_matrix",
+    "find_unique_string_name", "franka_model_path", "get_assets_root_path", "get_current_stage", "is_prim_path_valid",
+    "jetbot_model_path", "quat_to_euler_angles", "quat_to_rot_matrix", "resolve_asset_path", "robot_model_path",
+    "rot_matrix_to_euler_angles", "rot_matrix_to_quat", "update_stage", "update_stage_async",
+]

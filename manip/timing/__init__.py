@@ -1,6 +1,6 @@
 """Time-parameterisation of a joint-space path with ruckig (state-to-state only).
 
-`time_path(path, TimingLimits.from_robot(config), mode=...)` (or `time_parameterize(path,
+`time_path(path, config.limits, mode=...)` (or `time_parameterize(path,
 ...)`) turns the piecewise-linear, collision-checked joint path of a planner into a
 `Trajectory` at rest at both ends that respects velocity, acceleration and jerk limits
 everywhere (checked on the profile and on the samples). Three modes:
@@ -25,18 +25,19 @@ evenly spaced and the last one is exactly at the goal, at rest.
 
 Layout: `result` (TimingStatus, TimingResult), `checks` (input validation), `shared`
 (helpers of both algorithms), `segments` + `waypoints` (exact/blend), `dense`
-(along_path), `dispatch` (TimingLimits, time_path and the public wrappers).
+(along_path), `dispatch` (time_path and the public wrappers).
 """
 
+from manip.limits import JointLimits
 from manip.timing.checks import MODES
 from manip.timing.dense import time_parameterize_dense
 from manip.timing.dispatch import TimingLimits, time_parameterize, time_parameterize_for_robot, time_path
 from manip.timing.result import TimingResult, TimingStatus
-from manip.timing.segments import SegmentSolver as _SegmentSolver  # noqa: F401  (tests inspect ruckig's state)
 
 __all__ = [
     "MODES",
-    "TimingLimits",
+    "JointLimits",
+    "TimingLimits",  # the old name of JointLimits
     "TimingResult",
     "TimingStatus",
     "time_parameterize",

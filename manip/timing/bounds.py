@@ -11,11 +11,12 @@ from __future__ import annotations
 import numpy as np
 import ruckig
 
+from manip.limits import JointLimits
 
-def rest_to_rest_time(start: np.ndarray, goal: np.ndarray, vmax: np.ndarray, amax: np.ndarray,
-                      jmax: np.ndarray) -> float:
+
+def rest_to_rest_time(start: np.ndarray, goal: np.ndarray, limits: JointLimits) -> float:
     """Duration [s] of the time-optimal motion from `start` to `goal` (dof,) at rest, under
-    velocity, acceleration and jerk limits (dof,) [rad/s, rad/s^2, rad/s^3]."""
+    the velocity, acceleration and jerk limits of `limits` [rad/s, rad/s^2, rad/s^3]."""
     dof = len(start)
     if np.array_equal(start, goal):
         return 0.0
@@ -26,9 +27,9 @@ def rest_to_rest_time(start: np.ndarray, goal: np.ndarray, vmax: np.ndarray, ama
     zeros = [0.0] * dof
     inp.current_velocity, inp.current_acceleration = zeros, zeros
     inp.target_velocity, inp.target_acceleration = zeros, zeros
-    inp.max_velocity = np.asarray(vmax, dtype=float).tolist()
-    inp.max_acceleration = np.asarray(amax, dtype=float).tolist()
-    inp.max_jerk = np.asarray(jmax, dtype=float).tolist()
+    inp.max_velocity = limits.velocity.tolist()
+    inp.max_acceleration = limits.acceleration.tolist()
+    inp.max_jerk = limits.jerk.tolist()
     traj = ruckig.Trajectory(dof)
     otg.calculate(inp, traj)
     return float(traj.duration)

@@ -1,4 +1,4 @@
-"""The entry points: `time_path` + `TimingLimits` (one call for every mode) and the wrappers.
+"""The entry points: `time_path` + `JointLimits` (one call for every mode) and the wrappers.
 
 `time_parameterize` and `time_parameterize_for_robot` keep their historical signatures.
 This is the only module that imports both algorithms (`waypoints` and `dense`).
@@ -7,17 +7,16 @@ This is the only module that imports both algorithms (`waypoints` and `dense`).
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Literal, Sequence
 
 import numpy as np
 
 from manip.errors import InvalidInputError
+from manip.limits import JointLimits
 from manip.timing.checks import check_deviation_tolerance, check_inputs, check_mode
 from manip.timing.dense import time_parameterize_dense
 from manip.timing.result import TimingResult
 from manip.timing.waypoints import time_waypoints
-from manip.validation import per_joint
 
 if TYPE_CHECKING:
     from manip.robot_config import RobotConfig
@@ -28,85 +27,8 @@ BLEND_DEVIATION = 0.05
 STOP_ANGLE = float(np.deg2rad(100.0))
 
 
-@dataclass(frozen=True, eq=False)
-class TimingLimits:
-    """The per-joint limits of a timing call (validated; arrays are read-only copies).
-
-    Args:
-        velocity: (dof,) max |velocity| [rad/s] (a scalar is used for every joint).
-        acceleration: (dof,) max |acceleration| [rad/s^2] (or a scalar).
-        jerk: (dof,) max |jerk| [rad/s^3] (or a scalar).
-        lower: (dof,) lower position limits [rad]; None (with `upper`) = unchecked.
-        upper: (dof,) upper position limits [rad]; None (with `lower`) = unchecked.
-        joint_names: (dof,) names; None gives "joint_0", "joint_1", ...
-
-    The number of joints is `len(joint_names)` when given, else the length of the first
-    (dof,) array among the limits.
-
-    Raises:
-        InvalidInputError: wrong shapes, non-finite or non-positive limits, only one of
-            `lower` / `upper`, `lower > upper`, or scalars only and no `joint_names`.
-    """
-
-    velocity: np.ndarray
-    acceleration: np.ndarray
-    jerk: np.ndarray
-    lower: np.ndarray | None = None
-    upper: np.ndarray | None = None
-    joint_names: tuple[str, ...] | None = None
-
-    def __post_init__(self) -> None:
-        dof = self._dof()
-        for name in ("velocity", "acceleration", "jerk"):
-            object.__setattr__(self, name, _frozen(per_joint(getattr(self, name), dof, f"TimingLimits.{name}",
-                                                             positive=True)))
-        if (self.lower is None) != (self.upper is None):
-            raise InvalidInputError("TimingLimits: give both lower and upper, or neither")
-        if self.lower is not None:
-            lower = per_joint(self.lower, dof, "TimingLimits.lower", positive=False)
-            upper = per_joint(self.upper, dof, "TimingLimits.upper", positive=False)
-            if np.any(lower > upper):
-                raise InvalidInputError(f"TimingLimits.lower must be <= upper; got {lower}, {upper}")
-            object.__setattr__(self, "lower", _frozen(lower))
-            object.__setattr__(self, "upper", _frozen(upper))
-        names = (
-            tuple(str(n) for n in self.joint_names)
-            if self.joint_names is not None
-            else tuple(f"joint_{i}" for i in range(dof))
-        )
-        object.__setattr__(self, "joint_names", names)
-
-    def _dof(self) -> int:
-        if self.joint_names is not None:
-            return len(tuple(self.joint_names))
-        for value in (self.velocity, self.acceleration, self.jerk, self.lower, self.upper):
-            if value is not None and np.ndim(value) == 1:
-                return int(np.size(value))
-        raise InvalidInputError(
-            "TimingLimits needs joint_names or at least one (dof,) array of limits to know the number of joints"
-        )
-
-    @property
-    def dof(self) -> int:
-        """Number of joints."""
-        return len(self.joint_names)
-
-    @classmethod
-    def from_robot(cls, config: RobotConfig) -> TimingLimits:
-        """The limits and arm joint names of a `manip.RobotConfig`."""
-        return cls(
-            velocity=config.velocity_limits,
-            acceleration=config.acceleration_limits,
-            jerk=config.jerk_limits,
-            lower=config.lower_limits,
-            upper=config.upper_limits,
-            joint_names=tuple(config.arm_joints),
-        )
-
-
-def _frozen(a: np.ndarray) -> np.ndarray:
-    a.setflags(write=False)
-    return a
+#: The limits of a timing call: `manip.limits.JointLimits` (the old name, kept).
+TimingLimits = JointLimits
 
 
 def _run(
@@ -143,7 +65,7 @@ def time_path(
 
     Args:
         path: (K, dof) waypoints [rad], K >= 1; the first is the start, the last the goal.
-        limits: the joints' limits and names (`TimingLimits.from_robot(config)`).
+        limits: the joints' limits and names (`config.limits` of a `RobotConfig`).
         mode: "blend" (round corners within `deviation_tolerance`, `time_parameterize`),
             "exact" (stop at every corner) or "along_path" (one motion along a spline
             through dense points, `time_parameterize_dense`).
@@ -159,13 +81,13 @@ def time_path(
 
     Raises:
         InvalidInputError: an unknown mode (the message lists the valid ones), `limits`
-            not a `TimingLimits` or for another number of joints, or any invalid input
+            not a `JointLimits` or for another number of joints, or any invalid input
             of the algorithm.
     """
     check_mode(mode)
-    if not isinstance(limits, TimingLimits):
+    if not isinstance(limits, JointLimits):
         raise InvalidInputError(
-            f"limits must be a TimingLimits (e.g. TimingLimits.from_robot(config)); got {type(limits).__name__}"
+            f"limits must be a manip.JointLimits (e.g. RobotConfig.limits); got {type(limits).__name__}"
         )
     try:
         shape = np.shape(path)

@@ -24,7 +24,7 @@ def generate(urdf_path: Path, srdf_path: Path) -> str:
     import dataclasses
 
     from manip.robot_config import load_robot_config
-    from manip.sim.mjcf_builder import build_mjcf
+    from manip.sim.scenes.mjcf_builder import build_mjcf
 
     cfg = load_robot_config("franka")
     if Path(urdf_path).resolve() != cfg.urdf_path or Path(srdf_path).resolve() != cfg.srdf_path:
@@ -38,7 +38,7 @@ def main() -> int:
     args = parser.parse_args()
     sys.path.insert(0, str(ROBOTS.parent))
     from manip.robot_config import load_robot_config
-    from manip.sim.mjcf_builder import write_mjcf
+    from manip.sim.scenes.mjcf_builder import write_mjcf
 
     cfg = load_robot_config("franka")
     if args.check:

@@ -1,6 +1,6 @@
 """Build robots/<name>/<name>.xml (MuJoCo MJCF) and its meshes from the robot's URDF, SRDF and robot.yaml.
 
-The builder is `manip.sim.mjcf_builder.build_mjcf` (MuJoCo's URDF compiler plus the yaml's
+The builder is `manip.sim.scenes.mjcf_builder.build_mjcf` (MuJoCo's URDF compiler plus the yaml's
 drives, gripper, contact excludes and home keyframe).
 
 Usage (from the repository root)::
@@ -33,7 +33,7 @@ def main() -> int:
     sys.path.insert(0, str(ROBOTS.parent))
     from manip.errors import ManipError
     from manip.robot_config import available_robots, load_robot_config
-    from manip.sim.mjcf_builder import build_mjcf, write_mjcf
+    from manip.sim.scenes.mjcf_builder import build_mjcf, write_mjcf
 
     names = available_robots() if args.all else args.robots
     if not names:

@@ -10,8 +10,8 @@ import pytest
 
 from manip.errors import InvalidInputError
 from manip.sim import ArticulationAction, Articulation, Franka, World, add_reference_to_stage
-from manip.sim.articulation_core import MAX_DRIVE_COMMAND, MAX_EFFORT, MAX_POSITION
-from manip.sim.world import SimulationInstabilityError, SimulationWarning
+from manip.sim.articulations.articulation_core import MAX_DRIVE_COMMAND, MAX_EFFORT, MAX_POSITION
+from manip.sim.core.world import SimulationInstabilityError, SimulationWarning
 
 ARM = list(range(7))
 FINGERS = [7, 8]
@@ -221,7 +221,7 @@ def test_mild_mujoco_warnings_become_python_warnings():
 
 def test_limits_stay_stiff_when_the_physics_step_changes():
     world, franka = franka_world()
-    joints = franka._core.joint_ids
+    joints = franka.core.joint_ids
     np.testing.assert_allclose(world.model.jnt_solref[joints, 0], 2 * world.model.opt.timestep)
     world.set_simulation_dt(physics_dt=1.0 / 120.0)
     np.testing.assert_allclose(world.model.jnt_solref[joints, 0], 2 * world.model.opt.timestep)

@@ -5,7 +5,6 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -17,8 +16,9 @@ from benchmarks.plots import samples_by_planner  # noqa: E402
 from manip import MotionGenerator  # noqa: E402
 from manip.errors import InvalidInputError  # noqa: E402
 from manip.viz.plots import plot_benchmark_distributions, plot_joint_trajectory, robot_limits  # noqa: E402
+from robot_constants import REPO_ROOT  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = REPO_ROOT
 
 
 @pytest.fixture(scope="module")

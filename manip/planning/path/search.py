@@ -1,0 +1,83 @@
+"""The path-search policy: RRT-Connect coarse-to-fine, with repairs of failing edges.
+
+Most of a planning problem's space is far from obstacles, so the search checks its edges at
+the coarse `search_resolution`; the found path is then re-checked at the fine resolution and
+every edge that fails is replaced by a fine-resolution search between its endpoints.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from manip.planning.path.rrt_connect import Sampler, rrt_connect
+from manip.planning.validity import Validity
+
+#: Edges of a coarse search path replaced by fine searches before giving up on the path.
+MAX_REPAIRS = 6
+#: RRT iterations of a search (and of its repairs together) when the caller gives no count.
+MAX_ITERATIONS = 20000
+
+
+def search_path(
+    start: np.ndarray, goals: np.ndarray, validity: Validity, rng: np.random.Generator, deadline: float, *,
+    max_iterations: int | None = MAX_ITERATIONS,
+    max_repair_iterations: int | None = MAX_ITERATIONS,
+    sample: Sampler | None = None,
+) -> tuple[np.ndarray | None, int]:
+    """A collision-free polyline from `start` (dof,) to one of `goals` (G, dof).
+
+    `max_iterations` caps the coarse search and `max_repair_iterations` the fine repair
+    searches together (counts, not times: the result depends only on the generator's state,
+    unless `deadline`, a `time.perf_counter()` value, comes first); None = MAX_ITERATIONS.
+    A repair that runs out of iterations fails the search (None). `sample` replaces the
+    coarse search's uniform samples (`rrt_connect`).
+
+    Returns:
+        (path (K, dof) valid at the fine resolution, or None; RRT iterations used).
+    """
+    lower, upper = validity.kinematics.lower, validity.kinematics.upper
+    path, iterations = rrt_connect(
+        start, goals, lower, upper, validity.coarse_motion, rng, deadline, advance=validity.coarse_advance,
+        max_iterations=MAX_ITERATIONS if max_iterations is None else max_iterations, sample=sample,
+    )
+    if validity.search_resolution == validity.resolution:
+        return path, iterations
+    path, more = repair_path(path, validity, rng, deadline,
+                             max_iterations=MAX_ITERATIONS if max_repair_iterations is None else max_repair_iterations)
+    return path, iterations + more
+
+
+def repair_path(
+    path: np.ndarray | None, validity: Validity, rng: np.random.Generator, deadline: float,
+    max_iterations: int = MAX_ITERATIONS,
+) -> tuple[np.ndarray | None, int]:
+    """`path` (K, dof) with its failing segments (by `validity.segments`) replaced by searches.
+
+    The first failing segment is replaced by an RRT-Connect search between its endpoints
+    with the fine `validity.motion` / `validity.advance` (certified ones for a strict
+    Validity), at most MAX_REPAIRS times; `max_iterations` caps those searches together (a
+    count). None when a repair fails or the path still fails after MAX_REPAIRS.
+
+    Returns:
+        (the valid path (K', dof) or None; RRT iterations used).
+    """
+    lower, upper = validity.kinematics.lower, validity.kinematics.upper
+    iterations = 0
+    for _ in range(MAX_REPAIRS):
+        if path is None:
+            return None, iterations
+        ok = validity.segments(path[:-1], path[1:])
+        if ok.all():
+            return path, iterations
+        if iterations >= max_iterations:
+            return None, iterations
+        s = int(np.argmin(ok))
+        sub, more = rrt_connect(
+            path[s], path[s + 1][None], lower, upper, validity.motion, rng, deadline, advance=validity.advance,
+            max_iterations=max_iterations - iterations,
+        )
+        iterations += more
+        path = None if sub is None else np.concatenate([path[:s], sub, path[s + 2 :]])
+    if path is not None and not validity.path(path):
+        path = None
+    return path, iterations

@@ -1,0 +1,127 @@
+"""Path shortening: batched random shortcuts and removal of redundant waypoints.
+
+Candidate straight segments are checked many at a time (`segments_valid(Q0, Q1) -> (M,)
+bool`), which costs about one collision-checker call per round instead of one per candidate.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+
+import numpy as np
+
+SegmentsValid = Callable[[np.ndarray, np.ndarray], np.ndarray]
+
+
+def path_length(path: np.ndarray) -> float:
+    """Sum of joint-space L2 segment lengths [rad] of a (K, dof) path."""
+    return float(np.sum(np.linalg.norm(np.diff(path, axis=0), axis=1)))
+
+
+def remove_redundant(
+    path: np.ndarray, segments_valid: SegmentsValid, screen: SegmentsValid | None = None,
+) -> np.ndarray:
+    """Greedy pruning: from each kept waypoint, jump to the farthest one reachable directly.
+
+    Args:
+        path: (K, dof) a valid path [rad].
+        segments_valid: the validity the result must have.
+        screen: an optional cheaper necessary condition of `segments_valid` (e.g. a coarser
+            resolution): all jumps from a waypoint are screened in one batch, then only the
+            screened ones get `segments_valid`, farthest first, until one passes (the same
+            result as checking them all, for fewer checks).
+    """
+    path = np.asarray(path, dtype=float)
+    out = [path[0]]
+    i = 0
+    n = len(path)
+    while i < n - 1:
+        j = i + 1
+        if i + 2 <= n - 1:
+            targets = np.arange(n - 1, i + 1, -1)  # farthest first
+            starts = np.repeat(path[i][None], len(targets), axis=0)
+            if screen is None:
+                ok = segments_valid(starts, path[targets])
+                if ok.any():
+                    j = int(targets[np.argmax(ok)])
+            else:
+                for k in np.flatnonzero(screen(starts, path[targets])).tolist():
+                    if segments_valid(starts[k:k + 1], path[targets[k]][None])[0]:
+                        j = int(targets[k])
+                        break
+        out.append(path[j])
+        i = j
+    return np.asarray(out)
+
+
+def _point_at(path: np.ndarray, cum: np.ndarray, seg: np.ndarray, s: float) -> tuple[int, np.ndarray]:
+    i = int(min(np.searchsorted(cum, s, side="right") - 1, len(seg) - 1))
+    return i, path[i] + (path[i + 1] - path[i]) * ((s - cum[i]) / max(seg[i], 1e-12))
+
+
+def shortcut(
+    path: np.ndarray,
+    segments_valid: SegmentsValid,
+    rng: np.random.Generator,
+    deadline: float,
+    *,
+    rounds: int = 3,
+    candidates: int = 16,
+    screen: SegmentsValid | None = None,
+) -> np.ndarray:
+    """Shorten `path` (K, dof) by replacing sub-paths with straight segments.
+
+    Each round draws `candidates` pairs of points anywhere along the path (not only at
+    waypoints), checks their straight segments in one batch and applies the valid one that
+    saves the most length. The points lie on already-valid segments, so the result stays
+    valid. Deterministic for a given generator state.
+
+    Three rounds by default (BENCHMARKS.md, "Constants").
+
+    Args:
+        segments_valid: the validity the result must have (e.g. a fine-resolution check).
+        screen: an optional cheaper check run on every candidate first (e.g. a coarser
+            resolution); only the most promising screened candidates get `segments_valid`.
+    """
+    path = remove_redundant(np.asarray(path, dtype=float), segments_valid, screen)
+    for _ in range(rounds):
+        if len(path) <= 2 or time.perf_counter() > deadline:
+            break
+        seg = np.linalg.norm(np.diff(path, axis=0), axis=1)
+        cum = np.concatenate([[0.0], np.cumsum(seg)])
+        total = cum[-1]
+        if total <= 1e-9:
+            break
+        pairs = np.sort(rng.uniform(0.0, total, (candidates, 2)), axis=1)
+        Q0, Q1, idx, saving = [], [], [], []
+        for s0, s1 in pairs:
+            i0, q0 = _point_at(path, cum, seg, s0)
+            i1, q1 = _point_at(path, cum, seg, s1)
+            if i0 == i1:
+                continue
+            gain = (s1 - s0) - float(np.linalg.norm(q1 - q0))
+            if gain <= 1e-6:
+                continue
+            Q0.append(q0)
+            Q1.append(q1)
+            idx.append((i0, i1))
+            saving.append(gain)
+        if not Q0:
+            continue
+        Q0a, Q1a = np.asarray(Q0), np.asarray(Q1)
+        ok = (screen or segments_valid)(Q0a, Q1a)
+        best = None
+        for k in np.argsort(-np.where(ok, saving, -np.inf), kind="stable"):
+            if not ok[k]:
+                break
+            if screen is None or segments_valid(Q0a[k : k + 1], Q1a[k : k + 1])[0]:
+                best = int(k)
+                break
+        if best is None:
+            continue
+        i0, i1 = idx[best]
+        path = np.concatenate([path[: i0 + 1], Q0[best][None], Q1[best][None], path[i1 + 1 :]])
+        keep = np.concatenate([[True], np.linalg.norm(np.diff(path, axis=0), axis=1) > 1e-9])
+        path = path[keep]
+    return remove_redundant(path, segments_valid, screen)

@@ -1,0 +1,261 @@
+"""`ArticulationView`: Isaac's batched articulation API over one articulation (`robot._articulation_view`).
+
+Isaac's `SingleArticulation` keeps an `ArticulationView` of count 1 as `_articulation_view`;
+tutorials read gains, joint counts and limits through it. Here it is a thin view of the
+articulation's drives (`ArticulationCore`): getters return arrays with a leading batch axis
+of size 1, e.g. `get_gains()` -> (kps (1, num_dof), kds (1, num_dof)).
+
+A script may also create one as Isaac's tutorials do, from a prim path expression
+(`ArticulationView(prim_paths_expr="/World/Franka", name="franka_view")`, matched per path
+segment as `XFormPrimView`), add it to the scene and use it after `world.reset()`.
+
+Differences from Isaac: one articulation only (`indices` may be None or [0]; an expression
+matching several referenced models raises, naming them: use one view per robot);
+`num_joints` counts one joint per body below the articulation's root (fixed joints
+included, as USD does), since MuJoCo merges no bodies but has no fixed-joint objects.
+"""
+
+from __future__ import annotations
+
+from typing import Protocol
+
+import numpy as np
+
+from manip.articulation_action import ArticulationAction
+from manip.errors import InvalidInputError
+from manip.sim.articulations.articulation_core import ArticulationCore
+from manip.sim.scenes.stage import ReferencePrim, SimulationError, get_current_stage
+from manip.sim.prims.views import compile_path_expression, path_matches
+
+
+class ViewedArticulation(Protocol):
+    """What the view reads: the articulation's core (None before the World compiles)."""
+
+    prim_path: str
+    core: ArticulationCore | None
+
+
+class _ReferencedModel:
+    """A referenced model seen as a `ViewedArticulation` (its core, once compiled)."""
+
+    def __init__(self, ref: ReferencePrim):
+        self._ref = ref
+        self.prim_path = ref.prim_path
+
+    @property
+    def core(self) -> ArticulationCore | None:
+        return self._ref.core
+
+
+def _find_articulation(prim_paths_expr: str) -> _ReferencedModel:
+    """The one referenced model whose prim path matches `prim_paths_expr` (per segment).
+
+    Raises:
+        InvalidInputError: none or several match (the message lists the referenced models).
+    """
+    segments = compile_path_expression(prim_paths_expr)
+    stage = get_current_stage()
+    refs = [p for p in stage.prim_paths() if stage.find_reference(p) is not None]
+    hits = [p for p in refs if path_matches(segments, p)]
+    if len(hits) != 1:
+        what = "no referenced model" if not hits else f"{len(hits)} referenced models {hits}"
+        raise InvalidInputError(
+            f"ArticulationView(prim_paths_expr={prim_paths_expr!r}) matches {what}; manip's view holds exactly "
+            f"one articulation (one view per robot). Each path segment is a regular expression. Referenced models "
+            f"on the stage: {refs}")
+    return _ReferencedModel(stage.find_reference(hits[0]))
+
+
+class ArticulationView:
+    """Batched (count 1) access to one articulation's joints and drives.
+
+    Args:
+        prim_paths_expr: the `Articulation` viewed, or (Isaac's form) a prim path expression
+            matching the prim path of exactly one referenced model, e.g. "/World/Franka".
+        name: scene name (`world.scene.add(view)`).
+        positions, translations, orientations, scales, visibilities,
+            reset_xform_properties, enable_dof_force_sensors: accepted for Isaac scripts;
+            given poses raise (move the articulation itself).
+
+    Raises:
+        InvalidInputError: the expression matches no or several referenced models, or a
+            pose is given.
+    """
+
+    def __init__(self, prim_paths_expr: str | ViewedArticulation, name: str = "articulation_prim_view",
+                 positions=None, translations=None, orientations=None, scales=None, visibilities=None,
+                 reset_xform_properties: bool = True, enable_dof_force_sensors: bool = False):
+        if any(v is not None for v in (positions, translations, orientations, scales)):
+            raise InvalidInputError("ArticulationView: positions/translations/orientations/scales are not supported; "
+                                    "set the pose with Articulation.set_world_pose")
+        if isinstance(prim_paths_expr, str):
+            self._articulation: ViewedArticulation = _find_articulation(prim_paths_expr)
+        else:
+            self._articulation = prim_paths_expr
+        self._name = name
+
+    @property
+    def name(self) -> str:
+        return self._name
+
+    @property
+    def prim_path(self) -> str:
+        return self._articulation.prim_path
+
+    def initialize(self, physics_sim_view=None) -> None:
+        """Nothing to do: the view reads the articulation the World compiled (kept for Isaac scripts)."""
+
+    def _c(self, what: str) -> ArticulationCore:
+        c = self._articulation.core
+        if c is None:
+            raise SimulationError(f"articulation view {self.prim_paths[0]!r}: {what} before world.reset()")
+        return c
+
+    @staticmethod
+    def _check_indices(indices) -> None:
+        if indices is not None and np.asarray(indices).ravel().tolist() not in ([0], []):
+            raise InvalidInputError(f"this view holds one articulation (index 0); got indices {indices!r}")
+
+    # ------------------------------------------------------------------ description
+    @property
+    def prim_paths(self) -> list[str]:
+        return [self._articulation.prim_path]
+
+    @property
+    def count(self) -> int:
+        return 1
+
+    @property
+    def num_dof(self) -> int:
+        return self._c("num_dof").n
+
+    @property
+    def num_bodies(self) -> int:
+        return len(self._c("num_bodies").body_ids)
+
+    @property
+    def num_joints(self) -> int:
+        """Joints of the articulation, fixed ones included: one per body below a root body."""
+        c = self._c("num_joints")
+        return len(c.body_ids) - len(c.root_ids)
+
+    @property
+    def dof_names(self) -> list[str]:
+        return list(self._c("dof_names").dof_names)
+
+    @property
+    def body_names(self) -> list[str]:
+        return list(self._c("body_names").body_names)
+
+    def get_dof_index(self, dof_name: str) -> int:
+        names = self.dof_names
+        if dof_name not in names:
+            raise InvalidInputError(f"no joint {dof_name!r}; joints: {names}")
+        return names.index(dof_name)
+
+    def is_physics_handle_valid(self) -> bool:
+        return self._articulation.core is not None
+
+    # ------------------------------------------------------------------ drives
+    def get_gains(self, indices=None, joint_indices=None, clone: bool = True) -> tuple[np.ndarray, np.ndarray]:
+        """Drive stiffness and damping: (kps (1, K), kds (1, K)) for the joints `joint_indices` (all for None)."""
+        self._check_indices(indices)
+        c = self._c("get_gains")
+        idx = c.indices(joint_indices)
+        return c.kps[idx][None, :].copy(), c.kds[idx][None, :].copy()
+
+    def set_gains(self, kps=None, kds=None, indices=None, joint_indices=None, save_to_usd: bool = False) -> None:
+        """Set drive stiffness `kps` and damping `kds`, (1, K) or (K,) each, of `joint_indices` (all for None).
+
+        Raises:
+            InvalidInputError: wrong shape, a negative or non-finite gain.
+        """
+        self._check_indices(indices)
+        c = self._c("set_gains")
+        idx = c.indices(joint_indices)
+        new_kp, new_kd = c.kps.copy(), c.kds.copy()
+        if kps is not None:
+            new_kp[idx] = c.values(kps, idx, "kps")
+        if kds is not None:
+            new_kd[idx] = c.values(kds, idx, "kds")
+        if np.any(new_kp < 0) or np.any(new_kd < 0):
+            raise InvalidInputError("gains must be >= 0")
+        c.check_drive(new_kp, new_kd, c.pos_target, c.vel_target, "kps/kds")
+        c.kps, c.kds = new_kp, new_kd
+        c.write_gains()
+
+    def get_max_efforts(self, indices=None, joint_indices=None, clone: bool = True) -> np.ndarray:
+        """Drive force limits (1, K) [N m or N] (inf = unlimited)."""
+        self._check_indices(indices)
+        c = self._c("get_max_efforts")
+        return c.max_efforts[c.indices(joint_indices)][None, :].copy()
+
+    def get_dof_limits(self) -> np.ndarray:
+        """(1, num_dof, 2) lower and upper joint limits [rad or m]."""
+        c = self._c("get_dof_limits")
+        return np.stack([c.lower, c.upper], axis=1)[None, :, :]
+
+    def get_joint_max_velocities(self, indices=None, joint_indices=None, clone: bool = True) -> np.ndarray:
+        """(1, K) joint velocity limits [rad/s or m/s] (inf where the model gives none)."""
+        self._check_indices(indices)
+        c = self._c("get_joint_max_velocities")
+        return c.max_velocities[c.indices(joint_indices)][None, :].copy()
+
+    # ------------------------------------------------------------------ state
+    def get_joint_positions(self, indices=None, joint_indices=None, clone: bool = True) -> np.ndarray:
+        """(1, K) joint positions [rad or m]."""
+        self._check_indices(indices)
+        c = self._c("get_joint_positions")
+        return c.sim.data.qpos[c.qadr[c.indices(joint_indices)]][None, :].copy()
+
+    def get_joint_velocities(self, indices=None, joint_indices=None, clone: bool = True) -> np.ndarray:
+        """(1, K) joint velocities [rad/s or m/s]."""
+        self._check_indices(indices)
+        c = self._c("get_joint_velocities")
+        return c.sim.data.qvel[c.dadr[c.indices(joint_indices)]][None, :].copy()
+
+    # ------------------------------------------------------------------ commands
+    @staticmethod
+    def _row(values, what: str):
+        """(1, K) or (K,) values as (K,) (the batch axis of a count-1 view)."""
+        if values is None:
+            return None
+        a = np.asarray(values, dtype=float)
+        if a.ndim == 2:
+            if a.shape[0] != 1:
+                raise InvalidInputError(f"{what} must have shape (1, K) or (K,) for a view of one articulation; "
+                                        f"got {a.shape}")
+            a = a[0]
+        return a
+
+    def set_joint_positions(self, positions, indices=None, joint_indices=None) -> None:
+        """Teleport the joints to `positions` (1, K) [rad or m] and make them their drive targets."""
+        self._check_indices(indices)
+        self._c("set_joint_positions").teleport(self._row(positions, "positions"), joint_indices)
+
+    def set_joint_velocities(self, velocities, indices=None, joint_indices=None) -> None:
+        """Set joint velocities (1, K) [rad/s or m/s] (drive targets unchanged)."""
+        self._check_indices(indices)
+        self._c("set_joint_velocities").set_velocities(self._row(velocities, "velocities"), joint_indices)
+
+    def set_joint_position_targets(self, positions, indices=None, joint_indices=None) -> None:
+        """Drive position targets (1, K) [rad or m] (NaN keeps a joint's target)."""
+        self._check_indices(indices)
+        self._c("set_joint_position_targets").apply_action(
+            ArticulationAction(joint_positions=self._row(positions, "positions"), joint_indices=joint_indices))
+
+    def set_joint_velocity_targets(self, velocities, indices=None, joint_indices=None) -> None:
+        """Drive velocity targets (1, K) [rad/s or m/s] (NaN keeps a joint's target)."""
+        self._check_indices(indices)
+        self._c("set_joint_velocity_targets").apply_action(
+            ArticulationAction(joint_velocities=self._row(velocities, "velocities"), joint_indices=joint_indices))
+
+    def apply_action(self, control_actions: ArticulationAction, indices=None) -> None:
+        """Set drive targets from an action with (K,) or (1, K) fields (Isaac's semantics)."""
+        self._check_indices(indices)
+        if not isinstance(control_actions, ArticulationAction):
+            raise InvalidInputError(f"expected an ArticulationAction; got {type(control_actions).__name__}")
+        self._c("apply_action").apply_action(control_actions)
+
+    def __repr__(self) -> str:
+        return f"ArticulationView(prim_paths={self.prim_paths})"

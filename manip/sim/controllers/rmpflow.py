@@ -1,0 +1,256 @@
+"""`RMPFlowController`: Isaac Sim's name for a reactive end-effector controller.
+
+It is NOT RMPflow. Isaac's `RMPFlowController` runs Lula's RMPflow (Riemannian motion
+policies: acceleration fields blended by their metrics). This one is manip's
+`manip.control.ReactiveController`: differential inverse kinematics as one quadratic
+program per physics step (mink tasks; joint position, velocity and collision limits),
+under Isaac's class name and interface so that Isaac's follow-target example runs with its
+imports changed:
+
+    controller = RMPFlowController(name="target_follower_controller", robot_articulation=franka)
+    action = controller.forward(target_end_effector_position=p, target_end_effector_orientation=q)
+    franka.get_articulation_controller().apply_action(action)
+
+What to expect instead of RMPflow's behaviour: the end effector converges to a reachable
+target within a step or two of its motion (dead-beat tracking, limited by the joint
+velocity limits) rather than along RMPflow's smooth attractor; obstacles are hard
+constraints (the arm keeps `safety_margin` from them, and stops there when the target is
+behind one) rather than repulsive fields; joint accelerations are bounded by the robot
+configuration's acceleration limits, and a target that jumps is approached at
+`max_speed` (1 m/s) rather than along RMPflow's damped attractor.
+
+Targets are world poses of the robot's end effector (`robot_articulation.end_effector`,
+the Franka's `panda_hand_tcp`, if the controller's model has that frame). The controller
+integrates its own joint command from step to step (as Isaac's RMPflow does) and starts
+again from the measured joints after `reset()` or when the robot is more than
+`resync_tolerance` away from the command (blocked, or moved by hand).
+"""
+
+from __future__ import annotations
+
+import logging
+from typing import Any
+
+import numpy as np
+
+from manip.articulation_action import ArticulationAction
+from manip.collision.shapes import Capsule, Cuboid, Cylinder, Obstacle, Sphere
+from manip.control import ReactiveController, StepResult, UnknownFrameError
+from manip.errors import InvalidInputError
+from manip.pose import Pose
+from manip.robot_config import RobotConfig, load_robot_config
+from manip.sim.controllers.base_controller import BaseController
+from manip.sim.objects import (
+    DynamicCapsule,
+    DynamicCone,
+    DynamicCuboid,
+    DynamicCylinder,
+    DynamicSphere,
+    FixedCapsule,
+    FixedCone,
+    FixedCuboid,
+    FixedCylinder,
+    FixedSphere,
+    VisualCapsule,
+    VisualCone,
+    VisualCuboid,
+    VisualCylinder,
+    VisualSphere,
+)
+from manip.sim.scenes.stage import SimulationError
+from manip.validation import positive, unit_quat, vec
+
+logger = logging.getLogger(__name__)
+
+_CUBOIDS = (VisualCuboid, FixedCuboid, DynamicCuboid)
+_SPHERES = (VisualSphere, FixedSphere, DynamicSphere)
+_CYLINDERS = (VisualCylinder, FixedCylinder, DynamicCylinder)
+_CAPSULES = (VisualCapsule, FixedCapsule, DynamicCapsule)
+_CONES = (VisualCone, FixedCone, DynamicCone)
+
+
+def obstacle_from_prim(obj: Any, name: str, pose: Pose) -> Obstacle:
+    """A planner shape for a manip.sim shape object at `pose` (robot base frame).
+
+    Cuboids, spheres, cylinders and capsules are exact (scale included); a non-uniformly
+    scaled sphere becomes its bounding sphere and a cone its bounding cylinder.
+
+    Raises:
+        InvalidInputError: not one of manip.sim's shape objects.
+    """
+    if not isinstance(obj, _CUBOIDS + _SPHERES + _CYLINDERS + _CAPSULES + _CONES):
+        raise InvalidInputError(
+            f"add_obstacle: expected a manip.sim shape object (Visual/Fixed/Dynamic Cuboid, Sphere, Cylinder, Capsule, "
+            f"Cone); got {type(obj).__name__}"
+        )
+    s = np.asarray(obj.get_local_scale(), dtype=float)
+    if isinstance(obj, _CUBOIDS):
+        return Cuboid(name, obj.get_size() * s, pose)
+    if isinstance(obj, _SPHERES):
+        return Sphere(name, obj.get_radius() * float(np.max(s)), pose)
+    if isinstance(obj, _CYLINDERS + _CONES):
+        return Cylinder(name, obj.get_radius() * float(max(s[0], s[1])), obj.get_height() * s[2], pose)
+    return Capsule(name, obj.get_radius() * float(max(s[0], s[1])), obj.get_height() * s[2], pose)
+
+
+class RMPFlowController(BaseController):
+    """Follow an end-effector target while avoiding obstacles (Isaac's `RMPFlowController`
+    interface; a QP controller, not RMPflow: see the module docstring).
+
+    Args:
+        name: controller name.
+        robot_articulation: the robot (a `manip.sim.Franka`, after `world.reset()`).
+        physics_dt: the period of `forward` calls [s] (default 1/60, Isaac's).
+        robot: robot configuration name or `RobotConfig` (default "franka").
+        resync_tolerance: largest gap [rad] between the command and the measured joints
+            before the command restarts from the measurement (default 0.1).
+        safety_margin: distance [m] kept from obstacles (default 0.02: the simulated drives
+            lag the command by up to about 1 cm when the arm stops at an obstacle).
+        **controller_options: other keywords of `manip.control.ReactiveController`
+            (`frame`, `solver`, `weights`, `velocity_scale`, `max_speed`, ...).
+
+    Raises:
+        InvalidInputError: bad arguments (named in the message).
+    """
+
+    def __init__(self, name: str, robot_articulation: Any, physics_dt: float = 1.0 / 60.0, *,
+                 robot: str | RobotConfig = "franka", resync_tolerance: float = 0.1, safety_margin: float = 0.02,
+                 **controller_options: Any):
+        super().__init__(name)
+        self._robot = robot_articulation
+        self._dt = positive(physics_dt, "physics_dt", "s")
+        self._resync = positive(resync_tolerance, "resync_tolerance", "rad")
+        config = robot if isinstance(robot, RobotConfig) else load_robot_config(robot)
+        controller_options["safety_margin"] = safety_margin
+        self._ctrl: ReactiveController | None = None
+        if "frame" not in controller_options:
+            ee = getattr(robot_articulation, "end_effector", None)
+            leaf = str(getattr(ee, "prim_path", "")).rsplit("/", 1)[-1]
+            if leaf:
+                try:
+                    self._ctrl = ReactiveController(config, frame=leaf, **controller_options)
+                except UnknownFrameError:
+                    logger.info("%s: the end effector %r is not a frame of the controller's model; using %s",
+                                name, leaf, config.tcp_link or config.ee_link)
+        if self._ctrl is None:
+            self._ctrl = ReactiveController(config, **controller_options)
+        self._obstacles: dict[int, tuple[Any, str]] = {}
+        self._arm_idx: np.ndarray | None = None
+        self._q_cmd: np.ndarray | None = None
+        self._last: StepResult | None = None
+
+    # ------------------------------------------------------------------ accessors
+    @property
+    def controller(self) -> ReactiveController:
+        """The underlying `manip.control.ReactiveController`."""
+        return self._ctrl
+
+    @property
+    def last_result(self) -> StepResult | None:
+        """The `StepResult` of the last `forward` call (errors, clearance, timing)."""
+        return self._last
+
+    @property
+    def physics_dt(self) -> float:
+        return self._dt
+
+    def get_default_physics_dt(self) -> float:
+        return self._dt
+
+    def set_default_physics_dt(self, physics_dt: float) -> None:
+        self._dt = positive(physics_dt, "physics_dt", "s")
+
+    # ------------------------------------------------------------------ state
+    def reset(self) -> None:
+        """Forget the joint command (the next `forward` starts from the measured joints).
+        Obstacles are kept."""
+        self._q_cmd = None
+        self._last = None
+        self._ctrl.reset()
+
+    def _bind(self) -> np.ndarray:
+        names = getattr(self._robot, "dof_names", None)
+        if names is None:
+            raise SimulationError(f"{self.name}: the robot is not simulated yet; call world.reset() before forward()")
+        if self._arm_idx is None:
+            self._arm_idx = np.array([self._robot.get_dof_index(j) for j in self._ctrl.joint_names], dtype=int)
+        return self._arm_idx
+
+    def _base_from_world(self) -> Pose:
+        pose = self._robot.get_world_pose()
+        if pose is None:
+            raise SimulationError(f"{self.name}: the robot has no pose yet; call world.reset() before forward()")
+        return Pose(np.asarray(pose[0], dtype=float), np.asarray(pose[1], dtype=float)).inverse()
+
+    # ------------------------------------------------------------------ obstacles
+    def add_obstacle(self, obstacle: Any, static: bool = False) -> None:
+        """Avoid `obstacle` (a manip.sim shape object) from now on; its pose is read at
+        every `forward` (`static` is accepted for Isaac's signature; poses are always read).
+
+        Raises:
+            InvalidInputError: not a shape object, or already added.
+        """
+        if id(obstacle) in self._obstacles:
+            raise InvalidInputError(f"add_obstacle: {getattr(obstacle, 'name', obstacle)!r} was already added")
+        name = str(getattr(obstacle, "prim_path", None) or getattr(obstacle, "name", f"obstacle{len(self._obstacles)}"))
+        p, q = obstacle.get_world_pose()
+        shape = obstacle_from_prim(obstacle, name, self._base_from_world() @ Pose(np.asarray(p), np.asarray(q)))
+        self._ctrl.add_obstacle(shape)
+        self._obstacles[id(obstacle)] = (obstacle, name)
+
+    def remove_obstacle(self, obstacle: Any) -> None:
+        """Stop avoiding `obstacle`.
+
+        Raises:
+            InvalidInputError: it was not added.
+        """
+        entry = self._obstacles.pop(id(obstacle), None)
+        if entry is None:
+            raise InvalidInputError(f"remove_obstacle: {getattr(obstacle, 'name', obstacle)!r} was not added")
+        self._ctrl.remove_obstacle(entry[1])
+
+    def _sync_obstacles(self, base_T_world: Pose) -> None:
+        for obj, name in self._obstacles.values():
+            p, q = obj.get_world_pose()
+            self._ctrl.set_obstacle_pose(name, base_T_world @ Pose(np.asarray(p, dtype=float), np.asarray(q, dtype=float)))
+
+    # ------------------------------------------------------------------ control
+    def forward(self, target_end_effector_position, target_end_effector_orientation=None) -> ArticulationAction:
+        """The arm's joint targets for the next physics step.
+
+        Args:
+            target_end_effector_position: (3,) world position [m] of the end effector.
+            target_end_effector_orientation: (4,) world orientation (w, x, y, z), or None
+                for any orientation (position only).
+
+        Returns:
+            ArticulationAction with joint_positions and joint_velocities for the arm
+            joints (joint_indices set; the fingers are left alone).
+
+        Raises:
+            InvalidInputError: a NaN or a wrong shape (named in the message).
+            SimulationError: before `world.reset()`.
+        """
+        position = vec(target_end_effector_position, 3, "target_end_effector_position")
+        orientation = None
+        if target_end_effector_orientation is not None:
+            orientation = unit_quat(target_end_effector_orientation, "target_end_effector_orientation")
+        idx = self._bind()
+        base_T_world = self._base_from_world()
+        self._sync_obstacles(base_T_world)
+        q_meas = np.asarray(self._robot.get_joint_positions(), dtype=float)[idx]
+        velocity = None
+        if self._q_cmd is None or np.max(np.abs(q_meas - self._q_cmd)) > self._resync:
+            self._q_cmd = q_meas
+            velocity = np.asarray(self._robot.get_joint_velocities(), dtype=float)[idx]
+        if orientation is None:
+            target: Any = (base_T_world @ Pose(position)).position
+        else:
+            target = base_T_world @ Pose(position, orientation)
+        r = self._ctrl.step(self._q_cmd, target, self._dt, velocity=velocity)
+        self._last = r
+        self._q_cmd = r.q
+        return ArticulationAction(joint_positions=r.q.copy(), joint_velocities=r.velocities.copy(), joint_indices=idx)
+
+
+__all__ = ["RMPFlowController", "obstacle_from_prim"]

@@ -1,0 +1,599 @@
+"""`SimulationContext`: the simulation loop of Isaac Sim's core API on MuJoCo (`World` adds
+the scene and the tasks).
+
+Time: `physics_dt` (default 1/60 s, as Isaac) is the step seen by callbacks and tasks;
+MuJoCo integrates each physics step in `ceil(physics_dt / substep_dt)` equal substeps of
+at most `substep_dt` (default 0.002 s, i.e. 9 substeps of 1.85 ms at 60 Hz), which is what
+keeps a grasped cube stable and stiff drives accurate. `step(render=True)` runs
+max(1, round(rendering_dt / physics_dt)) physics steps then renders; `render=False` runs one.
+As in Isaac (`SimulationContext.initialize_physics`), `reset()` stops, plays and takes one
+warm-up `step(render=True)` without physics callbacks, so `current_time_step_index` is 1
+right after a reset (with the default dts) and the world is playing.
+
+Callback names follow Isaac: a duplicate name or removing an unknown one logs an error
+(`carb.log_error`) and changes nothing. The `*_async` methods are coroutines doing the same
+as the plain ones, for Isaac's extension workflow (`asyncio.run(world.reset_async())`).
+
+Solver options (`manip.sim.scenes.compiler`): `implicitfast`, elliptic cones, gravity -9.81
+m/s^2 along z; the same script gives the same trajectory run after run (nothing is random).
+
+Observers (`add_observer`, e.g. the SimulationApp's viewer) follow every instance through
+the `WorldObserver` methods; this module imports no viewer.
+
+Joint limits hold after every physics step (see `manip.sim.articulations.articulation`). MuJoCo's own
+warnings become Python ones after every physics step (`manip.sim.core.mujoco_warnings`): an
+unstable step raises `SimulationInstabilityError` naming the joint or actuator, with the drive
+targets set to the current joint positions and the efforts to 0, so that the world can go on
+(call `reset()` to restart from the default states); milder ones are `SimulationWarning`s.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from pathlib import Path
+from typing import Callable, Protocol
+
+import mujoco
+import numpy as np
+
+from manip.errors import InvalidInputError, UnknownNameError
+from manip.sim.core import recording as rec
+from manip.sim.articulations.articulation_core import ArticulationCore
+from manip.sim.core.callbacks import CallbackTable, TimelineEvent
+from manip.sim.core.mujoco_warnings import SimulationInstabilityError, SimulationWarning, WarningMonitor  # noqa: F401 (re-exported)
+from manip.sim.scenes.compiler import compile_stage
+from manip.sim.scenes.stage import ReferencePrim, SimHandle, SimulationError, StageEvent, get_current_stage
+from manip.validation import positive, vec
+
+logger = logging.getLogger(__name__)
+
+DEFAULT_DT = 1.0 / 60.0
+DEFAULT_GRAVITY = (0.0, 0.0, -9.81)  # [m/s^2]
+
+
+class WorldObserver(Protocol):
+    """Follows every World (`World.add_observer`); the SimulationApp's viewer is one.
+
+    Each method receives the World: after it compiled a model, after it rendered (or
+    reset), when it is cleared (`clear_instance`), when its camera view changed.
+    """
+
+    def on_world_compiled(self, world: SimulationContext) -> None: ...
+
+    def on_world_rendered(self, world: SimulationContext) -> None: ...
+
+    def on_world_cleared(self, world: SimulationContext) -> None: ...
+
+    def on_camera_changed(self, world: SimulationContext) -> None: ...
+
+
+class SimulationContext:
+    """The simulation (one per process, as Isaac's): stage compilation, timeline, stepping,
+    callbacks, camera and video. `World` adds the scene and the tasks.
+
+    A second construction returns the existing instance; differing arguments are ignored
+    with a warning (use `set_simulation_dt`, or `clear_instance()` first).
+
+    Args:
+        physics_dt: physics step [s] (default 1/60).
+        rendering_dt: render interval [s] (default = physics_dt).
+        stage_units_in_meters: must be 1.0 (SI units only).
+        substep_dt: largest MuJoCo integration step [s] (default 0.002).
+        gravity: (3,) [m/s^2] (default (0, 0, -9.81)).
+        sim_params: Isaac's physics settings: "gravity" is used (the argument takes
+            precedence); other keys (PhysX/GPU settings) are ignored with a warning.
+        backend, device: "numpy" and None/"cpu" only (MuJoCo runs on the CPU).
+        physics_prim_path, set_defaults: accepted for Isaac scripts and ignored.
+
+    Raises:
+        InvalidInputError: stage units other than metres, another backend or device, a
+            non-positive dt, a bad gravity.
+    """
+
+    _instance: SimulationContext | None = None
+    _initialized = False  # per instance: True once __init__ has run (the singleton is initialised once)
+    _observers: list[WorldObserver] = []  # shared by every World of the process
+
+    def __new__(cls, *args, **kwargs):
+        if cls._instance is None:
+            cls._instance = super().__new__(cls)  # `_initialized` is False until __init__ ends
+        return cls._instance
+
+    def __init__(
+        self,
+        physics_dt: float | None = None,
+        rendering_dt: float | None = None,
+        stage_units_in_meters: float | None = None,
+        physics_prim_path: str = "/physicsScene",
+        sim_params: dict | None = None,
+        set_defaults: bool = True,
+        backend: str = "numpy",
+        device: str | None = None,
+        *,
+        substep_dt: float = 0.002,
+        gravity=None,
+    ):
+        if self._initialized:
+            if physics_dt is not None or rendering_dt is not None:
+                logger.warning(
+                    "%s already exists (physics_dt=%s, rendering_dt=%s); the new arguments are ignored. "
+                    "Use set_simulation_dt() or %s.clear_instance() first.", type(self).__name__,
+                    self._physics_dt, self._rendering_dt, type(self).__name__,
+                )
+            return
+        try:
+            if stage_units_in_meters is not None and float(stage_units_in_meters) != 1.0:
+                raise InvalidInputError(
+                    f"stage_units_in_meters must be 1.0; got {stage_units_in_meters!r}: manip.sim works in metres "
+                    "(there is no USD stage to scale; give lengths in m)")
+            if backend != "numpy":
+                raise InvalidInputError(
+                    f"backend must be 'numpy'; got {backend!r}: manip.sim runs MuJoCo on the CPU and returns NumPy "
+                    "arrays (Isaac's 'torch'/'warp' backends and GPU pipelines have no equivalent here)")
+            if device is not None and str(device).lower() != "cpu":
+                raise InvalidInputError(
+                    f"device must be None or 'cpu'; got {device!r}: manip.sim runs MuJoCo on the CPU (no GPU physics)")
+            if sim_params is not None and "gravity" in sim_params and gravity is None:
+                gravity = sim_params["gravity"]
+            ignored = sorted(set(sim_params or {}) - {"gravity"})
+            if ignored:
+                logger.warning("sim_params %s are PhysX settings manip.sim does not mirror; they are ignored "
+                               "(only 'gravity' is used; give physics_dt/rendering_dt as arguments)", ignored)
+            self._physics_dt = positive(physics_dt if physics_dt is not None else DEFAULT_DT, "physics_dt", "s")
+            self._rendering_dt = positive(rendering_dt if rendering_dt is not None else self._physics_dt,
+                                          "rendering_dt", "s")
+            self._substep_dt = positive(substep_dt, "substep_dt", "s")
+            self._gravity = vec(gravity if gravity is not None else DEFAULT_GRAVITY, 3, "gravity")
+        except Exception:
+            type(self)._instance = None
+            raise
+        self._stage = get_current_stage()
+        self._sim: SimHandle | None = None
+        self._cores: list[ArticulationCore] = []  # of the compiled model
+        self._warnings = WarningMonitor()  # MuJoCo's warnings, each reported once
+        self._compiled_version = -1
+        self._playing = False
+        self._stopped = True
+        self._time = 0.0
+        self._time_origin = 0.0
+        self._index = 0
+        self._physics_callbacks = CallbackTable("physics")
+        self._timeline_callbacks = CallbackTable("timeline")
+        self._render_callbacks = CallbackTable("render")
+        self._camera_view = rec.CameraView()
+        self._recorder: rec.Recorder | None = None
+        self._warned_dirty = False
+        self._restart_pending = False
+        self._init_components()
+        self._initialized = True
+
+    def _init_components(self) -> None:
+        """Create what a subclass adds (the World: scene and tasks); called once, by `__init__`."""
+
+    # ------------------------------------------------------------------ instance
+    @classmethod
+    def instance(cls) -> SimulationContext | None:
+        """The instance of this process, or None."""
+        return cls._instance
+
+    @classmethod
+    def clear_instance(cls) -> None:
+        """Forget the instance: stop recording, unbind objects, empty the stage."""
+        w = cls._instance
+        if w is not None and getattr(w, "_initialized", False):
+            w.stop_recording()
+            w._unbind_all()
+            w._stage.clear()
+            w._notify("on_world_cleared")
+        cls._instance = None
+
+    @classmethod
+    def add_observer(cls, observer: WorldObserver) -> None:
+        """Let `observer` follow every World (see `WorldObserver`); added once."""
+        if observer not in cls._observers:
+            cls._observers.append(observer)
+
+    @classmethod
+    def remove_observer(cls, observer: WorldObserver) -> None:
+        """Stop notifying `observer` (nothing happens if it was not added)."""
+        if observer in cls._observers:
+            cls._observers.remove(observer)
+
+    def _notify(self, event: str) -> None:
+        for observer in list(self._observers):
+            getattr(observer, event)(self)
+
+    # ------------------------------------------------------------------ properties
+    @property
+    def stage(self):
+        return self._stage
+
+    @property
+    def model(self) -> mujoco.MjModel | None:
+        """The compiled MuJoCo model (None before the first reset): an escape hatch."""
+        return None if self._sim is None else self._sim.model
+
+    @property
+    def data(self) -> mujoco.MjData | None:
+        """The MuJoCo data (None before the first reset): an escape hatch."""
+        return None if self._sim is None else self._sim.data
+
+    @property
+    def current_time(self) -> float:
+        """Simulated time since the last reset/stop [s]."""
+        return self._time
+
+    @property
+    def current_time_step_index(self) -> int:
+        """Physics steps since the last reset/stop."""
+        return self._index
+
+    @property
+    def physics_substeps(self) -> int:
+        """MuJoCo steps per physics step."""
+        return max(1, math.ceil(self._physics_dt / self._substep_dt - 1e-9))
+
+    def get_physics_dt(self) -> float:
+        return self._physics_dt
+
+    def get_rendering_dt(self) -> float:
+        return self._rendering_dt
+
+    def set_simulation_dt(self, physics_dt: float | None = None, rendering_dt: float | None = None) -> None:
+        """Change the physics step and/or render interval [s] (takes effect immediately;
+        `current_time` goes on from where it is).
+
+        Raises:
+            InvalidInputError: a dt that is not positive and finite (nothing changes then).
+        """
+        new_physics = positive(physics_dt, "physics_dt", "s") if physics_dt is not None else self._physics_dt
+        new_rendering = positive(rendering_dt, "rendering_dt", "s") if rendering_dt is not None else self._rendering_dt
+        # current_time = time_origin + index * physics_dt (no accumulated rounding); keep it continuous.
+        self._time_origin = self._time - self._index * new_physics
+        self._physics_dt, self._rendering_dt = new_physics, new_rendering
+        if self._sim is not None:
+            self._sim.model.opt.timestep = self._physics_dt / self.physics_substeps
+            for core in self._cores:
+                core.stiffen_limits()
+
+    # ------------------------------------------------------------------ compilation
+    def _needs_compile(self) -> bool:
+        return self._sim is None or self._compiled_version != self._stage.version
+
+    def _unbind_all(self) -> None:
+        for prim in self._stage.prims():
+            if hasattr(prim, "unbind_simulation"):
+                prim.unbind_simulation()
+            if isinstance(prim, ReferencePrim):
+                prim.core = None
+        for w in self._stage.wrappers():
+            w.unbind_simulation()
+        self._sim = None
+        self._cores = []
+        self._stage.sim = None
+
+    def _compile(self) -> None:
+        """Compile the stage, then bind to the new model: each object, each referenced
+        model (a new `ArticulationCore`), then the wrappers (articulations, views)."""
+        self.stop_recording()
+        self._unbind_all()
+        sim = compile_stage(self._stage, timestep=self._physics_dt / self.physics_substeps, gravity=self._gravity)
+        model = sim.model
+        cores = []
+        for prim in self._stage.prims():
+            if isinstance(prim, ReferencePrim):
+                prim.core = ArticulationCore(prim, sim)
+                cores.append(prim.core)
+            else:
+                prim.bind_simulation(sim)
+        self._cores = cores
+        self._warnings.watch(sim.data)
+        for w in self._stage.wrappers():
+            w.bind_simulation(sim)
+        self._sim = sim
+        self._stage.sim = sim
+        self._compiled_version = self._stage.version
+        self._warned_dirty = False
+        self._stage.notify_changed("COMPILED", "/")
+        self._compiled_version = self._stage.version
+        logger.info("compiled the stage: %d bodies, %d DoF, %d actuators, %d substeps of %.4f s",
+                    model.nbody, model.nv, model.nu, self.physics_substeps, model.opt.timestep)
+        self._notify("on_world_compiled")
+
+    def _reset_physics_state(self) -> None:
+        """Back to the compiled initial state (qpos0, mocap at their build pose, targets = qpos0)."""
+        sim = self._sim
+        mujoco.mj_resetData(sim.model, sim.data)
+        self._warnings.reset()
+        for core in self._cores:
+            core.reset_drive_targets()
+        sim.mark_stale()
+
+    # ------------------------------------------------------------------ timeline
+    def reset(self, soft: bool = False) -> None:
+        """Stop, compile the stage if it changed (else restore the compiled initial state),
+        play and take one warm-up step (Isaac's `initialize_physics`).
+
+        As in Isaac, the warm-up is one `step(render=True)` worth of physics (max(1,
+        rendering_dt / physics_dt) physics steps) without physics callbacks, so right after
+        a reset `current_time_step_index` is 1 (default dts) and the world is playing.
+        Physics callbacks are kept. `soft=True` on a compiled world does nothing here (the
+        World restores its objects' default states).
+        """
+        if soft and self._sim is not None:
+            return
+        if soft:
+            logger.warning("reset(soft=True) before the first reset: doing a full reset")
+        self.initialize_physics()
+        self._notify("on_world_rendered")
+
+    def initialize_physics(self) -> None:
+        """Stop, compile the stage if it changed (else restore the compiled initial state),
+        play, and run the warm-up physics of one rendered step without callbacks (Isaac:
+        "it does one step internally to propagate all physics handles")."""
+        self._restart_physics()
+        self._play_and_warm_up()
+
+    def _restart_physics(self) -> None:
+        """Stop, then compile the stage if it changed, else restore the compiled initial state."""
+        self.stop()
+        if self._needs_compile():
+            self._compile()
+        else:
+            self._reset_physics_state()
+
+    def _forward(self) -> None:
+        """Bring the derived quantities (poses, velocities...) up to date with the state."""
+        mujoco.mj_forward(self._sim.model, self._sim.data)
+        self._sim.kinematics_stale = False
+
+    def _play_and_warm_up(self) -> None:
+        """Play from time 0, then the physics of one `step(render=True)`, callbacks not called."""
+        self._time = 0.0
+        self._time_origin = 0.0
+        self._index = 0
+        self._restart_pending = False
+        self.play()
+        for _ in range(self._steps_per_render()):
+            self._advance()
+        self._forward()
+
+    def _steps_per_render(self) -> int:
+        return max(1, int(round(self._rendering_dt / self._physics_dt)))
+
+    def is_simulating(self) -> bool:
+        """Whether a compiled model exists (Isaac: a physics simulation view exists)."""
+        return self._sim is not None
+
+    @property
+    def physics_sim_view(self) -> SimHandle | None:
+        """The compiled model and data (Isaac's physics simulation view); None before the first reset."""
+        return self._sim
+
+    def play(self) -> None:
+        """Start (or resume) the simulation; compiles the stage if never compiled. After a
+        `stop()`, physics restarts from the compiled initial state."""
+        if self._sim is None:
+            self._compile()
+        elif self._restart_pending:
+            self._reset_physics_state()
+        self._restart_pending = False
+        self._playing = True
+        self._stopped = False
+        self._fire_timeline("PLAY")
+
+    def pause(self) -> None:
+        """Pause: `step()` still renders and runs task pre_steps, physics does not advance."""
+        self._playing = False
+        self._fire_timeline("PAUSE")
+
+    def stop(self) -> None:
+        """Stop: time and step index go back to 0; the next `play()` restarts physics."""
+        was = not self._stopped
+        self._playing = False
+        self._stopped = True
+        self._time = 0.0
+        self._time_origin = 0.0
+        self._index = 0
+        self._restart_pending = self._sim is not None
+        if was:
+            self._fire_timeline("STOP")
+
+    def is_playing(self) -> bool:
+        return self._playing
+
+    def is_stopped(self) -> bool:
+        return self._stopped
+
+    async def reset_async(self, soft: bool = False) -> None:
+        """`reset()`, awaitable (Isaac's extension workflow; `asyncio.run(world.reset_async())`)."""
+        self.reset(soft)
+
+    async def play_async(self) -> None:
+        """`play()`, awaitable."""
+        self.play()
+
+    async def pause_async(self) -> None:
+        """`pause()`, awaitable."""
+        self.pause()
+
+    async def stop_async(self) -> None:
+        """`stop()`, awaitable."""
+        self.stop()
+
+    async def render_async(self) -> None:
+        """`render()`, awaitable."""
+        self.render()
+
+    async def initialize_simulation_context_async(self) -> None:
+        """Nothing to wait for: the context is ready once constructed (Isaac sets up its USD
+        stage and physics scene here)."""
+
+    def _fire_timeline(self, kind: str) -> None:
+        self._timeline_callbacks.call(TimelineEvent(kind))
+
+    # ------------------------------------------------------------------ stepping
+    def step(self, render: bool = True, step_sim: bool = True) -> None:
+        """Physics (if playing): max(1, rendering_dt / physics_dt) physics steps with
+        render=True, one with render=False; then render.
+
+        Physics callbacks run before each physics step with `step_size = physics_dt`.
+        """
+        if self._playing and step_sim:
+            if self._compiled_version != self._stage.version and not self._warned_dirty:
+                logger.warning("the stage changed since the last world.reset(); new prims appear after a reset")
+                self._warned_dirty = True
+            n = self._steps_per_render() if render else 1
+            for _ in range(n):
+                self._physics_step()
+        if render:
+            self.render()
+
+    def _physics_step(self) -> None:
+        self._physics_callbacks.call(self._physics_dt)
+        self._advance()
+
+    def _advance(self) -> None:
+        """One physics step of the model (no callbacks); time and step index advance. Then the
+        joint limits are enforced and MuJoCo's warnings of the step reported (see the module
+        docstring).
+
+        Raises:
+            SimulationInstabilityError: MuJoCo found the step numerically unstable.
+        """
+        sim = self._sim
+        mujoco.mj_step(sim.model, sim.data, nstep=self.physics_substeps)
+        sim.kinematics_stale = True
+        self._index += 1
+        self._time = self._time_origin + self._index * self._physics_dt
+        fatal = self._warnings.check(sim.model, sim.data, self._time)
+        for core in self._cores:
+            core.enforce_limits()
+        if fatal is not None:
+            for core in self._cores:  # MuJoCo reset the state, or ignored the controls
+                core.reset_drive_targets()
+            sim.mark_stale()
+            raise SimulationInstabilityError(fatal)
+
+    def render(self) -> None:
+        """Capture a video frame if recording, update the viewer if one is open, and run the
+        render callbacks."""
+        if self._sim is None:
+            return
+        if self._recorder is not None:
+            self._sim.ensure_kinematics()
+            self._recorder.maybe_capture(self._sim.data, self._time, self._camera_view)
+        self._notify("on_world_rendered")
+        self._render_callbacks.call(TimelineEvent("RENDER"))
+
+    # ------------------------------------------------------------------ callbacks
+    def add_physics_callback(self, callback_name: str, callback_fn: Callable[[float], None]) -> None:
+        """Call `callback_fn(step_size)` before every physics step (step_size = physics_dt [s]).
+
+        A name that is taken logs an error (`carb.log_error`, as Isaac) and keeps the
+        existing callback.
+
+        Raises:
+            InvalidInputError: `callback_fn` is not callable.
+        """
+        self._physics_callbacks.add(callback_name, callback_fn)
+
+    def remove_physics_callback(self, callback_name: str) -> None:
+        """Remove a physics callback; an unknown name logs an error (as Isaac)."""
+        self._physics_callbacks.remove(callback_name)
+
+    def physics_callback_exists(self, callback_name: str) -> bool:
+        return callback_name in self._physics_callbacks
+
+    def add_timeline_callback(self, callback_name: str, callback_fn: Callable[[TimelineEvent], None]) -> None:
+        """Call `callback_fn(event)` on play/pause/stop (`event.type`: "PLAY", "PAUSE", "STOP")."""
+        self._timeline_callbacks.add(callback_name, callback_fn)
+
+    def remove_timeline_callback(self, callback_name: str) -> None:
+        self._timeline_callbacks.remove(callback_name)
+
+    def timeline_callback_exists(self, callback_name: str) -> bool:
+        return callback_name in self._timeline_callbacks
+
+    def add_stage_callback(self, callback_name: str, callback_fn: Callable[[StageEvent], None]) -> None:
+        """Call `callback_fn(event)` when the stage changes (`event.type`: "PRIM_ADDED",
+        "PRIM_REMOVED", "PRIM_CHANGED", "CLEARED", "COMPILED"; `event.path`)."""
+        self._stage.callbacks.add(callback_name, callback_fn)
+
+    def remove_stage_callback(self, callback_name: str) -> None:
+        self._stage.callbacks.remove(callback_name)
+
+    def stage_callback_exists(self, callback_name: str) -> bool:
+        return callback_name in self._stage.callbacks
+
+    def add_render_callback(self, callback_name: str, callback_fn: Callable) -> None:
+        """Call `callback_fn(event)` after every render."""
+        self._render_callbacks.add(callback_name, callback_fn)
+
+    def remove_render_callback(self, callback_name: str) -> None:
+        self._render_callbacks.remove(callback_name)
+
+    def clear_all_callbacks(self) -> None:
+        """Remove every physics, timeline, stage and render callback."""
+        for table in (self._physics_callbacks, self._timeline_callbacks, self._stage.callbacks,
+                      self._render_callbacks):
+            table.clear()
+
+    # ------------------------------------------------------------------ camera and video
+    def set_camera_view(self, eye, target) -> None:
+        """Point the viewer's and the recording's camera from `eye` (3,) at `target` (3,) [m]."""
+        self._camera_view = rec.CameraView.from_eye_target(eye, target)
+        self._notify("on_camera_changed")
+
+    def get_camera_view(self) -> rec.CameraView:
+        return self._camera_view
+
+    def start_recording(self, path: str | Path, camera: str | rec.CameraView | None = None, *, width: int = 640,
+                        height: int = 480, fps: float = 30.0) -> None:
+        """Write an MP4 of a camera view, a frame every 1/fps of simulated time on render.
+
+        Offscreen: works without a display when EGL or OSMesa is installed (see
+        `manip.sim.core.recording`). The model must be compiled (call after `reset()`); a recompile
+        (reset after adding prims) ends the recording.
+
+        Args:
+            path: output file (.mp4).
+            camera: name of a model camera, a CameraView, or None for the World's view
+                (`set_camera_view`).
+            width, height: frame size [px].
+            fps: frames per second of simulated time.
+
+        Raises:
+            OffscreenRenderingError: no offscreen GL backend or no imageio-ffmpeg.
+            SimulationError: before the first reset, or already recording.
+        """
+        if self._sim is None:
+            raise SimulationError("start_recording: call world.reset() first (the model is not compiled)")
+        if self._recorder is not None:
+            raise SimulationError(f"already recording to {self._recorder.path}; call stop_recording() first")
+        if isinstance(camera, str) and mujoco.mj_name2id(self._sim.model, mujoco.mjtObj.mjOBJ_CAMERA, camera) < 0:
+            cams = [self._sim.model.camera(i).name for i in range(self._sim.model.ncam)]
+            raise UnknownNameError("camera", camera, cams)
+        self._recorder = rec.Recorder(self._sim.model, path, camera, width=width, height=height, fps=fps)
+        self._recorder.capture(self._sim.data, self._camera_view)
+
+    def stop_recording(self) -> Path | None:
+        """Finish the MP4; returns its path (None if not recording)."""
+        r = self._recorder
+        if r is None:
+            return None
+        self._recorder = None
+        r.close()
+        return r.path
+
+    def is_recording(self) -> bool:
+        return self._recorder is not None
+
+    def render_image(self, width: int = 640, height: int = 480, *,
+                     camera: str | rec.CameraView | None = None) -> np.ndarray:
+        """One offscreen RGB image (height, width, 3) uint8 of the current state [px], from a
+        model camera's name, a CameraView, or the World's view (None)."""
+        if self._sim is None:
+            raise SimulationError("render_image: call world.reset() first")
+        return rec.render_image(self._sim, width, height, camera, self._camera_view)

@@ -1,0 +1,171 @@
+"""`GeometryPrim` (a prim with one MuJoCo geom, base of the shapes) and `PhysicsMaterial`.
+
+Physics materials: MuJoCo has one sliding friction per geom, so a material's dynamic
+friction is used (static friction only if dynamic is missing); MuJoCo combines the two
+geoms of a contact by taking the larger friction. Restitution is not modelled (MuJoCo
+contacts are soft and inelastic); it is kept for reference only.
+"""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from manip.errors import InvalidInputError
+from manip.sim.scenes.stage import SimHandle
+from manip.sim.prims.xform_prim import XFormPrim
+from manip.validation import non_negative, vec
+
+#: Whether each family's geoms collide ("ground" is the GroundPlane's).
+_FAMILY_COLLIDES = {"visual": False, "fixed": True, "dynamic": True, "ground": True}
+
+
+class PhysicsMaterial:
+    """Friction/restitution of a surface (Isaac's `PhysicsMaterial`).
+
+    Args:
+        prim_path: path of the material (informative only).
+        name: its name.
+        static_friction: static friction coefficient (used if dynamic is None).
+        dynamic_friction: sliding friction coefficient (what MuJoCo uses).
+        restitution: kept for reference, not simulated.
+    """
+
+    def __init__(
+        self,
+        prim_path: str = "/World/Physics_Materials/material",
+        name: str = "physics_material",
+        static_friction: float | None = None,
+        dynamic_friction: float | None = None,
+        restitution: float | None = None,
+    ):
+        self.prim_path = prim_path
+        self.name = name
+        self._static = None if static_friction is None else non_negative(static_friction, "static_friction")
+        self._dynamic = None if dynamic_friction is None else non_negative(dynamic_friction, "dynamic_friction")
+        self._restitution = restitution
+
+    def get_static_friction(self) -> float | None:
+        return self._static
+
+    def get_dynamic_friction(self) -> float | None:
+        return self._dynamic
+
+    def get_restitution(self) -> float | None:
+        return self._restitution
+
+    def mujoco_friction(self) -> float | None:
+        """The sliding friction MuJoCo uses: dynamic friction, else static, else None."""
+        return self._dynamic if self._dynamic is not None else self._static
+
+
+class GeometryPrim(XFormPrim):
+    """A prim with one geometry (base of the shape classes)."""
+
+    _family = "visual"
+    shape_kind = "cuboid"  # the geometry type, as the planner names it
+
+    def __init__(
+        self,
+        prim_path: str,
+        name: str | None = None,
+        position=None,
+        translation=None,
+        orientation=None,
+        scale=None,
+        visible: bool | None = None,
+        *,
+        color=None,
+        physics_material: PhysicsMaterial | None = None,
+        visual_material=None,
+    ):
+        self._color = vec(color, 3, "color") if color is not None else np.array([0.5, 0.5, 0.5])
+        if np.any(self._color < 0) or np.any(self._color > 1):
+            raise InvalidInputError(f"color must be RGB in [0, 1]; got {self._color}")
+        self._physics_material = physics_material
+        self._geom_id = -1
+        super().__init__(prim_path, name, position, translation, orientation, scale, visible)
+        if self._wrapped_object is not None and hasattr(self._wrapped_object, "get_color"):
+            self._color = self._wrapped_object.get_color()
+
+    # shape parameters: overridden
+    def _geom_type_size(self) -> tuple[int, list[float]]:
+        raise NotImplementedError
+
+    def add_to_spec(self, spec: mujoco.MjSpec) -> mujoco.MjsBody:
+        dynamic = self._family == "dynamic"
+        body = spec.worldbody.add_body(
+            name=self.prim_path, pos=self._pose[0].tolist(), quat=self._pose[1].tolist(), mocap=not dynamic
+        )
+        if dynamic:
+            body.add_freejoint(name=self.prim_path + "/root_joint")
+        gtype, size = self._geom_type_size()
+        collides = _FAMILY_COLLIDES[self._family]
+        kwargs = dict(
+            name=self.prim_path + "/geom",
+            type=gtype,
+            size=size,
+            rgba=[*self._color.tolist(), 1.0 if self._visible else 0.0],
+            contype=1 if collides else 0,
+            conaffinity=1 if collides else 0,
+            group=0 if collides else 2,
+        )
+        if gtype == mujoco.mjtGeom.mjGEOM_MESH:
+            kwargs["meshname"] = self._build_mesh(spec)
+        if self._physics_material is not None and self._physics_material.mujoco_friction() is not None:
+            kwargs["friction"] = [self._physics_material.mujoco_friction(), 0.005, 0.0001]
+        geom = body.add_geom(**kwargs)
+        if dynamic:
+            self._set_mass_props(geom)
+        elif not collides:
+            geom.mass = 0.0
+        return body
+
+    def _build_mesh(self, spec: mujoco.MjSpec) -> str:
+        raise NotImplementedError
+
+    def _set_mass_props(self, geom) -> None:
+        pass
+
+    def bind_simulation(self, sim: SimHandle) -> None:
+        super().bind_simulation(sim)
+        self._geom_id = mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_GEOM, self.prim_path + "/geom")
+
+    def _apply_visibility(self) -> None:
+        if self._sim is not None and self._geom_id >= 0:
+            self._sim.model.geom_rgba[self._geom_id, 3] = 1.0 if self._visible else 0.0
+
+    def get_color(self) -> np.ndarray:
+        return self._color.copy()
+
+    def set_color(self, color) -> None:
+        c = vec(color, 3, "color")
+        self._color = c
+        if self._sim is not None:
+            self._sim.model.geom_rgba[self._geom_id, :3] = c
+
+    def get_applied_physics_material(self) -> PhysicsMaterial | None:
+        return self._physics_material
+
+    def apply_physics_material(self, physics_material: PhysicsMaterial) -> None:
+        """Use this material's friction (immediately if compiled)."""
+        self._physics_material = physics_material
+        f = physics_material.mujoco_friction()
+        if self._sim is not None and f is not None:
+            self._sim.model.geom_friction[self._geom_id, 0] = f
+
+    def set_collision_enabled(self, enabled: bool) -> None:
+        """Enable/disable contacts of the geometry (immediately if compiled)."""
+        if self._sim is not None:
+            v = 1 if enabled else 0
+            self._sim.model.geom_contype[self._geom_id] = v
+            self._sim.model.geom_conaffinity[self._geom_id] = v
+
+    @property
+    def geom_id(self) -> int:
+        """Index of the MuJoCo geom (-1 before the World compiles)."""
+        return self._geom_id
+
+    def shape_dimensions(self) -> np.ndarray:
+        """Dimensions in the `CollisionObject` convention (see Scene.get_collision_objects)."""
+        raise NotImplementedError

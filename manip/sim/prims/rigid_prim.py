@@ -1,0 +1,135 @@
+"""`RigidPrim`: velocities and mass of a free rigid body (the API of the Dynamic* shapes)."""
+
+from __future__ import annotations
+
+import logging
+
+import mujoco
+import numpy as np
+
+from manip.sim.scenes.stage import SimulationError
+from manip.sim.utils.types import DynamicState
+from manip.sim.prims.xform_prim import XFormPrim
+from manip.validation import positive, vec
+
+logger = logging.getLogger(__name__)
+
+
+class RigidPrim(XFormPrim):
+    """Velocity/mass API of a rigid body: the Dynamic* shapes (free bodies), or, created at
+    a prim path inside a referenced model (e.g. "/World/Franka/panda_hand"), a link of it
+    (velocities and mass readable, not settable: the joints move it)."""
+
+    def _make_default_state(self) -> DynamicState:
+        return DynamicState(self._pose[0].copy(), self._pose[1].copy(), np.zeros(3), np.zeros(3))
+
+    def _require_dynamic(self) -> None:
+        if self._sim is not None and self._qadr < 0:
+            raise SimulationError(f"{self.prim_path!r} is not a free rigid body: its velocity follows the joints "
+                                  "of its articulation (set the joint velocities instead)")
+
+    def _link_velocity(self) -> np.ndarray:
+        """(6,) linear [m/s] then angular [rad/s] world velocity of a link at its centre of
+        mass (what PhysX reports for a rigid body)."""
+        sim = self._sim
+        if self._body_id < 0:
+            raise SimulationError(f"{self.prim_path!r} is a site, not a rigid body: it has no velocity")
+        sim.ensure_kinematics()
+        res = np.zeros(6)
+        mujoco.mj_objectVelocity(sim.model, sim.data, mujoco.mjtObj.mjOBJ_BODY, self._body_id, res, 0)
+        return np.concatenate([res[3:], res[:3]])
+
+    def get_linear_velocity(self) -> np.ndarray:
+        """Linear velocity of the body origin (3,) [m/s], world frame (a link's: None
+        before the first reset, with a warning, as its pose)."""
+        if self._sim is None:
+            return self._unbound_velocity("linear_velocity")
+        if self._wrapped_reference is not None:
+            return self._link_velocity()[:3]
+        self._require_dynamic()
+        return self._sim.data.qvel[self._dadr : self._dadr + 3].copy()
+
+    def get_angular_velocity(self) -> np.ndarray:
+        """Angular velocity (3,) [rad/s], world frame."""
+        if self._sim is None:
+            return self._unbound_velocity("angular_velocity")
+        if self._wrapped_reference is not None:
+            return self._link_velocity()[3:]
+        self._require_dynamic()
+        return self._sim.free_angular_velocity(self._qadr, self._dadr)
+
+    def _unbound_velocity(self, which: str) -> np.ndarray | None:
+        """Before the World compiled: the default velocity, or None for a link (unknown)."""
+        if self._wrapped_reference is not None:
+            logger.warning("%s: velocity unknown before the first World.reset(); returning None", self.prim_path)
+            return None
+        return getattr(self._default_state, which).copy()
+
+    def set_linear_velocity(self, velocity) -> None:
+        v = vec(velocity, 3, "linear velocity")
+        if self._sim is None:
+            self._default_state.linear_velocity = v
+            return
+        self._require_dynamic()
+        self._sim.data.qvel[self._dadr : self._dadr + 3] = v
+        self._sim.mark_stale()
+
+    def set_angular_velocity(self, velocity) -> None:
+        """Set the angular velocity (3,) [rad/s], world frame."""
+        w = vec(velocity, 3, "angular velocity")
+        if self._sim is None:
+            self._default_state.angular_velocity = w
+            return
+        self._require_dynamic()
+        self._sim.set_free_angular_velocity(self._qadr, self._dadr, w)
+        self._sim.mark_stale()
+
+    def get_velocities(self) -> np.ndarray:
+        """(6,) linear then angular velocity, world frame."""
+        return np.concatenate([self.get_linear_velocity(), self.get_angular_velocity()])
+
+    def get_mass(self) -> float:
+        """Mass [kg]."""
+        if self._sim is not None:
+            return float(self._sim.model.body_mass[self._body_id])
+        if self._wrapped_object is not None and hasattr(self._wrapped_object, "get_mass"):
+            return self._wrapped_object.get_mass()
+        if getattr(self, "_mass", None) is not None:
+            return float(self._mass)
+        return float(self._density * self._volume())
+
+    def set_mass(self, mass: float) -> None:
+        """Change the mass [kg]; the inertia is scaled with it. Immediate if compiled."""
+        m = positive(mass, "mass", "kg")
+        if self._sim is not None:
+            model = self._sim.model
+            old = model.body_mass[self._body_id]
+            model.body_inertia[self._body_id] *= m / old
+            model.body_mass[self._body_id] = m
+            mujoco.mj_setConst(model, self._sim.data)
+        self._mass, self._density = m, None
+
+    def _volume(self) -> float:
+        """Volume of the shape [m^3] (the shape classes define it)."""
+        raise NotImplementedError
+
+    def set_default_state(self, position=None, orientation=None, linear_velocity=None, angular_velocity=None) -> None:
+        """State restored by `post_reset()`; None keeps a part."""
+        super().set_default_state(position, orientation)
+        if linear_velocity is not None:
+            self._default_state.linear_velocity = vec(linear_velocity, 3, "linear_velocity")
+        if angular_velocity is not None:
+            self._default_state.angular_velocity = vec(angular_velocity, 3, "angular_velocity")
+
+    def get_default_state(self) -> DynamicState:
+        s = self._default_state
+        return DynamicState(
+            s.position.copy(), s.orientation.copy(), s.linear_velocity.copy(), s.angular_velocity.copy()
+        )
+
+    def post_reset(self) -> None:
+        super().post_reset()
+        if self._wrapped_reference is not None:
+            return  # a link: the articulation restores its joints
+        self.set_linear_velocity(self._default_state.linear_velocity)
+        self.set_angular_velocity(self._default_state.angular_velocity)

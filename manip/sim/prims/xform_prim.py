@@ -1,0 +1,256 @@
+"""`XFormPrim`: a prim with a pose, new (a mocap body) or wrapping a body of a referenced model.
+
+Prims have no parent transform: `/World` is the identity, so the local pose equals the
+world pose. Quaternions are (w, x, y, z); positions in m.
+"""
+
+from __future__ import annotations
+
+import logging
+
+import mujoco
+import numpy as np
+
+from manip import quaternion as quat
+from manip.errors import InvalidInputError
+from manip.sim.scenes.stage import ReferencePrim, SimHandle, SimulationError, get_current_stage, validate_prim_path
+from manip.sim.utils.types import DefaultPoseMixin, XFormPrimState, position_or_translation
+from manip.validation import scale3, unit_quat, vec
+
+logger = logging.getLogger(__name__)
+
+_IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])
+
+
+class XFormPrim(DefaultPoseMixin):
+    """A prim with a pose (Isaac's `SingleXFormPrim` / `XFormPrim`).
+
+    Created at a free prim path, it is a new transform (a MuJoCo mocap body without
+    geometry). Created at a path inside a referenced model (e.g. `/World/Franka/panda_hand`),
+    it wraps that body (or site) of the model: its pose can be read, not set. Created at the
+    path of an existing object (`XFormPrim`, `RigidPrim` or `GeometryPrim` over a cube made
+    earlier, as Isaac wraps existing prims), it wraps that object's body: its pose (and a
+    RigidPrim's velocities) can be read and set; the other arguments must be left None.
+
+    Args:
+        prim_path: where the prim lives, e.g. "/World/target".
+        name: unique name in the scene (default: "xform_prim").
+        position: (3,) world position [m]; `translation` is the same here (no parent
+            transform); giving both raises.
+        orientation: (4,) world orientation (w, x, y, z).
+        scale: (3,) or scalar scale.
+        visible: whether it is drawn.
+    """
+
+    _default_name = "xform_prim"
+    _wraps_existing = True  # the shape classes and the ground plane always create their prim
+
+    def __init__(
+        self,
+        prim_path: str,
+        name: str | None = None,
+        position=None,
+        translation=None,
+        orientation=None,
+        scale=None,
+        visible: bool | None = None,
+    ):
+        validate_prim_path(prim_path)
+        self.prim_path = prim_path
+        self._name = name if name is not None else self._default_name
+        stage = get_current_stage()
+        existing = stage.get_prim(prim_path) if self._wraps_existing else None
+        if isinstance(existing, ReferencePrim):
+            existing = None  # the model's root: use Articulation / Robot for it
+        if existing is not None:
+            given = [k for k, v in (("position", position), ("translation", translation),
+                                    ("orientation", orientation), ("scale", scale), ("visible", visible)) if v is not None]
+            if given:
+                raise InvalidInputError(
+                    f"{type(self).__name__} at {prim_path!r} wraps the existing {type(existing).__name__} there; "
+                    f"{', '.join(given)} cannot be given (set them on the wrapped object)")
+            position, orientation = existing.get_world_pose()
+            scale = existing.get_local_scale()
+        self._wrapped_object = existing
+        p = position_or_translation(position, translation)
+        self._pose = (
+            vec(p, 3, "position") if p is not None else np.zeros(3),
+            unit_quat(orientation) if orientation is not None else _IDENTITY.copy(),
+        )
+        self._scale = scale3(scale) if scale is not None else np.ones(3)
+        self._visible = True if visible is None else bool(visible)
+        self._default_state: XFormPrimState = self._make_default_state()
+        self._sim: SimHandle | None = None
+        self._body_id = -1
+        self._site_id = -1
+        self._mocap_id = -1
+        self._qadr = -1
+        self._dadr = -1
+        self._wrapped_reference: ReferencePrim | None = None
+        for path in stage.prim_paths():
+            if prim_path.startswith(path + "/") and stage.find_reference(path) is not None:
+                self._wrapped_reference = stage.find_reference(path)
+        if self._wrapped_reference is not None or self._wrapped_object is not None:
+            stage.register_wrapper(self)
+        else:
+            stage.add_prim(self)
+
+    def _make_default_state(self) -> XFormPrimState:
+        return XFormPrimState(self._pose[0].copy(), self._pose[1].copy())
+
+    # ------------------------------------------------------------------ identity
+    @property
+    def name(self) -> str:
+        """Unique name in the scene."""
+        return self._name
+
+    @property
+    def is_valid(self) -> bool:
+        return self._sim is not None
+
+    def initialize(self, physics_sim_view=None) -> None:
+        """Nothing to do: objects are bound when the World compiles (kept for Isaac scripts)."""
+
+    # ------------------------------------------------------------------ building
+    def add_to_spec(self, spec: mujoco.MjSpec) -> mujoco.MjsBody:
+        body = spec.worldbody.add_body(
+            name=self.prim_path, pos=self._pose[0].tolist(), quat=self._pose[1].tolist(), mocap=True
+        )
+        return body
+
+    def _bindable(self) -> bool:
+        """Whether the compiled model holds this prim (a prim of a referenced model compiled
+        already; a wrapped object compiled already)."""
+        if self._wrapped_object is not None:
+            return self._wrapped_object.is_valid
+        return self._wrapped_reference is None or self._wrapped_reference.core is not None
+
+    def bind_simulation(self, sim: SimHandle) -> None:
+        m = sim.model
+        self._sim = sim
+        if self._wrapped_reference is not None:
+            self._body_id = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, self.prim_path)
+            self._site_id = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, self.prim_path)
+            if self._body_id < 0 and self._site_id < 0:
+                self._sim = None
+                raise SimulationError(
+                    f"XFormPrim {self.prim_path!r}: the referenced model has no body or site of that name"
+                )
+            if self._body_id >= 0:
+                self._site_id = -1
+            return
+        self._body_id = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, self.prim_path)
+        self._mocap_id = int(m.body_mocapid[self._body_id])
+        jnt = m.body_jntadr[self._body_id]
+        if jnt >= 0 and int(m.jnt_type[jnt]) == int(mujoco.mjtJoint.mjJNT_FREE):
+            self._qadr = int(m.jnt_qposadr[jnt])
+            self._dadr = int(m.jnt_dofadr[jnt])
+
+    def unbind_simulation(self) -> None:
+        self._sim = None
+
+    # ------------------------------------------------------------------ pose
+    def get_world_pose(self) -> tuple[np.ndarray, np.ndarray]:
+        """World pose: position (3,) [m] and orientation (4,) (w, x, y, z).
+
+        Before the first `World.reset()` it is the pose the prim was created with (or last
+        set to).
+        """
+        sim = self._sim
+        if sim is None:
+            if self._wrapped_reference is not None:
+                logger.warning("%s: pose unknown before the first World.reset(); returning None", self.prim_path)
+                return None  # type: ignore[return-value]
+            if self._wrapped_object is not None:
+                return self._wrapped_object.get_world_pose()
+            return self._pose[0].copy(), self._pose[1].copy()
+        d = sim.data
+        if self._qadr >= 0:
+            return sim.free_pose(self._qadr)
+        if self._mocap_id >= 0:
+            return d.mocap_pos[self._mocap_id].copy(), d.mocap_quat[self._mocap_id].copy()
+        sim.ensure_kinematics()
+        if self._site_id >= 0:
+            return d.site_xpos[self._site_id].copy(), quat.from_matrix(d.site_xmat[self._site_id].reshape(3, 3))
+        return d.xpos[self._body_id].copy(), d.xquat[self._body_id].copy()
+
+    def set_world_pose(self, position=None, orientation=None) -> None:
+        """Teleport the prim. None keeps that part of the pose.
+
+        Raises:
+            InvalidInputError: non-finite position, or orientation not a unit quaternion.
+            SimulationError: the prim is a body of a referenced model (move the robot instead).
+        """
+        p = vec(position, 3, "position") if position is not None else None
+        q = unit_quat(orientation) if orientation is not None else None
+        if self._wrapped_reference is not None:
+            raise SimulationError(
+                f"{self.prim_path!r} is part of the model at {self._wrapped_reference.prim_path!r}; "
+                "its pose follows the joints (move the articulation instead)"
+            )
+        sim = self._sim
+        if sim is None:
+            if self._wrapped_object is not None:
+                self._wrapped_object.set_world_pose(p, q)
+                return
+            self._pose = (p if p is not None else self._pose[0], q if q is not None else self._pose[1])
+            return
+        d = sim.data
+        if self._qadr >= 0:
+            if p is not None:
+                d.qpos[self._qadr : self._qadr + 3] = p
+            if q is not None:
+                d.qpos[self._qadr + 3 : self._qadr + 7] = q
+        else:
+            if p is not None:
+                d.mocap_pos[self._mocap_id] = p
+            if q is not None:
+                d.mocap_quat[self._mocap_id] = q
+        sim.mark_stale()
+
+    def get_local_pose(self) -> tuple[np.ndarray, np.ndarray]:
+        """Same as `get_world_pose` (prims have no parent transform here)."""
+        return self.get_world_pose()
+
+    def set_local_pose(self, translation=None, orientation=None) -> None:
+        """Same as `set_world_pose` (prims have no parent transform here)."""
+        self.set_world_pose(translation, orientation)
+
+    def get_local_scale(self) -> np.ndarray:
+        """Scale (3,)."""
+        return self._scale.copy()
+
+    def get_world_scale(self) -> np.ndarray:
+        return self._scale.copy()
+
+    def set_local_scale(self, scale) -> None:
+        """Change the scale; it takes effect at the next `World.reset()` (the model is recompiled)."""
+        self._scale = scale3(scale)
+        self._mark_changed()
+
+    def _mark_changed(self) -> None:
+        """A build parameter changed: the World recompiles at its next reset."""
+        get_current_stage().mark_changed(self.prim_path)
+
+    # ------------------------------------------------------------------ visibility
+    def set_visibility(self, visible: bool) -> None:
+        self._visible = bool(visible)
+        self._apply_visibility()
+
+    def get_visibility(self) -> bool:
+        return self._visible
+
+    def is_visible(self) -> bool:
+        return self._visible
+
+    def _apply_visibility(self) -> None:
+        pass
+
+    # ------------------------------------------------------------------ default state
+    def post_reset(self) -> None:
+        """Restore the default state (called by `World.reset()` for objects in the scene)."""
+        if self._wrapped_reference is None:
+            self.set_world_pose(self._default_state.position, self._default_state.orientation)
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}(prim_path={self.prim_path!r}, name={self._name!r})"

@@ -1,0 +1,1 @@
+"""Robot wrappers: `Robot`, `Franka`, `WheeledRobot`, `ParallelGripper` (`robot`) and `SingleManipulator` (`manipulator`)."""

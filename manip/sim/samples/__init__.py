@@ -1,0 +1,1 @@
+"""Extension samples: `BaseSample` (`base_sample`), `BaseSampleExtension` (`extension`) and `HelloWorld`."""

@@ -1,0 +1,352 @@
+"""The stage: every prim (shape, transform, referenced model file) that the World compiles.
+
+Isaac Sim keeps a USD stage; here the stage is a small registry of prims, each knowing how
+to add itself to a `mujoco.MjSpec`. Creating an object puts its prim on the stage (as
+creating a prim in Isaac does); `World.reset()` compiles the stage into a MuJoCo model.
+MuJoCo names are prefixed by the prim path: the cube at `/World/cube` is the body
+`/World/cube`, a Franka referenced at `/World/Franka` has joints `/World/Franka/panda_joint1`...
+"""
+
+from __future__ import annotations
+
+import logging
+import xml.etree.ElementTree as ET
+from pathlib import Path
+from typing import Any, Protocol
+
+import mujoco
+import numpy as np
+
+from manip import quaternion as quat
+from manip.errors import InvalidInputError, ManipError
+from manip.sim.assets import MODEL_SUFFIXES, get_assets_root_path, resolve_asset_path
+from manip.sim.core.callbacks import CallbackTable
+
+logger = logging.getLogger(__name__)
+
+
+class SimulationError(ManipError):
+    """A misuse of the simulation API (wrong order of calls, a model that does not compile)."""
+
+
+def validate_prim_path(prim_path: str) -> str:
+    """Check that `prim_path` looks like `/World/name` (absolute, no empty or blank segment)."""
+    if not isinstance(prim_path, str) or not prim_path.startswith("/") or prim_path.endswith("/"):
+        raise InvalidInputError(f"prim_path must be an absolute path like '/World/cube'; got {prim_path!r}")
+    parts = prim_path[1:].split("/")
+    if any(not p or p != p.strip() for p in parts):
+        raise InvalidInputError(f"prim_path {prim_path!r} has an empty or blank segment")
+    return prim_path
+
+
+class SimHandle:
+    """The compiled model and its data, shared by every bound object.
+
+    After physics steps the positions are current but the derived kinematics (body and
+    geom poses, velocities) are stale; getters call `ensure_kinematics()`, which runs
+    MuJoCo's position and velocity kinematics at most once per step.
+    """
+
+    def __init__(self, model: mujoco.MjModel, data: mujoco.MjData):
+        self.model = model
+        self.data = data
+        self.kinematics_stale = True
+
+    def ensure_kinematics(self) -> None:
+        if self.kinematics_stale:
+            mujoco.mj_kinematics(self.model, self.data)
+            mujoco.mj_comPos(self.model, self.data)
+            mujoco.mj_comVel(self.model, self.data)
+            self.kinematics_stale = False
+
+    def mark_stale(self) -> None:
+        self.kinematics_stale = True
+
+    # Free joints: qpos[qadr:qadr+7] = position (3,) [m], quaternion (4,) (w, x, y, z);
+    # qvel[dadr:dadr+6] = linear velocity (world frame) [m/s], angular velocity (body frame) [rad/s].
+    def free_pose(self, qadr: int) -> tuple[np.ndarray, np.ndarray]:
+        """Position (3,) [m] and unit quaternion (4,) of the free joint at qpos address `qadr`."""
+        q = self.data.qpos[qadr:qadr + 7]
+        return q[:3].copy(), q[3:7] / np.linalg.norm(q[3:7])
+
+    def free_rotation(self, qadr: int) -> np.ndarray:
+        """Rotation matrix (3, 3) body -> world of the free joint at qpos address `qadr`."""
+        q = self.data.qpos[qadr + 3:qadr + 7]
+        return quat.to_matrix(q / np.linalg.norm(q))
+
+    def free_angular_velocity(self, qadr: int, dadr: int) -> np.ndarray:
+        """World-frame angular velocity (3,) [rad/s] of a free joint."""
+        return self.free_rotation(qadr) @ self.data.qvel[dadr + 3:dadr + 6]
+
+    def set_free_angular_velocity(self, qadr: int, dadr: int, w) -> None:
+        """Set a free joint's angular velocity from world-frame `w` (3,) [rad/s]."""
+        self.data.qvel[dadr + 3:dadr + 6] = self.free_rotation(qadr).T @ w
+
+
+class StagePrim(Protocol):
+    """What the World needs from a prim to compile and bind it (a `ReferencePrim` is bound
+    by the World, which gives it an `ArticulationCore`)."""
+
+    prim_path: str
+
+    def add_to_spec(self, spec: mujoco.MjSpec) -> None: ...
+
+    def bind_simulation(self, sim: SimHandle) -> None: ...
+
+
+class ReferencePrim:
+    """A model file (MJCF or URDF) referenced on the stage under `prim_path`.
+
+    Every MuJoCo name of the file is prefixed by `prim_path + "/"`. Before compiling, the
+    prim's pose places the file's world frame; joints without an actuator get one, as every
+    joint of an Isaac articulation has a drive: in an MJCF a drive with zero gains; in a URDF
+    the drive Isaac's URDF importer makes (a position drive, kp = `URDF_DRIVE_STIFFNESS`,
+    kd = `URDF_DRIVE_DAMPING`, force limited to the joint's `<limit effort>`).
+    """
+
+    def __init__(self, file_path: Path, prim_path: str):
+        self.file_path = file_path
+        self.prim_path = prim_path
+        self.prefix = prim_path + "/"
+        self.position = np.zeros(3)
+        self.orientation = np.array([1.0, 0.0, 0.0, 0.0])
+        self.home_qpos: dict[str, np.ndarray] = {}  # joint name (unprefixed) -> qpos of the 'home' key
+        # The model's ArticulationCore, set by the World while a compiled model exists.
+        self.core: Any = None
+
+    def unbind_simulation(self) -> None:
+        """Forget the compiled model's core (the prim was removed from the stage)."""
+        self.core = None
+
+    def _load_spec(self) -> mujoco.MjSpec:
+        try:
+            child = mujoco.MjSpec.from_file(str(self.file_path))
+        except Exception as exc:  # mujoco raises ValueError with the parser's message
+            raise SimulationError(f"cannot load {self.file_path} for prim {self.prim_path}: {exc}") from exc
+        return child
+
+    def add_to_spec(self, spec: mujoco.MjSpec) -> None:
+        child = self._load_spec()
+        # Make asset paths absolute: after attaching, relative paths would resolve against
+        # the parent's (non-existent) folder.
+        base = Path(child.modelfiledir or self.file_path.parent)
+        meshdir = base / (child.meshdir or "")
+        texdir = base / (child.texturedir or "")
+        for mesh in child.meshes:
+            if mesh.file and not Path(mesh.file).is_absolute():
+                mesh.file = str((meshdir / mesh.file).resolve())
+        for tex in child.textures:
+            if tex.file and not Path(tex.file).is_absolute():
+                tex.file = str((texdir / tex.file).resolve())
+        child.meshdir = ""
+        child.texturedir = ""
+        # Keyframes: remember 'home' (default joint state), drop all (their sizes would not
+        # match the assembled model).
+        self.home_qpos = {}
+        keys = list(child.keys)
+        home = next((k for k in keys if k.name == "home"), None)
+        if home is not None:
+            probe = child.copy().compile()
+            qpos = np.asarray(home.qpos, dtype=float)
+            if qpos.size == probe.nq:
+                for j in range(probe.njnt):
+                    if int(probe.jnt_type[j]) in (int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE)):
+                        self.home_qpos[probe.joint(j).name] = qpos[probe.jnt_qposadr[j]].copy()
+        for k in keys:
+            child.delete(k)
+        actuated = {a.target for a in child.actuators if a.trntype == mujoco.mjtTrn.mjTRN_JOINT}
+        urdf = self.file_path.suffix.lower() == ".urdf"
+        efforts = _urdf_effort_limits(self.file_path) if urdf else {}
+        for joint in child.joints:
+            if joint.type in (mujoco.mjtJoint.mjJNT_HINGE, mujoco.mjtJoint.mjJNT_SLIDE) and joint.name not in actuated:
+                if not joint.name:
+                    continue
+                act = child.add_actuator(name=joint.name, target=joint.name, trntype=mujoco.mjtTrn.mjTRN_JOINT)
+                if urdf:
+                    _isaac_urdf_drive(act, efforts.get(joint.name))
+        frame = spec.worldbody.add_frame(pos=self.position.tolist(), quat=self.orientation.tolist())
+        spec.attach(child, prefix=self.prefix, frame=frame)
+
+
+#: Drive gains Isaac's URDF importer gives every joint (its ImportConfig defaults: a position
+#: drive of strength 1e3 and damping 1e2) [N m/rad, N m s/rad or N/m, N s/m].
+URDF_DRIVE_STIFFNESS = 1e3
+URDF_DRIVE_DAMPING = 1e2
+
+
+def _urdf_effort_limits(file_path: Path) -> dict[str, float]:
+    """{joint name: effort limit [N m or N]} of a URDF's `<limit effort>` (> 0 only)."""
+    out = {}
+    try:
+        for joint in ET.parse(file_path).getroot().iter("joint"):
+            limit = joint.find("limit")
+            if limit is not None and float(limit.get("effort", 0.0)) > 0.0:
+                out[joint.get("name")] = float(limit.get("effort"))
+    except (ET.ParseError, ValueError, OSError) as exc:  # MuJoCo reports a malformed file itself
+        logger.warning("%s: no URDF effort limits read (%s)", file_path, exc)
+    return out
+
+
+def _isaac_urdf_drive(act, effort: float | None) -> None:
+    """Make `act` the drive Isaac's URDF importer creates: a position drive with its default
+    gains, its force limited to the joint's URDF effort limit (unlimited without one)."""
+    act.biastype = mujoco.mjtBias.mjBIAS_AFFINE
+    bias = list(act.biasprm)
+    bias[1], bias[2] = -URDF_DRIVE_STIFFNESS, -URDF_DRIVE_DAMPING
+    act.biasprm = bias
+    if effort is not None:
+        act.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
+        act.forcerange = [-effort, effort]
+
+
+class Stage:
+    """The prims the World compiles, by prim path (insertion order is kept)."""
+
+    def __init__(self) -> None:
+        self._prims: dict[str, Any] = {}
+        self._wrappers: list[Any] = []  # objects bound after each compile (Articulations)
+        self.version = 0
+        #: The stage-event callbacks (`World.add_stage_callback` adds to it).
+        self.callbacks = CallbackTable("stage")
+        self.sim: SimHandle | None = None  # set by the World while a compiled model exists
+
+    def add_prim(self, prim: Any) -> None:
+        path = validate_prim_path(prim.prim_path)
+        if path in self._prims:
+            raise InvalidInputError(
+                f"a prim already exists at {path!r} ({type(self._prims[path]).__name__}); use another prim_path "
+                f"or remove it first"
+            )
+        for existing in self._prims:
+            if path.startswith(existing + "/") and isinstance(self._prims[existing], ReferencePrim):
+                raise InvalidInputError(
+                    f"{path!r} lies inside the referenced model at {existing!r}; objects must be created outside it"
+                )
+        self._prims[path] = prim
+        self.notify_changed("PRIM_ADDED", path)
+
+    def remove_prim(self, prim_path: str) -> None:
+        """Delete the prim at `prim_path` and, as USD deletes a prim's children, every prim
+        and wrapper at or below it (e.g. a Franka's end-effector frame with the Franka).
+        What is removed is unbound (articulation getters return None, as before a reset);
+        the model changes at the next `World.reset()`."""
+        if prim_path not in self._prims:
+            return
+
+        def below(path: object) -> bool:
+            return isinstance(path, str) and (path == prim_path or path.startswith(prim_path + "/"))
+
+        gone = [self._prims.pop(p) for p in list(self._prims) if below(p)]
+        gone += [w for w in self._wrappers if below(getattr(w, "prim_path", None))]
+        self._wrappers = [w for w in self._wrappers if w not in gone]
+        for obj in gone:
+            if hasattr(obj, "unbind_simulation"):
+                obj.unbind_simulation()
+        self.notify_changed("PRIM_REMOVED", prim_path)
+
+    def get_prim(self, prim_path: str) -> Any | None:
+        return self._prims.get(prim_path)
+
+    def prims(self) -> list[Any]:
+        return list(self._prims.values())
+
+    def prim_paths(self) -> list[str]:
+        return list(self._prims)
+
+    def register_wrapper(self, wrapper: Any) -> None:
+        """Remember `wrapper` to bind it after each compile; at once if the model is compiled
+        and holds the wrapper's prims (`wrapper._bindable()`, default True). A wrapper of a
+        prim added since the last compile is bound by the next `World.reset()`."""
+        if wrapper not in self._wrappers:
+            self._wrappers.append(wrapper)
+            bindable = getattr(wrapper, "_bindable", None)
+            if self.sim is not None and (bindable is None or bindable()):
+                wrapper.bind_simulation(self.sim)
+
+    def wrappers(self) -> list[Any]:
+        return list(self._wrappers)
+
+    def find_reference(self, prim_path: str) -> ReferencePrim | None:
+        prim = self._prims.get(prim_path)
+        return prim if isinstance(prim, ReferencePrim) else None
+
+    def mark_changed(self, prim_path: str) -> None:
+        """Note that the prim at `prim_path` changed: the World recompiles at its next reset."""
+        self.notify_changed("PRIM_CHANGED", prim_path)
+
+    def notify_changed(self, kind: str, path: str) -> None:
+        self.version += 1
+        self.callbacks.call(StageEvent(kind, path))
+
+    def clear(self) -> None:
+        self.sim = None
+        self._prims.clear()
+        self._wrappers.clear()
+        self.notify_changed("CLEARED", "/")
+
+
+class StageEvent:
+    """What a stage callback receives: `type` ("PRIM_ADDED", "PRIM_REMOVED", "CLEARED",
+    "COMPILED") and the prim `path`."""
+
+    def __init__(self, type: str, path: str):
+        self.type = type
+        self.path = path
+
+    def __repr__(self) -> str:
+        return f"StageEvent({self.type!r}, {self.path!r})"
+
+
+_STAGE = Stage()
+
+
+def get_current_stage() -> Stage:
+    """The stage that objects and references are created on."""
+    return _STAGE
+
+
+def create_new_stage() -> Stage:
+    """Empty the stage (all prims and wrappers are forgotten). Returns it."""
+    _STAGE.clear()
+    return _STAGE
+
+
+def is_prim_path_valid(prim_path: str) -> bool:
+    """Whether a prim exists at `prim_path` on the current stage."""
+    return prim_path in _STAGE._prims
+
+
+def add_reference_to_stage(usd_path: str | Path, prim_path: str, prim_type: str = "Xform") -> ReferencePrim:
+    """Load a model into the stage under `prim_path` (Isaac's `add_reference_to_stage`).
+
+    `usd_path` is an Isaac asset path (`get_assets_root_path() + "/Isaac/Robots/Franka/franka.usd"`,
+    see `manip.sim.assets.ISAAC_ASSETS`), which loads the bundled MuJoCo model, or an MJCF
+    (.xml) or URDF (.urdf) file. Its names are prefixed by `prim_path + "/"` once compiled
+    by `World.reset()`. Differs from Isaac: no USD files; a referenced model cannot be
+    referenced twice at the same prim path.
+
+    Raises:
+        FileNotFoundError: no such asset (the message lists the available ones).
+        InvalidInputError: the prim path is malformed or taken, or the file type is not
+            .xml/.mjcf/.urdf.
+    """
+    path = resolve_asset_path(usd_path)
+    if path.suffix.lower() not in MODEL_SUFFIXES:
+        raise InvalidInputError(f"add_reference_to_stage: expected an MJCF (.xml) or URDF (.urdf) file; got {path}")
+    validate_prim_path(prim_path)
+    prim = ReferencePrim(path, prim_path)
+    _STAGE.add_prim(prim)
+    return prim
+
+
+async def create_new_stage_async() -> Stage:
+    """`create_new_stage()`, awaitable (Isaac's extension workflow)."""
+    return create_new_stage()
+
+
+def update_stage() -> None:
+    """Nothing to do: the stage has no pending USD updates here (kept for Isaac scripts)."""
+
+
+async def update_stage_async() -> None:
+    """Nothing to do (Isaac waits for the next app update); awaitable."""

@@ -1,0 +1,1 @@
+"""Isaac's utilities: state types (`types`) and rotation conversions (`rotations`)."""
