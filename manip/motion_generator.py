@@ -54,9 +54,10 @@ import numpy as np
 from manip.collision import CollisionChecker, WorldConfig
 from manip.collision.clearance import ClearanceModel
 from manip.errors import InvalidInputError
-from manip.ik import BatchIKResult, IKResult, IKSolver, IKStatus
+from manip.ik import BatchIKResult, IKResult, IKSolver
 from manip.kinematics import Kinematics
 from manip.planning.context import START_LIMIT_TOLERANCE, PlanContext
+from manip.planning.goal_configurations import goal_configurations
 from manip.planning.time_and_validate import time_and_validate
 from manip.planning.path.goals import order_goals
 from manip.planning.path.linear import linear_path
@@ -73,15 +74,6 @@ logger = logging.getLogger(__name__)
 
 __all__ = ["MotionGenerator", "START_LIMIT_TOLERANCE"]
 
-#: Random IK starts tried for a pose goal when the first round finds no collision-free solution.
-IK_RETRY_ATTEMPTS = 400
-#: IK_FAIL messages report the first of these reasons found among the poses of a goal set
-#: (a pose out of reach says more than one whose solutions collide, which says more than one
-#: where IK did not converge).
-IK_FAILURE_ORDER = (IKStatus.OUT_OF_REACH, IKStatus.REJECTED_BY_VALIDITY, IKStatus.NOT_CONVERGED)
-#: Pose goals of redundant arms: each IK solution is also offered moved along its self-motion
-#: towards the start (`IKSolver.solve_many(toward_seed=True)`): nearer goals, shorter motions.
-IK_TOWARD_START = True
 #: Largest joint-space deviation [rad] of a linear motion's timing from its dense IK path
 #: (about 1 mm at the hand).
 LINEAR_DEVIATION = 1e-3
@@ -502,7 +494,7 @@ class MotionGenerator:
         if ctx.failed:
             return ctx.result()
         t_ik = time.perf_counter()
-        configs, owners, why = self._goal_configs(ctx, validity, start, goals, link)
+        configs, owners, why = goal_configurations(self.ik_solver, ctx, validity, start, goals, link)
         ctx.add_time("ik", t_ik)
         if not len(configs):
             return ctx.fail(PlanStatus.IK_FAIL, why)
@@ -549,49 +541,6 @@ class MotionGenerator:
         if self.velocity_scale != 1.0 or self.acceleration_scale != 1.0:
             base = replace(base, velocity_scale=self.velocity_scale, acceleration_scale=self.acceleration_scale)
         return PlanContext(base.updated(options), t0)
-
-    def _goal_configs(self, ctx: PlanContext, validity: Validity, start: np.ndarray, goals: Pose,
-                      link: str) -> tuple[np.ndarray, list[int], str]:
-        """(M, dof) collision-free IK solutions of the poses, for each its pose index, and
-        when there is none, why (the most telling reason found: out of reach, in collision
-        and with what, or not converged)."""
-        configs, owners, reasons = [], [], []
-        for i, g in enumerate(goals):
-            sols = self.ik_solver.solve_many(
-                g, link, n=ctx.options.ik_solutions, seed_q=start, validity_fn=validity.configs,
-                toward_seed=IK_TOWARD_START,
-            )
-            if len(sols) == 0:
-                # tight goals (a hand between obstacles, a joint on its limit) have few
-                # collision-free solutions: search many more random starts for one
-                sols = self.ik_solver.solve_many(
-                    g, link, n=2, seed_q=start, validity_fn=validity.configs, attempts=IK_RETRY_ATTEMPTS,
-                    seed=int(ctx.rng.integers(2**31)),
-                )
-            for q in sols:
-                configs.append(q)
-                owners.append(i)
-            if len(sols) == 0:
-                reasons.append(self._ik_failure(sols, g, link, start, validity))
-        why = ""
-        if not configs:
-            # one reason per pose; the first of the most telling kind (see IK_FAILURE_ORDER)
-            rank = {s: k for k, s in enumerate(IK_FAILURE_ORDER)}
-            status, detail = min(reasons, key=lambda r: rank.get(r[0], len(rank)))
-            which = "" if len(goals) == 1 else f" for any of the {len(goals)} poses"
-            why = f"no collision-free IK solution within the joint limits{which}: {status.name}: {detail}"
-        return np.asarray(configs).reshape(-1, self.robot_dof), owners, why
-
-    def _ik_failure(self, sols, goal: Pose, link: str, start: np.ndarray, validity: Validity) -> tuple:
-        """(IKStatus, detail) of a pose without collision-free IK solutions. When solutions
-        exist but all collide, one of them (the nearest the start) says with what."""
-        if sols.status is not IKStatus.REJECTED_BY_VALIDITY:
-            return sols.status, sols.message
-        found = self.ik_solver.solve_many(goal, link, n=1, seed_q=start)
-        if len(found) == 0:
-            return sols.status, "every IK solution found is in collision"
-        problem = validity.goal_problem(found[0]) or "in collision"
-        return sols.status, f"every IK solution found is in collision; the one nearest the start: {problem}"
 
     def _plan_linear(self, start_q, goal: Pose, link: str, options: dict) -> PlanResult:
         """Straight-line motion of `link` from its current pose to `goal`."""

@@ -1,0 +1,79 @@
+"""Pose goals to goal configurations: collision-free IK solutions, or why there is none.
+
+`goal_configurations` turns the poses of `plan_pose` / `plan_goalset` into joint goals for
+the planner: several collision-free IK solutions per pose (moved along the arm's self-motion
+towards the start), a many-start search for tight goals, and, when no pose has one, the most
+telling reason found (out of reach; in collision, and with what; not converged).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from manip.ik import IKSolver, IKStatus
+from manip.planning.context import PlanContext
+from manip.planning.validity import Validity
+from manip.pose import Pose
+
+#: Random IK starts tried for a pose goal when the first round finds no collision-free solution.
+IK_RETRY_ATTEMPTS = 400
+#: IK_FAIL messages report the first of these reasons found among the poses of a goal set
+#: (a pose out of reach says more than one whose solutions collide, which says more than one
+#: where IK did not converge).
+IK_FAILURE_ORDER = (IKStatus.OUT_OF_REACH, IKStatus.REJECTED_BY_VALIDITY, IKStatus.NOT_CONVERGED)
+#: Pose goals of redundant arms: each IK solution is also offered moved along its self-motion
+#: towards the start (`IKSolver.solve_many(toward_seed=True)`): nearer goals, shorter motions.
+IK_TOWARD_START = True
+
+
+def goal_configurations(ik_solver: IKSolver, ctx: PlanContext, validity: Validity, start: np.ndarray, goals: Pose,
+                        link: str) -> tuple[np.ndarray, list[int], str]:
+    """Collision-free IK solutions of the poses `goals` for `link`.
+
+    Args:
+        ik_solver: the robot's IK solver.
+        ctx: the plan's context (options: `ik_solutions`; its generator seeds the retries).
+        validity: the plan's validity checks (the world snapshot).
+        start: (dof,) the start configuration [rad] (the IK seed).
+        goals: a Pose or a batched Pose (a goal set).
+        link: the frame that must reach the poses.
+
+    Returns:
+        (M, dof) configurations [rad], the pose index of each (M,), and, when M == 0, why
+        (an IK_FAIL message; "" otherwise).
+    """
+    configs, owners, reasons = [], [], []
+    for i, g in enumerate(goals):
+        sols = ik_solver.solve_many(g, link, n=ctx.options.ik_solutions, seed_q=start, validity_fn=validity.configs,
+                                    toward_seed=IK_TOWARD_START)
+        if len(sols) == 0:
+            # tight goals (a hand between obstacles, a joint on its limit) have few
+            # collision-free solutions: search many more random starts for one
+            sols = ik_solver.solve_many(g, link, n=2, seed_q=start, validity_fn=validity.configs,
+                                        attempts=IK_RETRY_ATTEMPTS, seed=int(ctx.rng.integers(2**31)))
+        for q in sols:
+            configs.append(q)
+            owners.append(i)
+        if len(sols) == 0:
+            reasons.append(_ik_failure(ik_solver, sols, g, link, start, validity))
+    why = ""
+    if not configs:
+        # one reason per pose; the first of the most telling kind (see IK_FAILURE_ORDER)
+        rank = {s: k for k, s in enumerate(IK_FAILURE_ORDER)}
+        status, detail = min(reasons, key=lambda r: rank.get(r[0], len(rank)))
+        which = "" if len(goals) == 1 else f" for any of the {len(goals)} poses"
+        why = f"no collision-free IK solution within the joint limits{which}: {status.name}: {detail}"
+    return np.asarray(configs).reshape(-1, ik_solver.kinematics.dof), owners, why
+
+
+def _ik_failure(ik_solver: IKSolver, sols, goal: Pose, link: str, start: np.ndarray,
+                validity: Validity) -> tuple[IKStatus, str]:
+    """(IKStatus, detail) of a pose without collision-free IK solutions. When solutions exist
+    but all collide, one of them (the nearest the start) says with what."""
+    if sols.status is not IKStatus.REJECTED_BY_VALIDITY:
+        return sols.status, sols.message
+    found = ik_solver.solve_many(goal, link, n=1, seed_q=start)
+    if len(found) == 0:
+        return sols.status, "every IK solution found is in collision"
+    problem = validity.goal_problem(found[0]) or "in collision"
+    return sols.status, f"every IK solution found is in collision; the one nearest the start: {problem}"
