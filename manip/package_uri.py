@@ -102,6 +102,11 @@ def prefixes() -> list[Path]:
     return list(dict.fromkeys(out))
 
 
+# Packages found, by (name, URDF folder, environment): a robot's URDF names a few packages
+# for many meshes, and the simulator reloads it at each compile. Only found packages are kept.
+_found: dict[tuple, tuple[Path, list[str]]] = {}
+
+
 def find_package(name: str, urdf: str | Path) -> tuple[Path | None, list[str]]:
     """The folder of ROS package `name` as seen from the URDF file `urdf` (see the module
     docstring for the order), and the places searched (for an error message).
@@ -110,6 +115,19 @@ def find_package(name: str, urdf: str | Path) -> tuple[Path | None, list[str]]:
         (the package's folder, or None; the folders searched, in order).
     """
     urdf = Path(urdf).resolve()
+    key = (name, str(urdf.parent), os.environ.get("ROS_PACKAGE_PATH"), os.environ.get("AMENT_PREFIX_PATH"),
+           os.environ.get("CONDA_PREFIX"), tuple(sys.path))
+    if key in _found and _found[key][0].is_dir():
+        return _found[key]
+    folder, searched = _find_package(name, urdf)
+    if folder is not None:
+        if len(_found) > 1024:
+            _found.clear()
+        _found[key] = (folder, searched)
+    return folder, searched
+
+
+def _find_package(name: str, urdf: Path) -> tuple[Path | None, list[str]]:
     searched = [f"{urdf.parent} and its parent folders"]
     for folder in urdf.parents:
         if folder.name == name or _manifest_name(folder) == name:

@@ -24,6 +24,8 @@ from manip.datagen.problems import plan_ids, problem_id  # noqa: E402
 ARGS = ["--scenes", "4", "--problems-per-scene", "3", "--kinds", "table,shelf", "--seed", "2", "--workers", "2",
         "--time-budget", "30", "--rows-per-part", "1", "--no-progress"]
 IDS = sorted(problem_id(*t) for t in plan_ids(["table", "shelf"], 4, 3))
+#: The runs started here are stopped (SIGSTOP) and killed by process group, read from /proc.
+linux = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="process groups and /proc (Linux)")
 
 
 def command(out: Path) -> list[str]:
@@ -51,6 +53,18 @@ def start(out: Path, wait_for_part: bool, log: Path) -> subprocess.Popen:
     return proc
 
 
+def _group_alive(pgid: int) -> bool:
+    """Whether a process of group `pgid` still runs (zombies of a reaped parent do not count)."""
+    for status in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = status.read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        if int(fields[2]) == pgid and fields[0] != "Z":
+            return True
+    return False
+
+
 def files(out: Path) -> dict[str, tuple[int, int]]:
     return {p.name: (p.stat().st_size, p.stat().st_mtime_ns) for p in sorted(out.iterdir())}
 
@@ -73,6 +87,7 @@ def refused(tmp_path_factory):
     return out, second, first.pid, before, after, first.returncode, log.read_text()
 
 
+@linux
 def test_a_second_run_on_the_same_folder_is_refused_at_once_with_status_3(refused):
     out, second, first_pid, before, after, _, _ = refused
     assert second.returncode == 3, second.stderr
@@ -82,6 +97,7 @@ def test_a_second_run_on_the_same_folder_is_refused_at_once_with_status_3(refuse
     assert after == before  # it wrote nothing, renamed nothing
 
 
+@linux
 def test_the_first_run_ends_with_the_whole_dataset(refused):
     out, _, _, _, _, code, output = refused
     assert code == 0, output
@@ -91,21 +107,25 @@ def test_the_first_run_ends_with_the_whole_dataset(refused):
     assert not list(out.glob(".*.tmp"))
 
 
+@linux
 def test_a_killed_run_leaves_no_lock_and_a_rerun_completes_the_same_dataset(refused, tmp_path):
     out = tmp_path / "ds"
     crashed = start(out, wait_for_part=True, log=tmp_path / "crashed.log")  # stopped once a part is written
     os.kill(crashed.pid, signal.SIGKILL)  # the run's main process alone, as an OOM kill would
     crashed.wait(timeout=60)
-    os.killpg(crashed.pid, signal.SIGCONT)  # its workers, if they outlive it, hold no lock
+    os.killpg(crashed.pid, signal.SIGCONT)  # its workers, while they outlive it, hold no lock
     written = len(read_dataset(out))
     assert 1 <= written <= len(IDS) and (out / LOCK_FILE).exists()
     try:
         rerun = subprocess.run(command(out), capture_output=True, text=True, timeout=600)
+        # and they see that their parent is gone and exit (process_pool.PARENT_POLL)
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline and _group_alive(crashed.pid):
+            time.sleep(0.1)
+        assert not _group_alive(crashed.pid), "the crashed run's workers outlived it"
     finally:
-        try:
-            os.killpg(crashed.pid, signal.SIGKILL)  # the crashed run's orphaned workers
-        except ProcessLookupError:
-            pass
+        if _group_alive(crashed.pid):
+            os.killpg(crashed.pid, signal.SIGKILL)
     assert rerun.returncode == 0, rerun.stderr
     assert f"{written} already in" in rerun.stdout
     resumed = read_dataset(out).set_index("problem_id").sort_index()
