@@ -176,7 +176,7 @@ def resolve(uri: str, urdf: str | Path, what: str = "mesh") -> Path:
             f"{urdf}: {what} {uri}: {found}. Searched: {where}. Keep the URDF inside its package's folder tree, or "
             "add the folder holding the package to ROS_PACKAGE_PATH (ROS 1) or its install prefix to "
             "AMENT_PREFIX_PATH (ROS 2)")
-    path = Path(uri[len("file://"):] if uri.startswith("file://") else uri).expanduser()
+    path = Path(uri.removeprefix("file://")).expanduser()
     path = path if path.is_absolute() else urdf.parent / path
     if not path.is_file():
         raise RobotConfigError(f"{urdf}: {what} {uri}: no such file ({path})")

@@ -105,8 +105,6 @@ class UrdfTree:
         """The collision mesh filenames that resolve to no file as ROS tools resolve them
         (`manip.package_uri.resolve`); `package_dirs`: more folders D in which
         `package://PKG/rest` is also looked for as `D/PKG/rest` (as Pinocchio does)."""
-        from manip import package_uri
-
         missing = []
         for _, uri in self.collision_meshes():
             try:

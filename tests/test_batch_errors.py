@@ -9,8 +9,14 @@ import numpy as np
 import pytest
 
 from manip import MotionGenerator
-from manip.batch import BATCH_OPTIONS, Problem, plan_many, plan_stream, problem_seed
-from manip.batch import worker
+from manip.batch import (
+    BATCH_OPTIONS,
+    Problem,
+    plan_many,
+    plan_stream,
+    problem_seed,
+    worker,
+)
 from manip.benchmarking.scenes import make_problems
 from manip.errors import InvalidInputError
 from manip.planning.result import PlanStatus

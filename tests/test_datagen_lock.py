@@ -16,10 +16,10 @@ import pytest
 pytest.importorskip("pyarrow", reason="manip.datagen needs the datagen extra: pip install 'manip[datagen]'")
 pytest.importorskip("pandas", reason="manip.datagen needs the datagen extra: pip install 'manip[datagen]'")
 
-from manip.datagen import generate, read_dataset  # noqa: E402
-from manip.datagen.__main__ import main  # noqa: E402
-from manip.datagen.lock import LOCK_FILE, DatasetBusyError, writer_lock  # noqa: E402
-from manip.datagen.problems import plan_ids, problem_id  # noqa: E402
+from manip.datagen import generate, read_dataset
+from manip.datagen.__main__ import main
+from manip.datagen.lock import LOCK_FILE, DatasetBusyError, writer_lock
+from manip.datagen.problems import plan_ids, problem_id
 
 ARGS = ["--scenes", "4", "--problems-per-scene", "3", "--kinds", "table,shelf", "--seed", "2", "--workers", "2",
         "--time-budget", "30", "--rows-per-part", "1", "--no-progress"]
@@ -79,7 +79,7 @@ def refused(tmp_path_factory):
     first = start(out, wait_for_part=False, log=log)  # stopped: it holds the folder
     try:
         before = files(out)
-        second = subprocess.run(command(out), capture_output=True, text=True, timeout=300)
+        second = subprocess.run(command(out), capture_output=True, text=True, timeout=300, check=False)
         after = files(out)
     finally:
         os.killpg(first.pid, signal.SIGCONT)
@@ -117,7 +117,7 @@ def test_a_killed_run_leaves_no_lock_and_a_rerun_completes_the_same_dataset(refu
     written = len(read_dataset(out))
     assert 1 <= written <= len(IDS) and (out / LOCK_FILE).exists()
     try:
-        rerun = subprocess.run(command(out), capture_output=True, text=True, timeout=600)
+        rerun = subprocess.run(command(out), capture_output=True, text=True, timeout=600, check=False)
         # and they see that their parent is gone and exit (process_pool.PARENT_POLL)
         deadline = time.monotonic() + 60
         while time.monotonic() < deadline and _group_alive(crashed.pid):

@@ -95,7 +95,8 @@ def writer_lock(out: str | Path) -> Iterator[Path]:
         stamp = datetime.datetime.now().astimezone().isoformat(timespec="seconds")
         text = f"pid {os.getpid()} on {socket.gethostname()}, started {stamp}\n".encode()
         os.ftruncate(fd, 0)
-        os.pwrite(fd, text, 0) if hasattr(os, "pwrite") else os.write(fd, text)
+        os.lseek(fd, 0, os.SEEK_SET)
+        os.write(fd, text)
         log.debug("locked %s", out / LOCK_FILE)
         yield out
     finally:
