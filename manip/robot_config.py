@@ -13,7 +13,6 @@ adjacent links are skipped and every other pair is checked (logged).
 from __future__ import annotations
 
 import logging
-import os
 from dataclasses import dataclass, field
 from importlib import metadata
 from pathlib import Path
@@ -21,6 +20,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
+from manip import package_uri
 from manip.errors import RobotConfigError, UnknownNameError
 from manip.limits import JointLimits
 from manip.urdf import (MOVABLE_TYPES, UrdfJoint, UrdfTree, default_ee_link, disabled_pairs, srdf_group_states,
@@ -78,19 +78,16 @@ def _resolve_file(entry: str | dict | None, folder: Path, what: str) -> Path | N
 
 
 def _package_dirs(path: Path) -> list[str]:
-    """Folders to resolve `package://` URIs in a URDF: each ancestor of the file."""
-    return [str(p) for p in path.parents]
+    """Folders where Pinocchio finds the URDF's meshes (`package_uri.package_dirs`)."""
+    return list(package_uri.package_dirs(path))
 
 
 def _check_meshes(tree: UrdfTree) -> None:
-    """Raise RobotConfigError naming the collision meshes of `tree` that resolve to no file."""
-    ros = [d for d in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep) if d]  # Pinocchio looks there too
-    missing = tree.missing_meshes(_package_dirs(tree.path.resolve()) + ros)
-    if missing:
-        raise RobotConfigError(
-            f"{tree.path}: {len(missing)} collision mesh(es) not found, e.g. {missing[:3]}; package:// URIs are "
-            "looked for in the URDF's parent folders (keep the URDF inside its package's folder tree), "
-            "relative paths in the URDF's folder")
+    """Raise RobotConfigError naming a collision mesh of `tree` that resolves to no file (its
+    URI and the folders searched, `package_uri.resolve`), or that Pinocchio would not find."""
+    for _, uri in tree.collision_meshes():
+        package_uri.resolve(uri, tree.path, "collision mesh")
+    package_uri.check_pinocchio_can_read(tree.path, package_uri.package_dirs(tree.path))
 
 
 @dataclass(frozen=True)
@@ -339,7 +336,9 @@ def config_from_urdf(
     Joints not in the arm (fingers, ...) are locked at zero; there is no gripper.
 
     Args:
-        urdf: the .urdf file; `package://` mesh URIs are resolved against its ancestors.
+        urdf: the .urdf file; `package://` mesh URIs are resolved as ROS tools do (its own
+            package's folder, ROS_PACKAGE_PATH, AMENT_PREFIX_PATH, the Python environment's
+            prefixes: `manip.package_uri`).
         srdf: the .srdf file whose disabled collision pairs are skipped; None (or an SRDF
             that lists no pair): the adjacent links are skipped and every other pair is checked.
         base_link: root of the planned chain; default the URDF's root link.

@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
+from manip import package_uri
 from manip.errors import RobotConfigError, UnknownNameError
 
 logger = logging.getLogger(__name__)
@@ -100,19 +101,19 @@ class UrdfTree:
         return [(el.get("name"), mesh.get("filename", "")) for el in self.root.findall("link")
                 for mesh in el.findall("collision/geometry/mesh")]
 
-    def missing_meshes(self, package_dirs: list[str]) -> list[str]:
-        """The collision mesh filenames that resolve to no file: `package://PKG/rest` is
-        looked for as `D/PKG/rest` or `D/rest` in each of `package_dirs` (as Pinocchio does),
-        `file://` and plain paths are taken relative to the URDF's folder."""
+    def missing_meshes(self, package_dirs: list[str] | None = None) -> list[str]:
+        """The collision mesh filenames that resolve to no file as ROS tools resolve them
+        (`manip.package_uri.resolve`); `package_dirs`: more folders D in which
+        `package://PKG/rest` is also looked for as `D/PKG/rest` (as Pinocchio does)."""
         missing = []
         for _, uri in self.collision_meshes():
-            if uri.startswith("package://"):
-                rel = uri[len("package://"):]
-                found = any((Path(d) / rel).is_file() or (Path(d) / rel.split("/", 1)[-1]).is_file()
-                            for d in package_dirs)
-            else:
-                path = Path(uri[len("file://"):] if uri.startswith("file://") else uri)
-                found = (path if path.is_absolute() else self.path.parent / path).is_file()
+            try:
+                package_uri.resolve(uri, self.path)
+                continue
+            except RobotConfigError:
+                pass
+            found = uri.startswith(package_uri.PACKAGE) and any(
+                (Path(d) / uri[len(package_uri.PACKAGE):]).is_file() for d in package_dirs or [])
             if not found and uri not in missing:
                 missing.append(uri)
         return missing

@@ -309,8 +309,12 @@ def test_make_mjcf_builds_a_users_robot_folder_and_names_what_is_missing(tmp_pat
 
 
 def test_a_urdf_copied_out_of_its_package_names_its_missing_meshes(tmp_path) -> None:
-    # package:// mesh URIs resolve against the URDF's parent folders: a copy elsewhere finds none
+    # package:// mesh URIs resolve as ROS tools do (manip.package_uri; tests/test_package_uris.py):
+    # a copy elsewhere still finds the installed example-robot-data, but not a package found nowhere
     copy = tmp_path / "z1.urdf"
     copy.write_text(_erd("z1_description/urdf/z1.urdf").read_text())
-    with pytest.raises(RobotConfigError, match=r"collision mesh\(es\) not found.*z1_GripperStator.STL"):
+    MotionGenerator.from_urdf(copy, ee_link="link06")
+    copy.write_text(_erd("z1_description/urdf/z1.urdf").read_text().replace("package://example-robot-data/",
+                                                                             "package://my_z1/"))
+    with pytest.raises(RobotConfigError, match=r"collision mesh package://my_z1/.*: package 'my_z1' not found"):
         MotionGenerator.from_urdf(copy, ee_link="link06")

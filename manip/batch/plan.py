@@ -4,7 +4,9 @@
     results = plan_many([Problem(world, start, goal) for ...], workers=2, seed=0)
 
 Results are the `PlanResult`s of the single planning calls (`plan_joints` for a joint goal,
-`plan_pose` for a Pose goal), in input order. A failed plan is a result with its status.
+`plan_pose` for a Pose goal), in input order. A failed plan is a result with its status; a
+problem whose planning raises in its worker is a failed result too (status RAISED, the message
+naming the problem and the error), and the batch goes on.
 Each problem's seed is `problem_seed(seed, id)` and its path search is bounded by a count
 (`problem.BATCH_OPTIONS`: `search_iterations`, with a generous `time_budget` as a safety net),
 so a problem plans the same on any backend, with any worker count, in any order of completion
@@ -59,7 +61,8 @@ def plan_stream(
             not depend on it.
 
     Yields:
-        (problem id, PlanResult), each problem exactly once, in order of completion.
+        (problem id, PlanResult), each problem exactly once, in order of completion (a
+        problem whose planning raised: status RAISED, the message naming it and the error).
 
     Raises:
         UnknownNameError: an unknown robot (the message lists the valid ones).

@@ -21,7 +21,9 @@ Faults: a worker that dies (killed, out of memory, a crash in native code) break
 `BrokenProcessPool`. The loop then keeps the results that did arrive, starts a new pool
 and submits the unfinished tasks again, so no problem is lost and none is returned twice;
 a task caught in `MAX_ATTEMPTS` broken pools raises `WorkerLostError`. On KeyboardInterrupt
-(or any exception) the queued tasks are cancelled and the workers terminated.
+(or any exception) the queued tasks are cancelled and the workers terminated. A caller that
+is killed outright (kill -9, the OOM killer) cannot stop its workers: each notices within
+`PARENT_POLL` s that its parent is gone and exits.
 """
 
 from __future__ import annotations
@@ -31,6 +33,7 @@ import multiprocessing as mp
 import os
 import signal
 import sys
+import threading
 import time
 from collections import deque
 from collections.abc import Callable, Iterator, Sequence
@@ -74,12 +77,34 @@ class WorkerLostError(ManipError):
     """Workers kept dying while these problems were being planned."""
 
 
+#: Seconds between a worker's checks that its parent still lives (`_exit_with_parent`).
+PARENT_POLL = 1.0
+
+
 def _init_worker(robots: tuple[str | RobotSpec, ...], new_session: bool) -> None:
     if new_session:
         os.setsid()
     # Ctrl-C in a terminal reaches the whole process group: the caller stops the workers.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    _exit_with_parent()
     worker.start(robots)
+
+
+def _exit_with_parent() -> None:
+    """End this worker when its parent process ends (POSIX): a caller killed without a chance to
+    stop its pool (kill -9, the OOM killer) would leave its workers waiting for tasks forever,
+    each holding a warm generator's memory. The parent is the caller, or the fork server, which
+    exits with the caller."""
+    if os.name != "posix":
+        return
+    parent = os.getppid()
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(PARENT_POLL)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="manip-exit-with-parent", daemon=True).start()
 
 
 def default_start_method() -> str:

@@ -23,7 +23,7 @@ from threadpoolctl import threadpool_limits
 
 from manip.batch.problem import ProblemId, RobotSpec, Task
 from manip.motion_generator import MotionGenerator
-from manip.planning.result import PlanResult
+from manip.planning.result import PlanResult, PlanStatus
 from manip.pose import Pose
 
 log = logging.getLogger(__name__)
@@ -116,6 +116,11 @@ def warm_up(robots: tuple[str | RobotSpec, ...]) -> dict[str, float]:
 def solve(task: Task) -> tuple[ProblemId, PlanResult]:
     """Plan one task on this process's warm generator (warmed up first if it is new).
 
+    A task whose planning raises (an option valid on its own that fails once planned, such
+    as a `dt` giving more than `manip.validation.MAX_SAMPLES` samples, or a bug) gives a
+    failed result, `raised_result`, instead of losing the rest of the batch; the generator
+    reloads the world for the next task.
+
     Args:
         task: a validated problem.
 
@@ -123,14 +128,29 @@ def solve(task: Task) -> tuple[ProblemId, PlanResult]:
         (the task's id, the PlanResult of the single planning call).
     """
     key = str(task.robot)
-    if key not in _GENERATORS:
-        warm_up((task.robot,))
-    mg = _GENERATORS[key][0]
-    if _GENERATORS[key][1] != task.world_key:
-        mg.update_world(task.world)
-        _GENERATORS[key] = (mg, task.world_key)
-    if isinstance(task.goal, Pose):
-        result = mg.plan_pose(task.start, task.goal, **task.options)
-    else:
-        result = mg.plan_joints(task.start, task.goal, **task.options)
+    t0 = time.perf_counter()
+    try:
+        if key not in _GENERATORS:
+            warm_up((task.robot,))
+        mg = _GENERATORS[key][0]
+        if _GENERATORS[key][1] != task.world_key:
+            _GENERATORS[key] = (mg, None)  # until loaded whole (an edit that raises leaves it half-loaded)
+            mg.update_world(task.world)
+            _GENERATORS[key] = (mg, task.world_key)
+        if isinstance(task.goal, Pose):
+            result = mg.plan_pose(task.start, task.goal, **task.options)
+        else:
+            result = mg.plan_joints(task.start, task.goal, **task.options)
+    except Exception as exc:  # one problem never costs the batch: it becomes a failed result
+        log.warning("problem %r raised %s", task.id, type(exc).__name__, exc_info=True)
+        if key in _GENERATORS:
+            _GENERATORS[key] = (_GENERATORS[key][0], None)  # its world may be half-edited: reload it
+        return task.id, raised_result(task.id, exc, time.perf_counter() - t0)
     return task.id, result
+
+
+def raised_result(problem_id: ProblemId, exc: BaseException, seconds: float = float("nan")) -> PlanResult:
+    """The failed result of a problem whose planning raised `exc`: status RAISED, the message
+    "problem <id> raised <type>: <text>", `timings["total"]` = `seconds` [s]."""
+    return PlanResult(success=False, status=PlanStatus.RAISED, timings={"total": float(seconds)},
+                      message=f"problem {problem_id!r} raised {type(exc).__name__}: {exc}")

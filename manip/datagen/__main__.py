@@ -1,7 +1,9 @@
 """`python -m manip.datagen`: generate a planning dataset (see `manip.datagen`).
 
 Exit status: 0 when done, 1 when a trajectory planned as successful failed the independent
-verifier, 2 on bad flags or settings, 130 after Ctrl-C (the rows received are kept).
+verifier, 2 on bad flags or settings, 3 when another run is writing --out (one writer per
+folder: the second is refused at once; a run that ended, even by a crash, holds nothing),
+130 after Ctrl-C (the rows received are kept).
 """
 
 from __future__ import annotations
@@ -11,6 +13,7 @@ import sys
 
 from manip.batch.problem import BATCH_SEARCH_ITERATIONS, BATCH_TIME_BUDGET
 from manip.benchmarking.scenes import SCENE_KINDS
+from manip.datagen.lock import DatasetBusyError
 from manip.errors import ManipError
 
 
@@ -35,6 +38,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--search-iterations", type=int, default=BATCH_SEARCH_ITERATIONS,
                     help="RRT iterations of a plan's path search, a count: the dataset does not depend on the "
                          f"machine (default {BATCH_SEARCH_ITERATIONS})")
+    ap.add_argument("--dt", type=float, default=None,
+                    help="sample period of the trajectories [s] (default: the planner's, 1/60); a problem whose "
+                         "motion would need more than 100,000 samples is a failed row (status raised)")
     ap.add_argument("--rows-per-part", type=int, default=256, help="rows per Parquet part file (default 256)")
     ap.add_argument("--no-progress", action="store_true", help="no progress bar")
     args = ap.parse_args(argv)
@@ -60,8 +66,11 @@ def main(argv: list[str] | None = None) -> int:
         s = generate(args.out, scenes=args.scenes, problems_per_scene=args.problems_per_scene,
                      kinds=[k.strip() for k in args.kinds.split(",") if k.strip()], seed=args.seed, robot=args.robot,
                      workers=args.workers, backend=backend, ray_address=args.ray_address,
-                     time_budget=args.time_budget, search_iterations=args.search_iterations,
+                     time_budget=args.time_budget, search_iterations=args.search_iterations, dt=args.dt,
                      rows_per_part=args.rows_per_part, on_total=on_total, on_row=on_row)
+    except DatasetBusyError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 3
     except ManipError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
@@ -72,8 +81,9 @@ def main(argv: list[str] | None = None) -> int:
     finally:
         if bar is not None:
             bar.close()
+    raised = f", {s.raised} raised (see their message)" if s.raised else ""
     print(f"{s.planned} problems planned in {s.seconds:.1f} s: {s.rate:.2f} problems/s "
-          f"({s.succeeded} succeeded, {s.verified} verified; {s.skipped} already in {args.out})")
+          f"({s.succeeded} succeeded, {s.verified} verified{raised}; {s.skipped} already in {args.out})")
     return 0 if s.verified == s.succeeded else 1
 
 

@@ -88,6 +88,20 @@ def make_row(problem: DataProblem, seed: int, robot: str, result: PlanResult, ve
     }
 
 
+def create_folder(out: str | Path) -> Path:
+    """`out` as a Path, created (with its parents) if missing.
+
+    Raises:
+        InvalidInputError: `out` cannot be created (a file is in the way, no permission, ...).
+    """
+    out = Path(out)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InvalidInputError(f"cannot use {out} as the dataset folder: {exc.strerror or exc}") from exc
+    return out
+
+
 def open_folder(out: str | Path, settings: dict[str, Any]) -> Path:
     """Create `out` with a manifest of `settings`, or check that its manifest has the same ones.
 
@@ -110,7 +124,10 @@ def open_folder(out: str | Path, settings: dict[str, Any]) -> Path:
     if old is not None:
         if not isinstance(old, dict):
             raise InvalidInputError(f"{manifest} is not a manip.datagen manifest; use another --out")
-        diff = {k: (old.get(k), v) for k, v in settings.items() if old.get(k) != v}
+        # a setting missing on one side is None (the default) there: a setting added later
+        # (`dt`) keeps older datasets valid while it is left at its default
+        diff = {k: (old.get(k), settings.get(k)) for k in sorted(set(old) | set(settings))
+                if old.get(k) != settings.get(k)}
         if diff:
             raise InvalidInputError(
                 f"{out} holds a dataset made with other settings (setting: (in {out}, now)): {diff}; "

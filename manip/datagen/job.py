@@ -3,11 +3,13 @@
 A `SceneTask` names a scene and the pairs of it still to plan; the worker makes the scene
 (`problems.make_scene`, constant time), plans every pair on its warm generator (the world
 is loaded once for the scene) and checks each returned trajectory with the independent
-verifier (`manip.benchmarking.verify`).
+verifier (`manip.benchmarking.verify`). A pair whose planning raises is a failed result
+(status RAISED, `manip.batch.worker.solve`), written as a failed row like any other.
 """
 
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass
 from typing import Any
 
@@ -16,6 +18,8 @@ from manip.batch.problem import Task, problem_seed
 from manip.benchmarking.verify import Verifier, default_verifier
 from manip.datagen.problems import DataProblem, make_scene
 from manip.planning.result import PlanResult
+
+log = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
@@ -89,8 +93,12 @@ def plan_scene(task: SceneTask) -> tuple[str, list[Planned]]:
         if traj is None:
             verdict = Verdict(False)
         else:
-            v = judge.verify_trajectory(p.world, traj.times, traj.positions, traj.velocities,
-                                                     traj.accelerations, start_q=p.start, goal_q=p.goal)
-            verdict = Verdict(bool(v.valid), tuple(v.reasons))
+            try:
+                v = judge.verify_trajectory(p.world, traj.times, traj.positions, traj.velocities,
+                                            traj.accelerations, start_q=p.start, goal_q=p.goal)
+                verdict = Verdict(bool(v.valid), tuple(v.reasons))
+            except Exception as exc:  # a failed row, not a lost scene
+                log.warning("problem %r: the verifier raised %s", p.id, type(exc).__name__, exc_info=True)
+                verdict = Verdict(False, (f"the verifier raised {type(exc).__name__}: {exc}",))
         out.append((p, seed, result, verdict))
     return task.id, out

@@ -23,6 +23,7 @@ class PlanStatus(Status):
     INVALID_GOAL = "invalid_goal"
     TIMEOUT = "timeout"
     LINEAR_PATH_FAIL = "linear_path_fail"
+    RAISED = "raised"
 
     @classmethod
     def _hints(cls) -> dict:
@@ -44,6 +45,10 @@ _HINTS = {
     PlanStatus.TIMEOUT: "the time budget ran out before a path was found: raise time_budget",
     PlanStatus.LINEAR_PATH_FAIL: (
         "a straight-line (linear) motion is impossible: IK breaks, jumps or collides on the line"
+    ),
+    PlanStatus.RAISED: (
+        "planning this problem of a batch raised an exception (its type and text are in the message): an option "
+        "valid on its own that fails once planned (e.g. a dt giving too many samples), or a bug to report"
     ),
 }
 

@@ -15,7 +15,7 @@ from manip.errors import InvalidInputError
 from manip.sim_bridge import joint_indices_for, trajectory_to_actions
 from manip.trajectory.profiles import PiecewiseJerkProfile, readonly
 from manip.trajectory.spline import PathProfile
-from manip.validation import non_negative, positive, sample_count
+from manip.validation import as_real_array, non_negative, positive, sample_count
 
 # Relative tolerance used to decide that two times are "the same" (sample grids).
 _TIME_EPS = 1e-9
@@ -187,9 +187,17 @@ class Trajectory:
             (q, qd, qdd): each (dof,) for scalar `t`, else (N, dof), in [rad], [rad/s],
             [rad/s^2].
         """
-        t_arr = np.asarray(t, dtype=float)
+        try:
+            t_arr = as_real_array(t, "t")
+        except InvalidInputError as exc:
+            text = repr(t) if len(repr(t)) <= 80 else repr(t)[:80] + "..."
+            raise InvalidInputError(f"at_time: t must be a time [s] or an (N,) array of times, real numbers; got "
+                                    f"{text} ({type(t).__name__})") from exc
+        if t_arr.ndim > 1:
+            raise InvalidInputError(f"at_time: t must be a time [s] or an (N,) array of times; got an array of "
+                                    f"shape {t_arr.shape}")
         if not np.all(np.isfinite(t_arr)):
-            raise InvalidInputError(f"at_time needs finite times; got {t}")
+            raise InvalidInputError(f"at_time: t must be finite times [s]; got {t}")
         if self.profile is not None:
             q, qd, qdd, _ = self.profile.evaluate(t_arr)
             return q, qd, qdd

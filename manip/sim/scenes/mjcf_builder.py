@@ -29,6 +29,7 @@ import mujoco
 import numpy as np
 from scipy.spatial import ConvexHull
 
+from manip import package_uri
 from manip.errors import RobotConfigError
 from manip.robot_config import RobotConfig
 
@@ -131,18 +132,7 @@ def _full_precision(xml: str, model: mujoco.MjModel) -> str:
 
 
 def _resolve_mesh(uri: str, config: RobotConfig) -> Path:
-    if uri.startswith("package://"):
-        rel = uri[len("package://"):]
-        for d in config.package_dirs:
-            for cand in (Path(d) / rel, Path(d) / rel.split("/", 1)[-1]):
-                if cand.is_file():
-                    return cand
-        raise RobotConfigError(f"mesh {uri} not found under {list(config.package_dirs)}")
-    path = Path(uri[len("file://"):] if uri.startswith("file://") else uri)
-    path = path if path.is_absolute() else config.urdf_path.parent / path
-    if not path.is_file():
-        raise RobotConfigError(f"mesh {uri} not found ({path})")
-    return path
+    return package_uri.resolve(uri, config.urdf_path)
 
 
 def _prepare(config: RobotConfig) -> _Prepared:

@@ -17,8 +17,9 @@ from typing import Any, Protocol
 import mujoco
 import numpy as np
 
+from manip import package_uri
 from manip import quaternion as quat
-from manip.errors import InvalidInputError, ManipError
+from manip.errors import InvalidInputError, ManipError, RobotConfigError
 from manip.sim.assets import MODEL_SUFFIXES, get_assets_root_path, resolve_asset_path
 from manip.sim.core.callbacks import CallbackTable
 
@@ -120,8 +121,11 @@ class ReferencePrim:
 
     def _load_spec(self) -> mujoco.MjSpec:
         try:
-            child = mujoco.MjSpec.from_file(str(self.file_path))
-        except Exception as exc:  # mujoco raises ValueError with the parser's message
+            if self.file_path.suffix.lower() == ".urdf":
+                child = mujoco.MjSpec.from_string(_urdf_with_mesh_paths(self.file_path))
+            else:
+                child = mujoco.MjSpec.from_file(str(self.file_path))
+        except Exception as exc:  # a mesh not found (RobotConfigError), bad XML, MuJoCo's ValueError
             raise SimulationError(f"cannot load {self.file_path} for prim {self.prim_path}: {exc}") from exc
         return child
 
@@ -166,6 +170,32 @@ class ReferencePrim:
                     _isaac_urdf_drive(act, efforts.get(joint.name))
         frame = spec.worldbody.add_frame(pos=self.position.tolist(), quat=self.orientation.tolist())
         spec.attach(child, prefix=self.prefix, frame=frame)
+
+
+def _urdf_with_mesh_paths(file_path: Path) -> str:
+    """The URDF's text with each mesh file name made absolute as ROS tools resolve it
+    (`package://`, `file://`, relative: `manip.package_uri`), which MuJoCo's URDF parser does
+    not do. A collision mesh that resolves to no file raises RobotConfigError naming the URI
+    and the folders searched; a visual one is left as written (MuJoCo discards URDF visuals
+    unless the URDF's <mujoco><compiler discardvisual="false"/> asks for them)."""
+    root = ET.parse(file_path).getroot()
+    collision = {id(m) for m in package_uri.mesh_uris(root, collision_only=True)}
+    for mesh in package_uri.mesh_uris(root):
+        uri = mesh.get("filename", "")
+        try:
+            mesh.set("filename", str(package_uri.resolve(uri, file_path, "collision mesh")))
+        except RobotConfigError:
+            if id(mesh) in collision:
+                raise
+    # keep the absolute paths whole (MuJoCo's URDF compiler may strip the folders)
+    ext = root.find("mujoco")
+    if ext is None:
+        ext = ET.SubElement(root, "mujoco")
+    compiler = ext.find("compiler")
+    if compiler is None:
+        compiler = ET.SubElement(ext, "compiler")
+    compiler.set("strippath", "false")
+    return ET.tostring(root, encoding="unicode")
 
 
 #: Drive gains Isaac's URDF importer gives every joint (its ImportConfig defaults: a position
