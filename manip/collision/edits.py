@@ -120,11 +120,16 @@ class WorldEdits:
             return ob
 
     def update_obstacle_pose(self, name: str, pose: Pose | Sequence[float]) -> None:
-        """Move the obstacle `name` to `pose` (base frame); incremental."""
+        """Move the obstacle `name` to `pose` (base frame): a Pose, [x, y, z, qw, qx, qy, qz],
+        or a position [x, y, z] alone, which keeps the obstacle's rotation; incremental."""
         with self._writing():
             world = self._world.copy()
             index = world.index(name)
-            ob = world.get(name).with_pose(pose)
+            ob = world.get(name)
+            new = as_pose(pose, f"update_obstacle_pose('{name}')")
+            if not isinstance(pose, Pose) and np.shape(pose) == (3,):  # a position alone: keep the rotation
+                new = Pose(new.position, ob.pose.quaternion)
+            ob = ob.with_pose(new)
             world.replace(ob)
             tables = self._world_tables.replaced(index, ob, self._obstacle_cache)
             static = [(g, o) for g, o in self._static_world if o != index] + self._static_pairs(tables, index)
