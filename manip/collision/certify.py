@@ -33,6 +33,10 @@ margin of its motion bound is proved free on each segment by the first test that
    cannot be certified within `MAX_DEPTH` halvings or `MAX_QUERIES` distance queries (the
    path is then reported as not certified: callers reject it).
 
+A solid mesh obstacle (`Mesh(solid=True)`) is also checked at the path's first
+configuration: a part inside it there stays inside over the whole path, as no part comes
+within the padding of its surface (`manip.collision.solids`).
+
 The geometry (the URDF's meshes, the obstacles' shapes) and the padding are those of the
 `CollisionChecker`; nothing is inflated.
 """
@@ -455,6 +459,9 @@ def certify_path(checker, path: np.ndarray) -> MotionCertificate:
         return MotionCertificate(False, 0, "collision", (ck._parts[g].name, ck._obs[o].name))
     tb: MotionBoundTables = ck._motion_bounds
     R, p = ck._fk(Q)
+    inside = _inside_solid_at_start(ck, R, p)
+    if inside is not None:
+        return MotionCertificate(False, 0, "collision", inside)
     rho, chord = _axis_reach(R, p, tb.centres, tb.radii, tb.ball_part, tb.ball_joint, tb.ancestors, tb.axes,
                              tb.revolute, len(ck._parts))
     S = Q.shape[0] - 1
@@ -543,6 +550,23 @@ def certify_path(checker, path: np.ndarray) -> MotionCertificate:
                 names = (ck._parts[i].name, ck._obs[j].name if kind == 0 else ck._parts[j].name)
                 return MotionCertificate(False, seg, why, names, ctx.queries)
     return MotionCertificate(True, queries=ctx.queries)
+
+
+def _inside_solid_at_start(ck, R: np.ndarray, p: np.ndarray) -> tuple[str, str] | None:
+    """The (part, obstacle) names of a moving part inside a solid mesh at the path's first
+    configuration, or None. The certificate proves that no part comes within the padding of
+    any obstacle's surface along the whole path, so each part stays on the side of each solid
+    it starts on (`manip.collision.solids`): the start decides for the whole path."""
+    solids = [o for o, ob in enumerate(ck._obs) if getattr(ob, "solid", False)]
+    for g, part in enumerate(ck._parts):
+        if part.joint == 0 or not solids:
+            continue   # parts fixed to the base: in the checker's static pairs
+        Rj = R[0, part.joint]
+        Rg, pg = Rj @ part.R, p[0, part.joint] + Rj @ part.p
+        for o in solids:
+            if ck._inside_solid(g, o, Rg, pg):
+                return part.name, ck._obs[o].name
+    return None
 
 
 def _certify_segment(ctx: _Context, Q: np.ndarray, pair, seg: int, M: float, E: tuple[float, float],

@@ -22,6 +22,7 @@ import numpy as np
 from manip.collision.certify import MotionBoundTables
 from manip.collision.results import AttachedObject
 from manip.collision.shapes import Obstacle, as_pose
+from manip.collision.solids import part_inside
 from manip.collision.tables import ObstacleTables, _tf, collect_parts, part_tables
 from manip.collision.world import WorldConfig
 from manip.errors import InvalidInputError, UnknownNameError
@@ -216,7 +217,8 @@ class WorldEdits:
             part = self._parts[int(g)]
             res.clear()
             if coal.collide(part.geometry, _tf(part.R, part.p), tables.geometries[o], tables.transforms[o],
-                            self._req_world, res):
+                            self._req_world, res) or (getattr(tables.obstacles[o], "solid", False) and part_inside(
+                                part.geometry, part.R, part.p, tables.obstacles[o], tables.geometries[o])):
                 out.append((int(g), o))
         return out
 
