@@ -2,7 +2,9 @@
 
 A second robot is added by writing a folder with a `robot.yaml` like `robots/franka/`;
 no code changes. A robot without a folder is configured from its URDF (and SRDF) alone
-with `config_from_urdf`.
+with `config_from_urdf`. A key a robot.yaml does not know (`colision:`, `collision:
+paddign:`) raises RobotConfigError listing the valid keys; keys starting with `x_` are
+extension keys, kept in `RobotConfig.raw` and ignored.
 
 Self-collision pairs: the SRDF's `<disable_collisions>` pairs are never checked; the yaml's
 `collision: disabled_pairs` only adds pairs, and `collision: disable_adjacent_links: true`

@@ -134,6 +134,12 @@ def test_the_world_format_carries_solid_and_stl_files_load_welded(tmp_path) -> N
     m = Mesh("box", file_path=path, solid=True)
     assert m.vertices.shape == (8, 3) and m.faces.shape == (12, 3)
     assert m.solid_data.volume == pytest.approx(0.024, rel=1e-6)
+    # sent to another process (manip.batch): pickled without coal's tree, still a solid
+    import pickle
+
+    _bvh(m)
+    copied = pickle.loads(pickle.dumps(m.with_pose([0.0, 0.0, 0.5])))
+    assert copied.solid and contains(copied.solid_data, _bvh(copied), np.zeros((1, 3)))
 
 
 def star_prism(points: int = 5, r_out: float = 0.3, r_in: float = 0.12, height: float = 0.2):

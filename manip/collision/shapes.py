@@ -11,7 +11,6 @@ cuRobo's 7-vector [x, y, z, qw, qx, qy, qz].
 
 from __future__ import annotations
 
-import copy
 import dataclasses
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -334,15 +333,27 @@ class Mesh(Obstacle):
             shared["solid"] = solid_data(*weld(V * self.scale, F), name)
         object.__setattr__(self, "_shared", shared)
 
+    def _sharing_copy(self) -> Mesh:
+        """A shallow copy holding the same derived data (`copy.copy` would drop coal's tree)."""
+        out = object.__new__(Mesh)
+        out.__dict__.update(self.__dict__)
+        return out
+
+    def __getstate__(self) -> dict:
+        """Pickled without coal's tree (rebuilt where it is needed)."""
+        state = dict(self.__dict__)
+        state["_shared"] = {k: v for k, v in self._shared.items() if k == "solid"}
+        return state
+
     def with_pose(self, pose: Pose | Sequence[float]) -> Mesh:
         """A copy of this mesh at another pose (base frame), sharing its data (no reload)."""
-        out = copy.copy(self)
+        out = self._sharing_copy()
         object.__setattr__(out, "pose", as_pose(pose, f"mesh '{self.name}'"))
         return out
 
     def with_name(self, name: str) -> Mesh:
         """A copy of this mesh with another name, sharing its data."""
-        out = copy.copy(self)
+        out = self._sharing_copy()
         object.__setattr__(out, "name", _check_name(name, "mesh"))
         return out
 
