@@ -377,7 +377,8 @@ class MotionGenerator:
         self.checker.remove_obstacle(name)
 
     def update_obstacle_pose(self, name: str, pose: Pose | Sequence[float]) -> None:
-        """Move the obstacle called `name` to `pose` (a Pose, [x, y, z] or [x, y, z, qw, qx, qy, qz]).
+        """Move the obstacle called `name` to `pose` (a Pose, [x, y, z, qw, qx, qy, qz], or a
+        position [x, y, z] alone, which keeps the obstacle's rotation).
 
         `add_obstacle`, `remove_obstacle` and this are incremental (well under a millisecond
         with a thousand obstacles, `benchmarks/world_edits.py`); `update_world` rebuilds all.

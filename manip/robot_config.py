@@ -2,7 +2,9 @@
 
 A second robot is added by writing a folder with a `robot.yaml` like `robots/franka/`;
 no code changes. A robot without a folder is configured from its URDF (and SRDF) alone
-with `config_from_urdf`.
+with `config_from_urdf`. A key a robot.yaml does not know (`colision:`, `collision:
+paddign:`) raises RobotConfigError listing the valid keys; keys starting with `x_` are
+extension keys, kept in `RobotConfig.raw` and ignored.
 
 Self-collision pairs: the SRDF's `<disable_collisions>` pairs are never checked; the yaml's
 `collision: disabled_pairs` only adds pairs, and `collision: disable_adjacent_links: true`
@@ -12,6 +14,7 @@ adjacent links are skipped and every other pair is checked (logged).
 
 from __future__ import annotations
 
+import difflib
 import logging
 from dataclasses import dataclass, field
 from importlib import metadata
@@ -24,7 +27,7 @@ from manip import package_uri
 from manip.errors import RobotConfigError, UnknownNameError
 from manip.limits import JointLimits
 from manip.urdf import (MOVABLE_TYPES, UrdfJoint, UrdfTree, default_ee_link, disabled_pairs, srdf_group_states,
-                        within_limits)
+                        srdf_virtual_joints, within_limits)
 
 logger = logging.getLogger(__name__)
 
@@ -146,11 +149,23 @@ class RobotConfig:
         return len(self.arm_joints)
 
 
-#: The keys of a robot.yaml (others are reported: a misspelt optional key would be ignored).
+#: The keys of a robot.yaml. Any other key raises RobotConfigError (a misspelt optional key,
+#: such as `colision:`, would otherwise be dropped with its safety margin), except extension
+#: keys: a key starting with `x_` (at the top level or in any section) is kept in
+#: `RobotConfig.raw` and never read by manip.
 CONFIG_KEYS = ("name", "urdf", "srdf", "mjcf", "base_link", "ee_link", "tcp_link", "approach_axis", "arm_joints",
                "default_joint_positions", "lower_limits", "upper_limits", "velocity_limits", "acceleration_limits",
                "jerk_limits", "gripper", "collision", "sim")
 COLLISION_KEYS = ("padding", "disabled_pairs", "disable_adjacent_links")
+#: Keys of `urdf:` / `srdf:` given as a mapping.
+FILE_KEYS = ("package", "package_root", "path")
+GRIPPER_KEYS = ("joints", "open_positions", "closed_positions", "planning_positions")
+#: Keys of `sim:`, read by `manip.sim.mjcf_builder` (drives, armature, gravity, fingers).
+SIM_KEYS = ("kp", "kv", "armature", "gravity_compensation", "finger_kp", "finger_kv", "finger_force",
+            "finger_armature", "finger_contact")
+FINGER_CONTACT_KEYS = ("friction", "condim", "priority", "solref", "solimp")
+#: Prefix of extension keys: accepted anywhere in a robot.yaml and ignored by manip.
+EXTENSION_PREFIX = "x_"
 
 
 def _array(d: dict, key: str, n: int, folder: Path, positive: bool = False) -> np.ndarray:
@@ -178,9 +193,36 @@ def _names(d: dict, key: str, where: Path) -> tuple[str, ...]:
 
 
 def _check_keys(d: dict, valid: tuple[str, ...], where: str) -> None:
-    unknown = sorted(set(d) - set(valid))
+    """Raise RobotConfigError naming the keys of `d` that are not in `valid` (nor extension keys)."""
+    unknown = sorted(str(k) for k in d if k not in valid and not str(k).startswith(EXTENSION_PREFIX))
     if unknown:
-        logger.warning("%s: unknown key(s) %s ignored; valid: %s", where, unknown, ", ".join(valid))
+        close = {k: difflib.get_close_matches(k, valid, n=1) for k in unknown}
+        hint = "".join(f" ('{k}': did you mean '{m[0]}'?)" for k, m in close.items() if m)
+        raise RobotConfigError(
+            f"{where}: unknown key(s) {unknown}{hint}; valid: {', '.join(valid)} (a key starting with "
+            f"'{EXTENSION_PREFIX}' is an extension key, kept and ignored)")
+
+
+def _check_sections(d: dict, cfg_file: Path) -> None:
+    """Unknown keys at the top level and in every section of a robot.yaml raise (see CONFIG_KEYS)."""
+    _check_keys(d, CONFIG_KEYS, str(cfg_file))
+    for key in ("urdf", "srdf"):
+        if isinstance(d.get(key), dict):
+            _check_keys(d[key], FILE_KEYS, f"{cfg_file}: {key}")
+    sections = (("gripper", GRIPPER_KEYS), ("collision", COLLISION_KEYS), ("sim", SIM_KEYS))
+    for key, valid in sections:
+        value = d.get(key)
+        if value is None:
+            continue
+        if not isinstance(value, dict):
+            raise RobotConfigError(f"{cfg_file}: '{key}' must be a mapping of {', '.join(valid)}; got {value!r}")
+        _check_keys(value, valid, f"{cfg_file}: {key}")
+    contact = (d.get("sim") or {}).get("finger_contact")
+    if contact is not None:
+        if not isinstance(contact, dict):
+            raise RobotConfigError(f"{cfg_file}: sim: 'finger_contact' must be a mapping of "
+                                   f"{', '.join(FINGER_CONTACT_KEYS)}; got {contact!r}")
+        _check_keys(contact, FINGER_CONTACT_KEYS, f"{cfg_file}: sim: finger_contact")
 
 
 def _check_within_urdf(tree: UrdfTree, joints: tuple[str, ...], lower: np.ndarray, upper: np.ndarray,
@@ -205,7 +247,9 @@ def load_robot_config(name_or_path: str | Path) -> RobotConfig:
             the message lists the available ones.
         RobotConfigError: the file is malformed (missing keys, wrong types, non-finite or
             non-positive limits, limits beyond the URDF's, `ee_link` not below `base_link`)
-            or names missing model files. Unknown keys are logged as a warning.
+            or names missing model files, or has a key it does not know, at the top level or
+            in a section (`colision`, `collision: paddign`, ...; the message lists the valid
+            keys; keys starting with `x_` are extension keys, accepted and ignored).
     """
     if not isinstance(name_or_path, (str, Path)) or not str(name_or_path):
         raise UnknownNameError("robot", repr(name_or_path), available_robots())
@@ -229,7 +273,7 @@ def load_robot_config(name_or_path: str | Path) -> RobotConfig:
         raise RobotConfigError(f"{cfg_file}: not a readable YAML file ({exc})") from exc
     if not isinstance(d, dict):
         raise RobotConfigError(f"{cfg_file}: expected a mapping at the top level")
-    _check_keys(d, CONFIG_KEYS, str(cfg_file))
+    _check_sections(d, cfg_file)
 
     urdf = _resolve_file(d.get("urdf"), folder, "urdf")
     if urdf is None:
@@ -267,9 +311,6 @@ def load_robot_config(name_or_path: str | Path) -> RobotConfig:
         gripper = GripperConfig(gj, _g("open_positions"), _g("closed_positions"),
                                 _g("planning_positions", g.get("open_positions")))
     col = d.get("collision", {}) or {}
-    if not isinstance(col, dict):
-        raise RobotConfigError(f"{cfg_file}: 'collision' must be a mapping of {', '.join(COLLISION_KEYS)}")
-    _check_keys(col, COLLISION_KEYS, f"{cfg_file}: collision")
     try:
         padding = float(col.get("padding", 0.0))
         extra = [(str(a), str(b)) for a, b in col.get("disabled_pairs", []) or []]
@@ -333,6 +374,9 @@ def config_from_urdf(
     is the SRDF's first named state (group_state) that sets every arm joint within the
     limits (a revolute joint's value may be turned by whole turns, 2 pi, to get there: the
     same pose), else the middle of the limits. Each assumed default is logged as a warning.
+    A misspelt SRDF raises instead of falling back to the middle: a group_state that sets
+    some arm joints and names a joint the URDF does not have, or group_states setting
+    every arm joint of which none lies within the limits.
     Joints not in the arm (fingers, ...) are locked at zero; there is no gripper.
 
     Args:
@@ -355,8 +399,11 @@ def config_from_urdf(
 
     Raises:
         RobotConfigError: unreadable files, collision meshes not found, no movable joint, bad
-            limits, a default configuration that is not finite or not within the limits.
-        UnknownNameError: an unknown link, joint or group_state (the message lists the valid ones).
+            limits, a default configuration that is not finite or not within the limits, a
+            misspelt SRDF group_state (see above).
+        UnknownNameError: an unknown link, joint or group_state, or an SRDF
+            `<disable_collisions>` pair naming a link the URDF does not have (the message
+            lists the valid ones).
     """
     urdf_path = Path(urdf).resolve()
     if not urdf_path.is_file():
@@ -412,7 +459,8 @@ def config_from_urdf(
 
     acc = per_joint(acceleration_limits, DEFAULT_ACCELERATION_LIMIT, "acceleration_limits", "rad/s^2")
     jerk = per_joint(jerk_limits, DEFAULT_JERK_LIMIT, "jerk_limits", "rad/s^3")
-    default = _default_configuration(default_joint_positions, spec, lower, upper, srdf_path, urdf_path.name)
+    default = _default_configuration(default_joint_positions, spec, lower, upper, srdf_path, urdf_path.name,
+                                     set(tree.joints))
     return RobotConfig(
         name=name or tree.name,
         folder=urdf_path.parent,
@@ -437,9 +485,14 @@ def config_from_urdf(
     )
 
 
+#: The free-flyer joint's name in Pinocchio's convention: SRDF states may set it (not a URDF joint).
+_FREE_FLYER = "root_joint"
+
+
 def _default_configuration(given: np.ndarray | str | None, spec: list[UrdfJoint], lower: np.ndarray, upper: np.ndarray,
-                           srdf_path: Path | None, where: str) -> np.ndarray:
-    """The default configuration of `config_from_urdf` (see its docstring)."""
+                           srdf_path: Path | None, where: str, urdf_joints: set[str] = frozenset()) -> np.ndarray:
+    """The default configuration of `config_from_urdf` (see its docstring); `urdf_joints`: the
+    URDF's joint names (a state naming others has a misspelt joint)."""
     n = len(spec)
     names = [j.name for j in spec]
     states = srdf_group_states(srdf_path) if srdf_path is not None and (given is None or isinstance(given, str)) else {}
@@ -459,19 +512,44 @@ def _default_configuration(given: np.ndarray | str | None, spec: list[UrdfJoint]
                                    f"[{lower.tolist()}, {upper.tolist()}]: {states[given]}")
         return q
     if given is None:
-        skipped = []
+        known = set(urdf_joints) | {_FREE_FLYER} | (set(srdf_virtual_joints(srdf_path)) if states else set())
+        problems = []   # why each state setting arm joints was not used
+        partial = []
         for state, values in states.items():
-            if all(j in values for j in names):
-                q = fit(values)
-                if q is not None:
-                    if not np.array_equal(q, [values[j] for j in names]):
-                        logger.warning("%s: default configuration: the SRDF's group_state '%s' turned by whole "
-                                       "turns into the joint limits: %s", where, state, np.round(q, 6).tolist())
-                    return q
-                skipped.append(state)
-        if skipped:
-            logger.warning("%s: the SRDF's group_states %s lie outside the joint limits", where, skipped)
-        logger.warning("%s: no default configuration; using the middle of the limits", where)
+            unset = [j for j in names if j not in values]
+            if len(unset) == len(names):
+                continue  # a state of another group (the hand, ...)
+            unknown = [j for j in values if urdf_joints and j not in known]
+            if unset and unknown:  # a misspelt arm joint: never fall back silently
+                raise RobotConfigError(
+                    f"{srdf_path}: group_state '{state}' sets no value for the arm joint(s) {unset} and names "
+                    f"joint(s) {unknown} that the URDF ({where}) does not have (misspelt?); the arm joints: "
+                    f"{', '.join(names)}. Fix the SRDF, or give default_joint_positions.")
+            if unset:
+                partial.append(f"'{state}' sets no value for {unset}")
+                continue
+            q = fit(values)
+            if q is not None:
+                if unknown:
+                    logger.warning("%s: the SRDF's group_state '%s' names joints not in the URDF (ignored): %s",
+                                   where, state, unknown)
+                if not np.array_equal(q, [values[j] for j in names]):
+                    logger.warning("%s: default configuration: the SRDF's group_state '%s' turned by whole "
+                                   "turns into the joint limits: %s", where, state, np.round(q, 6).tolist())
+                return q
+            out = [f"{j} = {values[j]} outside [{lo:g}, {hi:g}]" for j, lo, hi in zip(names, lower, upper)
+                   if within_limits([values[j]], [spec[names.index(j)]], np.array([lo]), np.array([hi])) is None]
+            problems.append(f"group_state '{state}': {'; '.join(out)}")
+        if problems:  # a value typo (15.7 for 1.57) must not become the middle of the limits
+            raise RobotConfigError(
+                f"{srdf_path}: no group_state gives a default configuration within the joint limits: "
+                f"{'; '.join(problems)}. Fix the SRDF, or give default_joint_positions.")
+        if partial:
+            logger.warning("%s: no default configuration: no SRDF group_state sets every arm joint (%s); using "
+                           "the middle of the limits", where, "; ".join(partial))
+        else:
+            logger.warning("%s: no default configuration (%s); using the middle of the limits", where,
+                           "the SRDF has no group_state of the arm joints" if srdf_path is not None else "no SRDF")
         return (lower + upper) / 2.0
     try:
         default = np.asarray(given, dtype=float)

@@ -238,12 +238,21 @@ def srdf_group_states(path: str | Path) -> dict[str, dict[str, float]]:
         values = {}
         for j in el.findall("joint"):
             try:
-                values[j.get("name")] = float(j.get("value"))
-            except (TypeError, ValueError) as exc:
+                v = [float(x) for x in (j.get("value") or "").split()]
+            except ValueError:
+                v = []
+            if not v:
                 raise RobotConfigError(f"{path}: group_state '{el.get('name')}': joint {j.attrib} needs a "
-                                       "numeric value") from exc
+                                       "numeric value")
+            if len(v) == 1:  # a multi-dof joint (a floating base's "x y z qx qy qz qw") is never an arm joint
+                values[j.get("name")] = v[0]
         states[el.get("name")] = values
     return states
+
+
+def srdf_virtual_joints(path: str | Path) -> list[str]:
+    """The names of an SRDF's `<virtual_joint>`s (a floating base's joint: not in the URDF)."""
+    return [el.get("name") for el in _srdf_root(path).iter("virtual_joint") if el.get("name")]
 
 
 def srdf_end_effector_links(path: str | Path) -> list[str]:
@@ -256,6 +265,9 @@ def disabled_pairs(tree: UrdfTree, srdf_path: Path | None, extra: list[tuple[str
     """The link pairs the self-collision checker skips: the SRDF's pairs (or, without an
     SRDF or with an SRDF that lists no pair, the adjacent links, with a log line), the
     adjacent links if asked, and `extra`.
+
+    Raises:
+        UnknownNameError: a pair names a link the URDF does not have (the links are listed).
 
     Returns:
         Sorted unique pairs, each (a, b) with a < b.
@@ -275,9 +287,9 @@ def disabled_pairs(tree: UrdfTree, srdf_path: Path | None, extra: list[tuple[str
         pairs += adjacent
     known = set(tree.links)
     unknown = sorted({name for pair in pairs for name in pair} - known)
-    if unknown:
-        logger.warning("%s: disabled collision pairs name links not in the URDF (ignored): %s",
-                       tree.path.name, unknown)
+    if unknown:  # a misspelt link: the pair meant to be disabled would be checked, unnoticed
+        source = f"<disable_collisions> of {srdf_path}" if srdf_path is not None else "disabled pairs"
+        raise UnknownNameError(f"link ({source}; not in {tree.path.name})", unknown[0], tree.links)
     return tuple(sorted({tuple(sorted(p)) for p in pairs if p[0] in known and p[1] in known and p[0] != p[1]}))
 
 

@@ -263,16 +263,13 @@ def test_mistakes_in_a_robot_yaml_are_named_when_it_loads(tmp_path, files, chang
         assert w in str(info.value)
 
 
-def test_unknown_robot_yaml_keys_are_reported_and_bad_yaml_is_named(tmp_path, files, caplog) -> None:
+def test_unknown_robot_yaml_keys_raise_and_bad_yaml_is_named(tmp_path, files) -> None:
     import yaml
 
     urdf, srdf = files
-    (tmp_path / "robot.yaml").write_text(yaml.safe_dump({**TRI_YAML, "urdf": str(urdf), "sdrf": str(srdf),
-                                                          "collision": {"pading": 0.01}}))
-    with caplog.at_level(logging.WARNING):
-        c = load_robot_config(tmp_path)
-    assert c.srdf_path is None
-    assert "unknown key(s) ['sdrf'] ignored" in caplog.text and "unknown key(s) ['pading'] ignored" in caplog.text
+    (tmp_path / "robot.yaml").write_text(yaml.safe_dump({**TRI_YAML, "urdf": str(urdf), "sdrf": str(srdf)}))
+    with pytest.raises(RobotConfigError, match=r"unknown key\(s\) \['sdrf'\] \('sdrf': did you mean 'srdf'\?\)"):
+        load_robot_config(tmp_path)   # more cases: tests/test_config_mistakes.py
     (tmp_path / "robot.yaml").write_text("urdf: [unclosed\n")
     with pytest.raises(RobotConfigError, match="not a readable YAML file"):
         load_robot_config(tmp_path)

@@ -60,6 +60,7 @@ from manip.collision.results import (  # noqa: F401  (re-exported: manip.collisi
 from manip.collision.robot_geometry import RobotGeometry
 from manip.collision.segments import SegmentChecks, consistent
 from manip.collision.shapes import Obstacle  # noqa: F401  (re-exported)
+from manip.collision.solids import part_inside
 from manip.collision.state import CollisionState
 from manip.collision.tables import coal_transform
 from manip.collision.world import WorldConfig
@@ -179,7 +180,8 @@ class CollisionChecker(WorldEdits, SegmentChecks):
             tfa = tfs[key] = self._part_tf(R, p, n, i)
         res = coal.CollisionResult()
         if kind == 0:
-            return bool(coal.collide(self._parts[i].geometry, tfa, self._ogeom[j], self._otf[j], self._req_world, res))
+            hit = bool(coal.collide(self._parts[i].geometry, tfa, self._ogeom[j], self._otf[j], self._req_world, res))
+            return hit or self._inside_solid(i, j, tfa.getRotation(), tfa.getTranslation())
         key = (n, j)
         tfb = tfs.get(key)
         if tfb is None:
@@ -247,10 +249,13 @@ class CollisionChecker(WorldEdits, SegmentChecks):
             ta = Tf(RA[t], pA[t])
             if kind_l[t] == 0:
                 # a large mesh's convex hull (which holds it) first: free there, free for certain
+                # (of a solid mesh's surface: then inside or outside it, `_inside_solid` says)
                 if hulls[a] is not None and not collide(hulls[a], ta, ogeom[b], otf[b], req_w, res):
-                    continue
-                res.clear()
-                hit = collide(geoms[a], ta, ogeom[b], otf[b], req_w, res)
+                    hit = False
+                else:
+                    res.clear()
+                    hit = collide(geoms[a], ta, ogeom[b], otf[b], req_w, res)
+                hit = hit or self._inside_solid(a, b, RA[t], pA[t])
             else:
                 tb = Tf(RB[t], pB[t])
                 # both hulls (convex against convex: GJK) when either mesh is large
@@ -266,6 +271,14 @@ class CollisionChecker(WorldEdits, SegmentChecks):
                 done.add(keys[t])
                 found = True
         return found
+
+    def _inside_solid(self, g: int, o: int, R: np.ndarray, p: np.ndarray) -> bool:
+        """True when obstacle o is a solid mesh and part g, placed at (R, p) (base frame) and
+        touching no triangle of it, lies inside it (`manip.collision.solids`)."""
+        ob = self._obs[o]
+        if not getattr(ob, "solid", False):
+            return False
+        return part_inside(self._parts[g].geometry, np.asarray(R), np.asarray(p), ob, self._ogeom[o])
 
     # ------------------------------------------------------------------ public checks
     def _one_q(self, q: np.ndarray, what: str = "q", note: str = "") -> np.ndarray:
@@ -347,6 +360,8 @@ class CollisionChecker(WorldEdits, SegmentChecks):
                 continue
             if k == 0:
                 d = self._pair_distance(self._parts[a].hull, tfs[(0, a)], self._ogeom[b], self._otf[b])
+                if d > self._padding and self._inside_solid(a, b, tfs[(0, a)].getRotation(), tfs[(0, a)].getTranslation()):
+                    d = -d   # inside a solid mesh
             else:
                 d = self._pair_distance(self._parts[a].hull, tfs[(0, a)], self._parts[b].hull, tfs[(0, b)])
             contacts.append(self._contact(k, a, b, d))
@@ -383,6 +398,8 @@ class CollisionChecker(WorldEdits, SegmentChecks):
                     break
                 g, o = divmod(int(flat), O)
                 d = self._pair_distance(self._parts[g].hull, tf(g), self._ogeom[o], self._otf[o])
+                if d > 0.0 and self._inside_solid(g, o, tf(g).getRotation(), tf(g).getTranslation()):
+                    d = -d   # inside a solid mesh: as deep as its surface is far (a bound)
                 if d < best_w:
                     best_w, pair_w = d, (g, o)
         best_s, pair_s = math.inf, None

@@ -22,6 +22,7 @@ import numpy as np
 from manip.collision.certify import MotionBoundTables
 from manip.collision.results import AttachedObject
 from manip.collision.shapes import Obstacle, as_pose
+from manip.collision.solids import part_inside
 from manip.collision.tables import ObstacleTables, coal_transform, collect_parts, part_tables
 from manip.collision.world import WorldConfig
 from manip.errors import InvalidInputError, UnknownNameError
@@ -120,11 +121,16 @@ class WorldEdits:
             return ob
 
     def update_obstacle_pose(self, name: str, pose: Pose | Sequence[float]) -> None:
-        """Move the obstacle `name` to `pose` (base frame); incremental."""
+        """Move the obstacle `name` to `pose` (base frame): a Pose, [x, y, z, qw, qx, qy, qz],
+        or a position [x, y, z] alone, which keeps the obstacle's rotation; incremental."""
         with self._writing():
             world = self._world.copy()
             index = world.index(name)
-            ob = world.get(name).with_pose(pose)
+            ob = world.get(name)
+            new = as_pose(pose, f"update_obstacle_pose('{name}')")
+            if not isinstance(pose, Pose) and np.shape(pose) == (3,):  # a position alone: keep the rotation
+                new = Pose(new.position, ob.pose.quaternion)
+            ob = ob.with_pose(new)
             world.replace(ob)
             tables = self._world_tables.replaced(index, ob, self._obstacle_cache)
             static = [(g, o) for g, o in self._always_colliding if o != index] + self._fixed_part_collisions(tables, index)
@@ -210,7 +216,8 @@ class WorldEdits:
             part = self._parts[int(g)]
             res.clear()
             if coal.collide(part.geometry, coal_transform(part.R, part.p), tables.geometries[o], tables.transforms[o],
-                            self._req_world, res):
+                            self._req_world, res) or (getattr(tables.obstacles[o], "solid", False) and part_inside(
+                                part.geometry, part.R, part.p, tables.obstacles[o], tables.geometries[o])):
                 out.append((int(g), o))
         return out
 

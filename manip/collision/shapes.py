@@ -244,16 +244,30 @@ class Capsule(Obstacle):
 
 @dataclass(frozen=True, eq=False)
 class Mesh(Obstacle):
-    """A triangle mesh (a surface; coal checks its triangles).
+    """A triangle mesh: a surface (coal checks its triangles), or with `solid=True` the volume
+    a closed mesh bounds.
+
+    As a surface, a robot part that touches no triangle is free, even inside a closed mesh
+    (a robot inside a closed mesh box plans as free, where a `Cuboid` of that volume
+    collides). With `solid=True` the mesh must be closed (every edge shared by exactly two
+    consistently oriented triangles; checked here) and a part inside it collides, in every
+    check of the planner and in its continuous certificate (`manip.collision.solids`).
+
+    Cost: coal's bounding-volume tree takes about 5 us and 540 bytes per triangle when the
+    mesh is added to a world (1e6 triangles: about 5 s and 540 MB, BENCHMARKS.md "Mesh
+    obstacles"); moving it (`update_obstacle_pose`) reuses the tree. `decimated(cell)`
+    offers a coarser solid that holds the mesh.
 
     Args:
         name: unique name in the world.
-        file_path: an STL/OBJ/DAE/PLY file (read with coal's mesh loader), or None when
-            `vertices` and `faces` are given.
+        file_path: an STL/OBJ/DAE/PLY file (binary STL read directly, others with coal's
+            mesh loader), or None when `vertices` and `faces` are given.
         pose: the mesh frame's pose in the base frame.
         scale: (3,) scale applied to the file's coordinates (e.g. 0.001 for millimetres).
         vertices: (V, 3) vertex positions [m] in the mesh frame (before `scale`).
         faces: (F, 3) vertex indices of the triangles.
+        solid: True: the closed mesh is a solid (InvalidInputError if it is not closed);
+            False (default): a surface.
     """
 
     kind: ClassVar[str] = "mesh"
@@ -262,6 +276,7 @@ class Mesh(Obstacle):
     scale: np.ndarray = field(default=None)  # type: ignore[assignment]
     vertices: np.ndarray = field(default=None, repr=False)  # type: ignore[assignment]
     faces: np.ndarray = field(default=None, repr=False)  # type: ignore[assignment]
+    solid: bool = False
 
     def __init__(
         self,
@@ -271,8 +286,11 @@ class Mesh(Obstacle):
         scale: float | Sequence[float] = 1.0,
         vertices: np.ndarray | None = None,
         faces: np.ndarray | None = None,
+        solid: bool = False,
     ):
         object.__setattr__(self, "name", _check_name(name, "mesh"))
+        if not isinstance(solid, (bool, np.bool_)):
+            raise InvalidInputError(f"mesh '{name}': solid must be True or False; got {solid!r}")
         object.__setattr__(self, "pose", as_pose(pose, f"mesh '{name}'"))
         try:
             s = np.broadcast_to(as_real_array(scale, f"mesh '{name}': scale"), (3,)).copy()
@@ -306,6 +324,64 @@ class Mesh(Obstacle):
         F.setflags(write=False)
         object.__setattr__(self, "vertices", V)
         object.__setattr__(self, "faces", F)
+        object.__setattr__(self, "solid", bool(solid))
+        # derived data shared by the copies at other poses (`with_pose`): coal's tree, the box
+        shared: dict = {}
+        if solid:
+            from manip.collision.solids import solid_data, weld
+
+            shared["solid"] = solid_data(*weld(V * self.scale, F), name)
+        object.__setattr__(self, "_shared", shared)
+
+    def _sharing_copy(self) -> Mesh:
+        """A shallow copy holding the same derived data (`copy.copy` would drop coal's tree)."""
+        out = object.__new__(Mesh)
+        out.__dict__.update(self.__dict__)
+        return out
+
+    def __getstate__(self) -> dict:
+        """Pickled without coal's tree (rebuilt where it is needed)."""
+        state = dict(self.__dict__)
+        state["_shared"] = {k: v for k, v in self._shared.items() if k == "solid"}
+        return state
+
+    def with_pose(self, pose: Pose | Sequence[float]) -> Mesh:
+        """A copy of this mesh at another pose (base frame), sharing its data (no reload)."""
+        out = self._sharing_copy()
+        object.__setattr__(out, "pose", as_pose(pose, f"mesh '{self.name}'"))
+        return out
+
+    def with_name(self, name: str) -> Mesh:
+        """A copy of this mesh with another name, sharing its data."""
+        out = self._sharing_copy()
+        object.__setattr__(out, "name", _check_name(name, "mesh"))
+        return out
+
+    def decimated(self, cell: float) -> Mesh:
+        """A coarser solid mesh that holds this one: the surface of the grid cells of edge
+        `cell` [m] its triangles touch, with what they enclose (`manip.collision.voxel_solid`).
+
+        It holds every point of this mesh (and of its volume when closed) and lies within
+        `cell * sqrt(3)` of it, so it is never smaller: a surface becomes a slab about one to
+        two cells thick. A 1e6-triangle scan decimated at 1-2 cm keeps tens of thousands of
+        triangles (BENCHMARKS.md "Mesh obstacles").
+
+        Returns:
+            A `Mesh(solid=True)` of the same name and pose (vertices scaled, scale 1).
+
+        Raises:
+            InvalidInputError: a cell that is not positive, or so small the grid is too large.
+        """
+        from manip.collision.voxel_solid import voxel_solid
+
+        cell = positive(cell, f"mesh '{self.name}': decimated cell", "m")
+        V, F = voxel_solid(self.scaled_vertices, self.faces, cell, f"mesh '{self.name}'")
+        return Mesh(self.name, pose=self.pose, vertices=V, faces=F, solid=True)
+
+    @property
+    def solid_data(self):
+        """The `manip.collision.solids.SolidData` of a solid mesh (None for a surface)."""
+        return self._shared.get("solid")
 
     @property
     def scaled_vertices(self) -> np.ndarray:
@@ -313,9 +389,12 @@ class Mesh(Obstacle):
         return self.vertices * self.scale
 
     def local_aabb(self) -> tuple[np.ndarray, np.ndarray]:
-        V = self.scaled_vertices
-        lo, hi = V.min(axis=0), V.max(axis=0)
-        return (lo + hi) / 2.0, (hi - lo) / 2.0
+        box = self._shared.get("aabb")
+        if box is None:
+            V = self.scaled_vertices
+            lo, hi = V.min(axis=0), V.max(axis=0)
+            box = self._shared["aabb"] = ((lo + hi) / 2.0, (hi - lo) / 2.0)
+        return box[0].copy(), box[1].copy()
 
     def to_dict(self) -> dict:
         d: dict = {"pose": self._pose_list()}
@@ -326,6 +405,8 @@ class Mesh(Obstacle):
             d["faces"] = self.faces.tolist()
         if not np.allclose(self.scale, 1.0):
             d["scale"] = [float(x) for x in self.scale]
+        if self.solid:
+            d["solid"] = True
         return d
 
 
@@ -348,8 +429,30 @@ def _face_indices(faces, name: str) -> np.ndarray:
     )
 
 
+def _read_binary_stl(path: Path) -> tuple[np.ndarray, np.ndarray] | None:
+    """(vertices (V, 3), faces (F, 3)) of a binary STL file, equal vertices merged; None when
+    the file is not a binary STL (an 80-byte header, a count, 50 bytes per triangle)."""
+    size = path.stat().st_size
+    with open(path, "rb") as f:
+        head = f.read(84)
+        if len(head) < 84:
+            return None
+        n = int(np.frombuffer(head[80:84], dtype="<u4")[0])
+        if size != 84 + 50 * n or n == 0:
+            return None
+        rec = np.fromfile(f, dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")]), count=n)
+    from manip.collision.solids import weld
+
+    return weld(rec["v"].reshape(-1, 3).astype(float), np.arange(3 * n, dtype=np.int64).reshape(-1, 3))
+
+
 def _load_mesh_file(path: Path, name: str) -> tuple[np.ndarray, np.ndarray]:
     import coal
+
+    if path.suffix.lower() == ".stl":
+        VF = _read_binary_stl(path)   # 1e6 triangles in about 1 s (coal's loader: 14 s)
+        if VF is not None:
+            return VF
 
     try:
         bvh = coal.MeshLoader().load(str(path), np.ones(3))
@@ -382,10 +485,13 @@ def coal_geometry(shape: Obstacle):
     if isinstance(shape, Capsule):
         return coal.Capsule(shape.radius, shape.height)
     if isinstance(shape, Mesh):
-        bvh = coal.BVHModelOBBRSS()
-        bvh.beginModel(shape.faces.shape[0], shape.vertices.shape[0])
-        bvh.addVertices(np.ascontiguousarray(shape.scaled_vertices, dtype=float))
-        bvh.addTriangles(np.ascontiguousarray(shape.faces, dtype=np.int64))
-        bvh.endModel()
+        bvh = shape._shared.get("bvh")   # the same mesh at another pose: the same tree (its frame's)
+        if bvh is None:
+            bvh = coal.BVHModelOBBRSS()
+            bvh.beginModel(shape.faces.shape[0], shape.vertices.shape[0])
+            bvh.addVertices(np.ascontiguousarray(shape.scaled_vertices, dtype=float))
+            bvh.addTriangles(np.ascontiguousarray(shape.faces, dtype=np.int64))
+            bvh.endModel()
+            shape._shared["bvh"] = bvh
         return bvh
     raise InvalidInputError(f"unsupported shape type {type(shape).__name__}; valid: {', '.join(SHAPE_TYPES)}")

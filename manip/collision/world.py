@@ -6,7 +6,9 @@ Reads and writes cuRobo's world format::
      "sphere":   {name: {"radius": r, "position": [x, y, z]}},
      "cylinder": {name: {"radius": r, "height": h, "pose": [...]}},
      "capsule":  {name: {"radius": r, "height": h, "pose": [...]}}   # or "base"/"tip" points
-     "mesh":     {name: {"file_path": path, "pose": [...], "scale": [sx, sy, sz]}}}
+     "mesh":     {name: {"file_path": path, "pose": [...], "scale": [sx, sy, sz], "solid": false}}}
+
+A mesh is a surface unless `"solid": true` (a closed mesh as the volume it bounds; see `Mesh`).
 """
 
 from __future__ import annotations
@@ -26,7 +28,7 @@ _FIELDS = {
     "sphere": ({"radius"}, {"position", "pose"}),
     "cylinder": ({"radius", "height"}, {"pose"}),
     "capsule": ({"radius"}, {"height", "base", "tip", "pose"}),
-    "mesh": (set(), {"file_path", "pose", "scale", "vertices", "faces"}),
+    "mesh": (set(), {"file_path", "pose", "scale", "vertices", "faces", "solid"}),
 }
 # Keys of cuRobo's entries that carry no geometry (colours, textures): accepted and ignored.
 _IGNORED = {"color", "texture", "tensor_args"}
@@ -242,11 +244,11 @@ def _from_entry(kind: str, name: str, entry: Any, base_dir: str | Path | None) -
         p = Path(fp)
         if not p.is_absolute() and base_dir is not None:
             p = Path(base_dir) / p
-        return Mesh(name, file_path=p, pose=pose, scale=entry.get("scale", 1.0))
+        return Mesh(name, file_path=p, pose=pose, scale=entry.get("scale", 1.0), solid=entry.get("solid", False))
     if "vertices" not in entry or "faces" not in entry:
         raise InvalidInputError(f"mesh '{name}': give 'file_path', or 'vertices' and 'faces'")
     return Mesh(name, pose=pose, scale=entry.get("scale", 1.0),
-                vertices=entry["vertices"], faces=entry["faces"])
+                vertices=entry["vertices"], faces=entry["faces"], solid=entry.get("solid", False))
 
 
 __all__ = ["WorldConfig", "Cuboid", "Sphere", "Cylinder", "Capsule", "Mesh", "Obstacle"]

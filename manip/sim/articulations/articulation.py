@@ -53,7 +53,8 @@ from manip.sim.articulations.articulation_view import ArticulationView
 from manip.sim.articulations.dof_properties import DOF_PROPERTIES_DTYPE, dof_properties  # noqa: F401 (DTYPE re-exported)
 from manip.sim.scenes.stage import ReferencePrim, SimHandle, SimulationError, get_current_stage, validate_prim_path
 from manip.sim.utils.types import DefaultPoseMixin, JointsState, XFormPrimState, position_or_translation
-from manip.validation import unit_quat, vec
+from manip.validation import unit_quat
+from manip.sim.utils.bounds import bounded_vec
 
 logger = logging.getLogger(__name__)
 
@@ -94,7 +95,7 @@ class Articulation(DefaultPoseMixin):
             )
         p = position_or_translation(position, translation)
         if p is not None:
-            ref.position = vec(p, 3, "position")
+            ref.position = bounded_vec(p, "position", "position")
         if orientation is not None:
             ref.orientation = unit_quat(orientation)
         if scale is not None and not np.allclose(np.asarray(scale, dtype=float), 1.0):
@@ -251,12 +252,14 @@ class Articulation(DefaultPoseMixin):
     def set_joint_efforts(self, efforts, joint_indices=None) -> None:
         """Set the joint efforts (K,) [N m or N] added to the drives (persist until changed).
 
-        Raises InvalidInputError on a wrong length, a non-finite value or a magnitude above
-        MAX_EFFORT (1e6); nothing changes then.
+        Raises InvalidInputError on a wrong length, a non-finite value or an effort that would
+        alone accelerate its joint beyond `manip.sim.utils.bounds.MAX_EFFORT_ACCELERATION` (1e4
+        rad/s^2 on the joint's inertia: 1.1e3 N m on the Franka's joint 7); nothing changes then.
         """
         c = self._cs("set_joint_efforts")
         idx = c.indices(joint_indices)
         e = c.values(efforts, idx, "efforts", limit=MAX_EFFORT, kind="effort")
+        c.check_physical(e, idx, "efforts", "effort")
         c.efforts = c.efforts.copy()
         c.efforts[idx] = e
         c.write_targets()
@@ -294,6 +297,9 @@ class Articulation(DefaultPoseMixin):
                 raise InvalidInputError(f"default joint {what} must have magnitudes <= {limit:g}; got {a}")
             if self._core is not None and a.size != self._core.n:
                 raise InvalidInputError(f"default joint {what} need {self._core.n} entries; got {a.size}")
+            if self._core is not None and what != "positions":
+                self._core.check_physical(a, np.arange(a.size), f"default joint {what}",
+                                        {"velocities": "velocity", "efforts": "effort"}[what])
             self._user_default_joints[what] = a.copy()
             if self._default_joints is not None:
                 if what == "positions":
@@ -326,7 +332,7 @@ class Articulation(DefaultPoseMixin):
         """Move the model's frame (teleport; a fixed base is moved with it)."""
         c = self._cs("set_world_pose")
         cur_p, cur_q = self.get_world_pose()
-        p = vec(position, 3, "position") if position is not None else cur_p
+        p = bounded_vec(position, "position", "position") if position is not None else cur_p
         q = unit_quat(orientation) if orientation is not None else cur_q
         R = quat.to_matrix(q)
         m, d = c.sim.model, c.sim.data

@@ -8,7 +8,9 @@ documented in `manip.sim.articulations.articulation`.
 Every command is checked here before it reaches MuJoCo: non-finite values and magnitudes
 beyond `MAX_POSITION`, `MAX_VELOCITY`, `MAX_EFFORT` raise InvalidInputError naming the
 argument, and so does a drive command (kp * target + kd * velocity target) beyond
-`MAX_DRIVE_COMMAND`, which MuJoCo would treat as a numerical failure.
+`MAX_DRIVE_COMMAND`, which MuJoCo would treat as a numerical failure. Set velocities and
+applied efforts are also held to the physical bounds of `manip.sim.utils.bounds` (joint speeds,
+the acceleration an effort alone gives its joint).
 """
 
 from __future__ import annotations
@@ -25,6 +27,7 @@ from manip.articulation_action import ArticulationAction
 from manip.errors import InvalidInputError
 from manip.robot_config import CONFIG_FILE, load_robot_config
 from manip.sim.scenes.stage import ReferencePrim, SimHandle, SimulationError
+from manip.sim.utils import bounds
 
 logger = logging.getLogger(__name__)
 
@@ -282,6 +285,17 @@ class ArticulationCore:
             check_magnitude(a, limit, what, [self.dof_names[i] for i in idx], kind)
         return a
 
+    def check_physical(self, a: np.ndarray, idx: np.ndarray, what: str, kind: str) -> None:
+        """Raise InvalidInputError naming `what` and the joints if velocities (kind "velocity")
+        or efforts ("effort") `a` (K,) of joints `idx` exceed `manip.sim.utils.bounds`."""
+        names = [self.dof_names[i] for i in idx]
+        revolute = self.types[idx] == 1
+        if kind == "velocity":
+            bounds.check_joint_speeds(a, revolute, names, what)
+        else:
+            m0 = self.sim.model.dof_M0[self.dadr[idx]]   # diagonal inertia at the reference configuration
+            bounds.check_efforts(a, np.where(m0 > 0, m0, np.inf), revolute, names, what)
+
     def apply_action(self, action: ArticulationAction) -> None:
         """Set drive targets from an action (Isaac's semantics); nothing changes on error."""
         if not isinstance(action, ArticulationAction):
@@ -305,6 +319,9 @@ class ArticulationCore:
             values = getattr(action, field)
             if values is not None:
                 check_magnitude(np.asarray(values, dtype=float), limit, f"ArticulationAction.{field}", names, kind)
+        if action.joint_efforts is not None:
+            self.check_physical(np.asarray(action.joint_efforts, dtype=float), idx, "ArticulationAction.joint_efforts",
+                                "effort")
         pos = _merge_targets(self.pos_target, idx, action.joint_positions)
         vel = _merge_targets(self.vel_target, idx, action.joint_velocities)
         eff = self.efforts.copy()
@@ -362,10 +379,12 @@ class ArticulationCore:
         drive targets unchanged.
 
         Raises:
-            InvalidInputError: a wrong length, a non-finite value or a magnitude above MAX_VELOCITY.
+            InvalidInputError: a wrong length, a non-finite value or a speed above
+                `manip.sim.utils.bounds.MAX_JOINT_SPEED` (100 rad/s; prismatic: 10 m/s).
         """
         idx = self.indices(joint_indices)
         v = self.values(velocities, idx, "velocities", limit=MAX_VELOCITY, kind="velocity")
+        self.check_physical(v, idx, "velocities", "velocity")
         self.sim.data.qvel[self.dadr[idx]] = v
         self.sim.mark_stale()
 

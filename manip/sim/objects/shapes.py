@@ -21,7 +21,8 @@ from manip.errors import InvalidInputError
 from manip.sim.prims.geometry_prim import GeometryPrim, PhysicsMaterial
 from manip.sim.prims.rigid_prim import RigidPrim
 from manip.sim.utils.types import DynamicState
-from manip.validation import positive, scale3, vec
+from manip.validation import positive, scale3
+from manip.sim.utils.bounds import bounded_vec
 
 logger = logging.getLogger(__name__)
 
@@ -273,8 +274,9 @@ class _DynamicShape(RigidPrim, _ShapePrim):
         self._density = positive(density, "density", "kg/m^3") if density is not None else None
         if self._mass is None and self._density is None:
             self._mass = 0.02
-        lin = vec(linear_velocity, 3, "linear_velocity") if linear_velocity is not None else np.zeros(3)
-        ang = vec(angular_velocity, 3, "angular_velocity") if angular_velocity is not None else np.zeros(3)
+        lin = bounded_vec(linear_velocity, "linear", "linear_velocity") if linear_velocity is not None else np.zeros(3)
+        ang = bounded_vec(angular_velocity, "angular", "angular_velocity") if angular_velocity is not None \
+            else np.zeros(3)
         s = self._default_state
         self._default_state = DynamicState(s.position, s.orientation, lin, ang)
 

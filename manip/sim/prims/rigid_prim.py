@@ -10,7 +10,8 @@ import numpy as np
 from manip.sim.scenes.stage import SimulationError
 from manip.sim.utils.types import DynamicState
 from manip.sim.prims.xform_prim import XFormPrim
-from manip.validation import positive, vec
+from manip.validation import positive
+from manip.sim.utils.bounds import bounded_vec
 
 logger = logging.getLogger(__name__)
 
@@ -66,7 +67,9 @@ class RigidPrim(XFormPrim):
         return getattr(self._default_state, which).copy()
 
     def set_linear_velocity(self, velocity) -> None:
-        v = vec(velocity, 3, "linear velocity")
+        """Set the linear velocity (3,) [m/s], world frame; a speed above
+        `manip.sim.utils.bounds.MAX_LINEAR_SPEED` (1e3 m/s) raises InvalidInputError."""
+        v = bounded_vec(velocity, "linear", "linear velocity")
         if self._sim is None:
             self._default_state.linear_velocity = v
             return
@@ -75,8 +78,9 @@ class RigidPrim(XFormPrim):
         self._sim.mark_stale()
 
     def set_angular_velocity(self, velocity) -> None:
-        """Set the angular velocity (3,) [rad/s], world frame."""
-        w = vec(velocity, 3, "angular velocity")
+        """Set the angular velocity (3,) [rad/s], world frame; an angular speed above
+        `manip.sim.utils.bounds.MAX_ANGULAR_SPEED` (1e3 rad/s) raises InvalidInputError."""
+        w = bounded_vec(velocity, "angular", "angular velocity")
         if self._sim is None:
             self._default_state.angular_velocity = w
             return
@@ -117,9 +121,9 @@ class RigidPrim(XFormPrim):
         """State restored by `post_reset()`; None keeps a part."""
         super().set_default_state(position, orientation)
         if linear_velocity is not None:
-            self._default_state.linear_velocity = vec(linear_velocity, 3, "linear_velocity")
+            self._default_state.linear_velocity = bounded_vec(linear_velocity, "linear", "linear_velocity")
         if angular_velocity is not None:
-            self._default_state.angular_velocity = vec(angular_velocity, 3, "angular_velocity")
+            self._default_state.angular_velocity = bounded_vec(angular_velocity, "angular", "angular_velocity")
 
     def get_default_state(self) -> DynamicState:
         s = self._default_state

@@ -20,6 +20,7 @@ import numpy as np
 from manip import quaternion as quat
 from manip.errors import InvalidInputError
 from manip.sim.scenes.stage import SimHandle, SimulationError, get_current_stage
+from manip.sim.utils.bounds import check_bounded_rows
 from manip.validation import batch
 
 logger = logging.getLogger(__name__)
@@ -186,6 +187,8 @@ class XFormPrimView:
         sim = self._need()
         idx = self._idx(indices)
         p = batch(positions, idx.size, 3, "positions") if positions is not None else None
+        if p is not None:
+            check_bounded_rows(p, "position", "positions")
         q = quat.normalize(batch(orientations, idx.size, 4, "orientations")) if orientations is not None else None
         movable = self._free[idx] | (self._mocap[idx] >= 0)
         if not np.all(movable):
@@ -277,6 +280,8 @@ class RigidPrimView(XFormPrimView):
         sim = self._need()
         idx = self._idx(indices)
         v = batch(velocities, idx.size, 6, "velocities")
+        check_bounded_rows(v[:, :3], "linear", "velocities (linear part)")
+        check_bounded_rows(v[:, 3:], "angular", "velocities (angular part)")
         if not np.all(self._free[idx]):
             raise SimulationError("only free rigid bodies (Dynamic objects) have settable velocities")
         for k, i in enumerate(idx):

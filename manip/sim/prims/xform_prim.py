@@ -15,7 +15,8 @@ from manip import quaternion as quat
 from manip.errors import InvalidInputError
 from manip.sim.scenes.stage import ReferencePrim, SimHandle, SimulationError, get_current_stage, validate_prim_path
 from manip.sim.utils.types import DefaultPoseMixin, XFormPrimState, position_or_translation
-from manip.validation import scale3, unit_quat, vec
+from manip.validation import scale3, unit_quat
+from manip.sim.utils.bounds import bounded_vec
 
 logger = logging.getLogger(__name__)
 
@@ -74,7 +75,7 @@ class XFormPrim(DefaultPoseMixin):
         self._wrapped_object = existing
         p = position_or_translation(position, translation)
         self._pose = (
-            vec(p, 3, "position") if p is not None else np.zeros(3),
+            bounded_vec(p, "position", "position") if p is not None else np.zeros(3),
             unit_quat(orientation) if orientation is not None else _IDENTITY.copy(),
         )
         self._scale = scale3(scale) if scale is not None else np.ones(3)
@@ -178,10 +179,11 @@ class XFormPrim(DefaultPoseMixin):
         """Teleport the prim. None keeps that part of the pose.
 
         Raises:
-            InvalidInputError: non-finite position, or orientation not a unit quaternion.
+            InvalidInputError: non-finite position, or farther than `manip.sim.utils.bounds.MAX_WORLD_POSITION`
+                (1e4 m) from the origin, or orientation not a unit quaternion.
             SimulationError: the prim is a body of a referenced model (move the robot instead).
         """
-        p = vec(position, 3, "position") if position is not None else None
+        p = bounded_vec(position, "position", "position") if position is not None else None
         q = unit_quat(orientation) if orientation is not None else None
         if self._wrapped_reference is not None:
             raise SimulationError(

@@ -8,7 +8,8 @@ import numpy as np
 
 from manip.articulation_action import ArticulationAction
 from manip.errors import InvalidInputError
-from manip.validation import unit_quat, vec
+from manip.sim.utils.bounds import bounded_vec
+from manip.validation import unit_quat
 
 __all__ = ["ArticulationAction", "DynamicState", "JointsState", "XFormPrimState", "ArticulationActions"]
 
@@ -30,7 +31,7 @@ class DefaultPoseMixin:
     def set_default_state(self, position=None, orientation=None) -> None:
         """Pose restored by `post_reset()` (i.e. by `World.reset()`); None keeps a part."""
         if position is not None:
-            self._default_state.position = vec(position, 3, "position")
+            self._default_state.position = bounded_vec(position, "position", "position")
         if orientation is not None:
             self._default_state.orientation = unit_quat(orientation)
 
