@@ -19,10 +19,10 @@ from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
-from manip.jit import kernel
 
 from manip import quaternion as quat
 from manip.errors import InvalidInputError, UnknownNameError
+from manip.jit import kernel
 from manip.pose import Pose
 from manip.robot_config import RobotConfig
 from manip.urdf import build_model

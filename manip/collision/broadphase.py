@@ -26,6 +26,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+
 from manip.jit import kernel
 
 _TWO_PI = 2.0 * math.pi

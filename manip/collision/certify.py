@@ -48,13 +48,13 @@ from typing import NamedTuple
 
 import coal
 import numpy as np
-from manip.jit import kernel
 
 from manip.collision import broadphase
 from manip.collision.robot_geometry import geometry_triangles
 from manip.collision.shapes import Capsule, Cuboid, Cylinder, Mesh, Sphere
 from manip.collision.solids import part_inside
 from manip.collision.state import CollisionState
+from manip.jit import kernel
 
 #: A pair is not certified after this many halvings of a segment (2^-40 of its length).
 MAX_DEPTH = 40

@@ -17,9 +17,9 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from manip.jit import kernel
 
 from manip.collision.broadphase import _obstacle_sd, _place
+from manip.jit import kernel
 
 #: Central-difference step [m] of the obstacle distance gradient at a ball centre.
 _NORMAL_STEP = 1e-5

@@ -37,6 +37,7 @@ import math
 import mujoco
 import numpy as np
 from mink import Configuration, Constraint, Limit
+
 from manip.jit import kernel
 
 #: Rows of a pair's local box in `model.geom_aabb`: centre (3) then half extents (3).

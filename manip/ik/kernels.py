@@ -29,9 +29,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from manip.jit import kernel
 
 from manip import quaternion as quat
+from manip.jit import kernel
 from manip.kinematics import chain_frames, frame_jacobian_into
 
 _INTERNAL_TOLERANCE = 1e-5  # [m] and [rad]: an attempt converges below this

@@ -11,8 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 import ruckig
-from manip.jit import kernel
 
+from manip.jit import kernel
 from manip.timing.shared import LIMIT_MARGIN, RestToRest, RuckigFailure
 from manip.trajectory import PiecewiseJerkProfile
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 import piqp
 import scipy.sparse as sp
+
 from manip.jit import kernel
 
 #: Regularisation of the slack and ray variables (their objective is linear).
