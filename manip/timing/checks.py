@@ -7,6 +7,7 @@ from typing import Any, NamedTuple, Sequence
 import numpy as np
 
 from manip.errors import InvalidInputError
+from manip.limits import JointLimits
 from manip.validation import fraction, non_negative, per_joint, positive
 
 #: The timing modes: stop at every corner, round the corners, one motion along a spline.
@@ -21,12 +22,9 @@ class Checked(NamedTuple):
     """Validated inputs of a timing call."""
 
     path: np.ndarray  #: (K, dof) waypoints [rad] (a copy)
-    vmax: np.ndarray  #: (dof,) scaled velocity limits [rad/s]
-    amax: np.ndarray  #: (dof,) scaled acceleration limits [rad/s^2]
-    jmax: np.ndarray  #: (dof,) scaled jerk limits [rad/s^3]
-    names: tuple[str, ...]  #: (dof,) joint names
-    lower: np.ndarray | None  #: (dof,) lower limits widened by the tolerance [rad], or None
-    upper: np.ndarray | None  #: (dof,) upper limits widened by the tolerance [rad], or None
+    #: the scaled velocity, acceleration and jerk limits, the joint names and the position
+    #: limits widened by the tolerance (None: unbounded)
+    limits: JointLimits
 
 
 def check_mode(mode: Any) -> str:
@@ -103,4 +101,5 @@ def check_inputs(
                 f"limits [{lower_limits[jj]:.6f}, {upper_limits[jj]:.6f}] (+- {position_tolerance} rad); "
                 f"{len(outside)} violation(s) in total"
             )
-    return Checked(w, vmax, amax, jmax, names, lower, upper)
+    return Checked(w, JointLimits(velocity=vmax, acceleration=amax, jerk=jmax, lower=lower, upper=upper,
+                                  joint_names=names))

@@ -252,10 +252,12 @@ def time_parameterize_dense(
     """
     t_start = time.perf_counter()
     check_deviation_tolerance(deviation_tolerance, optional=True)
-    w, vmax, amax, jmax, names, lower, upper = check_inputs(
+    w, limits = check_inputs(
         path, velocity_limits, acceleration_limits, jerk_limits, dt, joint_names, lower_limits, upper_limits,
         position_tolerance, velocity_scale, acceleration_scale, jerk_scale, duration,
     )
+    vmax, amax, jmax, names = limits.velocity, limits.acceleration, limits.jerk, limits.joint_names
+    lower, upper = limits.lower, limits.upper
     mode = "along_path"
     keep = _merge_close(w)
     wp = w[keep]

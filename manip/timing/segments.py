@@ -13,6 +13,7 @@ import numpy as np
 import ruckig
 
 from manip.jit import kernel
+from manip.limits import JointLimits
 from manip.timing.shared import LIMIT_MARGIN, RestToRest, RuckigFailure
 from manip.trajectory import PiecewiseJerkProfile
 
@@ -36,23 +37,27 @@ class Segment:
 
 
 class SegmentSolver:
-    """Reuses one ruckig instance for state-to-state segments with zero end accelerations."""
+    """Reuses one ruckig instance for state-to-state segments with zero end accelerations.
 
-    def __init__(self, vmax: np.ndarray, amax: np.ndarray, jmax: np.ndarray):
-        self.dof = vmax.size
+    Args:
+        limits: the velocity, acceleration and jerk limits of the motion; the segments keep
+            `used` = these times (1 - LIMIT_MARGIN).
+    """
+
+    def __init__(self, limits: JointLimits):
+        self.dof = limits.dof
+        m = 1.0 - LIMIT_MARGIN
+        self.used = limits.scaled(m, m, jerk=m)
         self.otg = ruckig.Ruckig(self.dof)
         self.inp = ruckig.InputParameter(self.dof)
-        self.inp.max_velocity = (vmax * (1 - LIMIT_MARGIN)).tolist()
-        self.inp.max_acceleration = (amax * (1 - LIMIT_MARGIN)).tolist()
-        self.inp.max_jerk = (jmax * (1 - LIMIT_MARGIN)).tolist()
+        self.inp.max_velocity = self.used.velocity.tolist()
+        self.inp.max_acceleration = self.used.acceleration.tolist()
+        self.inp.max_jerk = self.used.jerk.tolist()
         zeros = [0.0] * self.dof
         self.inp.current_acceleration = zeros
         self.inp.target_acceleration = zeros
         self.inp.synchronization = ruckig.Synchronization.Phase
         self.traj = ruckig.Trajectory(self.dof)
-        self.vmax_used = vmax * (1 - LIMIT_MARGIN)
-        self.amax_used = amax * (1 - LIMIT_MARGIN)
-        self.jmax_used = jmax * (1 - LIMIT_MARGIN)
         self.line = RestToRest()  # 1-D problem along a straight line (rest to rest)
 
     def solve_line(self, p0: np.ndarray, p1: np.ndarray) -> Segment:
@@ -76,9 +81,9 @@ class SegmentSolver:
         try:
             res = self.line.calculate(
                 length,
-                float(np.min(self.vmax_used[nz] / mag[nz])),
-                float(np.min(self.amax_used[nz] / mag[nz])),
-                float(np.min(self.jmax_used[nz] / mag[nz])),
+                float(np.min(self.used.velocity[nz] / mag[nz])),
+                float(np.min(self.used.acceleration[nz] / mag[nz])),
+                float(np.min(self.used.jerk[nz] / mag[nz])),
             )
         except ruckig.RuckigError as e:
             raise RuckigFailure(f"ruckig rejected a straight segment of length {length} rad: {e}") from e

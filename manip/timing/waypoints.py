@@ -223,7 +223,7 @@ def _plan_segments(
     k = len(w)
     # Sampling every h misses at most M h^2 / 8 of a maximum, where M bounds the second
     # derivative of the distance to a line: ||(I - u u^T) q''|| <= ||amax||.
-    margin = 0.125 * float(np.linalg.norm(solver.amax_used)) * DEVIATION_STEP**2
+    margin = 0.125 * float(np.linalg.norm(solver.used.acceleration)) * DEVIATION_STEP**2
     tolerance = max(0.0, tolerance - margin)
     caps = np.zeros(k) if blend is None else blend.caps * level
     halvings = np.zeros(k, dtype=int)
@@ -299,7 +299,9 @@ def time_waypoints(
         duration: desired total time [s], or None for the fastest.
         t_start: `time.perf_counter()` when the call began (for `compute_time`).
     """
-    w, vmax, amax, jmax, names, lower, upper = checked
+    w, limits = checked
+    vmax, amax, jmax, names = limits.velocity, limits.acceleration, limits.jerk, limits.joint_names
+    lower, upper = limits.lower, limits.upper
 
     wp = _simplify(w)
     if len(wp) == 1:  # nothing to move
@@ -311,7 +313,7 @@ def time_waypoints(
         keep = _douglas_peucker(wp, 0.5 * deviation_tolerance)
     sub_paths = [wp[keep[i] : keep[i + 1] + 1] for i in range(len(keep) - 1)]
     wp = wp[keep]
-    solver = SegmentSolver(vmax, amax, jmax)
+    solver = SegmentSolver(limits)
 
     def fail(status: TimingStatus, msg: str, min_dur: float = float("nan")) -> TimingResult:
         return failure("time_parameterize", mode, status, msg, wp, t_start, min_dur)
@@ -320,7 +322,7 @@ def time_waypoints(
     try:
         levels = (0.0,) if mode == "exact" else _SPEED_LEVELS
         blend = (
-            _blend_data(wp, solver.vmax_used, solver.amax_used, stop_angle, 0.5 * deviation_tolerance)
+            _blend_data(wp, solver.used.velocity, solver.used.acceleration, stop_angle, 0.5 * deviation_tolerance)
             if mode == "blend"
             else None
         )

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 import yaml
@@ -16,6 +14,7 @@ from manip.benchmarking.mbm_problems import (
     scene_to_world,
 )
 from manip.errors import UnknownNameError
+from robot_constants import REPO_ROOT
 
 DATASET = default_dataset_path()
 
@@ -83,7 +82,7 @@ def test_the_dataset_ships_with_the_repository(monkeypatch):
     # the planner regression tests and benchmarks/mbm.py run from a fresh clone, with nothing beside it
     monkeypatch.delenv("MANIP_MBM_DATASET", raising=False)
     shipped = default_dataset_path()
-    assert shipped == Path(__file__).resolve().parents[1] / "benchmarks" / "data" / "mbm" / "panda_problems.tar.bz2"
+    assert shipped == REPO_ROOT / "benchmarks" / "data" / "mbm" / "panda_problems.tar.bz2"
     assert shipped.is_file() and (shipped.parent / "LICENSE-vamp-Apache-2.0.txt").is_file()
     assert len(load_mbm_problems(shipped, scenes=["box_panda"], limit_per_scene=2)) == 2
 

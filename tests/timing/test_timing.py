@@ -254,7 +254,7 @@ def test_profile_matches_ruckig_at_time(cfg):
     vmax, amax, jmax, lo, hi = limits(cfg)
     from manip.trajectory import evaluate_pieces
 
-    solver = SegmentSolver(vmax, amax, jmax)
+    solver = SegmentSolver(cfg.limits)
     a = np.array(cfg.default_joint_positions)
     b = a + np.array([0.4, -0.2, 0.3, 0.1, -0.5, 0.2, 0.6])
     v0 = np.array([0.5, 0.1, 0.0, -0.2, 0.3, 0.0, 0.4])
@@ -494,7 +494,7 @@ def test_along_path_mode_of_time_parameterize(cfg, line_path):
 def test_segment_deviation_is_the_largest_sampled_distance_from_the_path(cfg):
     # the compiled deviation against the profile evaluated and measured with numpy, on
     # blended segments (ends in motion) of the Franka's limits
-    solver = SegmentSolver(cfg.velocity_limits, cfg.acceleration_limits, cfg.jerk_limits)
+    solver = SegmentSolver(cfg.limits)
     rng = np.random.default_rng(3)
     for k in range(40):
         p0, p1 = rng.uniform(-1.0, 1.0, (2, 7))
