@@ -225,7 +225,9 @@ def check_pinocchio_can_read(urdf: str | Path, dirs: tuple[str, ...], collision_
         if not uri.startswith(PACKAGE):
             continue
         target = resolve(uri, urdf)
-        if not any((Path(d) / uri[len(PACKAGE):]).is_file() for d in dirs):
+        # Pinocchio joins D and the rest as strings: package:///PKG/... (an empty package name,
+        # as talos_data writes) reads as D/PKG/...
+        if not any((Path(d) / uri[len(PACKAGE):].lstrip("/")).is_file() for d in dirs):
             raise RobotConfigError(
                 f"{urdf}: mesh {uri} is {target}, but the planner's collision model (Pinocchio) finds a "
                 f"package:// file only in a folder named after its package ('{split(uri)[0]}'): rename or link "

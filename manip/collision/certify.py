@@ -52,7 +52,7 @@ import numpy as np
 from manip.collision import broadphase
 from manip.collision.robot_geometry import geometry_triangles
 from manip.collision.shapes import Capsule, Cuboid, Cylinder, Mesh, Sphere
-from manip.collision.solids import part_inside
+from manip.collision.solids import part_inside_a_solid
 from manip.collision.state import CollisionState
 from manip.jit import kernel
 
@@ -462,7 +462,8 @@ def certify_path(state: CollisionState, path: np.ndarray) -> MotionCertificate:
         return MotionCertificate(False, 0, "collision", (st.parts[g].name, st.obstacles[o].name))
     tb: MotionBoundTables = st.motion_bounds
     R, p = st.joint_transforms(Q)
-    inside = _inside_solid_at_start(st, R, p)
+    # the certificate keeps every part off every surface, so the start decides for each solid
+    inside = part_inside_a_solid(st.parts, st.obstacles, st.obstacle_geometries, R[0], p[0])
     if inside is not None:
         return MotionCertificate(False, 0, "collision", inside)
     rho, chord = _axis_reach(R, p, tb.centres, tb.radii, tb.ball_part, tb.ball_joint, tb.ancestors, tb.axes,
@@ -553,23 +554,6 @@ def certify_path(state: CollisionState, path: np.ndarray) -> MotionCertificate:
                 names = (st.parts[i].name, st.obstacles[j].name if kind == 0 else st.parts[j].name)
                 return MotionCertificate(False, seg, why, names, ctx.queries)
     return MotionCertificate(True, queries=ctx.queries)
-
-
-def _inside_solid_at_start(st: CollisionState, R: np.ndarray, p: np.ndarray) -> tuple[str, str] | None:
-    """The (part, obstacle) names of a moving part inside a solid mesh at the path's first
-    configuration, or None. The certificate proves that no part comes within the padding of
-    any obstacle's surface along the whole path, so each part stays on the side of each solid
-    it starts on (`manip.collision.solids`): the start decides for the whole path."""
-    solids = [o for o, ob in enumerate(st.obstacles) if getattr(ob, "solid", False)]
-    for part in st.parts:
-        if part.joint == 0 or not solids:
-            continue   # parts fixed to the base: in the checker's static pairs
-        Rj = R[0, part.joint]
-        Rg, pg = Rj @ part.R, p[0, part.joint] + Rj @ part.p
-        for o in solids:
-            if part_inside(part.geometry, Rg, pg, st.obstacles[o], st.obstacle_geometries[o]):
-                return part.name, st.obstacles[o].name
-    return None
 
 
 def _certify_segment(ctx: _Context, Q: np.ndarray, pair, seg: int, M: float, E: tuple[float, float],

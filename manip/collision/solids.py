@@ -233,3 +233,30 @@ def part_inside(geometry, R: np.ndarray, p: np.ndarray, mesh, bvh) -> bool:
     X = probe_points(geometry) @ R.T + p
     local = (X - mesh.pose.position) @ mesh.pose.rotation
     return contains(mesh.solid_data, bvh, local)
+
+
+def part_inside_a_solid(parts, obstacles, geometries, R: np.ndarray, p: np.ndarray) -> tuple[str, str] | None:
+    """The (part, obstacle) names of a moving part inside a solid mesh at one configuration, or None.
+
+    Args:
+        parts: the robot's parts (`collision.tables.Part`: geometry, joint, placement R/p in its joint frame).
+        obstacles, geometries: the world's obstacles and their coal geometries.
+        R, p: (J+1, 3, 3), (J+1, 3) the joint frames of the configuration (base frame).
+
+    The continuous certificate proves that no part comes within the padding of any obstacle's
+    surface along a path, so each part stays on the side of each solid it starts on: the
+    path's first configuration decides for the whole path. Parts fixed to the base are left to
+    the checker's static pairs.
+    """
+    solids = [o for o, ob in enumerate(obstacles) if getattr(ob, "solid", False)]
+    if not solids:
+        return None
+    for part in parts:
+        if part.joint == 0:
+            continue
+        Rj = R[part.joint]
+        Rg, pg = Rj @ part.R, p[part.joint] + Rj @ part.p
+        for o in solids:
+            if part_inside(part.geometry, Rg, pg, obstacles[o], geometries[o]):
+                return part.name, obstacles[o].name
+    return None
