@@ -272,11 +272,7 @@ class SimulationContext:
         self._sim = None
         self._cores = []
         self._stage.sim = None
-        # A view of the old MjData: it kept the model's buffers (about 15 MB for a Franka and a
-        # cube) alive as long as this World, and a cleared World is in reference cycles (scene,
-        # callbacks) that only the cyclic collector's rare full passes free: RSS crept by
-        # 20-30 KB per rebuild (tests/sim/test_rebuild_memory.py).
-        self._warning_counts = np.zeros(0, dtype=np.int32)
+        self._warnings.unwatch()  # the old data must go with its model (see `unwatch`)
 
     def _compile(self) -> None:
         """Compile the stage, then bind to the new model: each object, each referenced
