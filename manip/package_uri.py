@@ -115,6 +115,8 @@ def find_package(name: str, urdf: str | Path) -> tuple[Path | None, list[str]]:
         (the package's folder, or None; the folders searched, in order).
     """
     urdf = Path(urdf).resolve()
+    if not name:  # package:///rest names no package (`resolve` still tries the URDF's parent folders)
+        return None, ["no package named in the URI (package:///...)"]
     key = (name, str(urdf.parent), os.environ.get("ROS_PACKAGE_PATH"), os.environ.get("AMENT_PREFIX_PATH"),
            os.environ.get("CONDA_PREFIX"), tuple(sys.path))
     if key in _found and _found[key][0].is_dir():
@@ -225,9 +227,7 @@ def check_pinocchio_can_read(urdf: str | Path, dirs: tuple[str, ...], collision_
         if not uri.startswith(PACKAGE):
             continue
         target = resolve(uri, urdf)
-        # Pinocchio joins D and the rest as strings: package:///PKG/... (an empty package name,
-        # as talos_data writes) reads as D/PKG/...
-        if not any((Path(d) / uri[len(PACKAGE):].lstrip("/")).is_file() for d in dirs):
+        if not any(Path(f"{d}/{uri[len(PACKAGE):]}").is_file() for d in dirs):  # Pinocchio's concatenation
             raise RobotConfigError(
                 f"{urdf}: mesh {uri} is {target}, but the planner's collision model (Pinocchio) finds a "
                 f"package:// file only in a folder named after its package ('{split(uri)[0]}'): rename or link "

@@ -113,7 +113,7 @@ class UrdfTree:
             except RobotConfigError:
                 pass
             found = uri.startswith(package_uri.PACKAGE) and any(
-                (Path(d) / uri[len(package_uri.PACKAGE):]).is_file() for d in package_dirs or [])
+                Path(f"{d}/{uri[len(package_uri.PACKAGE):]}").is_file() for d in package_dirs or [])
             if not found and uri not in missing:
                 missing.append(uri)
         return missing

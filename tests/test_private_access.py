@@ -22,8 +22,6 @@ ALLOWED: dict[tuple[str, str], str] = {
         "a Pose from arrays the batched FK has just computed (unit quaternions): no second validation",
     ("manip/compat/__init__.py", "MotionGenerator._tutorial_factory"):
         "the hook of the deprecated tutorial names on MotionGenerator (they go with those names)",
-    ("manip/batch/process_pool.py", "os._exit"):
-        "the standard library's way for a forked worker to exit without running the parent's atexit handlers",
     ("manip/jit.py", "dispatcher._cache"):
         "numba's Dispatcher keeps its cache there and has no public way to give it another one: the "
         "prebuilt kernels' cache replaces the FunctionCache that cache=True would install",

@@ -272,7 +272,7 @@ class SimulationContext:
         self._sim = None
         self._cores = []
         self._stage.sim = None
-        self._warnings.unwatch()  # its view of the old MjData kept the model alive
+        self._warnings.unwatch()  # the old data must go with its model (see `unwatch`)
 
     def _compile(self) -> None:
         """Compile the stage, then bind to the new model: each object, each referenced
