@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import logging
 import os
+import threading
 from collections.abc import Callable
 from pathlib import Path
 
@@ -57,7 +58,7 @@ class DiskCache:
         if self.folder is None:
             return
         file = self.folder / name
-        tmp = file.with_name(f"{file.stem}.{os.getpid()}.tmp{file.suffix}")
+        tmp = file.with_name(f"{file.stem}.{os.getpid()}-{threading.get_ident()}.tmp{file.suffix}")
         try:
             self.folder.mkdir(parents=True, exist_ok=True)
             save(tmp)
