@@ -79,9 +79,8 @@ def workload(robots: list[str]) -> list[str]:
 
 def _reactive_control() -> None:
     """One step of the reactive controller with an obstacle (its collision kernel)."""
-    from manip.control import ReactiveController
-
     from manip import Pose, WorldConfig
+    from manip.control import ReactiveController
 
     world = WorldConfig.from_dict({"cuboid": {"box": {"dims": [0.1, 0.1, 0.1], "pose": [0.45, 0.0, 0.45, 1, 0, 0, 0]}}})
     ctl = ReactiveController("franka", world)
