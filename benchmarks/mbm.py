@@ -78,6 +78,7 @@ from manip.benchmarking.quality import (  # noqa: E402
 from manip.benchmarking.scenes import SCENE_KINDS, make_problems  # noqa: E402
 from manip.benchmarking.verify import Verifier  # noqa: E402
 from manip.errors import InvalidInputError  # noqa: E402
+from manip.limits import JointLimits  # noqa: E402
 from manip.robot_config import RobotConfig, load_robot_config  # noqa: E402
 
 log = logging.getLogger("benchmarks.mbm")
@@ -148,25 +149,17 @@ class Run:
 
 
 # ---------------------------------------------------------------------------- limits
-@dataclass(frozen=True)
-class Limits:
-    """Per-joint limits a planner was given (and is verified and bounded with)."""
+# A planner's limits (what it is verified and bounded with) are a `manip.JointLimits`.
+def same_limits(a: JointLimits, b: JointLimits) -> bool:
+    """Whether two planners were given the same velocity, acceleration and jerk limits."""
+    return all(np.allclose(x, y) for x, y in ((a.velocity, b.velocity), (a.acceleration, b.acceleration),
+                                              (a.jerk, b.jerk)))
 
-    velocity: np.ndarray  # [rad/s]
-    acceleration: np.ndarray  # [rad/s^2]
-    jerk: np.ndarray  # [rad/s^3]
 
-    @classmethod
-    def of(cls, config: RobotConfig) -> Limits:
-        return cls(np.asarray(config.velocity_limits, float), np.asarray(config.acceleration_limits, float),
-                   np.asarray(config.jerk_limits, float))
-
-    def same_as(self, other: Limits) -> bool:
-        return all(np.allclose(a, b) for a, b in ((self.velocity, other.velocity), (self.acceleration, other.acceleration),
-                                                   (self.jerk, other.jerk)))
-
-    def as_dict(self) -> dict[str, list[float]]:
-        return {"velocity": self.velocity.tolist(), "acceleration": self.acceleration.tolist(), "jerk": self.jerk.tolist()}
+def limits_dict(limits: JointLimits) -> dict[str, list[float]]:
+    """The velocity, acceleration and jerk limits as lists (for the JSON report)."""
+    return {"velocity": limits.velocity.tolist(), "acceleration": limits.acceleration.tolist(),
+            "jerk": limits.jerk.tolist()}
 
 
 def benchmark_config(curobo_limits: bool = False, robot: str = "franka") -> RobotConfig:
@@ -221,13 +214,13 @@ def build_planner(name: str, timeout: float | None, config: RobotConfig | None =
             opts.pop(dropped)
 
 
-def planner_limits(planner: Any, default: Limits) -> Limits:
+def planner_limits(planner: Any, default: JointLimits) -> JointLimits:
     """The limits a built planner actually plans with (its `config`), else `default`."""
     cfg = getattr(planner, "config", None)
-    return Limits.of(cfg) if isinstance(cfg, RobotConfig) else default
+    return cfg.limits if isinstance(cfg, RobotConfig) else default
 
 
-def _quality(run: Run, start: np.ndarray, target: np.ndarray | None, limits: Limits, jerk_limited: bool) -> None:
+def _quality(run: Run, start: np.ndarray, target: np.ndarray | None, limits: JointLimits, jerk_limited: bool) -> None:
     """Fill the lower bound, straight-line length and their ratios of `run` (in place)."""
     if target is None:
         return
@@ -241,7 +234,7 @@ def _quality(run: Run, start: np.ndarray, target: np.ndarray | None, limits: Lim
     run.path_length_ratio = safe_ratio(run.path_length_rad, run.straight_line_rad)
 
 
-def run_one(planner: Any, problem: Any, goal: str, verifier: Verifier, seed: int, limits: Limits | None = None) -> Run:
+def run_one(planner: Any, problem: Any, goal: str, verifier: Verifier, seed: int, limits: JointLimits | None = None) -> Run:
     """Plan one problem with one planner, verify the result and measure its quality.
 
     Args:
@@ -250,7 +243,7 @@ def run_one(planner: Any, problem: Any, goal: str, verifier: Verifier, seed: int
             (jerk only for planners that claim jerk limits, infinite otherwise).
     """
     if limits is None:
-        limits = Limits.of(verifier.config)
+        limits = verifier.config.limits
     start = np.asarray(problem.start, dtype=float)
     try:
         out = planner.plan(problem, goal, seed=seed)
@@ -741,7 +734,7 @@ def main(argv: list[str] | None = None) -> int:
         print("no problems selected", file=sys.stderr)
         return 2
     config = benchmark_config(args.curobo_limits)
-    bench_limits = Limits.of(config)
+    bench_limits = config.limits
     label = args.label if args.label is not None else (CUROBO_LABEL if args.curobo_limits else None)
     plan_options = {"smoothness": args.smoothness} if args.smoothness is not None else {}
     if args.no_trajopt:
@@ -766,8 +759,8 @@ def main(argv: list[str] | None = None) -> int:
             print(f"planner {n} not run: {unavailable[n]}", file=sys.stderr)
             continue
         limits_of[n] = planner_limits(planners[n], bench_limits)
-        limits_note[n] = "as benchmark" if limits_of[n].same_as(bench_limits) else (
-            "plans with its own limits " + json.dumps(limits_of[n].as_dict()) + " (verified and bounded with those)")
+        limits_note[n] = "as benchmark" if same_limits(limits_of[n], bench_limits) else (
+            "plans with its own limits " + json.dumps(limits_dict(limits_of[n])) + " (verified and bounded with those)")
         if limits_note[n] != "as benchmark":
             print(f"planner {n}: {limits_note[n]}", file=sys.stderr)
     if not planners:
@@ -801,7 +794,7 @@ def main(argv: list[str] | None = None) -> int:
         "machine": machine,
         "dataset": None if _no_dataset(args) else str(args.dataset or default_dataset_path()),
         "label": label,
-        "limits": dict(bench_limits.as_dict(),
+        "limits": dict(limits_dict(bench_limits),
                        source="cuRobo's franka.yml (--curobo-limits)" if args.curobo_limits else "robots/franka/robot.yaml"),
         "plan_options": plan_options,
         "planner_limits": limits_note,
