@@ -45,7 +45,7 @@ import logging
 import math
 import time
 import warnings
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
 
@@ -88,7 +88,8 @@ LINEAR_SPLINE_DEVIATION = 1e-2
 #: line's length over this): more is refused with an InvalidInputError naming linear_step.
 MAX_LINEAR_POINTS = 10_000
 
-#: The Isaac Sim tutorial wrapper's names, which moved to `manip.TutorialMotionGen`.
+#: The Isaac Sim tutorial wrapper's names, which moved to `manip.TutorialMotionGen` (asking a
+#: MotionGenerator for one raises an AttributeError saying where it went).
 TUTORIAL_NAMES = frozenset({
     "init_motion_gen", "motion_generate", "update_obstacle_from_world", "update_obstacle_from_isaac_sim",
     "convert_solution_to_actions", "convert_solution_to_isaac_sim_action", "ik_batch", "set_constraint",
@@ -122,7 +123,6 @@ class MotionGenerator:
     """
 
     #: Set by `manip.compat` to wrap a MotionGenerator in the tutorial wrapper (deprecated names).
-    _tutorial_factory: Callable | None = None
 
     def __init__(
         self,
@@ -576,18 +576,12 @@ class MotionGenerator:
         result = ctx.succeed(traj, path, goal_q, 1, "linear")
         return replace(result, position_error=float(dp), rotation_error=float(dr))
 
-    # ------------------------------------------------------------------ deprecated names
+    # ------------------------------------------------------------------ removed names
     def __getattr__(self, name: str):
         if name in TUTORIAL_NAMES:
-            factory = type(self)._tutorial_factory
-            if factory is None:
-                raise AttributeError(f"MotionGenerator.{name} moved to manip.TutorialMotionGen")
-            warnings.warn(
-                f"MotionGenerator.{name} is deprecated: use manip.TutorialMotionGen (it holds a MotionGenerator)",
-                DeprecationWarning, stacklevel=2,
+            raise AttributeError(
+                f"MotionGenerator.{name} moved to manip.TutorialMotionGen (deprecated here in 0.1, removed in 0.2): "
+                f"wrap the generator, TutorialMotionGen(motion_gen=mg).{name}(...), or build the wrapper directly, "
+                f"TutorialMotionGen('franka')"
             )
-            if "_tutorial_view" not in self.__dict__:
-                self.__dict__["_tutorial_view"] = factory(self)
-            return getattr(self.__dict__["_tutorial_view"], name)
         raise AttributeError(f"'{type(self).__name__}' object has no attribute '{name}'")
-

@@ -20,8 +20,6 @@ PACKAGE_ROOT = REPO_ROOT / "manip"
 ALLOWED: dict[tuple[str, str], str] = {
     ("manip/kinematics.py", "Pose._trusted"):
         "a Pose from arrays the batched FK has just computed (unit quaternions): no second validation",
-    ("manip/compat/__init__.py", "MotionGenerator._tutorial_factory"):
-        "the hook of the deprecated tutorial names on MotionGenerator (they go with those names)",
     ("manip/jit.py", "dispatcher._cache"):
         "numba's Dispatcher keeps its cache there and has no public way to give it another one: the "
         "prebuilt kernels' cache replaces the FunctionCache that cache=True would install",

@@ -7,9 +7,5 @@
 from __future__ import annotations
 
 from manip.compat.tutorial import TutorialMotionGen, wxyz_to_xyzw, xyzw_to_wxyz
-from manip.motion_generator import MotionGenerator
-
-# The deprecated tutorial names on MotionGenerator (mg.motion_generate, ...) delegate here.
-MotionGenerator._tutorial_factory = TutorialMotionGen.wrap
 
 __all__ = ["TutorialMotionGen", "wxyz_to_xyzw", "xyzw_to_wxyz"]

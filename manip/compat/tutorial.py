@@ -134,11 +134,6 @@ class TutorialMotionGen:
                 raise InvalidInputError(f"robot config {self._tutorial.file_name}: planner joints {missing} not in its "
                                         f"joint_names {list(self._tutorial.joint_names)}")
 
-    @classmethod
-    def wrap(cls, motion_gen: MotionGenerator) -> TutorialMotionGen:
-        """The wrapper around an existing MotionGenerator."""
-        return cls(motion_gen=motion_gen)
-
     def __getattr__(self, name: str):
         if name == "motion_gen":  # not yet set (during construction)
             raise AttributeError(name)

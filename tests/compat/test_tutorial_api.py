@@ -29,15 +29,15 @@ def test_tutorial_wrapper_holds_a_motion_generator_and_exposes_its_facts(mg):
         TutorialMotionGen(motion_gen="franka")
 
 
-def test_tutorial_names_on_motion_generator_are_deprecated_but_work():
+def test_tutorial_names_on_motion_generator_say_where_they_went():
+    # deprecated on MotionGenerator in 0.1, removed in 0.2: the error names the wrapper
     m = MotionGenerator("franka")
-    with pytest.warns(DeprecationWarning, match="TutorialMotionGen"):
-        sol = m.motion_generate(READY, goal_joint_angles=np.array(READY) + 0.1)
+    for name in ("motion_generate", "set_constraint", "init_motion_gen"):
+        with pytest.raises(AttributeError, match=rf"MotionGenerator\.{name} moved to manip\.TutorialMotionGen"):
+            getattr(m, name)
+    sol = TutorialMotionGen(motion_gen=m).motion_generate(READY, goal_joint_angles=np.array(READY) + 0.1)
     assert sol is not None and sol["success"]
-    with pytest.warns(DeprecationWarning):
-        m.set_constraint([1, 1, 1, 0, 0, 0])
-    assert m._tutorial_view._hold_vec_weight is not None  # one wrapper keeps the state between calls
-    with pytest.raises(AttributeError):
+    with pytest.raises(AttributeError, match="no_such_method"):
         m.no_such_method
 
 
