@@ -57,7 +57,8 @@ from manip.errors import InvalidInputError
 from manip.ik import BatchIKResult, IKResult, IKSolver
 from manip.kinematics import Kinematics
 from manip.planning.context import START_LIMIT_TOLERANCE, PlanContext
-from manip.planning.goal_configurations import goal_configurations
+from manip.planning.constrained import with_constraints
+from manip.planning.goal_configurations import constrained_goal_failure, goal_configurations
 from manip.planning.time_and_validate import time_and_validate
 from manip.planning.path.goals import order_goals
 from manip.planning.path.linear import linear_path
@@ -349,10 +350,12 @@ class MotionGenerator:
         self.kinematics.frame_id(link, "link")
         return link
 
-    def _validity(self) -> Validity:
-        """Collision questions against one snapshot of the world (taken now)."""
+    def _validity(self, ctx: PlanContext | None = None) -> Validity:
+        """Collision questions against one snapshot of the world (taken now), and the plan's
+        constraints (`ctx.options.constraints`, `planning.constrained`)."""
         v = self.validity
-        return Validity(self.checker.snapshot(), v.kinematics, v.resolution, v.search_resolution)
+        v = Validity(self.checker.snapshot(), v.kinematics, v.resolution, v.search_resolution)
+        return with_constraints(v, ctx.options.constraints) if ctx is not None else v
 
     # ------------------------------------------------------------------ world
     @property
@@ -449,7 +452,7 @@ class MotionGenerator:
                 InvalidInputError listing the valid ones.
         """
         ctx = self._context(options)
-        validity = self._validity()
+        validity = self._validity(ctx)
         start = ctx.check_start(self._arm_q(start_q, "start_q"), self.kinematics, validity)
         goal = ctx.check_goal(self._arm_q(goal_q, "goal_q"), self.kinematics, validity)
         if ctx.failed:
@@ -490,7 +493,7 @@ class MotionGenerator:
             raise InvalidInputError(f"goals must be a manip.Pose; got {type(goals).__name__}")
         if not goals.is_batch:
             goals = Pose.stack([goals])
-        validity = self._validity()
+        validity = self._validity(ctx)
         start = ctx.check_start(self._arm_q(start_q, "start_q"), self.kinematics, validity)
         if ctx.failed:
             return ctx.result()
@@ -498,7 +501,7 @@ class MotionGenerator:
         configs, owners, why = goal_configurations(self.ik_solver, ctx, validity, start, goals, link)
         ctx.add_time("ik", t_ik)
         if not len(configs):
-            return ctx.fail(PlanStatus.IK_FAIL, why)
+            return ctx.fail(*constrained_goal_failure(self.ik_solver, ctx, validity, start, goals, link, why))
         # the goals ranked by the motion they allow (`planning.path.goals`), not by joint-space distance
         order = order_goals(start, configs, ctx.scaled_limits(self.limits))
         ctx.check_sample_count(start, configs[order[0]], self.limits)
@@ -546,7 +549,7 @@ class MotionGenerator:
     def _plan_linear(self, start_q, goal: Pose, link: str, options: dict) -> PlanResult:
         """Straight-line motion of `link` from its current pose to `goal`."""
         ctx = self._context(options)
-        validity = self._validity()
+        validity = self._validity(ctx)
         start = ctx.check_start(start_q, self.kinematics, validity)
         if ctx.failed:
             return ctx.result()
