@@ -29,7 +29,7 @@ from manip.kinematics import Kinematics
 from manip.limits import JointLimits
 from manip.motion_generator import MotionGenerator
 from manip.compat import TutorialMotionGen, wxyz_to_xyzw, xyzw_to_wxyz
-from manip.planning import PlanOptions, PlanResult, PlanStatus
+from manip.planning import GraspPlan, PlanOptions, PlanResult, PlanStatus
 from manip.pose import Pose
 from manip.robot_config import RobotConfig, available_robots, load_robot_config, robots_root
 from manip.timing import (
@@ -52,6 +52,7 @@ __all__ = [
     "Cuboid",
     "Cylinder",
     "DistanceReport",
+    "GraspPlan",
     "IKResult",
     "IKSolutions",
     "IKSolver",
