@@ -272,8 +272,9 @@ def _sequence(stages: Stages, options: dict, validity: Validity, start: np.ndarr
         for name, seg in zip(names[1:], segments[1:]):
             timings[name] = seg.timings.get("total", 0.0)
         timings["total"] = time.perf_counter() - t0
-        return GraspPlan(True, PlanStatus.SUCCESS, "", i, segments, names, join([s.trajectory for s in segments]),
-                         timings)
+        skipped = "; ".join(f"candidate {j}: {stage}: {status.name}: {why}" for j, stage, status, why in failures[:8])
+        return GraspPlan(True, PlanStatus.SUCCESS, f"candidates skipped: {skipped}" if skipped else "", i, segments,
+                         names, join([s.trajectory for s in segments]), timings)
     status = failures[-1][2] if failures else PlanStatus.IK_FAIL
     timings["total"] = time.perf_counter() - t0
     return GraspPlan(False, status, failure_message(failures, candidates, what), timings=timings)

@@ -20,7 +20,8 @@ class GraspPlan:
             any plan's, with the contacts the stage allows, see `planning.grasp`).
         status: SUCCESS, or the status of the stage that failed for the candidate that got
             furthest (`message` says which stage of which candidates failed, and why).
-        message: "" on success; otherwise the failures per candidate and stage.
+        message: the failures per candidate and stage (on success, of the candidates skipped
+            before the one chosen; "" when it was the first).
         grasp_index: the index of the candidate (grasp or placement pose) used (None on failure).
         segments: the `PlanResult` of each stage, in order (plan_grasp: "free", "approach",
             "lift"; plan_place: "free", "descend", "retreat"; `stages` names them).
