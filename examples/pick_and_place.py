@@ -511,6 +511,8 @@ class PickAndPlace:
             self._ep.plan_time += r.timings.get("total", 0.0)
             if r.success:
                 self._ep.plans += 1
+                self.say(f"{phase:<12} {len(r.stages)} stages planned in {r.timings['total'] * 1e3:6.1f} ms, "
+                         f"candidate {r.grasp_index}")
                 return r
             self._ep.failed_plans += 1
             last = r

@@ -20,6 +20,8 @@ planner:
   certificate bounds how far a link can move, `manip.collision.certify`); the certificate
   (`manip.constraints.certify`) then proves the violation stays <= 0 between samples:
   max over t <= (v0 + v1 + L) / 2, bisecting the segment until that closes.
+- optionally `residual_and_jacobian(kinematics, Q)`: both at once (one kinematics pass; the
+  projection calls it).
 - `margin`: how far inside the set [unit] the planner aims (projections land there; the
   optimiser's rows keep it), so that short straight segments between such configurations
   certify without bisection. A fraction of the tolerance.
@@ -72,6 +74,10 @@ class Constraint(ABC):
     @abstractmethod
     def explain(self, kinematics: Kinematics, q: np.ndarray) -> str:
         """The constrained quantity at q (dof,) and its tolerance, in words."""
+
+    def residual_and_jacobian(self, kinematics: Kinematics, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(residual (N, m), jacobian (N, m, dof)) at Q (N, dof); override to share the kinematics."""
+        return self.residual(kinematics, Q), self.jacobian(kinematics, Q)
 
     def violation(self, kinematics: Kinematics, Q: np.ndarray) -> np.ndarray:
         """(N,) the largest residual row at each of Q (N, dof) [unit]: > 0 outside the set."""

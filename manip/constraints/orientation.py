@@ -87,15 +87,20 @@ class OrientationConstraint(Constraint):
         return (self.tilt(kinematics, Q) - self.tolerance)[:, None]
 
     def jacobian(self, kinematics: Kinematics, Q: np.ndarray) -> np.ndarray:
+        return self.residual_and_jacobian(kinematics, Q)[1]
+
+    def residual_and_jacobian(self, kinematics: Kinematics, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         # u' = w x u and cos(theta) = u . d give theta' = -n . w, n = (u x d) / |u x d|, w = J_w q'
         Q = np.atleast_2d(np.asarray(Q, dtype=float))
         fid = kinematics.frame_id(link_or_ee(self.link, kinematics))
         R, _, J = kinematics.frame_jacobians(Q, fid)
         u = R @ np.asarray(self.axis)
-        c = np.cross(u, np.asarray(self.direction))
-        s = np.linalg.norm(c, axis=1, keepdims=True)
-        n = np.where(s > 1e-12, c / np.maximum(s, 1e-12), 0.0)  # at theta = 0 (or pi): a zero gradient
-        return -np.einsum("ni,nij->nj", n, J[:, 3:6])[:, None, :]
+        d = np.asarray(self.direction)
+        c = _cross(u, d)
+        s = np.sqrt(np.einsum("ni,ni->n", c, c))
+        n = np.where(s[:, None] > 1e-12, c / np.maximum(s, 1e-12)[:, None], 0.0)  # theta = 0 or pi: zero gradient
+        theta = np.arctan2(s, u @ d)
+        return (theta - self.tolerance)[:, None], -np.einsum("ni,nij->nj", n, J[:, 3:6])[:, None, :]
 
     def segment_bound(self, kinematics: Kinematics, Q0: np.ndarray, Q1: np.ndarray) -> np.ndarray:
         # the link turns at most sum |dq_k| over the revolute joints moving it (unit axes), and
@@ -115,9 +120,16 @@ class OrientationConstraint(Constraint):
                 f"({math.degrees(theta):.1f} deg; tolerance {self.tolerance:.4g} rad)")
 
 
+def _cross(u: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """(N, 3) the cross products of the rows of u (N, 3) with d (3,) (np.cross costs ~0.1 ms a call)."""
+    return np.stack([u[:, 1] * d[2] - u[:, 2] * d[1], u[:, 2] * d[0] - u[:, 0] * d[2],
+                     u[:, 0] * d[1] - u[:, 1] * d[0]], axis=1)
+
+
 def _angle(u: np.ndarray, d: np.ndarray) -> np.ndarray:
     """(N,) angle [rad] between the rows of u (N, 3) and d (3,) (atan2: accurate near 0 and pi)."""
-    return np.arctan2(np.linalg.norm(np.cross(u, d), axis=1), u @ d)
+    c = _cross(u, d)
+    return np.arctan2(np.sqrt(np.einsum("ni,ni->n", c, c)), u @ d)
 
 
 def _fmt(v) -> str:

@@ -31,12 +31,12 @@ def project(constraints: Sequence[Constraint], kinematics: Kinematics, q: np.nda
         rows, jacs, done = [], [], True
         for c in constraints:
             m = c.margin
-            r = c.residual(kinematics, q[None])[0]
+            r, J = c.residual_and_jacobian(kinematics, q[None])
+            r, J = r[0], J[0]
             if np.any(r > -0.5 * m):
                 done = False
             active = r > -m
             if active.any():
-                J = c.jacobian(kinematics, q[None])[0]
                 rows.append((r[active] + m) / m)
                 jacs.append(J[active] / m)
         if done:

@@ -119,9 +119,10 @@ class ConstrainedValidity(Validity):
 
     def steer(self, q_from: np.ndarray, q_to: np.ndarray, resolution: float | None = None) -> np.ndarray | None:
         """Configurations (K, dof) from `q_from` towards `q_to` along the constraint set: steps
-        of STEER_STEP, each projected onto the set (`constraints.project`) and checked as a
-        straight motion (collisions at `resolution` and the constraints certified); ends at
-        `q_to` itself when it reaches it. None when not even one step is possible."""
+        of STEER_STEP, each projected onto the set (`constraints.project`), then every step
+        checked as a straight motion (collisions at `resolution` and the constraints certified,
+        all steps in one batch) and the chain cut before the first that fails; ends at `q_to`
+        itself when it reaches it. None when not even one step is possible."""
         chain: list[np.ndarray] = []
         q = q_from
         dist = float(np.linalg.norm(q_to - q))
@@ -137,14 +138,21 @@ class ConstrainedValidity(Validity):
             d_next = float(np.linalg.norm(q_to - q_next))
             if d_next >= dist - 1e-3 * STEER_STEP:
                 break  # no progress (the projection pushes back)
-            if not (self._segments_hold(q[None], q_next[None])[0]
-                    and Validity.motion(self, q, q_next, resolution)):
-                break
             chain.append(q_next)
             q, dist = q_next, d_next
             if q_next is q_to:
                 break
-        return np.asarray(chain) if chain else None
+        if not chain:
+            return None
+        Q1 = np.asarray(chain)
+        Q0 = np.vstack([q_from[None], Q1[:-1]])
+        ok = self._segments_hold(Q0, Q1)
+        n = int(np.argmin(ok)) if not ok.all() else len(chain)
+        if n:  # the collision checks of Validity at the asked resolution (certified when strict)
+            coarse = resolution is not None and resolution != self.resolution
+            free = (Validity.screen if coarse else Validity.segments)(self, Q0[:n], Q1[:n])
+            n = int(np.argmin(free)) if not free.all() else n
+        return Q1[:n] if n else None
 
     def constraint_problem(self, q: np.ndarray) -> str:
         """Why `q` (dof,) is outside a constraint's set ("" when it is inside every one)."""

@@ -197,21 +197,23 @@ def plan_place(stages: Stages, start_q: np.ndarray, placements: Pose, *, retreat
     # the carrying link's pose that puts the object at each placement, then `link`'s
     T_carry_link = kin.fk(start, att.link).inverse() @ kin.fk(start, link)
     goals = Pose.stack([p @ att.pose_in_link.inverse() @ T_carry_link for p in placements])
-    q_place = [_ik(stages, g, link, start, carry.unconstrained() if carry.constraints else carry, ctx) for g in goals]
+    # at the placement the object may rest on a support: that contact is allowed, so a
+    # configuration in collision only through it is a candidate
+    def placeable(Q: np.ndarray) -> np.ndarray:
+        return np.array([not _other_contacts(world, q, name) for q in np.atleast_2d(Q)])
+
     failures = []
     ok = []
-    for i, r in enumerate(q_place):
+    q_place = []
+    for i, g in enumerate(goals):
+        r = stages.ik_solver.solve(g, link, seed_q=start, seed=int(ctx.rng.integers(2**31)))
+        if not (r.success and placeable(r.q)[0]):
+            r = stages.ik_solver.solve(g, link, seed_q=start, validity_fn=placeable, seed=int(ctx.rng.integers(2**31)))
+        q_place.append(r)
         if r.success:
             ok.append(i)
         else:
-            # at the placement the object rests on a support: that contact is allowed, so a
-            # configuration in collision only through it is still a candidate
-            r2 = stages.ik_solver.solve(goals[i], link, seed_q=start, seed=int(ctx.rng.integers(2**31)))
-            if r2.success and not _other_contacts(world, r2.q, name):
-                q_place[i] = r2
-                ok.append(i)
-            else:
-                failures.append((i, "placement IK", PlanStatus.IK_FAIL, r.message or r.status.name))
+            failures.append((i, "placement IK", PlanStatus.IK_FAIL, r.message or r.status.name))
     order = [ok[k] for k in order_goals(start, np.array([q_place[i].q for i in ok]),
                                         ctx.scaled_limits(stages.limits))] if ok else []
     def stages_of(i: int):

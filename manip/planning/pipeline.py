@@ -186,7 +186,9 @@ def _path(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.nda
 
         path = shorten(path)
         ctx.add_time("optimize", t)
-        if not validity.certified:  # certified, further searches cost ~10 x more for a rare gain
+        # certified, further searches cost ~10 x more for a rare gain; constrained, the path is
+        # longer than the (forbidden) straight line by nature, and the searches cost as much
+        if not validity.certified and not validity.constraints:
             t = time.perf_counter()
             path = shorter_way_round(path, goals, validity, shorten, rng=ctx.rng, deadline=ctx.deadline,
                                      velocity=ctx.scaled_limits(limits).velocity)
