@@ -3,8 +3,8 @@
 `ProjectedStateSpace` (Jacobian projection onto the constraint manifold, Kingston et al.
 2019) over the Panda's 7-D joint space, RRT-Connect, OMPL's path simplification, the
 solution interpolated along its geodesics (`PathGeometric.interpolate`: states `delta`
-apart on the manifold), then TOPP-RA along a cubic spline through those states under the
-velocity and acceleration limits. The collision model and validity callback are
+apart on the manifold), then TOPP-RA along a cubic spline through those states under 0.9 x the
+velocity and acceleration limits (SPLINE_LIMIT_SCALE, SPLINE_GRID). The collision model and validity callback are
 `OMPLPeer`'s (pinocchio + coal on the URDF meshes, 0.01 rad edge resolution).
 
 The orientation constraint "axis a of `link` within `tolerance` of the world direction d"
@@ -30,6 +30,13 @@ from ompl import geometric as og
 from . import PlannerOutput
 from ._common import finite_difference_jerk, problem_arrays, uniform_times
 from .ompl_peer import OMPLPeer
+
+
+#: TOPP-RA along the spline: the limits' share and the grid step [rad of arc length] (the
+#: spline through the dense geodesic states bends between gridpoints, where TOPP-RA does
+#: not look: a finer grid and some slack keep the sampled motion within the true limits).
+SPLINE_LIMIT_SCALE = 0.9
+SPLINE_GRID = 0.002
 
 
 class _Upright(ob.Constraint):
@@ -130,11 +137,11 @@ class OMPLConstrainedPeer(OMPLPeer):
         if len(W) < 2:
             raise ValueError("the path has a single state")
         path = toppra.SplineInterpolator(s, W, bc_type="clamped")
-        v, a = self.limit_scale * self.vlim, self.limit_scale * self.alim
+        v, a = SPLINE_LIMIT_SCALE * self.vlim, SPLINE_LIMIT_SCALE * self.alim
         vel = toppra.constraint.JointVelocityConstraint(np.stack([-v, v], axis=1))
         acc = toppra.constraint.JointAccelerationConstraint(
             np.stack([-a, a], axis=1), discretization_scheme=toppra.constraint.DiscretizationType.Interpolation)
-        grid = np.linspace(0.0, s[-1], max(100, int(np.ceil(s[-1] / self.grid_step)) + 1))
+        grid = np.unique(np.concatenate([s, np.linspace(0.0, s[-1], max(100, int(np.ceil(s[-1] / SPLINE_GRID)) + 1))]))
         algo = toppra.algorithm.TOPPRA([vel, acc], path, gridpoints=grid, solver_wrapper="seidel",
                                        parametrizer="ParametrizeConstAccel")
         traj = algo.compute_trajectory(0.0, 0.0)

@@ -34,6 +34,8 @@ from manip.planning.validity import ADVANCE_BACKOFF_STEPS, Validity
 
 #: Length [rad] (joint-space L2) of one projected step of the constrained search.
 STEER_STEP = 0.15
+#: Steps of the constrained steering checked together.
+STEER_BATCH = 4
 #: Scale [m] of a constraint term in the optimiser: one margin of a constraint weighs like this much clearance.
 TERM_SCALE = 0.01
 
@@ -119,40 +121,42 @@ class ConstrainedValidity(Validity):
 
     def steer(self, q_from: np.ndarray, q_to: np.ndarray, resolution: float | None = None) -> np.ndarray | None:
         """Configurations (K, dof) from `q_from` towards `q_to` along the constraint set: steps
-        of STEER_STEP, each projected onto the set (`constraints.project`), then every step
-        checked as a straight motion (collisions at `resolution` and the constraints certified,
-        all steps in one batch) and the chain cut before the first that fails; ends at `q_to`
-        itself when it reaches it. None when not even one step is possible."""
+        of STEER_STEP, each projected onto the set (`constraints.project`) and checked as a
+        straight motion (collisions at `resolution`, certified when strict, and the
+        constraints certified; STEER_BATCH steps at a time), up to the first that fails; ends
+        at `q_to` itself when it reaches it. None when not even one step is possible."""
         chain: list[np.ndarray] = []
         q = q_from
         dist = float(np.linalg.norm(q_to - q))
-        for _ in range(int(dist / STEER_STEP) + 8):
-            if dist < 1e-9:
+        coarse = resolution is not None and resolution != self.resolution
+        batch: list[np.ndarray] = []
+        for k in range(int(dist / STEER_STEP) + 8):
+            stop = dist < 1e-9
+            if not stop:
+                if dist <= STEER_STEP and self.holds(q_to[None])[0]:
+                    q_next = q_to
+                else:
+                    q_next = project(self.constraints, self.kinematics, q + (q_to - q) * min(1.0, STEER_STEP / dist))
+                d_next = np.inf if q_next is None else float(np.linalg.norm(q_to - q_next))
+                stop = d_next >= dist - 1e-3 * STEER_STEP  # no projection, or no progress (pushed back)
+                if not stop:
+                    batch.append(q_next)
+                    q, dist = q_next, d_next
+                    stop = q_next is q_to
+            if batch and (stop or len(batch) == STEER_BATCH):
+                Q1 = np.asarray(batch)
+                Q0 = np.vstack([(chain[-1] if chain else q_from)[None], Q1[:-1]])
+                ok = self._segments_hold(Q0, Q1)
+                n = int(np.argmin(ok)) if not ok.all() else len(batch)
+                if n:
+                    free = (Validity.screen if coarse else Validity.segments)(self, Q0[:n], Q1[:n])
+                    n = int(np.argmin(free)) if not free.all() else n
+                chain.extend(batch[:n])
+                stop = stop or n < len(batch)
+                batch = []
+            if stop:
                 break
-            if dist <= STEER_STEP and self.holds(q_to[None])[0]:
-                q_next = q_to
-            else:
-                q_next = project(self.constraints, self.kinematics, q + (q_to - q) * min(1.0, STEER_STEP / dist))
-                if q_next is None:
-                    break
-            d_next = float(np.linalg.norm(q_to - q_next))
-            if d_next >= dist - 1e-3 * STEER_STEP:
-                break  # no progress (the projection pushes back)
-            chain.append(q_next)
-            q, dist = q_next, d_next
-            if q_next is q_to:
-                break
-        if not chain:
-            return None
-        Q1 = np.asarray(chain)
-        Q0 = np.vstack([q_from[None], Q1[:-1]])
-        ok = self._segments_hold(Q0, Q1)
-        n = int(np.argmin(ok)) if not ok.all() else len(chain)
-        if n:  # the collision checks of Validity at the asked resolution (certified when strict)
-            coarse = resolution is not None and resolution != self.resolution
-            free = (Validity.screen if coarse else Validity.segments)(self, Q0[:n], Q1[:n])
-            n = int(np.argmin(free)) if not free.all() else n
-        return Q1[:n] if n else None
+        return np.asarray(chain) if chain else None
 
     def constraint_problem(self, q: np.ndarray) -> str:
         """Why `q` (dof,) is outside a constraint's set ("" when it is inside every one)."""

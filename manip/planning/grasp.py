@@ -48,6 +48,8 @@ from manip.validation import positive
 #: An attached object this close [m] to an obstacle at the grasp (placement) may touch it
 #: during the lift (descent): the support it is lifted from (put on), up to IK's tolerance.
 SUPPORT_GAP = 2e-3
+#: IK attempts per candidate of the first pass (the second searches with the solver's own).
+QUICK_ATTEMPTS = 4
 #: Candidates whose linear stages are planned at most (in the ranked order) before giving up.
 MAX_TRIED = 24
 
@@ -119,8 +121,13 @@ def _touching(checker: CollisionChecker, q: np.ndarray, name: str) -> list[tuple
 
 
 def _ik(stages: Stages, goal: Pose, link: str, seed_q: np.ndarray, validity: Validity, ctx: PlanContext):
-    return stages.ik_solver.solve(goal, link, seed_q=seed_q, validity_fn=validity.configs,
-                                  seed=int(ctx.rng.integers(2**31)))
+    """IK of `goal` from `seed_q` that `validity` accepts: first without the checks (the
+    solution nearest the seed is usually it), then searched with them."""
+    seed = int(ctx.rng.integers(2**31))
+    r = _quick(stages.ik_solver).solve(goal, link, seed_q=seed_q, seed=seed)
+    if r.success and validity.configs(r.q[None])[0]:
+        return r
+    return stages.ik_solver.solve(goal, link, seed_q=seed_q, validity_fn=validity.configs, seed=seed)
 
 
 def plan_grasp(stages: Stages, start_q: np.ndarray, grasps: Pose, object_name: str, *, approach: float, lift: float,
@@ -141,18 +148,13 @@ def plan_grasp(stages: Stages, start_q: np.ndarray, grasps: Pose, object_name: s
         return _failed(ctx.result(), t0)
     kin = free.kinematics
     touch = stages.view(world.allowing([(f, object_name) for f in stages.finger_links]), constraints)
-    # rank the candidates by the motion to their grasp configuration
-    q_grasp = [_ik(stages, g, link, start, touch, ctx) for g in grasps]
-    ok = [i for i, r in enumerate(q_grasp) if r.success]
-    failures = [(i, "grasp IK", PlanStatus.IK_FAIL, r.message or r.status.name) for i, r in enumerate(q_grasp)
-                if not r.success]
-    order = [ok[k] for k in order_goals(start, np.array([q_grasp[i].q for i in ok]),
-                                        ctx.scaled_limits(stages.limits))] if ok else []
+    q, ok = _first_solutions(stages, grasps, link, start, touch.configs, ctx)
+    failures: list = []
     def stages_of(i: int):
         """(pre-grasp configuration, approach, lift) of candidate i, or None (failure recorded)."""
         g = grasps[i]
         pre = _shift(g, -approach * g.rotation[:, 2])
-        r_pre = _ik(stages, pre, link, q_grasp[i].q, free, ctx)
+        r_pre = _ik(stages, pre, link, q[i], free, ctx)
         if not r_pre.success:
             failures.append((i, "pre-grasp IK", PlanStatus.IK_FAIL, r_pre.message or r_pre.status.name))
             return None
@@ -171,8 +173,14 @@ def plan_grasp(stages: Stages, start_q: np.ndarray, grasps: Pose, object_name: s
             return None
         return r_pre.q, seg_a, seg_l
 
-    return _sequence(stages, options, free, start, order, stages_of, ("free", "approach", "lift"), failures,
-                     len(grasps), "grasp", t0)
+    def search(i: int) -> np.ndarray | None:
+        r = _ik(stages, grasps[i], link, start, touch, ctx)
+        if not r.success:
+            failures.append((i, "grasp IK", PlanStatus.IK_FAIL, r.message or r.status.name))
+        return r.q if r.success else None
+
+    return _two_passes(stages, options, free, start, q, ok, search, stages_of, ("free", "approach", "lift"), failures,
+                       "grasp", t0, ctx)
 
 
 def plan_place(stages: Stages, start_q: np.ndarray, placements: Pose, *, retreat: float, approach: float, link: str,
@@ -200,25 +208,13 @@ def plan_place(stages: Stages, start_q: np.ndarray, placements: Pose, *, retreat
     # at the placement the object may rest on a support: that contact is allowed, so a
     # configuration in collision only through it is a candidate
     def placeable(Q: np.ndarray) -> np.ndarray:
-        return np.array([not _other_contacts(world, q, name) for q in np.atleast_2d(Q)])
+        return np.array([not _other_contacts(world, q_, name) for q_ in np.atleast_2d(Q)])
 
-    failures = []
-    ok = []
-    q_place = []
-    for i, g in enumerate(goals):
-        r = stages.ik_solver.solve(g, link, seed_q=start, seed=int(ctx.rng.integers(2**31)))
-        if not (r.success and placeable(r.q)[0]):
-            r = stages.ik_solver.solve(g, link, seed_q=start, validity_fn=placeable, seed=int(ctx.rng.integers(2**31)))
-        q_place.append(r)
-        if r.success:
-            ok.append(i)
-        else:
-            failures.append((i, "placement IK", PlanStatus.IK_FAIL, r.message or r.status.name))
-    order = [ok[k] for k in order_goals(start, np.array([q_place[i].q for i in ok]),
-                                        ctx.scaled_limits(stages.limits))] if ok else []
+    q, ok = _first_solutions(stages, goals, link, start, placeable, ctx)
+    failures: list = []
     def stages_of(i: int):
         """(above-placement configuration, descent, retreat) of candidate i, or None (failure recorded)."""
-        q_p = q_place[i].q
+        q_p = q[i]
         putting = stages.view(world.allowing(_touching(world, q_p, name)), ctx.options.constraints)
         above = _shift(goals[i], np.array([0.0, 0.0, approach]))
         r_above = _ik(stages, above, link, q_p, carry, ctx)
@@ -242,13 +238,62 @@ def plan_place(stages: Stages, start_q: np.ndarray, placements: Pose, *, retreat
             return None
         return r_above.q, seg_d, seg_r
 
-    return _sequence(stages, {**options, "constraints": constraints}, carry, start, order, stages_of,
-                     ("free", "descend", "retreat"), failures, len(placements), "placement", t0)
+    def search(i: int) -> np.ndarray | None:
+        r = stages.ik_solver.solve(goals[i], link, seed_q=start, validity_fn=placeable, seed=int(ctx.rng.integers(2**31)))
+        if not r.success:
+            failures.append((i, "placement IK", PlanStatus.IK_FAIL, r.message or r.status.name))
+        return r.q if r.success else None
+
+    return _two_passes(stages, {**options, "constraints": constraints}, carry, start, q, ok, search, stages_of,
+                       ("free", "descend", "retreat"), failures, "placement", t0, ctx)
 
 
 def _other_contacts(checker: CollisionChecker, q: np.ndarray, name: str) -> bool:
     """True when q collides other than through the attached object `name` touching the world."""
     return any(not (c.kind == "attached_world" and c.a == name) for c in checker.collision_report(q).contacts)
+
+
+def _quick(solver: IKSolver) -> IKSolver:
+    """`solver`'s settings with QUICK_ATTEMPTS attempts per goal (a reachable pose converges
+    in one or two; an unreachable one would burn all of the solver's)."""
+    return IKSolver(solver.kinematics, position_tolerance=solver.position_tolerance,
+                    rotation_tolerance=solver.rotation_tolerance, max_iterations=solver.max_iterations,
+                    max_attempts=QUICK_ATTEMPTS, seed=solver.seed, damping=solver.damping, max_step=solver.max_step)
+
+
+def _first_solutions(stages: Stages, goals: Pose, link: str, start: np.ndarray, valid, ctx: PlanContext):
+    """(q (N, dof), ok (N,)): one batched IK of every candidate pose from `start`, without
+    collision checks (most converge at once), then `valid` on the solutions."""
+    r = _quick(stages.ik_solver).solve_batch(goals, link, seed_q=start, seed=int(ctx.rng.integers(2**31)))
+    q, ok = np.array(r.q), np.array(r.success)
+    if ok.any():
+        ok[ok] = valid(q[ok])
+    return q, ok
+
+
+def _two_passes(stages: Stages, options: dict, validity: Validity, start: np.ndarray, q: np.ndarray, ok: np.ndarray,
+                search: Callable, stages_of: Callable, names: tuple, failures: list, what: str, t0: float,
+                ctx: PlanContext) -> GraspPlan:
+    """`_sequence` over the candidates whose first IK solution was valid (ranked by the motion
+    to it); if none gives a plan, IK searched with the validity (`search(i)`: q or None) for
+    the others, and `_sequence` over those."""
+    limits = ctx.scaled_limits(stages.limits)
+
+    def ranked(idx: np.ndarray) -> list[int]:
+        return [int(idx[k]) for k in order_goals(start, q[idx], limits)] if idx.size else []
+
+    plan = _sequence(stages, options, validity, start, ranked(np.flatnonzero(ok)), stages_of, names, failures,
+                     len(q), what, t0)
+    if plan.success or ok.all():
+        return plan
+    found = []
+    for i in np.flatnonzero(~ok):
+        qi = search(int(i))
+        if qi is not None:
+            q[i] = qi
+            found.append(int(i))
+    return _sequence(stages, options, validity, start, ranked(np.array(found, dtype=int)), stages_of, names,
+                     failures, len(q), what, t0)
 
 
 def _sequence(stages: Stages, options: dict, validity: Validity, start: np.ndarray, order: list[int],
