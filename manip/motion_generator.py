@@ -532,9 +532,9 @@ class MotionGenerator:
         Pose of `link`, default `ee_link`): a free motion to the pre-grasp (`approach` [m] back
         along the link's z axis), a linear approach during which only the gripper's fingers may
         touch the object, then, with the object attached, a linear lift of `lift` [m] up (world
-        z). `options` as `plan_joints` (constraints apply to every stage). The generator's world
-        is not changed: attach the object when the grasp is executed. How candidates are
-        chosen, and what each stage may touch: `manip.planning.grasp`.
+        z). `options` as `plan_joints` (`constraints` hold while the object is held: the
+        lift). The generator's world is not changed: attach the object when the grasp is
+        executed. How candidates are chosen, and what each stage may touch: `manip.planning.grasp`.
         """
         link = self._link(link)
         return plan_grasp(self._stages(link), self._arm_q(start_q, "start_q"), grasps, object_name,

@@ -14,6 +14,9 @@ object with `MotionGenerator.attach_object` when the grasp is executed). The vie
 - retreat (place): the object is released into the world at its placement; only the fingers
   may touch it.
 
+Constraints (`PlanOptions.constraints`, `plan_place(constraints=...)`) hold while the object is
+held: the lift of `plan_grasp`, the free motion and the descent of `plan_place`.
+
 Candidates (grasp or placement poses) are tried in the order of the time-optimal motion
 from the start to their goal configuration (`planning.path.goals.order_goals`, as goal
 sets are): for each, the goal and the pre-pose get IK, the linear stages are planned, then
@@ -141,13 +144,13 @@ def plan_grasp(stages: Stages, start_q: np.ndarray, grasps: Pose, object_name: s
     if object_name not in world.world:
         raise UnknownNameError("object_name: obstacle", object_name, world.world.names)
     ctx = stages.context(options)
-    constraints = ctx.options.constraints
-    free = stages.view(world, constraints)
+    constraints = ctx.options.constraints  # they hold while the object is held: the lift
+    free = stages.view(world)
     start = ctx.check_start(start_q, free.kinematics, free)
     if ctx.failed:
         return _failed(ctx.result(), t0)
     kin = free.kinematics
-    touch = stages.view(world.allowing([(f, object_name) for f in stages.finger_links]), constraints)
+    touch = stages.view(world.allowing([(f, object_name) for f in stages.finger_links]))
     q, ok = _first_solutions(stages, grasps, link, start, touch.configs, ctx)
     failures: list = []
     def stages_of(i: int):
