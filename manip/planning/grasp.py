@@ -31,6 +31,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+import pinocchio as pin
 
 from manip.collision import CollisionChecker
 from manip.constraints import Constraint
@@ -98,8 +99,6 @@ def finger_links(kinematics, gripper, link: str) -> tuple[str, ...]:
 
 
 def _bodies(model) -> set[str]:
-    import pinocchio as pin  # noqa: PLC0415
-
     return {f.name for f in model.frames if f.type == pin.FrameType.BODY}
 
 
