@@ -345,9 +345,11 @@ class PickAndPlace:
             self.step()
         return False
 
-    def sync_obstacles(self) -> None:
-        """The planner's world := the World's collision objects (robot, ground, cube ignored)."""
-        ignore = [self.cube.prim_path, self.cube.name, *self.ground]
+    def sync_obstacles(self, ground: bool = False) -> None:
+        """The planner's world := the World's collision objects (robot and cube ignored; the
+        ground too unless `ground`: the grasp and place sequences keep the robot off it, and
+        may let the cube touch it where it lies or is put down)."""
+        ignore = [self.cube.prim_path, self.cube.name, *([] if ground else self.ground)]
         self.mg.update_world_from_sim(self.world, self.robot, ignore=ignore)
         self._floor_on = False
 
@@ -477,39 +479,86 @@ class PickAndPlace:
         in_tcp = self.cube_in_tcp()
         return PLACE_POSITION + [0.0, 0.0, RELEASE_HEIGHT] - quat.to_matrix(hand_q) @ in_tcp
 
-    def choose_grasp_yaw(self, p: np.ndarray, qc: np.ndarray) -> float:
-        """The hand yaw [rad] of the top grasp: `grasp_yaw`, or the same turned by 90, -90
-        or 180 deg (the cube is symmetric) when the hand would hit an obstacle there.
+    def grasp_candidates(self, p: np.ndarray, qc: np.ndarray) -> tuple[Pose, np.ndarray]:
+        """The top grasps of a resting cube at p (3,) [m], orientation qc (wxyz): the hand
+        pointing down at the cube's four symmetric yaws (`grasp_yaw`, the least wrist turn,
+        first). `plan_grasp` takes the one with the fastest feasible sequence: a wrist that
+        turns less moves faster, so the least turn wins unless the hand would hit something.
 
-        A yaw qualifies when both the grasp and the pre-grasp pose have a collision-free IK
-        solution; if none does, the preferred yaw is returned and planning reports why.
+        Returns:
+            (a batched Pose of the TCP (4 poses), their yaws (4,) [rad]).
         """
-        base = grasp_yaw(p, qc)
-        self.set_floor_guard(False)
-        for k in (0, 1, -1, 2):
-            yaw = base + k * np.pi / 2
-            grasp = Pose(p + [0.0, 0.0, GRASP_HEIGHT], hand_down(yaw))
-            pre = Pose(grasp.position + [0.0, 0.0, APPROACH_HEIGHT], grasp.quaternion)
-            seed_q = self.planning_start()
-            if all(self.mg.ik(g, link=TCP, seed_q=seed_q, collision_free=True).success for g in (grasp, pre)):
-                if k:
-                    self.say(f"grasp turned by {90 * k} deg: the hand would hit an obstacle at the preferred yaw")
-                return yaw
-        return base
+        yaws = grasp_yaw(p, qc) + np.array([0.0, 1.0, -1.0, 2.0]) * np.pi / 2
+        return Pose.stack([Pose(p + [0.0, 0.0, GRASP_HEIGHT], hand_down(y)) for y in yaws]), yaws
+
+    def place_candidates(self) -> Pose:
+        """Goal poses of the held cube (a batched Pose): its centre RELEASE_HEIGHT above the
+        place position, its measured orientation turned about the vertical by multiples of
+        45 deg (a cube's faces repeat every 90 deg: these let `plan_place` pick the smallest
+        wrist turn)."""
+        _, qc = self.cube_pose()
+        centre = PLACE_POSITION + [0.0, 0.0, RELEASE_HEIGHT]
+        return Pose.stack([Pose(centre, quat.multiply(quat.from_axis_angle([0, 0, 1], a), qc))
+                           for a in np.arange(-3, 5) * np.pi / 4])
+
+    def plan_task(self, phase: str, plan_fn, **options):
+        """`plan_fn(start, seed=..., **options)` (a plan_grasp / plan_place call) from the measured
+        state, retried with new seeds like `plan`; raises PlanningFailed."""
+        last = None
+        for attempt in range(PLAN_TRIES):
+            self._plan_seed += 1
+            r = plan_fn(self.planning_start(), seed=self._plan_seed, **options)
+            self._ep.plan_time += r.timings.get("total", 0.0)
+            if r.success:
+                self._ep.plans += 1
+                self.say(f"{phase:<12} {len(r.stages)} stages planned in {r.timings['total'] * 1e3:6.1f} ms, "
+                         f"candidate {r.grasp_index}")
+                return r
+            self._ep.failed_plans += 1
+            last = r
+            self.say(f"{phase}: plan failed ({r.status.name}: {r.message})")
+        raise PlanningFailed(f"{phase}: no plan after {PLAN_TRIES} tries ({last.status.name}: {last.message})")
+
+    def run_stage(self, phase: str, result) -> None:
+        """Execute one stage of a GraspPlan (re-planned from the measured state by `move` when
+        the arm is not where the stage starts)."""
+        if np.max(np.abs(self.q() - result.trajectory.positions[0])) > SETTLE_TOLERANCE:
+            goal = self.mg.fk(result.goal_q, TCP)
+            self.move(phase, goal if result.source == "linear" else result.goal_q, linear=result.source == "linear")
+            return
+        self.say(f"{phase:<12} motion {result.trajectory.duration:5.2f} s")
+        self.execute(result)
 
     # ------------------------------------------------------------------ one pick and place
     def pick_and_place(self) -> None:
-        """Pick the cube where it lies and put it at the place position (raises on failure)."""
+        """Pick the cube where it lies and put it at the place position (raises on failure).
+
+        The grasp (`MotionGenerator.plan_grasp`: free motion to the pre-grasp, straight down
+        with only the fingers allowed to touch the cube, lift) and the place (`plan_place`:
+        free motion to above the place position, straight down, release, straight up) are
+        each planned as one sequence, with the ground and the cube in the planner's world.
+        The lift is planned again from the measured state once the grasp is checked.
+        """
         mg = self.mg
         self.sync_obstacles()
         p, qc = self.cube_pose()
-        yaw = self.choose_grasp_yaw(p, qc)
+        T_base_world = Pose(*self.robot.get_world_pose()).inverse()
+        grasps, yaws = self.grasp_candidates(p, qc)
+        self.sync_obstacles(ground=True)
+        mg.add_obstacle(Cuboid("cube", [CUBE_SIZE] * 3, T_base_world @ Pose(p, qc)))
+        grasp = self.plan_task("grasp", lambda q, **o: mg.plan_grasp(q, grasps, "cube", approach=APPROACH_HEIGHT,
+                                                                     lift=APPROACH_HEIGHT, link=TCP, **o))
+        yaw = float(yaws[grasp.grasp_index])
         down = hand_down(yaw)
         self.say(f"cube at ({p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}) m, yaw {np.degrees(cube_yaw(qc)):.0f} deg, "
                  f"hand yaw {np.degrees(yaw):.0f} deg; {len(mg.world)} obstacles")
-        grasp = Pose(p + [0.0, 0.0, GRASP_HEIGHT], down)
-        self.move("pre-grasp", Pose(grasp.position + [0.0, 0.0, APPROACH_HEIGHT], down))
-        self.move("descend", grasp, linear=True)
+        if grasp.grasp_index:
+            turn = int(round(np.degrees(yaw - yaws[0])))
+            self.say(f"grasp turned by {turn} deg: {grasp.message or 'a faster motion than at the preferred yaw'}")
+        self.run_stage("pre-grasp", grasp.segment("free"))
+        self.run_stage("descend", grasp.segment("approach"))
+        mg.remove_obstacle("cube")
+        self.sync_obstacles()
         self.gripper(CUBE_SIZE / 2 - SQUEEZE, "close")
         # Check the grasp before the cube becomes the planner's attached object: a cube that
         # moved away (pushed, or moved by someone) would be attached where it is, far from
@@ -519,7 +568,6 @@ class PickAndPlace:
             raise GraspFailed(f"grasp failed after closing: {problem}")
         # The cube as the planner's attached object, where the simulator has it now.
         p, qc = self.cube_pose()
-        T_base_world = Pose(*self.robot.get_world_pose()).inverse()
         cube = Cuboid("cube", [CUBE_SIZE] * 3, T_base_world @ Pose(p, qc))
         mg.attach_object(cube, q=self.planning_start(), link="panda_hand")
         try:
@@ -529,13 +577,15 @@ class PickAndPlace:
             if problem is not None:
                 raise CubeDropped(f"after the lift, {problem}")
             in_hand = self.cube_in_tcp()
-            azimuth = float(np.arctan2(PLACE_POSITION[1], PLACE_POSITION[0]))
-            place_q = hand_down(azimuth)
-            self.move("pre-place", Pose(self.release_position(place_q) + [0.0, 0.0, APPROACH_HEIGHT], place_q), **carry)
+            self.sync_obstacles(ground=True)
+            placements = self.place_candidates()
+            place = self.plan_task("pre-place", lambda q, **o: mg.plan_place(
+                q, placements, retreat=RETREAT_HEIGHT, approach=APPROACH_HEIGHT, link=TCP, **o), **carry)
+            self.run_stage("pre-place", place.segment("free"))
             problem = self.grasp_problem()
             if problem is not None:
                 raise CubeDropped(f"on the way to the place position, {problem}")
-            self.move("descend", Pose(self.release_position(place_q), place_q), linear=True, **carry)
+            self.run_stage("descend", place.segment("descend"))
             self._ep.slip = max(self._ep.slip, float(np.linalg.norm(self.cube_in_tcp() - in_hand)))
         except Exception:
             mg.detach_object(self.planning_start())
@@ -544,7 +594,8 @@ class PickAndPlace:
         self.gripper(self.robot.gripper.joint_opened_positions[0], "open")
         mg.detach_object(self.planning_start())
         mg.remove_obstacle("cube")  # the target cube is never an obstacle
-        self.move("retreat", Pose(self.tcp_pose().position + [0.0, 0.0, RETREAT_HEIGHT], place_q), linear=True)
+        self.run_stage("retreat", place.segment("retreat"))
+        self.sync_obstacles()
         self.move("wait pose", self.wait_q)
 
     def recover(self) -> None:

@@ -22,13 +22,14 @@ from manip.collision import (
     Sphere,
     WorldConfig,
 )
+from manip.constraints import Constraint, OrientationConstraint, PositionConstraint
 from manip.errors import InvalidInputError, ManipError, RobotConfigError, UnknownNameError
 from manip.ik import BatchIKResult, IKResult, IKSolutions, IKSolver, IKStatus
 from manip.kinematics import Kinematics
 from manip.limits import JointLimits
 from manip.motion_generator import MotionGenerator
 from manip.compat import TutorialMotionGen, wxyz_to_xyzw, xyzw_to_wxyz
-from manip.planning import PlanOptions, PlanResult, PlanStatus
+from manip.planning import GraspPlan, PlanOptions, PlanResult, PlanStatus
 from manip.pose import Pose
 from manip.robot_config import RobotConfig, available_robots, load_robot_config, robots_root
 from manip.timing import (
@@ -46,10 +47,12 @@ __all__ = [
     "Capsule",
     "CollisionChecker",
     "CollisionReport",
+    "Constraint",
     "CubicSplinePath",
     "Cuboid",
     "Cylinder",
     "DistanceReport",
+    "GraspPlan",
     "IKResult",
     "IKSolutions",
     "IKSolver",
@@ -60,12 +63,14 @@ __all__ = [
     "ManipError",
     "Mesh",
     "MotionGenerator",
+    "OrientationConstraint",
     "PathProfile",
     "PiecewiseJerkProfile",
     "PlanOptions",
     "PlanResult",
     "PlanStatus",
     "Pose",
+    "PositionConstraint",
     "RobotConfig",
     "RobotConfigError",
     "Sphere",

@@ -42,7 +42,6 @@ other threads plan is not supported.
 from __future__ import annotations
 
 import logging
-import math
 import time
 import warnings
 from collections.abc import Sequence
@@ -57,13 +56,15 @@ from manip.errors import InvalidInputError
 from manip.ik import BatchIKResult, IKResult, IKSolver
 from manip.kinematics import Kinematics
 from manip.planning.context import START_LIMIT_TOLERANCE, PlanContext
-from manip.planning.goal_configurations import goal_configurations
-from manip.planning.time_and_validate import time_and_validate
+from manip.planning.constrained import with_constraints
+from manip.planning.grasp import Stages, finger_links, plan_grasp, plan_place
+from manip.planning.grasp_plan import GraspPlan
+from manip.planning.goal_configurations import constrained_goal_failure, goal_configurations
 from manip.planning.path.goals import order_goals
-from manip.planning.path.linear import linear_path
+from manip.planning.linear_motion import LINEAR_DEVIATION, LINEAR_SPLINE_DEVIATION, MAX_LINEAR_POINTS, plan_linear
 from manip.planning.options import PlanOptions
 from manip.planning.pipeline import plan_to_configs
-from manip.planning.result import PlanResult, PlanStatus
+from manip.planning.result import PlanResult
 from manip.planning.validity import Validity
 from manip.pose import Pose
 from manip.robot_config import RobotConfig, config_from_urdf, load_robot_config
@@ -72,21 +73,8 @@ from manip.validation import as_real_array, flag, positive
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["MotionGenerator", "START_LIMIT_TOLERANCE"]
-
-#: Largest joint-space deviation [rad] of a linear motion's timing from its dense IK path
-#: (about 1 mm at the hand).
-LINEAR_DEVIATION = 1e-3
-#: Linear motions are first timed as one smooth motion along a spline through their IK
-#: points (`time_parameterize_dense`). The spline passes through every point; between
-#: points it may stray this far [rad] from the joint-space polyline, which is itself only a
-#: chord approximation of the IK curve (measured at 2 cm steps: the spline stays within
-#: 0.01 mm of the Cartesian line, the polyline 0.1-0.2 mm off it, while the two differ by
-#: up to 1.8 mrad). The bound only rejects a fit gone wrong.
-LINEAR_SPLINE_DEVIATION = 1e-2
-#: Largest number of IK points of a linear motion (`linear_step` [m] must be at least the
-#: line's length over this): more is refused with an InvalidInputError naming linear_step.
-MAX_LINEAR_POINTS = 10_000
+__all__ = ["MotionGenerator", "START_LIMIT_TOLERANCE", "LINEAR_DEVIATION", "LINEAR_SPLINE_DEVIATION",
+           "MAX_LINEAR_POINTS"]
 
 #: The Isaac Sim tutorial wrapper's names, which moved to `manip.TutorialMotionGen` (asking a
 #: MotionGenerator for one raises an AttributeError saying where it went).
@@ -349,10 +337,12 @@ class MotionGenerator:
         self.kinematics.frame_id(link, "link")
         return link
 
-    def _validity(self) -> Validity:
-        """Collision questions against one snapshot of the world (taken now)."""
+    def _validity(self, ctx: PlanContext | None = None) -> Validity:
+        """Collision questions against one snapshot of the world (taken now), and the plan's
+        constraints (`ctx.options.constraints`, `planning.constrained`)."""
         v = self.validity
-        return Validity(self.checker.snapshot(), v.kinematics, v.resolution, v.search_resolution)
+        v = Validity(self.checker.snapshot(), v.kinematics, v.resolution, v.search_resolution)
+        return with_constraints(v, ctx.options.constraints) if ctx is not None else v
 
     # ------------------------------------------------------------------ world
     @property
@@ -449,7 +439,7 @@ class MotionGenerator:
                 InvalidInputError listing the valid ones.
         """
         ctx = self._context(options)
-        validity = self._validity()
+        validity = self._validity(ctx)
         start = ctx.check_start(self._arm_q(start_q, "start_q"), self.kinematics, validity)
         goal = ctx.check_goal(self._arm_q(goal_q, "goal_q"), self.kinematics, validity)
         if ctx.failed:
@@ -490,7 +480,7 @@ class MotionGenerator:
             raise InvalidInputError(f"goals must be a manip.Pose; got {type(goals).__name__}")
         if not goals.is_batch:
             goals = Pose.stack([goals])
-        validity = self._validity()
+        validity = self._validity(ctx)
         start = ctx.check_start(self._arm_q(start_q, "start_q"), self.kinematics, validity)
         if ctx.failed:
             return ctx.result()
@@ -498,7 +488,7 @@ class MotionGenerator:
         configs, owners, why = goal_configurations(self.ik_solver, ctx, validity, start, goals, link)
         ctx.add_time("ik", t_ik)
         if not len(configs):
-            return ctx.fail(PlanStatus.IK_FAIL, why)
+            return ctx.fail(*constrained_goal_failure(self.ik_solver, ctx, validity, start, goals, link, why))
         # the goals ranked by the motion they allow (`planning.path.goals`), not by joint-space distance
         order = order_goals(start, configs, ctx.scaled_limits(self.limits))
         ctx.check_sample_count(start, configs[order[0]], self.limits)
@@ -535,6 +525,38 @@ class MotionGenerator:
                 out.append(self.plan_joints(s, g, **options))
         return out
 
+    # ------------------------------------------------------------------ task-level motions
+    def plan_grasp(self, start_q, grasps: Pose, object_name: str, *, approach: float = 0.10, lift: float = 0.10,
+                   link: str | None = None, **options) -> GraspPlan:
+        """Grasp the obstacle `object_name` at the best of the candidate poses `grasps` (a batched
+        Pose of `link`, default `ee_link`): a free motion to the pre-grasp (`approach` [m] back
+        along the link's z axis), a linear approach during which only the gripper's fingers may
+        touch the object, then, with the object attached, a linear lift of `lift` [m] up (world
+        z). `options` as `plan_joints` (`constraints` hold while the object is held: the
+        lift). The generator's world is not changed: attach the object when the grasp is
+        executed. How candidates are chosen, and what each stage may touch: `manip.planning.grasp`.
+        """
+        link = self._link(link)
+        return plan_grasp(self._stages(link), self._arm_q(start_q, "start_q"), grasps, object_name,
+                          approach=approach, lift=lift, link=link, options=options)
+
+    def plan_place(self, start_q, placements: Pose, *, retreat: float = 0.10, approach: float = 0.10,
+                   link: str | None = None, constraints=(), **options) -> GraspPlan:
+        """Put the attached object at the best of `placements` (a batched Pose of the object's goal
+        poses): a free motion (keeping `constraints`) to `approach` [m] above the placement, a
+        linear descent (keeping them too), release, a linear retreat of `retreat` [m] back along
+        `link`'s z axis (default the carrying link). The generator's world is not changed:
+        detach the object when it is released (`manip.planning.grasp`).
+        """
+        attached = self.checker.attached_objects
+        link = self._link(link if link is not None or len(attached) != 1 else next(iter(attached.values())).link)
+        return plan_place(self._stages(link), self._arm_q(start_q, "start_q"), placements, retreat=retreat,
+                          approach=approach, link=link, constraints=constraints, options=options)
+
+    def _stages(self, link: str) -> Stages:
+        return Stages(self._context, self.validity, self.checker, self.ik_solver, self.limits, self.clearance,
+                      finger_links(self.kinematics, self.config.gripper, link))
+
     # ------------------------------------------------------------------ orchestration
     def _context(self, options: dict) -> PlanContext:
         t0 = time.perf_counter()
@@ -544,37 +566,9 @@ class MotionGenerator:
         return PlanContext(base.updated(options), t0)
 
     def _plan_linear(self, start_q, goal: Pose, link: str, options: dict) -> PlanResult:
-        """Straight-line motion of `link` from its current pose to `goal`."""
+        """Straight-line motion of `link` from its current pose to `goal` (`planning.linear_motion`)."""
         ctx = self._context(options)
-        validity = self._validity()
-        start = ctx.check_start(start_q, self.kinematics, validity)
-        if ctx.failed:
-            return ctx.result()
-        length = float(np.linalg.norm(goal.position - self.kinematics.fk(start, link).position))
-        points = length / ctx.options.linear_step
-        if points > MAX_LINEAR_POINTS:
-            raise InvalidInputError(
-                f"linear_step: a {length:.4g} m line at linear_step = {ctx.options.linear_step:.3g} m needs "
-                f"{math.ceil(points)} IK points; at most MAX_LINEAR_POINTS = {MAX_LINEAR_POINTS} "
-                f"(give linear_step >= {length / MAX_LINEAR_POINTS:.3g} m)"
-            )
-        t = time.perf_counter()
-        path, why = linear_path(
-            self.kinematics, self.ik_solver, start, goal, link, step=ctx.options.linear_step,
-            valid_batch=validity.configs, motion_valid=validity.motion,
-        )
-        ctx.add_time("ik", t)
-        if path is None:
-            return ctx.fail(PlanStatus.LINEAR_PATH_FAIL, why)
-        goal_q = path[-1].copy()
-        ctx.check_sample_count(start, goal_q, self.limits)
-        traj, why = time_and_validate(ctx, path, goal_q, limits=self.limits, validity=validity,
-                                      deviation=LINEAR_DEVIATION, dense_deviation=LINEAR_SPLINE_DEVIATION)
-        if traj is None:
-            return ctx.fail(PlanStatus.TRAJOPT_FAIL, f"no valid timed trajectory: {why}", path=path, goal_q=goal_q)
-        dp, dr = self.kinematics.fk(goal_q, link).distance(goal)
-        result = ctx.succeed(traj, path, goal_q, 1, "linear")
-        return replace(result, position_error=float(dp), rotation_error=float(dr))
+        return plan_linear(ctx, self._validity(ctx), self.ik_solver, start_q, goal, link, limits=self.limits)
 
     # ------------------------------------------------------------------ removed names
     def __getattr__(self, name: str):

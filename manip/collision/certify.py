@@ -505,6 +505,8 @@ def certify_path(state: CollisionState, path: np.ndarray) -> MotionCertificate:
     if O and st.moving_world_parts:
         n, g, o, d = _candidates(broadphase.world_candidates, R, p, sample_margins(B_part, pad),
                                  (*st.world_tables, *st.obstacle_tables))
+        if n.size and st.allowed_world is not None:  # contacts allowed (`CollisionChecker.allowing`)
+            n, g, o, d = (a[~st.allowed_world[g, o]] for a in (n, g, o, d))
         if n.size:
             s, g, o, da, db = both_ends(n, g, o, d, (len(st.parts), O))
             lower = np.maximum(_lower_batch(da, db, M_part[s, g]), _lower_batch(da, db, chord[s, g]) - E_part[s, g])

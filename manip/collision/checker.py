@@ -124,7 +124,8 @@ class CollisionChecker(WorldEdits, SegmentChecks):
                 self_padding=self._self_padding, always_colliding=tuple(self._always_colliding), fine=self._fine,
                 motion_bounds=self._motion_bounds, world_tables=tuple(self._bp_world),
                 moving_world_parts=bool(self._l0_joint.size), obstacle_tables=tuple(self._bp_obstacles),
-                self_tables=tuple(self._bp_self), self_pairs=self._bp_pairs, _collides=self._check,
+                self_tables=tuple(self._bp_self), self_pairs=self._bp_pairs,
+                allowed_world=self.__dict__.get("_allowed_world"), _collides=self._check,
                 _motion_free=self._motion_free_at, _segments_free=self._segments_free, _advance=self._advance_to)
         return state
 
@@ -155,6 +156,10 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         found = []
         if world and len(self._obs) and self._l0_joint.size:
             n, g, o, d = broadphase.world_candidates(R, p, self._padding + 1e-9, *self._bp_world, *self._bp_obstacles)
+            allowed = self.__dict__.get("_allowed_world")  # a view of `allowing`
+            if allowed is not None and n.size:
+                keep = ~allowed[g, o]
+                n, g, o, d = n[keep], g[keep], o[keep], d[keep]
             if n.size:
                 found.append((n, np.zeros(n.size, dtype=np.int64), g, o, d))
         if self_ and self._bpairs.shape[0]:

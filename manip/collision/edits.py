@@ -14,6 +14,7 @@ one sees one world for a whole plan while other threads edit.
 
 from __future__ import annotations
 
+import threading
 from typing import Sequence
 
 import coal
@@ -155,6 +156,47 @@ class WorldEdits:
         with self._lock:
             view = object.__new__(type(self))
             view.__dict__.update(self.__dict__, _is_snapshot=True)
+        return view
+
+    def fork(self):  # -> CollisionChecker
+        """An independent, editable copy of the checker as it is now (O(1): the tables are
+        shared until either side edits, and edits build new tables instead of changing
+        them). For planning against a world that differs a little from this one (an object
+        attached, removed) without touching this checker."""
+        with self._lock:
+            copy = object.__new__(type(self))
+            copy.__dict__.update(self.__dict__, _is_snapshot=False, _lock=threading.RLock())
+            copy.__dict__.pop("_state_of_snapshot", None)
+            copy.__dict__.pop("_allowed_world", None)
+        return copy
+
+    def allowing(self, pairs):  # -> CollisionChecker
+        """A read-only view (a `snapshot`) where the given contacts are allowed.
+
+        Args:
+            pairs: (part, obstacle) names: a robot link (all its collision parts) or an attached
+                object, and a world obstacle; every check and certificate of the view skips
+                these pairs (and only these: every other pair is checked as before), e.g. the
+                fingers and the object they close on.
+
+        Raises:
+            UnknownNameError: a link, attached object or obstacle that does not exist.
+        """
+        view = object.__new__(type(self))
+        view.__dict__.update(self.snapshot().__dict__)
+        view.__dict__.pop("_state_of_snapshot", None)
+        parts, obstacles = view.__dict__["_parts"], view.__dict__["_obs"]
+        mask = np.zeros((len(parts), len(obstacles)), dtype=bool)
+        names = [o.name for o in obstacles]
+        for part, obstacle in pairs:
+            rows = [g for g, p in enumerate(parts) if p.name == part]
+            if not rows:
+                known = sorted({p.name for p in parts})
+                raise UnknownNameError("link or attached object", part, known)
+            if obstacle not in names:
+                raise UnknownNameError("obstacle", obstacle, names)
+            mask[rows, names.index(obstacle)] = True
+        view.__dict__["_allowed_world"] = mask
         return view
 
     def _writing(self):

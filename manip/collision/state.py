@@ -49,6 +49,8 @@ class CollisionState:
         obstacle_tables: the obstacles' broadphase tables (shapes, poses, bounding balls).
         self_tables: the self pairs' broadphase tables (`broadphase.self_candidates`).
         self_pairs: (P, 2) the part pairs of `self_tables`, in its order.
+        allowed_world: (G, O) bool, the (part, obstacle) pairs never checked (contacts allowed,
+            `CollisionChecker.allowing`), or None.
     """
 
     kinematics: Kinematics
@@ -66,6 +68,7 @@ class CollisionState:
     obstacle_tables: tuple
     self_tables: tuple
     self_pairs: np.ndarray
+    allowed_world: np.ndarray | None
     _collides: Callable[..., np.ndarray]
     _motion_free: Callable[[np.ndarray, np.ndarray, float], bool]
     _segments_free: Callable[[np.ndarray, np.ndarray, float], np.ndarray]

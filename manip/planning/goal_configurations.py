@@ -12,6 +12,7 @@ import numpy as np
 
 from manip.ik import IKSolver, IKStatus
 from manip.planning.context import PlanContext
+from manip.planning.result import PlanStatus
 from manip.planning.validity import Validity
 from manip.pose import Pose
 
@@ -77,3 +78,21 @@ def _ik_failure(ik_solver: IKSolver, sols, goal: Pose, link: str, start: np.ndar
         return sols.status, "every IK solution found is in collision"
     problem = validity.goal_problem(found[0]) or "in collision"
     return sols.status, f"every IK solution found is in collision; the one nearest the start: {problem}"
+
+
+def constrained_goal_failure(ik_solver: IKSolver, ctx: PlanContext, validity: Validity, start: np.ndarray,
+                             goals: Pose, link: str, why: str) -> tuple[PlanStatus, str]:
+    """(status, message) of goal poses without a valid IK solution: INVALID_GOAL_CONSTRAINT
+    when collision-free solutions exist but each violates a constraint of `validity` (the
+    message describes the one nearest the start), else IK_FAIL with `why`."""
+    if not validity.constraints:
+        return PlanStatus.IK_FAIL, why
+    free = validity.unconstrained()
+    configs, _, _ = goal_configurations(ik_solver, ctx, free, start, goals, link)
+    if not len(configs):
+        return PlanStatus.IK_FAIL, why
+    nearest = configs[np.argmin(np.linalg.norm(configs - start, axis=1))]
+    which = "the goal pose" if len(goals) == 1 else f"the {len(goals)} goal poses"
+    return PlanStatus.INVALID_GOAL_CONSTRAINT, (
+        f"every collision-free IK solution of {which} violates a constraint; the one nearest the start: "
+        f"{validity.constraint_problem(nearest)}")

@@ -27,6 +27,8 @@ from manip.validation import MAX_SAMPLES
 LIMIT_TOLERANCE = 1e-6
 #: How far [rad] the blended timing of a path may cut its corners (`timing.time_path`).
 BLEND_DEVIATION = 0.05
+#: Smaller corner cuts [rad] tried in turn for a path that must keep constraints.
+CONSTRAINED_BLENDS = (0.02, 0.008)
 
 
 def validate_trajectory(traj: Trajectory, start: np.ndarray, goal: np.ndarray, validity: Validity) -> str:
@@ -39,6 +41,9 @@ def validate_trajectory(traj: Trajectory, start: np.ndarray, goal: np.ndarray, v
     cert = validity.certify(traj.positions)
     if not cert.certified:
         t = traj.times[cert.first_failed_segment]
+        if cert.reason.startswith("constraint"):
+            proved = "violates a constraint" if cert.reason == "constraint" else "could not be certified to keep a constraint"
+            return f"timed trajectory {proved} near t = {t:.3f} s: {cert.pair[0]}"
         what = "collides" if cert.reason == "collision" else "could not be certified collision-free"
         return f"timed trajectory {what} near t = {t:.3f} s ({cert.pair[0]} / {cert.pair[1]})"
     return ""
@@ -82,14 +87,17 @@ def time_and_validate(
     Returns:
         (the first valid trajectory, "") or (None, why the last try failed).
     """
-    modes = (("along_path",) if dense_deviation is not None else ()) + ("blend", "exact")
+    # a constrained path: corners cut less and less before stopping at each waypoint (a cut
+    # corner leaves the certified segments, and a constraint's margin may be thin there)
+    blends = [(mode, deviation) for mode in ("blend",)] + [("blend", d) for d in CONSTRAINED_BLENDS if d < deviation
+                                                          and getattr(validity, "constraints", ())]
+    modes = ([("along_path", dense_deviation)] if dense_deviation is not None else []) + blends + [("exact", deviation)]
     reason = ""
-    for mode in modes:
-        if timed and mode in timed:
+    for mode, dev in modes:
+        if timed and mode in timed and dev == deviation:
             traj = timed[mode]
         else:
-            traj, reason = time_once(ctx, path, limits=limits, validity=validity, mode=mode,
-                                     deviation=dense_deviation if mode == "along_path" else deviation)
+            traj, reason = time_once(ctx, path, limits=limits, validity=validity, mode=mode, deviation=dev)
             if traj is None:
                 continue
         t = time.perf_counter()
