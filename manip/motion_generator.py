@@ -42,7 +42,6 @@ other threads plan is not supported.
 from __future__ import annotations
 
 import logging
-import math
 import time
 import warnings
 from collections.abc import Sequence
@@ -57,16 +56,16 @@ from manip.errors import InvalidInputError
 from manip.ik import BatchIKResult, IKResult, IKSolver
 from manip.kinematics import Kinematics
 from manip.planning.context import START_LIMIT_TOLERANCE, PlanContext
-from manip.planning.goal_configurations import goal_configurations
-from manip.planning.time_and_validate import time_and_validate
-from manip.planning.path.goals import order_goals
-from manip.planning.path.linear import linear_path
+from manip.planning.arms import check_goals, held_view, plan_link_poses
+from manip.planning.goal_configurations import plan_to_poses
+from manip.planning.linear_motion import MAX_LINEAR_POINTS, plan_linear  # noqa: F401 (MAX_LINEAR_POINTS: its old home)
 from manip.planning.options import PlanOptions
 from manip.planning.pipeline import plan_to_configs
-from manip.planning.result import PlanResult, PlanStatus
+from manip.planning.result import PlanResult
 from manip.planning.validity import Validity
 from manip.pose import Pose
-from manip.robot_config import RobotConfig, config_from_urdf, load_robot_config
+from manip.robot_arms import arm_specs, state_columns
+from manip.robot_config import RobotConfig, compose_robot_config, config_from_urdf, load_robot_config
 from manip.sim_bridge import world_config_from_sim
 from manip.validation import as_real_array, flag, positive
 
@@ -74,19 +73,6 @@ logger = logging.getLogger(__name__)
 
 __all__ = ["MotionGenerator", "START_LIMIT_TOLERANCE"]
 
-#: Largest joint-space deviation [rad] of a linear motion's timing from its dense IK path
-#: (about 1 mm at the hand).
-LINEAR_DEVIATION = 1e-3
-#: Linear motions are first timed as one smooth motion along a spline through their IK
-#: points (`time_parameterize_dense`). The spline passes through every point; between
-#: points it may stray this far [rad] from the joint-space polyline, which is itself only a
-#: chord approximation of the IK curve (measured at 2 cm steps: the spline stays within
-#: 0.01 mm of the Cartesian line, the polyline 0.1-0.2 mm off it, while the two differ by
-#: up to 1.8 mrad). The bound only rejects a fit gone wrong.
-LINEAR_SPLINE_DEVIATION = 1e-2
-#: Largest number of IK points of a linear motion (`linear_step` [m] must be at least the
-#: line's length over this): more is refused with an InvalidInputError naming linear_step.
-MAX_LINEAR_POINTS = 10_000
 
 #: The Isaac Sim tutorial wrapper's names, which moved to `manip.TutorialMotionGen` (asking a
 #: MotionGenerator for one raises an AttributeError saying where it went).
@@ -179,6 +165,22 @@ class MotionGenerator:
                                     f"base_link, ee_link, {', '.join(names + constructor)}")
         config = config_from_urdf(urdf, srdf, base_link=base_link, ee_link=ee_link,
                                   **{k: kwargs.pop(k) for k in names if k in kwargs})
+        return cls(config, **kwargs)
+
+    @classmethod
+    def from_robots(cls, arms: dict, *, name: str | None = None, base_link: str | None = None,
+                    **kwargs) -> MotionGenerator:
+        """A MotionGenerator for several arms as one robot, from their robots and base poses.
+
+        `arms` maps a name prefix to (robot, base pose): `{"left": ("franka", Pose([0, 0.35, 0])),
+        "right": ("ur5", Pose([0, -0.35, 0]))}` (a robot: a shipped name, a robot folder or a
+        RobotConfig; a base pose: the arm's base link in the combined base frame, `base_link`,
+        default "base"). Names are prefixed ("left_panda_joint1"); a configuration is each arm's
+        joints in turn. `kwargs` go to the constructor. See `manip.robot_arms`.
+        """
+        specs = arm_specs(arms)
+        config = compose_robot_config(specs, name=name or "+".join(s.prefix.rstrip("_") for s in specs),
+                                      base_link=base_link)
         return cls(config, **kwargs)
 
     # ------------------------------------------------------------------ defaults
@@ -282,7 +284,8 @@ class MotionGenerator:
         With `collision_free=True` only configurations free of collisions with the world and
         the robot itself count as solutions (the world as it is when the call starts).
         Other keyword arguments go to `IKSolver.solve`. A batched Pose is deprecated here:
-        use `batch_ik`.
+        use `batch_ik`. On a multi-arm robot only the link's arm moves: the other joints keep
+        their `seed_q` values (default: the default configuration; `manip.planning.arms`).
         """
         if not isinstance(goal, Pose):
             raise InvalidInputError(f"goal must be a manip.Pose; got {type(goal).__name__}")
@@ -295,7 +298,7 @@ class MotionGenerator:
             seed_q = self.kinematics.check_q(self._arm_q(seed_q, "seed_q"), "seed_q")
         if flag(collision_free, "collision_free"):
             kwargs.setdefault("validity_fn", self._validity().configs)
-        return self.ik_solver.solve(goal, link, seed_q=seed_q, **kwargs)
+        return self._arm_solver(link, seed_q).solve(goal, link, seed_q=seed_q, **kwargs)
 
     def batch_ik(self, goals: Pose, link: str | None = None, seed_q: np.ndarray | None = None, *,
                  collision_free: bool = False, **kwargs) -> BatchIKResult:
@@ -304,7 +307,8 @@ class MotionGenerator:
         Args:
             goals: a batched Pose (N,) in the base frame.
             link: any frame of the URDF (default `ee_link`).
-            seed_q: (dof,) or (N, dof) configurations to start from [rad].
+            seed_q: (dof,) or (N, dof) configurations to start from [rad] (a multi-arm robot
+                holds its other arms at the first one's values, as `ik`).
             collision_free: only configurations free of collisions with the world and the
                 robot itself count as solutions (as in `ik`).
             **kwargs: as `IKSolver.solve_batch`.
@@ -316,7 +320,7 @@ class MotionGenerator:
             seed_q = self.kinematics.check_q(self._arm_q(seed_q, "seed_q"), "seed_q")
         if flag(collision_free, "collision_free"):
             kwargs.setdefault("validity_fn", self._validity().configs)
-        return self.ik_solver.solve_batch(goals if goals.is_batch else Pose.stack([goals]), link, seed_q=seed_q,
+        return self._arm_solver(link, seed_q).solve_batch(goals if goals.is_batch else Pose.stack([goals]), link, seed_q=seed_q,
                                           **kwargs)
 
     def _arm_q(self, q, what: str):
@@ -333,14 +337,19 @@ class MotionGenerator:
         g = len(gripper.joints) if gripper is not None else 0
         if a.ndim not in (1, 2) or a.shape[-1] <= n:
             return a
-        if g and a.shape[-1] == n + g:
-            return a[..., :n]
+        if g and a.shape[-1] == n + g:  # a multi-arm robot: each arm's state in turn (`robot_arms`)
+            return a[..., state_columns(self.config.arms)] if self.config.arms else a[..., :n]
         full = f" or ({n + g},): a full robot state, the gripper's joints {list(gripper.joints)} last" if g else ""
         head = f"{what}[:{n}]" if a.ndim == 1 else f"{what}[:, :{n}]"
         raise InvalidInputError(
             f"{what} must have shape ({n},) (the arm joints {self.joint_names}){full}; got {a.shape}. If its first "
             f"{n} values are the arm joints in this order, pass {head}."
         )
+
+    def _arm_solver(self, link: str, seed_q: np.ndarray | None):
+        """The IK solver moving only `link`'s arm, the others held at `seed_q` (`planning.arms`)."""
+        q = self.default_joint_positions if seed_q is None else np.atleast_2d(seed_q)[0]
+        return held_view(self.config, self.kinematics, self.ik_solver, [link], q)[1]
 
     def _link(self, link) -> str:
         """`link` checked as a frame name; None means `ee_link` (an empty or non-string name raises)."""
@@ -463,7 +472,8 @@ class MotionGenerator:
         Args:
             start_q: (dof,) start configuration [rad] (or a full robot state, see `plan_joints`).
             goal: a single Pose in the base frame.
-            link: any frame of the URDF.
+            link: any frame of the URDF; on a multi-arm robot only its arm moves, the other
+                arms keep their start (`manip.planning.arms`).
             linear: move the link along the straight line from its start pose to the goal,
                 interpolating the orientation (keep it by giving the start orientation).
             **options: as `plan_joints`.
@@ -474,6 +484,23 @@ class MotionGenerator:
         if flag(linear, "linear"):
             return self._plan_linear(start_q, goal, self._link(link), options)
         return self.plan_goalset(start_q, Pose.stack([goal]), link, **options)
+
+    def plan_poses(self, start_q, goals: dict[str, Pose], **options) -> PlanResult:
+        """One motion bringing several links (one per arm) to their poses together.
+
+        `goals` maps a link name to a Pose in the base frame, e.g. both hands of a two-arm
+        robot; one trajectory moves their arms at once and every link arrives at its end.
+        Arms without a goal keep their start. Logic and guarantees: `manip.planning.arms`.
+        `options` as `plan_joints`.
+        """
+        ctx = self._context(options)
+        goals = check_goals(self.config, self.kinematics, goals)
+        validity = self._validity()
+        start = ctx.check_start(self._arm_q(start_q, "start_q"), self.kinematics, validity)
+        if ctx.failed:
+            return ctx.result()
+        return plan_link_poses(ctx, validity, start, goals, config=self.config, kinematics=self.kinematics,
+                               solver=self.ik_solver, limits=self.limits, clearance=self.clearance)
 
     def plan_goalset(self, start_q, goals: Pose, link: str | None = None, **options) -> PlanResult:
         """Plan to whichever of several poses (a batched Pose) is best reached.
@@ -494,22 +521,12 @@ class MotionGenerator:
         start = ctx.check_start(self._arm_q(start_q, "start_q"), self.kinematics, validity)
         if ctx.failed:
             return ctx.result()
-        t_ik = time.perf_counter()
-        configs, owners, why = goal_configurations(self.ik_solver, ctx, validity, start, goals, link)
-        ctx.add_time("ik", t_ik)
-        if not len(configs):
-            return ctx.fail(PlanStatus.IK_FAIL, why)
-        # the goals ranked by the motion they allow (`planning.path.goals`), not by joint-space distance
-        order = order_goals(start, configs, ctx.scaled_limits(self.limits))
-        ctx.check_sample_count(start, configs[order[0]], self.limits)
-        result = plan_to_configs(ctx, validity, start, configs[order], limits=self.limits,
-                                 clearance=self.clearance)
-        if result.success:
-            reached = result.goal_q
-            k = int(order[np.argmin(np.linalg.norm(configs[order] - reached, axis=1))])
-            dp, dr = self.kinematics.fk(reached, link).distance(goals[owners[k]])
-            result = replace(result, position_error=float(dp), rotation_error=float(dr), goal_index=owners[k])
-        return result
+        # a multi-arm robot moves only the link's arm (`planning.arms`)
+        kin, solver = held_view(self.config, self.kinematics, self.ik_solver, [link], start)
+        if kin is not self.kinematics:
+            validity = Validity(validity.checker, kin, validity.resolution, validity.search_resolution)
+        return plan_to_poses(ctx, validity, start, goals, link, kinematics=kin, ik_solver=solver, limits=kin.limits,
+                             clearance=self.clearance)
 
     def plan_batch(self, start_qs, goals, link: str | None = None, **options) -> list[PlanResult]:
         """Plan several problems: `goals` is (N, dof) joint goals, a batched Pose or a list of Poses."""
@@ -544,37 +561,14 @@ class MotionGenerator:
         return PlanContext(base.updated(options), t0)
 
     def _plan_linear(self, start_q, goal: Pose, link: str, options: dict) -> PlanResult:
-        """Straight-line motion of `link` from its current pose to `goal`."""
+        """Straight-line motion of `link` from its current pose to `goal` (`planning.linear_motion`)."""
         ctx = self._context(options)
         validity = self._validity()
         start = ctx.check_start(start_q, self.kinematics, validity)
         if ctx.failed:
             return ctx.result()
-        length = float(np.linalg.norm(goal.position - self.kinematics.fk(start, link).position))
-        points = length / ctx.options.linear_step
-        if points > MAX_LINEAR_POINTS:
-            raise InvalidInputError(
-                f"linear_step: a {length:.4g} m line at linear_step = {ctx.options.linear_step:.3g} m needs "
-                f"{math.ceil(points)} IK points; at most MAX_LINEAR_POINTS = {MAX_LINEAR_POINTS} "
-                f"(give linear_step >= {length / MAX_LINEAR_POINTS:.3g} m)"
-            )
-        t = time.perf_counter()
-        path, why = linear_path(
-            self.kinematics, self.ik_solver, start, goal, link, step=ctx.options.linear_step,
-            valid_batch=validity.configs, motion_valid=validity.motion,
-        )
-        ctx.add_time("ik", t)
-        if path is None:
-            return ctx.fail(PlanStatus.LINEAR_PATH_FAIL, why)
-        goal_q = path[-1].copy()
-        ctx.check_sample_count(start, goal_q, self.limits)
-        traj, why = time_and_validate(ctx, path, goal_q, limits=self.limits, validity=validity,
-                                      deviation=LINEAR_DEVIATION, dense_deviation=LINEAR_SPLINE_DEVIATION)
-        if traj is None:
-            return ctx.fail(PlanStatus.TRAJOPT_FAIL, f"no valid timed trajectory: {why}", path=path, goal_q=goal_q)
-        dp, dr = self.kinematics.fk(goal_q, link).distance(goal)
-        result = ctx.succeed(traj, path, goal_q, 1, "linear")
-        return replace(result, position_error=float(dp), rotation_error=float(dr))
+        kin, solver = held_view(self.config, self.kinematics, self.ik_solver, [link], start)
+        return plan_linear(ctx, validity, start, goal, link, kinematics=kin, ik_solver=solver, limits=self.limits)
 
     # ------------------------------------------------------------------ removed names
     def __getattr__(self, name: str):
