@@ -22,6 +22,7 @@ from manip.collision import (
     Sphere,
     WorldConfig,
 )
+from manip.constraints import Constraint, OrientationConstraint, PositionConstraint
 from manip.errors import InvalidInputError, ManipError, RobotConfigError, UnknownNameError
 from manip.ik import BatchIKResult, IKResult, IKSolutions, IKSolver, IKStatus
 from manip.kinematics import Kinematics
@@ -46,6 +47,7 @@ __all__ = [
     "Capsule",
     "CollisionChecker",
     "CollisionReport",
+    "Constraint",
     "CubicSplinePath",
     "Cuboid",
     "Cylinder",
@@ -60,12 +62,14 @@ __all__ = [
     "ManipError",
     "Mesh",
     "MotionGenerator",
+    "OrientationConstraint",
     "PathProfile",
     "PiecewiseJerkProfile",
     "PlanOptions",
     "PlanResult",
     "PlanStatus",
     "Pose",
+    "PositionConstraint",
     "RobotConfig",
     "RobotConfigError",
     "Sphere",

@@ -56,7 +56,8 @@ from manip.errors import InvalidInputError
 from manip.ik import BatchIKResult, IKResult, IKSolver
 from manip.kinematics import Kinematics
 from manip.planning.context import START_LIMIT_TOLERANCE, PlanContext
-from manip.planning.arms import check_goals, held_view, plan_link_poses
+from manip.planning.arms import check_goals, held_validity, held_view, plan_link_poses
+from manip.planning.constrained import with_constraints
 from manip.planning.goal_configurations import plan_to_poses
 from manip.planning.linear_motion import MAX_LINEAR_POINTS, plan_linear  # noqa: F401 (MAX_LINEAR_POINTS: its old home)
 from manip.planning.options import PlanOptions
@@ -358,10 +359,12 @@ class MotionGenerator:
         self.kinematics.frame_id(link, "link")
         return link
 
-    def _validity(self) -> Validity:
-        """Collision questions against one snapshot of the world (taken now)."""
+    def _validity(self, ctx: PlanContext | None = None) -> Validity:
+        """Collision questions against one snapshot of the world (taken now), and the plan's
+        constraints (`ctx.options.constraints`, `planning.constrained`)."""
         v = self.validity
-        return Validity(self.checker.snapshot(), v.kinematics, v.resolution, v.search_resolution)
+        v = Validity(self.checker.snapshot(), v.kinematics, v.resolution, v.search_resolution)
+        return with_constraints(v, ctx.options.constraints) if ctx is not None else v
 
     # ------------------------------------------------------------------ world
     @property
@@ -458,7 +461,7 @@ class MotionGenerator:
                 InvalidInputError listing the valid ones.
         """
         ctx = self._context(options)
-        validity = self._validity()
+        validity = self._validity(ctx)
         start = ctx.check_start(self._arm_q(start_q, "start_q"), self.kinematics, validity)
         goal = ctx.check_goal(self._arm_q(goal_q, "goal_q"), self.kinematics, validity)
         if ctx.failed:
@@ -495,7 +498,7 @@ class MotionGenerator:
         """
         ctx = self._context(options)
         goals = check_goals(self.config, self.kinematics, goals)
-        validity = self._validity()
+        validity = self._validity(ctx)
         start = ctx.check_start(self._arm_q(start_q, "start_q"), self.kinematics, validity)
         if ctx.failed:
             return ctx.result()
@@ -517,14 +520,14 @@ class MotionGenerator:
             raise InvalidInputError(f"goals must be a manip.Pose; got {type(goals).__name__}")
         if not goals.is_batch:
             goals = Pose.stack([goals])
-        validity = self._validity()
+        validity = self._validity(ctx)
         start = ctx.check_start(self._arm_q(start_q, "start_q"), self.kinematics, validity)
         if ctx.failed:
             return ctx.result()
         # a multi-arm robot moves only the link's arm (`planning.arms`)
         kin, solver = held_view(self.config, self.kinematics, self.ik_solver, [link], start)
         if kin is not self.kinematics:
-            validity = Validity(validity.checker, kin, validity.resolution, validity.search_resolution)
+            validity = held_validity(validity, kin)
         return plan_to_poses(ctx, validity, start, goals, link, kinematics=kin, ik_solver=solver, limits=kin.limits,
                              clearance=self.clearance)
 
@@ -563,12 +566,13 @@ class MotionGenerator:
     def _plan_linear(self, start_q, goal: Pose, link: str, options: dict) -> PlanResult:
         """Straight-line motion of `link` from its current pose to `goal` (`planning.linear_motion`)."""
         ctx = self._context(options)
-        validity = self._validity()
+        validity = self._validity(ctx)
         start = ctx.check_start(start_q, self.kinematics, validity)
         if ctx.failed:
             return ctx.result()
         kin, solver = held_view(self.config, self.kinematics, self.ik_solver, [link], start)
-        return plan_linear(ctx, validity, start, goal, link, kinematics=kin, ik_solver=solver, limits=self.limits)
+        validity = validity if kin is self.kinematics else held_validity(validity, kin)
+        return plan_linear(ctx, validity, start, goal, link, kinematics=kin, ik_solver=solver, limits=kin.limits)
 
     # ------------------------------------------------------------------ removed names
     def __getattr__(self, name: str):

@@ -32,6 +32,7 @@ from manip.collision.clearance import ClearanceModel
 from manip.errors import InvalidInputError, UnknownNameError
 from manip.ik import IKSolver
 from manip.kinematics import Kinematics
+from manip.planning.constrained import with_constraints
 from manip.planning.context import PlanContext
 from manip.planning.goal_configurations import IK_TOWARD_START
 from manip.planning.path.goals import order_goals
@@ -85,6 +86,12 @@ def held_view(config: RobotConfig, kinematics: Kinematics, solver: IKSolver, lin
         return kinematics, solver
     pinned = kinematics.pinned(q, free)
     return pinned, solver_like(solver, pinned)
+
+
+def held_validity(validity: Validity, kinematics: Kinematics) -> Validity:
+    """`validity`'s checks (world snapshot, resolutions, constraints) on a pinned `kinematics`."""
+    base = Validity(validity.checker, kinematics, validity.resolution, validity.search_resolution, validity.certified)
+    return with_constraints(base, validity.constraints)
 
 
 def check_goals(config: RobotConfig, kinematics: Kinematics, goals: object) -> dict[str, Pose]:
@@ -166,7 +173,7 @@ def plan_link_poses(ctx: PlanContext, validity: Validity, start: np.ndarray, goa
     held = free_joints(config, list(goals))
     if not held.all():  # arms without a goal stay where they are
         kin = kinematics.pinned(start, held)
-        validity = Validity(validity.checker, kin, validity.resolution, validity.search_resolution)
+        validity = held_validity(validity, kin)
         limits = kin.limits
     ctx.check_sample_count(start, configs[order[0]], limits)
     result = plan_to_configs(ctx, validity, start, configs[order], limits=limits, clearance=clearance)

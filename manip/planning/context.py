@@ -87,6 +87,10 @@ class PlanContext:
                 else PlanStatus.INVALID_START_SELF_COLLISION
             )
             self.fail(status, "start in collision: " + describe_contacts(report))
+            return q
+        problem = validity.constraint_problem(q)
+        if problem:
+            self.fail(PlanStatus.INVALID_START_CONSTRAINT, "the start violates a constraint: " + problem)
         return q
 
     def check_goal(self, goal_q, kinematics: Kinematics, validity: Validity) -> np.ndarray:
@@ -106,7 +110,11 @@ class PlanContext:
             q = np.clip(q, kinematics.lower, kinematics.upper)
             problem = validity.goal_problem(q)
         if problem and not self.failed:
-            self.fail(PlanStatus.INVALID_GOAL, problem)
+            constraint = validity.constraint_problem(q)
+            if constraint and constraint in problem:
+                self.fail(PlanStatus.INVALID_GOAL_CONSTRAINT, "the goal violates a constraint: " + constraint)
+            else:
+                self.fail(PlanStatus.INVALID_GOAL, problem)
         return q
 
     def scaled_limits(self, limits: JointLimits) -> JointLimits:

@@ -100,7 +100,7 @@ def plan_to_poses(ctx: PlanContext, validity: Validity, start: np.ndarray, goals
     configs, owners, why = goal_configurations(ik_solver, ctx, validity, start, goals, link)
     ctx.add_time("ik", t_ik)
     if not len(configs):
-        return ctx.fail(PlanStatus.IK_FAIL, why)
+        return ctx.fail(*constrained_goal_failure(ik_solver, ctx, validity, start, goals, link, why))
     order = order_goals(start, configs, ctx.scaled_limits(limits))
     ctx.check_sample_count(start, configs[order[0]], limits)
     result = plan_to_configs(ctx, validity, start, configs[order], limits=limits, clearance=clearance)
@@ -110,3 +110,21 @@ def plan_to_poses(ctx: PlanContext, validity: Validity, start: np.ndarray, goals
         dp, dr = kinematics.fk(reached, link).distance(goals[owners[k]])
         result = replace(result, position_error=float(dp), rotation_error=float(dr), goal_index=owners[k])
     return result
+
+
+def constrained_goal_failure(ik_solver: IKSolver, ctx: PlanContext, validity: Validity, start: np.ndarray,
+                             goals: Pose, link: str, why: str) -> tuple[PlanStatus, str]:
+    """(status, message) of goal poses without a valid IK solution: INVALID_GOAL_CONSTRAINT
+    when collision-free solutions exist but each violates a constraint of `validity` (the
+    message describes the one nearest the start), else IK_FAIL with `why`."""
+    if not validity.constraints:
+        return PlanStatus.IK_FAIL, why
+    free = validity.unconstrained()
+    configs, _, _ = goal_configurations(ik_solver, ctx, free, start, goals, link)
+    if not len(configs):
+        return PlanStatus.IK_FAIL, why
+    nearest = configs[np.argmin(np.linalg.norm(configs - start, axis=1))]
+    which = "the goal pose" if len(goals) == 1 else f"the {len(goals)} goal poses"
+    return PlanStatus.INVALID_GOAL_CONSTRAINT, (
+        f"every collision-free IK solution of {which} violates a constraint; the one nearest the start: "
+        f"{validity.constraint_problem(nearest)}")

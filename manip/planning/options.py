@@ -7,6 +7,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
+from manip.constraints import Constraint
 from manip.errors import InvalidInputError
 from manip.validation import fraction, integer, positive, sample_count
 
@@ -52,6 +53,10 @@ class PlanOptions:
         smoothness: "time_optimal" (the fastest trajectory within the limits) or "smooth"
             (jerk limits x SMOOTH_JERK_FRACTION and a jerk-weighted optimiser: gentler,
             somewhat slower motions).
+        constraints: `manip.Constraint`s (`OrientationConstraint`, `PositionConstraint`, ...)
+            that hold over the whole continuous motion: the search steers on their set, the
+            optimiser keeps them as rows, and the certificate proves them between samples
+            (`planning.constrained`). A tuple (a single constraint is taken as one).
     """
 
     time_budget: float = 5.0
@@ -66,6 +71,7 @@ class PlanOptions:
     optimize_clearance: bool = False
     trajopt: bool = True
     smoothness: str = "time_optimal"
+    constraints: tuple = ()
 
     def __post_init__(self) -> None:
         def put(name, value):
@@ -95,6 +101,7 @@ class PlanOptions:
             put(name, bool(getattr(self, name)))
         if not isinstance(self.smoothness, str) or self.smoothness not in SMOOTHNESS:
             raise InvalidInputError(f"smoothness must be one of {list(SMOOTHNESS)}; got {self.smoothness!r}")
+        put("constraints", _constraints(self.constraints))
 
     @property
     def jerk_scale(self) -> float:
@@ -121,3 +128,18 @@ class PlanOptions:
         values.update(options)
         return PlanOptions(**values)
 
+
+
+def _constraints(value) -> tuple:
+    """`value` as a tuple of `manip.constraints.Constraint` (a single one becomes a 1-tuple)."""
+    if isinstance(value, Constraint):
+        return (value,)
+    if isinstance(value, (str, bytes, dict)) or not hasattr(value, "__iter__"):
+        raise InvalidInputError(f"constraints must be a tuple of manip constraints (OrientationConstraint, "
+                                f"PositionConstraint, ...); got {value!r}")
+    out = tuple(value)
+    bad = [c for c in out if not isinstance(c, Constraint)]
+    if bad:
+        raise InvalidInputError(f"constraints must hold manip constraints (OrientationConstraint, PositionConstraint, "
+                                f"or a manip.constraints.Constraint subclass); got {bad[0]!r} ({type(bad[0]).__name__})")
+    return out

@@ -21,7 +21,9 @@ import numpy as np
 
 from manip.collision.clearance import ClearanceModel
 from manip.limits import JointLimits
+from manip.planning.constrained import ConstrainedClearance
 from manip.planning.context import PlanContext
+from manip.planning.trajopt.settings import TrajOptSettings
 from manip.planning.time_and_validate import BLEND_DEVIATION, time_and_validate, time_once
 from manip.planning.path.smoothing import smooth_path
 from manip.planning.trajopt.refine import refine
@@ -49,6 +51,10 @@ STRICT_ATTEMPT = 3
 #: iterations together, a count); a path that cannot be repaired so is planned again with
 #: every motion certified, without the detour restarts (BENCHMARKS.md, "Constants").
 STRICT_REPAIR_ITERATIONS = 500
+#: A constrained plan that found no path searches this many RRT iterations (at most
+#: UNCONSTRAINED_CHECK_TIME [s]) without the constraints, to say whether they made it infeasible.
+UNCONSTRAINED_CHECK_ITERATIONS = 2000
+UNCONSTRAINED_CHECK_TIME = 1.0
 
 
 def plan_to_configs(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.ndarray, *,
@@ -72,7 +78,30 @@ def plan_to_configs(ctx: PlanContext, validity: Validity, start: np.ndarray, goa
         if result.success or result.status is not PlanStatus.TRAJOPT_FAIL or ctx.time_left < 0:
             break
         logger.info("attempt %d: %s; planning again", attempt, result.message)
+    if validity.constraints and result.status in (PlanStatus.PLAN_FAIL, PlanStatus.TIMEOUT):
+        result = _constraint_failure(ctx, validity, start, goals, result)
     return result
+
+
+def _constraint_failure(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.ndarray,
+                        result: PlanResult) -> PlanResult:
+    """CONSTRAINT_INFEASIBLE when a short unconstrained search (UNCONSTRAINED_CHECK_ITERATIONS)
+    finds a path where the constrained plan found none; else the constrained plan's failure."""
+    free = validity.unconstrained()
+    t = time.perf_counter()
+    path = next((np.stack([start, g]) for g in goals[:3] if free.motion(start, g)), None)
+    if path is None:
+        path, _ = search_path(start, goals, free, np.random.default_rng(ctx.options.seed),
+                              time.perf_counter() + UNCONSTRAINED_CHECK_TIME,
+                              max_iterations=UNCONSTRAINED_CHECK_ITERATIONS,
+                              max_repair_iterations=UNCONSTRAINED_CHECK_ITERATIONS)
+    ctx.add_time("plan", t)
+    if path is None:
+        return result
+    names = ", ".join(type(c).__name__ for c in validity.constraints)
+    return ctx.fail(PlanStatus.CONSTRAINT_INFEASIBLE,
+                    f"no path keeping the constraints ({names}) was found ({result.message}), while a collision-free "
+                    f"path without them exists", attempts=result.attempts)
 
 
 def _plan_once(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.ndarray, attempt: int, *,
@@ -97,6 +126,7 @@ def _plan_once(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: n
         return ctx.fail(status, why, attempts=attempt)
     goal_q = path[-1].copy()
     timed: dict[str, Trajectory] = {}
+    better = None
     if ctx.options.trajopt and source == "shortcut":
         # the optimiser's seed: the path timed stopping at each waypoint (its spline fit
         # follows the path's corners more closely than the blended timing's, which cuts them);
@@ -118,8 +148,11 @@ def _refine(ctx: PlanContext, seed: Trajectory, limits: JointLimits, validity: V
             clearance: ClearanceModel) -> Trajectory | None:
     """`refine.refine` with the clearance model bound to the validity's checker."""
     checker = validity.checker
-    return refine(ctx, seed, limits=limits, validity=validity, clearance=clearance.bound_to(checker),
-                  padding=checker.padding)
+    bound = clearance.bound_to(checker)
+    if validity.constraints:  # the constraint rows as clearance terms (`planning.constrained`)
+        bound = ConstrainedClearance(bound, validity.constraints, validity.kinematics,
+                                     checker.padding + TrajOptSettings().margin)
+    return refine(ctx, seed, limits=limits, validity=validity, clearance=bound, padding=checker.padding)
 
 
 def _path(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.ndarray, attempt: int,

@@ -23,6 +23,9 @@ class PlanStatus(Status):
     INVALID_GOAL = "invalid_goal"
     TIMEOUT = "timeout"
     LINEAR_PATH_FAIL = "linear_path_fail"
+    INVALID_START_CONSTRAINT = "invalid_start_constraint"
+    INVALID_GOAL_CONSTRAINT = "invalid_goal_constraint"
+    CONSTRAINT_INFEASIBLE = "constraint_infeasible"
     RAISED = "raised"
 
     @classmethod
@@ -45,6 +48,18 @@ _HINTS = {
     PlanStatus.TIMEOUT: "the time budget ran out before a path was found: raise time_budget",
     PlanStatus.LINEAR_PATH_FAIL: (
         "a straight-line (linear) motion is impossible: IK breaks, jumps or collides on the line"
+    ),
+    PlanStatus.INVALID_START_CONSTRAINT: (
+        "the start violates a constraint of the `constraints` option (the message says by how much): start inside "
+        "every constraint, or loosen it"
+    ),
+    PlanStatus.INVALID_GOAL_CONSTRAINT: (
+        "the goal (or every collision-free IK solution of the goal poses) violates a constraint of the `constraints` "
+        "option (the message says by how much): move the goal or loosen the constraint"
+    ),
+    PlanStatus.CONSTRAINT_INFEASIBLE: (
+        "a collision-free path exists without the constraints, but none was found that keeps them: loosen the "
+        "constraints (a larger tolerance or box), raise time_budget / search_iterations, or clear the way"
     ),
     PlanStatus.RAISED: (
         "planning this problem of a batch raised an exception (its type and text are in the message): an option "

@@ -39,6 +39,9 @@ def validate_trajectory(traj: Trajectory, start: np.ndarray, goal: np.ndarray, v
     cert = validity.certify(traj.positions)
     if not cert.certified:
         t = traj.times[cert.first_failed_segment]
+        if cert.reason.startswith("constraint"):
+            proved = "violates a constraint" if cert.reason == "constraint" else "could not be certified to keep a constraint"
+            return f"timed trajectory {proved} near t = {t:.3f} s: {cert.pair[0]}"
         what = "collides" if cert.reason == "collision" else "could not be certified collision-free"
         return f"timed trajectory {what} near t = {t:.3f} s ({cert.pair[0]} / {cert.pair[1]})"
     return ""

@@ -45,6 +45,16 @@ class Validity:
         self.search_resolution = max(resolution, search_resolution)
         self.certified = certified
 
+    #: The constraints every answer also requires (`planning.constrained.ConstrainedValidity`).
+    constraints: tuple = ()
+    #: Steering of the path search along a constraint set (`ConstrainedValidity.steer`); None:
+    #: straight extensions.
+    steer = None
+
+    def constraint_problem(self, q: np.ndarray) -> str:
+        """Why `q` (dof,) violates a constraint ("": none does; this validity has none)."""
+        return ""
+
     def strict(self) -> Validity:
         """This validity with every accepted straight motion certified (`certified=True`)."""
         return Validity(self.checker, self.kinematics, self.resolution, self.search_resolution, certified=True)

@@ -15,6 +15,7 @@ import numpy as np
 MotionCheck = Callable[[np.ndarray, np.ndarray], bool]
 Advance = Callable[[np.ndarray, np.ndarray], "np.ndarray | None"]
 Sampler = Callable[[np.random.Generator], np.ndarray]
+Steer = Callable[[np.ndarray, np.ndarray], "np.ndarray | None"]
 
 #: Share of the samples drawn near a random node of the growing tree, and their spread
 #: (Gaussian, per joint) [rad] (BENCHMARKS.md, "Constants").
@@ -80,6 +81,7 @@ def rrt_connect(
     local_sigma: float = LOCAL_SIGMA,
     max_iterations: int = 20000,
     sample: Sampler | None = None,
+    steer: Steer | None = None,
 ) -> tuple[np.ndarray | None, int]:
     """Find a collision-free piecewise-linear path from `start` to any of `goals`.
 
@@ -117,6 +119,13 @@ def rrt_connect(
         """Grow `tree` from node i towards target (at most `limit` far); new node index or None."""
         q_from = tree.nodes[i]
         q_to = target if limit is None else _steer(q_from, target, limit)[0]
+        if steer is not None:  # a chain of nodes along the constraint set
+            chain = steer(q_from, q_to)
+            if chain is None:
+                return None
+            for q in chain:
+                i = tree.add(q, i)
+            return i
         if advance is not None:  # one call: the whole segment when it is free
             q_stop = advance(q_from, q_to)
         elif motion_valid(q_from, q_to):

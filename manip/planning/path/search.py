@@ -36,9 +36,13 @@ def search_path(
         (path (K, dof) valid at the fine resolution, or None; RRT iterations used).
     """
     lower, upper = validity.kinematics.lower, validity.kinematics.upper
+    steer = None
+    if getattr(validity, "steer", None) is not None:  # a constrained search: steps along the constraint set
+        def steer(q0, q1):
+            return validity.steer(q0, q1, validity.search_resolution)
     path, iterations = rrt_connect(
         start, goals, lower, upper, validity.coarse_motion, rng, deadline, advance=validity.coarse_advance,
-        max_iterations=MAX_ITERATIONS if max_iterations is None else max_iterations, sample=sample,
+        max_iterations=MAX_ITERATIONS if max_iterations is None else max_iterations, sample=sample, steer=steer,
     )
     if validity.search_resolution == validity.resolution:
         return path, iterations
@@ -74,7 +78,7 @@ def repair_path(
         s = int(np.argmin(ok))
         sub, more = rrt_connect(
             path[s], path[s + 1][None], lower, upper, validity.motion, rng, deadline, advance=validity.advance,
-            max_iterations=max_iterations - iterations,
+            max_iterations=max_iterations - iterations, steer=getattr(validity, "steer", None),
         )
         iterations += more
         path = None if sub is None else np.concatenate([path[:s], sub, path[s + 2 :]])

@@ -1,0 +1,124 @@
+"""`OrientationConstraint`: a link's axis kept within a tolerance of a world direction (keep a cup upright)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from manip.constraints.base import Constraint, link_or_ee, revolute_chain_weights
+from manip.errors import InvalidInputError
+from manip.kinematics import Kinematics
+from manip.validation import vec
+
+#: Share of the tolerance the planner aims inside the cone (`Constraint.margin`).
+MARGIN_FRACTION = 0.3
+
+
+def unit_vector(value, what: str) -> np.ndarray:
+    """(3,) a unit vector: a finite 3-vector whose norm is within 1e-3 of 1 (then normalised).
+
+    Raises:
+        InvalidInputError: naming `what`: wrong shape, non-finite, zero or not unit.
+    """
+    v = vec(value, 3, what)
+    n = float(np.linalg.norm(v))
+    if n == 0.0:
+        raise InvalidInputError(f"{what} must be a unit vector (x, y, z); got the zero vector")
+    if abs(n - 1.0) > 1e-3:
+        raise InvalidInputError(f"{what} must be a unit vector (norm within 1e-3 of 1); got {v.tolist()} of norm "
+                                f"{n:.6g}: pass {what} / |{what}|")
+    return v / n
+
+
+@dataclass(frozen=True)
+class OrientationConstraint(Constraint):
+    """The unit vector `axis` of `link`'s frame stays within `tolerance` of the world's `direction`.
+
+    The tilt theta(q) = angle(R_link(q) axis, direction) [rad] stays <= tolerance over the
+    whole continuous motion. Keep a cup upright: `axis=(0, 0, 1)` of the frame that holds the
+    cup's axis, `direction=(0, 0, 1)`.
+
+    Args:
+        axis: (3,) unit vector in the link's frame.
+        direction: (3,) unit vector in the world (base) frame.
+        tolerance: largest tilt [rad], in (0, pi).
+        link: the constrained frame; None = the robot's end-effector.
+
+    Raises:
+        InvalidInputError: a zero, non-unit or non-finite vector, a tolerance outside (0, pi).
+    """
+
+    axis: tuple = (0.0, 0.0, 1.0)
+    direction: tuple = (0.0, 0.0, 1.0)
+    tolerance: float = 0.1
+    link: str | None = None
+    unit = "rad"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "axis", tuple(unit_vector(self.axis, "axis").tolist()))
+        object.__setattr__(self, "direction", tuple(unit_vector(self.direction, "direction").tolist()))
+        tol = self.tolerance
+        if isinstance(tol, (bool, np.bool_)) or not isinstance(tol, (int, float, np.integer, np.floating)):
+            raise InvalidInputError(f"tolerance must be a number of radians in (0, pi); got {tol!r}")
+        tol = float(tol)
+        if not (math.isfinite(tol) and 0.0 < tol < math.pi):
+            raise InvalidInputError(
+                f"tolerance must be in (0, pi) [rad]; got {tol!r} (an exact orientation, tolerance 0, cannot be "
+                "held by a continuous motion of most arms: give a small positive tolerance)")
+        object.__setattr__(self, "tolerance", tol)
+        if self.link is not None and (not isinstance(self.link, str) or not self.link):
+            raise InvalidInputError(f"link must be a frame name (a non-empty str) or None; got {self.link!r}")
+
+    # ------------------------------------------------------------------ the interface
+    def check(self, kinematics: Kinematics) -> None:
+        kinematics.frame_id(link_or_ee(self.link, kinematics), "OrientationConstraint link")
+
+    def tilt(self, kinematics: Kinematics, Q: np.ndarray) -> np.ndarray:
+        """(N,) the angle [rad] between the link's axis and `direction` at Q (N, dof)."""
+        Q = np.atleast_2d(np.asarray(Q, dtype=float))
+        fid = kinematics.frame_id(link_or_ee(self.link, kinematics))
+        R, _ = kinematics.frame_transforms(Q, [fid])
+        u = R[:, 0] @ np.asarray(self.axis)
+        return _angle(u, np.asarray(self.direction))
+
+    def residual(self, kinematics: Kinematics, Q: np.ndarray) -> np.ndarray:
+        return (self.tilt(kinematics, Q) - self.tolerance)[:, None]
+
+    def jacobian(self, kinematics: Kinematics, Q: np.ndarray) -> np.ndarray:
+        # u' = w x u and cos(theta) = u . d give theta' = -n . w, n = (u x d) / |u x d|, w = J_w q'
+        Q = np.atleast_2d(np.asarray(Q, dtype=float))
+        fid = kinematics.frame_id(link_or_ee(self.link, kinematics))
+        R, _, J = kinematics.frame_jacobians(Q, fid)
+        u = R @ np.asarray(self.axis)
+        c = np.cross(u, np.asarray(self.direction))
+        s = np.linalg.norm(c, axis=1, keepdims=True)
+        n = np.where(s > 1e-12, c / np.maximum(s, 1e-12), 0.0)  # at theta = 0 (or pi): a zero gradient
+        return -np.einsum("ni,nij->nj", n, J[:, 3:6])[:, None, :]
+
+    def segment_bound(self, kinematics: Kinematics, Q0: np.ndarray, Q1: np.ndarray) -> np.ndarray:
+        # the link turns at most sum |dq_k| over the revolute joints moving it (unit axes), and
+        # its axis, hence the tilt, by no more than the link turns
+        fid = kinematics.frame_id(link_or_ee(self.link, kinematics))
+        w = revolute_chain_weights(kinematics, fid)
+        return np.abs(np.atleast_2d(Q1) - np.atleast_2d(Q0)) @ w
+
+    @property
+    def margin(self) -> float:
+        return MARGIN_FRACTION * self.tolerance
+
+    def explain(self, kinematics: Kinematics, q: np.ndarray) -> str:
+        theta = float(self.tilt(kinematics, q)[0])
+        link = link_or_ee(self.link, kinematics)
+        return (f"the tilt of {link}'s axis {_fmt(self.axis)} from {_fmt(self.direction)} is {theta:.4g} rad "
+                f"({math.degrees(theta):.1f} deg; tolerance {self.tolerance:.4g} rad)")
+
+
+def _angle(u: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """(N,) angle [rad] between the rows of u (N, 3) and d (3,) (atan2: accurate near 0 and pi)."""
+    return np.arctan2(np.linalg.norm(np.cross(u, d), axis=1), u @ d)
+
+
+def _fmt(v) -> str:
+    return "(" + ", ".join(f"{x:.3g}" for x in v) + ")"

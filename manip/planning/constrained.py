@@ -1,0 +1,206 @@
+"""Planning with constraints (`PlanOptions.constraints`): every stage keeps them.
+
+`ConstrainedValidity` is a `Validity` whose answers also require the constraints
+(`manip.constraints`): a configuration is valid when collision-free and inside every
+constraint's set; a straight motion when collision-free and certified to stay inside
+(`constraints.segments_hold`: the bound of each constraint between samples, bisected). So
+the straight line, the shortcuts, the repairs and the final certificate of the timed
+trajectory (`certify`) keep them with no change to those stages. What changes:
+
+- the path search steers on the constraint set (`steer`, CBiRRT's projection: steps of
+  STEER_STEP rad towards the target, each projected onto the set with the constraints'
+  Jacobians and checked as a straight motion), so the trees grow along it;
+- `advance` stops before the first sample outside the set;
+- the trajectory optimiser sees each constraint row as one more clearance term
+  (`ConstrainedClearance`: its linearisation is a constraint row of the QP, kept
+  `margin / 2` inside);
+- the start and the goal are checked (`constraint_problem`: INVALID_START_CONSTRAINT /
+  INVALID_GOAL_CONSTRAINT with the angle or distance in the message).
+
+The guarantee of a returned trajectory is the collision certificate's plus the constraint
+certificate over the same continuous interpolation of its samples.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from manip.collision.clearance import ClearanceTerms
+from manip.constraints import Constraint, certify_constraints, project, satisfied, segments_hold
+from manip.planning.validity import ADVANCE_BACKOFF_STEPS, Validity
+
+#: Length [rad] (joint-space L2) of one projected step of the constrained search.
+STEER_STEP = 0.15
+#: Scale [m] of a constraint term in the optimiser: one margin of a constraint weighs like this much clearance.
+TERM_SCALE = 0.01
+
+
+class ConstrainedValidity(Validity):
+    """`Validity` that also requires `constraints` (see the module docstring).
+
+    Args:
+        base: the unconstrained validity (checker snapshot, kinematics, resolutions).
+        constraints: the `Constraint`s, checked against the robot here.
+        certified: as `Validity`.
+    """
+
+    def __init__(self, base: Validity, constraints: Sequence[Constraint], certified: bool | None = None):
+        super().__init__(base.checker, base.kinematics, base.resolution, base.search_resolution,
+                         base.certified if certified is None else certified)
+        self.constraints = tuple(constraints)
+        for c in self.constraints:
+            c.check(self.kinematics)
+
+    def strict(self) -> ConstrainedValidity:
+        return ConstrainedValidity(self, self.constraints, True)
+
+    def loose(self) -> ConstrainedValidity:
+        return ConstrainedValidity(self, self.constraints, False)
+
+    def unconstrained(self) -> Validity:
+        """The same checks without the constraints."""
+        return Validity(self.checker, self.kinematics, self.resolution, self.search_resolution, self.certified)
+
+    # ------------------------------------------------------------------ questions
+    def holds(self, Q: np.ndarray) -> np.ndarray:
+        """(N,) True where every constraint holds at Q (N, dof)."""
+        return satisfied(self.constraints, self.kinematics, Q)
+
+    def _segments_hold(self, Q0: np.ndarray, Q1: np.ndarray) -> np.ndarray:
+        return segments_hold(self.constraints, self.kinematics, Q0, Q1)[0]
+
+    def configs(self, Q: np.ndarray) -> np.ndarray:
+        Q = np.atleast_2d(Q)
+        ok = self.holds(Q)
+        if ok.any():
+            ok[ok] = super().configs(Q[ok])
+        return ok
+
+    def motion(self, q0: np.ndarray, q1: np.ndarray, resolution: float | None = None) -> bool:
+        return bool(self._segments_hold(q0[None], q1[None])[0]) and super().motion(q0, q1, resolution)
+
+    def segments(self, Q0: np.ndarray, Q1: np.ndarray) -> np.ndarray:
+        ok = self._segments_hold(Q0, Q1)
+        if ok.any():
+            ok[ok] = super().segments(np.asarray(Q0)[ok], np.asarray(Q1)[ok])
+        return ok
+
+    def screen(self, Q0: np.ndarray, Q1: np.ndarray) -> np.ndarray:
+        ok = self._segments_hold(Q0, Q1)
+        if ok.any():
+            ok[ok] = super().screen(np.asarray(Q0)[ok], np.asarray(Q1)[ok])
+        return ok
+
+    def certify(self, path: np.ndarray):
+        """The collision certificate, then the constraints' (`certify_constraints`) over the
+        same interpolation: the first that fails is returned."""
+        cert = super().certify(path)
+        if not cert.certified:
+            return cert
+        held = certify_constraints(self.constraints, self.kinematics, path)
+        return held if not held.certified else cert
+
+    def advance(self, q0: np.ndarray, q1: np.ndarray, resolution: float | None = None) -> np.ndarray | None:
+        res = self.resolution if resolution is None else resolution
+        d = q1 - q0
+        steps = max(1, math.ceil(float(np.max(np.abs(d))) / res))
+        t = np.arange(1, steps + 1) / steps
+        out = np.flatnonzero(~self.holds(q0[None] + t[:, None] * d[None]))
+        t_stop = 1.0 if out.size == 0 else t[out[0]] - ADVANCE_BACKOFF_STEPS / steps
+        while t_stop > 0 and not self._segments_hold(q0[None], (q0 + t_stop * d)[None])[0]:
+            t_stop -= max(0.5 * t_stop, 1.0 / steps)
+        if t_stop <= 0:
+            return None
+        q_end = q1 if t_stop >= 1.0 else q0 + t_stop * d
+        return super().advance(q0, q_end, resolution)
+
+    def steer(self, q_from: np.ndarray, q_to: np.ndarray, resolution: float | None = None) -> np.ndarray | None:
+        """Configurations (K, dof) from `q_from` towards `q_to` along the constraint set: steps
+        of STEER_STEP, each projected onto the set (`constraints.project`) and checked as a
+        straight motion (collisions at `resolution` and the constraints certified); ends at
+        `q_to` itself when it reaches it. None when not even one step is possible."""
+        chain: list[np.ndarray] = []
+        q = q_from
+        dist = float(np.linalg.norm(q_to - q))
+        for _ in range(int(dist / STEER_STEP) + 8):
+            if dist < 1e-9:
+                break
+            if dist <= STEER_STEP and self.holds(q_to[None])[0]:
+                q_next = q_to
+            else:
+                q_next = project(self.constraints, self.kinematics, q + (q_to - q) * min(1.0, STEER_STEP / dist))
+                if q_next is None:
+                    break
+            d_next = float(np.linalg.norm(q_to - q_next))
+            if d_next >= dist - 1e-3 * STEER_STEP:
+                break  # no progress (the projection pushes back)
+            if not (self._segments_hold(q[None], q_next[None])[0]
+                    and Validity.motion(self, q, q_next, resolution)):
+                break
+            chain.append(q_next)
+            q, dist = q_next, d_next
+            if q_next is q_to:
+                break
+        return np.asarray(chain) if chain else None
+
+    def constraint_problem(self, q: np.ndarray) -> str:
+        """Why `q` (dof,) is outside a constraint's set ("" when it is inside every one)."""
+        for c in self.constraints:
+            if float(c.violation(self.kinematics, q[None])[0]) > 0.0:
+                return c.explain(self.kinematics, q)
+        return ""
+
+    def goal_problem(self, goal: np.ndarray) -> str:
+        return super().goal_problem(goal) or self.constraint_problem(goal)
+
+
+class ConstrainedClearance:
+    """A `ClearanceModel` whose terms also hold the constraint rows, for the optimiser.
+
+    A row r (<= 0 inside, margin m) becomes the term d = target + TERM_SCALE (-r / m - 1/2)
+    [m] with gradient -TERM_SCALE / m dr/dq: the optimiser's linearised clearance row
+    d + g . dq >= target is the linearised constraint r + dr/dq . dq <= -m / 2.
+
+    Args:
+        clearance: the clearance model (bound to the plan's checker).
+        constraints: the constraints.
+        kinematics: the robot's kinematics.
+        target: the clearance the optimiser keeps [m] (padding + its own margin).
+    """
+
+    def __init__(self, clearance, constraints: Sequence[Constraint], kinematics, target: float):
+        self.clearance = clearance
+        self.constraints = tuple(constraints)
+        self.kinematics = kinematics
+        self.target = float(target)
+        self.checker = clearance.checker
+        self.dof = clearance.dof
+
+    def bound_to(self, checker) -> ConstrainedClearance:
+        return ConstrainedClearance(self.clearance.bound_to(checker), self.constraints, self.kinematics, self.target)
+
+    def terms(self, Q: np.ndarray, activation: float) -> ClearanceTerms:
+        Q = np.atleast_2d(np.asarray(Q, dtype=float))
+        base = self.clearance.terms(Q, activation)
+        cfg, dist, grad = [base.config], [base.distance], [base.gradient]
+        for c in self.constraints:
+            m = c.margin
+            r = c.residual(self.kinematics, Q)  # (N, m)
+            d = self.target + TERM_SCALE * (-r / m - 0.5)
+            n, k = np.nonzero(d < activation)
+            if n.size == 0:
+                continue
+            J = c.jacobian(self.kinematics, Q[np.unique(n)])
+            pos = np.searchsorted(np.unique(n), n)
+            cfg.append(n.astype(np.int64))
+            dist.append(d[n, k])
+            grad.append(-TERM_SCALE / m * J[pos, k])
+        return ClearanceTerms(np.concatenate(cfg), np.concatenate(dist), np.concatenate(grad, axis=0))
+
+
+def with_constraints(validity: Validity, constraints: Sequence[Constraint]) -> Validity:
+    """`validity` requiring `constraints` too (itself when there are none)."""
+    return ConstrainedValidity(validity, constraints) if constraints else validity

@@ -1,0 +1,168 @@
+"""Constraint math (tilt, box distance and their Jacobians vs finite differences), the
+constraint certificate between samples, projection, and bad input."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from manip import InvalidInputError, OrientationConstraint, PositionConstraint, UnknownNameError
+from manip.constraints import certify_constraints, project, satisfied, segments_hold
+
+EPS = 1e-6
+
+
+def _fd(c, kin, q):
+    """(m, dof) central differences of c.residual at q."""
+    with np.errstate(invalid="ignore"):  # inf - inf on the unbounded rows
+        cols = [(c.residual(kin, (q + EPS * e)[None])[0] - c.residual(kin, (q - EPS * e)[None])[0]) / (2 * EPS)
+                for e in np.eye(kin.dof)]
+    return np.array(cols).T
+
+
+@pytest.fixture(scope="module")
+def configs(franka_kinematics):
+    rng = np.random.default_rng(3)
+    return rng.uniform(franka_kinematics.lower, franka_kinematics.upper, (12, franka_kinematics.dof))
+
+
+def test_tilt_is_the_angle_between_the_link_axis_and_the_direction(franka_kinematics, configs):
+    kin = franka_kinematics
+    c = OrientationConstraint(axis=(1, 0, 0), direction=(0, 0.6, 0.8), tolerance=0.2, link="panda_link7")
+    R = np.array([kin.fk(q, "panda_link7").rotation for q in configs])
+    expected = np.arccos(np.clip((R @ [1, 0, 0]) @ [0, 0.6, 0.8], -1, 1))
+    np.testing.assert_allclose(c.tilt(kin, configs), expected, atol=1e-9)
+    np.testing.assert_allclose(c.residual(kin, configs)[:, 0], expected - 0.2, atol=1e-9)
+
+
+@pytest.mark.parametrize("link", [None, "panda_link5", "panda_hand_tcp"])
+def test_tilt_gradient_matches_finite_differences(franka_kinematics, configs, link):
+    kin = franka_kinematics
+    c = OrientationConstraint(axis=(0, 0, 1), direction=(0, 0, -1), tolerance=0.1, link=link)
+    J = c.jacobian(kin, configs)
+    for q, Jq in zip(configs, J):
+        np.testing.assert_allclose(Jq, _fd(c, kin, q), atol=1e-6)
+
+
+def test_box_distance_and_its_gradient(franka_kinematics, configs):
+    kin = franka_kinematics
+    lo, hi = np.array([0.2, -0.4, 0.1]), np.array([0.7, 0.4, np.inf])
+    c = PositionConstraint(lower=lo, upper=hi, link="panda_hand_tcp")
+    p = np.array([kin.fk(q, "panda_hand_tcp").position for q in configs])
+    v = c.violation(kin, configs)
+    inside = np.all((p >= lo) & (p <= hi), axis=1)
+    np.testing.assert_array_equal(v <= 0, inside)
+    # the violation is the L-inf signed distance to the box
+    np.testing.assert_allclose(v, np.max(np.concatenate([p - hi, lo - p], axis=1), axis=1), atol=1e-12)
+    J = c.jacobian(kin, configs)
+    for q, Jq in zip(configs, J):
+        fd = _fd(c, kin, q)
+        finite = np.isfinite(c.residual(kin, q[None])[0])
+        np.testing.assert_allclose(Jq[finite], fd[finite], atol=1e-6)
+
+
+@pytest.mark.parametrize("make", [
+    lambda: OrientationConstraint((0, 0, 1), (0, 0, 1), 0.3, link="panda_hand"),
+    lambda: PositionConstraint((-0.5, -0.5, 0.0), (0.8, 0.5, 1.0), link="panda_hand_tcp"),
+])
+def test_segment_bound_holds_on_random_segments(franka_kinematics, make):
+    """|r(t) - r(s)| <= L |t - s| on densely sampled random segments."""
+    kin, c = franka_kinematics, make()
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        q0 = rng.uniform(kin.lower, kin.upper)
+        q1 = np.clip(q0 + rng.normal(0, 0.4, kin.dof), kin.lower, kin.upper)
+        t = np.linspace(0, 1, 401)
+        r = c.residual(kin, q0 + t[:, None] * (q1 - q0))
+        L = c.segment_bound(kin, q0[None], q1[None])[0]
+        rate = np.max(np.abs(np.diff(r, axis=0)), axis=1) / (t[1] - t[0])
+        assert np.all(rate <= L * (1 + 1e-9)), (rate.max(), L)
+
+
+def test_certificate_refuses_a_violation_between_samples(franka_kinematics):
+    """Both ends within 0.4 rad of the direction; joint 7 sweeps the hand's x axis through
+    the opposite side in between: two samples, the certificate must refuse."""
+    kin = franka_kinematics
+    q0 = np.array([0.0, -0.785, 0.0, -2.356, 0.0, 1.571, -2.8])
+    q1 = q0.copy()
+    q1[6] = 2.8
+    qpi = q0.copy()
+    qpi[6] = np.pi  # outside the limits: only to read the direction
+    direction = kin.fk(qpi, "panda_hand").rotation[:, 0]
+    c = OrientationConstraint(axis=(1, 0, 0), direction=direction, tolerance=0.4, link="panda_hand")
+    assert satisfied([c], kin, np.stack([q0, q1])).all()
+    cert = certify_constraints([c], kin, np.stack([q0, q1]))
+    assert not cert.certified and cert.first_failed_segment == 0 and cert.reason == "constraint"
+    assert "tilt" in cert.pair[0] and "tolerance 0.4" in cert.pair[0]
+    # sampled densely, the samples themselves show the violation the certificate found
+    dense = q0 + np.linspace(0, 1, 101)[:, None] * (q1 - q0)
+    assert not satisfied([c], kin, dense).all()
+
+
+def test_certificate_refuses_a_position_leaving_the_box_between_samples(franka_kinematics):
+    """Joint 1 from -2.5 to 2.5 rad: the hand starts and ends behind the robot (x < -0.2 m)
+    and passes in front of it in between."""
+    kin = franka_kinematics
+    q0 = np.array([-2.5, -0.3, 0.0, -2.0, 0.0, 1.8, 0.785])
+    q1 = q0.copy()
+    q1[0] = 2.5
+    c = PositionConstraint((-2, -2, -2), (-0.2, 2, 2), link="panda_hand")
+    assert satisfied([c], kin, np.stack([q0, q1])).all()
+    cert = certify_constraints([c], kin, np.stack([q0, q1]))
+    assert not cert.certified and cert.reason == "constraint" and "outside the box" in cert.pair[0]
+    ok, bad, _ = segments_hold([c], kin, q0[None], q1[None])
+    assert not ok[0] and bad[0]
+
+
+def test_certificate_accepts_a_dense_path_that_keeps_the_constraint(franka_kinematics):
+    kin = franka_kinematics
+    c = OrientationConstraint((0, 0, 1), (0, 0, -1), 0.1)
+    q0 = np.array([0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785])
+    q1 = q0.copy()
+    q1[0] = 1.5  # joint 1 turns the hand about the vertical: the tilt does not change
+    path = q0 + np.linspace(0, 1, 5)[:, None] * (q1 - q0)
+    assert certify_constraints([c], kin, path).certified
+
+
+def test_projection_lands_inside_with_margin(franka_kinematics, configs):
+    kin = franka_kinematics
+    c = OrientationConstraint((0, 0, 1), (0, 0, -1), 0.1)
+    start = np.array([0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785])
+    rng = np.random.default_rng(0)
+    for _ in range(10):
+        q = project([c], kin, np.clip(start + rng.normal(0, 0.3, 7), kin.lower, kin.upper))
+        assert q is not None
+        assert c.violation(kin, q[None])[0] <= -0.5 * c.margin + 1e-9
+        assert kin.within_limits(q)
+
+
+@pytest.mark.parametrize("kwargs, words", [
+    ({"axis": (0, 0, 0)}, "axis"),
+    ({"axis": (0, 0, 2)}, "axis"),
+    ({"direction": (np.nan, 0, 1)}, "direction"),
+    ({"direction": (0, 1)}, "direction"),
+    ({"tolerance": -0.1}, "tolerance"),
+    ({"tolerance": 0.0}, "tolerance"),
+    ({"tolerance": 4.0}, "tolerance"),
+    ({"tolerance": True}, "tolerance"),
+    ({"link": ""}, "link"),
+])
+def test_orientation_bad_input(kwargs, words):
+    with pytest.raises(InvalidInputError, match=words):
+        OrientationConstraint(**kwargs)
+
+
+@pytest.mark.parametrize("kwargs, words", [
+    ({"lower": (0, 0, 0), "upper": (1, 1, 0)}, "upper must be > lower"),
+    ({"lower": (0, 0), "upper": (1, 1, 1)}, "lower"),
+    ({"lower": (0, 0, np.nan), "upper": (1, 1, 1)}, "lower"),
+    ({"lower": (0, 0, 0), "upper": "abc"}, "upper"),
+])
+def test_position_bad_input(kwargs, words):
+    with pytest.raises(InvalidInputError, match=words):
+        PositionConstraint(**kwargs)
+
+
+def test_unknown_link_is_named(franka_kinematics):
+    with pytest.raises(UnknownNameError, match="OrientationConstraint link.*panda_hnd"):
+        OrientationConstraint(link="panda_hnd").check(franka_kinematics)
