@@ -56,7 +56,7 @@ from manip.errors import InvalidInputError
 from manip.ik import BatchIKResult, IKResult, IKSolver
 from manip.kinematics import Kinematics
 from manip.planning.context import START_LIMIT_TOLERANCE, PlanContext
-from manip.planning.arms import check_goals, held_validity, held_view, plan_link_poses
+from manip.planning.arms import check_goals, held_validity, held_view, plan_link_poses, shared_attachment
 from manip.planning.constrained import with_constraints
 from manip.planning.goal_configurations import plan_to_poses
 from manip.planning.linear_motion import MAX_LINEAR_POINTS, plan_linear  # noqa: F401 (MAX_LINEAR_POINTS: its old home)
@@ -359,12 +359,17 @@ class MotionGenerator:
         self.kinematics.frame_id(link, "link")
         return link
 
-    def _validity(self, ctx: PlanContext | None = None) -> Validity:
+    def _validity(self, ctx: PlanContext | None = None, start_q=None) -> Validity:
         """Collision questions against one snapshot of the world (taken now), and the plan's
-        constraints (`ctx.options.constraints`, `planning.constrained`)."""
+        constraints (`ctx.options.constraints`, `planning.constrained`), bound to `start_q`
+        (`Constraint.at_start`: a relative pose is held at its value there)."""
         v = self.validity
         v = Validity(self.checker.snapshot(), v.kinematics, v.resolution, v.search_resolution)
-        return with_constraints(v, ctx.options.constraints) if ctx is not None else v
+        if ctx is None or not ctx.options.constraints:
+            return v
+        q = None if start_q is None else self.kinematics.check_q(self._arm_q(start_q, "start_q"), "start_q")
+        bound = [c if q is None or q.ndim != 1 else c.at_start(self.kinematics, q) for c in ctx.options.constraints]
+        return with_constraints(v, bound)
 
     # ------------------------------------------------------------------ world
     @property
@@ -410,9 +415,15 @@ class MotionGenerator:
         """Carry an obstacle (or a new shape) with `link` (default the end-effector).
 
         The named obstacle leaves the world and moves rigidly with the link from its pose at
-        configuration `q` (default: the default configuration).
+        configuration `q` (default: the default configuration). Two links, `link=("left_panda_hand",
+        "right_panda_hand")`: an object both hold moves with the first, and the second's links
+        never count as touching it (plan with a `RelativePoseConstraint` of the two so that the
+        second keeps its hold; `planning.arms.shared_attachment`).
         """
         qq = self.default_joint_positions if q is None else self._one_q(q, "q")
+        if isinstance(link, (tuple, list)):
+            link, kwargs["allowed_links"] = shared_attachment(self.checker.robot.parts, self.kinematics, link,
+                                                              kwargs.get("allowed_links", ()))
         return self.checker.attach_object(name_or_shape, q=qq, link=self._link(link), **kwargs)
 
     def detach_object(self, q: np.ndarray | Sequence[float] | None = None, **kwargs):
@@ -461,7 +472,7 @@ class MotionGenerator:
                 InvalidInputError listing the valid ones.
         """
         ctx = self._context(options)
-        validity = self._validity(ctx)
+        validity = self._validity(ctx, start_q)
         start = ctx.check_start(self._arm_q(start_q, "start_q"), self.kinematics, validity)
         goal = ctx.check_goal(self._arm_q(goal_q, "goal_q"), self.kinematics, validity)
         if ctx.failed:
@@ -498,7 +509,7 @@ class MotionGenerator:
         """
         ctx = self._context(options)
         goals = check_goals(self.config, self.kinematics, goals)
-        validity = self._validity(ctx)
+        validity = self._validity(ctx, start_q)
         start = ctx.check_start(self._arm_q(start_q, "start_q"), self.kinematics, validity)
         if ctx.failed:
             return ctx.result()
@@ -520,7 +531,7 @@ class MotionGenerator:
             raise InvalidInputError(f"goals must be a manip.Pose; got {type(goals).__name__}")
         if not goals.is_batch:
             goals = Pose.stack([goals])
-        validity = self._validity(ctx)
+        validity = self._validity(ctx, start_q)
         start = ctx.check_start(self._arm_q(start_q, "start_q"), self.kinematics, validity)
         if ctx.failed:
             return ctx.result()
@@ -566,7 +577,7 @@ class MotionGenerator:
     def _plan_linear(self, start_q, goal: Pose, link: str, options: dict) -> PlanResult:
         """Straight-line motion of `link` from its current pose to `goal` (`planning.linear_motion`)."""
         ctx = self._context(options)
-        validity = self._validity(ctx)
+        validity = self._validity(ctx, start_q)
         start = ctx.check_start(start_q, self.kinematics, validity)
         if ctx.failed:
             return ctx.result()

@@ -94,6 +94,21 @@ def held_validity(validity: Validity, kinematics: Kinematics) -> Validity:
     return with_constraints(base, validity.constraints)
 
 
+def shared_attachment(parts, kinematics: Kinematics, links, allowed=()) -> tuple[str, tuple[str, ...]]:
+    """(carrying link, allowed links) of an object held by two links (`attach_object(link=(a, b))`):
+    it moves with `a`; the links rigidly carried with `b` (its hand and fingers: the parts on
+    b's joint, `RobotGeometry.parts`) and `allowed` are never checked against it.
+
+    Raises:
+        InvalidInputError: not two distinct link names. UnknownNameError: an unknown link.
+    """
+    if len(links) != 2 or not all(isinstance(n, str) for n in links) or links[0] == links[1]:
+        raise InvalidInputError(f"link must be one link name or two distinct ones (a, b); got {links!r}")
+    joint = kinematics.model.frames[kinematics.frame_id(links[1], "link")].parentJoint
+    held = [p.link for p in parts if p.joint == joint]
+    return links[0], tuple(dict.fromkeys([*allowed, *held]))
+
+
 def check_goals(config: RobotConfig, kinematics: Kinematics, goals: object) -> dict[str, Pose]:
     """`plan_poses`' goals checked: a non-empty dict link -> single Pose, one link per arm.
 
