@@ -440,7 +440,8 @@ class MotionGenerator:
     def update_world_from_sim(self, world, robot, ignore: Sequence[str] = ()) -> WorldConfig:
         """Read every collision object of a `manip.sim` World into the planner's world.
 
-        Objects are expressed in the robot's base frame. The robot itself and objects whose
+        Objects are expressed in the robot's base frame (a multi-arm robot: `robot` is the list of
+        its arms' simulated robots, in arm order). The robot itself and objects whose
         name or prim path starts with an entry of `ignore` are skipped. Attached objects
         stay attached. Returns the new WorldConfig.
 
@@ -452,7 +453,8 @@ class MotionGenerator:
         Raises:
             InvalidInputError: called before the World's first `reset()`.
         """
-        cfg = world_config_from_sim(world, robot, ignore)
+        arms = self.config.arms if isinstance(robot, (list, tuple)) else ()   # one simulated robot per arm
+        cfg = world_config_from_sim(world, robot, ignore, base_in_robot=arms[0].base_pose.inverse() if arms else None)
         self.update_world(cfg)
         return cfg
 

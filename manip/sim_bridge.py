@@ -35,13 +35,16 @@ def _ignored(name: str, prim_path: str, ignore: Sequence[str]) -> bool:
     return any(name.startswith(p) or prim_path.startswith(p) for p in ignore if p)
 
 
-def world_config_from_sim(world, robot, ignore: Sequence[str] = ()) -> WorldConfig:
+def world_config_from_sim(world, robot, ignore: Sequence[str] = (), *, base_in_robot: Pose | None = None) -> WorldConfig:
     """Every collision object of `world`, in `robot`'s base frame, as a WorldConfig.
 
     Args:
         world: a `manip.sim.World` after `reset()`.
-        robot: the planned robot (its own geoms are skipped; other robots are obstacles).
+        robot: the planned robot (its own geoms are skipped; other robots are obstacles), or a
+            list of the simulated robots that are its arms (a multi-arm robot, `manip.robot_arms`:
+            all are skipped; the frame is the first one's, moved by `base_in_robot`).
         ignore: names or prim-path prefixes to leave out (e.g. the object to pick).
+        base_in_robot: the planner's base frame in the (first) robot's frame (default: the same).
 
     Ellipsoids become their bounding sphere (conservative); cones and meshes become meshes;
     planes become large boxes under their surface. The ground the robot stands on need not
@@ -51,18 +54,21 @@ def world_config_from_sim(world, robot, ignore: Sequence[str] = ()) -> WorldConf
     Raises:
         InvalidInputError: before the world's first `reset()` (the robot's pose is unknown).
     """
+    robots = list(robot) if isinstance(robot, (list, tuple)) else [robot]
+    robot = robots[0]
     robot_pose = robot.get_world_pose()
     if robot_pose is None:
         raise InvalidInputError(
             f"robot {getattr(robot, 'name', robot)!r}: its pose is not known before the world's first reset(); "
             "call world.reset() before reading the world (update_world_from_sim)")
     position, orientation = robot_pose
-    T_base_world = Pose(np.asarray(position, dtype=float), np.asarray(orientation, dtype=float)).inverse()
-    robot_path = getattr(robot, "prim_path", None)
+    T_world_robot = Pose(np.asarray(position, dtype=float), np.asarray(orientation, dtype=float))
+    T_base_world = (T_world_robot if base_in_robot is None else T_world_robot @ base_in_robot).inverse()
+    robot_paths = {getattr(r, "prim_path", None) for r in robots}
     cfg = WorldConfig()
     used: set[str] = set()
     for obj in world.scene.get_collision_objects():
-        if obj.is_robot and obj.robot_prim_path == robot_path:
+        if obj.is_robot and obj.robot_prim_path in robot_paths:
             continue
         if _ignored(obj.name, obj.prim_path, ignore):
             continue
