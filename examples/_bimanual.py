@@ -181,9 +181,10 @@ class Bimanual:
         self.execute(self._plan(phase, lambda q, seed: self.mg.plan_pose(q, goal, link=arm.tcp, linear=linear,
                                                                          seed=seed, **options)))
 
-    def move_links(self, goals: dict, phase: str, **options) -> None:
-        """Plan several TCPs to their goals in one motion (`plan_poses`) and execute it."""
-        self.set_floor(True)
+    def move_links(self, goals: dict, phase: str, floor: bool = True, **options) -> None:
+        """Plan several TCPs to their goals in one motion (`plan_poses`; `floor`: with the floor
+        guard) and execute it."""
+        self.set_floor(floor)
         self.execute(self._plan(phase, lambda q, seed: self.mg.plan_poses(q, goals, seed=seed, **options)))
 
     def move_home(self, arm: Arm, phase: str) -> None:
@@ -211,10 +212,11 @@ class Bimanual:
                 break
         self.say(f"{phase:<15} fingers at {f[0] * 1e3:.1f} / {f[1] * 1e3:.1f} mm")
 
-    def check_held(self, arm: Arm, width: float, when: str) -> None:
-        """Raise MotionFailed unless the object is between `arm`'s fingertips and they are
-        stopped on it (an object `width` [m] across its gripped faces)."""
-        local = self.object_in_tcp(arm)
+    def check_held(self, arm: Arm, width: float, when: str, point: np.ndarray | None = None) -> None:
+        """Raise MotionFailed unless `point` (3,) [m] (default: the object's centre) is between
+        `arm`'s fingertips and they are stopped on the object (`width` [m] across its gripped faces)."""
+        point = self.object_position() if point is None else point
+        local = self.tcp(arm).inverse().transform_points(np.asarray(point, dtype=float)[None])[0]
         f = arm.robot.gripper.get_joint_positions()
         if np.all(np.abs(local) < [0.03, 0.02, 0.03]) and np.all(f > width / 2 - 0.012) and np.all(f < width / 2 + 0.01):
             return

@@ -140,10 +140,10 @@ class Handover(Bimanual):
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--episodes", type=int, default=3, help="episodes to run (default 3)")
-    parser.add_argument("--seed", type=int, default=0, help="seed of the cube poses and the plans")
-    parser.add_argument("--viewer", action="store_true", help="open MuJoCo's viewer (needs a display)")
-    parser.add_argument("--quiet", action="store_true", help="only the summary")
+    parser.add_argument("--episodes", type=int, default=3, help="Episodes to run (default 3).")
+    parser.add_argument("--seed", type=int, default=0, help="Seed of the cube poses and of the plans.")
+    parser.add_argument("--viewer", action="store_true", help="Open MuJoCo's viewer (it needs a display).")
+    parser.add_argument("--quiet", action="store_true", help="Print only one line per episode and the summary.")
     args = parser.parse_args(argv)
     if args.episodes < 1:
         parser.error("--episodes must be >= 1")
