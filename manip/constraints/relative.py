@@ -91,6 +91,7 @@ class RelativePoseConstraint(Constraint):
 
     def at_start(self, kinematics: Kinematics, q: np.ndarray) -> RelativePoseConstraint:
         """This constraint holding the relative pose at `q` (dof,) (unless it has a reference)."""
+        self.check(kinematics)
         return self if self.reference is not None else replace(self, reference=self.relative_pose(kinematics, q))
 
     def relative_pose(self, kinematics: Kinematics, q: np.ndarray) -> Pose:
