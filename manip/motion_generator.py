@@ -51,7 +51,7 @@ from pathlib import Path
 import numpy as np
 
 from manip.collision import CollisionChecker, WorldConfig
-from manip.collision.clearance import ClearanceModel
+from manip.collision.arm_clearance import arm_clearance
 from manip.errors import InvalidInputError
 from manip.ik import BatchIKResult, IKResult, IKSolver
 from manip.kinematics import Kinematics
@@ -138,7 +138,7 @@ class MotionGenerator:
         self.kinematics = Kinematics(self.config)
         self.checker = CollisionChecker(self.config, self.kinematics, None, padding=padding)
         self.validity = Validity(self.checker, self.kinematics, resolution, search_resolution)
-        self.clearance = ClearanceModel(self.checker)
+        self.clearance = arm_clearance(self.checker, self.config)   # + the arm-arm terms of a multi-arm robot
         self.ik_solver = IKSolver(self.kinematics, seed=seed)
         #: The robot's `JointLimits` (`config.limits`; `timing_limits` is the old name).
         self.limits = self.config.limits
