@@ -94,42 +94,27 @@ class ArmClearance:
         n_act, p_act = np.nonzero(gap < activation)
         if n_act.size == 0:
             return base
-        d, ia, ib, xa, xb = _nearest_ball_pairs(R, p, n_act.astype(np.int64), pa[p_act], pb[p_act], bodies, start,
-                                                count, centres, radii)
+        n_act = n_act.astype(np.int64)
+        d, grad = _nearest_ball_pairs(R, p, n_act, pa[p_act], pb[p_act], bodies, start, count, centres, radii,
+                                      float(activation), self._ancestors, self._axes, self._revolute, self._q_index,
+                                      self.dof)
         keep = d < activation
         if not keep.any():
             return base
-        n_sel, d, xa, xb = n_act[keep].astype(np.int64), d[keep], xa[keep], xb[keep]
-        normal = xa - xb
-        normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-12)
-        grad = (self._point_gradient(R, p, n_sel, joint[ia[keep]], xa, normal)
-                - self._point_gradient(R, p, n_sel, joint[ib[keep]], xb, normal))
-        return ClearanceTerms(np.concatenate([base.config, n_sel]), np.concatenate([base.distance, d]),
-                              np.concatenate([base.gradient, grad], axis=0))
-
-    def _point_gradient(self, R, p, n, body: np.ndarray, x: np.ndarray, normal: np.ndarray) -> np.ndarray:
-        """(T, dof): normal^T J_p(x) for points x (T, 3) [m] of joint frames `body` (T,) at configurations n (T,)."""
-        out = np.zeros((len(n), self.dof))
-        for k in range(1, self._ancestors.shape[0]):
-            t = np.flatnonzero(self._ancestors[body, k])
-            if t.size == 0:
-                continue
-            a = np.einsum("tij,j->ti", R[n[t], k], self._axes[k - 1])      # world axis of joint k
-            col = np.cross(a, x[t] - p[n[t], k]) if self._revolute[k - 1] else a
-            out[t, self._q_index[k - 1]] += np.einsum("ti,ti->t", normal[t], col)
-        return out
-
+        return ClearanceTerms(np.concatenate([base.config, n_act[keep]]), np.concatenate([base.distance, d[keep]]),
+                              np.concatenate([base.gradient, grad[keep]], axis=0))
 
 @kernel
-def _nearest_ball_pairs(R, p, n_act, a_act, b_act, bodies, start, count, centres, radii):
+def _nearest_ball_pairs(R, p, n_act, a_act, b_act, bodies, start, count, centres, radii, activation, ancestors, axes,
+                        revolute, q_index, dof):
     """For each (configuration n_act[t], body a_act[t] of one arm, body b_act[t] of another) the
-    nearest pair of their balls: (distance (T,) [m], ball indices ia, ib (T,), centres xa, xb (T, 3))."""
+    nearest pair of their balls: its distance (T,) [m] and, when below `activation`, its
+    gradient (T, dof) n^T (J_p(x_a) - J_p(x_b)), n the unit vector from x_b to x_a."""
     T = n_act.shape[0]
     d_out = np.full(T, np.inf)
-    ia = np.zeros(T, dtype=np.int64)
-    ib = np.zeros(T, dtype=np.int64)
-    xa = np.empty((T, 3))
-    xb = np.empty((T, 3))
+    grad = np.zeros((T, dof))
+    xa = np.empty(3)
+    xb = np.empty(3)
     y = np.empty(3)
     for t in range(T):
         n, a, b = n_act[t], a_act[t], b_act[t]
@@ -149,12 +134,32 @@ def _nearest_ball_pairs(R, p, n_act, a_act, b_act, bodies, start, count, centres
                     - radii[s] - radii[start[b] + k]
                 if d < d_out[t]:
                     d_out[t] = d
-                    ia[t] = s
-                    ib[t] = start[b] + k
                     for r in range(3):
-                        xa[t, r] = y[r]
-                        xb[t, r] = Y[k, r]
-    return d_out, ia, ib, xa, xb
+                        xa[r] = y[r]
+                        xb[r] = Y[k, r]
+        if d_out[t] >= activation:
+            continue
+        nx, ny, nz = xa[0] - xb[0], xa[1] - xb[1], xa[2] - xb[2]
+        norm = max(math.sqrt(nx * nx + ny * ny + nz * nz), 1e-12)
+        nx, ny, nz = nx / norm, ny / norm, nz / norm
+        for side in range(2):
+            body = ja if side == 0 else jb
+            sign = 1.0 if side == 0 else -1.0
+            for k in range(1, ancestors.shape[0]):
+                if not ancestors[body, k]:
+                    continue
+                e = axes[k - 1]
+                a0 = R[n, k, 0, 0] * e[0] + R[n, k, 0, 1] * e[1] + R[n, k, 0, 2] * e[2]
+                a1 = R[n, k, 1, 0] * e[0] + R[n, k, 1, 1] * e[1] + R[n, k, 1, 2] * e[2]
+                a2 = R[n, k, 2, 0] * e[0] + R[n, k, 2, 1] * e[1] + R[n, k, 2, 2] * e[2]
+                if revolute[k - 1]:
+                    x = xa if side == 0 else xb
+                    r0, r1, r2 = x[0] - p[n, k, 0], x[1] - p[n, k, 1], x[2] - p[n, k, 2]
+                    c0, c1, c2 = a1 * r2 - a2 * r1, a2 * r0 - a0 * r2, a0 * r1 - a1 * r0
+                else:
+                    c0, c1, c2 = a0, a1, a2
+                grad[t, q_index[k - 1]] += sign * (nx * c0 + ny * c1 + nz * c2)
+    return d_out, grad
 
 
 def arm_clearance(checker, config) -> ClearanceModel | ArmClearance:
