@@ -168,6 +168,11 @@ def arm_specs(arms: object, what: str = "arms") -> list[ArmSpec]:
             raise InvalidInputError(f"{what}: duplicate prefix '{prefix}' ({seen[prefix]!r} and {key!r}); each arm "
                                     "needs its own")
         seen[prefix] = key
+        for other in seen:
+            if other != prefix and (prefix.startswith(other) or other.startswith(prefix)):
+                raise InvalidInputError(f"{what}: the prefixes '{other}' and '{prefix}' overlap (one begins the other), "
+                                        "so a name would not say its arm; choose prefixes apart, such as 'left' and "
+                                        "'right'")
         if not isinstance(robot, (str, Path)) and type(robot).__name__ != "RobotConfig":
             raise InvalidInputError(f"{what}[{key!r}]: the robot must be a robot name, a robot folder or a "
                                     f"RobotConfig; got {robot!r}")

@@ -561,7 +561,12 @@ def compose_robot_config(arms: list[ArmSpec], *, name: str, base_link: str | Non
                             ) if grippers else None
     ee = ee_link or out[0].ee_link
     tree.check_link(ee, "ee_link")
-    default = cat("default_joint_positions") if default_joint_positions is None else default_joint_positions
+    try:
+        default = cat("default_joint_positions") if default_joint_positions is None else \
+            np.asarray(default_joint_positions, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise RobotConfigError(f"{name}: default_joint_positions must be numbers [rad]; got "
+                               f"{default_joint_positions!r}") from exc
     config = RobotConfig(
         name=name, folder=folder or urdf.parent, urdf_path=urdf, srdf_path=srdf, mjcf_path=None,
         package_dirs=tuple(dict.fromkeys(d for c in configs for d in c.package_dirs)), base_link=base, ee_link=ee,

@@ -68,6 +68,20 @@ def test_from_robots_mixes_arms_with_rotated_bases():
     assert abs(abs(float(got.quaternion @ expect.quaternion)) - 1.0) < 1e-12
 
 
+def test_dual_ur5_plans_its_arms_together():
+    mg = MotionGenerator("dual_ur5")
+    ur5 = MotionGenerator("ur5")
+    assert mg.robot_dof == 12 and mg.config.arms[1].ee_link == "right_tool0"
+    q0 = mg.default_joint_positions
+    goal = q0.copy()
+    goal[[0, 6]] = [0.8, -0.8]          # both shoulders turn, towards each other's side
+    np.testing.assert_allclose(mg.fk(goal, "right_tool0").position,
+                               (mg.config.arms[1].base_pose @ ur5.fk(goal[6:], "tool0")).position, atol=1e-12)
+    result = mg.plan_joints(q0, goal, seed=0)
+    assert result.success, result.message
+    assert mg.checker.certify_path(result.trajectory.positions).certified
+
+
 def test_an_arm_arm_collision_is_found_and_planned_around_with_a_certificate(dual):
     meet = np.r_[LEFT_REACHING, RIGHT_REACHING]
     report = dual.checker.distance_report(meet)
@@ -112,6 +126,8 @@ def test_bad_arms_raise_naming_the_argument(tmp_path):
         MotionGenerator.from_robots({"left": ("franka", Pose([0, 0.35, 0])), "right": ("frank", Pose([0, -0.35, 0]))})
     with pytest.raises(InvalidInputError, match="duplicate prefix 'left_'"):
         MotionGenerator.from_robots({"left": ("franka", Pose([0, 0.35, 0])), "left_": ("franka", Pose([0, -0.35, 0]))})
+    with pytest.raises(InvalidInputError, match="prefixes 'a_' and 'a_b_' overlap"):
+        MotionGenerator.from_robots({"a": ("franka", Pose([0, 0.35, 0])), "a_b": ("franka", Pose([0, -0.35, 0]))})
     with pytest.raises(InvalidInputError, match=r"arms\['left'\] must be \(robot, base_pose\)"):
         MotionGenerator.from_robots({"left": "franka"})
     with pytest.raises(InvalidInputError, match="base pose"):
