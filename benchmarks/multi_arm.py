@@ -25,6 +25,10 @@ Usage::
 
     .venv/bin/python benchmarks/multi_arm.py                  # 200 problems, all three
     .venv/bin/python benchmarks/multi_arm.py --problems 20 --skip-batch
+    .venv/bin/python benchmarks/multi_arm.py --problems 0 --skip-baseline --skip-batch --relative 50
+
+`--relative N` also plans N seeded carries (both hands on a bar, the bar moved 10-30 cm and
+turned) with `RelativePoseConstraint(5 mm, 0.02 rad)` and samples each trajectory at 1 kHz.
 """
 
 from __future__ import annotations
@@ -168,6 +172,58 @@ def plan_batch(problems, workers: int | None) -> dict:
     return {"solved": sum(r.success for r in results), "wall": wall, "results": results}
 
 
+def relative_pose_problems(mg: MotionGenerator, n: int, seed: int) -> list[tuple[np.ndarray, dict]]:
+    """`n` seeded carries: both hands on a bar 20-40 cm long (hand down, across it) at a random
+    place on the table, and goals that move the bar (its centre 10-30 cm away, turned up to
+    0.5 rad about z): (start (14,), goals {hand: Pose})."""
+    mg.update_world({"cuboid": {"table": {"dims": [1.0, 1.6, 0.04], "pose": [0.55, 0.0, -0.02, 1, 0, 0, 0]}}})
+    hands = [a.ee_link for a in mg.config.arms]
+    out = []
+    for i in range(n):
+        rng = np.random.default_rng([seed, 1_000_003, i])
+        for _ in range(TRIES):
+            half = rng.uniform(0.10, 0.20)
+            centre = np.array([rng.uniform(0.4, 0.6), rng.uniform(-0.08, 0.08), rng.uniform(0.15, 0.3)])
+            bar = Pose(centre, quat.from_axis_angle([0, 0, 1], rng.uniform(-0.3, 0.3)))
+            grips = {h: bar @ Pose([0.0, s * half, 0.0], hand_down(np.pi / 2)) for h, s in zip(hands, (1.0, -1.0))}
+            grasp = mg.plan_poses(mg.default_joint_positions, grips, seed=i)
+            if not grasp.success:
+                continue
+            step = rng.normal(size=3)
+            step *= rng.uniform(0.10, 0.30) / np.linalg.norm(step)
+            moved = Pose(bar.position + step, quat.multiply(quat.from_axis_angle([0, 0, 1], rng.uniform(-0.5, 0.5)),
+                                                            bar.quaternion))
+            if moved.position[2] < 0.12:
+                continue
+            T = moved @ bar.inverse()
+            out.append((grasp.goal_q, {h: T @ mg.fk(grasp.goal_q, h) for h in hands}))
+            break
+    return out
+
+
+def plan_relative(mg: MotionGenerator, problems, tolerance=(0.005, 0.02)) -> dict:
+    """Carries planned with `RelativePoseConstraint` of the two hands; every solved trajectory
+    sampled at 1 kHz (`Trajectory.resample(0.001)`): how many leave the tolerances."""
+    from manip import RelativePoseConstraint
+
+    hands = [a.ee_link for a in mg.config.arms]
+    hold = RelativePoseConstraint(*hands, position_tolerance=tolerance[0], rotation_tolerance=tolerance[1])
+    out = {"solved": 0, "beyond": 0, "worst": -1.0, "cpu": [], "ratio": []}
+    for i, (start, goals) in enumerate(problems):
+        c = time.process_time()
+        r = mg.plan_poses(start, goals, constraints=(hold,), seed=i)
+        out["cpu"].append(time.process_time() - c)
+        if not r.success:
+            continue
+        out["solved"] += 1
+        worst = float(hold.at_start(mg.kinematics, start).violation(mg.kinematics,
+                                                                     r.trajectory.resample(0.001).positions).max())
+        out["worst"] = max(out["worst"], worst)
+        out["beyond"] += worst > 0.0
+        out["ratio"].append(r.trajectory.duration / rest_to_rest_time(start, r.goal_q, mg.limits))
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--problems", type=int, default=200, help="Seeded problems (default 200).")
@@ -175,6 +231,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--workers", type=int, default=None, help="plan_many's workers (default: all cores).")
     ap.add_argument("--skip-baseline", action="store_true", help="Do not plan one arm at a time.")
     ap.add_argument("--skip-batch", action="store_true", help="Do not run plan_many.")
+    ap.add_argument("--relative", type=int, default=0, help="Also plan this many carries with RelativePoseConstraint.")
     args = ap.parse_args(argv)
     print(f"machine: {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
           f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load {os.getloadavg()[0]:.2f}", flush=True)
@@ -183,8 +240,8 @@ def main(argv: list[str] | None = None) -> int:
     print(f"{len(problems)} problems made in {time.perf_counter() - t:.1f} s", flush=True)
     mg = MotionGenerator(ROBOT, seed=0)
     verifier = Verifier(mg.config)
-    rows = [("both arms together (plan_joints)", plan_together(mg, verifier, problems))]
-    if not args.skip_baseline:
+    rows = [("both arms together (plan_joints)", plan_together(mg, verifier, problems))] if problems else []
+    if problems and not args.skip_baseline:
         rows.append(("one arm at a time (the other held)", plan_one_arm_at_a_time(mg, verifier, problems)))
     n = len(problems)
     print("\n| planner | solved | invalid | planning wall median / p98 (ms) | CPU median / p98 (ms) | "
@@ -196,12 +253,21 @@ def main(argv: list[str] | None = None) -> int:
               f"{_stats(r['cpu'])} | {np.median(r['motion']):.2f} | {np.median(ratio):.2f}, {ratio.mean():.2f}, "
               f"{np.percentile(ratio, 90):.2f} |")
     print(f"load after: {os.getloadavg()[0]:.2f}", flush=True)
-    together = rows[0][1]
-    if not args.skip_batch:
+    together = rows[0][1] if rows else {"solved": 0, "invalid": 0}
+    if not args.skip_batch and n:
         b = plan_batch(problems, args.workers)
         print(f"\nplan_many ({args.workers or os.cpu_count()} workers, its default budgets): {b['solved']}/{n} solved in "
               f"{b['wall']:.1f} s ({n / b['wall']:.1f} problems/s); load {os.getloadavg()[0]:.2f}")
     good = together["solved"] >= 0.99 * n and together["invalid"] == 0
+    if args.relative:
+        carries = relative_pose_problems(mg, args.relative, args.seed)
+        rel = plan_relative(mg, carries)
+        print(f"\nRelativePoseConstraint (5 mm, 0.02 rad), {len(carries)} carries: {rel['solved']} solved, "
+              f"{rel['beyond']} beyond the tolerances at 1 kHz (largest residual {rel['worst']:+.3f}: the "
+              f"fraction of a tolerance used, minus 1), "
+              f"CPU median / p98 {_stats(rel['cpu'])} ms, motion / lower bound median "
+              f"{np.median(rel['ratio']) if rel['ratio'] else float('nan'):.2f}; load {os.getloadavg()[0]:.2f}")
+        good &= rel["beyond"] == 0
     return 0 if good else 1
 
 
