@@ -22,7 +22,7 @@ from manip.collision import (
     Sphere,
     WorldConfig,
 )
-from manip.constraints import Constraint, OrientationConstraint, PositionConstraint
+from manip.constraints import Constraint, OrientationConstraint, PositionConstraint, RelativePoseConstraint
 from manip.errors import InvalidInputError, ManipError, RobotConfigError, UnknownNameError
 from manip.ik import BatchIKResult, IKResult, IKSolutions, IKSolver, IKStatus
 from manip.kinematics import Kinematics
@@ -71,6 +71,7 @@ __all__ = [
     "PlanStatus",
     "Pose",
     "PositionConstraint",
+    "RelativePoseConstraint",
     "RobotConfig",
     "RobotConfigError",
     "Sphere",

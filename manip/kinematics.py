@@ -13,6 +13,7 @@ table is read-only after construction.
 
 from __future__ import annotations
 
+import copy
 import math
 import threading
 from dataclasses import dataclass
@@ -23,6 +24,7 @@ import pinocchio as pin
 from manip import quaternion as quat
 from manip.errors import InvalidInputError, UnknownNameError
 from manip.jit import kernel
+from manip.limits import JointLimits
 from manip.pose import Pose
 from manip.robot_config import RobotConfig
 from manip.urdf import build_model
@@ -208,6 +210,28 @@ class Kinematics:
         self._build_small_batch_tables()
         self.frame_names: tuple[str, ...] = tuple(f.name for f in self.model.frames)
         self._frame_ids = {f.name: i for i, f in enumerate(self.model.frames)}
+
+    def pinned(self, q: np.ndarray, free: np.ndarray) -> Kinematics:
+        """This kinematics with the joints not `free` held where `q` has them.
+
+        The held joints' position limits become [q_i, q_i], so whatever reads `lower` /
+        `upper` / `limits` (IK restarts and bounds, the path search's samples, the
+        optimiser's bounds) keeps them there: the other arms of a multi-arm robot during
+        one arm's plan. The model, tables and work spaces are shared (no copy).
+
+        Args:
+            q: (dof,) configuration [rad], clipped to the limits.
+            free: (dof,) bool, True for the joints that may move.
+        """
+        free = np.asarray(free, dtype=bool)
+        held = np.clip(np.asarray(q, dtype=float), self.lower, self.upper)
+        out = copy.copy(self)
+        lim = self.limits
+        out.limits = JointLimits(velocity=lim.velocity, acceleration=lim.acceleration, jerk=lim.jerk,
+                                 lower=np.where(free, lim.lower, held), upper=np.where(free, lim.upper, held),
+                                 joint_names=lim.joint_names)
+        out.lower, out.upper = out.limits.lower, out.limits.upper
+        return out
 
     @property
     def data(self) -> pin.Data:

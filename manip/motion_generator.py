@@ -51,25 +51,41 @@ from pathlib import Path
 import numpy as np
 
 from manip.collision import CollisionChecker, WorldConfig
-from manip.collision.clearance import ClearanceModel
+from manip.collision.arm_clearance import arm_clearance
 from manip.errors import InvalidInputError
 from manip.ik import BatchIKResult, IKResult, IKSolver
 from manip.kinematics import Kinematics
-from manip.planning.context import START_LIMIT_TOLERANCE, PlanContext
+from manip.planning.arms import (
+    check_goals,
+    held_validity,
+    held_view,
+    plan_link_poses,
+)
 from manip.planning.constrained import with_constraints
+from manip.planning.context import START_LIMIT_TOLERANCE, PlanContext
+from manip.planning.goal_configurations import plan_to_poses
 from manip.planning.grasp import Stages, finger_links, plan_grasp, plan_place
 from manip.planning.grasp_plan import GraspPlan
-from manip.planning.goal_configurations import constrained_goal_failure, goal_configurations
-from manip.planning.path.goals import order_goals
-from manip.planning.linear_motion import LINEAR_DEVIATION, LINEAR_SPLINE_DEVIATION, MAX_LINEAR_POINTS, plan_linear
+from manip.planning.linear_motion import (
+    LINEAR_DEVIATION,
+    LINEAR_SPLINE_DEVIATION,
+    MAX_LINEAR_POINTS,
+    plan_linear,
+)
 from manip.planning.options import PlanOptions
 from manip.planning.pipeline import plan_to_configs
 from manip.planning.result import PlanResult
 from manip.planning.validity import Validity
 from manip.pose import Pose
-from manip.robot_config import RobotConfig, config_from_urdf, load_robot_config
-from manip.sim_bridge import world_config_from_sim
+from manip.robot_arms import arm_specs, state_columns
+from manip.robot_config import (
+    RobotConfig,
+    compose_robot_config,
+    config_from_urdf,
+    load_robot_config,
+)
 from manip.validation import as_real_array, flag, positive
+from manip.world_edits import WorldEdits
 
 logger = logging.getLogger(__name__)
 
@@ -85,7 +101,7 @@ TUTORIAL_NAMES = frozenset({
 })
 
 
-class MotionGenerator:
+class MotionGenerator(WorldEdits):
     """Kinematics, collision checking and motion planning for one robot.
 
     Args:
@@ -139,7 +155,7 @@ class MotionGenerator:
         self.kinematics = Kinematics(self.config)
         self.checker = CollisionChecker(self.config, self.kinematics, None, padding=padding)
         self.validity = Validity(self.checker, self.kinematics, resolution, search_resolution)
-        self.clearance = ClearanceModel(self.checker)
+        self.clearance = arm_clearance(self.checker, self.config)   # + the arm-arm terms of a multi-arm robot
         self.ik_solver = IKSolver(self.kinematics, seed=seed)
         #: The robot's `JointLimits` (`config.limits`; `timing_limits` is the old name).
         self.limits = self.config.limits
@@ -167,6 +183,22 @@ class MotionGenerator:
                                     f"base_link, ee_link, {', '.join(names + constructor)}")
         config = config_from_urdf(urdf, srdf, base_link=base_link, ee_link=ee_link,
                                   **{k: kwargs.pop(k) for k in names if k in kwargs})
+        return cls(config, **kwargs)
+
+    @classmethod
+    def from_robots(cls, arms: dict, *, name: str | None = None, base_link: str | None = None,
+                    **kwargs) -> MotionGenerator:
+        """A MotionGenerator for several arms as one robot, from their robots and base poses.
+
+        `arms` maps a name prefix to (robot, base pose): `{"left": ("franka", Pose([0, 0.35, 0])),
+        "right": ("ur5", Pose([0, -0.35, 0]))}` (a robot: a shipped name, a robot folder or a
+        RobotConfig; a base pose: the arm's base link in the combined base frame, `base_link`,
+        default "base"). Names are prefixed ("left_panda_joint1"); a configuration is each arm's
+        joints in turn. `kwargs` go to the constructor. See `manip.robot_arms`.
+        """
+        specs = arm_specs(arms)
+        config = compose_robot_config(specs, name=name or "+".join(s.prefix.rstrip("_") for s in specs),
+                                      base_link=base_link)
         return cls(config, **kwargs)
 
     # ------------------------------------------------------------------ defaults
@@ -270,7 +302,8 @@ class MotionGenerator:
         With `collision_free=True` only configurations free of collisions with the world and
         the robot itself count as solutions (the world as it is when the call starts).
         Other keyword arguments go to `IKSolver.solve`. A batched Pose is deprecated here:
-        use `batch_ik`.
+        use `batch_ik`. On a multi-arm robot only the link's arm moves: the other joints keep
+        their `seed_q` values (default: the default configuration; `manip.planning.arms`).
         """
         if not isinstance(goal, Pose):
             raise InvalidInputError(f"goal must be a manip.Pose; got {type(goal).__name__}")
@@ -283,7 +316,7 @@ class MotionGenerator:
             seed_q = self.kinematics.check_q(self._arm_q(seed_q, "seed_q"), "seed_q")
         if flag(collision_free, "collision_free"):
             kwargs.setdefault("validity_fn", self._validity().configs)
-        return self.ik_solver.solve(goal, link, seed_q=seed_q, **kwargs)
+        return self._arm_solver(link, seed_q).solve(goal, link, seed_q=seed_q, **kwargs)
 
     def batch_ik(self, goals: Pose, link: str | None = None, seed_q: np.ndarray | None = None, *,
                  collision_free: bool = False, **kwargs) -> BatchIKResult:
@@ -292,7 +325,8 @@ class MotionGenerator:
         Args:
             goals: a batched Pose (N,) in the base frame.
             link: any frame of the URDF (default `ee_link`).
-            seed_q: (dof,) or (N, dof) configurations to start from [rad].
+            seed_q: (dof,) or (N, dof) configurations to start from [rad] (a multi-arm robot
+                holds its other arms at the first one's values, as `ik`).
             collision_free: only configurations free of collisions with the world and the
                 robot itself count as solutions (as in `ik`).
             **kwargs: as `IKSolver.solve_batch`.
@@ -304,7 +338,7 @@ class MotionGenerator:
             seed_q = self.kinematics.check_q(self._arm_q(seed_q, "seed_q"), "seed_q")
         if flag(collision_free, "collision_free"):
             kwargs.setdefault("validity_fn", self._validity().configs)
-        return self.ik_solver.solve_batch(goals if goals.is_batch else Pose.stack([goals]), link, seed_q=seed_q,
+        return self._arm_solver(link, seed_q).solve_batch(goals if goals.is_batch else Pose.stack([goals]), link, seed_q=seed_q,
                                           **kwargs)
 
     def _arm_q(self, q, what: str):
@@ -321,14 +355,19 @@ class MotionGenerator:
         g = len(gripper.joints) if gripper is not None else 0
         if a.ndim not in (1, 2) or a.shape[-1] <= n:
             return a
-        if g and a.shape[-1] == n + g:
-            return a[..., :n]
+        if g and a.shape[-1] == n + g:  # a multi-arm robot: each arm's state in turn (`robot_arms`)
+            return a[..., state_columns(self.config.arms)] if self.config.arms else a[..., :n]
         full = f" or ({n + g},): a full robot state, the gripper's joints {list(gripper.joints)} last" if g else ""
         head = f"{what}[:{n}]" if a.ndim == 1 else f"{what}[:, :{n}]"
         raise InvalidInputError(
             f"{what} must have shape ({n},) (the arm joints {self.joint_names}){full}; got {a.shape}. If its first "
             f"{n} values are the arm joints in this order, pass {head}."
         )
+
+    def _arm_solver(self, link: str, seed_q: np.ndarray | None):
+        """The IK solver moving only `link`'s arm, the others held at `seed_q` (`planning.arms`)."""
+        q = self.default_joint_positions if seed_q is None else np.atleast_2d(seed_q)[0]
+        return held_view(self.config, self.kinematics, self.ik_solver, [link], q)[1]
 
     def _link(self, link) -> str:
         """`link` checked as a frame name; None means `ee_link` (an empty or non-string name raises)."""
@@ -337,66 +376,17 @@ class MotionGenerator:
         self.kinematics.frame_id(link, "link")
         return link
 
-    def _validity(self, ctx: PlanContext | None = None) -> Validity:
+    def _validity(self, ctx: PlanContext | None = None, start_q=None) -> Validity:
         """Collision questions against one snapshot of the world (taken now), and the plan's
-        constraints (`ctx.options.constraints`, `planning.constrained`)."""
+        constraints (`ctx.options.constraints`, `planning.constrained`), bound to `start_q`
+        (`Constraint.at_start`: a relative pose is held at its value there)."""
         v = self.validity
         v = Validity(self.checker.snapshot(), v.kinematics, v.resolution, v.search_resolution)
-        return with_constraints(v, ctx.options.constraints) if ctx is not None else v
-
-    # ------------------------------------------------------------------ world
-    @property
-    def world(self) -> WorldConfig:
-        """The planner's current obstacles (a copy)."""
-        return self.checker.world
-
-    def update_world(self, world: WorldConfig | dict) -> None:
-        """Replace every obstacle with those of `world` (a WorldConfig or cuRobo-style dict)."""
-        if isinstance(world, dict):
-            world = WorldConfig.from_dict(world)
-        if not isinstance(world, WorldConfig):
-            raise InvalidInputError(f"world must be a WorldConfig or a dict; got {type(world).__name__}")
-        self.checker.set_world(world)
-
-    def add_obstacle(self, obstacle) -> None:
-        """Add one obstacle (Cuboid, Sphere, Cylinder, Capsule or Mesh)."""
-        self.checker.add_obstacle(obstacle)
-
-    def remove_obstacle(self, name: str) -> None:
-        """Remove the obstacle called `name` (UnknownNameError lists the names)."""
-        self.checker.remove_obstacle(name)
-
-    def update_obstacle_pose(self, name: str, pose: Pose | Sequence[float]) -> None:
-        """Move the obstacle called `name` to `pose` (a Pose, [x, y, z, qw, qx, qy, qz], or a
-        position [x, y, z] alone, which keeps the obstacle's rotation).
-
-        `add_obstacle`, `remove_obstacle` and this are incremental (well under a millisecond
-        with a thousand obstacles, `benchmarks/world_edits.py`); `update_world` rebuilds all.
-        """
-        self.checker.update_obstacle_pose(name, pose)
-
-    def check_collision(self, q: np.ndarray | Sequence[float]) -> bool:
-        """True when `q` (dof,) collides with the world, an attached object or itself."""
-        return bool(self.checker.in_collision(self._one_q(q, "q")))
-
-    def distance(self, q: np.ndarray | Sequence[float]) -> float:
-        """Signed distance [m] of `q` (dof,) to the world and to itself (< 0: penetration)."""
-        return float(self.checker.distance(self._one_q(q, "q")))
-
-    def attach_object(self, name_or_shape, q: np.ndarray | Sequence[float] | None = None, link: str | None = None,
-                      **kwargs):
-        """Carry an obstacle (or a new shape) with `link` (default the end-effector).
-
-        The named obstacle leaves the world and moves rigidly with the link from its pose at
-        configuration `q` (default: the default configuration).
-        """
-        qq = self.default_joint_positions if q is None else self._one_q(q, "q")
-        return self.checker.attach_object(name_or_shape, q=qq, link=self._link(link), **kwargs)
-
-    def detach_object(self, q: np.ndarray | Sequence[float] | None = None, **kwargs):
-        """Put attached objects back into the world at their pose at configuration `q`."""
-        qq = self.default_joint_positions if q is None else self._one_q(q, "q")
-        return self.checker.detach_object(qq, **kwargs)
+        if ctx is None or not ctx.options.constraints:
+            return v
+        q = None if start_q is None else self.kinematics.check_q(self._arm_q(start_q, "start_q"), "start_q")
+        bound = [c if q is None or q.ndim != 1 else c.at_start(self.kinematics, q) for c in ctx.options.constraints]
+        return with_constraints(v, bound)
 
     def _one_q(self, q, what: str) -> np.ndarray:
         q = self.kinematics.check_q(self._arm_q(q, what), what)
@@ -404,24 +394,6 @@ class MotionGenerator:
             raise InvalidInputError(f"{what} must have shape ({self.robot_dof},) (one configuration); got {q.shape}")
         return q
 
-    def update_world_from_sim(self, world, robot, ignore: Sequence[str] = ()) -> WorldConfig:
-        """Read every collision object of a `manip.sim` World into the planner's world.
-
-        Objects are expressed in the robot's base frame. The robot itself and objects whose
-        name or prim path starts with an entry of `ignore` are skipped. Attached objects
-        stay attached. Returns the new WorldConfig.
-
-        The ground plane (or table) the robot stands on stays an obstacle and needs no
-        `ignore`: an obstacle wholly below the base frame's xy-plane (its top within 1 mm of
-        z = 0) is not checked against the links fixed to the base (panda_link0), which no
-        motion moves; every moving link is checked against it.
-
-        Raises:
-            InvalidInputError: called before the World's first `reset()`.
-        """
-        cfg = world_config_from_sim(world, robot, ignore)
-        self.update_world(cfg)
-        return cfg
 
     # ------------------------------------------------------------------ planning
     def plan_joints(self, start_q, goal_q, **options) -> PlanResult:
@@ -439,7 +411,7 @@ class MotionGenerator:
                 InvalidInputError listing the valid ones.
         """
         ctx = self._context(options)
-        validity = self._validity(ctx)
+        validity = self._validity(ctx, start_q)
         start = ctx.check_start(self._arm_q(start_q, "start_q"), self.kinematics, validity)
         goal = ctx.check_goal(self._arm_q(goal_q, "goal_q"), self.kinematics, validity)
         if ctx.failed:
@@ -453,7 +425,8 @@ class MotionGenerator:
         Args:
             start_q: (dof,) start configuration [rad] (or a full robot state, see `plan_joints`).
             goal: a single Pose in the base frame.
-            link: any frame of the URDF.
+            link: any frame of the URDF; on a multi-arm robot only its arm moves, the other
+                arms keep their start (`manip.planning.arms`).
             linear: move the link along the straight line from its start pose to the goal,
                 interpolating the orientation (keep it by giving the start orientation).
             **options: as `plan_joints`.
@@ -464,6 +437,23 @@ class MotionGenerator:
         if flag(linear, "linear"):
             return self._plan_linear(start_q, goal, self._link(link), options)
         return self.plan_goalset(start_q, Pose.stack([goal]), link, **options)
+
+    def plan_poses(self, start_q, goals: dict[str, Pose], **options) -> PlanResult:
+        """One motion bringing several links (one per arm) to their poses together.
+
+        `goals` maps a link name to a Pose in the base frame, e.g. both hands of a two-arm
+        robot; one trajectory moves their arms at once and every link arrives at its end.
+        Arms without a goal keep their start. Logic and guarantees: `manip.planning.arms`.
+        `options` as `plan_joints`.
+        """
+        ctx = self._context(options)
+        goals = check_goals(self.config, self.kinematics, goals)
+        validity = self._validity(ctx, start_q)
+        start = ctx.check_start(self._arm_q(start_q, "start_q"), self.kinematics, validity)
+        if ctx.failed:
+            return ctx.result()
+        return plan_link_poses(ctx, validity, start, goals, config=self.config, kinematics=self.kinematics,
+                               solver=self.ik_solver, limits=self.limits, clearance=self.clearance)
 
     def plan_goalset(self, start_q, goals: Pose, link: str | None = None, **options) -> PlanResult:
         """Plan to whichever of several poses (a batched Pose) is best reached.
@@ -480,26 +470,16 @@ class MotionGenerator:
             raise InvalidInputError(f"goals must be a manip.Pose; got {type(goals).__name__}")
         if not goals.is_batch:
             goals = Pose.stack([goals])
-        validity = self._validity(ctx)
+        validity = self._validity(ctx, start_q)
         start = ctx.check_start(self._arm_q(start_q, "start_q"), self.kinematics, validity)
         if ctx.failed:
             return ctx.result()
-        t_ik = time.perf_counter()
-        configs, owners, why = goal_configurations(self.ik_solver, ctx, validity, start, goals, link)
-        ctx.add_time("ik", t_ik)
-        if not len(configs):
-            return ctx.fail(*constrained_goal_failure(self.ik_solver, ctx, validity, start, goals, link, why))
-        # the goals ranked by the motion they allow (`planning.path.goals`), not by joint-space distance
-        order = order_goals(start, configs, ctx.scaled_limits(self.limits))
-        ctx.check_sample_count(start, configs[order[0]], self.limits)
-        result = plan_to_configs(ctx, validity, start, configs[order], limits=self.limits,
-                                 clearance=self.clearance)
-        if result.success:
-            reached = result.goal_q
-            k = int(order[np.argmin(np.linalg.norm(configs[order] - reached, axis=1))])
-            dp, dr = self.kinematics.fk(reached, link).distance(goals[owners[k]])
-            result = replace(result, position_error=float(dp), rotation_error=float(dr), goal_index=owners[k])
-        return result
+        # a multi-arm robot moves only the link's arm (`planning.arms`)
+        kin, solver = held_view(self.config, self.kinematics, self.ik_solver, [link], start)
+        if kin is not self.kinematics:
+            validity = held_validity(validity, kin)
+        return plan_to_poses(ctx, validity, start, goals, link, kinematics=kin, ik_solver=solver, limits=kin.limits,
+                             clearance=self.clearance)
 
     def plan_batch(self, start_qs, goals, link: str | None = None, **options) -> list[PlanResult]:
         """Plan several problems: `goals` is (N, dof) joint goals, a batched Pose or a list of Poses."""
@@ -568,7 +548,13 @@ class MotionGenerator:
     def _plan_linear(self, start_q, goal: Pose, link: str, options: dict) -> PlanResult:
         """Straight-line motion of `link` from its current pose to `goal` (`planning.linear_motion`)."""
         ctx = self._context(options)
-        return plan_linear(ctx, self._validity(ctx), self.ik_solver, start_q, goal, link, limits=self.limits)
+        validity = self._validity(ctx, start_q)
+        start = ctx.check_start(start_q, self.kinematics, validity)
+        if ctx.failed:
+            return ctx.result()
+        kin, solver = held_view(self.config, self.kinematics, self.ik_solver, [link], start)
+        validity = validity if kin is self.kinematics else held_validity(validity, kin)
+        return plan_linear(ctx, validity, solver, start, goal, link, limits=kin.limits)
 
     # ------------------------------------------------------------------ removed names
     def __getattr__(self, name: str):

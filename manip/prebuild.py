@@ -7,7 +7,8 @@ wheel (the wheel carries `manip/_prebuilt/`). It starts one child process that
 
 - compiles every kernel for the generic CPU of this architecture (`manip.jit`) by running
   a workload that meets every one of them: plans of each kind, IK, clearance and the reactive
-  controller on the Panda, a joint plan and an IK call on every shipped arm;
+  controller on the Panda, the arm-arm clearance of the two-arm Panda robot, a joint plan and an
+  IK call on every shipped arm;
 - computes the shipped robots' sphere covers and self-pair proofs (`manip.disk_cache`),
 
 then writes `_prebuilt/kernels/manifest.json` (numba, Python, architecture and the digest of
@@ -71,10 +72,21 @@ def workload(robots: list[str]) -> list[str]:
     mg.distance(q0)
     mg.check_collision(q0)
     _reactive_control()
+    _two_arms()
     for name in robots:
         if name != "franka":
             MotionGenerator(name)
     return sorted(jit.compiled_names())
+
+
+def _two_arms() -> None:
+    """The optimiser's arm-arm clearance terms of a two-arm robot (`collision.arm_clearance`'s kernel)."""
+    from manip import MotionGenerator
+
+    mg = MotionGenerator("dual_franka")
+    reaching = np.array([[-1.57, 0.3, 0.0, -1.6, 0.0, 1.8, 0.785, 1.57, 0.0, 0.0, -2.2, 0.0, 1.8, 0.785]])
+    if not len(mg.clearance.terms(reaching, 0.05).distance):
+        raise RuntimeError("the prebuild workload's two arms have no clearance term")
 
 
 def _reactive_control() -> None:

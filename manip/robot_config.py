@@ -24,10 +24,10 @@ import numpy as np
 import yaml
 
 from manip import package_uri
-from manip.errors import RobotConfigError, UnknownNameError
+from manip.errors import InvalidInputError, RobotConfigError, UnknownNameError
 from manip.limits import JointLimits
-from manip.urdf import (MOVABLE_TYPES, UrdfJoint, UrdfTree, default_ee_link, disabled_pairs, srdf_group_states,
-                        srdf_virtual_joints, within_limits)
+from manip.robot_arms import DEFAULT_BASE_LINK, Arm, ArmSpec, arm_specs, compose_files
+from manip.urdf import MOVABLE_TYPES, UrdfTree, default_configuration, default_ee_link, disabled_pairs
 
 logger = logging.getLogger(__name__)
 
@@ -131,6 +131,8 @@ class RobotConfig:
     collision_padding: float
     disabled_collision_pairs: tuple[tuple[str, str], ...]
     raw: dict = field(repr=False, default_factory=dict)
+    #: The arms of a multi-arm robot (`manip.robot_arms`), in configuration order; () for one arm.
+    arms: tuple[Arm, ...] = ()
     limits: JointLimits = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -156,6 +158,8 @@ class RobotConfig:
 CONFIG_KEYS = ("name", "urdf", "srdf", "mjcf", "base_link", "ee_link", "tcp_link", "approach_axis", "arm_joints",
                "default_joint_positions", "lower_limits", "upper_limits", "velocity_limits", "acceleration_limits",
                "jerk_limits", "gripper", "collision", "sim")
+#: The keys of a multi-arm robot's robot.yaml (its arms give the rest).
+ARMS_CONFIG_KEYS = ("name", "arms", "base_link", "ee_link", "default_joint_positions", "collision")
 COLLISION_KEYS = ("padding", "disabled_pairs", "disable_adjacent_links")
 #: Keys of `urdf:` / `srdf:` given as a mapping.
 FILE_KEYS = ("package", "package_root", "path")
@@ -273,6 +277,8 @@ def load_robot_config(name_or_path: str | Path) -> RobotConfig:
         raise RobotConfigError(f"{cfg_file}: not a readable YAML file ({exc})") from exc
     if not isinstance(d, dict):
         raise RobotConfigError(f"{cfg_file}: expected a mapping at the top level")
+    if "arms" in d:
+        return _load_arms_yaml(d, cfg_file, folder)
     _check_sections(d, cfg_file)
 
     urdf = _resolve_file(d.get("urdf"), folder, "urdf")
@@ -459,7 +465,7 @@ def config_from_urdf(
 
     acc = per_joint(acceleration_limits, DEFAULT_ACCELERATION_LIMIT, "acceleration_limits", "rad/s^2")
     jerk = per_joint(jerk_limits, DEFAULT_JERK_LIMIT, "jerk_limits", "rad/s^3")
-    default = _default_configuration(default_joint_positions, spec, lower, upper, srdf_path, urdf_path.name,
+    default = default_configuration(default_joint_positions, spec, lower, upper, srdf_path, urdf_path.name,
                                      set(tree.joints))
     return RobotConfig(
         name=name or tree.name,
@@ -485,79 +491,97 @@ def config_from_urdf(
     )
 
 
-#: The free-flyer joint's name in Pinocchio's convention: SRDF states may set it (not a URDF joint).
-_FREE_FLYER = "root_joint"
-
-
-def _default_configuration(given: np.ndarray | str | None, spec: list[UrdfJoint], lower: np.ndarray, upper: np.ndarray,
-                           srdf_path: Path | None, where: str, urdf_joints: set[str] = frozenset()) -> np.ndarray:
-    """The default configuration of `config_from_urdf` (see its docstring); `urdf_joints`: the
-    URDF's joint names (a state naming others has a misspelt joint)."""
-    n = len(spec)
-    names = [j.name for j in spec]
-    states = srdf_group_states(srdf_path) if srdf_path is not None and (given is None or isinstance(given, str)) else {}
-
-    def fit(state: dict[str, float]) -> np.ndarray | None:
-        return within_limits([state[j] for j in names], spec, lower, upper)
-
-    if isinstance(given, str):
-        if given not in states:
-            raise UnknownNameError("group_state (default_joint_positions)", given, states)
-        missing = [j for j in names if j not in states[given]]
-        if missing:
-            raise RobotConfigError(f"group_state '{given}' does not set the arm joints {missing}")
-        q = fit(states[given])
-        if q is None:
-            raise RobotConfigError(f"group_state '{given}' is outside the joint limits "
-                                   f"[{lower.tolist()}, {upper.tolist()}]: {states[given]}")
-        return q
-    if given is None:
-        known = set(urdf_joints) | {_FREE_FLYER} | (set(srdf_virtual_joints(srdf_path)) if states else set())
-        problems = []   # why each state setting arm joints was not used
-        partial = []
-        for state, values in states.items():
-            unset = [j for j in names if j not in values]
-            if len(unset) == len(names):
-                continue  # a state of another group (the hand, ...)
-            unknown = [j for j in values if urdf_joints and j not in known]
-            if unset and unknown:  # a misspelt arm joint: never fall back silently
-                raise RobotConfigError(
-                    f"{srdf_path}: group_state '{state}' sets no value for the arm joint(s) {unset} and names "
-                    f"joint(s) {unknown} that the URDF ({where}) does not have (misspelt?); the arm joints: "
-                    f"{', '.join(names)}. Fix the SRDF, or give default_joint_positions.")
-            if unset:
-                partial.append(f"'{state}' sets no value for {unset}")
-                continue
-            q = fit(values)
-            if q is not None:
-                if unknown:
-                    logger.warning("%s: the SRDF's group_state '%s' names joints not in the URDF (ignored): %s",
-                                   where, state, unknown)
-                if not np.array_equal(q, [values[j] for j in names]):
-                    logger.warning("%s: default configuration: the SRDF's group_state '%s' turned by whole "
-                                   "turns into the joint limits: %s", where, state, np.round(q, 6).tolist())
-                return q
-            out = [f"{j} = {values[j]} outside [{lo:g}, {hi:g}]" for j, lo, hi in zip(names, lower, upper)
-                   if within_limits([values[j]], [spec[names.index(j)]], np.array([lo]), np.array([hi])) is None]
-            problems.append(f"group_state '{state}': {'; '.join(out)}")
-        if problems:  # a value typo (15.7 for 1.57) must not become the middle of the limits
-            raise RobotConfigError(
-                f"{srdf_path}: no group_state gives a default configuration within the joint limits: "
-                f"{'; '.join(problems)}. Fix the SRDF, or give default_joint_positions.")
-        if partial:
-            logger.warning("%s: no default configuration: no SRDF group_state sets every arm joint (%s); using "
-                           "the middle of the limits", where, "; ".join(partial))
-        else:
-            logger.warning("%s: no default configuration (%s); using the middle of the limits", where,
-                           "the SRDF has no group_state of the arm joints" if srdf_path is not None else "no SRDF")
-        return (lower + upper) / 2.0
+def _load_arms_yaml(d: dict, cfg_file: Path, folder: Path) -> RobotConfig:
+    """A multi-arm robot.yaml (`arms:`, see `compose_robot_config`); an arm's relative folder is
+    taken from this file's folder."""
+    _check_keys(d, ARMS_CONFIG_KEYS, str(cfg_file))
+    col = d.get("collision") or {}
+    if not isinstance(col, dict):
+        raise RobotConfigError(f"{cfg_file}: 'collision' must be a mapping of {', '.join(COLLISION_KEYS)}")
+    _check_keys(col, COLLISION_KEYS, f"{cfg_file}: collision")
     try:
-        default = np.asarray(given, dtype=float)
+        specs = arm_specs(d["arms"], f"{cfg_file}: arms")
+    except InvalidInputError as exc:
+        raise RobotConfigError(str(exc)) from exc
+    specs = [ArmSpec(s.prefix, folder / s.robot if isinstance(s.robot, str) and (folder / s.robot).is_dir() else s.robot,
+                     s.base_pose) for s in specs]
+    return compose_robot_config(specs, name=str(d.get("name", folder.name)), base_link=d.get("base_link"),
+                                ee_link=d.get("ee_link"), default_joint_positions=d.get("default_joint_positions"),
+                                padding=col.get("padding"), disabled_pairs=col.get("disabled_pairs") or (),
+                                folder=folder, raw=d)
+
+
+def compose_robot_config(arms: list[ArmSpec], *, name: str, base_link: str | None = None, ee_link: str | None = None,
+                         default_joint_positions=None, padding: float | None = None, disabled_pairs=(),
+                         folder: Path | None = None, raw: dict | None = None) -> RobotConfig:
+    """One RobotConfig of several arms (`manip.robot_arms`): the combined URDF and SRDF, each
+    arm's joints in turn (prefixed), their limits, defaults and grippers concatenated.
+
+    Args:
+        arms: the arms (`robot_arms.arm_specs`).
+        name: the robot's name.
+        base_link: the combined base link (default "base").
+        ee_link: the default link of pose goals (default the first arm's `ee_link`).
+        default_joint_positions: (dof,) [rad] (default: the arms' defaults in turn).
+        padding: clearance from the world [m] (default: the largest of the arms').
+        disabled_pairs: more [link, link] pairs (prefixed names) never checked.
+
+    Raises:
+        UnknownNameError: an arm's robot is not found (the message names the arm and lists the robots).
+        RobotConfigError: a name given twice, a bad default, an unknown link in `disabled_pairs`.
+    """
+    configs = []
+    for spec in arms:
+        if isinstance(spec.robot, RobotConfig):
+            configs.append(spec.robot)
+            continue
+        try:
+            configs.append(load_robot_config(spec.robot))
+        except UnknownNameError as exc:
+            raise UnknownNameError(f"robot (arm '{spec.prefix.rstrip('_')}')", exc.name, exc.available) from None
+    base = base_link or DEFAULT_BASE_LINK
+    urdf, srdf = compose_files(name, base, [(s.prefix, c.urdf_path, c.base_link, s.base_pose, c.disabled_collision_pairs)
+                                            for s, c in zip(arms, configs)])
+    tree = UrdfTree(urdf)
+    extra = [(str(a), str(b)) for a, b in disabled_pairs]
+    unknown = sorted({n for pair in extra for n in pair} - set(tree.links))
+    if unknown:
+        raise UnknownNameError("link (collision: disabled_pairs)", unknown[0], tree.links)
+    out, start = [], 0
+    for s, c in zip(arms, configs):
+        p = s.prefix
+        out.append(Arm(p.rstrip("_"), p, c.name, s.base_pose, tuple(p + j for j in c.arm_joints), (start, start + c.dof),
+                       p + c.ee_link, None if c.tcp_link is None else p + c.tcp_link,
+                       tuple(p + j for j in c.gripper.joints) if c.gripper is not None else ()))
+        start += c.dof
+    cat = lambda key: np.concatenate([getattr(c, key) for c in configs])  # noqa: E731
+    grippers = [(s.prefix, c.gripper) for s, c in zip(arms, configs) if c.gripper is not None]
+    gripper = GripperConfig(tuple(p + j for p, g in grippers for j in g.joints),
+                            *(np.concatenate([getattr(g, k) for _, g in grippers]) for k in GRIPPER_KEYS[1:])
+                            ) if grippers else None
+    ee = ee_link or out[0].ee_link
+    tree.check_link(ee, "ee_link")
+    try:
+        default = cat("default_joint_positions") if default_joint_positions is None else \
+            np.asarray(default_joint_positions, dtype=float)
     except (TypeError, ValueError) as exc:
-        raise RobotConfigError(f"default_joint_positions must be {n} numbers [rad] or a group_state name; "
-                               f"got {given!r}") from exc
-    if default.shape != (n,) or not np.all(np.isfinite(default)) or np.any(default < lower) \
-            or np.any(default > upper):
-        raise RobotConfigError(f"default_joint_positions must be {n} finite values within the limits "
-                               f"[{lower.tolist()}, {upper.tolist()}]; got {given!r}")
-    return default.copy()
+        raise RobotConfigError(f"{name}: default_joint_positions must be numbers [rad]; got "
+                               f"{default_joint_positions!r}") from exc
+    config = RobotConfig(
+        name=name, folder=folder or urdf.parent, urdf_path=urdf, srdf_path=srdf, mjcf_path=None,
+        package_dirs=tuple(dict.fromkeys(d for c in configs for d in c.package_dirs)), base_link=base, ee_link=ee,
+        tcp_link=out[0].tcp_link if ee == out[0].ee_link else None, arm_joints=tuple(j for a in out for j in a.joints),
+        default_joint_positions=np.asarray(default, dtype=float), lower_limits=cat("lower_limits"),
+        upper_limits=cat("upper_limits"), velocity_limits=cat("velocity_limits"),
+        acceleration_limits=cat("acceleration_limits"), jerk_limits=cat("jerk_limits"), gripper=gripper,
+        collision_padding=float(max(c.collision_padding for c in configs) if padding is None else padding),
+        disabled_collision_pairs=tuple(sorted({tuple(sorted(p)) for p in
+                                               [(p + a, p + b) for s, c in zip(arms, configs)
+                                                for p in [s.prefix] for a, b in c.disabled_collision_pairs] + extra})),
+        raw=dict(raw or {}), arms=tuple(out))
+    q = config.default_joint_positions
+    if q.shape != (config.dof,) or not np.all(np.isfinite(q)) or np.any(q < config.lower_limits) \
+            or np.any(q > config.upper_limits):
+        raise RobotConfigError(f"{name}: default_joint_positions must be {config.dof} finite values within the "
+                               f"limits; got {default_joint_positions!r}")
+    return config

@@ -6,6 +6,9 @@
   indices and one `ArticulationAction` per step (the robot has `dof_names` and/or
   `get_dof_index(name)`; the trajectory is read through its attributes only, so this
   module does not import `manip.trajectory`, which delegates to it).
+* `robot_columns`: which joints of a multi-arm robot's trajectory (`left_panda_joint1`, ...)
+  drive one simulated robot (`panda_joint1`, ...): Isaac's multi-robot pattern, one prim and
+  one controller per arm, each given its own ArticulationActions.
 """
 
 from __future__ import annotations
@@ -32,13 +35,16 @@ def _ignored(name: str, prim_path: str, ignore: Sequence[str]) -> bool:
     return any(name.startswith(p) or prim_path.startswith(p) for p in ignore if p)
 
 
-def world_config_from_sim(world, robot, ignore: Sequence[str] = ()) -> WorldConfig:
+def world_config_from_sim(world, robot, ignore: Sequence[str] = (), *, base_in_robot: Pose | None = None) -> WorldConfig:
     """Every collision object of `world`, in `robot`'s base frame, as a WorldConfig.
 
     Args:
         world: a `manip.sim.World` after `reset()`.
-        robot: the planned robot (its own geoms are skipped; other robots are obstacles).
+        robot: the planned robot (its own geoms are skipped; other robots are obstacles), or a
+            list of the simulated robots that are its arms (a multi-arm robot, `manip.robot_arms`:
+            all are skipped; the frame is the first one's, moved by `base_in_robot`).
         ignore: names or prim-path prefixes to leave out (e.g. the object to pick).
+        base_in_robot: the planner's base frame in the (first) robot's frame (default: the same).
 
     Ellipsoids become their bounding sphere (conservative); cones and meshes become meshes;
     planes become large boxes under their surface. The ground the robot stands on need not
@@ -48,18 +54,21 @@ def world_config_from_sim(world, robot, ignore: Sequence[str] = ()) -> WorldConf
     Raises:
         InvalidInputError: before the world's first `reset()` (the robot's pose is unknown).
     """
+    robots = list(robot) if isinstance(robot, (list, tuple)) else [robot]
+    robot = robots[0]
     robot_pose = robot.get_world_pose()
     if robot_pose is None:
         raise InvalidInputError(
             f"robot {getattr(robot, 'name', robot)!r}: its pose is not known before the world's first reset(); "
             "call world.reset() before reading the world (update_world_from_sim)")
     position, orientation = robot_pose
-    T_base_world = Pose(np.asarray(position, dtype=float), np.asarray(orientation, dtype=float)).inverse()
-    robot_path = getattr(robot, "prim_path", None)
+    T_world_robot = Pose(np.asarray(position, dtype=float), np.asarray(orientation, dtype=float))
+    T_base_world = (T_world_robot if base_in_robot is None else T_world_robot @ base_in_robot).inverse()
+    robot_paths = {getattr(r, "prim_path", None) for r in robots}
     cfg = WorldConfig()
     used: set[str] = set()
     for obj in world.scene.get_collision_objects():
-        if obj.is_robot and obj.robot_prim_path == robot_path:
+        if obj.is_robot and obj.robot_prim_path in robot_paths:
             continue
         if _ignored(obj.name, obj.prim_path, ignore):
             continue
@@ -133,7 +142,56 @@ def joint_indices_for(trajectory: Any, robot: Any) -> np.ndarray:
     return np.asarray(out, dtype=int)
 
 
-def trajectory_to_actions(trajectory: Any, robot: Any, physics_dt: float | None = None) -> list[ArticulationAction]:
+def _identities(robot: Any) -> list[str]:
+    """The robot's name and the last segment of its prim path, lower case (what names its arm)."""
+    out = [str(getattr(robot, "name", "") or ""), str(getattr(robot, "prim_path", "") or "").rsplit("/", 1)[-1]]
+    return [i.lower() for i in out if i]
+
+
+def robot_columns(trajectory: Any, robot: Any, prefix: str | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """(columns, indices): the trajectory's joints that drive `robot`, and the robot's DoF index of each.
+
+    A trajectory whose joints are all the robot's DoFs drives it whole. A multi-arm robot's
+    trajectory (`manip.robot_arms`: `left_panda_joint1`, ..., `right_panda_joint1`, ...) drives
+    one simulated robot per arm: the joints `prefix + <DoF name>`. Without `prefix`, the arm
+    is the one whose prefix names the robot: its `name` or its prim path's last segment is the
+    prefix or starts with it ("left", "left_franka", "/World/left_franka" for "left_").
+
+    Raises:
+        UnknownNameError: a joint matches no DoF of the robot, or `prefix` is no arm's.
+        InvalidInputError: several arms' joints fit the robot and its name names none of them
+            (pass `prefix=`); `robot` has neither `dof_names` nor `get_dof_index`.
+    """
+    names = [str(n) for n in trajectory.joint_names]
+    dof_names = getattr(robot, "dof_names", None)
+    dof_names = None if dof_names is None or callable(dof_names) else [str(n) for n in dof_names]
+    if prefix is None and (dof_names is None or all(n in dof_names for n in names)):
+        return np.arange(len(names)), joint_indices_for(trajectory, robot)
+    if dof_names is None:
+        raise InvalidInputError(f"robot must have a `dof_names` list to take one arm's joints; got {type(robot).__name__}")
+    groups: dict[str, list[int]] = {}
+    for c, n in enumerate(names):
+        for d in dof_names:
+            if n.endswith(d) and len(n) > len(d):
+                groups.setdefault(n[: -len(d)], []).append(c)
+    if prefix is None:
+        if not groups:
+            raise UnknownNameError("joint", next(n for n in names if n not in dof_names), dof_names)
+        ids = _identities(robot)
+        match = [p for p in groups if any(i == p.rstrip("_").lower() or i.startswith(p.lower()) for i in ids)]
+        if len(groups) > 1 and len(match) != 1:
+            raise InvalidInputError(
+                f"robot {getattr(robot, 'name', robot)!r}: the trajectory holds the joints of the arms "
+                f"{sorted(groups)}; name the robot after its arm (name='left_franka' for 'left_') or pass prefix=")
+        prefix = match[0] if match else next(iter(groups))
+    if prefix not in groups:
+        raise UnknownNameError("prefix (an arm of the trajectory)", prefix, groups)
+    cols = [c for c in range(len(names)) if names[c].startswith(prefix) and names[c][len(prefix):] in dof_names]
+    return np.asarray(cols, dtype=int), np.asarray([dof_names.index(names[c][len(prefix):]) for c in cols], dtype=int)
+
+
+def trajectory_to_actions(trajectory: Any, robot: Any, physics_dt: float | None = None, *,
+                          prefix: str | None = None) -> list[ArticulationAction]:
     """One `ArticulationAction` per step of `trajectory`, for a simulated robot.
 
     The actions are for the samples after t = 0 (the robot is assumed to be at the start
@@ -146,6 +204,8 @@ def trajectory_to_actions(trajectory: Any, robot: Any, physics_dt: float | None 
             `num_samples`, `resample(dt)` are used).
         robot: duck-typed articulation with `dof_names` and/or `get_dof_index(name)`.
         physics_dt: the simulator's step [s]; None uses the trajectory's `dt`.
+        prefix: the arm of a multi-arm robot's trajectory that drives `robot` (default: the
+            one its name names; `robot_columns`).
 
     Returns:
         T - 1 actions with `joint_positions` [rad], `joint_velocities` [rad/s] and
@@ -155,9 +215,10 @@ def trajectory_to_actions(trajectory: Any, robot: Any, physics_dt: float | None 
         UnknownNameError: a joint of the trajectory is not a DoF of the robot.
     """
     traj = trajectory if physics_dt is None else trajectory.resample(physics_dt)
-    idx = joint_indices_for(trajectory, robot)
+    cols, idx = robot_columns(trajectory, robot, prefix)
     return [
-        ArticulationAction(joint_positions=traj.positions[k], joint_velocities=traj.velocities[k], joint_indices=idx)
+        ArticulationAction(joint_positions=traj.positions[k, cols], joint_velocities=traj.velocities[k, cols],
+                           joint_indices=idx)
         for k in range(1, traj.num_samples)
     ]
 

@@ -327,3 +327,82 @@ def within_limits(values: list[float], joints: list[UrdfJoint], lower: np.ndarra
             return None
         out.append(min(max(value, lo), hi))
     return np.array(out, dtype=float)
+
+
+#: The free-flyer joint's name in Pinocchio's convention: SRDF states may set it (not a URDF joint).
+_FREE_FLYER = "root_joint"
+
+
+def default_configuration(given: np.ndarray | str | None, spec: list[UrdfJoint], lower: np.ndarray, upper: np.ndarray,
+                           srdf_path: Path | None, where: str, urdf_joints: set[str] = frozenset()) -> np.ndarray:
+    """The default configuration of `manip.robot_config.config_from_urdf` (see its docstring):
+    `given`, else the SRDF's first group_state of the arm joints within the limits, else the middle
+    of the limits. `urdf_joints`: the URDF's joint names (a state naming others has a misspelt joint)."""
+    n = len(spec)
+    names = [j.name for j in spec]
+    states = srdf_group_states(srdf_path) if srdf_path is not None and (given is None or isinstance(given, str)) else {}
+
+    def fit(state: dict[str, float]) -> np.ndarray | None:
+        return within_limits([state[j] for j in names], spec, lower, upper)
+
+    if isinstance(given, str):
+        if given not in states:
+            raise UnknownNameError("group_state (default_joint_positions)", given, states)
+        missing = [j for j in names if j not in states[given]]
+        if missing:
+            raise RobotConfigError(f"group_state '{given}' does not set the arm joints {missing}")
+        q = fit(states[given])
+        if q is None:
+            raise RobotConfigError(f"group_state '{given}' is outside the joint limits "
+                                   f"[{lower.tolist()}, {upper.tolist()}]: {states[given]}")
+        return q
+    if given is None:
+        known = set(urdf_joints) | {_FREE_FLYER} | (set(srdf_virtual_joints(srdf_path)) if states else set())
+        problems = []   # why each state setting arm joints was not used
+        partial = []
+        for state, values in states.items():
+            unset = [j for j in names if j not in values]
+            if len(unset) == len(names):
+                continue  # a state of another group (the hand, ...)
+            unknown = [j for j in values if urdf_joints and j not in known]
+            if unset and unknown:  # a misspelt arm joint: never fall back silently
+                raise RobotConfigError(
+                    f"{srdf_path}: group_state '{state}' sets no value for the arm joint(s) {unset} and names "
+                    f"joint(s) {unknown} that the URDF ({where}) does not have (misspelt?); the arm joints: "
+                    f"{', '.join(names)}. Fix the SRDF, or give default_joint_positions.")
+            if unset:
+                partial.append(f"'{state}' sets no value for {unset}")
+                continue
+            q = fit(values)
+            if q is not None:
+                if unknown:
+                    logger.warning("%s: the SRDF's group_state '%s' names joints not in the URDF (ignored): %s",
+                                   where, state, unknown)
+                if not np.array_equal(q, [values[j] for j in names]):
+                    logger.warning("%s: default configuration: the SRDF's group_state '%s' turned by whole "
+                                   "turns into the joint limits: %s", where, state, np.round(q, 6).tolist())
+                return q
+            out = [f"{j} = {values[j]} outside [{lo:g}, {hi:g}]" for j, lo, hi in zip(names, lower, upper)
+                   if within_limits([values[j]], [spec[names.index(j)]], np.array([lo]), np.array([hi])) is None]
+            problems.append(f"group_state '{state}': {'; '.join(out)}")
+        if problems:  # a value typo (15.7 for 1.57) must not become the middle of the limits
+            raise RobotConfigError(
+                f"{srdf_path}: no group_state gives a default configuration within the joint limits: "
+                f"{'; '.join(problems)}. Fix the SRDF, or give default_joint_positions.")
+        if partial:
+            logger.warning("%s: no default configuration: no SRDF group_state sets every arm joint (%s); using "
+                           "the middle of the limits", where, "; ".join(partial))
+        else:
+            logger.warning("%s: no default configuration (%s); using the middle of the limits", where,
+                           "the SRDF has no group_state of the arm joints" if srdf_path is not None else "no SRDF")
+        return (lower + upper) / 2.0
+    try:
+        default = np.asarray(given, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise RobotConfigError(f"default_joint_positions must be {n} numbers [rad] or a group_state name; "
+                               f"got {given!r}") from exc
+    if default.shape != (n,) or not np.all(np.isfinite(default)) or np.any(default < lower) \
+            or np.any(default > upper):
+        raise RobotConfigError(f"default_joint_positions must be {n} finite values within the limits "
+                               f"[{lower.tolist()}, {upper.tolist()}]; got {given!r}")
+    return default.copy()

@@ -10,7 +10,8 @@ from pathlib import Path
 
 import pytest
 
-EXAMPLES = sorted((Path(__file__).resolve().parents[1] / "examples").glob("*.py"))
+EXAMPLES = sorted(p for p in (Path(__file__).resolve().parents[1] / "examples").glob("*.py")
+                  if not p.name.startswith("_"))  # _name.py: a module examples share, not an example
 
 
 def parse_help(text: str) -> tuple[str, dict[str, str]]:

@@ -117,7 +117,7 @@ def test_a_goal_inside_the_table_says_what_it_touches(mg):
 # ---------------------------------------------------------------------------- names
 def test_robot_names_in_any_case():
     assert MotionGenerator("Franka").config.name == "franka"
-    with pytest.raises(UnknownNameError, match="available: franka, kinova, ur10, ur5, xarm7"):
+    with pytest.raises(UnknownNameError, match="available: dual_franka, dual_ur5, franka, kinova, ur10, ur5, xarm7"):
         MotionGenerator("Frank")
 
 

@@ -1,7 +1,7 @@
 """Constraints on the configuration kept over the whole continuous motion of a plan.
 
 `Constraint` (`base`: the interface a new constraint implements), `OrientationConstraint`,
-`PositionConstraint`; `certify_constraints` (the certificate between samples) and
+`PositionConstraint`, `RelativePoseConstraint` (two links' relative pose, e.g. two hands); `certify_constraints` (the certificate between samples) and
 `project` (onto the allowed set) are what the planner builds on them.
 """
 
@@ -12,12 +12,14 @@ from manip.constraints.certify import ConstraintCertificate, certify_constraints
 from manip.constraints.orientation import OrientationConstraint
 from manip.constraints.position import PositionConstraint
 from manip.constraints.project import project, satisfied
+from manip.constraints.relative import RelativePoseConstraint
 
 __all__ = [
     "Constraint",
     "ConstraintCertificate",
     "OrientationConstraint",
     "PositionConstraint",
+    "RelativePoseConstraint",
     "certify_constraints",
     "project",
     "satisfied",

@@ -79,6 +79,11 @@ class Constraint(ABC):
         """(residual (N, m), jacobian (N, m, dof)) at Q (N, dof); override to share the kinematics."""
         return self.residual(kinematics, Q), self.jacobian(kinematics, Q)
 
+    def at_start(self, kinematics: Kinematics, q: np.ndarray) -> Constraint:
+        """This constraint for a plan that starts at q (dof,): itself, unless it refers to the
+        start (`RelativePoseConstraint` holds the relative pose it has there)."""
+        return self
+
     def violation(self, kinematics: Kinematics, Q: np.ndarray) -> np.ndarray:
         """(N,) the largest residual row at each of Q (N, dof) [unit]: > 0 outside the set."""
         return self.residual(kinematics, np.atleast_2d(Q)).max(axis=1)

@@ -8,11 +8,19 @@ telling reason found (out of reach; in collision, and with what; not converged).
 
 from __future__ import annotations
 
+import time
+from dataclasses import replace
+
 import numpy as np
 
+from manip.collision.clearance import ClearanceModel
 from manip.ik import IKSolver, IKStatus
+from manip.kinematics import Kinematics
+from manip.limits import JointLimits
 from manip.planning.context import PlanContext
-from manip.planning.result import PlanStatus
+from manip.planning.path.goals import order_goals
+from manip.planning.pipeline import plan_to_configs
+from manip.planning.result import PlanResult, PlanStatus
 from manip.planning.validity import Validity
 from manip.pose import Pose
 
@@ -78,6 +86,30 @@ def _ik_failure(ik_solver: IKSolver, sols, goal: Pose, link: str, start: np.ndar
         return sols.status, "every IK solution found is in collision"
     problem = validity.goal_problem(found[0]) or "in collision"
     return sols.status, f"every IK solution found is in collision; the one nearest the start: {problem}"
+
+
+def plan_to_poses(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: Pose, link: str, *,
+                  kinematics: Kinematics, ik_solver: IKSolver, limits: JointLimits,
+                  clearance: ClearanceModel) -> PlanResult:
+    """A plan from the checked `start` (dof,) to whichever pose of `goals` (batched) is best reached
+    by `link` (`MotionGenerator.plan_goalset`): collision-free IK solutions of every pose, ranked
+    by the motion they allow (`planning.path.goals`), planned to at once; the result's
+    `goal_index` says which pose was reached, `position_error` [m] / `rotation_error` [rad] how well.
+    """
+    t_ik = time.perf_counter()
+    configs, owners, why = goal_configurations(ik_solver, ctx, validity, start, goals, link)
+    ctx.add_time("ik", t_ik)
+    if not len(configs):
+        return ctx.fail(*constrained_goal_failure(ik_solver, ctx, validity, start, goals, link, why))
+    order = order_goals(start, configs, ctx.scaled_limits(limits))
+    ctx.check_sample_count(start, configs[order[0]], limits)
+    result = plan_to_configs(ctx, validity, start, configs[order], limits=limits, clearance=clearance)
+    if result.success:
+        reached = result.goal_q
+        k = int(order[np.argmin(np.linalg.norm(configs[order] - reached, axis=1))])
+        dp, dr = kinematics.fk(reached, link).distance(goals[owners[k]])
+        result = replace(result, position_error=float(dp), rotation_error=float(dr), goal_index=owners[k])
+    return result
 
 
 def constrained_goal_failure(ik_solver: IKSolver, ctx: PlanContext, validity: Validity, start: np.ndarray,

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from manip.errors import InvalidInputError
+from manip.sim_bridge import robot_columns
 
 
 def play_trajectory(world, robot, trajectory) -> np.ndarray:
@@ -13,7 +14,9 @@ def play_trajectory(world, robot, trajectory) -> np.ndarray:
 
     Args:
         world: a reset `manip.sim.World`; its physics step must equal `trajectory.dt`.
-        robot: a `manip.sim.Robot` / `Articulation` that has the trajectory's joints.
+        robot: a `manip.sim.Robot` / `Articulation` that has the trajectory's joints, or a
+            list of robots, one per arm of a multi-arm robot's trajectory, each driven by its
+            own arm's joints (`Trajectory.to_articulation_actions`).
         trajectory: a `manip.Trajectory` (e.g. a `PlanResult.trajectory`).
 
     Returns:
@@ -28,10 +31,20 @@ def play_trajectory(world, robot, trajectory) -> np.ndarray:
     if abs(trajectory.dt - dt) > 1e-9:
         raise InvalidInputError(f"trajectory.dt ({trajectory.dt} s) must equal the world's physics step ({dt} s); "
                                 f"resample it with trajectory.resample({dt})")
-    idx = trajectory.joint_indices_for(robot)
-    out = [robot.get_joint_positions(idx)]
-    for action in trajectory.to_articulation_actions(robot):
-        robot.apply_action(action)
+    robots = list(robot) if isinstance(robot, (list, tuple)) else [robot]
+    columns = [robot_columns(trajectory, r) for r in robots]
+    actions = [trajectory.to_articulation_actions(r) for r in robots]
+
+    def read() -> np.ndarray:
+        q = np.full(len(trajectory.joint_names), np.nan)
+        for r, (cols, idx) in zip(robots, columns):
+            q[cols] = r.get_joint_positions(idx)
+        return q
+
+    out = [read()]
+    for step in zip(*actions):
+        for r, action in zip(robots, step):
+            r.apply_action(action)
         world.step(render=False)
-        out.append(robot.get_joint_positions(idx))
+        out.append(read())
     return np.asarray(out)

@@ -276,9 +276,12 @@ class Trajectory:
         """(dof,) indices of `joint_names` among a robot's DoFs (`manip.sim_bridge.joint_indices_for`)."""
         return joint_indices_for(self, robot)
 
-    def to_articulation_actions(self, robot: Any, physics_dt: float | None = None) -> list[ArticulationAction]:
-        """One `ArticulationAction` per step after t = 0 (`manip.sim_bridge.trajectory_to_actions`)."""
-        return trajectory_to_actions(self, robot, physics_dt)
+    def to_articulation_actions(self, robot: Any, physics_dt: float | None = None, *,
+                                prefix: str | None = None) -> list[ArticulationAction]:
+        """One `ArticulationAction` per step after t = 0 (`manip.sim_bridge.trajectory_to_actions`);
+        a multi-arm robot's trajectory gives each simulated arm its own joints' actions (`prefix`:
+        which arm; default the one the robot's name names, `manip.sim_bridge.robot_columns`)."""
+        return trajectory_to_actions(self, robot, physics_dt, prefix=prefix)
 
     def __repr__(self) -> str:
         return (

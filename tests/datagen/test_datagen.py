@@ -181,4 +181,4 @@ def test_a_dataset_of_another_shipped_robot(tmp_path, capsys):
     assert main([*args[2:], "--robot", "xarm7"]) == 2   # the same folder, another robot
     assert "other settings" in capsys.readouterr().err
     assert main(["--robot", "ur3", "--out", str(tmp_path / "x"), "--no-progress"]) == 2
-    assert "robot 'ur3' not found; available: franka" in capsys.readouterr().err
+    assert "robot 'ur3' not found; available: dual_franka, dual_ur5, franka" in capsys.readouterr().err

@@ -19,6 +19,8 @@ CASES = {
     "robot_info.py": [],
     "sample_lifecycle.py": ["--steps", "30"],
     "tutorial_pick_and_place.py": ["--steps", "1400"],
+    "bimanual_handover.py": ["--episodes", "1", "--quiet"],
+    "bimanual_carry.py": ["--episodes", "1", "--quiet"],
 }
 
 

@@ -1,0 +1,199 @@
+"""Planning for robots of several arms (`manip.robot_arms`): one arm's goals, or several links at once.
+
+A multi-arm robot plans in its combined configuration (each arm's joints in turn). Two kinds
+of pose goals:
+
+- one link's pose (`plan_pose(..., link="left_panda_hand")`, `ik(..., link=...)`): only the
+  arm that carries the link moves; the other arms' joints are held where the start (the IK
+  seed) has them, by pinning their position limits (`Kinematics.pinned`), so every stage of
+  the plan (IK restarts, the path search's samples, shortcuts, the optimiser's bounds) keeps
+  them there: the returned trajectory has them constant;
+- several links' poses (`plan_poses(start_q, {"left_panda_hand": ..., "right_panda_hand": ...})`):
+  each link's arm gets its IK solutions (the other arms held at the start, so a solution is
+  free of the world and of its own arm; when that finds none, collisions with the other arms
+  are ignored at this stage), the combinations are checked as whole configurations (arm
+  against arm included) and ranked by the time-optimal motion to each, and one trajectory
+  moves every arm at once: all links arrive together. Arms without a goal are held.
+
+The combined configuration is planned and certified as one robot's: every pair of parts of
+two arms is checked on the exact meshes, as a link pair of one arm is.
+"""
+
+from __future__ import annotations
+
+import itertools
+import time
+from collections.abc import Mapping
+from dataclasses import replace
+
+import numpy as np
+
+from manip.collision.clearance import ClearanceModel
+from manip.errors import InvalidInputError, UnknownNameError
+from manip.ik import IKSolver
+from manip.kinematics import Kinematics
+from manip.planning.constrained import with_constraints
+from manip.planning.context import PlanContext
+from manip.planning.goal_configurations import IK_TOWARD_START
+from manip.planning.path.goals import order_goals
+from manip.planning.pipeline import plan_to_configs
+from manip.planning.result import PlanResult, PlanStatus
+from manip.planning.validity import Validity
+from manip.pose import Pose
+from manip.robot_arms import Arm
+from manip.robot_config import RobotConfig
+
+#: Goal configurations of `plan_poses` handed to the planner at most (the best ranked of every
+#: combination of the links' IK solutions).
+MAX_COMBINED_GOALS = 48
+
+
+def arm_of(config: RobotConfig, link: str) -> Arm | None:
+    """The arm that carries `link` (by its name's prefix), or None (a one-arm robot, or a link of
+    the combined base)."""
+    for arm in config.arms:
+        if arm.owns(link):
+            return arm
+    return None
+
+
+def free_joints(config: RobotConfig, links: list[str]) -> np.ndarray:
+    """(dof,) bool: the joints of the arms that carry `links` (all joints on a one-arm robot)."""
+    if not config.arms:
+        return np.ones(config.dof, dtype=bool)
+    free = np.zeros(config.dof, dtype=bool)
+    for link in links:
+        arm = arm_of(config, link)
+        if arm is not None:
+            free[arm.columns[0]:arm.columns[1]] = True
+    return free
+
+
+def solver_like(solver: IKSolver, kinematics: Kinematics) -> IKSolver:
+    """An IK solver with `solver`'s settings on `kinematics` (a pinned view: `Kinematics.pinned`)."""
+    return IKSolver(kinematics, position_tolerance=solver.position_tolerance,
+                    rotation_tolerance=solver.rotation_tolerance, max_iterations=solver.max_iterations,
+                    max_attempts=solver.max_attempts, seed=solver.seed, damping=solver.damping,
+                    max_step=solver.max_step)
+
+
+def held_view(config: RobotConfig, kinematics: Kinematics, solver: IKSolver, links: list[str],
+              q: np.ndarray) -> tuple[Kinematics, IKSolver]:
+    """(kinematics, IK solver) that move only the arms of `links`, the other joints held at `q`
+    (dof,); the given ones on a one-arm robot (nothing to hold)."""
+    free = free_joints(config, links)
+    if free.all():
+        return kinematics, solver
+    pinned = kinematics.pinned(q, free)
+    return pinned, solver_like(solver, pinned)
+
+
+def held_validity(validity: Validity, kinematics: Kinematics) -> Validity:
+    """`validity`'s checks (world snapshot, resolutions, constraints) on a pinned `kinematics`."""
+    base = Validity(validity.checker, kinematics, validity.resolution, validity.search_resolution, validity.certified)
+    return with_constraints(base, validity.constraints)
+
+
+def shared_attachment(parts, kinematics: Kinematics, links, allowed=()) -> tuple[str, tuple[str, ...]]:
+    """(carrying link, allowed links) of an object held by two links (`attach_object(link=(a, b))`):
+    it moves with `a`; the links rigidly carried with `b` (its hand and fingers: the parts on
+    b's joint, `RobotGeometry.parts`) and `allowed` are never checked against it.
+
+    Raises:
+        InvalidInputError: not two distinct link names. UnknownNameError: an unknown link.
+    """
+    if len(links) != 2 or not all(isinstance(n, str) for n in links) or links[0] == links[1]:
+        raise InvalidInputError(f"link must be one link name or two distinct ones (a, b); got {links!r}")
+    joint = kinematics.model.frames[kinematics.frame_id(links[1], "link")].parentJoint
+    held = [p.link for p in parts if p.joint == joint]
+    return links[0], tuple(dict.fromkeys([*allowed, *held]))
+
+
+def check_goals(config: RobotConfig, kinematics: Kinematics, goals: object) -> dict[str, Pose]:
+    """`plan_poses`' goals checked: a non-empty dict link -> single Pose, one link per arm.
+
+    Raises:
+        InvalidInputError: not a dict, empty, a value not a single Pose, two links of one arm.
+        UnknownNameError: a link the robot does not have (the frames are listed).
+    """
+    if not isinstance(goals, Mapping) or not goals:
+        raise InvalidInputError(f"goals must be a non-empty dict link name -> manip.Pose; got {goals!r}")
+    out: dict[str, Pose] = {}
+    arms: dict[str, str] = {}
+    for link, pose in goals.items():
+        kinematics.frame_id(link, "goals: link")
+        if not isinstance(pose, Pose) or pose.is_batch:
+            raise InvalidInputError(f"goals[{link!r}] must be a single manip.Pose; got {type(pose).__name__}")
+        arm = arm_of(config, link)
+        key = arm.name if arm is not None else ""
+        if key in arms:
+            raise InvalidInputError(f"goals: '{arms[key]}' and '{link}' are both moved by "
+                                    f"{'arm ' + repr(key) if key else 'the same joints'}; give one link per arm"
+                                    + (f" (arms: {', '.join(a.name for a in config.arms)})" if config.arms else ""))
+        if arm is None and config.arms:
+            raise UnknownNameError("goals: link of an arm", link, [a.ee_link for a in config.arms])
+        arms[key] = link
+        out[link] = pose
+    return out
+
+
+def _link_solutions(ctx: PlanContext, validity: Validity, kinematics: Kinematics, solver: IKSolver,
+                    config: RobotConfig, start: np.ndarray, link: str, goal: Pose) -> np.ndarray:
+    """(K, dof) IK solutions of one link's goal, its arm alone moving (see the module docstring)."""
+    kin, arm_solver = held_view(config, kinematics, solver, [link], start)
+    sols = arm_solver.solve_many(goal, link, n=ctx.options.ik_solutions, seed_q=start, validity_fn=validity.configs,
+                                 toward_seed=IK_TOWARD_START)
+    if len(sols) == 0:  # perhaps blocked by another arm where it starts, which also moves
+        sols = arm_solver.solve_many(goal, link, n=ctx.options.ik_solutions, seed_q=start,
+                                     toward_seed=IK_TOWARD_START, seed=int(ctx.rng.integers(2**31)))
+    return np.asarray(sols.q, dtype=float).reshape(-1, kin.dof)
+
+
+def plan_link_poses(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: dict[str, Pose], *,
+                    config: RobotConfig, kinematics: Kinematics, solver: IKSolver, limits,
+                    clearance: ClearanceModel) -> PlanResult:
+    """One motion bringing every link of `goals` to its pose at once (see the module docstring).
+
+    Args:
+        ctx: the plan's context; validity: its world snapshot; start: (dof,) checked start [rad].
+        goals: link -> Pose in the base frame (`check_goals`).
+        config, kinematics, solver, limits, clearance: the robot's.
+
+    Returns:
+        The PlanResult; IK_FAIL names the link without a solution, or says that no combination
+        of the links' solutions is collision-free. `position_error` / `rotation_error` are the
+        largest over the links.
+    """
+    t_ik = time.perf_counter()
+    per_link = []
+    for link, goal in goals.items():
+        sols = _link_solutions(ctx, validity, kinematics, solver, config, start, link, goal)
+        if len(sols) == 0:
+            ctx.add_time("ik", t_ik)
+            return ctx.fail(PlanStatus.IK_FAIL, f"no IK solution within the joint limits for '{link}' at {goal}")
+        per_link.append((free_joints(config, [link]), sols))
+    combos = []
+    for choice in itertools.product(*(range(len(s)) for _, s in per_link)):
+        q = start.copy()
+        for (free, sols), k in zip(per_link, choice):
+            q[free] = sols[k][free]
+        combos.append(q)
+    configs = np.asarray(combos)
+    configs = configs[validity.configs(configs)]
+    ctx.add_time("ik", t_ik)
+    if not len(configs):
+        return ctx.fail(PlanStatus.IK_FAIL, f"no collision-free combination of the IK solutions of {list(goals)} "
+                                            f"({len(combos)} tried: the arms collide with each other or the world)")
+    order = order_goals(start, configs, ctx.scaled_limits(limits))[:MAX_COMBINED_GOALS]
+    held = free_joints(config, list(goals))
+    if not held.all():  # arms without a goal stay where they are
+        kin = kinematics.pinned(start, held)
+        validity = held_validity(validity, kin)
+        limits = kin.limits
+    ctx.check_sample_count(start, configs[order[0]], limits)
+    result = plan_to_configs(ctx, validity, start, configs[order], limits=limits, clearance=clearance)
+    if result.success:
+        errors = np.array([kinematics.fk(result.goal_q, link).distance(goal) for link, goal in goals.items()])
+        result = replace(result, position_error=float(errors[:, 0].max()), rotation_error=float(errors[:, 1].max()),
+                         goal_index=0)
+    return result

@@ -1,0 +1,110 @@
+"""`WorldEdits`: the planner's world, edited through a `MotionGenerator` (mixed into it).
+
+Obstacles (`update_world`, `add_obstacle`, `remove_obstacle`, `update_obstacle_pose`), objects
+carried by the robot (`attach_object`, `detach_object`), collision queries at one
+configuration (`check_collision`, `distance`) and the simulator's objects
+(`update_world_from_sim`). Every edit goes to the generator's `CollisionChecker`, which
+serialises edits and hands each query and plan one snapshot (see `MotionGenerator`'s
+threading contract).
+
+Needs, from the class it is mixed into: `checker`, `kinematics`, `config`,
+`default_joint_positions`, `_one_q` and `_link`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from manip.collision import WorldConfig
+from manip.errors import InvalidInputError
+from manip.planning.arms import shared_attachment
+from manip.pose import Pose
+from manip.sim_bridge import world_config_from_sim
+
+__all__ = ["WorldEdits"]
+
+
+class WorldEdits:
+    """The world-editing calls of `MotionGenerator` (module docstring)."""
+
+    @property
+    def world(self) -> WorldConfig:
+        """The planner's current obstacles (a copy)."""
+        return self.checker.world
+
+    def update_world(self, world: WorldConfig | dict) -> None:
+        """Replace every obstacle with those of `world` (a WorldConfig or cuRobo-style dict)."""
+        if isinstance(world, dict):
+            world = WorldConfig.from_dict(world)
+        if not isinstance(world, WorldConfig):
+            raise InvalidInputError(f"world must be a WorldConfig or a dict; got {type(world).__name__}")
+        self.checker.set_world(world)
+
+    def add_obstacle(self, obstacle) -> None:
+        """Add one obstacle (Cuboid, Sphere, Cylinder, Capsule or Mesh)."""
+        self.checker.add_obstacle(obstacle)
+
+    def remove_obstacle(self, name: str) -> None:
+        """Remove the obstacle called `name` (UnknownNameError lists the names)."""
+        self.checker.remove_obstacle(name)
+
+    def update_obstacle_pose(self, name: str, pose: Pose | Sequence[float]) -> None:
+        """Move the obstacle called `name` to `pose` (a Pose, [x, y, z, qw, qx, qy, qz], or a
+        position [x, y, z] alone, which keeps the obstacle's rotation).
+
+        `add_obstacle`, `remove_obstacle` and this are incremental (well under a millisecond
+        with a thousand obstacles, `benchmarks/world_edits.py`); `update_world` rebuilds all.
+        """
+        self.checker.update_obstacle_pose(name, pose)
+
+    def check_collision(self, q: np.ndarray | Sequence[float]) -> bool:
+        """True when `q` (dof,) collides with the world, an attached object or itself."""
+        return bool(self.checker.in_collision(self._one_q(q, "q")))
+
+    def distance(self, q: np.ndarray | Sequence[float]) -> float:
+        """Signed distance [m] of `q` (dof,) to the world and to itself (< 0: penetration)."""
+        return float(self.checker.distance(self._one_q(q, "q")))
+
+    def attach_object(self, name_or_shape, q: np.ndarray | Sequence[float] | None = None, link: str | None = None,
+                      **kwargs):
+        """Carry an obstacle (or a new shape) with `link` (default the end-effector).
+
+        The named obstacle leaves the world and moves rigidly with the link from its pose at
+        configuration `q` (default: the default configuration). Two links, `link=("left_panda_hand",
+        "right_panda_hand")`: an object both hold moves with the first, and the second's links
+        never count as touching it (plan with a `RelativePoseConstraint` of the two so that the
+        second keeps its hold; `planning.arms.shared_attachment`).
+        """
+        qq = self.default_joint_positions if q is None else self._one_q(q, "q")
+        if isinstance(link, (tuple, list)):
+            link, kwargs["allowed_links"] = shared_attachment(self.checker.robot.parts, self.kinematics, link,
+                                                              kwargs.get("allowed_links", ()))
+        return self.checker.attach_object(name_or_shape, q=qq, link=self._link(link), **kwargs)
+
+    def detach_object(self, q: np.ndarray | Sequence[float] | None = None, **kwargs):
+        """Put attached objects back into the world at their pose at configuration `q`."""
+        qq = self.default_joint_positions if q is None else self._one_q(q, "q")
+        return self.checker.detach_object(qq, **kwargs)
+
+    def update_world_from_sim(self, world, robot, ignore: Sequence[str] = ()) -> WorldConfig:
+        """Read every collision object of a `manip.sim` World into the planner's world.
+
+        Objects are expressed in the robot's base frame (a multi-arm robot: `robot` is the list of
+        its arms' simulated robots, in arm order). The robot itself and objects whose
+        name or prim path starts with an entry of `ignore` are skipped. Attached objects
+        stay attached. Returns the new WorldConfig.
+
+        The ground plane (or table) the robot stands on stays an obstacle and needs no
+        `ignore`: an obstacle wholly below the base frame's xy-plane (its top within 1 mm of
+        z = 0) is not checked against the links fixed to the base (panda_link0), which no
+        motion moves; every moving link is checked against it.
+
+        Raises:
+            InvalidInputError: called before the World's first `reset()`.
+        """
+        arms = self.config.arms if isinstance(robot, (list, tuple)) else ()   # one simulated robot per arm
+        cfg = world_config_from_sim(world, robot, ignore, base_in_robot=arms[0].base_pose.inverse() if arms else None)
+        self.update_world(cfg)
+        return cfg
