@@ -49,6 +49,8 @@ class CollisionState:
         obstacle_tables: the obstacles' broadphase tables (shapes, poses, bounding balls).
         self_tables: the self pairs' broadphase tables (`broadphase.self_candidates`).
         self_pairs: (P, 2) the part pairs of `self_tables`, in its order.
+        occupancy_maps: (obstacle index, tables) of the occupancy maps among the obstacles
+            (`collision.occupancy`: bounded by their own kernels, not by `obstacle_tables`).
     """
 
     kinematics: Kinematics
@@ -70,6 +72,7 @@ class CollisionState:
     _motion_free: Callable[[np.ndarray, np.ndarray, float], bool]
     _segments_free: Callable[[np.ndarray, np.ndarray, float], np.ndarray]
     _advance: Callable[[np.ndarray, np.ndarray, float], tuple[Any, int]]
+    occupancy_maps: tuple = ()
 
     @property
     def every_configuration_collides(self) -> bool:
