@@ -56,6 +56,7 @@ from manip.collision.clearance import ClearanceModel
 from manip.errors import InvalidInputError
 from manip.ik import BatchIKResult, IKResult, IKSolver
 from manip.kinematics import Kinematics
+from manip.perception import integrate_depth, integrate_pointcloud
 from manip.planning.context import START_LIMIT_TOLERANCE, PlanContext
 from manip.planning.goal_configurations import goal_configurations
 from manip.planning.time_and_validate import time_and_validate
@@ -432,6 +433,18 @@ class MotionGenerator:
         cfg = world_config_from_sim(world, robot, ignore)
         self.update_world(cfg)
         return cfg
+
+    def update_world_from_depth(self, depth, intrinsics, camera_pose, *, name="camera", resolution=0.02, q=None,
+                                max_range=3.0, unknown="free", bounds=None, self_margin=0.01):
+        """Integrate a depth image into the occupancy obstacle `name` (`manip.perception.integrate`)."""
+        return integrate_depth(self.checker, depth, intrinsics, camera_pose, q=self._arm_q(q, "q"), name=name,
+                               resolution=resolution, max_range=max_range, unknown=unknown, bounds=bounds, self_margin=self_margin)
+
+    def update_world_from_pointcloud(self, points, origin=None, *, name="camera", resolution=0.02, q=None,
+                                     max_range=3.0, unknown="free", bounds=None, self_margin=0.01):
+        """Integrate a point cloud [m] (base frame) seen from `origin` into the map `name` (as above)."""
+        return integrate_pointcloud(self.checker, points, origin, q=self._arm_q(q, "q"), name=name, resolution=resolution,
+                                    max_range=max_range, unknown=unknown, bounds=bounds, self_margin=self_margin)
 
     # ------------------------------------------------------------------ planning
     def plan_joints(self, start_q, goal_q, **options) -> PlanResult:

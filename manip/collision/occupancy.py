@@ -72,7 +72,7 @@ class OccupancyMap(Mesh):
                                 "or MotionGenerator.update_world_from_depth / update_world_from_pointcloud")
 
     @classmethod
-    def from_cells(cls, name: str, resolution: float, cells) -> OccupancyMap:
+    def from_cells(cls, name: str, resolution: float, cells, _sorted: bool = False) -> OccupancyMap:
         """A map of the given occupied cells.
 
         Args:
@@ -91,16 +91,16 @@ class OccupancyMap(Mesh):
         if c.ndim != 2 or c.shape[1] != 3 or c.dtype.kind not in "iu":
             raise InvalidInputError(f"occupancy map '{name}': cells must be an integer (C, 3) array; "
                                     f"got {c.dtype.name} {c.shape}")
-        c = np.unique(c.astype(np.int64), axis=0)
+        c = c.astype(np.int64) if _sorted else np.unique(c.astype(np.int64), axis=0)   # _sorted: distinct, sorted
         c.setflags(write=False)
         out = object.__new__(cls)
         for key, value in (("name", name), ("pose", Pose(np.zeros(3))), ("file_path", None), ("solid", True),
                            ("resolution", float(res)), ("cells", c)):
             object.__setattr__(out, key, value)
-        out._index(c)
+        out._tables_of(c)
         return out
 
-    def _index(self, c: np.ndarray) -> None:
+    def _tables_of(self, c: np.ndarray) -> None:
         """The dense grid, the broadphase bounds and the boxes' triangles of cells c (C, 3)."""
         res = self.resolution
         shared: dict = {}
@@ -143,7 +143,7 @@ class OccupancyMap(Mesh):
         shared["tables"] = (np.ascontiguousarray(occ), float(res), np.ascontiguousarray(origin, dtype=np.int64),
                             np.ascontiguousarray(blb, dtype=np.float64), BLOCK, np.asarray(lo, dtype=float),
                             np.asarray(hi, dtype=float))
-        object.__setattr__(self, "_shared", shared)
+        object.__setattr__(self, "_grid", shared)
 
     # ------------------------------------------------------------------ shape interface
     def _sharing_copy(self) -> OccupancyMap:
@@ -153,10 +153,10 @@ class OccupancyMap(Mesh):
 
     def __setstate__(self, state: dict) -> None:
         self.__dict__.update(state)
-        self._index(self.cells)   # the dense tables are rebuilt (pickles carry the cells)
+        self._tables_of(self.cells)   # the dense tables are rebuilt (pickles carry the cells)
 
     def __getstate__(self) -> dict:
-        state = {k: v for k, v in self.__dict__.items() if k not in ("_shared", "vertices", "faces")}
+        state = {k: v for k, v in self.__dict__.items() if k not in ("_grid", "vertices", "faces")}
         return state
 
     def with_pose(self, pose) -> OccupancyMap:
@@ -172,11 +172,16 @@ class OccupancyMap(Mesh):
         object.__setattr__(out, "name", _check_name(name, "occupancy map"))
         return out
 
+    @property
+    def solid_data(self):
+        """None: a map's inside test is its grid (`contains_points`), not a mesh's normals."""
+        return None
+
     def decimated(self, cell: float) -> Mesh:
         raise InvalidInputError(f"occupancy map '{self.name}' is already a grid; integrate at another resolution")
 
     def local_aabb(self) -> tuple[np.ndarray, np.ndarray]:
-        lo, hi = self._shared["tables"][5], self._shared["tables"][6]
+        lo, hi = self._grid["tables"][5], self._grid["tables"][6]
         return (lo + hi) / 2.0, (hi - lo) / 2.0
 
     def to_dict(self) -> dict:
@@ -191,13 +196,13 @@ class OccupancyMap(Mesh):
     @property
     def num_boxes(self) -> int:
         """Number of disjoint boxes the cells are merged into (the exact geometry)."""
-        b = self._shared.get("boxes")
+        b = self._grid.get("boxes")
         return 0 if b is None else int(b.shape[0])
 
     @property
     def broadphase_tables(self) -> tuple:
         """(occ, res, origin, blb, BLOCK, lo, hi): the tables of `occupancy_kernels`."""
-        return self._shared["tables"]
+        return self._grid["tables"]
 
     def cell_centres(self) -> np.ndarray:
         """(C, 3) centres [m] of the occupied cells (base frame)."""
@@ -205,7 +210,7 @@ class OccupancyMap(Mesh):
 
     def contains_points(self, X: np.ndarray) -> bool:
         """True when any point of X (K, 3) (base frame) lies in an occupied cell (faces included)."""
-        occ, res, origin = self._shared["tables"][:3]
+        occ, res, origin = self._grid["tables"][:3]
         return bool(cells_contain(np.ascontiguousarray(X, dtype=np.float64).reshape(-1, 3), occ, res, origin))
 
     def lower_bounds(self, X: np.ndarray, exact_within: float = 0.0) -> np.ndarray:
@@ -214,18 +219,18 @@ class OccupancyMap(Mesh):
         X = np.ascontiguousarray(X, dtype=np.float64).reshape(-1, 3)
         if self.num_cells == 0:
             return np.full(X.shape[0], np.inf)
-        return point_lower_bounds(X, *self._shared["tables"], float(exact_within))
+        return point_lower_bounds(X, *self._grid["tables"], float(exact_within))
 
     def coal_geometry(self):
         """coal's triangles of the boxes' faces (a BVH, cached)."""
-        bvh = self._shared.get("bvh")
+        bvh = self._grid.get("bvh")
         if bvh is None:
             bvh = coal.BVHModelOBBRSS()
             bvh.beginModel(self.faces.shape[0], self.vertices.shape[0])
             bvh.addVertices(np.ascontiguousarray(self.vertices, dtype=float))
             bvh.addTriangles(np.ascontiguousarray(self.faces, dtype=np.int64))
             bvh.endModel()
-            self._shared["bvh"] = bvh
+            self._grid["bvh"] = bvh
         return bvh
 
 
