@@ -259,3 +259,70 @@ def cells_contain(X, occ, res, origin):
             if 0 <= i < occ.shape[0] and 0 <= j < occ.shape[1] and 0 <= k < occ.shape[2] and occ[i, j, k]:
                 return True
     return False
+
+
+@kernel
+def map_nearest_terms(R, p, centres, radii, joint, bodies, start, count, body_centre, body_radius, activation,
+                      occ, res, origin, blb, B, lo, hi):
+    """The clearance terms of `manip.collision.clearance` against a map: for each
+    (configuration, body) the ball nearest the occupied cells, kept when closer than
+    `activation` [m], with the unit gradient of its centre's distance (central differences of
+    the exact box distance).
+
+    Returns:
+        (n, s (T,) int64, distance (T,) [m], centre x (T, 3), unit normal (T, 3)).
+    """
+    N = R.shape[0]
+    Bn = bodies.shape[0]
+    cap = N * Bn
+    n_out = np.empty(cap, dtype=np.int64)
+    s_out = np.empty(cap, dtype=np.int64)
+    d_out = np.empty(cap)
+    x_out = np.empty((cap, 3))
+    nrm = np.empty((cap, 3))
+    x = np.empty(3)
+    T = 0
+    h = 1e-5
+    reach = activation + 2 * h
+    for n in range(N):
+        for b in range(Bn):
+            j = bodies[b]
+            for r in range(3):
+                x[r] = (R[n, j, r, 0] * body_centre[b, 0] + R[n, j, r, 1] * body_centre[b, 1]
+                        + R[n, j, r, 2] * body_centre[b, 2] + p[n, j, r])
+            if _coarse(x[0], x[1], x[2], res, origin, blb, B, lo, hi) - body_radius[b] >= activation:
+                continue
+            best = np.inf
+            best_s = -1
+            for s in range(start[b], start[b] + count[b]):
+                for r in range(3):
+                    x[r] = (R[n, j, r, 0] * centres[s, 0] + R[n, j, r, 1] * centres[s, 1]
+                            + R[n, j, r, 2] * centres[s, 2] + p[n, j, r])
+                d = ball_clearance(x[0], x[1], x[2], radii[s], reach, occ, res, origin, blb, B, lo, hi)
+                if d < best:
+                    best = d
+                    best_s = s
+            if best >= activation:
+                continue
+            s = best_s
+            for r in range(3):
+                x_out[T, r] = (R[n, j, r, 0] * centres[s, 0] + R[n, j, r, 1] * centres[s, 1]
+                               + R[n, j, r, 2] * centres[s, 2] + p[n, j, r])
+            norm = 0.0
+            for k in range(3):
+                for r in range(3):
+                    x[r] = x_out[T, r]
+                x[k] += h
+                up = ball_clearance(x[0], x[1], x[2], 0.0, reach + radii[s], occ, res, origin, blb, B, lo, hi)
+                x[k] -= 2 * h
+                down = ball_clearance(x[0], x[1], x[2], 0.0, reach + radii[s], occ, res, origin, blb, B, lo, hi)
+                nrm[T, k] = (up - down) / (2 * h)
+                norm += nrm[T, k] ** 2
+            norm = max(math.sqrt(norm), 1e-12)
+            for k in range(3):
+                nrm[T, k] /= norm
+            n_out[T] = n
+            s_out[T] = s
+            d_out[T] = best
+            T += 1
+    return n_out[:T].copy(), s_out[:T].copy(), d_out[:T].copy(), x_out[:T].copy(), nrm[:T].copy()
