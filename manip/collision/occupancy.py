@@ -111,6 +111,7 @@ class OccupancyMap(Mesh):
             occ = np.zeros((1, 1, 1), dtype=np.uint8)
             origin = np.zeros(3, dtype=np.int64)
             blb = np.full((1, 1, 1), np.inf)
+            blocks = np.zeros((1, 1, 1), dtype=bool)
             hi = lo
         else:
             origin = c.min(axis=0)
@@ -141,8 +142,8 @@ class OccupancyMap(Mesh):
         object.__setattr__(self, "faces", F)
         object.__setattr__(self, "scale", np.ones(3))
         shared["tables"] = (np.ascontiguousarray(occ), float(res), np.ascontiguousarray(origin, dtype=np.int64),
-                            np.ascontiguousarray(blb, dtype=np.float64), BLOCK, np.asarray(lo, dtype=float),
-                            np.asarray(hi, dtype=float))
+                            np.ascontiguousarray(blb, dtype=np.float64), np.ascontiguousarray(blocks), BLOCK,
+                            np.asarray(lo, dtype=float), np.asarray(hi, dtype=float))
         object.__setattr__(self, "_grid", shared)
 
     # ------------------------------------------------------------------ shape interface
@@ -181,7 +182,7 @@ class OccupancyMap(Mesh):
         raise InvalidInputError(f"occupancy map '{self.name}' is already a grid; integrate at another resolution")
 
     def local_aabb(self) -> tuple[np.ndarray, np.ndarray]:
-        lo, hi = self._grid["tables"][5], self._grid["tables"][6]
+        lo, hi = self._grid["tables"][6], self._grid["tables"][7]
         return (lo + hi) / 2.0, (hi - lo) / 2.0
 
     def to_dict(self) -> dict:
@@ -201,7 +202,7 @@ class OccupancyMap(Mesh):
 
     @property
     def broadphase_tables(self) -> tuple:
-        """(occ, res, origin, blb, BLOCK, lo, hi): the tables of `occupancy_kernels`."""
+        """(occ, res, origin, blb, bocc, BLOCK, lo, hi): the tables of `occupancy_kernels`."""
         return self._grid["tables"]
 
     def cell_centres(self) -> np.ndarray:

@@ -8,7 +8,8 @@ Distances are lower bounds of the distance from a point to the union of the occu
 - in a block of B^3 cells: `blb[block]`, the distance between that block's box and the
   nearest occupied block's box (an exact Euclidean distance transform of the dilated block
   grid, `OccupancyMap`), which no point of the block can beat;
-- near a ball: the exact distance from its centre to every occupied cell within reach.
+- near a ball: the exact distance from its centre to every occupied cell within reach,
+  visiting only the occupied blocks (`bocc`) that can hold a nearer cell.
 
 These kernels only filter (as `manip.collision.broadphase`): a pair they cannot clear goes
 to coal's exact check on the cells' boxes.
@@ -22,8 +23,8 @@ import numpy as np
 
 from manip.jit import kernel
 
-#: A ball whose reach spans more cells than this per axis is bounded by the blocks only.
-MAX_SPAN = 9
+#: A ball whose reach spans more blocks than this per axis is bounded by the blocks only.
+MAX_REACH_BLOCKS = 6
 
 
 @kernel(inline="always")
@@ -50,71 +51,102 @@ def _coarse(x0, x1, x2, res, origin, blb, B, lo, hi):
 
 
 @kernel(inline="always")
-def ball_clearance(x0, x1, x2, r, need, occ, res, origin, blb, B, lo, hi):
+def _cells_within(x0, x1, x2, s, stop, occ, res, origin, bocc, B):
+    """The distance [m] from the point to the nearest occupied cell if it is below s (else s),
+    visiting the occupied blocks within s, nearest first in order of enumeration; returns as
+    soon as one closer than `stop` is found."""
+    best = s
+    n0, n1, n2 = bocc.shape
+    I0 = max(int(math.floor(((x0 - s) / res - origin[0]) / B)), 0)
+    I1 = min(int(math.floor(((x0 + s) / res - origin[0]) / B)), n0 - 1)
+    J0 = max(int(math.floor(((x1 - s) / res - origin[1]) / B)), 0)
+    J1 = min(int(math.floor(((x1 + s) / res - origin[1]) / B)), n1 - 1)
+    K0 = max(int(math.floor(((x2 - s) / res - origin[2]) / B)), 0)
+    K1 = min(int(math.floor(((x2 + s) / res - origin[2]) / B)), n2 - 1)
+    for I in range(I0, I1 + 1):
+        a = max((origin[0] + I * B) * res - x0, 0.0, x0 - (origin[0] + (I + 1) * B) * res)
+        for J in range(J0, J1 + 1):
+            b = max((origin[1] + J * B) * res - x1, 0.0, x1 - (origin[1] + (J + 1) * B) * res)
+            for K in range(K0, K1 + 1):
+                if not bocc[I, J, K]:
+                    continue
+                c = max((origin[2] + K * B) * res - x2, 0.0, x2 - (origin[2] + (K + 1) * B) * res)
+                if a * a + b * b + c * c >= best * best:
+                    continue
+                for i in range(I * B, min((I + 1) * B, occ.shape[0])):
+                    e0 = max((origin[0] + i) * res - x0, 0.0, x0 - (origin[0] + i + 1) * res)
+                    for j in range(J * B, min((J + 1) * B, occ.shape[1])):
+                        e1 = max((origin[1] + j) * res - x1, 0.0, x1 - (origin[1] + j + 1) * res)
+                        ab = e0 * e0 + e1 * e1
+                        if ab >= best * best:
+                            continue
+                        for k in range(K * B, min((K + 1) * B, occ.shape[2])):
+                            if occ[i, j, k]:
+                                e2 = max((origin[2] + k) * res - x2, 0.0, x2 - (origin[2] + k + 1) * res)
+                                e = math.sqrt(ab + e2 * e2)
+                                if e < best:
+                                    best = e
+                                    if best < stop:
+                                        return best
+    return best
+
+
+@kernel
+def _nearest_point(x0, x1, x2, s, occ, res, origin, bocc, B):
+    """The nearest point (3 floats) of the occupied cells within s [m] of the point (the point
+    itself when none is)."""
+    best = s
+    y0, y1, y2 = x0, x1, x2
+    n0, n1, n2 = bocc.shape
+    I0 = max(int(math.floor(((x0 - s) / res - origin[0]) / B)), 0)
+    I1 = min(int(math.floor(((x0 + s) / res - origin[0]) / B)), n0 - 1)
+    J0 = max(int(math.floor(((x1 - s) / res - origin[1]) / B)), 0)
+    J1 = min(int(math.floor(((x1 + s) / res - origin[1]) / B)), n1 - 1)
+    K0 = max(int(math.floor(((x2 - s) / res - origin[2]) / B)), 0)
+    K1 = min(int(math.floor(((x2 + s) / res - origin[2]) / B)), n2 - 1)
+    for I in range(I0, I1 + 1):
+        for J in range(J0, J1 + 1):
+            for K in range(K0, K1 + 1):
+                if not bocc[I, J, K]:
+                    continue
+                for i in range(I * B, min((I + 1) * B, occ.shape[0])):
+                    for j in range(J * B, min((J + 1) * B, occ.shape[1])):
+                        for k in range(K * B, min((K + 1) * B, occ.shape[2])):
+                            if not occ[i, j, k]:
+                                continue
+                            c0 = min(max(x0, (origin[0] + i) * res), (origin[0] + i + 1) * res)
+                            c1 = min(max(x1, (origin[1] + j) * res), (origin[1] + j + 1) * res)
+                            c2 = min(max(x2, (origin[2] + k) * res), (origin[2] + k + 1) * res)
+                            e = math.sqrt((x0 - c0) ** 2 + (x1 - c1) ** 2 + (x2 - c2) ** 2)
+                            if e < best:
+                                best = e
+                                y0, y1, y2 = c0, c1, c2
+    return y0, y1, y2
+
+
+@kernel(inline="always")
+def ball_clearance(x0, x1, x2, r, need, occ, res, origin, blb, bocc, B, lo, hi):
     """A lower bound [m] of the distance from the ball (centre, radius r) to the occupied
     cells; exact up to `need` (a value >= need means "clear by need")."""
     d = _coarse(x0, x1, x2, res, origin, blb, B, lo, hi) - r
     if d >= need:
         return d
     s = need + r  # cells farther than s from the centre cannot bring the ball within need
-    i0 = int(math.floor((x0 - s) / res)) - origin[0]
-    i1 = int(math.floor((x0 + s) / res)) - origin[0]
-    j0 = int(math.floor((x1 - s) / res)) - origin[1]
-    j1 = int(math.floor((x1 + s) / res)) - origin[1]
-    k0 = int(math.floor((x2 - s) / res)) - origin[2]
-    k1 = int(math.floor((x2 + s) / res)) - origin[2]
-    if i1 - i0 >= MAX_SPAN or j1 - j0 >= MAX_SPAN or k1 - k0 >= MAX_SPAN:
+    if 2.0 * s > MAX_REACH_BLOCKS * B * res:
         return d
-    i0, j0, k0 = max(i0, 0), max(j0, 0), max(k0, 0)
-    i1, j1, k1 = min(i1, occ.shape[0] - 1), min(j1, occ.shape[1] - 1), min(k1, occ.shape[2] - 1)
-    best = s
-    for i in range(i0, i1 + 1):
-        a = max((origin[0] + i) * res - x0, 0.0, x0 - (origin[0] + i + 1) * res)
-        for j in range(j0, j1 + 1):
-            b = max((origin[1] + j) * res - x1, 0.0, x1 - (origin[1] + j + 1) * res)
-            ab = a * a + b * b
-            if ab >= best * best:
-                continue
-            for k in range(k0, k1 + 1):
-                if occ[i, j, k]:
-                    c = max((origin[2] + k) * res - x2, 0.0, x2 - (origin[2] + k + 1) * res)
-                    e = math.sqrt(ab + c * c)
-                    if e < best:
-                        best = e
-    return max(best - r, d)
+    return max(_cells_within(x0, x1, x2, s, -1.0, occ, res, origin, bocc, B) - r, d)
 
 
 @kernel(inline="always")
-def ball_near(x0, x1, x2, r, need, occ, res, origin, blb, B, lo, hi):
+def ball_near(x0, x1, x2, r, need, occ, res, origin, blb, bocc, B, lo, hi):
     """True when the ball (centre, radius r) may come within `need` [m] of an occupied cell
-    (a cell within reach is found, or the reach spans too many cells to look)."""
+    (a cell within reach is found, or the reach spans too many blocks to look)."""
     if _coarse(x0, x1, x2, res, origin, blb, B, lo, hi) - r >= need:
         return False
     s = need + r
-    i0 = int(math.floor((x0 - s) / res)) - origin[0]
-    i1 = int(math.floor((x0 + s) / res)) - origin[0]
-    j0 = int(math.floor((x1 - s) / res)) - origin[1]
-    j1 = int(math.floor((x1 + s) / res)) - origin[1]
-    k0 = int(math.floor((x2 - s) / res)) - origin[2]
-    k1 = int(math.floor((x2 + s) / res)) - origin[2]
-    if i1 - i0 >= MAX_SPAN or j1 - j0 >= MAX_SPAN or k1 - k0 >= MAX_SPAN:
+    if 2.0 * s > MAX_REACH_BLOCKS * B * res:
         return True
-    i0, j0, k0 = max(i0, 0), max(j0, 0), max(k0, 0)
-    i1, j1, k1 = min(i1, occ.shape[0] - 1), min(j1, occ.shape[1] - 1), min(k1, occ.shape[2] - 1)
-    ss = s * s
-    for i in range(i0, i1 + 1):
-        a = max((origin[0] + i) * res - x0, 0.0, x0 - (origin[0] + i + 1) * res)
-        for j in range(j0, j1 + 1):
-            b = max((origin[1] + j) * res - x1, 0.0, x1 - (origin[1] + j + 1) * res)
-            ab = a * a + b * b
-            if ab >= ss:
-                continue
-            for k in range(k0, k1 + 1):
-                if occ[i, j, k]:
-                    c = max((origin[2] + k) * res - x2, 0.0, x2 - (origin[2] + k + 1) * res)
-                    if ab + c * c < ss:
-                        return True
-    return False
+    return _cells_within(x0, x1, x2, s, s, occ, res, origin, bocc, B) < s
 
 
 @kernel
@@ -122,7 +154,7 @@ def map_candidates(R, p, margins, exact_depth,
                    l0_joint, l0_c, l0_r, mem_start, mem_count, mem_parts,
                    part_joint, c_start, c_count, c_centres, c_radii,
                    f_start, f_count, f_centres, f_radii,
-                   occ, res, origin, blb, B, lo, hi):
+                   occ, res, origin, blb, bocc, B, lo, hi):
     """(configuration, moving part) pairs that may come within margins[n] [m] of the map.
 
     Args:
@@ -133,7 +165,7 @@ def map_candidates(R, p, margins, exact_depth,
             `depth` is that ball's coarse bound (an order of likelihood only: boolean checks).
         l0_joint ... f_radii: the robot side of `broadphase.world_candidates` (one ball per
             moving joint, then each part's coarse and fine covers).
-        occ, res, origin, blb, B, lo, hi: the map (module docstring).
+        occ, res, origin, blb, bocc, B, lo, hi: the map (module docstring).
 
     Returns:
         n, part (T,) int64 and depth (T,) [m] (see `exact_depth`).
@@ -159,7 +191,7 @@ def map_candidates(R, p, margins, exact_depth,
                     for r in range(3):
                         x[r] = (R[n, j, r, 0] * c_centres[b, 0] + R[n, j, r, 1] * c_centres[b, 1]
                                 + R[n, j, r, 2] * c_centres[b, 2] + p[n, j, r])
-                    if _coarse(x[0], x[1], x[2], res, origin, blb, B, lo, hi) - c_radii[b] < margin:
+                    if ball_near(x[0], x[1], x[2], c_radii[b], margin, occ, res, origin, blb, bocc, B, lo, hi):
                         near = True
                         break
                 if not near:
@@ -170,9 +202,9 @@ def map_candidates(R, p, margins, exact_depth,
                         x[r] = (R[n, j, r, 0] * f_centres[b, 0] + R[n, j, r, 1] * f_centres[b, 1]
                                 + R[n, j, r, 2] * f_centres[b, 2] + p[n, j, r])
                     if exact_depth:
-                        s = ball_clearance(x[0], x[1], x[2], f_radii[b], margin, occ, res, origin, blb, B, lo, hi)
+                        s = ball_clearance(x[0], x[1], x[2], f_radii[b], margin, occ, res, origin, blb, bocc, B, lo, hi)
                     else:
-                        if ball_near(x[0], x[1], x[2], f_radii[b], margin, occ, res, origin, blb, B, lo, hi):
+                        if ball_near(x[0], x[1], x[2], f_radii[b], margin, occ, res, origin, blb, bocc, B, lo, hi):
                             m = _coarse(x[0], x[1], x[2], res, origin, blb, B, lo, hi) - f_radii[b]
                             break
                         continue
@@ -191,12 +223,12 @@ def map_candidates(R, p, margins, exact_depth,
 
 
 @kernel
-def point_lower_bounds(X, occ, res, origin, blb, B, lo, hi, exact_within):
+def point_lower_bounds(X, occ, res, origin, blb, bocc, B, lo, hi, exact_within):
     """(M,) lower bounds [m] of the distance of points X (M, 3) to the occupied cells, exact
     where they are below `exact_within` [m] (then within the enumerated cells)."""
     out = np.empty(X.shape[0])
     for m in range(X.shape[0]):
-        out[m] = ball_clearance(X[m, 0], X[m, 1], X[m, 2], 0.0, exact_within, occ, res, origin, blb, B, lo, hi)
+        out[m] = ball_clearance(X[m, 0], X[m, 1], X[m, 2], 0.0, exact_within, occ, res, origin, blb, bocc, B, lo, hi)
     return out
 
 
@@ -263,11 +295,11 @@ def cells_contain(X, occ, res, origin):
 
 @kernel
 def map_nearest_terms(R, p, centres, radii, joint, bodies, start, count, body_centre, body_radius, activation,
-                      occ, res, origin, blb, B, lo, hi):
+                      occ, res, origin, blb, bocc, B, lo, hi):
     """The clearance terms of `manip.collision.clearance` against a map: for each
     (configuration, body) the ball nearest the occupied cells, kept when closer than
-    `activation` [m], with the unit gradient of its centre's distance (central differences of
-    the exact box distance).
+    `activation` [m], with the unit gradient of its centre's distance (from the nearest point
+    of the nearest cell).
 
     Returns:
         (n, s (T,) int64, distance (T,) [m], centre x (T, 3), unit normal (T, 3)).
@@ -282,8 +314,7 @@ def map_nearest_terms(R, p, centres, radii, joint, bodies, start, count, body_ce
     nrm = np.empty((cap, 3))
     x = np.empty(3)
     T = 0
-    h = 1e-5
-    reach = activation + 2 * h
+    reach = activation
     for n in range(N):
         for b in range(Bn):
             j = bodies[b]
@@ -298,7 +329,9 @@ def map_nearest_terms(R, p, centres, radii, joint, bodies, start, count, body_ce
                 for r in range(3):
                     x[r] = (R[n, j, r, 0] * centres[s, 0] + R[n, j, r, 1] * centres[s, 1]
                             + R[n, j, r, 2] * centres[s, 2] + p[n, j, r])
-                d = ball_clearance(x[0], x[1], x[2], radii[s], reach, occ, res, origin, blb, B, lo, hi)
+                if _coarse(x[0], x[1], x[2], res, origin, blb, B, lo, hi) - radii[s] >= min(best, reach):
+                    continue   # cannot be nearer than the best ball so far, nor active
+                d = ball_clearance(x[0], x[1], x[2], radii[s], min(best, reach), occ, res, origin, blb, bocc, B, lo, hi)
                 if d < best:
                     best = d
                     best_s = s
@@ -308,19 +341,17 @@ def map_nearest_terms(R, p, centres, radii, joint, bodies, start, count, body_ce
             for r in range(3):
                 x_out[T, r] = (R[n, j, r, 0] * centres[s, 0] + R[n, j, r, 1] * centres[s, 1]
                                + R[n, j, r, 2] * centres[s, 2] + p[n, j, r])
-            norm = 0.0
-            for k in range(3):
-                for r in range(3):
-                    x[r] = x_out[T, r]
-                x[k] += h
-                up = ball_clearance(x[0], x[1], x[2], 0.0, reach + radii[s], occ, res, origin, blb, B, lo, hi)
-                x[k] -= 2 * h
-                down = ball_clearance(x[0], x[1], x[2], 0.0, reach + radii[s], occ, res, origin, blb, B, lo, hi)
-                nrm[T, k] = (up - down) / (2 * h)
-                norm += nrm[T, k] ** 2
-            norm = max(math.sqrt(norm), 1e-12)
-            for k in range(3):
-                nrm[T, k] /= norm
+            # the unit direction from the nearest point of the nearest cell to the centre
+            y0, y1, y2 = _nearest_point(x_out[T, 0], x_out[T, 1], x_out[T, 2], reach + radii[s], occ, res, origin,
+                                        bocc, B)
+            g0, g1, g2 = x_out[T, 0] - y0, x_out[T, 1] - y1, x_out[T, 2] - y2
+            norm = math.sqrt(g0 * g0 + g1 * g1 + g2 * g2)
+            if norm < 1e-12:   # the centre in a cell: away from that cell's centre
+                g0 = x_out[T, 0] - (math.floor(x_out[T, 0] / res) + 0.5) * res
+                g1 = x_out[T, 1] - (math.floor(x_out[T, 1] / res) + 0.5) * res
+                g2 = x_out[T, 2] - (math.floor(x_out[T, 2] / res) + 0.5) * res
+                norm = max(math.sqrt(g0 * g0 + g1 * g1 + g2 * g2), 1e-12)
+            nrm[T, 0], nrm[T, 1], nrm[T, 2] = g0 / norm, g1 / norm, g2 / norm
             n_out[T] = n
             s_out[T] = s
             d_out[T] = best
