@@ -115,8 +115,9 @@ def run(kinds: list[str], per_kind: int, seed: int, resolution: float = RESOLUTI
                     mg.checker.in_collision_batch(Q)
                     out.append((time.thread_time() - c0) / len(Q))
             row = {"kind": kind, "index": k, "cells": m.num_cells, "boxes": m.num_boxes,
-                   # the map holds each surface within one cell: a start or goal closer than that to an
-                   # obstacle may collide with the map (the clearance of both, true geometry, no padding)
+                   # the map holds each surface within a cell (its far corner up to a cell diagonal away):
+                   # a start or goal closer than that to an obstacle may collide with the map (the
+                   # clearance of both, true geometry, no padding)
                    "clearance": min(mg_true.distance(pb.start), mg_true.distance(pb.goal))}
             for tag, mg in (("true", mg_true), ("map", mg_map)):
                 c0 = time.thread_time()
@@ -142,7 +143,7 @@ def table(res: dict, m: dict) -> str:
     solvable = [r for r in rows if r["true_ok"]]
     both = [r for r in solvable if r["map_ok"]]
     coll = sum(bool(r.get("collision")) for r in rows)
-    wide = [r for r in solvable if r["clearance"] >= res["resolution"]]
+    wide = [r for r in solvable if r["clearance"] >= res["resolution"] * np.sqrt(3.0)]
     wide_ok = [r for r in wide if r["map_ok"]]
     integ, rebuild = res["integrate"], res["rebuild"]
     lines = [
@@ -162,7 +163,8 @@ def table(res: dict, m: dict) -> str:
         f"| planning time (CPU) median, both solved: map / primitives | "
         f"{np.median([r['map_time'] for r in both]) * 1e3:.0f} / {np.median([r['true_time'] for r in both]) * 1e3:.0f} ms "
         f"({np.median([r['map_time'] for r in both]) / np.median([r['true_time'] for r in both]):.2f}x) |",
-        f"| of those whose start and goal keep >= one cell ({res['resolution'] * 100:g} cm) from the obstacles | "
+        f"| of those whose start and goal keep >= a cell diagonal ({res['resolution'] * np.sqrt(3) * 100:.1f} cm) "
+        f"from the obstacles | "
         f"{len(wide_ok)}/{len(wide)} ({100 * len(wide_ok) / max(len(wide), 1):.1f} %) |",
         f"| map plans colliding with the true geometry (verifier) | {coll}/{sum(r['map_ok'] for r in rows)} |",
         "",

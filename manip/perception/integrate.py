@@ -8,8 +8,9 @@ depth image; `integrate_pointcloud` does the same with a cloud. `MotionGenerator
 1. the points: each pixel with a depth is back-projected into the base frame (pinhole;
    depth = distance to the image plane); points farther than `max_range` from the camera,
    or beyond the robot's reach (`reach`), are dropped;
-2. self-filtering: with `q`, points within `self_margin` of the robot's sphere cover at q
-   (the links and attached objects; the cover holds their collision meshes) are dropped;
+2. self-filtering: with `q`, points within `self_margin` of the robot at q are dropped: of
+   a part's 26-DOP (the polytope of 26 fixed directions around the convex hull of its
+   collision geometry; links and attached objects), looked up through the sphere cover;
 3. occupied: the cell of every remaining point (`manip.perception.kernels`);
 4. free: a cell occupied before (or, with `unknown="occupied"`, never observed) is freed
    when the image sees through it: every pixel ray crossing it measures a surface beyond the
@@ -38,8 +39,8 @@ import numpy as np
 
 from manip.collision.occupancy import OccupancyMap
 from manip.errors import InvalidInputError
-from manip.perception.kernels import (SNAP, cells_seen_free, depth_cells, difference, pack_all, sorted_unique,
-                                      sphere_index, union, unpack)
+from manip.perception.kernels import (SNAP, cells_seen_free, depth_cells, difference, on_robot, pack_all,
+                                      sorted_unique, sphere_index, union, unpack)
 from manip.pose import Pose
 from manip.validation import as_real_array, non_negative, positive
 
@@ -123,18 +124,44 @@ def _bounds(bounds, unknown: str) -> np.ndarray | None:
 
 
 # ---------------------------------------------------------------------- the update
-def _robot_balls(checker, q, margin: float):
-    """The robot's balls (centres (S, 3), radii (S,) [m]) at q (dof,), grown by margin; none
-    without q."""
+#: The 26 directions of the k-DOPs that stand for the robot's parts in the self-filter.
+_DIRECTIONS = np.array([d for d in np.ndindex(3, 3, 3) if d != (1, 1, 1)], dtype=float) - 1.0
+_DIRECTIONS /= np.linalg.norm(_DIRECTIONS, axis=1, keepdims=True)
+
+
+@dataclass(frozen=True)
+class _Robot:
+    """The robot at q for the self-filter: its balls (the index of candidate parts) and each
+    part as a 26-DOP (the box of 26 directions holding its convex hull)."""
+
+    centres: np.ndarray   # (S, 3) [m] ball centres, base frame
+    radii: np.ndarray     # (S,) [m] radii grown by the margin
+    part: np.ndarray      # (S,) int64 part of each ball
+    planes: np.ndarray    # (G, 26, 4): n (unit, base frame) and offset d: the part is in n.x <= d
+    margin: float
+
+
+def _robot(checker, q, margin: float) -> _Robot:
+    """The robot at q (dof,) for the self-filter (empty without q)."""
     if q is None:
-        C, r = np.zeros((0, 3)), np.zeros(0)
-    else:
-        q = checker.kinematics.check_q(q, "q")
-        if q.ndim != 1:
-            raise InvalidInputError(f"q must be one configuration ({checker.kinematics.dof},); got {q.shape}")
-        C, r, _ = checker.spheres(q)
-        r = r + margin
-    return np.ascontiguousarray(C, dtype=np.float64), np.ascontiguousarray(r, dtype=np.float64)
+        return _Robot(np.zeros((0, 3)), np.zeros(0), np.zeros(0, dtype=np.int64), np.zeros((0, 26, 4)), margin)
+    q = checker.kinematics.check_q(q, "q")
+    if q.ndim != 1:
+        raise InvalidInputError(f"q must be one configuration ({checker.kinematics.dof},); got {q.shape}")
+    st = checker.state
+    C, r, _ = checker.spheres(q)
+    R, p = st.joint_transforms(q[None])
+    tb = st.motion_bounds
+    planes = np.empty((len(st.parts), 26, 4))
+    for g, part in enumerate(st.parts):
+        Rw = R[0, part.joint] @ part.R
+        pw = p[0, part.joint] + R[0, part.joint] @ part.p
+        n = _DIRECTIONS @ Rw.T                     # the directions in the base frame
+        support = tb.support[g] @ Rw.T + pw        # points whose hull (grown by support_radius) holds the part
+        planes[g, :, :3] = n
+        planes[g, :, 3] = (support @ n.T).max(axis=0) + tb.support_radius[g]
+    return _Robot(np.ascontiguousarray(C, dtype=np.float64), np.ascontiguousarray(r + margin, dtype=np.float64),
+                  np.ascontiguousarray(st.fine.part, dtype=np.int64), np.ascontiguousarray(planes), margin)
 
 
 def reach(checker) -> float:
@@ -244,9 +271,10 @@ def integrate_depth(checker, depth, intrinsics, camera_pose: Pose, *, name: str 
     b = _bounds(bounds, unknown)
     R = np.ascontiguousarray(pose.rotation @ WORLD_AXES_TO_OPTICAL)
     t = np.ascontiguousarray(pose.position, dtype=np.float64)
-    C, r = _robot_balls(checker, q, margin)
+    rob = _robot(checker, q, margin)
     keys, on_robot = depth_cells(d, fx, fy, cx, cy, R, t, rng, res, np.zeros(3), reach(checker) + 0.1,
-                                 C, r, SELF_CELL, *sphere_index(C, r, SELF_CELL))
+                                 rob.centres, rob.radii, rob.part, rob.planes, rob.margin, SELF_CELL,
+                                 *sphere_index(rob.centres, rob.radii, SELF_CELL))
     logger.debug("depth image: %d points kept, %d on the robot", keys.size, on_robot)
 
     def seen_free(cells: np.ndarray) -> np.ndarray:
@@ -295,7 +323,7 @@ def integrate_pointcloud(checker, points, origin=None, *, name: str = "camera", 
     o = np.zeros(3) if origin is None else as_real_array(origin, "origin")
     if o.shape != (3,) or not np.all(np.isfinite(o)):
         raise InvalidInputError(f"origin must be a finite position (3,) [m] or None; got {origin!r}")
-    C, r = _robot_balls(checker, q, margin)
+    rob = _robot(checker, q, margin)
     n = CLOUD_PIXELS
     f = n / 2.0   # 90 deg per face
     faces = []
@@ -313,7 +341,7 @@ def integrate_pointcloud(checker, points, origin=None, *, name: str = "camera", 
             faces.append((np.ascontiguousarray(Rf), img))
     dist = np.linalg.norm(P - o, axis=1) if origin is not None else np.zeros(P.shape[0])
     keep = (dist <= rng) & (np.linalg.norm(P, axis=1) <= reach(checker) + 0.1)
-    keys = _cloud_cells(P[keep], None if origin is None else o, res, C, r)
+    keys = _cloud_cells(P[keep], None if origin is None else o, res, rob)
 
     def seen_free(cells: np.ndarray) -> np.ndarray:
         out = np.zeros(cells.shape[0], dtype=bool)
@@ -325,17 +353,15 @@ def integrate_pointcloud(checker, points, origin=None, *, name: str = "camera", 
     return _update(checker, name, res, unknown, b, _Frame(keys, seen_free))
 
 
-def _cloud_cells(P: np.ndarray, origin: np.ndarray | None, res: float, C: np.ndarray, r: np.ndarray) -> np.ndarray:
-    """Keys of the cells of points P (N, 3) [m] that lie off the robot's balls (C, r); with an
-    origin, a point within SNAP before a cell face along its ray counts in the cell behind."""
+def _cloud_cells(P: np.ndarray, origin: np.ndarray | None, res: float, rob: _Robot) -> np.ndarray:
+    """Keys of the cells of points P (N, 3) [m] off the robot (`_Robot`); with an origin, a
+    point within SNAP before a cell face along its ray counts in the cell behind."""
     if P.shape[0] == 0:
         return np.zeros(0, dtype=np.int64)
-    if C.shape[0]:
-        on = np.zeros(P.shape[0], dtype=bool)
-        for s in range(0, P.shape[0], 20000):
-            blk = P[s:s + 20000]
-            on[s:s + 20000] = np.any(((blk[:, None, :] - C[None]) ** 2).sum(axis=2) <= r[None] ** 2, axis=1)
-        P = P[~on]
+    if rob.planes.shape[0]:
+        P = np.ascontiguousarray(P, dtype=np.float64)
+        P = P[~on_robot(P, rob.centres, rob.radii, rob.part, rob.planes, rob.margin, SELF_CELL,
+                        *sphere_index(rob.centres, rob.radii, SELF_CELL))]
     if origin is not None:
         ray = P - origin
         P = P + SNAP * ray / np.maximum(np.linalg.norm(ray, axis=1, keepdims=True), 1e-12)

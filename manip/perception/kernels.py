@@ -4,7 +4,8 @@ Cells are those of `manip.collision.occupancy`: cell (i, j, k) is the box [i r, 
 (r the resolution) in the robot base frame; a cell is named by one int64 key
 (`pack`: 21 bits per axis, |index| < 2^20).
 
-- `sphere_index`: the robot's balls at q in a grid of cells (CSR), for the self-filter;
+- `sphere_index`, `on_robot`: the robot's balls at q in a grid of cells (CSR), through which
+  the self-filter finds the parts (each a 26-DOP) a point may lie on;
 - `depth_cells`: back-projects a depth image (pinhole, distance to the image plane) into the
   base frame, drops the points within a ball of the robot and beyond the range, and returns
   the key of each point's cell (a point within `SNAP` [m] before a cell face along its ray
@@ -107,28 +108,54 @@ def sphere_index(centres, radii, res):
                         else:
                             members[fill[c]] = s
                             fill[c] += 1
-    # cells wholly inside a ball: every point there is on the robot
-    full = np.zeros(ncell, dtype=np.bool_)
-    for c in range(ncell):
-        i = c // (shape[1] * shape[2])
-        j = (c // shape[2]) % shape[1]
-        k = c % shape[2]
-        for m in range(count[c], count[c + 1]):
-            s = members[m]
-            far = 0.0
-            for a, idx in ((0, i), (1, j), (2, k)):
-                x = (lo[a] + idx) * res - centres[s, a]
-                y = x + res
-                far += max(x * x, y * y)
-            if far <= radii[s] * radii[s]:
-                full[c] = True
+    return lo, shape, count, members
+
+
+@kernel(inline="always")
+def _robot_point(y0, y1, y2, centres, radii, ball_part, planes, margin, cell, lo, shape, start, members):
+    """True when the point lies within `margin` of a part's 26-DOP, a part found through the
+    (grown) balls of the point's cell of `sphere_index`."""
+    i = int(math.floor(y0 / cell)) - lo[0]
+    j = int(math.floor(y1 / cell)) - lo[1]
+    k = int(math.floor(y2 / cell)) - lo[2]
+    if i < 0 or j < 0 or k < 0 or i >= shape[0] or j >= shape[1] or k >= shape[2]:
+        return False
+    c = (i * shape[1] + j) * shape[2] + k
+    last = -1
+    for m in range(start[c], start[c + 1]):
+        ball = members[m]
+        g = ball_part[ball]
+        if g == last:
+            continue
+        g0 = y0 - centres[ball, 0]
+        g1 = y1 - centres[ball, 1]
+        g2 = y2 - centres[ball, 2]
+        if g0 * g0 + g1 * g1 + g2 * g2 > radii[ball] * radii[ball]:
+            continue
+        last = g
+        inside = True
+        for f in range(planes.shape[1]):
+            if planes[g, f, 0] * y0 + planes[g, f, 1] * y1 + planes[g, f, 2] * y2 - planes[g, f, 3] > margin:
+                inside = False
                 break
-    return lo, shape, count, members, full
+        if inside:
+            return True
+    return False
+
+
+@kernel
+def on_robot(X, centres, radii, ball_part, planes, margin, cell, lo, shape, start, members):
+    """(N,) bool: which points X (N, 3) [m] lie on the robot (`_robot_point`)."""
+    out = np.zeros(X.shape[0], dtype=np.bool_)
+    for n in range(X.shape[0]):
+        out[n] = _robot_point(X[n, 0], X[n, 1], X[n, 2], centres, radii, ball_part, planes, margin, cell, lo, shape,
+                              start, members)
+    return out
 
 
 @kernel
 def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, reach_c, reach_r,
-                centres, radii, cell, lo, shape, start, members, full):
+                centres, radii, ball_part, planes, margin, cell, lo, shape, start, members):
     """Keys (P,) of the cells of the depth image's points (repeats mostly removed), and the
     number of points dropped on the robot.
 
@@ -139,8 +166,9 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, reach_c, reach_r,
         max_range: points farther than this from the camera [m] are dropped.
         res: cell edge [m].
         reach_c, reach_r: (3,) and [m]: points outside this ball are dropped (beyond reach).
-        centres, radii, cell, lo, shape, start, members, full: the robot's balls and their
-            index (`sphere_index` with cells of edge `cell` [m]).
+        centres, radii, ball_part, planes, margin, cell, lo, shape, start, members: the
+            robot (`_robot_point`): balls grown by the margin, their parts, the parts' 26-DOPs
+            (G, 26, 4), and the balls' index (`sphere_index` with cells of edge `cell` [m]).
     """
     H, W = depth.shape
     out = np.empty(H * W, dtype=np.int64)
@@ -192,9 +220,6 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, reach_c, reach_r,
                 j = min(int((x1 - box_lo[1]) * icell), shape[1] - 1)
                 k = min(int((x2 - box_lo[2]) * icell), shape[2] - 1)
                 c = (i * shape[1] + j) * shape[2] + k
-                if full[c]:
-                    on_robot += 1
-                    continue
                 if start[c + 1] > start[c]:
                     pending[n_pending, 0] = x0 + SNAP * d0
                     pending[n_pending, 1] = x1 + SNAP * d1
@@ -209,23 +234,10 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, reach_c, reach_r,
                 recent[slot] = key
                 out[P] = key
                 P += 1
-    # the points near the robot's surface: each against the balls of its cell
+    # the points near the robot: each against the parts of the balls of its cell
     for n in range(n_pending):
         y0, y1, y2 = pending[n, 0], pending[n, 1], pending[n, 2]
-        i = min(max(int((y0 - box_lo[0]) * icell), 0), shape[0] - 1)
-        j = min(max(int((y1 - box_lo[1]) * icell), 0), shape[1] - 1)
-        k = min(max(int((y2 - box_lo[2]) * icell), 0), shape[2] - 1)
-        c = (i * shape[1] + j) * shape[2] + k
-        hit = False
-        for m in range(start[c], start[c + 1]):
-            ball = members[m]
-            g0 = y0 - centres[ball, 0]
-            g1 = y1 - centres[ball, 1]
-            g2 = y2 - centres[ball, 2]
-            if g0 * g0 + g1 * g1 + g2 * g2 <= radii[ball] * radii[ball]:
-                hit = True
-                break
-        if hit:
+        if _robot_point(y0, y1, y2, centres, radii, ball_part, planes, margin, cell, lo, shape, start, members):
             on_robot += 1
             continue
         out[P] = pack(int(math.floor(y0 * inv)), int(math.floor(y1 * inv)), int(math.floor(y2 * inv)))
