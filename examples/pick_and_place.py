@@ -21,7 +21,8 @@ with --perturb, to play the person who moves it away). Every motion is a MotionG
 trajectory replayed as one ArticulationAction per 1/60 s step; the arm's PD drives also get
 gravity compensation from the robot model, as on the real Panda. The planner sees the
 World's objects except the robot, the ground and the cube, keeps 1 cm from obstacles, and a
-floor guard 1 cm above the ground keeps free-space motions off the floor. A failed plan is
+floor guard 1 cm above the ground keeps free-space motions off the floor (with --perceive, the
+planner sees only what two depth cameras see: examples/perception_rig.py). A failed plan is
 retried from the measured state with a new seed; the grasp is checked before the cube is
 attached to the planner's hand (the cube must be between the closed fingers: a cube that
 was pushed or moved away is reported as a failed grasp, with where it is, and picked up
