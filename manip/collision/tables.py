@@ -309,7 +309,7 @@ class ObstacleTables:
         #: (obstacle index, tables) of the occupancy maps (`manip.collision.occupancy`), which
         #: the closed-form shapes see as a row far away: their own kernels bound them
         self.occupancy_maps = tuple((i, ob.broadphase_tables) for i, ob in enumerate(self.obstacles)
-                          if isinstance(ob, OccupancyMap))
+                                    if isinstance(ob, OccupancyMap))
         #: the obstacle tables of `broadphase.world_candidates`
         self.broadphase = (np.ascontiguousarray(self.R), np.ascontiguousarray(self.c), np.ascontiguousarray(self.h),
                            np.ascontiguousarray(self.rho), np.ascontiguousarray(self.cyl))
@@ -355,9 +355,9 @@ class ObstacleTables:
     def below_base(self, index: int | slice = slice(None)) -> np.ndarray:
         """(O,) True for the obstacles wholly below the base frame's xy-plane (their bounding
         shape's top at most SUPPORT_TOLERANCE [m] above z = 0): the ground or table the
-        robot stands on (or that entry only, for an int `index`). Their contacts with the
-        parts fixed to the base are not checked (no motion changes them); every moving part
-        is checked against them."""
+        robot stands on (or that entry only, for an int `index`), and the occupancy maps
+        (what cameras saw, floor included). Their contacts with the parts fixed to the base
+        are not checked (no motion changes them); every moving part is checked against them."""
         R, h = self.R[index], self.h[index]
         top = self.c[index, 2] + (np.abs(R[..., 2, :]) * h).sum(axis=-1) + self.rho[index]
         below = top <= SUPPORT_TOLERANCE
