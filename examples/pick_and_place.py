@@ -13,6 +13,7 @@ the place position and has come to rest, it is picked up and placed again.
     python examples/pick_and_place.py --perturb --video pick.mp4 --plot joints.png
     python examples/pick_and_place.py --viewer              # interactive MuJoCo window
     python examples/pick_and_place.py --viewer web          # in the browser, served until Ctrl-C
+    python examples/pick_and_place.py --perceive --obstacles  # obstacles only from two depth cameras
 
 The physics is honest: the cube moves only by contact and friction with the fingers (no
 welding, no teleporting; the script moves the cube itself only to start an episode and,
@@ -20,7 +21,8 @@ with --perturb, to play the person who moves it away). Every motion is a MotionG
 trajectory replayed as one ArticulationAction per 1/60 s step; the arm's PD drives also get
 gravity compensation from the robot model, as on the real Panda. The planner sees the
 World's objects except the robot, the ground and the cube, keeps 1 cm from obstacles, and a
-floor guard 1 cm above the ground keeps free-space motions off the floor. A failed plan is
+floor guard 1 cm above the ground keeps free-space motions off the floor (with --perceive, the
+planner sees only what two depth cameras see: examples/perception_rig.py). A failed plan is
 retried from the measured state with a new seed; the grasp is checked before the cube is
 attached to the planner's hand (the cube must be between the closed fingers: a cube that
 was pushed or moved away is reported as a failed grasp, with where it is, and picked up
@@ -119,6 +121,17 @@ def grasp_yaw(cube_position: np.ndarray, cube_orientation: np.ndarray) -> float:
 
 
 # ---------------------------------------------------------------------------- scene
+def _perception_rig():
+    """examples/perception_rig.py (the --perceive cameras), loaded beside this file."""
+    import importlib.util
+
+    path = Path(__file__).resolve().with_name("perception_rig.py")
+    spec = importlib.util.spec_from_file_location("perception_rig", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
 def obstacle_boxes(seed: int) -> list[tuple[str, np.ndarray, np.ndarray, float]]:
     """A few fixed boxes between and around the pick area and the place position.
 
@@ -230,7 +243,7 @@ class PickAndPlace:
     """
 
     def __init__(self, seed: int = 0, obstacles: bool = False, cube_mass: float = 0.05, viewer: bool | str = False,
-                 video: str | None = None, verbose: bool = True, record_joints: bool = False):
+                 video: str | None = None, verbose: bool = True, record_joints: bool = False, perceive: bool = False):
         self.seed = int(seed)
         self.verbose = verbose
         self.record_joints = record_joints
@@ -252,6 +265,8 @@ class PickAndPlace:
         self.world.scene.add(VisualCuboid("/World/PlaceMarker", name="place_marker", size=1.0,
                                           position=PLACE_POSITION * [1, 1, 0] + [0, 0, 0.0005],
                                           scale=[CUBE_SIZE + 0.01, CUBE_SIZE + 0.01, 0.001], color=[0.1, 0.8, 0.2]))
+        # --perceive: two depth cameras, the planner's only source of obstacles (examples/perception_rig.py)
+        self.rig = _perception_rig().CameraRig() if perceive else None
         self.world.reset()
         self._box_mask = None  # geoms of the obstacle boxes (to count contacts with them)
         if box_prims:
@@ -348,10 +363,19 @@ class PickAndPlace:
     def sync_obstacles(self, ground: bool = False) -> None:
         """The planner's world := the World's collision objects (robot and cube ignored; the
         ground too unless `ground`: the grasp and place sequences keep the robot off it, and
-        may let the cube touch it where it lies or is put down)."""
+        may let the cube touch it where it lies or is put down); with --perceive, what the
+        cameras see instead (`refresh_map`)."""
+        if self.rig is not None:
+            self.refresh_map()
+            return
         ignore = [self.cube.prim_path, self.cube.name, *([] if ground else self.ground)]
         self.mg.update_world_from_sim(self.world, self.robot, ignore=ignore)
         self._floor_on = False
+
+    def refresh_map(self) -> None:
+        """--perceive: both depth cameras into the planner's occupancy map, the cube left out."""
+        self.rig.refresh(self.mg, self.planning_start(), Pose(*self.robot.get_world_pose()), Pose(*self.cube_pose()),
+                         CUBE_SIZE)
 
     def set_floor_guard(self, on: bool) -> None:
         """Add (or remove) the planner's floor guard: boxes whose top is FLOOR_CLEARANCE above
@@ -377,6 +401,8 @@ class PickAndPlace:
         last = None
         for attempt in range(PLAN_TRIES):
             self._plan_seed += 1
+            if self.rig is not None:
+                self.refresh_map()   # the map as the cameras see the World now
             start = self.planning_start()
             self.set_floor_guard(not linear)
             if isinstance(goal, Pose) and linear:
@@ -725,6 +751,9 @@ def main(argv: list[str] | None = None) -> int:
                              "a video takes about 90 times as long.")
     parser.add_argument("--plot", metavar="PATH", help="Write a PNG of the joint position, velocity, acceleration "
                         "and jerk of the last episode's motions, limits drawn.")
+    parser.add_argument("--perceive", action="store_true",
+                        help="The planner gets no obstacles from the simulator, only what two simulated depth cameras "
+                             "see (an occupancy map refreshed before each motion).")
     parser.add_argument("--quiet", action="store_true", help="Print no per-phase progress lines.")
     args = parser.parse_args(argv)
     if args.episodes < 1:
@@ -741,7 +770,8 @@ def main(argv: list[str] | None = None) -> int:
 
     try:
         demo = PickAndPlace(seed=args.seed, obstacles=args.obstacles, cube_mass=args.cube_mass, viewer=args.viewer,
-                            video=args.video, verbose=not args.quiet, record_joints=args.plot is not None)
+                            video=args.video, verbose=not args.quiet, record_joints=args.plot is not None,
+                            perceive=args.perceive)
     except (SimulationError, OffscreenRenderingError) as exc:  # no display for --viewer, no GL/ffmpeg for --video
         hint = ("\n  (no display? --viewer web shows it in the browser instead)"
                 if args.viewer == "native" and isinstance(exc, SimulationError) else "")

@@ -394,7 +394,6 @@ class MotionGenerator(WorldEdits):
             raise InvalidInputError(f"{what} must have shape ({self.robot_dof},) (one configuration); got {q.shape}")
         return q
 
-
     # ------------------------------------------------------------------ planning
     def plan_joints(self, start_q, goal_q, **options) -> PlanResult:
         """Plan a collision-free, time-parameterised motion from `start_q` to `goal_q`.

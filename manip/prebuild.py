@@ -73,6 +73,7 @@ def workload(robots: list[str]) -> list[str]:
     mg.check_collision(q0)
     _reactive_control()
     _two_arms()
+    _perception(mg, q0)
     for name in robots:
         if name != "franka":
             MotionGenerator(name)
@@ -99,6 +100,25 @@ def _reactive_control() -> None:
     q = ctl.rest_configuration
     for _ in range(3):
         q = ctl.step(q, Pose([0.45, 0.0, 0.3], [0, 1, 0, 0]), 1 / 60).q
+
+
+def _perception(mg, q0) -> None:
+    """Depth images and a cloud into an occupancy map, then a plan on it (the map's kernels)."""
+    from manip import Pose
+
+    mg.update_world({})
+    K = np.array([[40.0, 0.0, 31.5], [0.0, 40.0, 23.5], [0.0, 0.0, 1.0]])
+    down = Pose([0.6, 0.0, 1.0], [np.sqrt(0.5), 0.0, np.sqrt(0.5), 0.0])   # +X forward turned to -Z
+    depth = np.full((48, 64), 1.0, dtype=np.float32)
+    mg.update_world_from_depth(depth, K, down, q=q0)
+    mg.update_world_from_depth(depth * 1.2, K, down, q=q0)    # the first plane seen through: freed
+    mg.update_world_from_depth(depth, K, down, name="bounded", unknown="occupied", bounds=[[0.3, -0.3, -0.3], [0.9, 0.3, 0.1]])
+    m = mg.update_world_from_pointcloud(np.array([[0.6, 0.0, -0.2], [0.7, 0.1, -0.2]]), origin=[0.6, 0.0, 1.0], q=q0)
+    m.contains_points(np.array([[0.6, 0.0, -0.19]]))
+    mg.distance(q0)
+    r = mg.plan_pose(q0, Pose([0.45, 0.3, 0.35], [0, 1, 0, 0]), seed=0, time_budget=900.0)
+    if not r.success:
+        raise RuntimeError(f"the prebuild workload's plan on an occupancy map failed: {r.status.name}")
 
 
 def _child(out: Path, robots: list[str]) -> None:

@@ -3,12 +3,13 @@
 Obstacles (`update_world`, `add_obstacle`, `remove_obstacle`, `update_obstacle_pose`), objects
 carried by the robot (`attach_object`, `detach_object`), collision queries at one
 configuration (`check_collision`, `distance`) and the simulator's objects
-(`update_world_from_sim`). Every edit goes to the generator's `CollisionChecker`, which
+(`update_world_from_sim`), and what cameras see (`update_world_from_depth`,
+`update_world_from_pointcloud`: an occupancy map, `manip.perception`). Every edit goes to the generator's `CollisionChecker`, which
 serialises edits and hands each query and plan one snapshot (see `MotionGenerator`'s
 threading contract).
 
 Needs, from the class it is mixed into: `checker`, `kinematics`, `config`,
-`default_joint_positions`, `_one_q` and `_link`.
+`default_joint_positions`, `_one_q`, `_arm_q` and `_link`.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ import numpy as np
 
 from manip.collision import WorldConfig
 from manip.errors import InvalidInputError
+from manip.perception import integrate_depth, integrate_pointcloud
 from manip.planning.arms import shared_attachment
 from manip.pose import Pose
 from manip.sim_bridge import world_config_from_sim
@@ -108,3 +110,35 @@ class WorldEdits:
         cfg = world_config_from_sim(world, robot, ignore, base_in_robot=arms[0].base_pose.inverse() if arms else None)
         self.update_world(cfg)
         return cfg
+
+    def update_world_from_depth(self, depth, intrinsics, camera_pose, *, name="camera", resolution=0.02, q=None,
+                                max_range=3.0, unknown="free", bounds=None, self_margin=0.01):
+        """Integrate one depth image into the occupancy obstacle `name` (created on first use).
+
+        Args:
+            depth: (H, W) float32/float64 distance to the image plane [m] (inf or 0: no return).
+            intrinsics: (3, 3) camera matrix [px].
+            camera_pose: `Pose` of the camera in the robot base frame (Isaac's camera axes:
+                +X forward, +Z up).
+            name: the map's obstacle name; `remove_obstacle(name)` clears it.
+            resolution: cell edge [m]. q: (dof,) configuration whose links are filtered out
+                (default: the default configuration). max_range: farther returns are ignored [m].
+            unknown: "free" (cells never seen are free) or "occupied" (within `bounds`,
+                ((3,), (3,)) [m] in the base frame, unseen cells are obstacles).
+            self_margin: points within this of the robot's geometry are dropped [m].
+
+        Rays mark their end cells occupied and the cells they cross free; details and what the
+        map guarantees: `manip.perception.integrate`.
+        """
+        return integrate_depth(self.checker, depth, intrinsics, camera_pose, q=self._arm_q(q, "q"), name=name,
+                               resolution=resolution, max_range=max_range, unknown=unknown, bounds=bounds,
+                               self_margin=self_margin)
+
+    def update_world_from_pointcloud(self, points, origin=None, *, name="camera", resolution=0.02, q=None,
+                                     max_range=3.0, unknown="free", bounds=None, self_margin=0.01):
+        """Integrate a point cloud `points` (N, 3) [m] (base frame) seen from `origin` (3,) [m] into
+        the occupancy obstacle `name`; the other arguments as `update_world_from_depth` (without
+        `origin`, no ray frees a cell)."""
+        return integrate_pointcloud(self.checker, points, origin, q=self._arm_q(q, "q"), name=name,
+                                    resolution=resolution, max_range=max_range, unknown=unknown, bounds=bounds,
+                                    self_margin=self_margin)

@@ -140,6 +140,22 @@ def test_episode_with_obstacles_avoids_them():
     demo.close()
 
 
+def test_episode_perceiving_avoids_the_obstacles_the_cameras_see():
+    demo = pp.PickAndPlace(seed=2, obstacles=True, verbose=False, perceive=True)
+    r = demo.run_episode(0)
+    assert r.placed, r.reason
+    assert_placed_in_simulator(demo)
+    assert r.obstacle_contact_steps == 0
+    # the planner's only obstacle from the World is the cameras' map (besides its own floor guard)
+    assert [n for n in demo.mg.world.names if not n.startswith("floor_guard")] == ["camera"]
+    occupancy = demo.mg.world.get("camera")
+    for name, c, dims, yaw in demo.boxes:   # each box's top is in the map
+        assert occupancy.contains_points(np.array([c + [0.0, 0.0, dims[2] / 2 - 1e-6]])), name
+    assert not occupancy.contains_points(demo.cube.get_world_pose()[0][None])   # the cube to pick is left out
+    assert demo.rig.frames >= 2 * r.plans
+    demo.close()
+
+
 def test_grasp_is_turned_by_90_degrees_when_the_hand_would_hit_an_obstacle():
     demo = pp.PickAndPlace(seed=1, obstacles=True, verbose=False)
     _, c, dims, yaw = next(b for b in demo.boxes if b[0] == "wall")

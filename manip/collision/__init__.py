@@ -1,7 +1,8 @@
 """The planner's world and collision checking.
 
 - `WorldConfig` and its shapes (`Cuboid`, `Sphere`, `Cylinder`, `Capsule`, `Mesh`), in
-  cuRobo's world format.
+  cuRobo's world format, and `OccupancyMap` (occupied voxel cells, `manip.collision.occupancy`:
+  what cameras saw, `manip.perception`).
 - `CollisionChecker`: exact (coal) robot-vs-world and self-collision checks with a
   vectorised sphere broadphase generated automatically from the robot's meshes; what it
   returns (`Contact`, `CollisionReport`, `DistanceReport`, `PathCheck`, `AttachedObject`)
@@ -16,6 +17,7 @@ from __future__ import annotations
 
 from manip.collision.certify import MotionCertificate
 from manip.collision.checker import CollisionChecker
+from manip.collision.occupancy import OccupancyMap
 from manip.collision.results import AttachedObject, CollisionReport, Contact, DistanceReport, PathCheck
 from manip.collision.robot_geometry import RobotGeometry, RobotPart
 from manip.collision.shapes import Capsule, Cuboid, Cylinder, Mesh, Obstacle, Sphere
@@ -36,6 +38,7 @@ __all__ = [
     "Mesh",
     "MotionCertificate",
     "Obstacle",
+    "OccupancyMap",
     "PathCheck",
     "RobotGeometry",
     "RobotPart",

@@ -50,6 +50,7 @@ import coal
 import numpy as np
 
 from manip.collision import broadphase
+from manip.collision.occupancy import occupancy_candidates
 from manip.collision.robot_geometry import geometry_triangles
 from manip.collision.shapes import Capsule, Cuboid, Cylinder, Mesh, Sphere
 from manip.collision.solids import part_inside_a_solid
@@ -503,8 +504,11 @@ def certify_path(state: CollisionState, path: np.ndarray) -> MotionCertificate:
     # world pairs
     O = len(st.obstacles)
     if O and st.moving_world_parts:
-        n, g, o, d = _candidates(broadphase.world_candidates, R, p, sample_margins(B_part, pad),
-                                 (*st.world_tables, *st.obstacle_tables))
+        margins = sample_margins(B_part, pad)
+        n, g, o, d = _candidates(broadphase.world_candidates, R, p, margins, (*st.world_tables, *st.obstacle_tables))
+        if st.occupancy_maps:   # occupancy maps: their own bounds (`manip.collision.occupancy`)
+            extra = occupancy_candidates(R, p, margins + _EPS, st.world_tables, st.occupancy_maps)
+            n, g, o, d = (np.concatenate(c) for c in zip((n, g, o, d), extra))
         if n.size and st.allowed_world is not None:  # contacts allowed (`CollisionChecker.allowing`)
             n, g, o, d = (a[~st.allowed_world[g, o]] for a in (n, g, o, d))
         if n.size:

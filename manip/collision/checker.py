@@ -49,6 +49,7 @@ import numpy as np
 from manip.collision import broadphase
 from manip.collision.certify import MotionCertificate, certify_path
 from manip.collision.edits import WorldEdits
+from manip.collision.occupancy import occupancy_candidates
 from manip.collision.results import (  # noqa: F401  (re-exported: manip.collision.checker.X keeps working)
     AttachedObject,
     CollisionReport,
@@ -126,7 +127,8 @@ class CollisionChecker(WorldEdits, SegmentChecks):
                 moving_world_parts=bool(self._l0_joint.size), obstacle_tables=tuple(self._bp_obstacles),
                 self_tables=tuple(self._bp_self), self_pairs=self._bp_pairs,
                 allowed_world=self.__dict__.get("_allowed_world"), _collides=self._check,
-                _motion_free=self._motion_free_at, _segments_free=self._segments_free, _advance=self._advance_to)
+                _motion_free=self._motion_free_at, _segments_free=self._segments_free, _advance=self._advance_to,
+                occupancy_maps=tuple(self._occupancy))
         return state
 
     # ------------------------------------------------------------------ geometry helpers
@@ -162,6 +164,14 @@ class CollisionChecker(WorldEdits, SegmentChecks):
                 n, g, o, d = n[keep], g[keep], o[keep], d[keep]
             if n.size:
                 found.append((n, np.zeros(n.size, dtype=np.int64), g, o, d))
+            if self._occupancy:   # occupancy maps: their own bounds (`manip.collision.occupancy`)
+                n, g, o, d = occupancy_candidates(R, p, np.full(R.shape[0], self._padding + 1e-9), self._bp_world,
+                                                  self._occupancy, exact_depth=False)
+                if allowed is not None and n.size:
+                    keep = ~allowed[g, o]
+                    n, g, o, d = n[keep], g[keep], o[keep], d[keep]
+                if n.size:
+                    found.append((n, np.zeros(n.size, dtype=np.int64), g, o, d))
         if self_ and self._bpairs.shape[0]:
             if not (Q.flags.c_contiguous and Q.flags.writeable and Q.dtype == np.float64):
                 Q = np.array(Q, dtype=np.float64)  # one compiled signature of the kernel

@@ -7,7 +7,9 @@ exact geometry at least that far from the obstacles. For each configuration, eac
 joint body and each obstacle, the nearest ball gives one term when it is closer than an
 activation distance: its signed distance `d` and `grad = n^T J_p` (dof,), where `n` is the
 obstacle's distance gradient at the ball's centre (unit, by central differences on the
-closed-form distance) and `J_p` (3, dof) the translational Jacobian of the centre.
+closed-form distance) and `J_p` (3, dof) the translational Jacobian of the centre. An
+occupancy map (`manip.collision.occupancy`) gives its terms the same way, from the exact
+distance to its cells (`occupancy_kernels.map_nearest_terms`).
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ from typing import NamedTuple
 import numpy as np
 
 from manip.collision.broadphase import _obstacle_sd, _place
+from manip.collision.occupancy_kernels import map_nearest_terms
 from manip.jit import kernel
 
 #: Central-difference step [m] of the obstacle distance gradient at a ball centre.
@@ -103,6 +106,9 @@ class ClearanceModel:
         R, p = st.joint_transforms(Q)
         tables = self._tables(fine, moving)
         n_i, s_i, o_i, dist, x, normal = _nearest_terms(R, p, *tables, float(activation), *st.obstacle_tables)
+        for o, grid in st.occupancy_maps:   # occupancy maps: their own distances (`collision.occupancy`)
+            extra = map_nearest_terms(R, p, *tables, float(activation), *grid)
+            n_i, s_i, dist, x, normal = (np.concatenate(c) for c in zip((n_i, s_i, dist, x, normal), extra))
         sj = tables[2]
         if n_i.size == 0:
             return empty

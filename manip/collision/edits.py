@@ -137,6 +137,19 @@ class WorldEdits:
             static = [(g, o) for g, o in self._always_colliding if o != index] + self._fixed_part_collisions(tables, index)
             self._set_world_tables(world, tables, static)
 
+    def replace_obstacle(self, obstacle: Obstacle) -> None:
+        """Replace the obstacle of the same name by `obstacle` (e.g. an updated occupancy map),
+        keeping its place in the world; incremental, and atomic for other threads."""
+        with self._writing():
+            if not isinstance(obstacle, Obstacle):
+                raise InvalidInputError(f"obstacle must be a shape; got {type(obstacle).__name__}")
+            world = self._world.copy()
+            index = world.index(obstacle.name)
+            world.replace(obstacle)
+            tables = self._world_tables.replaced(index, obstacle, self._obstacle_cache)
+            static = [(g, o) for g, o in self._always_colliding if o != index] + self._fixed_part_collisions(tables, index)
+            self._set_world_tables(world, tables, static)
+
     def set_gripper_positions(self, positions: Sequence[float] | np.ndarray | None) -> None:
         """Finger positions [m] the collision model assumes (None = the planning positions).
 
@@ -242,6 +255,7 @@ class WorldEdits:
         self._world = world
         self._world_tables = w
         self._obs, self._ogeom, self._otf, self._bp_obstacles = w.obstacles, w.geometries, w.transforms, w.broadphase
+        self._occupancy = w.occupancy_maps
         if static is None:
             self._update_always_colliding()
         else:

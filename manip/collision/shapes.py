@@ -473,8 +473,13 @@ SHAPE_TYPES: dict[str, type[Obstacle]] = {
 
 
 def coal_geometry(shape: Obstacle):
-    """A new coal collision geometry of `shape` in its local frame."""
+    """A new coal collision geometry of `shape` in its local frame (a shape with its own
+    `coal_geometry()`, such as an `OccupancyMap`, builds it itself)."""
     import coal
+
+    own = getattr(shape, "coal_geometry", None)
+    if own is not None:
+        return own()
 
     if isinstance(shape, Cuboid):
         return coal.Box(*[float(x) for x in shape.dims])

@@ -231,6 +231,8 @@ def part_inside(geometry, R: np.ndarray, p: np.ndarray, mesh, bvh) -> bool:
     """True when the part `geometry` placed at (R (3, 3), p (3,)) in the base frame has a probe
     point inside the solid `mesh` (a `Mesh` with solid=True) whose coal geometry is `bvh`."""
     X = probe_points(geometry) @ R.T + p
+    if hasattr(mesh, "contains_points"):   # a solid with its own inside test (`OccupancyMap`)
+        return mesh.contains_points(X)
     local = (X - mesh.pose.position) @ mesh.pose.rotation
     return contains(mesh.solid_data, bvh, local)
 

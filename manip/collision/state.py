@@ -51,6 +51,8 @@ class CollisionState:
         self_pairs: (P, 2) the part pairs of `self_tables`, in its order.
         allowed_world: (G, O) bool, the (part, obstacle) pairs never checked (contacts allowed,
             `CollisionChecker.allowing`), or None.
+        occupancy_maps: (obstacle index, tables) of the occupancy maps among the obstacles
+            (`collision.occupancy`: bounded by their own kernels, not by `obstacle_tables`).
     """
 
     kinematics: Kinematics
@@ -73,6 +75,7 @@ class CollisionState:
     _motion_free: Callable[[np.ndarray, np.ndarray, float], bool]
     _segments_free: Callable[[np.ndarray, np.ndarray, float], np.ndarray]
     _advance: Callable[[np.ndarray, np.ndarray, float], tuple[Any, int]]
+    occupancy_maps: tuple = ()
 
     @property
     def every_configuration_collides(self) -> bool:

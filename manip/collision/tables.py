@@ -19,6 +19,7 @@ from typing import Mapping, NamedTuple, Sequence
 import coal
 import numpy as np
 
+from manip.collision.occupancy import OccupancyMap
 from manip.collision.pair_maps import PairMap, convex_hull
 from manip.collision.results import AttachedObject
 from manip.collision.robot_geometry import COARSE_MAX_SPHERES, COARSE_TOLERANCE, RobotGeometry, sphere_cover
@@ -264,6 +265,8 @@ def part_tables(parts: Sequence[Part], pairs: Sequence[tuple[int, int]],
 #: An obstacle whose top lies at most this far [m] above the base frame's xy-plane counts as
 #: the surface the robot stands on (`ObstacleTables.below_base`).
 SUPPORT_TOLERANCE = 1e-3
+#: Where the closed-form broadphase shapes put an occupancy map [m] (never near the robot).
+_FAR = 1e6
 
 
 class ObstacleTables:
@@ -303,6 +306,10 @@ class ObstacleTables:
 
     def _index_broadphase(self) -> None:
         self.any_cyl = bool(self.cyl.any())
+        #: (obstacle index, tables) of the occupancy maps (`manip.collision.occupancy`), which
+        #: the closed-form shapes see as a row far away: their own kernels bound them
+        self.occupancy_maps = tuple((i, ob.broadphase_tables) for i, ob in enumerate(self.obstacles)
+                                    if isinstance(ob, OccupancyMap))
         #: the obstacle tables of `broadphase.world_candidates`
         self.broadphase = (np.ascontiguousarray(self.R), np.ascontiguousarray(self.c), np.ascontiguousarray(self.h),
                            np.ascontiguousarray(self.rho), np.ascontiguousarray(self.cyl))
@@ -348,23 +355,38 @@ class ObstacleTables:
     def below_base(self, index: int | slice = slice(None)) -> np.ndarray:
         """(O,) True for the obstacles wholly below the base frame's xy-plane (their bounding
         shape's top at most SUPPORT_TOLERANCE [m] above z = 0): the ground or table the
-        robot stands on (or that entry only, for an int `index`). Their contacts with the
-        parts fixed to the base are not checked (no motion changes them); every moving part
-        is checked against them."""
+        robot stands on (or that entry only, for an int `index`), and the occupancy maps
+        (what cameras saw, floor included). Their contacts with the parts fixed to the base
+        are not checked (no motion changes them); every moving part is checked against them."""
         R, h = self.R[index], self.h[index]
         top = self.c[index, 2] + (np.abs(R[..., 2, :]) * h).sum(axis=-1) + self.rho[index]
-        return top <= SUPPORT_TOLERANCE
+        below = top <= SUPPORT_TOLERANCE
+        for i, _ in self.occupancy_maps:   # what cameras saw is never checked against the base's links
+            if isinstance(index, slice):
+                below[i] = True
+            elif i == index:
+                return np.True_
+        return below
 
     def signed_distances(self, X: np.ndarray) -> np.ndarray:
         """Signed distances (M, O) of points X (M, 3) to every obstacle's broadphase shape."""
         d = X[:, None, :] - self.c[None]
         L = np.einsum("moj,oji->moi", d, self.R)
-        return _sd_local(L, self.h[None], self.rho[None], self.cyl[None] if self.any_cyl else None)
+        out = _sd_local(L, self.h[None], self.rho[None], self.cyl[None] if self.any_cyl else None)
+        for i, _ in self.occupancy_maps:
+            out[:, i] = self.obstacles[i].lower_bounds(X)
+        return out
 
 
 def _obstacle_row(ob: Obstacle, cache: dict[int, tuple]) -> tuple:
     """(R (3, 3), centre (3,), half extents (3,), rounding, is_cylinder, coal geometry, coal
     placement) of one obstacle's broadphase shape; the geometry is taken from or put in `cache`."""
+    key = id(ob)
+    if isinstance(ob, OccupancyMap):   # bounded by its own kernels: a point far away here
+        if key not in cache:
+            cache[key] = (ob, coal_geometry(ob))
+        return (np.eye(3), np.full(3, _FAR), np.zeros(3), 0.0, False, cache[key][1],
+                coal_transform(np.eye(3), np.zeros(3)))
     R = ob.pose.rotation
     c_local, h = ob.local_aabb()
     c = ob.pose.position + R @ c_local
@@ -375,7 +397,6 @@ def _obstacle_row(ob: Obstacle, cache: dict[int, tuple]) -> tuple:
         h, rho = np.array([0.0, 0.0, ob.height / 2.0]), ob.radius
     elif isinstance(ob, Cylinder):
         h, cyl = np.array([ob.radius, ob.radius, ob.height / 2.0]), True
-    key = id(ob)
     if key not in cache:  # keep coal geometries of unchanged obstacles
         cache[key] = (ob, coal_geometry(ob))
     return R, c, np.asarray(h, dtype=float), float(rho), cyl, cache[key][1], coal_transform(R, ob.pose.position)

@@ -6,7 +6,8 @@ Reads and writes cuRobo's world format::
      "sphere":   {name: {"radius": r, "position": [x, y, z]}},
      "cylinder": {name: {"radius": r, "height": h, "pose": [...]}},
      "capsule":  {name: {"radius": r, "height": h, "pose": [...]}}   # or "base"/"tip" points
-     "mesh":     {name: {"file_path": path, "pose": [...], "scale": [sx, sy, sz], "solid": false}}}
+     "mesh":     {name: {"file_path": path, "pose": [...], "scale": [sx, sy, sz], "solid": false}},
+     "occupancy": {name: {"resolution": r, "cells": [[i, j, k], ...]}}}   # manip's: an OccupancyMap
 
 A mesh is a surface unless `"solid": true` (a closed mesh as the volume it bounds; see `Mesh`).
 """
@@ -17,10 +18,12 @@ from collections.abc import Iterable, Iterator
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import yaml
 
 from manip.errors import InvalidInputError, UnknownNameError
 from manip.pose import Pose
+from manip.collision.occupancy import OccupancyMap
 from manip.collision.shapes import SHAPE_TYPES, Capsule, Cuboid, Cylinder, Mesh, Obstacle, Sphere
 
 _FIELDS = {
@@ -29,6 +32,7 @@ _FIELDS = {
     "cylinder": ({"radius", "height"}, {"pose"}),
     "capsule": ({"radius"}, {"height", "base", "tip", "pose"}),
     "mesh": (set(), {"file_path", "pose", "scale", "vertices", "faces", "solid"}),
+    "occupancy": ({"resolution", "cells"}, {"pose"}),
 }
 # Keys of cuRobo's entries that carry no geometry (colours, textures): accepted and ignored.
 _IGNORED = {"color", "texture", "tensor_args"}
@@ -238,6 +242,10 @@ def _from_entry(kind: str, name: str, entry: Any, base_dir: str | Path | None) -
         if "height" not in entry:
             raise InvalidInputError(f"capsule '{name}': give either 'height' or both 'base' and 'tip'")
         return Capsule(name, entry["radius"], entry["height"], pose)
+    if kind == "occupancy":
+        if pose is not None and not np.allclose(np.asarray(pose, dtype=float), [0, 0, 0, 1, 0, 0, 0]):
+            raise InvalidInputError(f"occupancy '{name}': an occupancy map lies in the base frame (pose identity)")
+        return OccupancyMap.from_cells(name, entry["resolution"], entry["cells"])
     # mesh
     fp = entry.get("file_path")
     if fp is not None:

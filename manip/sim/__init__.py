@@ -63,6 +63,7 @@ from manip.sim.objects import (
     XFormPrim,
 )
 from manip.sim.core.recording import CameraView, OffscreenRenderingError
+from manip.sim.sensors.camera import Camera
 from manip.sim.utils.rotations import (
     euler_angles_to_quat,
     euler_angles_to_rot_matrix,
@@ -112,7 +113,7 @@ from manip.sim.controllers.rmpflow import RMPFlowController
 #: Every name a ported Isaac script imports (no submodules: `from manip.sim import *` binds names only).
 __all__ = [
     "Articulation", "ArticulationAction", "ArticulationController", "ArticulationView", "BaseController",
-    "BaseSample", "BaseSampleExtension", "BaseTask", "CameraView", "CollisionObject", "DOF_PROPERTIES_DTYPE",
+    "BaseSample", "BaseSampleExtension", "BaseTask", "Camera", "CameraView", "CollisionObject", "DOF_PROPERTIES_DTYPE",
     "DifferentialController", "DynamicCapsule", "DynamicCone", "DynamicCuboid", "DynamicCylinder", "DynamicSphere",
     "DynamicState", "FixedCapsule", "FixedCone", "FixedCuboid", "FixedCylinder", "FixedSphere", "FollowTarget",
     "Franka", "GeometryPrim", "GroundPlane", "HelloWorld", "ISAAC_ASSETS", "JointsState", "OffscreenRenderingError",

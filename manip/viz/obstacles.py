@@ -2,7 +2,8 @@
 
 Every obstacle type of `manip.collision` is drawn as what it is: a `Cuboid` as a box, a
 `Sphere` as an icosphere, a `Cylinder` as a cylinder, a `Capsule` as a capsule mesh, a
-`Mesh` as its (scaled) triangles. Obstacles are nodes `<root>/<name>` in the base frame;
+`Mesh` as its (scaled) triangles, an `OccupancyMap` (what cameras saw) as its occupied cells
+(merged into boxes) in `MAP_COLOR`. Obstacles are nodes `<root>/<name>` in the base frame;
 objects attached to the robot (`MotionGenerator.attach_object`) are drawn in their own
 colour under `<attached_root>/<name>` and follow their link (`AttachedDrawing.update`).
 """
@@ -16,6 +17,7 @@ from typing import Any
 import numpy as np
 import trimesh
 
+from manip.collision.occupancy import OccupancyMap
 from manip.collision.results import AttachedObject
 from manip.collision.shapes import Capsule, Cuboid, Cylinder, Mesh, Obstacle, Sphere
 from manip.collision.world import WorldConfig
@@ -26,6 +28,8 @@ logger = logging.getLogger(__name__)
 
 #: Obstacle colour [0-255].
 OBSTACLE_COLOR = (214, 140, 69)
+#: Colour of the cells of occupancy maps [0-255].
+MAP_COLOR = (90, 140, 220)
 #: Colour of objects attached to the robot [0-255].
 ATTACHED_COLOR = (80, 200, 120)
 
@@ -59,6 +63,9 @@ def add_obstacle(scene: Any, name: str, obstacle: Obstacle, color: tuple[int, in
     if isinstance(obstacle, Capsule):
         m = trimesh.creation.capsule(height=float(obstacle.height), radius=float(obstacle.radius))
         return scene.add_mesh_simple(name, m.vertices, m.faces, **kw)
+    if isinstance(obstacle, OccupancyMap):
+        kw["color"] = MAP_COLOR if color == OBSTACLE_COLOR else color
+        return scene.add_mesh_simple(name, obstacle.vertices, obstacle.faces, **kw)
     if isinstance(obstacle, Mesh):
         return scene.add_mesh_simple(name, obstacle.scaled_vertices, obstacle.faces, side="double", **kw)
     raise InvalidInputError(

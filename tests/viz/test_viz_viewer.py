@@ -154,3 +154,20 @@ def test_bad_input_is_refused(view):
         view.show_plan(np.zeros((10, 7)))  # type: ignore[arg-type]
     with pytest.raises(InvalidInputError):
         view.set_configuration(np.zeros(6))
+
+
+def test_an_occupancy_map_is_drawn_as_its_cells(port):
+    from manip.collision import OccupancyMap
+    from manip.viz.obstacles import MAP_COLOR
+
+    cells = np.array([[20, 0, 5], [21, 0, 5], [20, 1, 5], [30, -5, 10]])
+    mg = MotionGenerator("franka", WorldConfig([OccupancyMap.from_cells("camera", 0.02, cells)]))
+    v = Viewer(mg, port=port, verbose=False)
+    try:
+        h = node(v, "/world/camera")
+        V = np.asarray(h.vertices)
+        assert tuple(np.asarray(h.color).ravel()[:3]) == MAP_COLOR
+        np.testing.assert_allclose(V.min(axis=0), [0.40, -0.10, 0.10], atol=1e-9)   # the cells' boxes, no more
+        np.testing.assert_allclose(V.max(axis=0), [0.62, 0.04, 0.22], atol=1e-9)
+    finally:
+        v.close()

@@ -1,0 +1,420 @@
+"""Depth images and point clouds integrated into an occupancy map of the planner's world.
+
+`integrate_depth(checker, depth, intrinsics, camera_pose, ...)` updates the occupancy obstacle
+`name` of a `CollisionChecker` (created on first use; `manip.collision.OccupancyMap`) with one
+depth image; `integrate_pointcloud` does the same with a cloud. `MotionGenerator`'s
+`update_world_from_depth` / `update_world_from_pointcloud` call them. One update:
+
+1. the points: each pixel with a depth is back-projected into the base frame (pinhole;
+   depth = distance to the image plane); points farther than `max_range` from the camera,
+   or beyond the robot's reach (`reach`), are dropped;
+2. self-filtering: with `q`, points within `self_margin` of the robot at q are dropped: of
+   a part's 26-DOP (the polytope of 26 fixed directions around the convex hull of its
+   collision geometry; links and attached objects), looked up through the sphere cover; a
+   gripper's fingers count wherever their joints can put them, closed to open (the planner's
+   model holds them at their planning positions: `finger_travel`);
+3. occupied: the cell of every remaining point (`manip.perception.kernels`);
+4. free: a cell occupied before (or, with `unknown="occupied"`, never observed) is freed
+   when the image sees through it: every pixel ray crossing it measures a surface beyond the
+   point where it leaves the cell (`cells_seen_free`), so an object that moved away
+   disappears from where it was, while a cell next to a surface, or hidden behind one,
+   keeps what it held. Cells seen occupied in this image stay occupied.
+
+What the map guarantees: every point a camera measured (and kept) lies in an occupied cell
+until an image sees through that cell. With `unknown="free"` (the default), space never
+observed is free: an object no camera saw is not avoided. With `unknown="occupied"`, every
+cell within `bounds` that no image has seen free is an obstacle, so only space observed free
+(or outside `bounds`) is planned through.
+
+The map's state between updates (the cells seen occupied; with `unknown="occupied"` which
+cells were observed) is kept beside the map obstacle of the world (keyed by that very
+obstacle): removing the obstacle, or replacing it with another shape, starts a new map.
+"""
+
+from __future__ import annotations
+
+import logging
+import weakref
+from dataclasses import dataclass
+
+import numpy as np
+
+from manip.collision.occupancy import OccupancyMap
+from manip.errors import InvalidInputError
+from manip.perception.kernels import (SNAP, cells_seen_free, depth_cells, difference, on_robot, pack_all,
+                                      sorted_unique, sphere_index, union, unpack)
+from manip.pose import Pose
+from manip.validation import as_real_array, non_negative, positive
+
+logger = logging.getLogger(__name__)
+
+#: The optical axes (x right, y down, z forward) in Isaac's "world" camera axes (+X forward,
+#: +Z up): R_base_optical = R_base_camera @ WORLD_AXES_TO_OPTICAL.
+WORLD_AXES_TO_OPTICAL = np.array([[0.0, 0.0, 1.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]])
+#: Cell edge [m] of the self-filter's index of the robot's balls.
+SELF_CELL = 0.02
+#: Cells with a corner closer than this to a camera's image plane are never freed by it [m].
+NEAR = 1e-3
+#: Pixels per face of the virtual cube map that turns a cloud with an origin into rays.
+CLOUD_PIXELS = 256
+#: Largest bounds grid of `unknown="occupied"` (cells).
+MAX_BOUNDS_CELLS = 8_000_000
+_UNKNOWN = ("free", "occupied")
+
+
+@dataclass
+class _MapState:
+    """What a map remembers between updates (module docstring)."""
+
+    resolution: float
+    seen: np.ndarray             # (C,) sorted keys of the cells seen occupied
+    unknown: str
+    bounds_lo: np.ndarray | None = None   # (3,) int64 first cell of the bounds grid
+    observed: np.ndarray | None = None    # bool grid over the bounds: seen (free or occupied)
+
+
+_STATES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+# ---------------------------------------------------------------------- inputs
+def _depth(depth) -> np.ndarray:
+    if not isinstance(depth, np.ndarray) or depth.dtype not in (np.float32, np.float64):
+        raise InvalidInputError(f"depth must be a float32 or float64 (H, W) array [m]; got "
+                                f"{type(depth).__name__}{'' if not isinstance(depth, np.ndarray) else ' ' + str(depth.dtype)}")
+    d = depth[..., 0] if depth.ndim == 3 and depth.shape[2] == 1 else depth
+    if d.ndim != 2 or d.shape[0] < 1 or d.shape[1] < 1:
+        raise InvalidInputError(f"depth must have shape (H, W) (or (H, W, 1)); got {depth.shape}")
+    if np.any(d < 0):
+        raise InvalidInputError("depth must be >= 0 (inf or NaN where nothing was measured); got negative values")
+    return np.ascontiguousarray(d, dtype=np.float64)
+
+
+def _intrinsics(K) -> tuple[float, float, float, float]:
+    K = as_real_array(K, "intrinsics")
+    if K.shape != (3, 3):
+        raise InvalidInputError(f"intrinsics must be a (3, 3) matrix [[fx, 0, cx], [0, fy, cy], [0, 0, 1]]; got {K.shape}")
+    if not np.all(np.isfinite(K)):
+        raise InvalidInputError(f"intrinsics must be finite; got {K.tolist()}")
+    if not (K[0, 0] > 0 and K[1, 1] > 0) or not np.allclose(K[2], [0, 0, 1]) or K[1, 0] != 0:
+        raise InvalidInputError(f"intrinsics must be [[fx, s, cx], [0, fy, cy], [0, 0, 1]] with fx, fy > 0; "
+                                f"got {K.tolist()}")
+    if K[0, 1] != 0:
+        raise InvalidInputError(f"intrinsics with skew are not supported (K[0, 1] = {K[0, 1]}); give K[0, 1] = 0")
+    return float(K[0, 0]), float(K[1, 1]), float(K[0, 2]), float(K[1, 2])
+
+
+def _pose(camera_pose) -> Pose:
+    if not isinstance(camera_pose, Pose) or camera_pose.is_batch:
+        raise InvalidInputError(f"camera_pose must be one manip.Pose (position [m], quaternion wxyz, in the robot "
+                                f"base frame, Isaac's camera axes: +X forward, +Z up); got {type(camera_pose).__name__}")
+    return camera_pose
+
+
+def _bounds(bounds, unknown: str) -> np.ndarray | None:
+    if unknown not in _UNKNOWN:
+        raise InvalidInputError(f"unknown must be one of {', '.join(map(repr, _UNKNOWN))}; got {unknown!r}")
+    if bounds is None:
+        if unknown == "occupied":
+            raise InvalidInputError('unknown="occupied" needs bounds: [[x0, y0, z0], [x1, y1, z1]] [m] (base frame), '
+                                    "the box where unobserved space is an obstacle")
+        return None
+    b = as_real_array(bounds, "bounds")
+    if b.shape != (2, 3) or not np.all(np.isfinite(b)) or not np.all(b[1] > b[0]):
+        raise InvalidInputError(f"bounds must be [[x0, y0, z0], [x1, y1, z1]] [m] with x0 < x1, y0 < y1, z0 < z1; "
+                                f"got {bounds!r}")
+    return b
+
+
+# ---------------------------------------------------------------------- the update
+#: The 26 directions of the k-DOPs that stand for the robot's parts in the self-filter.
+_DIRECTIONS = np.array([d for d in np.ndindex(3, 3, 3) if d != (1, 1, 1)], dtype=float) - 1.0
+_DIRECTIONS /= np.linalg.norm(_DIRECTIONS, axis=1, keepdims=True)
+
+
+@dataclass(frozen=True)
+class _Robot:
+    """The robot at q for the self-filter: its balls (the index of candidate parts) and each
+    part as a 26-DOP (the box of 26 directions holding its convex hull)."""
+
+    centres: np.ndarray   # (S, 3) [m] ball centres, base frame
+    radii: np.ndarray     # (S,) [m] radii grown by the margin
+    part: np.ndarray      # (S,) int64 part of each ball
+    planes: np.ndarray    # (G, 26, 4): n (unit, base frame) and offset d: the part is in n.x <= d
+    margin: float
+
+
+def _robot(checker, q, margin: float) -> _Robot:
+    """The robot at q (dof,) for the self-filter (empty without q). A gripper's fingers count
+    wherever their joints can put them (`finger_travel`): the planner's model holds them at
+    their planning positions, the real fingers may be closed on an object."""
+    if q is None:
+        return _Robot(np.zeros((0, 3)), np.zeros(0), np.zeros(0, dtype=np.int64), np.zeros((0, 26, 4)), margin)
+    q = checker.kinematics.check_q(q, "q")
+    if q.ndim != 1:
+        raise InvalidInputError(f"q must be one configuration ({checker.kinematics.dof},); got {q.shape}")
+    st = checker.state
+    C, r, _ = checker.spheres(q)
+    R, p = st.joint_transforms(q[None])
+    tb = st.motion_bounds
+    travel = finger_travel(checker.kinematics, [part.name for part in st.parts])
+    grow = np.zeros(len(st.parts))
+    planes = np.empty((len(st.parts), 26, 4))
+    for g, part in enumerate(st.parts):
+        Rw = R[0, part.joint] @ part.R
+        pw = p[0, part.joint] + R[0, part.joint] @ part.p
+        n = _DIRECTIONS @ Rw.T                     # the directions in the base frame
+        support = tb.support[g] @ Rw.T + pw        # points whose hull (grown by support_radius) holds the part
+        planes[g, :, :3] = n
+        planes[g, :, 3] = (support @ n.T).max(axis=0) + tb.support_radius[g]
+        carrier, ends = travel.get(part.name, (None, None)) if not part.attached else (None, None)
+        if ends is not None and carrier == checker.kinematics.model.names[part.joint]:
+            # the hull swept along the finger's travel (a segment through its planning position)
+            moves = ends @ R[0, part.joint].T       # (2, 3) in the base frame
+            planes[g, :, 3] += np.maximum(0.0, (moves @ n.T).max(axis=0))
+            grow[g] = float(np.linalg.norm(moves, axis=1).max())
+    part_of_ball = np.ascontiguousarray(st.fine.part, dtype=np.int64)
+    radii = r + margin + grow[part_of_ball]
+    return _Robot(np.ascontiguousarray(C, dtype=np.float64), np.ascontiguousarray(radii, dtype=np.float64),
+                  part_of_ball, np.ascontiguousarray(planes), margin)
+
+
+def finger_travel(kinematics, links) -> dict[str, tuple[str, np.ndarray]]:
+    """For each of `links` moved by the gripper's joints: (the joint carrying it in the planner's
+    model, (2, 3) its displacement [m] in that joint's frame from its planning position to the
+    gripper closed and to it open); the planner's model holds the fingers still."""
+    gripper = kinematics.config.gripper
+    if gripper is None:
+        return {}
+    import pinocchio as pin
+
+    full = kinematics.full_model
+    data = full.createData()
+    joints = [full.getJointId(j) for j in gripper.joints]
+    wanted = {f.name: i for i, f in enumerate(full.frames) if f.parentJoint in joints and f.name in set(links)}
+    if not wanted:
+        return {}
+
+    def placements(values) -> dict[str, np.ndarray]:
+        qf = pin.neutral(full)
+        for jid, v in zip(joints, values):
+            qf[full.joints[jid].idx_q] = v
+        pin.forwardKinematics(full, data, qf)
+        pin.updateFramePlacements(full, data)
+        out = {}
+        for name, i in wanted.items():
+            carrier = full.parents[full.frames[i].parentJoint]   # the finger joint's parent joint
+            out[name] = data.oMi[carrier].actInv(data.oMf[i]).translation
+        return out
+
+    at_plan = placements(gripper.planning_positions)
+    closed, opened = placements(gripper.closed_positions), placements(gripper.open_positions)
+    carriers = {name: full.names[full.parents[full.frames[i].parentJoint]] for name, i in wanted.items()}
+    return {name: (carriers[name], np.array([closed[name] - at_plan[name], opened[name] - at_plan[name]]))
+            for name in wanted}
+
+
+def reach(checker) -> float:
+    """A bound [m] of how far from the base origin any point of the robot (and its attached
+    objects) can get: beyond it, nothing a camera sees can touch the robot."""
+    st = checker.state
+    tb = st.motion_bounds
+    specs = st.kinematics.joint_specs
+    first = float(np.linalg.norm(specs[0].p_placement)) if specs else 0.0
+    moving = float(np.max(tb.dist[:, 1], initial=0.0)) + first if tb.dist.shape[1] > 1 else 0.0
+    C, r = st.fine.centres, st.fine.radii
+    fixed = st.fine.joint == 0
+    static = float(np.max(np.linalg.norm(C[fixed], axis=1) + r[fixed], initial=0.0))
+    return max(moving, static)
+
+
+class _Frame:
+    """One observation: `cells` (occupied keys) and `seen_free(cells)`."""
+
+    def __init__(self, keys: np.ndarray, seen_free):
+        self.keys = sorted_unique(np.ascontiguousarray(keys, dtype=np.int64))
+        self.seen_free = seen_free
+
+
+def _update(checker, name: str, resolution: float, unknown: str, bounds, frame: _Frame) -> OccupancyMap:
+    """Apply one observation to the map `name` of `checker` and install the new map."""
+    world = checker.world
+    prev = world.get(name) if name in world else None
+    if prev is not None and not isinstance(prev, OccupancyMap):
+        raise InvalidInputError(f"name: the obstacle '{name}' is a {prev.kind}, not an occupancy map; choose another "
+                                "name or remove it first")
+    state = _STATES.get(prev) if prev is not None else None
+    if state is not None and (state.resolution != resolution or state.unknown != unknown):
+        raise InvalidInputError(f"the map '{name}' has resolution {state.resolution} m and unknown={state.unknown!r}; "
+                                f"got resolution {resolution} m and unknown={unknown!r}: remove_obstacle('{name}') "
+                                "to start a new map")
+    if state is None:
+        seen = np.zeros(0, dtype=np.int64) if prev is None else pack_all(np.ascontiguousarray(prev.cells))
+        state = _MapState(resolution, sorted_unique(seen), unknown)
+        if unknown == "occupied":
+            lo = np.floor(bounds[0] / resolution).astype(np.int64)
+            hi = np.ceil(bounds[1] / resolution).astype(np.int64)
+            if float(np.prod((hi - lo).astype(float))) > MAX_BOUNDS_CELLS:
+                raise InvalidInputError(f"bounds: {np.prod(hi - lo):,} cells at {resolution} m (at most "
+                                        f"{MAX_BOUNDS_CELLS:,}); use smaller bounds or a coarser resolution")
+            state.bounds_lo = lo
+            state.observed = np.zeros(tuple(int(x) for x in hi - lo), dtype=bool)
+    # cells occupied before and not seen occupied now: freed where the image sees through them
+    old = difference(state.seen, frame.keys)
+    if old.size:
+        old = np.ascontiguousarray(old[~frame.seen_free(unpack(old))])
+    seen = union(old, frame.keys)
+    cells = unpack(seen)
+    if state.observed is not None:
+        obs = state.observed
+        rel = cells - state.bounds_lo
+        inside = np.all((rel >= 0) & (rel < obs.shape), axis=1)
+        obs = obs.copy()
+        obs[rel[inside, 0], rel[inside, 1], rel[inside, 2]] = True
+        hidden = np.argwhere(~obs)
+        if hidden.size:
+            free = frame.seen_free(np.ascontiguousarray(hidden + state.bounds_lo))
+            obs[tuple(hidden[free].T)] = True
+            hidden = hidden[~free]
+        state = _MapState(resolution, seen, unknown, state.bounds_lo, obs)
+        cells = np.vstack([cells, hidden + state.bounds_lo])
+    else:
+        state = _MapState(resolution, seen, unknown)
+    new = OccupancyMap.from_cells(name, resolution, cells, _sorted=state.observed is None)
+    if prev is None:
+        checker.add_obstacle(new)
+    else:
+        checker.replace_obstacle(new)
+    _STATES[new] = state
+    return new
+
+
+def integrate_depth(checker, depth, intrinsics, camera_pose: Pose, *, name: str = "camera", resolution: float = 0.02,
+                    q: np.ndarray | None = None, max_range: float = 3.0, unknown: str = "free", bounds=None,
+                    self_margin: float = 0.01) -> OccupancyMap:
+    """Integrate one depth image into the occupancy map `name` of `checker` (module docstring).
+
+    Args:
+        checker: the `CollisionChecker` whose world holds the map.
+        depth: (H, W) float32/float64 distances to the image plane [m] (inf: nothing hit; NaN:
+            no measurement), as `manip.sim.Camera.get_depth()` gives.
+        intrinsics: (3, 3) [[fx, 0, cx], [0, fy, cy], [0, 0, 1]] [px], pixel (u, v) =
+            (column, row) at the pixel's centre.
+        camera_pose: the camera in the robot base frame, Isaac's camera axes (+X forward, +Z up).
+        name: the map obstacle (created on first use).
+        resolution: cell edge [m].
+        q: (dof,) the robot's configuration when the image was taken: points on the robot
+            (within `self_margin` [m] of its sphere cover) are dropped; None: no self-filter.
+        max_range: points farther than this from the camera [m] are ignored.
+        unknown: "free" (never observed = free) or "occupied" (within `bounds`).
+        bounds: [[x0, y0, z0], [x1, y1, z1]] [m], base frame (needed with unknown="occupied").
+
+    Returns:
+        The new `OccupancyMap` (also in the checker's world).
+    """
+    d = _depth(depth)
+    fx, fy, cx, cy = _intrinsics(intrinsics)
+    pose = _pose(camera_pose)
+    res = positive(resolution, "resolution", "m")
+    rng = positive(max_range, "max_range", "m")
+    margin = non_negative(self_margin, "self_margin", "m")
+    b = _bounds(bounds, unknown)
+    R = np.ascontiguousarray(pose.rotation @ WORLD_AXES_TO_OPTICAL)
+    t = np.ascontiguousarray(pose.position, dtype=np.float64)
+    rob = _robot(checker, q, margin)
+    keys, on_robot = depth_cells(d, fx, fy, cx, cy, R, t, rng, res, np.zeros(3), reach(checker) + 0.1,
+                                 rob.centres, rob.radii, rob.part, rob.planes, rob.margin, SELF_CELL,
+                                 *sphere_index(rob.centres, rob.radii, SELF_CELL))
+    logger.debug("depth image: %d points kept, %d on the robot", keys.size, on_robot)
+
+    def seen_free(cells: np.ndarray) -> np.ndarray:
+        return cells_seen_free(np.ascontiguousarray(cells, dtype=np.int64), d, fx, fy, cx, cy, R, t, res, NEAR)
+
+    return _update(checker, name, res, unknown, b, _Frame(keys, seen_free))
+
+
+def _cube_faces() -> list[np.ndarray]:
+    """The optical frames (x right, y down, z forward) of the six faces of a cube map."""
+    out = []
+    for axis in range(3):
+        for sign in (1.0, -1.0):
+            z = np.zeros(3)
+            z[axis] = sign
+            up = np.array([0.0, 0.0, 1.0]) if axis != 2 else np.array([1.0, 0.0, 0.0])
+            x = np.cross(z, up)
+            x /= np.linalg.norm(x)
+            y = np.cross(z, x)
+            out.append(np.stack([x, y, z], axis=1))
+    return out
+
+
+def integrate_pointcloud(checker, points, origin=None, *, name: str = "camera", resolution: float = 0.02,
+                         q: np.ndarray | None = None, max_range: float = 3.0, unknown: str = "free", bounds=None,
+                         self_margin: float = 0.01) -> OccupancyMap:
+    """Integrate a point cloud into the occupancy map `name` of `checker`.
+
+    As `integrate_depth`, with the points given: (N, 3) [m] in the robot base frame (NaN
+    rows are skipped). With `origin` (3,) [m], the sensor's position, the rays from it to the
+    points also free the cells they see through: the cloud is binned into a virtual cube
+    map of `CLOUD_PIXELS` pixels per face around the origin (the nearest point of each
+    pixel stands for its ray; a pixel without a point frees nothing), so a sparse cloud
+    frees little. Without `origin` the points only add occupied cells.
+    """
+    P = as_real_array(points, "points")
+    if P.ndim != 2 or P.shape[1] != 3:
+        raise InvalidInputError(f"points must have shape (N, 3) [m]; got {P.shape}")
+    if np.any(np.isinf(P)):
+        raise InvalidInputError("points must be finite (NaN rows are skipped); got inf")
+    P = P[~np.isnan(P).any(axis=1)]
+    res = positive(resolution, "resolution", "m")
+    rng = positive(max_range, "max_range", "m")
+    margin = non_negative(self_margin, "self_margin", "m")
+    b = _bounds(bounds, unknown)
+    o = np.zeros(3) if origin is None else as_real_array(origin, "origin")
+    if o.shape != (3,) or not np.all(np.isfinite(o)):
+        raise InvalidInputError(f"origin must be a finite position (3,) [m] or None; got {origin!r}")
+    rob = _robot(checker, q, margin)
+    n = CLOUD_PIXELS
+    f = n / 2.0   # 90 deg per face
+    faces = []
+    if origin is not None:
+        for Rf in _cube_faces():
+            Y = (P - o) @ Rf
+            z = Y[:, 2]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                u = np.rint(f * Y[:, 0] / z + (n - 1) / 2.0)
+                v = np.rint(f * Y[:, 1] / z + (n - 1) / 2.0)
+            sel = (z > 0) & (u >= 0) & (u < n) & (v >= 0) & (v < n)
+            img = np.full((n, n), np.inf)
+            np.minimum.at(img, (v[sel].astype(np.int64), u[sel].astype(np.int64)), z[sel])
+            img[np.isinf(img)] = np.nan   # no point in this pixel: no ray
+            faces.append((np.ascontiguousarray(Rf), img))
+    dist = np.linalg.norm(P - o, axis=1) if origin is not None else np.zeros(P.shape[0])
+    keep = (dist <= rng) & (np.linalg.norm(P, axis=1) <= reach(checker) + 0.1)
+    keys = _cloud_cells(P[keep], None if origin is None else o, res, rob)
+
+    def seen_free(cells: np.ndarray) -> np.ndarray:
+        out = np.zeros(cells.shape[0], dtype=bool)
+        c = np.ascontiguousarray(cells, dtype=np.int64)
+        for Rf, img in faces:
+            out |= cells_seen_free(c, img, f, f, (n - 1) / 2.0, (n - 1) / 2.0, Rf, o, res, NEAR)
+        return out
+
+    return _update(checker, name, res, unknown, b, _Frame(keys, seen_free))
+
+
+def _cloud_cells(P: np.ndarray, origin: np.ndarray | None, res: float, rob: _Robot) -> np.ndarray:
+    """Keys of the cells of points P (N, 3) [m] off the robot (`_Robot`); with an origin, a
+    point within SNAP before a cell face along its ray counts in the cell behind."""
+    if P.shape[0] == 0:
+        return np.zeros(0, dtype=np.int64)
+    if rob.planes.shape[0]:
+        P = np.ascontiguousarray(P, dtype=np.float64)
+        P = P[~on_robot(P, rob.centres, rob.radii, rob.part, rob.planes, rob.margin, SELF_CELL,
+                        *sphere_index(rob.centres, rob.radii, SELF_CELL))]
+    if origin is not None:
+        ray = P - origin
+        P = P + SNAP * ray / np.maximum(np.linalg.norm(ray, axis=1, keepdims=True), 1e-12)
+    return pack_all(np.ascontiguousarray(np.floor(P / res).astype(np.int64)))
+
+
+__all__ = ["integrate_depth", "integrate_pointcloud", "reach", "WORLD_AXES_TO_OPTICAL"]

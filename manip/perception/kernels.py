@@ -1,0 +1,372 @@
+"""Compiled (numba) kernels of depth integration (`manip.perception.integrate`).
+
+Cells are those of `manip.collision.occupancy`: cell (i, j, k) is the box [i r, (i + 1) r]^3
+(r the resolution) in the robot base frame; a cell is named by one int64 key
+(`pack`: 21 bits per axis, |index| < 2^20).
+
+- `sphere_index`, `on_robot`: the robot's balls at q in a grid of cells (CSR), through which
+  the self-filter finds the parts (each a 26-DOP) a point may lie on;
+- `depth_cells`: back-projects a depth image (pinhole, distance to the image plane) into the
+  base frame, drops the points within a ball of the robot and beyond the range, and returns
+  the key of each point's cell (a point within `SNAP` [m] before a cell face along its ray
+  counts in the cell behind it, so that a surface on a face is held by the cell behind it);
+- `cells_seen_free`: which cells every pixel ray through them passes without a hit: the
+  ray through a pixel's centre hits its surface at depth d (inf: nothing within range);
+  within a cell it is free when d + SNAP exceeds the depth where it leaves the cell's box.
+  A cell is seen free when at least one ray passes it and every ray through it is free
+  there; a pixel without a measurement (NaN) through it keeps it. Cells partly outside the
+  image, or not wholly in front of the camera, are kept.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from manip.jit import kernel
+
+#: A point this close before a cell face along its ray (in depth units: metres along the
+#: optical axis, at most that many metres along the ray) counts in the cell behind it.
+SNAP = 1e-5
+_BIAS = 1 << 20
+_MASK = (1 << 21) - 1
+
+
+@kernel(inline="always")
+def pack(i, j, k):
+    """The int64 key of cell (i, j, k)."""
+    return ((i + _BIAS) << 42) | ((j + _BIAS) << 21) | (k + _BIAS)
+
+
+@kernel
+def unpack(keys):
+    """(C, 3) int64 cell indices of keys (C,)."""
+    out = np.empty((keys.shape[0], 3), dtype=np.int64)
+    for n in range(keys.shape[0]):
+        key = keys[n]
+        out[n, 0] = ((key >> 42) & _MASK) - _BIAS
+        out[n, 1] = ((key >> 21) & _MASK) - _BIAS
+        out[n, 2] = (key & _MASK) - _BIAS
+    return out
+
+
+@kernel
+def pack_all(cells):
+    """(C,) keys of cells (C, 3) int64."""
+    out = np.empty(cells.shape[0], dtype=np.int64)
+    for n in range(cells.shape[0]):
+        out[n] = pack(cells[n, 0], cells[n, 1], cells[n, 2])
+    return out
+
+
+@kernel
+def sphere_index(centres, radii, res):
+    """The balls (S, 3), (S,) [m] by the cells (of edge `res`) they touch: (origin (3,) int64,
+    shape (3,) int64, start (cells + 1,) int64, members (M,) int64), a CSR over the grid of
+    cells holding every ball (ball s is listed in each cell its box overlaps, unless a ball
+    holds the whole cell: then the cell lists only that ball, first, and start[c] < 0 marks it
+    as inside)."""
+    S = centres.shape[0]
+    lo = np.empty(3, dtype=np.int64)
+    hi = np.empty(3, dtype=np.int64)
+    for a in range(3):
+        lo[a] = 1 << 40
+        hi[a] = -(1 << 40)
+    for s in range(S):
+        for a in range(3):
+            lo[a] = min(lo[a], int(math.floor((centres[s, a] - radii[s]) / res)))
+            hi[a] = max(hi[a], int(math.floor((centres[s, a] + radii[s]) / res)))
+    if S == 0:
+        for a in range(3):
+            lo[a] = 0
+            hi[a] = -1
+    shape = np.empty(3, dtype=np.int64)
+    for a in range(3):
+        shape[a] = hi[a] - lo[a] + 1
+    ncell = shape[0] * shape[1] * shape[2]
+    count = np.zeros(ncell + 1, dtype=np.int64)
+    for rep in range(2):
+        if rep == 1:
+            for c in range(ncell):
+                count[c + 1] += count[c]
+            members = np.empty(count[ncell], dtype=np.int64)
+            fill = count[:ncell].copy()
+        for s in range(S):
+            i0 = int(math.floor((centres[s, 0] - radii[s]) / res)) - lo[0]
+            i1 = int(math.floor((centres[s, 0] + radii[s]) / res)) - lo[0]
+            j0 = int(math.floor((centres[s, 1] - radii[s]) / res)) - lo[1]
+            j1 = int(math.floor((centres[s, 1] + radii[s]) / res)) - lo[1]
+            k0 = int(math.floor((centres[s, 2] - radii[s]) / res)) - lo[2]
+            k1 = int(math.floor((centres[s, 2] + radii[s]) / res)) - lo[2]
+            for i in range(i0, i1 + 1):
+                for j in range(j0, j1 + 1):
+                    for k in range(k0, k1 + 1):
+                        c = (i * shape[1] + j) * shape[2] + k
+                        if rep == 0:
+                            count[c + 1] += 1
+                        else:
+                            members[fill[c]] = s
+                            fill[c] += 1
+    return lo, shape, count, members
+
+
+@kernel(inline="always")
+def _robot_point(y0, y1, y2, centres, radii, ball_part, planes, margin, cell, lo, shape, start, members):
+    """True when the point lies within `margin` of a part's 26-DOP, a part found through the
+    (grown) balls of the point's cell of `sphere_index`."""
+    i = int(math.floor(y0 / cell)) - lo[0]
+    j = int(math.floor(y1 / cell)) - lo[1]
+    k = int(math.floor(y2 / cell)) - lo[2]
+    if i < 0 or j < 0 or k < 0 or i >= shape[0] or j >= shape[1] or k >= shape[2]:
+        return False
+    c = (i * shape[1] + j) * shape[2] + k
+    last = -1
+    for m in range(start[c], start[c + 1]):
+        ball = members[m]
+        g = ball_part[ball]
+        if g == last:
+            continue
+        g0 = y0 - centres[ball, 0]
+        g1 = y1 - centres[ball, 1]
+        g2 = y2 - centres[ball, 2]
+        if g0 * g0 + g1 * g1 + g2 * g2 > radii[ball] * radii[ball]:
+            continue
+        last = g
+        inside = True
+        for f in range(planes.shape[1]):
+            if planes[g, f, 0] * y0 + planes[g, f, 1] * y1 + planes[g, f, 2] * y2 - planes[g, f, 3] > margin:
+                inside = False
+                break
+        if inside:
+            return True
+    return False
+
+
+@kernel
+def on_robot(X, centres, radii, ball_part, planes, margin, cell, lo, shape, start, members):
+    """(N,) bool: which points X (N, 3) [m] lie on the robot (`_robot_point`)."""
+    out = np.zeros(X.shape[0], dtype=np.bool_)
+    for n in range(X.shape[0]):
+        out[n] = _robot_point(X[n, 0], X[n, 1], X[n, 2], centres, radii, ball_part, planes, margin, cell, lo, shape,
+                              start, members)
+    return out
+
+
+@kernel
+def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, reach_c, reach_r,
+                centres, radii, ball_part, planes, margin, cell, lo, shape, start, members):
+    """Keys (P,) of the cells of the depth image's points (repeats mostly removed), and the
+    number of points dropped on the robot.
+
+    Args:
+        depth: (H, W) distances to the image plane [m] (inf / NaN: no point).
+        fx, fy, cx, cy: pinhole intrinsics [px] (pixel (u, v) = (column, row) at its centre).
+        R, t: (3, 3), (3,) the optical frame (x right, y down, z forward) in the base frame.
+        max_range: points farther than this from the camera [m] are dropped.
+        res: cell edge [m].
+        reach_c, reach_r: (3,) and [m]: points outside this ball are dropped (beyond reach).
+        centres, radii, ball_part, planes, margin, cell, lo, shape, start, members: the
+            robot (`_robot_point`): balls grown by the margin, their parts, the parts' 26-DOPs
+            (G, 26, 4), and the balls' index (`sphere_index` with cells of edge `cell` [m]).
+    """
+    H, W = depth.shape
+    out = np.empty(H * W, dtype=np.int64)
+    recent = np.full(1 << 16, -1, dtype=np.int64)   # keys written lately (neighbouring pixels share cells)
+    pending = np.empty((H * W, 3))   # points in cells partly covered by a ball: checked after
+    n_pending = 0
+    P = 0
+    on_robot = 0
+    rr = reach_r * reach_r
+    mr = max_range * max_range
+    inv = 1.0 / res
+    icell = 1.0 / cell
+    box_lo = np.empty(3)
+    box_hi = np.empty(3)
+    for a in range(3):
+        box_lo[a] = lo[a] * cell
+        box_hi[a] = (lo[a] + shape[a]) * cell
+    check_robot = centres.shape[0] > 0
+    A = np.empty(W)
+    for u in range(W):
+        A[u] = (u - cx) / fx
+    for v in range(H):
+        b = (v - cy) / fy
+        # the direction (a, b, 1) in the base frame is Ra a + Rb (per row: Rb = R[:, 1] b + R[:, 2])
+        e0 = R[0, 1] * b + R[0, 2]
+        e1 = R[1, 1] * b + R[1, 2]
+        e2 = R[2, 1] * b + R[2, 2]
+        for u in range(W):
+            z = depth[v, u]
+            if not (z > 0.0 and z < np.inf):
+                continue
+            a = A[u]
+            if z * z * (1.0 + a * a + b * b) > mr:
+                continue
+            d0 = R[0, 0] * a + e0
+            d1 = R[1, 0] * a + e1
+            d2 = R[2, 0] * a + e2
+            x0 = t[0] + z * d0
+            x1 = t[1] + z * d1
+            x2 = t[2] + z * d2
+            f0 = x0 - reach_c[0]
+            f1 = x1 - reach_c[1]
+            f2 = x2 - reach_c[2]
+            if f0 * f0 + f1 * f1 + f2 * f2 > rr:
+                continue
+            if (check_robot and box_lo[0] <= x0 < box_hi[0] and box_lo[1] <= x1 < box_hi[1]
+                    and box_lo[2] <= x2 < box_hi[2]):
+                i = min(int((x0 - box_lo[0]) * icell), shape[0] - 1)
+                j = min(int((x1 - box_lo[1]) * icell), shape[1] - 1)
+                k = min(int((x2 - box_lo[2]) * icell), shape[2] - 1)
+                c = (i * shape[1] + j) * shape[2] + k
+                if start[c + 1] > start[c]:
+                    pending[n_pending, 0] = x0 + SNAP * d0
+                    pending[n_pending, 1] = x1 + SNAP * d1
+                    pending[n_pending, 2] = x2 + SNAP * d2
+                    n_pending += 1
+                    continue
+            zs = z + SNAP   # SNAP further along the ray (depth units, as `cells_seen_free`)
+            key = pack(int(math.floor((t[0] + zs * d0) * inv)), int(math.floor((t[1] + zs * d1) * inv)),
+                       int(math.floor((t[2] + zs * d2) * inv)))
+            slot = (key ^ (key >> 19) ^ (key >> 37)) & 65535
+            if recent[slot] != key:
+                recent[slot] = key
+                out[P] = key
+                P += 1
+    # the points near the robot: each against the parts of the balls of its cell
+    for n in range(n_pending):
+        y0, y1, y2 = pending[n, 0], pending[n, 1], pending[n, 2]
+        if _robot_point(y0, y1, y2, centres, radii, ball_part, planes, margin, cell, lo, shape, start, members):
+            on_robot += 1
+            continue
+        out[P] = pack(int(math.floor(y0 * inv)), int(math.floor(y1 * inv)), int(math.floor(y2 * inv)))
+        P += 1
+    return out[:P].copy(), on_robot
+
+
+@kernel
+def cells_seen_free(cells, depth, fx, fy, cx, cy, R, t, res, near):
+    """(C,) bool: which cells (C, 3) int64 the depth image sees free (module docstring).
+
+    Args:
+        depth: (H, W) [m]: inf = nothing hit, NaN = no measurement.
+        R, t: the optical frame in the base frame (as `depth_cells`).
+        near: cells with a corner closer than this to the camera plane [m] are kept.
+    """
+    H, W = depth.shape
+    C = cells.shape[0]
+    out = np.zeros(C, dtype=np.bool_)
+    lo = np.empty(3)
+    hi = np.empty(3)
+    for n in range(C):
+        for a in range(3):
+            lo[a] = cells[n, a] * res
+            hi[a] = (cells[n, a] + 1) * res
+        umin, umax, vmin, vmax = np.inf, -np.inf, np.inf, -np.inf
+        ok = True
+        for corner in range(8):
+            q0 = hi[0] if corner & 4 else lo[0]
+            q1 = hi[1] if corner & 2 else lo[1]
+            q2 = hi[2] if corner & 1 else lo[2]
+            # camera coordinates R^T (q - t)
+            y0 = R[0, 0] * (q0 - t[0]) + R[1, 0] * (q1 - t[1]) + R[2, 0] * (q2 - t[2])
+            y1 = R[0, 1] * (q0 - t[0]) + R[1, 1] * (q1 - t[1]) + R[2, 1] * (q2 - t[2])
+            y2 = R[0, 2] * (q0 - t[0]) + R[1, 2] * (q1 - t[1]) + R[2, 2] * (q2 - t[2])
+            if y2 <= near:
+                ok = False
+                break
+            uu = fx * y0 / y2 + cx
+            vv = fy * y1 / y2 + cy
+            umin, umax = min(umin, uu), max(umax, uu)
+            vmin, vmax = min(vmin, vv), max(vmax, vv)
+        if not ok or umin < -0.5 or vmin < -0.5 or umax > W - 0.5 or vmax > H - 0.5:
+            continue
+        seen = False
+        free = True
+        for v in range(int(math.ceil(vmin)), int(math.floor(vmax)) + 1):
+            b = (v - cy) / fy
+            for u in range(int(math.ceil(umin)), int(math.floor(umax)) + 1):
+                a = (u - cx) / fx
+                d0 = R[0, 0] * a + R[0, 1] * b + R[0, 2]
+                d1 = R[1, 0] * a + R[1, 1] * b + R[1, 2]
+                d2 = R[2, 0] * a + R[2, 1] * b + R[2, 2]
+                # slabs: the ray t + l d (l = depth) inside the box for l in [l_in, l_out]
+                l_in, l_out = -np.inf, np.inf
+                for ax in range(3):
+                    o = t[ax]
+                    d = d0 if ax == 0 else (d1 if ax == 1 else d2)
+                    if d == 0.0:
+                        if o < lo[ax] or o > hi[ax]:
+                            l_in, l_out = 1.0, 0.0
+                        continue
+                    l1 = (lo[ax] - o) / d
+                    l2 = (hi[ax] - o) / d
+                    if l1 > l2:
+                        l1, l2 = l2, l1
+                    l_in = max(l_in, l1)
+                    l_out = min(l_out, l2)
+                if not (l_in < l_out):
+                    continue
+                seen = True
+                z = depth[v, u]
+                if not (z + SNAP > l_out):   # NaN keeps the cell
+                    free = False
+                    break
+            if not free:
+                break
+        out[n] = seen and free
+    return out
+
+
+@kernel
+def sorted_unique(keys):
+    """The sorted distinct values of keys (P,) int64."""
+    if keys.shape[0] == 0:
+        return keys.copy()
+    s = np.sort(keys)
+    out = np.empty_like(s)
+    n = 0
+    for m in range(s.shape[0]):
+        if m == 0 or s[m] != s[m - 1]:
+            out[n] = s[m]
+            n += 1
+    return out[:n].copy()
+
+
+@kernel
+def difference(a, b):
+    """The values of sorted a (A,) not in sorted b (B,) (both distinct), sorted."""
+    out = np.empty_like(a)
+    n = 0
+    j = 0
+    for m in range(a.shape[0]):
+        while j < b.shape[0] and b[j] < a[m]:
+            j += 1
+        if j < b.shape[0] and b[j] == a[m]:
+            continue
+        out[n] = a[m]
+        n += 1
+    return out[:n].copy()
+
+
+@kernel
+def union(a, b):
+    """The sorted union of sorted distinct a (A,) and b (B,)."""
+    out = np.empty(a.shape[0] + b.shape[0], dtype=np.int64)
+    i = 0
+    j = 0
+    n = 0
+    while i < a.shape[0] or j < b.shape[0]:
+        if j == b.shape[0] or (i < a.shape[0] and a[i] < b[j]):
+            out[n] = a[i]
+            i += 1
+        elif i == a.shape[0] or b[j] < a[i]:
+            out[n] = b[j]
+            j += 1
+        else:
+            out[n] = a[i]
+            i += 1
+            j += 1
+        n += 1
+    return out[:n].copy()

@@ -1,0 +1,368 @@
+"""`Camera`: Isaac Sim's camera sensor (`omni.isaac.sensor.Camera`) on MuJoCo's offscreen renderer.
+
+A pinhole camera placed in the World: RGBA images, depth (distance to the image plane [m],
+noise-free, inf where no surface is hit within the clipping range), the point cloud in the
+world frame and the intrinsics, rendered on demand from the simulation's current state
+(EGL or OSMesa, chosen as recording chooses, `manip.sim.core.gl_backend`).
+
+Camera axes (Isaac's three conventions, `camera_axes=`):
+
+- "world" (the default of `position` / `orientation` and of the pose calls): +X forward,
+  +Y left, +Z up;
+- "ros": +Z forward, +X right, +Y down (OpenCV's, the convention of `get_intrinsics_matrix`);
+- "usd": -Z forward, +X right, +Y up (OpenGL's, and MuJoCo's camera frame).
+
+The lens: Isaac's units and defaults (a new USD camera: focal length 5.0 and horizontal
+aperture 2.0955 in Isaac's tenths of the stage unit, so a 23.7 deg horizontal field of
+view), square pixels (the vertical aperture follows the resolution, as in Isaac).
+`get_intrinsics_matrix()` gives fx = fy = W * focal_length / horizontal_aperture and the
+principal point at the image centre in OpenCV's pixel convention (pixel (u, v) = (column,
+row) at the pixel's centre: cx = (W - 1) / 2, cy = (H - 1) / 2; Isaac's formula writes W / 2,
+half a pixel off). The clipping range defaults to (0.01, 1e4) m (USD's default near plane
+of 1 m would hide a tabletop).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+
+import mujoco
+import numpy as np
+
+from manip import quaternion as quat
+from manip.errors import InvalidInputError
+from manip.sim.prims.xform_prim import XFormPrim
+from manip.sim.scenes.stage import SimulationError
+from manip.validation import positive
+
+logger = logging.getLogger(__name__)
+
+#: Rotations from each camera convention's axes to USD's (MuJoCo's) camera axes: R_world_usd =
+#: R_world_axes @ _TO_USD[axes] (Isaac's U_W_TRANSFORM / U_R_TRANSFORM, transposed as rotations).
+_TO_USD = {
+    "usd": np.eye(3),
+    "world": np.array([[0.0, 0.0, -1.0], [-1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]),
+    "ros": np.diag([1.0, -1.0, -1.0]),
+}
+#: Isaac's defaults of a new camera prim (tenths of the stage unit, as Isaac reports them).
+DEFAULT_FOCAL_LENGTH = 5.0
+DEFAULT_HORIZONTAL_APERTURE = 2.0955
+DEFAULT_CLIPPING_RANGE = (0.01, 1.0e4)
+#: Largest image the World's offscreen buffer holds [px] (`manip.sim.scenes.compiler`).
+MAX_RESOLUTION = (1920, 1080)
+
+
+def _axes(camera_axes: str) -> np.ndarray:
+    if camera_axes not in _TO_USD:
+        raise InvalidInputError(f"camera_axes must be one of {', '.join(_TO_USD)}; got {camera_axes!r}")
+    return _TO_USD[camera_axes]
+
+
+def _resolution(value) -> tuple[int, int]:
+    try:
+        w, h = value
+        ok = all(isinstance(x, (int, np.integer)) and not isinstance(x, bool) for x in (w, h))
+    except (TypeError, ValueError):
+        ok = False
+    if not ok or not (0 < w <= MAX_RESOLUTION[0] and 0 < h <= MAX_RESOLUTION[1]):
+        raise InvalidInputError(f"resolution must be (width, height) integers within 1..{MAX_RESOLUTION[0]} x "
+                                f"1..{MAX_RESOLUTION[1]} px; got {value!r}")
+    return int(w), int(h)
+
+
+class Camera(XFormPrim):
+    """A pinhole camera of the World (Isaac's `Camera`), rendered by MuJoCo.
+
+    Args:
+        prim_path: where the camera lives, e.g. "/World/camera".
+        name: unique name in the scene (default "camera").
+        position: (3,) world position [m].
+        orientation: (4,) (w, x, y, z) of the camera in the world, in the "world" camera
+            axes (+X forward, +Z up): the identity looks along the world's +X.
+        resolution: (width, height) [px], at most 1920 x 1080.
+        frequency: frames per second Isaac would update the data at; kept for scripts
+            (`get_frequency`): here every getter renders the current state.
+        dt: 1 / frequency (give one of them).
+        translation: the same as `position` (no parent transform).
+    """
+
+    _default_name = "camera"
+    _wraps_existing = False
+
+    def __init__(self, prim_path: str, name: str | None = None, frequency: float | None = None,
+                 dt: float | None = None, resolution=(640, 480), position=None, orientation=None,
+                 translation=None, render_product_path: str | None = None):
+        if frequency is not None and dt is not None:
+            raise InvalidInputError("give frequency or dt, not both")
+        self._resolution = _resolution((128, 128) if resolution is None else resolution)
+        self._frequency = -1.0
+        if dt is not None:
+            frequency = 1.0 / positive(dt, "dt", "s")
+        if frequency is not None:
+            self.set_frequency(frequency)
+        self._focal_length = DEFAULT_FOCAL_LENGTH
+        self._horizontal_aperture = DEFAULT_HORIZONTAL_APERTURE
+        self._clipping = DEFAULT_CLIPPING_RANGE
+        self._renderers: dict[bool, mujoco.Renderer] = {}
+        self._renderer_model = None
+        self._frame: dict[str, int] = {"rendering_frame": 0}
+        R_usd = self._to_usd(orientation, "world") if orientation is not None else _TO_USD["world"]
+        super().__init__(prim_path, name=name, position=position, translation=translation,
+                         orientation=quat.from_matrix(R_usd))
+
+    # ------------------------------------------------------------------ building
+    def add_to_spec(self, spec: mujoco.MjSpec):
+        body = super().add_to_spec(spec)
+        body.add_camera(name=self.prim_path, fovy=self._fovy())
+        return body
+
+    def bind_simulation(self, sim) -> None:
+        super().bind_simulation(sim)
+        self._cam_id = mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_CAMERA, self.prim_path)
+        self._close_renderers()
+
+    def unbind_simulation(self) -> None:
+        self._close_renderers()
+        super().unbind_simulation()
+
+    def initialize(self, physics_sim_view=None) -> None:
+        """Nothing to do: the camera is bound when the World compiles (kept for Isaac scripts)."""
+
+    # ------------------------------------------------------------------ pose (camera axes)
+    @staticmethod
+    def _to_usd(orientation, camera_axes: str) -> np.ndarray:
+        from manip.validation import unit_quat
+
+        return quat.to_matrix(unit_quat(orientation)) @ _axes(camera_axes)
+
+    def get_world_pose(self, camera_axes: str = "world") -> tuple[np.ndarray, np.ndarray]:
+        """Position (3,) [m] and orientation (4,) (w, x, y, z) in the given camera axes."""
+        M = _axes(camera_axes)
+        p, q_usd = super().get_world_pose()
+        return p, quat.from_matrix(quat.to_matrix(q_usd) @ M.T)
+
+    def set_world_pose(self, position=None, orientation=None, camera_axes: str = "world") -> None:
+        """Move the camera; `orientation` (w, x, y, z) in the given camera axes (None keeps it)."""
+        _axes(camera_axes)
+        q_usd = None if orientation is None else quat.from_matrix(self._to_usd(orientation, camera_axes))
+        super().set_world_pose(position, q_usd)
+
+    def get_local_pose(self, camera_axes: str = "world") -> tuple[np.ndarray, np.ndarray]:
+        """The same as `get_world_pose` (no parent transform)."""
+        return self.get_world_pose(camera_axes)
+
+    def set_local_pose(self, translation=None, orientation=None, camera_axes: str = "world") -> None:
+        """The same as `set_world_pose` (no parent transform)."""
+        self.set_world_pose(translation, orientation, camera_axes)
+
+    def post_reset(self) -> None:
+        """Back to the default pose (kept in USD's axes)."""
+        self.set_world_pose(self._default_state.position, self._default_state.orientation, camera_axes="usd")
+
+    # ------------------------------------------------------------------ lens
+    def get_resolution(self) -> tuple[int, int]:
+        """(width, height) [px]."""
+        return self._resolution
+
+    def set_resolution(self, value) -> None:
+        """(width, height) [px], at most 1920 x 1080."""
+        self._resolution = _resolution(value)
+        self._close_renderers()
+        self._apply_lens()
+
+    def get_frequency(self) -> float:
+        return self._frequency
+
+    def set_frequency(self, value: float) -> None:
+        self._frequency = positive(value, "frequency", "1/s")
+
+    def get_dt(self) -> float:
+        return 1.0 / self._frequency
+
+    def set_dt(self, value: float) -> None:
+        self._frequency = 1.0 / positive(value, "dt", "s")
+
+    def get_focal_length(self) -> float:
+        """Focal length (Isaac's units: tenths of the stage unit)."""
+        return self._focal_length
+
+    def set_focal_length(self, value: float) -> None:
+        self._focal_length = positive(value, "focal_length", "tenths of the stage unit")
+        self._apply_lens()
+
+    def get_horizontal_aperture(self) -> float:
+        return self._horizontal_aperture
+
+    def set_horizontal_aperture(self, value: float) -> None:
+        self._horizontal_aperture = positive(value, "horizontal_aperture", "tenths of the stage unit")
+        self._apply_lens()
+
+    def get_vertical_aperture(self) -> float:
+        """The horizontal aperture times height / width (square pixels, as Isaac keeps them)."""
+        w, h = self._resolution
+        return self._horizontal_aperture * h / w
+
+    def set_vertical_aperture(self, value: float) -> None:
+        """Sets the horizontal aperture to value * width / height (square pixels)."""
+        w, h = self._resolution
+        self.set_horizontal_aperture(positive(value, "vertical_aperture", "tenths of the stage unit") * w / h)
+
+    def get_clipping_range(self) -> tuple[float, float]:
+        """(near, far) [m]: depth outside it is inf."""
+        return self._clipping
+
+    def set_clipping_range(self, near_distance: float | None = None, far_distance: float | None = None) -> None:
+        near = self._clipping[0] if near_distance is None else positive(near_distance, "near_distance", "m")
+        far = self._clipping[1] if far_distance is None else positive(far_distance, "far_distance", "m")
+        if not far > near:
+            raise InvalidInputError(f"far_distance must exceed near_distance; got ({near}, {far})")
+        self._clipping = (near, far)
+
+    def get_horizontal_fov(self) -> float:
+        """Horizontal field of view [rad]."""
+        return 2.0 * math.atan(self._horizontal_aperture / (2.0 * self._focal_length))
+
+    def get_vertical_fov(self) -> float:
+        """Vertical field of view [rad]."""
+        return 2.0 * math.atan(self.get_vertical_aperture() / (2.0 * self._focal_length))
+
+    def get_projection_type(self) -> str:
+        return "pinhole"
+
+    def get_intrinsics_matrix(self) -> np.ndarray:
+        """(3, 3) pinhole intrinsics [px]: [[fx, 0, cx], [0, fy, cy], [0, 0, 1]] (OpenCV's
+        convention, see the module docstring)."""
+        w, h = self._resolution
+        f = w * self._focal_length / self._horizontal_aperture
+        return np.array([[f, 0.0, (w - 1) / 2.0], [0.0, f, (h - 1) / 2.0], [0.0, 0.0, 1.0]])
+
+    def _fovy(self) -> float:
+        return math.degrees(self.get_vertical_fov())
+
+    def _apply_lens(self) -> None:
+        if self._sim is not None and getattr(self, "_cam_id", -1) >= 0:
+            self._sim.model.cam_fovy[self._cam_id] = self._fovy()
+
+    # ------------------------------------------------------------------ Isaac's annotators (always on here)
+    def add_distance_to_image_plane_to_frame(self) -> None:
+        """Kept for Isaac scripts: depth is always available (`get_depth`)."""
+
+    def add_pointcloud_to_frame(self, include_unlabelled: bool = False) -> None:
+        """Kept for Isaac scripts: the point cloud is always available (`get_pointcloud`)."""
+
+    def add_distance_to_camera_to_frame(self) -> None:
+        """Kept for Isaac scripts: `get_current_frame()["distance_to_camera"]` is filled."""
+
+    def get_current_frame(self, clone: bool = False) -> dict:
+        """{"rgba", "distance_to_image_plane", "distance_to_camera", "rendering_frame"} of the current state."""
+        depth = self.get_depth()
+        K = self.get_intrinsics_matrix()
+        w, h = self._resolution
+        u, v = np.meshgrid((np.arange(w) - K[0, 2]) / K[0, 0], (np.arange(h) - K[1, 2]) / K[1, 1])
+        return {"rgba": self.get_rgba(), "distance_to_image_plane": depth,
+                "distance_to_camera": (depth * np.sqrt(1.0 + u * u + v * v)).astype(np.float32),
+                "rendering_frame": self._frame["rendering_frame"]}
+
+    # ------------------------------------------------------------------ images
+    def _renderer(self, depth: bool) -> mujoco.Renderer:
+        sim = self._sim
+        if sim is None:
+            raise SimulationError(f"Camera {self.prim_path!r}: call World.reset() before reading images")
+        if self._renderer_model is not sim.model:
+            self._close_renderers()
+            self._renderer_model = sim.model
+            self._apply_lens()
+        r = self._renderers.get(depth)
+        if r is None:
+            from manip.sim.core.recording import make_renderer
+
+            w, h = self._resolution
+            r = self._renderers[depth] = make_renderer(sim.model, w, h)
+            if depth:
+                r.enable_depth_rendering()
+        return r
+
+    def _render(self, depth: bool) -> np.ndarray:
+        r = self._renderer(depth)
+        sim = self._sim
+        sim.ensure_kinematics()
+        m = sim.model
+        mujoco.mj_camlight(m, sim.data)   # camera frames (mj_kinematics leaves them)
+        opt = mujoco.MjvOption()
+        opt.sitegroup[:] = 0   # sites are markers, not surfaces
+        near, far = self._clipping
+        extent = float(m.stat.extent)
+        saved = (float(m.vis.map.znear), float(m.vis.map.zfar))
+        m.vis.map.znear, m.vis.map.zfar = near / extent, far / extent
+        try:
+            r.update_scene(sim.data, camera=self._cam_id, scene_option=opt)
+            img = r.render()
+        finally:
+            m.vis.map.znear, m.vis.map.zfar = saved
+        self._frame["rendering_frame"] += 1
+        return img
+
+    def get_rgba(self) -> np.ndarray:
+        """(H, W, 4) uint8 RGBA image of the current state (alpha 255)."""
+        rgb = self._render(False)
+        out = np.empty(rgb.shape[:2] + (4,), dtype=np.uint8)
+        out[..., :3] = rgb
+        out[..., 3] = 255
+        return out
+
+    def get_rgb(self) -> np.ndarray:
+        """(H, W, 3) uint8 RGB image of the current state."""
+        return self.get_rgba()[..., :3]
+
+    def get_depth(self) -> np.ndarray:
+        """(H, W) float32 depth [m]: the distance of the surface seen at each pixel to the
+        image plane (along the optical axis), inf where nothing is hit within the clipping range."""
+        z = np.array(self._render(True), dtype=np.float32)
+        near, far = self._clipping
+        z[(z >= np.float32(far) * np.float32(1.0 - 1e-5)) | (z < np.float32(near))] = np.inf
+        return z
+
+    def get_pointcloud(self) -> np.ndarray:
+        """(N, 3) points [m] in the world frame, one per pixel that hit a surface (row-major)."""
+        depth = self.get_depth()
+        K = self.get_intrinsics_matrix()
+        v, u = np.nonzero(np.isfinite(depth))
+        z = depth[v, u].astype(float)
+        P_ros = np.stack([(u - K[0, 2]) / K[0, 0] * z, (v - K[1, 2]) / K[1, 1] * z, z], axis=1)
+        p, q = self.get_world_pose(camera_axes="ros")
+        return P_ros @ quat.to_matrix(q).T + p
+
+    def get_world_points_from_image_coords(self, points_2d: np.ndarray, depth: np.ndarray) -> np.ndarray:
+        """(N, 3) world points [m] of pixel coordinates points_2d (N, 2) (u, v) at depths (N,) [m]."""
+        uv = np.asarray(points_2d, dtype=float).reshape(-1, 2)
+        z = np.asarray(depth, dtype=float).reshape(-1)
+        if z.shape[0] != uv.shape[0]:
+            raise InvalidInputError(f"depth must have one value per point; got {z.shape[0]} for {uv.shape[0]} points")
+        K = self.get_intrinsics_matrix()
+        P = np.stack([(uv[:, 0] - K[0, 2]) / K[0, 0] * z, (uv[:, 1] - K[1, 2]) / K[1, 1] * z, z], axis=1)
+        p, q = self.get_world_pose(camera_axes="ros")
+        return P @ quat.to_matrix(q).T + p
+
+    def get_image_coords_from_world_points(self, points_3d: np.ndarray) -> np.ndarray:
+        """(N, 2) pixel coordinates (u, v) of world points (N, 3) [m] (in front of the camera)."""
+        X = np.asarray(points_3d, dtype=float).reshape(-1, 3)
+        p, q = self.get_world_pose(camera_axes="ros")
+        P = (X - p) @ quat.to_matrix(q)
+        K = self.get_intrinsics_matrix()
+        return np.stack([K[0, 0] * P[:, 0] / P[:, 2] + K[0, 2], K[1, 1] * P[:, 1] / P[:, 2] + K[1, 2]], axis=1)
+
+    def _close_renderers(self) -> None:
+        for r in self._renderers.values():
+            try:
+                r.close()
+            except Exception:  # pragma: no cover - a context already gone
+                pass
+        self._renderers = {}
+        self._renderer_model = None
+
+    def __del__(self):
+        try:
+            self._close_renderers()
+        except Exception:  # pragma: no cover
+            pass

@@ -1,0 +1,104 @@
+"""`OccupancyMap`: voxel cells as solid boxes in checks, distances and certificates."""
+
+from __future__ import annotations
+
+import pickle
+
+import numpy as np
+import pytest
+
+from manip import MotionGenerator, Pose, WorldConfig
+from manip.collision import Cuboid, OccupancyMap
+from manip.errors import InvalidInputError
+
+RES = 0.02
+
+
+def block(lo, hi) -> np.ndarray:
+    """(C, 3) the cells of the box [lo, hi) of cell indices."""
+    axes = [np.arange(a, b) for a, b in zip(lo, hi)]
+    return np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+
+
+# a wall and a table top, as cells and as the cuboids they fill exactly
+CELLS = np.vstack([block((25, -10, 0), (28, 10, 20)), block((10, -25, -1), (45, 25, 0))])
+BOXES = [Cuboid("wall", [0.06, 0.4, 0.4], [0.53, 0.0, 0.2]), Cuboid("table", [0.7, 1.0, 0.02], [0.55, 0.0, -0.01])]
+
+
+@pytest.fixture(scope="module")
+def pair():
+    m = MotionGenerator("franka")
+    m.add_obstacle(OccupancyMap.from_cells("camera", RES, CELLS))
+    return m, MotionGenerator("franka", WorldConfig(BOXES))
+
+
+def test_checks_equal_those_of_the_same_boxes(pair):
+    on_map, on_boxes = pair
+    Q = np.random.default_rng(0).uniform(on_map.lower_limits, on_map.upper_limits, (600, 7))
+    a = on_map.checker.in_collision_batch(Q)
+    b = on_boxes.checker.in_collision_batch(Q)
+    assert 20 < a.sum() < 580
+    np.testing.assert_array_equal(a, b)
+    for q in Q[~b][:40]:   # clearances are exact (penetration depths of a mesh of boxes are not compared)
+        assert on_map.distance(q) == pytest.approx(on_boxes.distance(q), abs=1e-5)
+
+
+def test_the_certificate_proves_motions_around_the_cells_and_refuses_motions_through_them(pair):
+    on_map, on_boxes = pair
+    q0 = on_map.default_joint_positions
+    ik = lambda p: on_boxes.ik(Pose(p, [0, 1, 0, 0]), seed_q=q0, collision_free=True).q  # noqa: E731
+    left, right = ik([0.4, 0.35, 0.25]), ik([0.4, -0.35, 0.25])
+    front, beside = ik([0.35, 0.0, 0.15]), ik([0.7, 0.3, 0.15])   # in front of the wall; beside it, behind
+    through = np.array([front, beside])   # the straight joint motion sweeps the arm through the wall
+    assert not on_boxes.checker.certify_path(through).certified
+    assert not on_map.checker.certify_path(through).certified
+    r = on_map.plan_joints(left, right, seed=0)
+    assert r.success
+    assert on_map.checker.certify_path(r.trajectory.positions).certified
+    assert on_boxes.checker.certify_path(r.trajectory.positions).certified
+
+
+def test_a_part_inside_a_block_of_cells_collides_without_touching_a_face():
+    mg = MotionGenerator("franka")
+    q = mg.default_joint_positions
+    hand = mg.fk(q, "panda_hand").position
+    c = np.floor(hand / RES).astype(int)
+    mg.add_obstacle(OccupancyMap.from_cells("camera", RES, block(c - 8, c + 9)))   # a 34 cm cube of cells
+    assert mg.check_collision(q)
+    assert not mg.checker.certify_path(np.array([q, q + 0.01])).certified
+    assert mg.checker.collision_report(q).contacts
+
+
+def test_cells_under_the_base_are_never_checked_against_its_fixed_links():
+    mg = MotionGenerator("franka")
+    q = mg.default_joint_positions
+    floor = block((-20, -20, -1), (20, 20, 0))          # the floor the base stands on
+    into_base = block((-3, -3, 0), (3, 3, 2))           # even cells inside panda_link0
+    mg.add_obstacle(OccupancyMap.from_cells("camera", RES, np.vstack([floor, into_base])))
+    assert not mg.check_collision(q)
+    assert mg.checker.certify_path(np.array([q, q + 0.05])).certified
+
+
+def test_a_map_round_trips_through_the_world_dict_and_pickle():
+    m = OccupancyMap.from_cells("camera", RES, CELLS)
+    w = WorldConfig.from_dict(WorldConfig([m]).to_dict())
+    back = w.get("camera")
+    assert isinstance(back, OccupancyMap)
+    np.testing.assert_array_equal(back.cells, m.cells)
+    again = pickle.loads(pickle.dumps(m))
+    np.testing.assert_array_equal(again.cells, m.cells)
+    assert again.num_boxes == m.num_boxes and again.contains_points(np.array([[0.53, 0.0, 0.2]]))
+
+
+def test_bad_input_names_the_argument():
+    with pytest.raises(InvalidInputError, match="cells"):
+        OccupancyMap.from_cells("camera", RES, np.zeros((4, 2), dtype=int))
+    with pytest.raises(InvalidInputError, match="cells"):
+        OccupancyMap.from_cells("camera", RES, np.zeros((4, 3)))
+    with pytest.raises(InvalidInputError, match="resolution"):
+        OccupancyMap.from_cells("camera", -1.0, CELLS)
+    m = OccupancyMap.from_cells("camera", RES, CELLS)
+    with pytest.raises(InvalidInputError, match="base frame"):
+        m.with_pose([0.1, 0.0, 0.0])
+    with pytest.raises(InvalidInputError, match="from_cells"):
+        OccupancyMap("camera")

@@ -1,0 +1,216 @@
+"""Depth images into the planner's occupancy map: what is seen, what is freed, the robot itself."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from manip import MotionGenerator, Pose
+from manip import quaternion as quat
+from manip.collision import OccupancyMap
+from manip.errors import InvalidInputError
+from manip.sim import Camera, DynamicCuboid, Franka, World
+
+
+def look_at(eye, target) -> np.ndarray:
+    """Quaternion (w, x, y, z) of a camera at `eye` looking at `target` in Isaac's world axes
+    (+X forward, +Z up)."""
+    f = np.asarray(target, float) - np.asarray(eye, float)
+    f /= np.linalg.norm(f)
+    left = np.cross([0.0, 0.0, 1.0], f)
+    left /= np.linalg.norm(left)
+    return quat.from_matrix(np.stack([f, left, np.cross(f, left)], axis=1))
+
+
+def camera_at(path, eye, target, resolution=(320, 240), focal=1.8) -> Camera:
+    cam = Camera(path, position=np.asarray(eye, float), orientation=look_at(eye, target), resolution=resolution)
+    cam.set_focal_length(focal)
+    return cam
+
+
+def integrate(mg, cam, **kwargs):
+    p, o = cam.get_world_pose()
+    return mg.update_world_from_depth(cam.get_depth(), cam.get_intrinsics_matrix(), Pose(p, o), **kwargs)
+
+
+@pytest.fixture
+def mg():
+    return MotionGenerator("franka")
+
+
+def _box_scene(box_at=(0.6, 0.1, 0.1), second_camera=False):
+    world = World()
+    world.scene.add_default_ground_plane()
+    box = world.scene.add(DynamicCuboid("/World/box", name="box", position=list(box_at), size=1.0,
+                                        scale=[0.1, 0.12, 0.2], mass=1.0))
+    cam = camera_at("/World/cam", [1.5, -0.8, 0.9], [0.5, 0.1, 0.1])
+    other = camera_at("/World/cam_b", [1.5, 0.8, 0.9], [0.5, 0.0, 0.1]) if second_camera else None
+    world.reset()
+    return (world, box, cam, other) if second_camera else (world, box, cam)
+
+
+def test_a_box_seen_gives_occupied_cells_on_its_visible_faces(mg):
+    world, box, cam = _box_scene()
+    m = integrate(mg, cam)
+    assert isinstance(m, OccupancyMap) and "camera" in mg.world
+    # the faces the camera sees: +x (towards it) and -y; every point of them lies in an occupied cell
+    c = np.array([0.6, 0.1, 0.1])
+    h = np.array([0.05, 0.06, 0.1])
+    s = np.linspace(-0.97, 0.97, 9)
+    A, B = np.meshgrid(s, s)
+    for axis, sign in ((0, 1.0), (1, -1.0)):
+        u, v = [k for k in range(3) if k != axis]
+        P = np.zeros((A.size, 3))
+        P[:, axis] = c[axis] + sign * h[axis]
+        P[:, u] = c[u] + A.ravel() * h[u]
+        P[:, v] = c[v] + B.ravel() * h[v]
+        P = P[P[:, 2] > 0.005]   # the bottom edge touches the ground
+        for x in P:
+            assert m.contains_points(x[None]), f"face point {x} not in an occupied cell"
+    # and no cell farther than one cell from the box or the ground
+    C = m.cell_centres()
+    off_ground = C[C[:, 2] > 0.0]
+    assert off_ground.size
+    outside = np.abs(off_ground - c) - h
+    assert np.all(outside.max(axis=1) < 0.02 + 1e-9)
+
+
+def test_moving_the_box_away_and_integrating_again_frees_its_cells(mg):
+    world, box, cam = _box_scene()
+    integrate(mg, cam)
+    before = mg.world.get("camera")
+    inside_old = lambda C: np.all(np.abs(C - [0.6, 0.1, 0.11]) < [0.07, 0.08, 0.11], axis=1)  # noqa: E731 (above the ground)
+    assert inside_old(before.cell_centres()).sum() > 20
+    box.set_world_pose(position=[0.3, -0.5, 0.1])
+    for _ in range(5):
+        world.step(render=False)
+    after = integrate(mg, cam)
+    assert after is mg.world.get("camera")
+    assert inside_old(after.cell_centres()).sum() == 0
+    # the box at its new place is in the map
+    assert after.contains_points(np.array([[0.35, -0.5, 0.1]]))
+
+
+def test_the_robot_in_view_adds_no_cell_on_itself(mg):
+    world = World()
+    world.scene.add_default_ground_plane()
+    franka = world.scene.add(Franka("/World/Franka", name="franka"))
+    cams = [camera_at(f"/World/cam{i}", eye, [0.3, 0.0, 0.4]) for i, eye in
+            enumerate(([1.4, -0.9, 1.0], [1.4, 0.9, 1.0]))]
+    world.reset()
+    q = franka.get_joint_positions()
+    for cam in cams:
+        integrate(mg, cam, q=q)
+    m = mg.world.get("camera")
+    assert m.num_cells > 100          # the ground around the robot
+    assert not mg.check_collision(q)
+    assert mg.distance(q) > 0.05
+    # without the self-filter, the robot's own surface becomes cells it collides with
+    mg.remove_obstacle("camera")
+    integrate(mg, cams[0])
+    assert mg.check_collision(q)
+
+
+def test_unknown_occupied_within_bounds(mg):
+    world, box, cam = _box_scene()
+    bounds = [[0.2, -0.4, 0.0], [0.9, 0.5, 0.5]]
+    m = integrate(mg, cam, unknown="occupied", bounds=bounds)
+    eye, c = np.array([1.5, -0.8, 0.9]), np.array([0.6, 0.1, 0.1])
+    behind = (c + 0.13 * (c - eye) / np.linalg.norm(c - eye))[None]   # hidden behind the box from the camera
+    seen_free = np.array([[0.8, -0.3, 0.3]])  # between the camera and the ground, in view
+    outside = np.array([[0.0, 0.6, 0.3]])
+    assert m.contains_points(behind)
+    assert not m.contains_points(seen_free)
+    assert not m.contains_points(outside)
+    default = MotionGenerator("franka")
+    assert not integrate(default, cam).contains_points(behind)
+
+
+def test_a_point_cloud_with_an_origin_frees_what_it_sees_through(mg):
+    world, box, cam = _box_scene()
+    p, _ = cam.get_world_pose()
+    pts = cam.get_pointcloud()
+    m = mg.update_world_from_pointcloud(pts, origin=p)
+    assert m.contains_points(np.array([[0.65, 0.1, 0.1]]))
+    box.set_world_pose(position=[0.3, -0.5, 0.1])
+    for _ in range(5):
+        world.step(render=False)
+    m = mg.update_world_from_pointcloud(cam.get_pointcloud(), origin=p)
+    assert not m.contains_points(np.array([[0.65, 0.1, 0.15]]))
+    # without an origin the cloud only adds cells
+    m = mg.update_world_from_pointcloud(pts, name="no_rays")
+    m = mg.update_world_from_pointcloud(cam.get_pointcloud(), name="no_rays")
+    assert m.contains_points(np.array([[0.65, 0.1, 0.15]]))
+
+
+def test_plans_on_the_map_avoid_the_box_and_are_certified(mg):
+    world, box, cam, other = _box_scene(box_at=(0.5, 0.0, 0.1), second_camera=True)
+    integrate(mg, cam)
+    integrate(mg, other)
+    q0 = mg.default_joint_positions
+    truth = MotionGenerator("franka", {"cuboid": {"box": {"dims": [0.1, 0.12, 0.2], "pose": [0.5, 0, 0.1, 1, 0, 0, 0]}}})
+    for goal in (Pose([0.5, 0.3, 0.15], [0, 1, 0, 0]), Pose([0.5, -0.3, 0.15], [0, 1, 0, 0])):
+        r = mg.plan_pose(q0, goal)
+        assert r.success, r.message
+        assert mg.checker.certify_path(r.trajectory.positions).certified
+        assert truth.checker.certify_path(r.trajectory.positions).certified
+
+
+def test_bad_input_names_the_argument(mg):
+    K = np.array([[300.0, 0, 159.5], [0, 300.0, 119.5], [0, 0, 1]])
+    d = np.full((240, 320), 1.0, dtype=np.float32)
+    pose = Pose([0.0, 0.0, 1.0], [1, 0, 0, 0])
+    with pytest.raises(InvalidInputError, match="depth"):
+        mg.update_world_from_depth(np.ones((240, 320, 3), dtype=np.float32), K, pose)
+    with pytest.raises(InvalidInputError, match="depth"):
+        mg.update_world_from_depth(np.ones((240, 320), dtype=np.int32), K, pose)
+    with pytest.raises(InvalidInputError, match="depth"):
+        mg.update_world_from_depth(-d, K, pose)
+    bad = K.copy()
+    bad[0, 0] = math.nan
+    with pytest.raises(InvalidInputError, match="intrinsics"):
+        mg.update_world_from_depth(d, bad, pose)
+    with pytest.raises(InvalidInputError, match="camera_pose"):
+        mg.update_world_from_depth(d, K, [0.0, 0.0, 1.0, 1, 0, 0, 0])
+    with pytest.raises(InvalidInputError, match="resolution"):
+        mg.update_world_from_depth(d, K, pose, resolution=-0.02)
+    with pytest.raises(InvalidInputError, match="max_range"):
+        mg.update_world_from_depth(d, K, pose, max_range=0.0)
+    with pytest.raises(InvalidInputError, match="unknown"):
+        mg.update_world_from_depth(d, K, pose, unknown="maybe")
+    with pytest.raises(InvalidInputError, match="bounds"):
+        mg.update_world_from_depth(d, K, pose, unknown="occupied")
+    with pytest.raises(InvalidInputError, match="points"):
+        mg.update_world_from_pointcloud(np.zeros((10, 2)))
+    with pytest.raises(InvalidInputError, match="q"):
+        mg.update_world_from_depth(d, K, pose, q=np.zeros(3))
+    mg.update_world_from_depth(d, K, pose)
+    with pytest.raises(InvalidInputError, match="resolution"):
+        mg.update_world_from_depth(d, K, pose, resolution=0.05)   # another resolution for the same map
+    mg.add_obstacle(__import__("manip").Cuboid("wall", [0.1, 0.1, 0.1], [2.0, 2.0, 2.0]))
+    with pytest.raises(InvalidInputError, match="name"):
+        mg.update_world_from_depth(d, K, pose, name="wall")
+
+
+def test_closing_fingers_add_no_cell_on_themselves(mg):
+    """The planner's model holds the fingers open; the real ones, half closed (on an object),
+    are still the robot's own: no cell on them (without the fingers' travel in the filter,
+    this scene gives cells the model's fingers touch at 2 cm)."""
+    world = World()
+    world.scene.add_default_ground_plane()
+    franka = world.scene.add(Franka("/World/Franka", name="franka"))
+    cams = [camera_at(f"/World/cam{i}", eye, [0.45, 0.0, 0.35]) for i, eye in
+            enumerate(([1.2, -0.7, 0.8], [1.2, 0.7, 0.8], [0.8, 0.0, 1.2], [0.45, -1.0, 0.4]))]
+    world.reset()
+    q = franka.get_joint_positions().copy()
+    q[7:] = 0.02                                 # each finger 2 cm in from open
+    franka.set_joint_positions(q)
+    world.step(render=False)
+    assert np.allclose(franka.get_joint_positions()[7:], 0.02, atol=2e-3)
+    for cam in cams:
+        integrate(mg, cam, q=q, resolution=0.02)
+    assert mg.world.get("camera").num_cells > 100
+    assert not mg.check_collision(q)
+    assert mg.distance(q) > 0.05
