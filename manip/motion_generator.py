@@ -59,7 +59,7 @@ from manip.planning.context import START_LIMIT_TOLERANCE, PlanContext
 from manip.planning.arms import check_goals, held_validity, held_view, plan_link_poses, shared_attachment
 from manip.planning.constrained import with_constraints
 from manip.planning.goal_configurations import plan_to_poses
-from manip.planning.linear_motion import LINEAR_DEVIATION, LINEAR_SPLINE_DEVIATION, MAX_LINEAR_POINTS, plan_linear
+from manip.planning.linear_motion import MAX_LINEAR_POINTS, plan_linear  # noqa: F401 (MAX_LINEAR_POINTS: its old home)
 from manip.planning.options import PlanOptions
 from manip.planning.pipeline import plan_to_configs
 from manip.planning.result import PlanResult
@@ -72,8 +72,7 @@ from manip.validation import as_real_array, flag, positive
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["MotionGenerator", "START_LIMIT_TOLERANCE", "LINEAR_DEVIATION", "LINEAR_SPLINE_DEVIATION",
-           "MAX_LINEAR_POINTS"]
+__all__ = ["MotionGenerator", "START_LIMIT_TOLERANCE"]
 
 
 #: The Isaac Sim tutorial wrapper's names, which moved to `manip.TutorialMotionGen` (asking a
@@ -578,15 +577,15 @@ class MotionGenerator:
         return PlanContext(base.updated(options), t0)
 
     def _plan_linear(self, start_q, goal: Pose, link: str, options: dict) -> PlanResult:
-        """Straight-line motion of `link` from its current pose to `goal` (`planning.linear_motion`);
-        a multi-arm robot moves only the link's arm (`planning.arms`)."""
+        """Straight-line motion of `link` from its current pose to `goal` (`planning.linear_motion`)."""
         ctx = self._context(options)
-        validity, solver, limits = self._validity(ctx, start_q), self.ik_solver, self.limits
-        q = self.kinematics.check_q(self._arm_q(start_q, "start_q"), "start_q")
-        if self.config.arms and q.ndim == 1:
-            kin, solver = held_view(self.config, self.kinematics, self.ik_solver, [link], q)
-            validity, limits = held_validity(validity, kin), kin.limits
-        return plan_linear(ctx, validity, solver, start_q, goal, link, limits=limits)
+        validity = self._validity(ctx, start_q)
+        start = ctx.check_start(start_q, self.kinematics, validity)
+        if ctx.failed:
+            return ctx.result()
+        kin, solver = held_view(self.config, self.kinematics, self.ik_solver, [link], start)
+        validity = validity if kin is self.kinematics else held_validity(validity, kin)
+        return plan_linear(ctx, validity, start, goal, link, kinematics=kin, ik_solver=solver, limits=kin.limits)
 
     # ------------------------------------------------------------------ removed names
     def __getattr__(self, name: str):

@@ -1,11 +1,9 @@
-"""Straight-line (Cartesian) motions of a link: `plan_linear`.
+"""Straight-line motions of a link (`plan_pose(..., linear=True)`): dense IK along the line, then timing.
 
-The link moves along the straight line from its pose at the start to the goal pose (the
-orientation interpolated), through dense IK points (`planning.path.linear.linear_path`) that
-the validity accepts, timed as one smooth motion along them and certified like every plan
-(`planning.time_and_validate`). `MotionGenerator.plan_pose(..., linear=True)` and the grasp
-stages (`planning.grasp`) call it, each with its own validity (a world snapshot, the plan's
-constraints, allowed contacts).
+The joint path comes from incremental IK at `linear_step` [m] along the line
+(`planning.path.linear`); it is timed as one smooth motion along a spline through its points
+(`time_parameterize_dense`), else by the other timings, and validated as every plan is
+(`planning.time_and_validate`: limits, certified continuous collision-freedom).
 """
 
 from __future__ import annotations
@@ -18,6 +16,7 @@ import numpy as np
 
 from manip.errors import InvalidInputError
 from manip.ik import IKSolver
+from manip.kinematics import Kinematics
 from manip.limits import JointLimits
 from manip.planning.context import PlanContext
 from manip.planning.path.linear import linear_path
@@ -41,21 +40,13 @@ LINEAR_SPLINE_DEVIATION = 1e-2
 MAX_LINEAR_POINTS = 10_000
 
 
-def plan_linear(ctx: PlanContext, validity: Validity, ik_solver: IKSolver, start_q: np.ndarray, goal: Pose,
-                link: str, *, limits: JointLimits) -> PlanResult:
-    """Straight-line motion of `link` from its pose at `start_q` (dof,) to `goal` (a single Pose).
-
-    Returns:
-        PlanResult: LINEAR_PATH_FAIL when the line cannot be followed (IK breaks, jumps or
-        the validity refuses a point or a step), TRAJOPT_FAIL when no timing of it validates.
+def plan_linear(ctx: PlanContext, validity: Validity, start: np.ndarray, goal: Pose, link: str, *,
+                kinematics: Kinematics, ik_solver: IKSolver, limits: JointLimits) -> PlanResult:
+    """Straight-line motion of `link` from its pose at the checked `start` (dof,) to `goal`.
 
     Raises:
-        InvalidInputError: `linear_step` too small for the line's length (MAX_LINEAR_POINTS).
+        InvalidInputError: the line needs more than MAX_LINEAR_POINTS IK points at `linear_step`.
     """
-    kinematics = validity.kinematics
-    start = ctx.check_start(start_q, kinematics, validity)
-    if ctx.failed:
-        return ctx.result()
     length = float(np.linalg.norm(goal.position - kinematics.fk(start, link).position))
     points = length / ctx.options.linear_step
     if points > MAX_LINEAR_POINTS:
