@@ -98,3 +98,17 @@ def test_plan_poses_bad_goals_raise_naming_them(dual):
         dual.plan_poses(q0, {})
     with pytest.raises(UnknownNameError, match="link of an arm"):
         dual.plan_poses(q0, {"base": Pose([0.5, 0.2, 0.3], DOWN)})
+
+
+def test_a_straight_line_of_one_hand_keeps_the_other_arm_still(dual):
+    q0 = dual.default_joint_positions
+    start = dual.fk(q0, "right_panda_hand")
+    goal = Pose(start.position + [0.1, 0.05, -0.15], start.quaternion)
+    result = dual.plan_pose(q0, goal, link="right_panda_hand", linear=True)
+    assert result.success, result.message
+    P = result.trajectory.positions
+    assert np.array_equal(P[:, :7], np.broadcast_to(q0[:7], (len(P), 7)))
+    hand = dual.fk(P, "right_panda_hand").position
+    line = goal.position - start.position
+    off_line = np.linalg.norm(np.cross(hand - start.position, line / np.linalg.norm(line)), axis=1)
+    assert off_line.max() < 2e-3
