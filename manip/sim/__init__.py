@@ -103,7 +103,7 @@ from manip.sim.robots.robot import (
 )
 from manip.sim.samples.base_sample import BaseSample
 from manip.sim.samples.extension import BaseSampleExtension
-from manip.sim.samples.hello_world import HelloWorld
+from manip.sim.samples.hello_world import HelloWorld, HelloWorldExtension
 from manip.sim.tasks.base_task import BaseTask, PickPlace, find_unique_string_name
 from manip.sim.prims.views import RigidPrimView, XFormPrimView
 from manip.sim.tasks.follow_target import FollowTarget
@@ -115,7 +115,7 @@ __all__ = [
     "BaseSample", "BaseSampleExtension", "BaseTask", "CameraView", "CollisionObject", "DOF_PROPERTIES_DTYPE",
     "DifferentialController", "DynamicCapsule", "DynamicCone", "DynamicCuboid", "DynamicCylinder", "DynamicSphere",
     "DynamicState", "FixedCapsule", "FixedCone", "FixedCuboid", "FixedCylinder", "FixedSphere", "FollowTarget",
-    "Franka", "GeometryPrim", "GroundPlane", "HelloWorld", "ISAAC_ASSETS", "JointsState", "OffscreenRenderingError",
+    "Franka", "GeometryPrim", "GroundPlane", "HelloWorld", "HelloWorldExtension", "ISAAC_ASSETS", "JointsState", "OffscreenRenderingError",
     "ParallelGripper", "PhysicsMaterial", "PickPlace", "PickPlaceController", "RMPFlowController", "RigidPrim",
     "RigidPrimView", "Robot", "Scene", "SimulationApp", "SimulationContext", "SimulationError",
     "SimulationInstabilityError", "SimulationWarning", "SingleArticulation", "SingleGeometryPrim",

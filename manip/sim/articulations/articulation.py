@@ -239,9 +239,10 @@ class Articulation(DefaultPoseMixin):
         """Teleport joints to `positions` (K,) and set their drive position targets to them.
 
         Velocities are kept. A position at most 1e-3 outside its joint's limits is put on the
-        limit. Raises InvalidInputError on a wrong length, a non-finite value, a position
-        farther outside the limits, or a magnitude above MAX_POSITION (unlimited joints);
-        nothing changes then.
+        limit; farther outside, it is set with a warning and the next physics step puts the
+        joint back on its limit (as Isaac: PhysX pushes it back). Raises InvalidInputError on
+        a wrong length, a non-finite value or a magnitude above MAX_POSITION; nothing changes
+        then.
         """
         self._cs("set_joint_positions").teleport(positions, joint_indices)
 
@@ -314,11 +315,16 @@ class Articulation(DefaultPoseMixin):
         return JointsState(s.positions.copy(), s.velocities.copy(), s.efforts.copy())
 
     # ------------------------------------------------------------------ root pose
-    def get_world_pose(self) -> tuple[np.ndarray, np.ndarray] | None:
-        """Pose of the model's frame: position (3,) [m], orientation (4,) (w, x, y, z)."""
-        c = self._c("get_world_pose")
+    def get_world_pose(self) -> tuple[np.ndarray, np.ndarray]:
+        """Pose of the model's frame: position (3,) [m], orientation (4,) (w, x, y, z).
+
+        Before the first `World.reset()` (or after the prim changed), the pose authored on
+        the stage: the one given at construction or by `set_world_pose` since (as Isaac
+        reads the prim's transform at any time).
+        """
+        c = self._core
         if c is None:
-            return None
+            return self._ref.position.copy(), self._ref.orientation.copy()
         b = c.root_ids[0]
         if c.free_qadr >= 0:
             p, q = c.sim.free_pose(c.free_qadr)
@@ -329,11 +335,22 @@ class Articulation(DefaultPoseMixin):
         return p - quat.to_matrix(qw) @ lp, qw
 
     def set_world_pose(self, position=None, orientation=None) -> None:
-        """Move the model's frame (teleport; a fixed base is moved with it)."""
-        c = self._cs("set_world_pose")
+        """Move the model's frame (teleport; a fixed base is moved with it).
+
+        Before the first `World.reset()` the pose is authored on the stage: the model is
+        compiled there, and `get_world_pose()` returns it. As in Isaac, `World.reset()` then
+        restores the default state (the pose at construction): to keep the new pose across
+        resets, also call `set_default_state(position, orientation)` (as Isaac's "Adding
+        Multiple Robots" tutorial does).
+        """
+        c = self._core
         cur_p, cur_q = self.get_world_pose()
         p = bounded_vec(position, "position", "position") if position is not None else cur_p
         q = unit_quat(orientation) if orientation is not None else cur_q
+        if c is None:
+            self._ref.position, self._ref.orientation = p.copy(), q.copy()
+            get_current_stage().mark_changed(self.prim_path)
+            return
         R = quat.to_matrix(q)
         m, d = c.sim.model, c.sim.data
         for k, b in enumerate(c.root_ids):

@@ -22,6 +22,7 @@ import time
 from typing import Any
 
 from manip.errors import InvalidInputError
+from manip.sim.core.event_loop import run_pending_coroutines
 from manip.sim.core.gl_backend import has_display
 from manip.sim.core.simulation_context import SimulationContext
 from manip.sim.scenes.stage import SimulationError
@@ -102,10 +103,16 @@ class SimulationApp:
         return not self.is_running()
 
     def update(self) -> None:
-        """Render the World (viewer sync) without stepping physics."""
+        """One frame of Kit's update loop: while the World is playing, the physics of one
+        rendered frame (max(1, rendering_dt / physics_dt) physics steps, each after the
+        physics callbacks; the tasks' `pre_step` is not run, as in Isaac, where only
+        `world.step()` runs it); then the render (viewer sync). Paused or stopped: render only.
+        Coroutines scheduled with `asyncio.ensure_future` outside a running loop run here
+        (`manip.sim.core.event_loop`), as Kit's loop runs them each frame."""
+        run_pending_coroutines()
         w = World.instance()
         if w is not None and w.model is not None:
-            w.render()
+            SimulationContext.step(w, render=True)
 
     def close(self) -> None:
         """Close the viewer (if any) and the World's recording."""

@@ -41,8 +41,8 @@ class RigidPrim(XFormPrim):
         return np.concatenate([res[3:], res[:3]])
 
     def get_linear_velocity(self) -> np.ndarray:
-        """Linear velocity of the body origin (3,) [m/s], world frame (a link's: None
-        before the first reset, with a warning, as its pose)."""
+        """Linear velocity of the body origin (3,) [m/s], world frame (a link's: zero
+        before the first reset, as authored)."""
         if self._sim is None:
             return self._unbound_velocity("linear_velocity")
         if self._wrapped_reference is not None:
@@ -60,10 +60,10 @@ class RigidPrim(XFormPrim):
         return self._sim.free_angular_velocity(self._qadr, self._dadr)
 
     def _unbound_velocity(self, which: str) -> np.ndarray | None:
-        """Before the World compiled: the default velocity, or None for a link (unknown)."""
+        """Before the World compiled: the default velocity, or zeros for a link (the model
+        is authored at rest)."""
         if self._wrapped_reference is not None:
-            logger.warning("%s: velocity unknown before the first World.reset(); returning None", self.prim_path)
-            return None
+            return np.zeros(3)
         return getattr(self._default_state, which).copy()
 
     def set_linear_velocity(self, velocity) -> None:

@@ -155,13 +155,17 @@ class XFormPrim(DefaultPoseMixin):
         """World pose: position (3,) [m] and orientation (4,) (w, x, y, z).
 
         Before the first `World.reset()` it is the pose the prim was created with (or last
-        set to).
+        set to); a body of a referenced model (a robot's link) is at the model's authored
+        pose (its 'home' keyframe at the robot's pose on the stage).
         """
         sim = self._sim
         if sim is None:
             if self._wrapped_reference is not None:
-                logger.warning("%s: pose unknown before the first World.reset(); returning None", self.prim_path)
-                return None  # type: ignore[return-value]
+                pose = self._wrapped_reference.authored_pose(self.prim_path)
+                if pose is None:
+                    raise SimulationError(f"XFormPrim {self.prim_path!r}: the referenced model "
+                                          f"{self._wrapped_reference.prim_path!r} has no body or site of that name")
+                return pose
             if self._wrapped_object is not None:
                 return self._wrapped_object.get_world_pose()
             return self._pose[0].copy(), self._pose[1].copy()
