@@ -62,6 +62,7 @@ from manip.sim.objects import (
     VisualSphere,
     XFormPrim,
 )
+from manip.sim.materials import OmniGlass, OmniPBR, PreviewSurface, VisualMaterial
 from manip.sim.core.recording import CameraView, OffscreenRenderingError
 from manip.sim.utils.rotations import (
     euler_angles_to_quat,
@@ -115,12 +116,12 @@ __all__ = [
     "BaseSample", "BaseSampleExtension", "BaseTask", "CameraView", "CollisionObject", "DOF_PROPERTIES_DTYPE",
     "DifferentialController", "DynamicCapsule", "DynamicCone", "DynamicCuboid", "DynamicCylinder", "DynamicSphere",
     "DynamicState", "FixedCapsule", "FixedCone", "FixedCuboid", "FixedCylinder", "FixedSphere", "FollowTarget",
-    "Franka", "GeometryPrim", "GroundPlane", "HelloWorld", "HelloWorldExtension", "ISAAC_ASSETS", "JointsState", "OffscreenRenderingError",
-    "ParallelGripper", "PhysicsMaterial", "PickPlace", "PickPlaceController", "RMPFlowController", "RigidPrim",
+    "Franka", "GeometryPrim", "GroundPlane", "HelloWorld", "HelloWorldExtension", "ISAAC_ASSETS", "JointsState", "OffscreenRenderingError", "OmniGlass", "OmniPBR",
+    "ParallelGripper", "PhysicsMaterial", "PickPlace", "PreviewSurface", "PickPlaceController", "RMPFlowController", "RigidPrim",
     "RigidPrimView", "Robot", "Scene", "SimulationApp", "SimulationContext", "SimulationError",
     "SimulationInstabilityError", "SimulationWarning", "SingleArticulation", "SingleGeometryPrim",
     "SingleManipulator", "SingleRigidPrim", "SingleXFormPrim", "VisualCapsule", "VisualCone", "VisualCuboid",
-    "VisualCylinder", "VisualSphere", "WheelBasePoseController", "WheeledRobot", "World", "XFormPrim",
+    "VisualCylinder", "VisualMaterial", "VisualSphere", "WheelBasePoseController", "WheeledRobot", "World", "XFormPrim",
     "XFormPrimState", "XFormPrimView", "add_reference_to_stage", "available_assets", "carb", "clear_stage",
     "create_new_stage", "create_new_stage_async", "euler_angles_to_quat", "euler_angles_to_rot_matrix",
     "find_unique_string_name", "franka_model_path", "get_assets_root_path", "get_current_stage", "is_prim_path_valid",

@@ -12,6 +12,7 @@ import mujoco
 import numpy as np
 
 from manip.errors import InvalidInputError
+from manip.sim.materials.visual_material import PreviewSurface, VisualMaterial, unique_material_path
 from manip.sim.scenes.stage import SimHandle
 from manip.sim.prims.xform_prim import XFormPrim
 from manip.validation import non_negative, vec
@@ -84,9 +85,20 @@ class GeometryPrim(XFormPrim):
             raise InvalidInputError(f"color must be RGB in [0, 1]; got {self._color}")
         self._physics_material = physics_material
         self._geom_id = -1
+        self._opacity = 1.0
+        self._visual_material: VisualMaterial | None = None
+        if visual_material is not None and not isinstance(visual_material, VisualMaterial):
+            raise InvalidInputError(f"visual_material must be a VisualMaterial (PreviewSurface, OmniPBR, OmniGlass); "
+                                    f"got {type(visual_material).__name__}")
         super().__init__(prim_path, name, position, translation, orientation, scale, visible)
         if self._wrapped_object is not None and hasattr(self._wrapped_object, "get_color"):
             self._color = self._wrapped_object.get_color()
+            self._visual_material = self._wrapped_object.get_applied_visual_material()
+        elif visual_material is not None:
+            self.apply_visual_material(visual_material)
+        elif self._family != "ground":
+            # Isaac gives each shape made without a material its own PreviewSurface with its colour.
+            self.apply_visual_material(PreviewSurface(unique_material_path(), color=self._color))
 
     # shape parameters: overridden
     def _geom_type_size(self) -> tuple[int, list[float]]:
@@ -105,7 +117,7 @@ class GeometryPrim(XFormPrim):
             name=self.prim_path + "/geom",
             type=gtype,
             size=size,
-            rgba=[*self._color.tolist(), 1.0 if self._visible else 0.0],
+            rgba=[*self._color.tolist(), self._opacity if self._visible else 0.0],
             contype=1 if collides else 0,
             conaffinity=1 if collides else 0,
             group=0 if collides else 2,
@@ -133,16 +145,65 @@ class GeometryPrim(XFormPrim):
 
     def _apply_visibility(self) -> None:
         if self._sim is not None and self._geom_id >= 0:
-            self._sim.model.geom_rgba[self._geom_id, 3] = 1.0 if self._visible else 0.0
+            self._sim.model.geom_rgba[self._geom_id, 3] = self._opacity if self._visible else 0.0
 
     def get_color(self) -> np.ndarray:
+        """The colour drawn (3,), RGB in [0, 1]."""
+        if self._wrapped_object is not None and hasattr(self._wrapped_object, "get_color"):
+            return self._wrapped_object.get_color()
         return self._color.copy()
 
     def set_color(self, color) -> None:
+        """Set the colour, RGB in [0, 1]: of the applied visual material if there is one
+        (every object sharing it changes, as editing the material in Isaac), else of this object."""
         c = vec(color, 3, "color")
-        self._color = c
-        if self._sim is not None:
-            self._sim.model.geom_rgba[self._geom_id, :3] = c
+        if np.any(c < 0) or np.any(c > 1):
+            raise InvalidInputError(f"color must be RGB in [0, 1]; got {c}")
+        if self._visual_material is not None:
+            self._visual_material.set_color(c)
+        else:
+            self.show_color(c)
+
+    def show_color(self, color, opacity: float = 1.0) -> None:
+        """Draw this object in `color` (3,) RGB with `opacity` in [0, 1] (what a bound visual
+        material calls; `set_color` is the user's call)."""
+        self._color = np.array(color, dtype=float)
+        self._opacity = float(opacity)
+        if self._wrapped_object is not None:
+            self._wrapped_object.show_color(color, opacity)
+        if self._sim is not None and self._geom_id >= 0:
+            self._sim.model.geom_rgba[self._geom_id, :3] = self._color
+            self._apply_visibility()
+
+    # ------------------------------------------------------------------ visual materials
+    def apply_visual_material(self, visual_material: VisualMaterial, weaker_than_descendants: bool = False) -> None:
+        """Draw this object with `visual_material` (a PreviewSurface, OmniPBR, OmniGlass);
+        its colour applies at once. `weaker_than_descendants` is accepted (no child prims here).
+
+        Raises:
+            InvalidInputError: not a VisualMaterial.
+        """
+        if not isinstance(visual_material, VisualMaterial):
+            raise InvalidInputError(f"apply_visual_material needs a VisualMaterial (PreviewSurface, OmniPBR, "
+                                    f"OmniGlass); got {type(visual_material).__name__}")
+        if self._wrapped_object is not None:
+            self._wrapped_object.apply_visual_material(visual_material, weaker_than_descendants)
+            self._visual_material = visual_material
+            return
+        if self._visual_material is not None:
+            self._visual_material.unbind(self)
+        self._visual_material = visual_material
+        visual_material.bind(self)
+
+    def get_applied_visual_material(self) -> VisualMaterial | None:
+        """The visual material drawing this object (a shape's own PreviewSurface unless another
+        was applied)."""
+        if self._wrapped_object is not None and hasattr(self._wrapped_object, "get_applied_visual_material"):
+            return self._wrapped_object.get_applied_visual_material()
+        return self._visual_material
+
+    def is_visual_material_applied(self) -> bool:
+        return self._visual_material is not None
 
     def get_applied_physics_material(self) -> PhysicsMaterial | None:
         return self._physics_material
