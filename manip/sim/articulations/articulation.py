@@ -324,6 +324,9 @@ class Articulation(DefaultPoseMixin):
         """
         c = self._core
         if c is None:
+            if get_current_stage().get_prim(self.prim_path) is not self._ref:
+                logger.warning("%s: its model was removed from the stage; no pose (None)", self._name)
+                return None  # type: ignore[return-value]
             return self._ref.position.copy(), self._ref.orientation.copy()
         b = c.root_ids[0]
         if c.free_qadr >= 0:

@@ -1,9 +1,11 @@
 """`GeometryPrim` (a prim with one MuJoCo geom, base of the shapes) and `PhysicsMaterial`.
 
 Physics materials: MuJoCo has one sliding friction per geom, so a material's dynamic
-friction is used (static friction only if dynamic is missing); MuJoCo combines the two
-geoms of a contact by taking the larger friction. Restitution is not modelled (MuJoCo
-contacts are soft and inelastic); it is kept for reference only.
+friction is used (static friction only if dynamic is missing); a collider without a
+material has PhysX's default friction 0.5. Two surfaces combine their frictions by their
+materials' combine modes, "average" by default, as PhysX
+(`manip.sim.scenes.contact_model`). Restitution is not modelled (MuJoCo contacts are
+inelastic); it is kept for reference only.
 """
 
 from __future__ import annotations
@@ -13,6 +15,7 @@ import numpy as np
 
 from manip.errors import InvalidInputError
 from manip.sim.materials.visual_material import PreviewSurface, VisualMaterial, unique_material_path
+from manip.sim.scenes.contact_model import PHYSX_DEFAULT_FRICTION, check_combine_mode
 from manip.sim.scenes.stage import SimHandle
 from manip.sim.prims.xform_prim import XFormPrim
 from manip.validation import non_negative, vec
@@ -39,12 +42,44 @@ class PhysicsMaterial:
         static_friction: float | None = None,
         dynamic_friction: float | None = None,
         restitution: float | None = None,
+        *,
+        friction_combine_mode: str = "average",
+        restitution_combine_mode: str = "average",
     ):
         self.prim_path = prim_path
         self.name = name
         self._static = None if static_friction is None else non_negative(static_friction, "static_friction")
         self._dynamic = None if dynamic_friction is None else non_negative(dynamic_friction, "dynamic_friction")
         self._restitution = restitution
+        self._friction_mode = check_combine_mode(friction_combine_mode)
+        self._restitution_mode = check_combine_mode(restitution_combine_mode, "restitution_combine_mode")
+
+    def set_static_friction(self, friction: float) -> None:
+        """Static friction (used by MuJoCo only without a dynamic one); geoms built from the next reset."""
+        self._static = non_negative(friction, "static_friction")
+
+    def set_dynamic_friction(self, friction: float) -> None:
+        """Sliding friction; objects using the material get it at their next reset."""
+        self._dynamic = non_negative(friction, "dynamic_friction")
+
+    def set_restitution(self, restitution: float) -> None:
+        """Kept for reference (restitution is not simulated)."""
+        self._restitution = float(restitution)
+
+    def set_friction_combine_mode(self, mode: str) -> None:
+        """How this material's friction combines with another's: "average" (PhysX's default),
+        "min", "multiply" or "max"; of two modes the later in that list applies."""
+        self._friction_mode = check_combine_mode(mode)
+
+    def get_friction_combine_mode(self) -> str:
+        return self._friction_mode
+
+    def set_restitution_combine_mode(self, mode: str) -> None:
+        """Kept for reference (restitution is not simulated)."""
+        self._restitution_mode = check_combine_mode(mode, "restitution_combine_mode")
+
+    def get_restitution_combine_mode(self) -> str:
+        return self._restitution_mode
 
     def get_static_friction(self) -> float | None:
         return self._static
@@ -124,8 +159,9 @@ class GeometryPrim(XFormPrim):
         )
         if gtype == mujoco.mjtGeom.mjGEOM_MESH:
             kwargs["meshname"] = self._build_mesh(spec)
-        if self._physics_material is not None and self._physics_material.mujoco_friction() is not None:
-            kwargs["friction"] = [self._physics_material.mujoco_friction(), 0.005, 0.0001]
+        if collides:  # PhysX's default material without one (MuJoCo's default is 1.0)
+            f = self._physics_material.mujoco_friction() if self._physics_material is not None else None
+            kwargs["friction"] = [f if f is not None else PHYSX_DEFAULT_FRICTION, 0.005, 0.0001]
         geom = body.add_geom(**kwargs)
         if dynamic:
             self._set_mass_props(geom)
@@ -208,12 +244,19 @@ class GeometryPrim(XFormPrim):
     def get_applied_physics_material(self) -> PhysicsMaterial | None:
         return self._physics_material
 
-    def apply_physics_material(self, physics_material: PhysicsMaterial) -> None:
-        """Use this material's friction (immediately if compiled)."""
+    def apply_physics_material(self, physics_material: PhysicsMaterial, weaker_than_descendants: bool = False) -> None:
+        """Use this material's friction: at once against surfaces it meets with MuJoCo's own
+        contacts; combined with the other surface's by the combine modes
+        (`manip.sim.scenes.contact_model`) from the next `World.reset()`, which rebuilds the
+        contact pairs."""
+        if not isinstance(physics_material, PhysicsMaterial):
+            raise InvalidInputError(f"apply_physics_material needs a PhysicsMaterial; got "
+                                    f"{type(physics_material).__name__}")
         self._physics_material = physics_material
         f = physics_material.mujoco_friction()
         if self._sim is not None and f is not None:
             self._sim.model.geom_friction[self._geom_id, 0] = f
+        self._mark_changed()
 
     def set_collision_enabled(self, enabled: bool) -> None:
         """Enable/disable contacts of the geometry (immediately if compiled)."""

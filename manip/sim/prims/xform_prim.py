@@ -161,7 +161,11 @@ class XFormPrim(DefaultPoseMixin):
         sim = self._sim
         if sim is None:
             if self._wrapped_reference is not None:
-                pose = self._wrapped_reference.authored_pose(self.prim_path)
+                ref = self._wrapped_reference
+                if get_current_stage().get_prim(ref.prim_path) is not ref:
+                    logger.warning("%s: its model was removed from the stage; no pose (None)", self.prim_path)
+                    return None  # type: ignore[return-value]
+                pose = ref.authored_pose(self.prim_path)
                 if pose is None:
                     raise SimulationError(f"XFormPrim {self.prim_path!r}: the referenced model "
                                           f"{self._wrapped_reference.prim_path!r} has no body or site of that name")

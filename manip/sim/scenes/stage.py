@@ -52,6 +52,16 @@ class SimHandle:
         self.model = model
         self.data = data
         self.kinematics_stale = True
+        #: dof address (K,) of each free joint and its body's bounding radius [m] (K,), set
+        #: by the compiler (`manip.sim.core.substeps` reads them).
+        self.free_dofs = np.zeros(0, dtype=int)
+        self.free_radii = np.zeros(0)
+        #: Bodies whose external force (`xfrc_applied`) acts for the next physics step only.
+        self.pulsed_bodies: set[int] = set()
+        #: Bodies on which gravity does not act (`RigidPrimView.disable_gravities`).
+        self.gravity_off: set[int] = set()
+        #: The World's physics step [s] (set at each step by `manip.sim.core.substeps`).
+        self.physics_dt: float | None = None
 
     def ensure_kinematics(self) -> None:
         if self.kinematics_stale:
