@@ -55,10 +55,13 @@ from manip.sim.scenes.stage import ReferencePrim, SimHandle, SimulationError, ge
 from manip.sim.utils.types import DefaultPoseMixin, JointsState, XFormPrimState, position_or_translation
 from manip.validation import unit_quat
 from manip.sim.utils.bounds import bounded_vec
+from manip.sim.utils.not_supported import declare as declare_not_supported
 
 logger = logging.getLogger(__name__)
 
 class Articulation(DefaultPoseMixin):
+    prim_path: str  # where the model is referenced
+
     """A model referenced on the stage, seen as an articulation (Isaac's `SingleArticulation`).
 
     Args:
@@ -391,6 +394,36 @@ class Articulation(DefaultPoseMixin):
             return np.zeros(3)
         return c.sim.free_angular_velocity(c.free_qadr, c.free_dadr)
 
+    def get_articulation_body_count(self) -> int | None:
+        """Number of bodies (None before the first reset)."""
+        return self.num_bodies
+
+    def set_linear_velocity(self, velocity) -> None:
+        """Set a floating base's linear velocity (3,) [m/s], world frame.
+
+        Raises:
+            SimulationError: a fixed base (it cannot move).
+        """
+        c = self._floating("set_linear_velocity")
+        c.sim.data.qvel[c.free_dadr:c.free_dadr + 3] = bounded_vec(velocity, "linear", "linear velocity")
+        c.sim.mark_stale()
+
+    def set_angular_velocity(self, velocity) -> None:
+        """Set a floating base's angular velocity (3,) [rad/s], world frame.
+
+        Raises:
+            SimulationError: a fixed base (it cannot move).
+        """
+        c = self._floating("set_angular_velocity")
+        c.sim.set_free_angular_velocity(c.free_qadr, c.free_dadr, bounded_vec(velocity, "angular", "angular velocity"))
+        c.sim.mark_stale()
+
+    def _floating(self, what: str) -> ArticulationCore:
+        c = self._cs(what)
+        if c.free_dadr < 0:
+            raise SimulationError(f"{self._name}.{what}: the articulation's base is fixed; it has no root velocity")
+        return c
+
     def disable_gravity(self) -> None:
         """Compensate gravity on every body of the articulation (MuJoCo `gravcomp`)."""
         c = self._cs("disable_gravity")
@@ -444,3 +477,7 @@ class Robot(Articulation):
 
 
 SingleArticulation = Articulation
+
+
+declare_not_supported(Articulation)
+declare_not_supported(Robot)

@@ -27,6 +27,7 @@ from manip.sim.articulations import articulation_dynamics as dyn
 from manip.sim.articulations.articulation_core import MAX_EFFORT, ArticulationCore
 from manip.sim.controllers.articulation_controller import ArticulationController
 from manip.sim.utils.types import JointsState
+from manip.sim.utils.not_supported import declare as declare_not_supported
 from manip.sim.scenes.stage import ReferencePrim, SimulationError, get_current_stage
 from manip.sim.prims.views import compile_path_expression, path_matches
 
@@ -155,6 +156,9 @@ class ArticulationView:
         if dof_name not in names:
             raise InvalidInputError(f"no joint {dof_name!r}; joints: {names}")
         return names.index(dof_name)
+
+    def post_reset(self) -> None:
+        """Nothing to do: the articulation restores its default state at `World.reset()`."""
 
     def is_physics_handle_valid(self) -> bool:
         return self._articulation.core is not None
@@ -306,6 +310,36 @@ class ArticulationView:
             out[0, 3:] = c.sim.free_angular_velocity(c.free_qadr, c.free_dadr)
         return out
 
+    def get_linear_velocities(self, indices=None, clone: bool = True) -> np.ndarray:
+        """(1, 3) root linear velocity [m/s]."""
+        return self.get_velocities(indices)[:, :3]
+
+    def get_angular_velocities(self, indices=None, clone: bool = True) -> np.ndarray:
+        """(1, 3) root angular velocity [rad/s]."""
+        return self.get_velocities(indices)[:, 3:]
+
+    def get_local_poses(self, indices=None) -> tuple[np.ndarray, np.ndarray]:
+        """Same as get_world_poses (no parent transforms here)."""
+        return self.get_world_poses(indices)
+
+    def get_dof_types(self, dof_names=None) -> list[str]:
+        """"Rotation" or "Translation" per joint."""
+        c = self._c("get_dof_types")
+        return ["Rotation" if t == 1 else "Translation" for t in c.types]
+
+    def get_body_masses(self, indices=None, body_indices=None, clone: bool = True) -> np.ndarray:
+        """(1, B) body masses [kg]."""
+        self._check_indices(indices)
+        c = self._c("get_body_masses")
+        m = c.sim.model.body_mass[c.body_ids]
+        return (m if body_indices is None else m[np.asarray(body_indices, dtype=int)])[None, :].copy()
+
+    def get_body_index(self, body_name: str) -> int:
+        names = self.body_names
+        if body_name not in names:
+            raise InvalidInputError(f"no body {body_name!r}; bodies: {names}")
+        return names.index(body_name)
+
     def get_jacobians(self, indices=None, clone: bool = True) -> np.ndarray:
         """(1, B, 6, n) body Jacobians in Isaac's layout (`manip.sim.articulations.articulation_dynamics`)."""
         self._check_indices(indices)
@@ -342,3 +376,6 @@ class ArticulationView:
 
     def __repr__(self) -> str:
         return f"ArticulationView(prim_paths={self.prim_paths})"
+
+
+declare_not_supported(ArticulationView)

@@ -29,6 +29,7 @@ from manip.sim.core.gl_backend import has_display
 from manip.sim.core.simulation_context import SimulationContext
 from manip.sim.scenes.stage import SimulationError
 from manip.sim.core.world import World
+from manip.sim.utils.not_supported import declare as declare_not_supported
 
 logger = logging.getLogger(__name__)
 
@@ -268,3 +269,6 @@ class SimulationApp:
 def get_app() -> SimulationApp | None:
     """The running SimulationApp, if any."""
     return _APP
+
+
+declare_not_supported(SimulationApp)

@@ -21,6 +21,7 @@ from manip.sim.core.simulation_context import (  # noqa: F401 (re-exported)
 )
 from manip.sim.scenes.stage import get_current_stage
 from manip.sim.tasks.task_registry import TaskRegistry
+from manip.sim.utils.not_supported import declare as declare_not_supported
 
 logger = logging.getLogger(__name__)
 
@@ -174,3 +175,6 @@ def clear_stage() -> None:
         world.clear()
     else:
         get_current_stage().clear()
+
+
+declare_not_supported(SimulationContext)

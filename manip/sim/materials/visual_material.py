@@ -60,6 +60,10 @@ class VisualMaterial:
     """
 
     _default_color = np.array([0.5, 0.5, 0.5])
+    prim_path: str
+    prim: Any
+    shaders_list: list
+    material: Any
 
     def __init__(self, name: str, prim_path: str, prim: Any = None, shaders_list: list | None = None,
                  material: Any = None):

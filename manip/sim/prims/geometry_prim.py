@@ -18,6 +18,7 @@ from manip.sim.materials.visual_material import PreviewSurface, VisualMaterial, 
 from manip.sim.scenes.contact_model import PHYSX_DEFAULT_FRICTION, check_combine_mode
 from manip.sim.scenes.stage import SimHandle
 from manip.sim.prims.xform_prim import XFormPrim
+from manip.sim.utils.not_supported import declare as declare_not_supported
 from manip.validation import non_negative, vec
 
 #: Whether each family's geoms collide ("ground" is the GroundPlane's).
@@ -34,6 +35,9 @@ class PhysicsMaterial:
         dynamic_friction: sliding friction coefficient (what MuJoCo uses).
         restitution: kept for reference, not simulated.
     """
+
+    prim_path: str
+    name: str
 
     def __init__(
         self,
@@ -258,6 +262,13 @@ class GeometryPrim(XFormPrim):
             self._sim.model.geom_friction[self._geom_id, 0] = f
         self._mark_changed()
 
+    def get_collision_enabled(self) -> bool:
+        """Whether the geometry makes contacts."""
+        if self._sim is not None and self._geom_id >= 0:
+            m = self._sim.model
+            return bool(m.geom_contype[self._geom_id] or m.geom_conaffinity[self._geom_id])
+        return _FAMILY_COLLIDES[self._family]
+
     def set_collision_enabled(self, enabled: bool) -> None:
         """Enable/disable contacts of the geometry (immediately if compiled)."""
         if self._sim is not None:
@@ -273,3 +284,6 @@ class GeometryPrim(XFormPrim):
     def shape_dimensions(self) -> np.ndarray:
         """Dimensions in the `CollisionObject` convention (see Scene.get_collision_objects)."""
         raise NotImplementedError
+
+
+declare_not_supported(GeometryPrim)

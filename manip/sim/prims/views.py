@@ -23,6 +23,7 @@ from manip.sim.prims import body_forces
 from manip.sim.scenes.stage import SimHandle, SimulationError, get_current_stage
 from manip.sim.utils.types import DynamicsViewState, XFormPrimViewState
 from manip.sim.utils.bounds import check_bounded_rows
+from manip.sim.utils.not_supported import declare as declare_not_supported
 from manip.validation import batch
 
 logger = logging.getLogger(__name__)
@@ -409,6 +410,35 @@ class RigidPrimView(XFormPrimView):
         return (body_forces.contact_force_matrix(sim, self._bodies[self._idx(indices)], self._filter_bodies)
                 * self._impulse_scale(dt))
 
+    def get_coms(self, indices=None, clone: bool = True) -> tuple[np.ndarray, np.ndarray]:
+        """Centres of mass in the body frames: positions (K, 3) [m], orientations (K, 4)."""
+        sim = self._need()
+        b = self._bodies[self._idx(indices)]
+        return sim.model.body_ipos[b].copy(), sim.model.body_iquat[b].copy()
+
+    def get_inertias(self, indices=None, clone: bool = True) -> np.ndarray:
+        """(K, 9) inertia tensors about the centres of mass, body frame, row-major [kg m^2]."""
+        sim = self._need()
+        out = []
+        for b in self._bodies[self._idx(indices)]:
+            R = quat.to_matrix(sim.model.body_iquat[b])
+            out.append((R @ np.diag(sim.model.body_inertia[b]) @ R.T).ravel())
+        return np.array(out).reshape(-1, 9)
+
+    def get_inv_masses(self, indices=None, clone: bool = True) -> np.ndarray:
+        """(K,) 1 / mass [1/kg]."""
+        return 1.0 / self.get_masses(indices)
+
+    def get_inv_inertias(self, indices=None, clone: bool = True) -> np.ndarray:
+        """(K, 9) inverse inertia tensors (as get_inertias)."""
+        return np.array([np.linalg.inv(i.reshape(3, 3)).ravel() for i in self.get_inertias(indices)]).reshape(-1, 9)
+
+    def get_current_dynamic_state(self, indices=None) -> DynamicsViewState:
+        """Poses and velocities now (world frame)."""
+        p, q = self.get_world_poses(indices)
+        v = self.get_velocities(indices)
+        return DynamicsViewState(p, q, v[:, :3], v[:, 3:])
+
     @property
     def num_contact_filters(self) -> int:
         return len(self._filter_bodies)
@@ -443,3 +473,7 @@ class RigidPrimView(XFormPrimView):
         for k, i in enumerate(idx):
             obj = self._object(self._paths[i])
             obj.set_default_state(*(None if v is None else v[k] for v in rows.values()))
+
+
+declare_not_supported(XFormPrimView)
+declare_not_supported(RigidPrimView)

@@ -17,6 +17,7 @@ from manip.sim.scenes.stage import ReferencePrim, SimHandle, SimulationError, ge
 from manip.sim.utils.types import DefaultPoseMixin, XFormPrimState, position_or_translation
 from manip.validation import scale3, unit_quat
 from manip.sim.utils.bounds import bounded_vec
+from manip.sim.utils.not_supported import declare as declare_not_supported
 
 logger = logging.getLogger(__name__)
 
@@ -44,6 +45,7 @@ class XFormPrim(DefaultPoseMixin):
     """
 
     _default_name = "xform_prim"
+    prim_path: str  # where the prim lives on the stage
     _wraps_existing = True  # the shape classes and the ground plane always create their prim
 
     def __init__(
@@ -264,3 +266,6 @@ class XFormPrim(DefaultPoseMixin):
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}(prim_path={self.prim_path!r}, name={self._name!r})"
+
+
+declare_not_supported(XFormPrim)
