@@ -243,7 +243,8 @@ DIFFERS: dict[str, dict[str, str]] = {
                       "contacts, summed per body"},
     "Articulation": {"set_joint_positions": "a position past a limit is set with a warning; the next step puts it "
                      "back on the limit (PhysX pushes it back too)",
-                     "disable_gravity": "MuJoCo gravity compensation of the articulation's bodies"},
+                     "disable_gravity": "each body's weight cancelled at its centre of mass (was a no-op: MuJoCo's "
+                                        "gravcomp needs bodies compiled with it)"},
     "ArticulationView": {"get_jacobians": "MuJoCo's body-origin Jacobians in Isaac's layout"},
     "PreviewSurface": {"set_roughness": "kept, not rendered (MuJoCo has no MDL shaders)",
                        "set_metallic": "kept, not rendered (MuJoCo has no MDL shaders)"},

@@ -425,13 +425,14 @@ class Articulation(DefaultPoseMixin):
         return c
 
     def disable_gravity(self) -> None:
-        """Compensate gravity on every body of the articulation (MuJoCo `gravcomp`)."""
+        """No gravity on the articulation's bodies (each body's weight is cancelled at its
+        centre of mass during every physics step; `manip.sim.core.substeps`)."""
         c = self._cs("disable_gravity")
-        c.sim.model.body_gravcomp[c.body_ids] = 1.0
+        c.sim.gravity_off.update(int(b) for b in c.body_ids)
 
     def enable_gravity(self) -> None:
         c = self._cs("enable_gravity")
-        c.sim.model.body_gravcomp[c.body_ids] = 0.0
+        c.sim.gravity_off.difference_update(int(b) for b in c.body_ids)
 
     # ------------------------------------------------------------------ control
     def get_articulation_controller(self) -> ArticulationController:

@@ -77,3 +77,17 @@ def test_velocity_mode_tracks_a_velocity_target(franka):
     for _ in range(60):
         world.step(render=False)
     assert robot.get_joint_velocities()[0] == pytest.approx(0.5, abs=0.05)
+
+
+def test_disable_gravity_keeps_a_limp_arm_up(franka):
+    world, robot, view = franka
+    view.switch_control_mode("effort")  # no drive holds the arm
+    q0 = robot.get_joint_positions()
+    robot.disable_gravity()
+    for _ in range(60):
+        world.step(render=False)
+    assert np.max(np.abs(robot.get_joint_positions()[:7] - q0[:7])) < 1e-3
+    robot.enable_gravity()
+    for _ in range(30):
+        world.step(render=False)
+    assert np.max(np.abs(robot.get_joint_positions()[:7] - q0[:7])) > 0.05  # it falls
