@@ -27,7 +27,7 @@ class TutorialAttributeError(AttributeError):
     """A cuRobo attribute or method manip does not provide (the message says what to use)."""
 
 
-class _Stand_in:
+class _StandIn:
     """Named read-only fields; anything else raises TutorialAttributeError naming it."""
 
     _what = ""
@@ -50,17 +50,17 @@ class _Stand_in:
         return f"{type(self).__name__}({object.__getattribute__(self, '_fields')})"
 
 
-class MotionGenPlanConfig(_Stand_in):
+class MotionGenPlanConfig(_StandIn):
     _what = "motion_gen_plan_config"
     _use = "Set planning options as MotionGenerator keyword arguments (TutorialMotionGen(..., time_budget=...))."
 
 
-class TensorArgs(_Stand_in):
+class TensorArgs(_StandIn):
     _what = "tensor_args"
     _use = "manip computes on the CPU with NumPy float64 arrays."
 
 
-class KinematicsModel(_Stand_in):
+class KinematicsModel(_StandIn):
     _what = "kinematics_model"
     _use = "Use TutorialMotionGen.fk or motion_gen.fk / motion_gen.kinematics."
 

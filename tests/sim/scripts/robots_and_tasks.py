@@ -82,8 +82,9 @@ for step in range(120):
     world.step(render=True)
     for jetbot in jetbots:
         jetbot.apply_wheel_actions(controller.forward(command=[0.2, 0.0]))
-    for franka in frankas:
-        franka.gripper.close() if step == 30 else None
+    if step == 30:
+        for franka in frankas:
+            franka.gripper.close()
 
 observations = world.get_observations()
 travelled = [float(np.linalg.norm(j.get_world_pose()[0][:2] - s[:2])) for j, s in zip(jetbots, start)]
