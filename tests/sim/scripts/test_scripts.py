@@ -4,6 +4,7 @@ against the simulator's state it leaves (issue 32)."""
 
 from __future__ import annotations
 
+import asyncio
 import runpy
 from pathlib import Path
 
@@ -14,7 +15,15 @@ HERE = Path(__file__).resolve().parent
 
 
 def run(name: str) -> dict:
-    return runpy.run_path(str(HERE / name), run_name="__main__")
+    """Run a script as `python name` would: in `__main__`, with the main thread's event loop
+    of a fresh interpreter (earlier tests' asyncio.run() leave none)."""
+    loop = asyncio.new_event_loop()
+    asyncio.set_event_loop(loop)
+    try:
+        return runpy.run_path(str(HERE / name), run_name="__main__")
+    finally:
+        asyncio.set_event_loop(None)
+        loop.close()
 
 
 def test_franka_picks_isaacs_default_cube_and_places_it():
