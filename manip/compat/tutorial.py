@@ -33,6 +33,7 @@ import numpy as np
 from manip import quaternion as quat
 from manip.articulation_action import ArticulationAction
 from manip.collision import WorldConfig
+from manip.compat import tutorial_attributes as attrs
 from manip.compat.pointcloud import voxel_mesh
 from manip.compat.tutorial_configs import (
     TutorialRobotConfig,
@@ -106,6 +107,12 @@ class TutorialMotionGen:
                  motion_gen: MotionGenerator | None = None, **kwargs):
         self._tutorial: TutorialRobotConfig | None = None
         self._hold_vec_weight: np.ndarray | None = None
+        self._warned_ground = False
+        #: Pose goals also offered turned half a turn about the end effector's approach axis
+        #: (a parallel gripper's symmetry): the plan takes the one the wrist reaches with the
+        #: shorter motion. True with a tutorial robot config (the Franka's gripper); set False
+        #: when the object's yaw must be exactly the goal's.
+        self.symmetric_gripper = False
         if motion_gen is not None:
             if not isinstance(motion_gen, MotionGenerator):
                 raise InvalidInputError(f"motion_gen must be a MotionGenerator; got {type(motion_gen).__name__}")
@@ -113,6 +120,7 @@ class TutorialMotionGen:
                                            world_config_file_name)) or kwargs:
                 raise InvalidInputError("give either motion_gen or the MotionGenerator's arguments, not both")
             self.motion_gen = motion_gen
+            self._user_options = {}
         else:
             robot = _one_of(robot, robot_config_file_name, "robot", "robot_config_file_name")
             world = _one_of(world, world_config_file_name, "world", "world_config_file_name")
@@ -126,18 +134,57 @@ class TutorialMotionGen:
                 world = world_config(world)
             options = user_config(user_config_file_name)
             options.update(kwargs)
+            self._user_options = dict(options)
             self.motion_gen = MotionGenerator("franka" if robot is None else robot, world, **options)
         self._initial_world = copy.deepcopy(self.motion_gen.world)
         if self._tutorial is not None:
+            self.symmetric_gripper = True
             missing = [n for n in self.motion_gen.joint_names if n not in self._tutorial.joint_names]
             if missing:
                 raise InvalidInputError(f"robot config {self._tutorial.file_name}: planner joints {missing} not in its "
                                         f"joint_names {list(self._tutorial.joint_names)}")
 
     def __getattr__(self, name: str):
-        if name == "motion_gen":  # not yet set (during construction)
+        if name in ("motion_gen", "_user_options"):  # not yet set (during construction)
             raise AttributeError(name)
-        return getattr(self.motion_gen, name)
+        try:
+            return getattr(self.motion_gen, name)
+        except AttributeError:
+            raise attrs.TutorialAttributeError(
+                f"TutorialMotionGen has no attribute {name!r}: neither the cuRobo wrapper's names manip provides nor "
+                "the MotionGenerator's (see manip/compat/tutorial.py and tutorial_attributes.py)") from None
+
+    # ------------------------------------------------------------------ the wrapper's other attributes
+    @property
+    def user_config(self) -> dict:
+        """The planner settings of the user config file (and keyword options), a dict."""
+        return dict(self._user_options)
+
+    @property
+    def robot_config(self) -> dict:
+        """The robot config as cuRobo's `robot_cfg` dict (`manip.compat.tutorial_attributes`)."""
+        return attrs.robot_config_dict(self.base_link, self.end_effector_link, self.joint_names,
+                                       list(np.asarray(self.default_joint_positions, dtype=float)),
+                                       self.locked_joints, self.motion_gen.config.name)
+
+    @property
+    def kinematics_model(self) -> attrs.KinematicsModel:
+        """Forward kinematics of the wrapper's end effector: `get_state(q)` (q as `fk` takes it)."""
+        mg = self.motion_gen
+
+        def ee_pose(q: np.ndarray):
+            pose = self._ee_pose(mg.fk(self._q(q, "q")))
+            return pose.position.copy(), pose.quaternion.copy()
+
+        return attrs.kinematics_model(ee_pose, list(mg.joint_names), np.stack([mg.lower_limits, mg.upper_limits], 1))
+
+    @property
+    def motion_gen_plan_config(self) -> attrs.MotionGenPlanConfig:
+        return attrs.plan_config(self._user_options)
+
+    @property
+    def tensor_args(self) -> attrs.TensorArgs:
+        return attrs.tensor_args()
 
     # ------------------------------------------------------------------ robot facts (cuRobo's attributes)
     @property
@@ -260,7 +307,9 @@ class TutorialMotionGen:
         """Plan to an end-effector pose [x, y, z, qx, qy, qz, qw] (base frame) or to joint angles.
 
         Joint angles (start and goal) are the planned joints, or all `joint_names` (e.g. the
-        robot's 9 positions, fingers included; the locked joints' values are not used).
+        robot's 9 positions, fingers included; the locked joints' values are not used). With
+        `symmetric_gripper` (a tutorial robot config), a pose goal may be reached turned half
+        a turn about the tool's approach axis, whichever the wrist reaches sooner.
 
         Returns:
             None on failure (the reason is logged), else {"success", "joint_names" (the
@@ -280,6 +329,9 @@ class TutorialMotionGen:
                 if goal is None:
                     return None
                 result = mg.plan_pose(start, self._link_pose(goal), linear=True)
+            elif self.symmetric_gripper:
+                twin = goal @ Pose(np.zeros(3), np.array([0.0, 0.0, 0.0, 1.0]))  # half a turn about the tool z
+                result = mg.plan_goalset(start, Pose.stack([self._link_pose(goal), self._link_pose(twin)]))
             else:
                 result = mg.plan_pose(start, self._link_pose(goal))
         return _solution(result)
@@ -323,8 +375,10 @@ class TutorialMotionGen:
         frame of the robot at `robot_prim_path` (a scene object of `world`).
 
         Objects whose prim path (or name) CONTAINS any string of `ignore_prim_paths` are
-        left out (the wrapper's substring rule), and so is the robot itself. Returns the new
-        WorldConfig.
+        left out (the wrapper's substring rule), and so is the robot itself; ground planes
+        are kept even when ignored (with a warning, once): cuRobo plans nothing under the
+        floor either way in the tutorial's scene, and a plan through it drags a carried
+        object along the floor. Returns the new WorldConfig.
 
         Raises:
             InvalidInputError: no scene object at `robot_prim_path` (the message lists them).
@@ -333,8 +387,15 @@ class TutorialMotionGen:
         if isinstance(ignore_prim_paths, str):
             ignore_prim_paths = [ignore_prim_paths]
         subs = [s for s in (ignore_prim_paths or ()) if s]
-        kept = [o for o in world.scene.get_collision_objects()
-                if not any(s in o.prim_path or s in o.name for s in subs)]
+        objects = world.scene.get_collision_objects()
+        ignored = {id(o) for o in objects if any(s in o.prim_path or s in o.name for s in subs)}
+        grounds = [o.prim_path for o in objects if id(o) in ignored and o.shape == "plane"]
+        if grounds and not self._warned_ground:
+            logger.warning("update_obstacle_from_isaac_sim: ignore_prim_paths leaves out the ground plane %s; the "
+                           "planner keeps it (a half-space under it), so that no motion passes through the floor (the "
+                           "robot's base links are exempt from it)", grounds)
+            self._warned_ground = True
+        kept = [o for o in objects if id(o) not in ignored or o.shape == "plane"]
         filtered = SimpleNamespace(scene=SimpleNamespace(get_collision_objects=lambda include_robots=True: kept))
         return self.motion_gen.update_world_from_sim(filtered, robot)
 

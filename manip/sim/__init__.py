@@ -62,6 +62,7 @@ from manip.sim.objects import (
     VisualSphere,
     XFormPrim,
 )
+from manip.sim.materials import OmniGlass, OmniPBR, PreviewSurface, VisualMaterial
 from manip.sim.core.recording import CameraView, OffscreenRenderingError
 from manip.sim.sensors.camera import Camera
 from manip.sim.utils.rotations import (
@@ -85,7 +86,19 @@ from manip.sim.scenes.stage import (
     update_stage,
     update_stage_async,
 )
-from manip.sim.utils.types import DynamicState, JointsState, XFormPrimState
+from manip.sim.utils.types import DynamicState, DynamicsViewState, JointsState, XFormPrimState, XFormPrimViewState
+from manip.sim.utils.prims import (
+    create_prim,
+    delete_prim,
+    euler_to_rot_matrix,
+    find_matching_prim_paths,
+    get_prim_at_path,
+    get_stage_units,
+    gf_quat_to_np_array,
+    is_stage_loading,
+    open_stage,
+    save_stage,
+)
 from manip.sim.core.world import World, clear_stage
 
 SingleXFormPrim = XFormPrim
@@ -104,7 +117,7 @@ from manip.sim.robots.robot import (
 )
 from manip.sim.samples.base_sample import BaseSample
 from manip.sim.samples.extension import BaseSampleExtension
-from manip.sim.samples.hello_world import HelloWorld
+from manip.sim.samples.hello_world import HelloWorld, HelloWorldExtension
 from manip.sim.tasks.base_task import BaseTask, PickPlace, find_unique_string_name
 from manip.sim.prims.views import RigidPrimView, XFormPrimView
 from manip.sim.tasks.follow_target import FollowTarget
@@ -115,16 +128,20 @@ __all__ = [
     "Articulation", "ArticulationAction", "ArticulationController", "ArticulationView", "BaseController",
     "BaseSample", "BaseSampleExtension", "BaseTask", "Camera", "CameraView", "CollisionObject", "DOF_PROPERTIES_DTYPE",
     "DifferentialController", "DynamicCapsule", "DynamicCone", "DynamicCuboid", "DynamicCylinder", "DynamicSphere",
-    "DynamicState", "FixedCapsule", "FixedCone", "FixedCuboid", "FixedCylinder", "FixedSphere", "FollowTarget",
-    "Franka", "GeometryPrim", "GroundPlane", "HelloWorld", "ISAAC_ASSETS", "JointsState", "OffscreenRenderingError",
-    "ParallelGripper", "PhysicsMaterial", "PickPlace", "PickPlaceController", "RMPFlowController", "RigidPrim",
+    "DynamicState", "DynamicsViewState", "FixedCapsule", "FixedCone", "FixedCuboid", "FixedCylinder",
+    "FixedSphere", "FollowTarget", "Franka", "GeometryPrim", "GroundPlane", "HelloWorld", "HelloWorldExtension",
+    "ISAAC_ASSETS", "JointsState", "OffscreenRenderingError", "OmniGlass", "OmniPBR", "ParallelGripper",
+    "PhysicsMaterial", "PickPlace", "PickPlaceController", "PreviewSurface", "RMPFlowController", "RigidPrim",
     "RigidPrimView", "Robot", "Scene", "SimulationApp", "SimulationContext", "SimulationError",
     "SimulationInstabilityError", "SimulationWarning", "SingleArticulation", "SingleGeometryPrim",
     "SingleManipulator", "SingleRigidPrim", "SingleXFormPrim", "VisualCapsule", "VisualCone", "VisualCuboid",
-    "VisualCylinder", "VisualSphere", "WheelBasePoseController", "WheeledRobot", "World", "XFormPrim",
-    "XFormPrimState", "XFormPrimView", "add_reference_to_stage", "available_assets", "carb", "clear_stage",
-    "create_new_stage", "create_new_stage_async", "euler_angles_to_quat", "euler_angles_to_rot_matrix",
-    "find_unique_string_name", "franka_model_path", "get_assets_root_path", "get_current_stage", "is_prim_path_valid",
-    "jetbot_model_path", "quat_to_euler_angles", "quat_to_rot_matrix", "resolve_asset_path", "robot_model_path",
-    "rot_matrix_to_euler_angles", "rot_matrix_to_quat", "update_stage", "update_stage_async",
+    "VisualCylinder", "VisualMaterial", "VisualSphere", "WheelBasePoseController", "WheeledRobot", "World",
+    "XFormPrim", "XFormPrimState", "XFormPrimView", "XFormPrimViewState", "add_reference_to_stage",
+    "available_assets", "carb", "clear_stage", "create_new_stage", "create_new_stage_async", "create_prim",
+    "delete_prim", "euler_angles_to_quat", "euler_angles_to_rot_matrix", "euler_to_rot_matrix",
+    "find_matching_prim_paths", "find_unique_string_name", "franka_model_path", "get_assets_root_path",
+    "get_current_stage", "get_prim_at_path", "get_stage_units", "gf_quat_to_np_array", "is_prim_path_valid",
+    "is_stage_loading", "jetbot_model_path", "open_stage", "quat_to_euler_angles", "quat_to_rot_matrix",
+    "resolve_asset_path", "robot_model_path", "rot_matrix_to_euler_angles", "rot_matrix_to_quat", "save_stage",
+    "update_stage", "update_stage_async",
 ]

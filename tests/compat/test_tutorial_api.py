@@ -106,7 +106,7 @@ def test_world_sync_and_actions_drive_the_simulated_franka(mg):
     world.scene.add(FixedCuboid("/World/wall", name="wall", position=[0.5, 0.0, 0.25], size=1.0, scale=[0.3, 0.04, 0.5]))
     world.reset()
     mg.update_obstacle_from_world(world, "/World/Franka", ignore_prim_paths=["/World/defaultGroundPlane"])
-    assert mg.world.names == ["wall"]
+    assert mg.world.names == ["default_ground_plane", "wall"]  # the ground stays, ignored or not (issue 32)
     with pytest.raises(InvalidInputError, match="prim paths"):
         mg.update_obstacle_from_world(world, "/World/Nope")
     start = franka.get_joint_positions()[:7]
@@ -221,7 +221,8 @@ def test_obstacles_from_the_simulator_point_clouds_and_reset_world(curobo, caplo
     world.reset()
     new = curobo.update_obstacle_from_isaac_sim(world=world, robot_prim_path="/World/MyRobot",
                                                 ignore_prim_paths=["/World/MyRobot", ground.prim_path, "Target"])
-    assert new.names == ["wall"] and curobo.motion_gen.world.names == ["wall"]  # substrings, as the wrapper
+    kept = ["default_ground_plane", "wall"]  # substrings, as the wrapper; the ground is kept (issue 32)
+    assert new.names == kept and curobo.motion_gen.world.names == kept
     World.clear_instance()
     cloud = np.random.default_rng(0).uniform([0.45, -0.1, 0.2], [0.55, 0.1, 0.4], size=(500, 3))
     curobo.update_world_by_pointcloud(cloud)

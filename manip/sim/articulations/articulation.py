@@ -55,10 +55,13 @@ from manip.sim.scenes.stage import ReferencePrim, SimHandle, SimulationError, ge
 from manip.sim.utils.types import DefaultPoseMixin, JointsState, XFormPrimState, position_or_translation
 from manip.validation import unit_quat
 from manip.sim.utils.bounds import bounded_vec
+from manip.sim.utils.not_supported import declare as declare_not_supported
 
 logger = logging.getLogger(__name__)
 
 class Articulation(DefaultPoseMixin):
+    prim_path: str  # where the model is referenced
+
     """A model referenced on the stage, seen as an articulation (Isaac's `SingleArticulation`).
 
     Args:
@@ -239,9 +242,10 @@ class Articulation(DefaultPoseMixin):
         """Teleport joints to `positions` (K,) and set their drive position targets to them.
 
         Velocities are kept. A position at most 1e-3 outside its joint's limits is put on the
-        limit. Raises InvalidInputError on a wrong length, a non-finite value, a position
-        farther outside the limits, or a magnitude above MAX_POSITION (unlimited joints);
-        nothing changes then.
+        limit; farther outside, it is set with a warning and the next physics step puts the
+        joint back on its limit (as Isaac: PhysX pushes it back). Raises InvalidInputError on
+        a wrong length, a non-finite value or a magnitude above MAX_POSITION; nothing changes
+        then.
         """
         self._cs("set_joint_positions").teleport(positions, joint_indices)
 
@@ -314,11 +318,19 @@ class Articulation(DefaultPoseMixin):
         return JointsState(s.positions.copy(), s.velocities.copy(), s.efforts.copy())
 
     # ------------------------------------------------------------------ root pose
-    def get_world_pose(self) -> tuple[np.ndarray, np.ndarray] | None:
-        """Pose of the model's frame: position (3,) [m], orientation (4,) (w, x, y, z)."""
-        c = self._c("get_world_pose")
+    def get_world_pose(self) -> tuple[np.ndarray, np.ndarray]:
+        """Pose of the model's frame: position (3,) [m], orientation (4,) (w, x, y, z).
+
+        Before the first `World.reset()` (or after the prim changed), the pose authored on
+        the stage: the one given at construction or by `set_world_pose` since (as Isaac
+        reads the prim's transform at any time).
+        """
+        c = self._core
         if c is None:
-            return None
+            if get_current_stage().get_prim(self.prim_path) is not self._ref:
+                logger.warning("%s: its model was removed from the stage; no pose (None)", self._name)
+                return None  # type: ignore[return-value]
+            return self._ref.position.copy(), self._ref.orientation.copy()
         b = c.root_ids[0]
         if c.free_qadr >= 0:
             p, q = c.sim.free_pose(c.free_qadr)
@@ -329,11 +341,22 @@ class Articulation(DefaultPoseMixin):
         return p - quat.to_matrix(qw) @ lp, qw
 
     def set_world_pose(self, position=None, orientation=None) -> None:
-        """Move the model's frame (teleport; a fixed base is moved with it)."""
-        c = self._cs("set_world_pose")
+        """Move the model's frame (teleport; a fixed base is moved with it).
+
+        Before the first `World.reset()` the pose is authored on the stage: the model is
+        compiled there, and `get_world_pose()` returns it. As in Isaac, `World.reset()` then
+        restores the default state (the pose at construction): to keep the new pose across
+        resets, also call `set_default_state(position, orientation)` (as Isaac's "Adding
+        Multiple Robots" tutorial does).
+        """
+        c = self._core
         cur_p, cur_q = self.get_world_pose()
         p = bounded_vec(position, "position", "position") if position is not None else cur_p
         q = unit_quat(orientation) if orientation is not None else cur_q
+        if c is None:
+            self._ref.position, self._ref.orientation = p.copy(), q.copy()
+            get_current_stage().mark_changed(self.prim_path)
+            return
         R = quat.to_matrix(q)
         m, d = c.sim.model, c.sim.data
         for k, b in enumerate(c.root_ids):
@@ -371,14 +394,45 @@ class Articulation(DefaultPoseMixin):
             return np.zeros(3)
         return c.sim.free_angular_velocity(c.free_qadr, c.free_dadr)
 
+    def get_articulation_body_count(self) -> int | None:
+        """Number of bodies (None before the first reset)."""
+        return self.num_bodies
+
+    def set_linear_velocity(self, velocity) -> None:
+        """Set a floating base's linear velocity (3,) [m/s], world frame.
+
+        Raises:
+            SimulationError: a fixed base (it cannot move).
+        """
+        c = self._floating("set_linear_velocity")
+        c.sim.data.qvel[c.free_dadr:c.free_dadr + 3] = bounded_vec(velocity, "linear", "linear velocity")
+        c.sim.mark_stale()
+
+    def set_angular_velocity(self, velocity) -> None:
+        """Set a floating base's angular velocity (3,) [rad/s], world frame.
+
+        Raises:
+            SimulationError: a fixed base (it cannot move).
+        """
+        c = self._floating("set_angular_velocity")
+        c.sim.set_free_angular_velocity(c.free_qadr, c.free_dadr, bounded_vec(velocity, "angular", "angular velocity"))
+        c.sim.mark_stale()
+
+    def _floating(self, what: str) -> ArticulationCore:
+        c = self._cs(what)
+        if c.free_dadr < 0:
+            raise SimulationError(f"{self._name}.{what}: the articulation's base is fixed; it has no root velocity")
+        return c
+
     def disable_gravity(self) -> None:
-        """Compensate gravity on every body of the articulation (MuJoCo `gravcomp`)."""
+        """No gravity on the articulation's bodies (each body's weight is cancelled at its
+        centre of mass during every physics step; `manip.sim.core.substeps`)."""
         c = self._cs("disable_gravity")
-        c.sim.model.body_gravcomp[c.body_ids] = 1.0
+        c.sim.gravity_off.update(int(b) for b in c.body_ids)
 
     def enable_gravity(self) -> None:
         c = self._cs("enable_gravity")
-        c.sim.model.body_gravcomp[c.body_ids] = 0.0
+        c.sim.gravity_off.difference_update(int(b) for b in c.body_ids)
 
     # ------------------------------------------------------------------ control
     def get_articulation_controller(self) -> ArticulationController:
@@ -424,3 +478,7 @@ class Robot(Articulation):
 
 
 SingleArticulation = Articulation
+
+
+declare_not_supported(Articulation)
+declare_not_supported(Robot)

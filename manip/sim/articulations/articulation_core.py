@@ -350,22 +350,26 @@ class ArticulationCore:
         """Put joints `joint_indices` (all for None) at `positions` (K,) [rad or m] and make
         these their position targets (Isaac's `set_joint_positions`); velocities are kept.
 
-        A position at most `LIMIT_TOLERANCE` outside its limits is put on the limit.
+        A position at most `LIMIT_TOLERANCE` outside its limits is put on the limit. A
+        position farther outside is set as given, with a warning naming the joints, as Isaac
+        sets it: the next physics step puts the joint back on its limit (as PhysX's limits
+        push it back), and the drive aims at the limit.
 
         Raises:
-            InvalidInputError: a wrong length, a non-finite value, a position farther
-                outside the limits or of magnitude above MAX_POSITION; nothing changes then.
+            InvalidInputError: a wrong length, a non-finite value or a magnitude above
+                MAX_POSITION; nothing changes then.
         """
         idx = self.indices(joint_indices)
         q = self.values(positions, idx, "positions", limit=MAX_POSITION, kind="position")
         low, up = self.lower[idx], self.upper[idx]
-        bad = np.flatnonzero((q < low - LIMIT_TOLERANCE) | (q > up + LIMIT_TOLERANCE))
-        if bad.size:
-            raise InvalidInputError(
-                "positions outside the joint limits: "
-                + ", ".join(f"{self.dof_names[idx[k]]}={q[k]:.4f} not in [{low[k]:.4f}, {up[k]:.4f}]" for k in bad)
-            )
-        q = np.clip(q, low, up)
+        far = (q < low - LIMIT_TOLERANCE) | (q > up + LIMIT_TOLERANCE)
+        if far.any():
+            logger.warning(
+                "%s: set_joint_positions outside the joint limits: %s; set as given, the next physics step puts "
+                "these joints back on their limits (as PhysX's limits do)", self.ref.prim_path,
+                ", ".join(f"{self.dof_names[idx[k]]}={q[k]:.4f} not in [{low[k]:.4f}, {up[k]:.4f}]"
+                          for k in np.flatnonzero(far)))
+        q = np.where(far, q, np.clip(q, low, up))
         target = self.pos_target.copy()
         target[idx] = q
         self.check_drive(self.kps, self.kds, target, self.vel_target, "positions")

@@ -23,7 +23,11 @@ import numpy as np
 
 from manip.articulation_action import ArticulationAction
 from manip.errors import InvalidInputError
-from manip.sim.articulations.articulation_core import ArticulationCore
+from manip.sim.articulations import articulation_dynamics as dyn
+from manip.sim.articulations.articulation_core import MAX_EFFORT, ArticulationCore
+from manip.sim.controllers.articulation_controller import ArticulationController
+from manip.sim.utils.types import JointsState
+from manip.sim.utils.not_supported import declare as declare_not_supported
 from manip.sim.scenes.stage import ReferencePrim, SimulationError, get_current_stage
 from manip.sim.prims.views import compile_path_expression, path_matches
 
@@ -153,6 +157,9 @@ class ArticulationView:
             raise InvalidInputError(f"no joint {dof_name!r}; joints: {names}")
         return names.index(dof_name)
 
+    def post_reset(self) -> None:
+        """Nothing to do: the articulation restores its default state at `World.reset()`."""
+
     def is_physics_handle_valid(self) -> bool:
         return self._articulation.core is not None
 
@@ -250,6 +257,116 @@ class ArticulationView:
         self._c("set_joint_velocity_targets").apply_action(
             ArticulationAction(joint_velocities=self._row(velocities, "velocities"), joint_indices=joint_indices))
 
+    def set_joint_efforts(self, efforts, indices=None, joint_indices=None) -> None:
+        """Joint efforts (1, K) [N m or N] added to the drives (persist until changed)."""
+        self._check_indices(indices)
+        c = self._c("set_joint_efforts")
+        idx = c.indices(joint_indices)
+        e = c.values(self._row(efforts, "efforts"), idx, "efforts", limit=MAX_EFFORT, kind="effort")
+        c.check_physical(e, idx, "efforts", "effort")
+        c.efforts = c.efforts.copy()
+        c.efforts[idx] = e
+        c.write_targets()
+
+    def get_applied_joint_efforts(self, indices=None, joint_indices=None, clone: bool = True) -> np.ndarray:
+        """(1, K) drive force plus applied effort per joint [N m or N], last physics substep."""
+        self._check_indices(indices)
+        return self._c("get_applied_joint_efforts").joint_forces(joint_indices, constraint=False)[None, :]
+
+    def get_measured_joint_efforts(self, indices=None, joint_indices=None, clone: bool = True) -> np.ndarray:
+        """(1, K) total generalized force per joint, constraints (limits, contacts) included."""
+        self._check_indices(indices)
+        return self._c("get_measured_joint_efforts").joint_forces(joint_indices, constraint=True)[None, :]
+
+    def get_joints_state(self, indices=None, clone: bool = True) -> JointsState:
+        """Positions, velocities and applied efforts, (1, num_dof) each."""
+        self._check_indices(indices)
+        return JointsState(self.get_joint_positions(), self.get_joint_velocities(), self.get_applied_joint_efforts())
+
+    def switch_control_mode(self, mode: str, indices=None, joint_indices=None) -> None:
+        """Drives to "position", "velocity" or "effort" (as `ArticulationController.switch_control_mode`)."""
+        self._check_indices(indices)
+        self._c("switch_control_mode")
+        controller = ArticulationController()
+        controller.initialize(self._articulation)
+        controller.switch_control_mode(mode, joint_indices)
+
+    # ------------------------------------------------------------------ root and dynamics
+    def get_world_poses(self, indices=None, clone: bool = True) -> tuple[np.ndarray, np.ndarray]:
+        """Root poses: positions (1, 3) [m], orientations (1, 4) (w, x, y, z)."""
+        self._check_indices(indices)
+        c = self._c("get_world_poses")
+        c.sim.ensure_kinematics()
+        b = c.root_ids[0]
+        return c.sim.data.xpos[b][None, :].copy(), c.sim.data.xquat[b][None, :].copy()
+
+    def get_velocities(self, indices=None, clone: bool = True) -> np.ndarray:
+        """(1, 6) root linear [m/s] and angular [rad/s] velocity, world frame (zeros for a fixed base)."""
+        self._check_indices(indices)
+        c = self._c("get_velocities")
+        out = np.zeros((1, 6))
+        if c.free_dadr >= 0:
+            out[0, :3] = c.sim.data.qvel[c.free_dadr:c.free_dadr + 3]
+            out[0, 3:] = c.sim.free_angular_velocity(c.free_qadr, c.free_dadr)
+        return out
+
+    def get_linear_velocities(self, indices=None, clone: bool = True) -> np.ndarray:
+        """(1, 3) root linear velocity [m/s]."""
+        return self.get_velocities(indices)[:, :3]
+
+    def get_angular_velocities(self, indices=None, clone: bool = True) -> np.ndarray:
+        """(1, 3) root angular velocity [rad/s]."""
+        return self.get_velocities(indices)[:, 3:]
+
+    def get_local_poses(self, indices=None) -> tuple[np.ndarray, np.ndarray]:
+        """Same as get_world_poses (no parent transforms here)."""
+        return self.get_world_poses(indices)
+
+    def get_dof_types(self, dof_names=None) -> list[str]:
+        """"Rotation" or "Translation" per joint."""
+        c = self._c("get_dof_types")
+        return ["Rotation" if t == 1 else "Translation" for t in c.types]
+
+    def get_body_masses(self, indices=None, body_indices=None, clone: bool = True) -> np.ndarray:
+        """(1, B) body masses [kg]."""
+        self._check_indices(indices)
+        c = self._c("get_body_masses")
+        m = c.sim.model.body_mass[c.body_ids]
+        return (m if body_indices is None else m[np.asarray(body_indices, dtype=int)])[None, :].copy()
+
+    def get_body_index(self, body_name: str) -> int:
+        names = self.body_names
+        if body_name not in names:
+            raise InvalidInputError(f"no body {body_name!r}; bodies: {names}")
+        return names.index(body_name)
+
+    def get_jacobians(self, indices=None, clone: bool = True) -> np.ndarray:
+        """(1, B, 6, n) body Jacobians in Isaac's layout (`manip.sim.articulations.articulation_dynamics`)."""
+        self._check_indices(indices)
+        return dyn.jacobians(self._c("get_jacobians"))[None]
+
+    def get_jacobian_shape(self) -> tuple[int, int, int]:
+        """(B, 6, n) of one articulation's Jacobians."""
+        return dyn.jacobians(self._c("get_jacobian_shape")).shape
+
+    def get_mass_matrices(self, indices=None, clone: bool = True) -> np.ndarray:
+        """(1, n, n) joint-space inertia matrix."""
+        self._check_indices(indices)
+        return dyn.mass_matrix(self._c("get_mass_matrices"))[None]
+
+    def get_mass_matrix_shape(self) -> tuple[int, int]:
+        return dyn.mass_matrix(self._c("get_mass_matrix_shape")).shape
+
+    def get_generalized_gravity_forces(self, indices=None, joint_indices=None, clone: bool = True) -> np.ndarray:
+        """(1, n) generalized forces holding the articulation against gravity [N m or N]."""
+        self._check_indices(indices)
+        return dyn.gravity_forces(self._c("get_generalized_gravity_forces"))[None]
+
+    def get_coriolis_and_centrifugal_forces(self, indices=None, joint_indices=None, clone: bool = True) -> np.ndarray:
+        """(1, n) Coriolis and centrifugal generalized forces [N m or N]."""
+        self._check_indices(indices)
+        return dyn.coriolis_and_centrifugal_forces(self._c("get_coriolis_and_centrifugal_forces"))[None]
+
     def apply_action(self, control_actions: ArticulationAction, indices=None) -> None:
         """Set drive targets from an action with (K,) or (1, K) fields (Isaac's semantics)."""
         self._check_indices(indices)
@@ -259,3 +376,6 @@ class ArticulationView:
 
     def __repr__(self) -> str:
         return f"ArticulationView(prim_paths={self.prim_paths})"
+
+
+declare_not_supported(ArticulationView)

@@ -14,6 +14,7 @@ from manip.articulation_action import ArticulationAction
 from manip.errors import InvalidInputError
 from manip.sim.articulations.articulation_core import ArticulationCore
 from manip.sim.scenes.stage import SimulationError
+from manip.sim.utils.not_supported import declare as declare_not_supported
 
 CONTROL_MODES = ("position", "velocity", "effort")
 
@@ -125,3 +126,6 @@ class ArticulationController:
         """(num_dof, 2) lower and upper position limits (-inf/inf if unlimited)."""
         c = self._core()
         return np.stack([c.lower, c.upper], axis=1)
+
+
+declare_not_supported(ArticulationController)

@@ -17,15 +17,19 @@ imports the app.
 
 from __future__ import annotations
 
+import atexit
 import logging
+import threading
 import time
 from typing import Any
 
 from manip.errors import InvalidInputError
+from manip.sim.core.event_loop import run_pending_coroutines
 from manip.sim.core.gl_backend import has_display
 from manip.sim.core.simulation_context import SimulationContext
 from manip.sim.scenes.stage import SimulationError
 from manip.sim.core.world import World
+from manip.sim.utils.not_supported import declare as declare_not_supported
 
 logger = logging.getLogger(__name__)
 
@@ -34,6 +38,25 @@ _APP: SimulationApp | None = None
 DEFAULT_CONFIG = {"headless": True, "width": 1280, "height": 720, "realtime": True, "viewer": "native",
                   "web_host": "127.0.0.1", "web_port": 8080, "web_rate": 30.0}
 VIEWERS = ("native", "web")
+#: How long closing the app waits for MuJoCo's viewer thread to end [s].
+VIEWER_JOIN_TIMEOUT = 10.0
+_EXIT_HOOK_REGISTERED = False
+
+
+def _close_viewers_at_exit() -> None:
+    """Close the app's viewer (joining its thread) at interpreter exit, before glfw's own
+    atexit `terminate` (registered earlier, when mujoco.viewer imported glfw; atexit runs
+    handlers last-in first-out). A script that never calls `simulation_app.close()` then
+    exits cleanly too."""
+    global _EXIT_HOOK_REGISTERED
+    if not _EXIT_HOOK_REGISTERED:
+        atexit.register(_close_at_exit)
+        _EXIT_HOOK_REGISTERED = True
+
+
+def _close_at_exit() -> None:
+    if _APP is not None:
+        _APP.close()
 
 
 class SimulationApp:
@@ -67,6 +90,7 @@ class SimulationApp:
         if self.web and self.headless:
             raise InvalidInputError('launch_config: viewer "web" shows the World in a browser; set "headless": False with it')
         self._viewer: Any = None
+        self._viewer_threads: list[threading.Thread] = []
         self._web_server: Any = None  # viser server, created with the first web view
         self._viewer_model = None
         self._closed = False
@@ -102,13 +126,20 @@ class SimulationApp:
         return not self.is_running()
 
     def update(self) -> None:
-        """Render the World (viewer sync) without stepping physics."""
+        """One frame of Kit's update loop: while the World is playing, the physics of one
+        rendered frame (max(1, rendering_dt / physics_dt) physics steps, each after the
+        physics callbacks; the tasks' `pre_step` is not run, as in Isaac, where only
+        `world.step()` runs it); then the render (viewer sync). Paused or stopped: render only.
+        Coroutines scheduled with `asyncio.ensure_future` outside a running loop run here
+        (`manip.sim.core.event_loop`), as Kit's loop runs them each frame."""
+        run_pending_coroutines()
         w = World.instance()
         if w is not None and w.model is not None:
-            w.render()
+            SimulationContext.step(w, render=True)
 
     def close(self) -> None:
-        """Close the viewer (if any) and the World's recording."""
+        """Close the viewer (if any; waits for its thread to end, at most
+        VIEWER_JOIN_TIMEOUT) and the World's recording."""
         global _APP
         w = World.instance()
         if w is not None:
@@ -161,8 +192,12 @@ class SimulationApp:
         try:
             import mujoco.viewer
 
+            before = set(threading.enumerate())
             self._viewer = mujoco.viewer.launch_passive(world.model, world.data,
                                                         show_left_ui=False, show_right_ui=False)
+            # The viewer's thread (MuJoCo keeps no handle on it): joined when the viewer closes.
+            self._viewer_threads = [t for t in threading.enumerate() if t not in before]
+            _close_viewers_at_exit()
         except Exception as exc:
             raise SimulationError(
                 f"cannot open the MuJoCo viewer ({exc}); it needs a display (DISPLAY/WAYLAND_DISPLAY). On machines "
@@ -196,6 +231,15 @@ class SimulationApp:
                 self._viewer.close()
             except Exception:  # already closed by the user
                 pass
+            # Wait for the viewer's thread to leave its render loop: glfw's atexit `terminate`
+            # running while that thread still draws crashes the process (SIGSEGV, or a
+            # GLXBadDrawable hang) after the script's results.
+            for t in self._viewer_threads:
+                if t is not threading.current_thread():
+                    t.join(timeout=VIEWER_JOIN_TIMEOUT)
+                    if t.is_alive():
+                        logger.warning("the MuJoCo viewer's thread did not end within %.0f s", VIEWER_JOIN_TIMEOUT)
+            self._viewer_threads = []
         self._viewer = None
         self._viewer_model = None
 
@@ -225,3 +269,6 @@ class SimulationApp:
 def get_app() -> SimulationApp | None:
     """The running SimulationApp, if any."""
     return _APP
+
+
+declare_not_supported(SimulationApp)

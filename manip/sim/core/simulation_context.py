@@ -4,7 +4,8 @@ the scene and the tasks).
 Time: `physics_dt` (default 1/60 s, as Isaac) is the step seen by callbacks and tasks;
 MuJoCo integrates each physics step in `ceil(physics_dt / substep_dt)` equal substeps of
 at most `substep_dt` (default 0.002 s, i.e. 9 substeps of 1.85 ms at 60 Hz), which is what
-keeps a grasped cube stable and stiff drives accurate. `step(render=True)` runs
+keeps a grasped cube stable and stiff drives accurate; more while a free body moves fast
+(`manip.sim.core.substeps`: no body travels more than 2 mm between contact checks). `step(render=True)` runs
 max(1, round(rendering_dt / physics_dt)) physics steps then renders; `render=False` runs one.
 As in Isaac (`SimulationContext.initialize_physics`), `reset()` stops, plays and takes one
 warm-up `step(render=True)` without physics callbacks, so `current_time_step_index` is 1
@@ -38,7 +39,7 @@ import mujoco
 import numpy as np
 
 from manip.errors import InvalidInputError, UnknownNameError
-from manip.sim.core import recording as rec
+from manip.sim.core import recording as rec, substeps
 from manip.sim.articulations.articulation_core import ArticulationCore
 from manip.sim.core.callbacks import CallbackTable, TimelineEvent
 from manip.sim.core.mujoco_warnings import SimulationInstabilityError, SimulationWarning, WarningMonitor  # noqa: F401 (re-exported)
@@ -428,8 +429,7 @@ class SimulationContext:
         self.render()
 
     async def initialize_simulation_context_async(self) -> None:
-        """Nothing to wait for: the context is ready once constructed (Isaac sets up its USD
-        stage and physics scene here)."""
+        """Nothing to wait for: ready once constructed (Isaac sets up its USD stage here)."""
 
     def _fire_timeline(self, kind: str) -> None:
         self._timeline_callbacks.call(TimelineEvent(kind))
@@ -464,7 +464,7 @@ class SimulationContext:
             SimulationInstabilityError: MuJoCo found the step numerically unstable.
         """
         sim = self._sim
-        mujoco.mj_step(sim.model, sim.data, nstep=self.physics_substeps)
+        substeps.step(sim, self._physics_dt, self.physics_substeps)
         sim.kinematics_stale = True
         self._index += 1
         self._time = self._time_origin + self._index * self._physics_dt

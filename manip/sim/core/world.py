@@ -10,6 +10,7 @@ from __future__ import annotations
 import logging
 
 from manip.sim.core.callbacks import TimelineEvent  # noqa: F401 (re-exported)
+from manip.sim.core.event_loop import run_pending_coroutines
 from manip.sim.scenes.scene import Scene
 from manip.sim.core.simulation_context import (  # noqa: F401 (re-exported)
     DEFAULT_DT,
@@ -20,6 +21,7 @@ from manip.sim.core.simulation_context import (  # noqa: F401 (re-exported)
 )
 from manip.sim.scenes.stage import get_current_stage
 from manip.sim.tasks.task_registry import TaskRegistry
+from manip.sim.utils.not_supported import declare as declare_not_supported
 
 logger = logging.getLogger(__name__)
 
@@ -93,7 +95,10 @@ class World(SimulationContext):
         physics_dt) physics steps with render=True, one with render=False; then render.
 
         Physics callbacks run before each physics step with `step_size = physics_dt`.
+        Coroutines a script scheduled with `asyncio.ensure_future` outside a running loop
+        run first, as Kit's loop runs them each frame (`manip.sim.core.event_loop`).
         """
+        run_pending_coroutines()
         self.step_async()
         super().step(render, step_sim)
 
@@ -170,3 +175,6 @@ def clear_stage() -> None:
         world.clear()
     else:
         get_current_stage().clear()
+
+
+declare_not_supported(SimulationContext)

@@ -1,9 +1,11 @@
 """`GeometryPrim` (a prim with one MuJoCo geom, base of the shapes) and `PhysicsMaterial`.
 
 Physics materials: MuJoCo has one sliding friction per geom, so a material's dynamic
-friction is used (static friction only if dynamic is missing); MuJoCo combines the two
-geoms of a contact by taking the larger friction. Restitution is not modelled (MuJoCo
-contacts are soft and inelastic); it is kept for reference only.
+friction is used (static friction only if dynamic is missing); a collider without a
+material has PhysX's default friction 0.5. Two surfaces combine their frictions by their
+materials' combine modes, "average" by default, as PhysX
+(`manip.sim.scenes.contact_model`). Restitution is not modelled (MuJoCo contacts are
+inelastic); it is kept for reference only.
 """
 
 from __future__ import annotations
@@ -12,8 +14,11 @@ import mujoco
 import numpy as np
 
 from manip.errors import InvalidInputError
+from manip.sim.materials.visual_material import PreviewSurface, VisualMaterial, unique_material_path
+from manip.sim.scenes.contact_model import PHYSX_DEFAULT_FRICTION, check_combine_mode
 from manip.sim.scenes.stage import SimHandle
 from manip.sim.prims.xform_prim import XFormPrim
+from manip.sim.utils.not_supported import declare as declare_not_supported
 from manip.validation import non_negative, vec
 
 #: Whether each family's geoms collide ("ground" is the GroundPlane's).
@@ -31,6 +36,9 @@ class PhysicsMaterial:
         restitution: kept for reference, not simulated.
     """
 
+    prim_path: str
+    name: str
+
     def __init__(
         self,
         prim_path: str = "/World/Physics_Materials/material",
@@ -38,12 +46,44 @@ class PhysicsMaterial:
         static_friction: float | None = None,
         dynamic_friction: float | None = None,
         restitution: float | None = None,
+        *,
+        friction_combine_mode: str = "average",
+        restitution_combine_mode: str = "average",
     ):
         self.prim_path = prim_path
         self.name = name
         self._static = None if static_friction is None else non_negative(static_friction, "static_friction")
         self._dynamic = None if dynamic_friction is None else non_negative(dynamic_friction, "dynamic_friction")
         self._restitution = restitution
+        self._friction_mode = check_combine_mode(friction_combine_mode)
+        self._restitution_mode = check_combine_mode(restitution_combine_mode, "restitution_combine_mode")
+
+    def set_static_friction(self, friction: float) -> None:
+        """Static friction (used by MuJoCo only without a dynamic one); geoms built from the next reset."""
+        self._static = non_negative(friction, "static_friction")
+
+    def set_dynamic_friction(self, friction: float) -> None:
+        """Sliding friction; objects using the material get it at their next reset."""
+        self._dynamic = non_negative(friction, "dynamic_friction")
+
+    def set_restitution(self, restitution: float) -> None:
+        """Kept for reference (restitution is not simulated)."""
+        self._restitution = float(restitution)
+
+    def set_friction_combine_mode(self, mode: str) -> None:
+        """How this material's friction combines with another's: "average" (PhysX's default),
+        "min", "multiply" or "max"; of two modes the later in that list applies."""
+        self._friction_mode = check_combine_mode(mode)
+
+    def get_friction_combine_mode(self) -> str:
+        return self._friction_mode
+
+    def set_restitution_combine_mode(self, mode: str) -> None:
+        """Kept for reference (restitution is not simulated)."""
+        self._restitution_mode = check_combine_mode(mode, "restitution_combine_mode")
+
+    def get_restitution_combine_mode(self) -> str:
+        return self._restitution_mode
 
     def get_static_friction(self) -> float | None:
         return self._static
@@ -84,9 +124,20 @@ class GeometryPrim(XFormPrim):
             raise InvalidInputError(f"color must be RGB in [0, 1]; got {self._color}")
         self._physics_material = physics_material
         self._geom_id = -1
+        self._opacity = 1.0
+        self._visual_material: VisualMaterial | None = None
+        if visual_material is not None and not isinstance(visual_material, VisualMaterial):
+            raise InvalidInputError(f"visual_material must be a VisualMaterial (PreviewSurface, OmniPBR, OmniGlass); "
+                                    f"got {type(visual_material).__name__}")
         super().__init__(prim_path, name, position, translation, orientation, scale, visible)
         if self._wrapped_object is not None and hasattr(self._wrapped_object, "get_color"):
             self._color = self._wrapped_object.get_color()
+            self._visual_material = self._wrapped_object.get_applied_visual_material()
+        elif visual_material is not None:
+            self.apply_visual_material(visual_material)
+        elif self._family != "ground":
+            # Isaac gives each shape made without a material its own PreviewSurface with its colour.
+            self.apply_visual_material(PreviewSurface(unique_material_path(), color=self._color))
 
     # shape parameters: overridden
     def _geom_type_size(self) -> tuple[int, list[float]]:
@@ -105,15 +156,16 @@ class GeometryPrim(XFormPrim):
             name=self.prim_path + "/geom",
             type=gtype,
             size=size,
-            rgba=[*self._color.tolist(), 1.0 if self._visible else 0.0],
+            rgba=[*self._color.tolist(), self._opacity if self._visible else 0.0],
             contype=1 if collides else 0,
             conaffinity=1 if collides else 0,
             group=0 if collides else 2,
         )
         if gtype == mujoco.mjtGeom.mjGEOM_MESH:
             kwargs["meshname"] = self._build_mesh(spec)
-        if self._physics_material is not None and self._physics_material.mujoco_friction() is not None:
-            kwargs["friction"] = [self._physics_material.mujoco_friction(), 0.005, 0.0001]
+        if collides:  # PhysX's default material without one (MuJoCo's default is 1.0)
+            f = self._physics_material.mujoco_friction() if self._physics_material is not None else None
+            kwargs["friction"] = [f if f is not None else PHYSX_DEFAULT_FRICTION, 0.005, 0.0001]
         geom = body.add_geom(**kwargs)
         if dynamic:
             self._set_mass_props(geom)
@@ -133,26 +185,89 @@ class GeometryPrim(XFormPrim):
 
     def _apply_visibility(self) -> None:
         if self._sim is not None and self._geom_id >= 0:
-            self._sim.model.geom_rgba[self._geom_id, 3] = 1.0 if self._visible else 0.0
+            self._sim.model.geom_rgba[self._geom_id, 3] = self._opacity if self._visible else 0.0
 
     def get_color(self) -> np.ndarray:
+        """The colour drawn (3,), RGB in [0, 1]."""
+        if self._wrapped_object is not None and hasattr(self._wrapped_object, "get_color"):
+            return self._wrapped_object.get_color()
         return self._color.copy()
 
     def set_color(self, color) -> None:
+        """Set the colour, RGB in [0, 1]: of the applied visual material if there is one
+        (every object sharing it changes, as editing the material in Isaac), else of this object."""
         c = vec(color, 3, "color")
-        self._color = c
-        if self._sim is not None:
-            self._sim.model.geom_rgba[self._geom_id, :3] = c
+        if np.any(c < 0) or np.any(c > 1):
+            raise InvalidInputError(f"color must be RGB in [0, 1]; got {c}")
+        if self._visual_material is not None:
+            self._visual_material.set_color(c)
+        else:
+            self.show_color(c)
+
+    def show_color(self, color, opacity: float = 1.0) -> None:
+        """Draw this object in `color` (3,) RGB with `opacity` in [0, 1] (what a bound visual
+        material calls; `set_color` is the user's call)."""
+        self._color = np.array(color, dtype=float)
+        self._opacity = float(opacity)
+        if self._wrapped_object is not None:
+            self._wrapped_object.show_color(color, opacity)
+        if self._sim is not None and self._geom_id >= 0:
+            self._sim.model.geom_rgba[self._geom_id, :3] = self._color
+            self._apply_visibility()
+
+    # ------------------------------------------------------------------ visual materials
+    def apply_visual_material(self, visual_material: VisualMaterial, weaker_than_descendants: bool = False) -> None:
+        """Draw this object with `visual_material` (a PreviewSurface, OmniPBR, OmniGlass);
+        its colour applies at once. `weaker_than_descendants` is accepted (no child prims here).
+
+        Raises:
+            InvalidInputError: not a VisualMaterial.
+        """
+        if not isinstance(visual_material, VisualMaterial):
+            raise InvalidInputError(f"apply_visual_material needs a VisualMaterial (PreviewSurface, OmniPBR, "
+                                    f"OmniGlass); got {type(visual_material).__name__}")
+        if self._wrapped_object is not None:
+            self._wrapped_object.apply_visual_material(visual_material, weaker_than_descendants)
+            self._visual_material = visual_material
+            return
+        if self._visual_material is not None:
+            self._visual_material.unbind(self)
+        self._visual_material = visual_material
+        visual_material.bind(self)
+
+    def get_applied_visual_material(self) -> VisualMaterial | None:
+        """The visual material drawing this object (a shape's own PreviewSurface unless another
+        was applied)."""
+        if self._wrapped_object is not None and hasattr(self._wrapped_object, "get_applied_visual_material"):
+            return self._wrapped_object.get_applied_visual_material()
+        return self._visual_material
+
+    def is_visual_material_applied(self) -> bool:
+        return self._visual_material is not None
 
     def get_applied_physics_material(self) -> PhysicsMaterial | None:
         return self._physics_material
 
-    def apply_physics_material(self, physics_material: PhysicsMaterial) -> None:
-        """Use this material's friction (immediately if compiled)."""
+    def apply_physics_material(self, physics_material: PhysicsMaterial, weaker_than_descendants: bool = False) -> None:
+        """Use this material's friction: at once against surfaces it meets with MuJoCo's own
+        contacts; combined with the other surface's by the combine modes
+        (`manip.sim.scenes.contact_model`) from the next `World.reset()`, which rebuilds the
+        contact pairs."""
+        if not isinstance(physics_material, PhysicsMaterial):
+            raise InvalidInputError(f"apply_physics_material needs a PhysicsMaterial; got "
+                                    f"{type(physics_material).__name__}")
         self._physics_material = physics_material
         f = physics_material.mujoco_friction()
         if self._sim is not None and f is not None:
             self._sim.model.geom_friction[self._geom_id, 0] = f
+        self._mark_changed()
+
+    def get_collision_enabled(self) -> bool:
+        """Whether the geometry makes contacts."""
+        if self._sim is not None and self._geom_id >= 0:
+            m = self._sim.model
+            return bool(m.geom_contype[self._geom_id] or m.geom_conaffinity[self._geom_id])
+        return _FAMILY_COLLIDES[self._family]
 
     def set_collision_enabled(self, enabled: bool) -> None:
         """Enable/disable contacts of the geometry (immediately if compiled)."""
@@ -169,3 +284,6 @@ class GeometryPrim(XFormPrim):
     def shape_dimensions(self) -> np.ndarray:
         """Dimensions in the `CollisionObject` convention (see Scene.get_collision_objects)."""
         raise NotImplementedError
+
+
+declare_not_supported(GeometryPrim)

@@ -8,6 +8,7 @@ import mujoco
 import numpy as np
 
 from manip.sim.scenes.stage import SimulationError
+from manip.sim.utils.not_supported import declare as declare_not_supported
 from manip.sim.utils.types import DynamicState
 from manip.sim.prims.xform_prim import XFormPrim
 from manip.validation import positive
@@ -41,8 +42,8 @@ class RigidPrim(XFormPrim):
         return np.concatenate([res[3:], res[:3]])
 
     def get_linear_velocity(self) -> np.ndarray:
-        """Linear velocity of the body origin (3,) [m/s], world frame (a link's: None
-        before the first reset, with a warning, as its pose)."""
+        """Linear velocity of the body origin (3,) [m/s], world frame (a link's: zero
+        before the first reset, as authored)."""
         if self._sim is None:
             return self._unbound_velocity("linear_velocity")
         if self._wrapped_reference is not None:
@@ -60,10 +61,10 @@ class RigidPrim(XFormPrim):
         return self._sim.free_angular_velocity(self._qadr, self._dadr)
 
     def _unbound_velocity(self, which: str) -> np.ndarray | None:
-        """Before the World compiled: the default velocity, or None for a link (unknown)."""
+        """Before the World compiled: the default velocity, or zeros for a link (the model
+        is authored at rest)."""
         if self._wrapped_reference is not None:
-            logger.warning("%s: velocity unknown before the first World.reset(); returning None", self.prim_path)
-            return None
+            return np.zeros(3)
         return getattr(self._default_state, which).copy()
 
     def set_linear_velocity(self, velocity) -> None:
@@ -113,6 +114,28 @@ class RigidPrim(XFormPrim):
             mujoco.mj_setConst(model, self._sim.data)
         self._mass, self._density = m, None
 
+    def get_density(self) -> float:
+        """Density [kg/m^3]: mass over the shape's volume."""
+        return self.get_mass() / self._volume()
+
+    def set_density(self, density: float) -> None:
+        """Set the mass to `density` [kg/m^3] times the shape's volume (immediate if compiled)."""
+        self.set_mass(positive(density, "density", "kg/m^3") * self._volume())
+        self._mass, self._density = None, float(density)
+
+    def get_current_dynamic_state(self) -> DynamicState:
+        """Pose and velocities now (world frame)."""
+        p, q = self.get_world_pose()
+        return DynamicState(p, q, self.get_linear_velocity(), self.get_angular_velocity())
+
+    def get_com(self) -> tuple[np.ndarray, np.ndarray]:
+        """Centre of mass in the body frame: position (3,) [m], principal-axes orientation (4,)
+        (the shape's centre before the World compiles)."""
+        if self._sim is None:
+            return np.zeros(3), np.array([1.0, 0.0, 0.0, 0.0])
+        m = self._sim.model
+        return m.body_ipos[self._body_id].copy(), m.body_iquat[self._body_id].copy()
+
     def _volume(self) -> float:
         """Volume of the shape [m^3] (the shape classes define it)."""
         raise NotImplementedError
@@ -137,3 +160,6 @@ class RigidPrim(XFormPrim):
             return  # a link: the articulation restores its joints
         self.set_linear_velocity(self._default_state.linear_velocity)
         self.set_angular_velocity(self._default_state.angular_velocity)
+
+
+declare_not_supported(RigidPrim)

@@ -19,8 +19,11 @@ import numpy as np
 
 from manip import quaternion as quat
 from manip.errors import InvalidInputError
+from manip.sim.prims import body_forces
 from manip.sim.scenes.stage import SimHandle, SimulationError, get_current_stage
+from manip.sim.utils.types import DynamicsViewState, XFormPrimViewState
 from manip.sim.utils.bounds import check_bounded_rows
+from manip.sim.utils.not_supported import declare as declare_not_supported
 from manip.validation import batch
 
 logger = logging.getLogger(__name__)
@@ -44,12 +47,14 @@ def path_matches(segments: list[re.Pattern], path: str) -> bool:
             and all(r.fullmatch(p) for r, p in zip(segments, parts)))
 
 
-#: Isaac's RigidPrimView options with the default values accepted here.
+#: Isaac's RigidPrimView options with the default values accepted here (the contact
+#: options are honoured: see `RigidPrimView.get_contact_force_matrix`).
 RIGID_VIEW_OPTIONS = {
     "masses": None, "densities": None, "linear_velocities": None, "angular_velocities": None,
-    "track_contact_forces": False, "prepare_contact_sensors": False, "disable_stablization": True,
-    "contact_filter_prim_paths_expr": [], "max_contact_count": 0,
+    "disable_stablization": True,
 }
+CONTACT_OPTIONS = ("track_contact_forces", "prepare_contact_sensors", "contact_filter_prim_paths_expr",
+                   "max_contact_count")
 
 
 def _is_default(value, default) -> bool:
@@ -210,6 +215,36 @@ class XFormPrimView:
                     d.mocap_quat[mid] = q[k]
         sim.mark_stale()
 
+    def _need_paths(self) -> list[str]:
+        self._need()
+        return list(self._paths)
+
+    def _object(self, path: str):
+        """The scene object at `path` (its default state lives there).
+
+        Raises:
+            SimulationError: `path` is a body of a referenced model (it has no default state).
+        """
+        prim = get_current_stage().get_prim(path)
+        if prim is None or not hasattr(prim, "get_default_state"):
+            raise SimulationError(f"{path!r} is a body of an articulation: its state follows the joints (set the "
+                                  "articulation's default state instead)")
+        return prim
+
+    def get_default_state(self) -> XFormPrimViewState:
+        """The default pose of each prim (what `World.reset()` restores)."""
+        states = [self._object(p).get_default_state() for p in self._need_paths()]
+        return XFormPrimViewState(np.array([s.position for s in states]), np.array([s.orientation for s in states]))
+
+    def set_default_state(self, positions=None, orientations=None, indices=None) -> None:
+        """Set the default poses (K, 3), (K, 4) of the prims `indices` (None keeps a part)."""
+        self._need()
+        idx = self._idx(indices)
+        p = batch(positions, idx.size, 3, "positions") if positions is not None else None
+        q = batch(orientations, idx.size, 4, "orientations") if orientations is not None else None
+        for k, i in enumerate(idx):
+            self._object(self._paths[i]).set_default_state(None if p is None else p[k], None if q is None else q[k])
+
     def get_local_scales(self, indices=None) -> np.ndarray:
         """(K, 3) scales of the matched prims (1 for bodies of referenced models)."""
         self._need()
@@ -244,10 +279,18 @@ class RigidPrimView(XFormPrimView):
         Raises:
             InvalidInputError: an unknown keyword, or an option other than its default.
         """
+        filters = kwargs.pop("contact_filter_prim_paths_expr", None) or []
+        for key in CONTACT_OPTIONS[:2] + CONTACT_OPTIONS[3:]:
+            kwargs.pop(key, None)  # contact forces are always available here
+        if isinstance(filters, str) or not all(isinstance(f, str) for f in filters):
+            raise InvalidInputError(f"contact_filter_prim_paths_expr must be a list of prim path expressions; "
+                                    f"got {filters!r}")
+        self._filter_segments = [compile_path_expression(f) for f in filters]
+        self._filter_bodies = np.zeros(0, dtype=int)
         for key, value in kwargs.items():
             if key not in RIGID_VIEW_OPTIONS:
                 raise InvalidInputError(f"RigidPrimView got an unknown argument {key!r}; Isaac's options accepted: "
-                                        f"{sorted(RIGID_VIEW_OPTIONS)}")
+                                        f"{sorted(RIGID_VIEW_OPTIONS) + list(CONTACT_OPTIONS)}")
             if not _is_default(value, RIGID_VIEW_OPTIONS[key]):
                 raise InvalidInputError(
                     f"RigidPrimView({key}={value!r}) is not supported (manip has no PhysX contact sensors or per-view "
@@ -289,7 +332,148 @@ class RigidPrimView(XFormPrimView):
             sim.set_free_angular_velocity(self._qadr[i], self._dadr[i], v[k, 3:])
         sim.mark_stale()
 
-    def get_masses(self, indices=None) -> np.ndarray:
+    def get_masses(self, indices=None, clone: bool = True) -> np.ndarray:
         """(K,) [kg]."""
         sim = self._need()
         return sim.model.body_mass[self._bodies[self._idx(indices)]].copy()
+
+    def bind_simulation(self, sim: SimHandle) -> None:
+        super().bind_simulation(sim)
+        m = sim.model
+        self._filter_bodies = np.array([b for seg in self._filter_segments for b in range(1, m.nbody)
+                                        if path_matches(seg, m.body(b).name)], dtype=int)
+
+    # ------------------------------------------------------------------ velocities, one part at a time
+    def set_linear_velocities(self, velocities, indices=None) -> None:
+        """Set (K, 3) linear world velocities [m/s] of free bodies; angular ones kept."""
+        v = self.get_velocities(indices)
+        v[:, :3] = batch(velocities, v.shape[0], 3, "velocities")
+        self.set_velocities(v, indices)
+
+    def set_angular_velocities(self, velocities, indices=None) -> None:
+        """Set (K, 3) angular world velocities [rad/s] of free bodies; linear ones kept."""
+        v = self.get_velocities(indices)
+        v[:, 3:] = batch(velocities, v.shape[0], 3, "velocities")
+        self.set_velocities(v, indices)
+
+    # ------------------------------------------------------------------ forces
+    def apply_forces(self, forces, indices=None, is_global: bool = True) -> None:
+        """Push each body with a force (K, 3) [N] at its centre of mass during the next
+        physics step (as PhysX: apply it before every step to keep pushing); world frame, or
+        each body's frame with `is_global=False`."""
+        self.apply_forces_and_torques_at_pos(forces, None, None, indices, is_global)
+
+    def apply_forces_and_torques_at_pos(self, forces=None, torques=None, positions=None, indices=None,
+                                        is_global: bool = True) -> None:
+        """Forces (K, 3) [N] at `positions` (K, 3) [m] (the centres of mass for None) and
+        torques (K, 3) [N m] on each body during the next physics step; world frame, or each
+        body's frame (positions too) with `is_global=False`.
+
+        Raises:
+            InvalidInputError: a wrong shape or a non-finite value.
+        """
+        sim = self._need()
+        idx = self._idx(indices)
+        f = batch(forces, idx.size, 3, "forces") if forces is not None else None
+        t = batch(torques, idx.size, 3, "torques") if torques is not None else None
+        p = batch(positions, idx.size, 3, "positions") if positions is not None else None
+        for what, a in (("forces", f), ("torques", t), ("positions", p)):
+            if a is not None and not np.all(np.isfinite(a)):
+                raise InvalidInputError(f"{what} must be finite; got {a}")
+        body_forces.apply(sim, self._bodies[idx], f, t, p, bool(is_global))
+
+    # ------------------------------------------------------------------ contacts
+    def _impulse_scale(self, dt: float) -> float:
+        """Isaac's contact getters return impulses / dt: force * physics_dt / dt."""
+        if not (dt > 0):
+            raise InvalidInputError(f"dt must be > 0 [s]; got {dt!r}")
+        return (self._sim.physics_dt or self._sim.model.opt.timestep) / dt
+
+    def get_net_contact_forces(self, indices=None, clone: bool = True, dt: float = 1.0) -> np.ndarray:
+        """(K, 3) total contact impulse on each body over the last physics step divided by
+        `dt` (Isaac's convention: pass dt = physics_dt for forces [N]), world frame."""
+        sim = self._need()
+        return body_forces.net_contact_forces(sim, self._bodies[self._idx(indices)]) * self._impulse_scale(dt)
+
+    def get_contact_force_matrix(self, indices=None, clone: bool = True, dt: float = 1.0) -> np.ndarray:
+        """(K, F, 3) contact impulse on each body from each prim matched by the view's
+        `contact_filter_prim_paths_expr` (F of them), divided by `dt` (as
+        get_net_contact_forces), world frame.
+
+        Raises:
+            SimulationError: the view was made without contact_filter_prim_paths_expr.
+        """
+        sim = self._need()
+        if not self._filter_segments:
+            raise SimulationError(f"view {self._name!r}: get_contact_force_matrix needs the view made with "
+                                  "contact_filter_prim_paths_expr=[...] (the prims whose contacts are reported)")
+        return (body_forces.contact_force_matrix(sim, self._bodies[self._idx(indices)], self._filter_bodies)
+                * self._impulse_scale(dt))
+
+    def get_coms(self, indices=None, clone: bool = True) -> tuple[np.ndarray, np.ndarray]:
+        """Centres of mass in the body frames: positions (K, 3) [m], orientations (K, 4)."""
+        sim = self._need()
+        b = self._bodies[self._idx(indices)]
+        return sim.model.body_ipos[b].copy(), sim.model.body_iquat[b].copy()
+
+    def get_inertias(self, indices=None, clone: bool = True) -> np.ndarray:
+        """(K, 9) inertia tensors about the centres of mass, body frame, row-major [kg m^2]."""
+        sim = self._need()
+        out = []
+        for b in self._bodies[self._idx(indices)]:
+            R = quat.to_matrix(sim.model.body_iquat[b])
+            out.append((R @ np.diag(sim.model.body_inertia[b]) @ R.T).ravel())
+        return np.array(out).reshape(-1, 9)
+
+    def get_inv_masses(self, indices=None, clone: bool = True) -> np.ndarray:
+        """(K,) 1 / mass [1/kg]."""
+        return 1.0 / self.get_masses(indices)
+
+    def get_inv_inertias(self, indices=None, clone: bool = True) -> np.ndarray:
+        """(K, 9) inverse inertia tensors (as get_inertias)."""
+        return np.array([np.linalg.inv(i.reshape(3, 3)).ravel() for i in self.get_inertias(indices)]).reshape(-1, 9)
+
+    def get_current_dynamic_state(self, indices=None) -> DynamicsViewState:
+        """Poses and velocities now (world frame)."""
+        p, q = self.get_world_poses(indices)
+        v = self.get_velocities(indices)
+        return DynamicsViewState(p, q, v[:, :3], v[:, 3:])
+
+    @property
+    def num_contact_filters(self) -> int:
+        return len(self._filter_bodies)
+
+    # ------------------------------------------------------------------ gravity
+    def enable_gravities(self, indices=None) -> None:
+        """Gravity acts on the bodies again."""
+        sim = self._need()
+        sim.gravity_off.difference_update(int(b) for b in self._bodies[self._idx(indices)])
+
+    def disable_gravities(self, indices=None) -> None:
+        """No gravity on the bodies (their weight is cancelled at their centre of mass)."""
+        sim = self._need()
+        sim.gravity_off.update(int(b) for b in self._bodies[self._idx(indices)])
+
+    # ------------------------------------------------------------------ default states
+    def get_default_state(self) -> DynamicsViewState:
+        """The default state of each body (what `World.reset()` restores)."""
+        states = [self._object(p).get_default_state() for p in self._need_paths()]
+        return DynamicsViewState(np.array([s.position for s in states]), np.array([s.orientation for s in states]),
+                                 np.array([getattr(s, "linear_velocity", np.zeros(3)) for s in states]),
+                                 np.array([getattr(s, "angular_velocity", np.zeros(3)) for s in states]))
+
+    def set_default_state(self, positions=None, orientations=None, linear_velocities=None, angular_velocities=None,
+                          indices=None) -> None:
+        """Set the default states (K rows each; None keeps a part) of the bodies `indices`."""
+        self._need()
+        idx = self._idx(indices)
+        rows = {k: (batch(v, idx.size, n, k) if v is not None else None) for k, v, n in (
+            ("positions", positions, 3), ("orientations", orientations, 4),
+            ("linear_velocities", linear_velocities, 3), ("angular_velocities", angular_velocities, 3))}
+        for k, i in enumerate(idx):
+            obj = self._object(self._paths[i])
+            obj.set_default_state(*(None if v is None else v[k] for v in rows.values()))
+
+
+declare_not_supported(XFormPrimView)
+declare_not_supported(RigidPrimView)

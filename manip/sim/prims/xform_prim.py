@@ -17,6 +17,7 @@ from manip.sim.scenes.stage import ReferencePrim, SimHandle, SimulationError, ge
 from manip.sim.utils.types import DefaultPoseMixin, XFormPrimState, position_or_translation
 from manip.validation import scale3, unit_quat
 from manip.sim.utils.bounds import bounded_vec
+from manip.sim.utils.not_supported import declare as declare_not_supported
 
 logger = logging.getLogger(__name__)
 
@@ -44,6 +45,7 @@ class XFormPrim(DefaultPoseMixin):
     """
 
     _default_name = "xform_prim"
+    prim_path: str  # where the prim lives on the stage
     _wraps_existing = True  # the shape classes and the ground plane always create their prim
 
     def __init__(
@@ -155,13 +157,21 @@ class XFormPrim(DefaultPoseMixin):
         """World pose: position (3,) [m] and orientation (4,) (w, x, y, z).
 
         Before the first `World.reset()` it is the pose the prim was created with (or last
-        set to).
+        set to); a body of a referenced model (a robot's link) is at the model's authored
+        pose (its 'home' keyframe at the robot's pose on the stage).
         """
         sim = self._sim
         if sim is None:
             if self._wrapped_reference is not None:
-                logger.warning("%s: pose unknown before the first World.reset(); returning None", self.prim_path)
-                return None  # type: ignore[return-value]
+                ref = self._wrapped_reference
+                if get_current_stage().get_prim(ref.prim_path) is not ref:
+                    logger.warning("%s: its model was removed from the stage; no pose (None)", self.prim_path)
+                    return None  # type: ignore[return-value]
+                pose = ref.authored_pose(self.prim_path)
+                if pose is None:
+                    raise SimulationError(f"XFormPrim {self.prim_path!r}: the referenced model "
+                                          f"{self._wrapped_reference.prim_path!r} has no body or site of that name")
+                return pose
             if self._wrapped_object is not None:
                 return self._wrapped_object.get_world_pose()
             return self._pose[0].copy(), self._pose[1].copy()
@@ -256,3 +266,6 @@ class XFormPrim(DefaultPoseMixin):
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}(prim_path={self.prim_path!r}, name={self._name!r})"
+
+
+declare_not_supported(XFormPrim)

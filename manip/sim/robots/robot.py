@@ -14,6 +14,7 @@ from manip.robot_config import load_robot_config
 from manip.sim.articulations.articulation import Robot
 from manip.sim.robots.manipulator import SingleManipulator
 from manip.sim.scenes.stage import SimHandle, SimulationError, add_reference_to_stage, get_assets_root_path
+from manip.sim.utils.not_supported import declare as declare_not_supported
 
 logger = logging.getLogger(__name__)
 
@@ -292,3 +293,6 @@ class WheeledRobot(Robot):
     def post_reset(self) -> None:
         super().post_reset()
         self.get_articulation_controller().switch_control_mode("velocity", self._wheel_idx)
+
+
+declare_not_supported(ParallelGripper)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
+from manip.sim.scenes.contact_model import compile_with_physx_friction, stiffen_contacts
 from manip.sim.scenes.stage import SimHandle, SimulationError, Stage
 
 
@@ -12,7 +13,7 @@ def compile_stage(stage: Stage, *, timestep: float, gravity: np.ndarray) -> SimH
     """Build every prim of `stage` into a new `mujoco.MjSpec`, compile it and run `mj_forward`.
 
     Solver options: the `implicitfast` integrator (implicit drive damping), elliptic
-    friction cones; offscreen buffer 1920 x 1080 px; a headlight and a shadow-casting key light.
+    friction cones; contacts as PhysX makes them (`manip.sim.scenes.contact_model`); offscreen buffer 1920 x 1080 px; a headlight and a shadow-casting key light.
 
     Args:
         stage: the prims, built in insertion order.
@@ -37,10 +38,32 @@ def compile_stage(stage: Stage, *, timestep: float, gravity: np.ndarray) -> SimH
                              castshadow=True)
     for prim in stage.prims():
         prim.add_to_spec(spec)
+    stiffen_contacts(spec)
+    modes = {}
+    for prim in stage.prims():  # the combine modes of the shapes' physics materials
+        material = prim.get_applied_physics_material() if hasattr(prim, "get_applied_physics_material") else None
+        if material is not None:
+            modes[prim.prim_path + "/geom"] = material.get_friction_combine_mode()
     try:
-        model = spec.compile()
+        model = compile_with_physx_friction(spec, modes)
     except ValueError as exc:
         raise SimulationError(f"the stage does not compile into a MuJoCo model: {exc}") from exc
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
-    return SimHandle(model, data)
+    sim = SimHandle(model, data)
+    sim.free_dofs, sim.free_radii = free_bodies(model)
+    return sim
+
+
+def free_bodies(model: mujoco.MjModel) -> tuple[np.ndarray, np.ndarray]:
+    """The dof address (K,) of each free joint and the bounding radius [m] (K,) of its body's
+    geoms about the body origin."""
+    dofs, radii = [], []
+    for j in range(model.njnt):
+        if int(model.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_FREE):
+            b = model.jnt_bodyid[j]
+            geoms = np.flatnonzero(model.geom_bodyid == b)
+            r = max((np.linalg.norm(model.geom_pos[g]) + model.geom_rbound[g] for g in geoms), default=0.0)
+            dofs.append(int(model.jnt_dofadr[j]))
+            radii.append(float(r))
+    return np.array(dofs, dtype=int), np.array(radii)

@@ -15,6 +15,7 @@ from manip.pose import Pose
 from manip.sim.prims.geometry_prim import GeometryPrim
 from manip.sim.objects.ground_plane import GroundPlane
 from manip.sim.scenes.stage import ReferencePrim, SimHandle, SimulationError, get_current_stage
+from manip.sim.utils.not_supported import declare as declare_not_supported
 
 logger = logging.getLogger(__name__)
 
@@ -95,6 +96,11 @@ class Scene:
     def __init__(self, world: CompiledWorld):
         self._world = world
         self._objects: dict[str, Any] = {}
+
+    @property
+    def stage(self):
+        """The stage the scene's objects live on."""
+        return get_current_stage()
 
     # ------------------------------------------------------------------ registry
     def add(self, obj: Any) -> Any:
@@ -306,3 +312,6 @@ def _mesh_arrays(m: mujoco.MjModel, mesh_id: int) -> tuple[np.ndarray, np.ndarra
         return verts, faces
     fa, fn = m.mesh_faceadr[mesh_id], m.mesh_facenum[mesh_id]
     return verts, m.mesh_face[fa:fa + fn].astype(int).copy()
+
+
+declare_not_supported(Scene)

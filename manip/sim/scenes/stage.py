@@ -52,6 +52,16 @@ class SimHandle:
         self.model = model
         self.data = data
         self.kinematics_stale = True
+        #: dof address (K,) of each free joint and its body's bounding radius [m] (K,), set
+        #: by the compiler (`manip.sim.core.substeps` reads them).
+        self.free_dofs = np.zeros(0, dtype=int)
+        self.free_radii = np.zeros(0)
+        #: Bodies whose external force (`xfrc_applied`) acts for the next physics step only.
+        self.pulsed_bodies: set[int] = set()
+        #: Bodies on which gravity does not act (`RigidPrimView.disable_gravities`).
+        self.gravity_off: set[int] = set()
+        #: The World's physics step [s] (set at each step by `manip.sim.core.substeps`).
+        self.physics_dt: float | None = None
 
     def ensure_kinematics(self) -> None:
         if self.kinematics_stale:
@@ -114,10 +124,36 @@ class ReferencePrim:
         self.home_qpos: dict[str, np.ndarray] = {}  # joint name (unprefixed) -> qpos of the 'home' key
         # The model's ArticulationCore, set by the World while a compiled model exists.
         self.core: Any = None
+        self._probe: tuple[mujoco.MjModel, mujoco.MjData] | None = None  # the file alone, for authored poses
 
     def unbind_simulation(self) -> None:
         """Forget the compiled model's core (the prim was removed from the stage)."""
         self.core = None
+
+    def authored_pose(self, prim_path: str) -> tuple[np.ndarray, np.ndarray] | None:
+        """World pose of a body or site of this model as authored on the stage, before the
+        World compiles it: the model at its 'home' keyframe (else its reference pose) placed
+        at this prim's pose. Position (3,) [m], orientation (4,) (w, x, y, z); None if the
+        model has no body or site at `prim_path`."""
+        if self._probe is None:
+            spec = self._load_spec()
+            home = next((k for k in spec.keys if k.name == "home"), None)
+            model = spec.compile()
+            data = mujoco.MjData(model)
+            if home is not None and np.asarray(home.qpos).size == model.nq:
+                data.qpos[:] = home.qpos
+            mujoco.mj_kinematics(model, data)
+            self._probe = (model, data)
+        model, data = self._probe
+        name = prim_path[len(self.prefix):]
+        b = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, name)
+        s = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, name) if b < 0 else -1
+        if b < 0 and s < 0:
+            return None
+        p = data.xpos[b] if b >= 0 else data.site_xpos[s]
+        q = data.xquat[b] if b >= 0 else quat.from_matrix(data.site_xmat[s].reshape(3, 3))
+        R = quat.to_matrix(self.orientation)
+        return self.position + R @ p, quat.multiply(self.orientation, q)
 
     def _load_spec(self) -> mujoco.MjSpec:
         try:

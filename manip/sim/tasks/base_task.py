@@ -7,6 +7,7 @@ from typing import Any
 
 import numpy as np
 
+from manip.errors import InvalidInputError
 from manip.sim.objects import DynamicCuboid
 from manip.sim.robots.robot import Franka
 from manip.sim.scenes.scene import Scene
@@ -116,7 +117,8 @@ class PickPlace(BaseTask):
     """Franka pick-and-place of a cube (Isaac's `PickPlace` task for the Franka).
 
     Scene: the default ground plane, a Franka at the origin (prim "/World/Franka", name
-    "franka"), a blue DynamicCuboid (prim "/World/Cube", name "cube") resting on the ground.
+    "franka"), a blue DynamicCuboid (prim "/World/Cube", name "cube") of `size=1.0` scaled by
+    `cube_size`, as Isaac builds it.
 
     Observations: {cube_name: {"position", "orientation", "target_position"},
     robot_name: {"joint_positions", "end_effector_position"}} (end effector: the Franka's
@@ -127,28 +129,36 @@ class PickPlace(BaseTask):
 
     Args:
         name: task name.
-        cube_initial_position: (3,) [m] (default [0.5, 0.2, size/2], on the ground).
+        cube_initial_position: (3,) [m] (Isaac's default [0.3, 0.3, 0.3]: the cube drops
+            onto the ground at the first steps).
         cube_initial_orientation: (4,) (w, x, y, z).
-        target_position: (3,) where the cube's centre should end [m] (default
-            [0.4, -0.35, size/2]).
-        cube_size: edge length [m] (default 0.05).
+        target_position: (3,) where the cube's centre should end [m] (Isaac's default
+            [-0.3, -0.3, cube_size_z / 2]).
+        cube_size: (3,) edge lengths [m], or one edge length (Isaac's default 0.0515 each).
         offset: (3,) translation of the whole task [m].
         cube_mass: [kg] (default 0.03).
         success_tolerance: [m] for `is_done`.
     """
 
     def __init__(self, name: str = "franka_pick_place", cube_initial_position=None, cube_initial_orientation=None,
-                 target_position=None, cube_size: float | None = None, offset=None, *, cube_mass: float = 0.03,
+                 target_position=None, cube_size=None, offset=None, *, cube_mass: float = 0.03,
                  success_tolerance: float = 0.01):
         super().__init__(name, offset)
-        self._cube_size = positive(cube_size if cube_size is not None else 0.05, "cube_size", "m")
-        half = self._cube_size / 2
+        if cube_size is None:
+            self._cube_size = np.full(3, 0.0515)
+        elif np.ndim(cube_size) == 0:
+            self._cube_size = np.full(3, positive(cube_size, "cube_size", "m"))
+        else:
+            self._cube_size = vec(cube_size, 3, "cube_size")
+            if not np.all(self._cube_size > 0):
+                raise InvalidInputError(f"cube_size must be positive edge lengths [m]; got {self._cube_size}")
+        half = self._cube_size[2] / 2
         self._cube_position = (vec(cube_initial_position, 3, "cube_initial_position")
-                               if cube_initial_position is not None else np.array([0.5, 0.2, half]))
+                               if cube_initial_position is not None else np.array([0.3, 0.3, 0.3]))
         self._cube_orientation = (unit_quat(cube_initial_orientation) if cube_initial_orientation is not None
                                   else np.array([1.0, 0.0, 0.0, 0.0]))
         self._target_position = (vec(target_position, 3, "target_position") if target_position is not None
-                                 else np.array([0.4, -0.35, half]))
+                                 else np.array([-0.3, -0.3, half]))
         self._cube_mass = positive(cube_mass, "cube_mass", "kg")
         self._tolerance = positive(success_tolerance, "success_tolerance", "m")
         self._cube: DynamicCuboid | None = None
@@ -161,7 +171,7 @@ class PickPlace(BaseTask):
         cube_path = find_unique_string_name("/World/Cube", lambda p: stage.get_prim(p) is None)
         cube_name = find_unique_string_name("cube", lambda n: not scene.object_exists(n))
         self._cube = scene.add(DynamicCuboid(cube_path, name=cube_name, position=self._cube_position,
-                                             orientation=self._cube_orientation, size=self._cube_size,
+                                             orientation=self._cube_orientation, size=1.0, scale=self._cube_size,
                                              mass=self._cube_mass, color=[0.0, 0.0, 1.0]))
         self._task_objects[self._cube.name] = self._cube
         self._robot = scene.add(self.set_robot())
@@ -202,7 +212,7 @@ class PickPlace(BaseTask):
             "cube_position": {"value": p, "modifiable": True},
             "cube_orientation": {"value": q, "modifiable": True},
             "target_position": {"value": self._target_position.copy(), "modifiable": True},
-            "cube_size": {"value": self._cube_size, "modifiable": False},
+            "cube_size": {"value": self._cube_size.copy(), "modifiable": False},
         }
 
     def set_params(self, cube_position=None, cube_orientation=None, target_position=None) -> None:

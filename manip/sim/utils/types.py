@@ -11,7 +11,8 @@ from manip.errors import InvalidInputError
 from manip.sim.utils.bounds import bounded_vec
 from manip.validation import unit_quat
 
-__all__ = ["ArticulationAction", "DynamicState", "JointsState", "XFormPrimState", "ArticulationActions"]
+__all__ = ["ArticulationAction", "DynamicState", "DynamicsViewState", "JointsState", "XFormPrimState", "XFormPrimViewState",
+           "ArticulationActions"]
 
 
 @dataclass
@@ -71,3 +72,19 @@ class JointsState:
 
 
 ArticulationActions = ArticulationAction
+
+
+@dataclass
+class XFormPrimViewState:
+    """Poses of a view's prims: positions (K, 3) [m], orientations (K, 4) (w, x, y, z)."""
+
+    positions: np.ndarray
+    orientations: np.ndarray
+
+
+@dataclass
+class DynamicsViewState(XFormPrimViewState):
+    """Poses and velocities of a view's bodies: linear (K, 3) [m/s], angular (K, 3) [rad/s], world frame."""
+
+    linear_velocities: np.ndarray
+    angular_velocities: np.ndarray

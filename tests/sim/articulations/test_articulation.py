@@ -120,8 +120,8 @@ def test_bad_actions_raise_and_leave_the_state_unchanged(franka_world):
         ArticulationAction(joint_positions=[np.inf] * 9)
     with pytest.raises(InvalidInputError, match="finite"):
         franka.set_joint_positions(np.r_[np.nan, q[1:]])
-    with pytest.raises(InvalidInputError, match="outside the joint limits"):
-        franka.set_joint_positions(np.r_[5.0, q[1:]])
+    with pytest.raises(InvalidInputError, match="exceeds the largest accepted magnitude"):
+        franka.set_joint_positions(np.r_[5e6, q[1:]])
     with pytest.raises(InvalidInputError, match="entries"):
         franka.set_joint_positions(q[:3])
     with pytest.raises(InvalidInputError):
@@ -246,7 +246,7 @@ def test_a_rigid_prim_on_a_link_reads_its_velocity_and_survives_resets():
     world = World()
     franka = world.scene.add(Franka("/World/Franka", name="franka"))
     hand = world.scene.add(RigidPrim("/World/Franka/panda_hand", name="hand"))  # Isaac: a link's rigid body
-    assert hand.get_linear_velocity() is None  # unknown before the first reset, like its pose
+    assert np.all(hand.get_linear_velocity() == 0)  # authored at rest before the first reset
     world.reset()  # was AttributeError: the link had no default velocities
     franka.set_joint_velocities(np.r_[1.0, np.zeros(8)])  # 1 rad/s about the base's vertical axis
     sim = world.physics_sim_view

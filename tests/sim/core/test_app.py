@@ -15,8 +15,8 @@ def test_headless_app_runs_and_closes():
     world = World()
     world.scene.add(DynamicCuboid("/World/c", name="c", size=0.1))
     world.reset()
-    app.update()  # renders without stepping
-    assert world.current_time_step_index == 1  # the reset's warm-up step only
+    app.update()  # one frame of Kit's loop: the world plays after a reset, so physics advances
+    assert world.current_time_step_index == 2  # the reset's warm-up step, then the frame's
     app.close()
     assert not app.is_running()
 

@@ -332,8 +332,8 @@ def test_view_expressions_match_per_path_segment_and_a_view_of_nothing_raises_as
     # Isaac options manip cannot honour raise instead of being dropped.
     with pytest.raises(InvalidInputError, match="scales and visibilities are not supported"):
         XFormPrimView("/World/Cube_.*", scales=np.ones((2, 3)))
-    with pytest.raises(InvalidInputError, match=r"track_contact_forces=True\) is not supported"):
-        RigidPrimView("/World/Cube_.*", track_contact_forces=True)
+    with pytest.raises(InvalidInputError, match=r"masses=\[1.0, 1.0\]\) is not supported"):
+        RigidPrimView("/World/Cube_.*", masses=[1.0, 1.0])
     with pytest.raises(InvalidInputError, match="unknown argument 'mass'"):
         RigidPrimView("/World/Cube_.*", mass=1.0)
     cubes = world.scene.add(RigidPrimView(prim_paths_expr="/World/Cube_.*", name="cubes", track_contact_forces=False))
@@ -416,7 +416,7 @@ def test_pick_place_task_scene_and_observations():
     assert obs[robot_name]["joint_positions"].shape == (9,)
     assert np.allclose(obs[robot_name]["joint_positions"][7:], 0.04)
     cube = world.scene.get_object(cube_name)
-    assert cube.get_size() == pytest.approx(0.05) and 0.01 <= cube.get_mass() <= 0.05
+    assert np.allclose(cube.get_size() * cube.get_local_scale(), 0.0515) and 0.01 <= cube.get_mass() <= 0.05  # Isaac: size 1 scaled
     for _ in range(30):
         world.step(render=False)
     assert cube.get_world_pose()[0][2] == pytest.approx(0.025, abs=1e-3)  # rests on the ground

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from manip.sim import World, get_current_stage
+from manip.sim import World, euler_angles_to_quat, get_current_stage
 from manip.sim.core.app import get_app
 from seed_glue import Session, Watcher, play, run_in_event_loop, run_listing
 
@@ -204,3 +204,37 @@ def test_pick_and_place_places_the_cube_and_again_after_it_is_moved(capsys):
     for p in user.placements:
         assert np.linalg.norm(p - PLACE) < 0.02
     assert ns["curobo_activated_joint_index"] == list(range(9))
+
+
+class YawedRepickUser(PickAndPlaceUser):
+    """The issue-32 re-pick: the cube moved to (0.3, -0.4) and yawed 45 deg, far across the
+    robot from the place pose; records the cube and the wrist (joint 7) after the move."""
+
+    MOVED_TO = np.array([0.3, -0.4, 0.025])
+
+    def __init__(self, max_steps: int):
+        super().__init__(max_steps)
+        self.after_move: list[tuple[np.ndarray, float]] = []
+
+    def __call__(self, world) -> None:
+        moved_before = self.moved
+        super().__call__(world)
+        cube = world.scene.get_object("target_cuboid")
+        if self.moved and not moved_before:
+            cube.set_world_pose(orientation=euler_angles_to_quat([0.0, 0.0, np.pi / 4]))
+        elif self.moved and cube is not None:
+            robot = world.scene.get_object("my_robot")
+            self.after_move.append((cube.get_world_pose()[0].copy(), float(robot.get_joint_positions()[6])))
+
+
+def test_a_yawed_cube_across_the_robot_is_re_picked_with_a_short_wrist_turn(capsys):
+    user = YawedRepickUser(max_steps=12000)
+    with Watcher(user):
+        run_listing("cp_pick_and_place.py")
+    out = capsys.readouterr().out
+    assert len(user.placements) == 2, f"placements: {user.placements}; log tail:\n{out[-3000:]}"
+    assert np.linalg.norm(user.placements[1] - PLACE) < 0.01  # was 27.9 mm off
+    cube = np.array([p for p, _ in user.after_move])
+    wrist = np.array([w for _, w in user.after_move])
+    assert np.ptp(wrist) < np.deg2rad(90)  # was a 315 deg turn between grasp and pre-place
+    assert cube[:, 2].min() > 0.025 - 0.002  # never pressed into the floor

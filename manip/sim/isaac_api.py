@@ -1,0 +1,276 @@
+"""The Isaac Sim 4.x core-API members a tutorial user touches, class by class, and what
+manip.sim does with each (data only; `manip.sim.coverage` renders the table in
+docs/isaac_coverage.md and tests/sim/test_coverage.py keeps it true).
+
+`ISAAC_API`: manip class name -> (Isaac's class, its documented public methods and
+properties). `NOT_SUPPORTED`: members that raise NotImplementedError naming themselves and
+why (installed by `manip.sim.utils.not_supported.declare`). `DIFFERS`: members implemented
+with a difference a script may notice. Everything else listed is implemented as Isaac's.
+"""
+
+from __future__ import annotations
+
+_XFORM = ("apply_visual_material", "get_applied_visual_material", "get_default_state", "get_local_pose",
+          "get_local_scale", "get_visibility", "get_world_pose", "get_world_scale", "initialize", "is_valid",
+          "is_visual_material_applied", "name", "post_reset", "prim", "prim_path", "set_default_state",
+          "set_local_pose", "set_local_scale", "set_visibility", "set_world_pose")
+_GEOMETRY = _XFORM + ("apply_physics_material", "get_applied_physics_material", "get_collision_approximation",
+                      "set_collision_approximation", "get_collision_enabled", "set_collision_enabled",
+                      "get_contact_offset", "set_contact_offset", "get_rest_offset", "set_rest_offset",
+                      "get_torsional_patch_radius", "set_torsional_patch_radius")
+_RIGID = _XFORM + ("get_linear_velocity", "set_linear_velocity", "get_angular_velocity", "set_angular_velocity",
+                   "get_mass", "set_mass", "get_density", "set_density", "get_current_dynamic_state",
+                   "enable_rigid_body_physics", "disable_rigid_body_physics", "set_sleep_threshold",
+                   "get_sleep_threshold", "get_com", "set_com")
+_XFORM_VIEW = ("apply_visual_materials", "get_applied_visual_materials", "get_default_state", "get_local_poses",
+               "get_local_scales", "get_visibilities", "get_world_poses", "get_world_scales", "initialize",
+               "is_valid", "post_reset", "set_default_state", "set_local_poses", "set_local_scales",
+               "set_visibilities", "set_world_poses", "count", "prim_paths", "name", "prims")
+_RIGID_VIEW = _XFORM_VIEW + (
+    "apply_forces", "apply_forces_and_torques_at_pos", "disable_gravities", "enable_gravities",
+    "get_angular_velocities", "get_linear_velocities", "get_velocities", "set_angular_velocities",
+    "set_linear_velocities", "set_velocities", "get_masses", "set_masses", "get_densities", "set_densities",
+    "get_coms", "set_coms", "get_inertias", "set_inertias", "get_inv_masses", "get_inv_inertias",
+    "get_contact_force_matrix", "get_net_contact_forces", "get_contact_force_data", "get_friction_data",
+    "get_current_dynamic_state", "get_sleep_thresholds", "set_sleep_thresholds", "num_shapes",
+    "num_contact_filters", "enable_rigid_body_physics", "disable_rigid_body_physics")
+_SIMULATION_CONTEXT = (
+    "add_physics_callback", "add_render_callback", "add_stage_callback", "add_timeline_callback",
+    "clear_all_callbacks", "clear_instance", "current_time", "current_time_step_index", "get_physics_context",
+    "get_physics_dt", "get_rendering_dt", "initialize_physics", "initialize_simulation_context_async", "instance",
+    "is_playing", "is_simulating", "is_stopped", "pause", "pause_async", "physics_callback_exists",
+    "physics_sim_view", "play", "play_async", "remove_physics_callback", "remove_render_callback",
+    "remove_stage_callback", "remove_timeline_callback", "render", "render_async", "reset", "reset_async",
+    "set_camera_view", "set_simulation_dt", "stage", "step", "stop", "stop_async", "stage_callback_exists",
+    "timeline_callback_exists", "get_block_on_render", "set_block_on_render", "app", "backend", "device")
+_ARTICULATION = (
+    "apply_action", "disable_gravity", "enable_gravity", "dof_names", "dof_properties", "get_angular_velocity",
+    "get_applied_action", "get_applied_joint_efforts", "get_articulation_body_count", "get_articulation_controller",
+    "get_dof_index", "get_enabled_self_collisions", "set_enabled_self_collisions", "get_joint_positions",
+    "get_joint_velocities", "get_joints_default_state", "get_joints_state", "get_linear_velocity",
+    "get_measured_joint_efforts", "get_measured_joint_forces", "get_sleep_threshold", "set_sleep_threshold",
+    "get_solver_position_iteration_count", "set_solver_position_iteration_count",
+    "get_solver_velocity_iteration_count", "set_solver_velocity_iteration_count", "get_stabilization_threshold",
+    "set_stabilization_threshold", "get_world_pose", "set_world_pose", "get_local_pose", "set_local_pose",
+    "handles_initialized", "initialize", "num_bodies", "num_dof", "post_reset", "set_angular_velocity",
+    "set_linear_velocity", "set_joint_efforts", "set_joint_positions", "set_joint_velocities",
+    "set_joints_default_state", "get_default_state", "set_default_state", "name", "prim_path", "is_valid")
+
+ISAAC_API: dict[str, tuple[str, tuple[str, ...]]] = {
+    "SimulationApp": ("omni.isaac.kit.SimulationApp", (
+        "close", "is_exiting", "is_running", "update", "set_setting", "reset_render_settings", "run_coroutine",
+        "app", "context")),
+    "SimulationContext": ("omni.isaac.core.simulation_context.SimulationContext", _SIMULATION_CONTEXT),
+    "World": ("omni.isaac.core.world.World", _SIMULATION_CONTEXT + (
+        "scene", "add_task", "get_task", "get_current_tasks", "get_observations", "calculate_metrics", "is_done",
+        "is_tasks_scene_built", "reset_async_set_up_scene", "reset_async_no_set_up_scene", "step_async", "clear",
+        "get_data_logger")),
+    "Scene": ("omni.isaac.core.scenes.Scene", (
+        "add", "add_default_ground_plane", "add_ground_plane", "clear", "compute_object_AABB",
+        "enable_bounding_boxes_computations", "disable_bounding_boxes_computations", "get_object", "object_exists",
+        "post_reset", "remove_object", "stage")),
+    "XFormPrim": ("omni.isaac.core.prims.XFormPrim", _XFORM),
+    "GeometryPrim": ("omni.isaac.core.prims.GeometryPrim", _GEOMETRY),
+    "RigidPrim": ("omni.isaac.core.prims.RigidPrim", _RIGID),
+    "XFormPrimView": ("omni.isaac.core.prims.XFormPrimView", _XFORM_VIEW),
+    "RigidPrimView": ("omni.isaac.core.prims.RigidPrimView", _RIGID_VIEW),
+    "DynamicCuboid": ("omni.isaac.core.objects.DynamicCuboid", _RIGID + _GEOMETRY[len(_XFORM):] + ("get_size",
+                                                                                                   "set_size")),
+    "FixedCuboid": ("omni.isaac.core.objects.FixedCuboid", _GEOMETRY + ("get_size", "set_size")),
+    "VisualCuboid": ("omni.isaac.core.objects.VisualCuboid", _GEOMETRY + ("get_size", "set_size")),
+    "DynamicSphere": ("omni.isaac.core.objects.DynamicSphere", _RIGID + ("get_radius", "set_radius")),
+    "DynamicCylinder": ("omni.isaac.core.objects.DynamicCylinder", _RIGID + ("get_radius", "set_radius",
+                                                                            "get_height", "set_height")),
+    "GroundPlane": ("omni.isaac.core.objects.GroundPlane", (
+        "apply_physics_material", "get_applied_physics_material", "get_default_state", "get_world_pose",
+        "initialize", "name", "post_reset", "prim_path", "set_default_state")),
+    "PhysicsMaterial": ("omni.isaac.core.materials.PhysicsMaterial", (
+        "get_dynamic_friction", "get_restitution", "get_static_friction", "set_dynamic_friction", "set_restitution",
+        "set_static_friction", "name", "prim_path")),
+    "PreviewSurface": ("omni.isaac.core.materials.PreviewSurface", (
+        "get_color", "set_color", "get_metallic", "set_metallic", "get_roughness", "set_roughness", "name",
+        "prim_path", "material", "shaders_list")),
+    "OmniPBR": ("omni.isaac.core.materials.OmniPBR", (
+        "get_color", "set_color", "get_metallic_constant", "set_metallic_constant", "get_reflection_roughness",
+        "set_reflection_roughness", "get_texture", "set_texture", "get_texture_scale", "set_texture_scale",
+        "get_texture_translate", "set_texture_translate", "get_project_uvw", "set_project_uvw")),
+    "Articulation": ("omni.isaac.core.articulations.Articulation", _ARTICULATION),
+    "Robot": ("omni.isaac.core.robots.Robot", _ARTICULATION + ("get_sensors",)),
+    "Franka": ("omni.isaac.franka.Franka", _ARTICULATION + ("end_effector", "gripper")),
+    "ArticulationView": ("omni.isaac.core.articulations.ArticulationView", (
+        "apply_action", "count", "num_dof", "num_bodies", "num_joints", "dof_names", "body_names", "prim_paths",
+        "get_applied_actions", "get_applied_joint_efforts", "get_measured_joint_efforts", "get_measured_joint_forces",
+        "get_body_coms", "get_body_inertias", "get_body_masses", "get_body_index", "get_dof_index", "get_dof_limits",
+        "get_dof_types", "get_effort_modes", "get_enabled_self_collisions", "get_friction_coefficients",
+        "get_gains", "set_gains", "get_generalized_gravity_forces", "get_coriolis_and_centrifugal_forces",
+        "get_jacobian_shape", "get_jacobians", "get_mass_matrices", "get_mass_matrix_shape", "get_joint_positions",
+        "get_joint_velocities", "get_joints_default_state", "set_joints_default_state", "get_joints_state",
+        "get_max_efforts", "set_max_efforts", "get_joint_max_velocities", "get_velocities",
+        "get_linear_velocities", "get_angular_velocities", "get_world_poses", "set_world_poses", "get_local_poses",
+        "set_joint_efforts", "set_joint_positions", "set_joint_position_targets", "set_joint_velocities",
+        "set_joint_velocity_targets", "set_velocities", "switch_control_mode", "switch_dof_control_mode",
+        "initialize", "is_physics_handle_valid", "post_reset", "name")),
+    "ArticulationController": ("omni.isaac.core.controllers.ArticulationController", (
+        "apply_action", "get_applied_action", "get_gains", "set_gains", "get_joint_limits", "get_max_efforts",
+        "set_max_efforts", "initialize", "switch_control_mode", "switch_dof_control_mode", "get_effort_modes",
+        "set_effort_modes")),
+    "ParallelGripper": ("omni.isaac.manipulators.grippers.ParallelGripper", (
+        "apply_action", "close", "open", "forward", "initialize", "post_reset", "get_default_state",
+        "set_default_state", "get_joint_positions", "set_joint_positions", "joint_opened_positions",
+        "joint_closed_positions", "joint_dof_indicies", "get_action_deltas", "set_action_deltas", "is_closed")),
+    "PickPlaceController": ("omni.isaac.franka.controllers.PickPlaceController", (
+        "forward", "get_current_event", "is_done", "is_paused", "pause", "reset", "resume")),
+    "BaseTask": ("omni.isaac.core.tasks.BaseTask", (
+        "calculate_metrics", "cleanup", "get_description", "get_observations", "get_params", "get_task_objects",
+        "is_done", "name", "post_reset", "pre_step", "scene", "set_params", "set_up_scene")),
+    "PickPlace": ("omni.isaac.franka.tasks.PickPlace", (
+        "calculate_metrics", "get_observations", "get_params", "is_done", "post_reset", "pre_step", "set_params",
+        "set_robot", "set_up_scene")),
+}
+
+#: Isaac members manip.sim cannot provide: calling one raises NotImplementedError with the reason.
+NOT_SUPPORTED: dict[str, dict[str, str]] = {
+    "SimulationApp": {
+        "reset_render_settings": "manip has no RTX renderer settings",
+        "run_coroutine": "there is no Kit event loop: use asyncio.run(...), or asyncio.ensure_future, run at the "
+                         "next world.step() / simulation_app.update()",
+        "context": "there is no Kit USD context (manip has no USD)",
+    },
+    "SimulationContext": {
+        "get_physics_context": "there is no PhysX scene: the solver options are MuJoCo's (World.model.opt)",
+        "get_block_on_render": "rendering is synchronous here",
+        "set_block_on_render": "rendering is synchronous here",
+        "app": "there is no Kit app object (use manip.sim.SimulationApp)",
+        "backend": "one backend: NumPy on the CPU",
+        "device": "one device: the CPU",
+        "get_data_logger": "no DataLogger: record states in a physics callback",
+    },
+    "Scene": {
+        "enable_bounding_boxes_computations": "compute_object_AABB computes bounds on demand, no cache to enable",
+        "disable_bounding_boxes_computations": "compute_object_AABB computes bounds on demand, no cache to disable",
+    },
+    "XFormPrim": {
+        "prim": "there is no USD prim (manip has no USD): use prim_path",
+        "apply_visual_material": "a bare transform has no geometry to colour here: apply materials to shapes",
+        "get_applied_visual_material": "a bare transform has no geometry to colour here: shapes carry materials",
+        "is_visual_material_applied": "a bare transform has no geometry to colour here: shapes carry materials",
+    },
+    "GeometryPrim": {
+        "get_collision_approximation": "MuJoCo collides primitives exactly and meshes by their convex hull",
+        "set_collision_approximation": "MuJoCo collides primitives exactly and meshes by their convex hull",
+        "get_contact_offset": "PhysX contact offsets do not exist in MuJoCo (contacts: manip.sim.scenes.contact_model)",
+        "set_contact_offset": "PhysX contact offsets do not exist in MuJoCo (contacts: manip.sim.scenes.contact_model)",
+        "get_rest_offset": "PhysX rest offsets do not exist in MuJoCo",
+        "set_rest_offset": "PhysX rest offsets do not exist in MuJoCo",
+        "get_torsional_patch_radius": "MuJoCo models torsional friction by a coefficient, not a patch radius",
+        "set_torsional_patch_radius": "MuJoCo models torsional friction by a coefficient, not a patch radius",
+    },
+    "RigidPrim": {
+        "set_sleep_threshold": "MuJoCo bodies never sleep",
+        "get_sleep_threshold": "MuJoCo bodies never sleep",
+        "enable_rigid_body_physics": "a body's kind is fixed when the World compiles: make a Dynamic or Fixed object",
+        "disable_rigid_body_physics": "a body's kind is fixed when the World compiles: make a Dynamic or Fixed object",
+        "set_com": "the centre of mass follows the shape (MuJoCo computes it when the World compiles)",
+    },
+    "XFormPrimView": {
+        "prims": "there are no USD prims (manip has no USD): use prim_paths",
+        "apply_visual_materials": "apply a material to each object (GeometryPrim.apply_visual_material)",
+        "get_applied_visual_materials": "read each object's material (GeometryPrim.get_applied_visual_material)",
+        "set_local_scales": "a scale is fixed when the World compiles: set it on each object before a reset",
+        "get_visibilities": "read each object's visibility (get_visibility)",
+        "set_visibilities": "set each object's visibility (set_visibility)",
+    },
+    "RigidPrimView": {
+        "set_masses": "set each object's mass (RigidPrim.set_mass)",
+        "get_densities": "read each object's density (RigidPrim.get_density)",
+        "set_densities": "set each object's density before the World compiles",
+        "set_coms": "the centre of mass follows the shape (MuJoCo computes it when the World compiles)",
+        "set_inertias": "the inertia follows the shape (MuJoCo computes it when the World compiles)",
+        "get_contact_force_data": "per-contact PhysX data: use get_contact_force_matrix / get_net_contact_forces",
+        "get_friction_data": "per-contact PhysX data: use get_contact_force_matrix / get_net_contact_forces",
+        "get_sleep_thresholds": "MuJoCo bodies never sleep",
+        "set_sleep_thresholds": "MuJoCo bodies never sleep",
+        "num_shapes": "one geom per object here",
+        "enable_rigid_body_physics": "a body's kind is fixed when the World compiles",
+        "disable_rigid_body_physics": "a body's kind is fixed when the World compiles",
+    },
+    "Articulation": {
+        "get_enabled_self_collisions": "self-collisions are the model's (MJCF contype/conaffinity, excludes)",
+        "set_enabled_self_collisions": "self-collisions are the model's (MJCF contype/conaffinity, excludes)",
+        "get_measured_joint_forces": "PhysX joint-frame 6-D forces: use get_measured_joint_efforts",
+        "get_sleep_threshold": "MuJoCo bodies never sleep",
+        "set_sleep_threshold": "MuJoCo bodies never sleep",
+        "get_solver_position_iteration_count": "PhysX's iteration counts: MuJoCo's solver is World.model.opt",
+        "set_solver_position_iteration_count": "PhysX's iteration counts: MuJoCo's solver is World.model.opt",
+        "get_solver_velocity_iteration_count": "PhysX's iteration counts: MuJoCo's solver is World.model.opt",
+        "set_solver_velocity_iteration_count": "PhysX's iteration counts: MuJoCo's solver is World.model.opt",
+        "get_stabilization_threshold": "a PhysX setting without a MuJoCo equivalent",
+        "set_stabilization_threshold": "a PhysX setting without a MuJoCo equivalent",
+    },
+    "Robot": {"get_sensors": "sensors are not attached to robots here (cameras: manip.sim sensors)"},
+    "ArticulationView": {
+        "get_applied_actions": "use the articulation's get_applied_action()",
+        "get_measured_joint_forces": "PhysX joint-frame 6-D forces: use get_measured_joint_efforts",
+        "get_body_coms": "read World.model.body_ipos (MuJoCo) for the bodies",
+        "get_body_inertias": "read World.model.body_inertia (MuJoCo) for the bodies",
+        "get_effort_modes": "effort limits are always force limits here",
+        "get_enabled_self_collisions": "self-collisions are the model's (MJCF contype/conaffinity, excludes)",
+        "get_friction_coefficients": "joint friction is the model's (MJCF frictionloss)",
+        "get_joints_default_state": "use the articulation's get_joints_default_state()",
+        "set_joints_default_state": "use the articulation's set_joints_default_state()",
+        "set_world_poses": "move the articulation with set_world_pose",
+        "set_max_efforts": "use the articulation controller's set_max_efforts",
+        "set_velocities": "a fixed base has no root velocity; set the joints' velocities",
+        "switch_dof_control_mode": "use switch_control_mode(mode, joint_indices=[i])",
+    },
+    "ArticulationController": {
+        "get_effort_modes": "effort limits are always force limits here",
+        "set_effort_modes": "effort limits are always force limits here",
+    },
+    "ParallelGripper": {
+        "get_action_deltas": "the deltas are set at construction (action_deltas=...)",
+        "set_action_deltas": "the deltas are set at construction (action_deltas=...)",
+        "is_closed": "compare get_joint_positions() with joint_closed_positions",
+    },
+    "PickPlaceController": {},
+}
+
+#: Members implemented with a difference a script may notice.
+DIFFERS: dict[str, dict[str, str]] = {
+    "SimulationApp": {"update": "steps physics only while a World plays, without the tasks' pre_step (as Kit)"},
+    "GeometryPrim": {"apply_physics_material": "combined frictions with other surfaces apply from the next reset"},
+    "RigidPrimView": {"get_net_contact_forces": "contact impulses over the step / dt, as Isaac; MuJoCo's soft "
+                      "contacts, summed per body"},
+    "Articulation": {"set_joint_positions": "a position past a limit is set with a warning; the next step puts it "
+                     "back on the limit (PhysX pushes it back too)",
+                     "disable_gravity": "each body's weight cancelled at its centre of mass (was a no-op: MuJoCo's "
+                                        "gravcomp needs bodies compiled with it)"},
+    "ArticulationView": {"get_jacobians": "MuJoCo's body-origin Jacobians in Isaac's layout"},
+    "PreviewSurface": {"set_roughness": "kept, not rendered (MuJoCo has no MDL shaders)",
+                       "set_metallic": "kept, not rendered (MuJoCo has no MDL shaders)"},
+    "OmniPBR": {"set_texture": "kept, not rendered (MuJoCo has no MDL shaders)"},
+    "PhysicsMaterial": {"set_restitution": "kept, not simulated (MuJoCo contacts are inelastic)"},
+}
+
+#: Isaac's module-level utilities a tutorial imports, by module.
+ISAAC_FUNCTIONS: dict[str, tuple[str, ...]] = {
+    "omni.isaac.core.utils.stage": ("add_reference_to_stage", "clear_stage", "create_new_stage",
+                                    "create_new_stage_async", "get_current_stage", "get_stage_units",
+                                    "is_stage_loading", "update_stage", "update_stage_async", "open_stage",
+                                    "save_stage"),
+    "omni.isaac.core.utils.prims": ("is_prim_path_valid", "get_prim_at_path", "delete_prim",
+                                    "find_matching_prim_paths", "create_prim"),
+    "omni.isaac.core.utils.rotations": ("euler_angles_to_quat", "quat_to_euler_angles", "quat_to_rot_matrix",
+                                        "rot_matrix_to_quat", "euler_to_rot_matrix", "rot_matrix_to_euler_angles",
+                                        "gf_quat_to_np_array"),
+    "omni.isaac.core.utils.nucleus": ("get_assets_root_path",),
+    "omni.isaac.core.utils.string": ("find_unique_string_name",),
+}
+
+#: Module-level utilities manip.sim cannot provide (they raise NotImplementedError with the reason).
+FUNCTIONS_NOT_SUPPORTED: dict[str, str] = {
+    "open_stage": "manip has no USD: reference MJCF/URDF files with add_reference_to_stage",
+    "save_stage": "manip has no USD: World.model (MuJoCo) can be saved with mujoco.mj_saveLastXML",
+    "create_prim": "manip has no USD prims: create objects (VisualCuboid, FixedCuboid, ...) or reference a model",
+    "gf_quat_to_np_array": "manip has no USD Gf types: quaternions are NumPy arrays (w, x, y, z) already",
+}

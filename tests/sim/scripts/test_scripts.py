@@ -1,0 +1,83 @@
+"""Six tutorial-style scripts of our own, written as Isaac Sim 4.x users write them (only the
+imports differ: omni.isaac... / isaacsim... -> manip.sim), each run as a script and checked
+against the simulator's state it leaves (issue 32)."""
+
+from __future__ import annotations
+
+import asyncio
+import runpy
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+HERE = Path(__file__).resolve().parent
+
+
+def run(name: str) -> dict:
+    """Run a script as `python name` would: in `__main__`, with the main thread's event loop
+    of a fresh interpreter (earlier tests' asyncio.run() leave none)."""
+    loop = asyncio.new_event_loop()
+    asyncio.set_event_loop(loop)
+    try:
+        return runpy.run_path(str(HERE / name), run_name="__main__")
+    finally:
+        asyncio.set_event_loop(None)
+        loop.close()
+
+
+def test_franka_picks_isaacs_default_cube_and_places_it():
+    ns = run("franka_pick_place_task.py")
+    assert ns["done"]
+    np.testing.assert_allclose(ns["target_position"], [-0.3, -0.3, 0.0515 / 2])
+    assert np.linalg.norm(ns["cube_position"][:2] - ns["target_position"][:2]) < 0.02
+    assert ns["cube_position"][2] == pytest.approx(0.0515 / 2, abs=3e-3)  # resting on the ground
+
+
+def test_end_effector_follows_the_target():
+    ns = run("follow_target.py")
+    assert max(ns["errors"]) < 0.02
+
+
+def test_two_tasks_with_a_jetbot_and_a_franka_each():
+    ns = run("robots_and_tasks.py")
+    np.testing.assert_allclose(ns["franka_positions"][0], [1.0, -3.0, 0.0], atol=1e-9)  # moved in set_up_scene
+    np.testing.assert_allclose(ns["franka_positions"][1], [1.0, -1.0, 0.0], atol=1e-9)  # and offset by its task
+    for d in ns["travelled"]:
+        assert d == pytest.approx(0.4, rel=0.1)  # 0.2 m/s for 2 s
+    for f in ns["fingers"]:
+        assert np.all(f < 0.005)  # closed
+    assert len(ns["observations"]) == 4  # both tasks' robots
+
+
+def test_batched_views_read_and_push_every_cube():
+    ns = run("batched_views.py")
+    np.testing.assert_allclose(ns["landed_heights"], 0.025, atol=5e-4)
+    np.testing.assert_allclose(ns["ground_forces"][:, 2], 0.1 * 9.81, rtol=1e-3)
+    moved = ns["after"] - ns["positions"]
+    assert np.all(moved[:2, 0] > 0.005) and np.all(np.abs(moved[2]) < 1e-4)  # pushed, and left alone
+    assert moved[3, 2] == pytest.approx(0.1, abs=1e-3)  # floated up at 0.2 m/s for 0.5 s, no gravity
+    assert ns["jacobians"].shape == (1, 10, 6, 9) and ns["mass_matrices"].shape == (1, 9, 9)
+    np.testing.assert_allclose(ns["joint_positions"][0, :7], [0.0, -0.5, 0.0, -2.2, 0.0, 1.8, 0.8])
+
+
+def test_materials_colour_the_objects_and_friction_decides_who_slides():
+    ns = run("objects_and_materials.py")
+    np.testing.assert_array_equal(ns["colors"]["ice_block"], [0.1, 0.4, 0.9])
+    np.testing.assert_array_equal(ns["ball_color"], [1.0, 0.8, 0.1])
+    assert ns["slid"]["ice_block"] > 0.02 and ns["slid"]["rubber_block"] < 1e-3
+    lo, hi = ns["ramp_box"]
+    assert hi[2] - lo[2] == pytest.approx(np.sin(np.deg2rad(15)) * 2.0 + np.cos(np.deg2rad(15)) * 0.05, abs=1e-6)
+    assert ns["ball_height"] == pytest.approx(0.04, abs=1e-3)
+
+
+def test_stepping_callbacks_and_the_app_loop():
+    ns = run("stepping_and_callbacks.py")
+    assert ns["steps_rendered"] == 40 and ns["steps_unrendered"] == 10
+    assert all(s == pytest.approx(1 / 120) for s in ns["physics_steps"])
+    assert ns["paused_still"]
+    assert ns["t_updates"] == pytest.approx(15 / 30)
+    assert ns["stopped"]
+    assert ns["timeline_events"] == ["PLAY", "PAUSE", "PLAY", "STOP", "PLAY"]
+    assert ns["fell"] > 0.3
+    assert len(ns["renders"]) >= 35
