@@ -171,11 +171,13 @@ class PartWriter:
         name = f"part-{self._next:06d}.parquet"
         tmp = self.out / f".{name}.tmp"
         pq.write_table(table, tmp, compression="zstd")
+        # the buffer is emptied before the rename: a Ctrl-C after it (the caller's `finally`
+        # flushes again) can no longer write these rows a second time
+        n, self.rows = len(self.rows), []
         os.replace(tmp, self.out / name)
-        log.info("wrote %d rows to %s", len(self.rows), name)
         self._next += 1
-        self.written += len(self.rows)
-        self.rows = []
+        self.written += n
+        log.info("wrote %d rows to %s", n, name)
 
 
 def read_dataset(out: str | Path, columns: list[str] | None = None) -> Any:
