@@ -49,7 +49,7 @@ def world_config_from_sim(world, robot, ignore: Sequence[str] = ()) -> WorldConf
         InvalidInputError: before the world's first `reset()` (the robot's pose is unknown).
     """
     robot_pose = robot.get_world_pose()
-    if robot_pose is None:
+    if robot_pose is None or getattr(world, "model", True) is None:  # a robot's pose is known before, the world not
         raise InvalidInputError(
             f"robot {getattr(robot, 'name', robot)!r}: its pose is not known before the world's first reset(); "
             "call world.reset() before reading the world (update_world_from_sim)")
