@@ -57,7 +57,7 @@ def world_config_from_sim(world, robot, ignore: Sequence[str] = (), *, base_in_r
     robots = list(robot) if isinstance(robot, (list, tuple)) else [robot]
     robot = robots[0]
     robot_pose = robot.get_world_pose()
-    if robot_pose is None:
+    if robot_pose is None or getattr(world, "model", True) is None:  # a robot's pose is known before, the world not
         raise InvalidInputError(
             f"robot {getattr(robot, 'name', robot)!r}: its pose is not known before the world's first reset(); "
             "call world.reset() before reading the world (update_world_from_sim)")

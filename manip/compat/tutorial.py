@@ -18,6 +18,14 @@ Two constructions:
   frame and the MotionGenerator's panda_hand poses.
 - manip's: `TutorialMotionGen("franka", world, **MotionGenerator_kwargs)`, or
   `TutorialMotionGen(motion_gen=mg)`: the MotionGenerator's joints (7) and end-effector link.
+
+Beyond the wrapper: the ground plane stays in the planner's world when the tutorial's
+`ignore_prim_paths` names it (a plan through the floor drags a held object along it), and
+with a tutorial robot config a pose goal may be reached turned half a turn about the
+gripper's approach axis when the wrist gets there with the shorter motion
+(`symmetric_gripper`). The wrapper's other attributes (`user_config`, `robot_config`,
+`kinematics_model`, `motion_gen_plan_config`, `tensor_args`) are in
+`manip.compat.tutorial_attributes`.
 """
 
 from __future__ import annotations

@@ -96,10 +96,13 @@ def compile_with_physx_friction(spec: mujoco.MjSpec, modes: dict[str, str]) -> m
     overrides = _body_pairs_to_override(model, modes, excluded, explicit)
     if not overrides:
         return model
-    for (b1, b2), geom_pairs in overrides.items():
-        spec.add_exclude(bodyname1=model.body(b1).name, bodyname2=model.body(b2).name)
-        for g1, g2 in geom_pairs:
-            _add_pair(spec, model, g1, g2, modes)
+    excludes = [(model.body(b1).name, model.body(b2).name) for b1, b2 in overrides]
+    pairs = [_pair(model, g1, g2, modes) for geom_pairs in overrides.values() for g1, g2 in geom_pairs]
+    del model  # freed before the second compile: one model at a time in memory
+    for b1, b2 in excludes:
+        spec.add_exclude(bodyname1=b1, bodyname2=b2)
+    for pair in pairs:
+        spec.add_pair(**pair)
     return spec.compile()
 
 
@@ -149,8 +152,8 @@ def _body_pairs_to_override(model, modes, excluded, explicit) -> dict[tuple[int,
     return out
 
 
-def _add_pair(spec: mujoco.MjSpec, model: mujoco.MjModel, g1: int, g2: int, modes: dict[str, str]) -> None:
-    """An explicit pair for geoms g1, g2 with the parameters MuJoCo would mix, friction PhysX's."""
+def _pair(model: mujoco.MjModel, g1: int, g2: int, modes: dict[str, str]) -> dict:
+    """`MjSpec.add_pair` arguments for geoms g1, g2: the parameters MuJoCo would mix, friction PhysX's."""
     n1, n2 = model.geom(g1).name, model.geom(g2).name
     pr1, pr2 = model.geom_priority[g1], model.geom_priority[g2]
     f1, f2 = model.geom_friction[g1], model.geom_friction[g2]
@@ -168,7 +171,6 @@ def _add_pair(spec: mujoco.MjSpec, model: mujoco.MjModel, g1: int, g2: int, mode
         r1, r2 = model.geom_solref[g1], model.geom_solref[g2]
         solref = np.minimum(r1, r2) if (r1[0] <= 0 or r2[0] <= 0) else w1 * r1 + (1 - w1) * r2
         solimp = w1 * model.geom_solimp[g1] + (1 - w1) * model.geom_solimp[g2]
-    spec.add_pair(geomname1=n1, geomname2=n2, condim=condim, friction=[fr[0], fr[0], fr[1], fr[2], fr[2]],
-                  solref=list(solref), solimp=list(solimp),
-                  margin=float(model.geom_margin[g1] + model.geom_margin[g2]),
-                  gap=float(model.geom_gap[g1] + model.geom_gap[g2]))
+    return dict(geomname1=n1, geomname2=n2, condim=condim, friction=[fr[0], fr[0], fr[1], fr[2], fr[2]],
+                solref=list(solref), solimp=list(solimp), margin=float(model.geom_margin[g1] + model.geom_margin[g2]),
+                gap=float(model.geom_gap[g1] + model.geom_gap[g2]))
