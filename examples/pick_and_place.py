@@ -372,8 +372,8 @@ class PickAndPlace:
 
     def refresh_map(self) -> None:
         """--perceive: both depth cameras into the planner's occupancy map, the cube left out."""
-        self.rig.refresh(self.mg, self.planning_start(), Pose(*self.robot.get_world_pose()), Pose(*self.cube_pose()),
-                         CUBE_SIZE)
+        state = np.concatenate([self.planning_start(), self.fingers()])   # the fingers where they are
+        self.rig.refresh(self.mg, state, Pose(*self.robot.get_world_pose()), Pose(*self.cube_pose()), CUBE_SIZE)
 
     def set_floor_guard(self, on: bool) -> None:
         """Add (or remove) the planner's floor guard: boxes whose top is FLOOR_CLEARANCE above

@@ -437,13 +437,13 @@ class MotionGenerator:
     def update_world_from_depth(self, depth, intrinsics, camera_pose, *, name="camera", resolution=0.02, q=None,
                                 max_range=3.0, unknown="free", bounds=None, self_margin=0.01):
         """Integrate a depth image into the occupancy obstacle `name` (`manip.perception.integrate`)."""
-        return integrate_depth(self.checker, depth, intrinsics, camera_pose, q=self._arm_q(q, "q"), name=name,
+        return integrate_depth(self.checker, depth, intrinsics, camera_pose, q=q, name=name,
                                resolution=resolution, max_range=max_range, unknown=unknown, bounds=bounds, self_margin=self_margin)
 
     def update_world_from_pointcloud(self, points, origin=None, *, name="camera", resolution=0.02, q=None,
                                      max_range=3.0, unknown="free", bounds=None, self_margin=0.01):
         """Integrate a point cloud [m] (base frame) seen from `origin` into the map `name` (as above)."""
-        return integrate_pointcloud(self.checker, points, origin, q=self._arm_q(q, "q"), name=name, resolution=resolution,
+        return integrate_pointcloud(self.checker, points, origin, q=q, name=name, resolution=resolution,
                                     max_range=max_range, unknown=unknown, bounds=bounds, self_margin=self_margin)
 
     # ------------------------------------------------------------------ planning

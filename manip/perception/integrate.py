@@ -142,26 +142,75 @@ class _Robot:
 
 
 def _robot(checker, q, margin: float) -> _Robot:
-    """The robot at q (dof,) for the self-filter (empty without q)."""
+    """The robot at q for the self-filter (empty without q): q (dof,) the arm, or the full
+    robot state (dof + G,) with the gripper's joints last, whose fingers are then placed where
+    they are (the planner's model holds them at its planning positions)."""
     if q is None:
         return _Robot(np.zeros((0, 3)), np.zeros(0), np.zeros(0, dtype=np.int64), np.zeros((0, 26, 4)), margin)
-    q = checker.kinematics.check_q(q, "q")
+    kin = checker.kinematics
+    gripper = checker.config.gripper
+    fingers = None
+    a = as_real_array(q, "q")
+    if gripper is not None and a.ndim == 1 and a.shape[0] == kin.dof + len(gripper.joints):
+        a, fingers = a[:kin.dof], a[kin.dof:]
+    q = kin.check_q(a, "q")
     if q.ndim != 1:
-        raise InvalidInputError(f"q must be one configuration ({checker.kinematics.dof},); got {q.shape}")
+        raise InvalidInputError(f"q must be one configuration ({kin.dof},) or a full robot state; got {q.shape}")
     st = checker.state
     C, r, _ = checker.spheres(q)
     R, p = st.joint_transforms(q[None])
     tb = st.motion_bounds
+    moved = _finger_motions(checker, q, fingers)
     planes = np.empty((len(st.parts), 26, 4))
+    C = np.array(C, dtype=np.float64)
     for g, part in enumerate(st.parts):
         Rw = R[0, part.joint] @ part.R
         pw = p[0, part.joint] + R[0, part.joint] @ part.p
+        T = moved.get(part.name)
+        if T is not None:   # a finger: from its planning place to where it is
+            Rw, pw = T[0] @ Rw, T[0] @ pw + T[1]
+            sel = st.fine.part == g
+            C[sel] = C[sel] @ T[0].T + T[1]
         n = _DIRECTIONS @ Rw.T                     # the directions in the base frame
         support = tb.support[g] @ Rw.T + pw        # points whose hull (grown by support_radius) holds the part
         planes[g, :, :3] = n
         planes[g, :, 3] = (support @ n.T).max(axis=0) + tb.support_radius[g]
-    return _Robot(np.ascontiguousarray(C, dtype=np.float64), np.ascontiguousarray(r + margin, dtype=np.float64),
+    return _Robot(np.ascontiguousarray(C), np.ascontiguousarray(r + margin, dtype=np.float64),
                   np.ascontiguousarray(st.fine.part, dtype=np.int64), np.ascontiguousarray(planes), margin)
+
+
+def _finger_motions(checker, q: np.ndarray, fingers: np.ndarray | None) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """{link: (R (3, 3), t (3,))}: the rigid motion (base frame) taking each link the gripper's
+    joints move from its place in the checker's model (its gripper positions) to its place at
+    `fingers` [m] (the arm at q)."""
+    gripper = checker.config.gripper
+    if fingers is None or gripper is None:
+        return {}
+    import pinocchio as pin
+
+    kin = checker.kinematics
+    full = kin.full_model
+    data = full.createData()
+    places = []
+    for values in (checker.robot.gripper_positions, fingers):   # where the checker's model has them; where they are
+        qf = kin.locked_configuration.copy()
+        for name, v in zip(checker.config.arm_joints, q):
+            qf[full.joints[full.getJointId(name)].idx_q] = v
+        for name, v in zip(gripper.joints, values):
+            qf[full.joints[full.getJointId(name)].idx_q] = v
+        pin.forwardKinematics(full, data, qf)
+        pin.updateFramePlacements(full, data)
+        places.append({f.name: data.oMf[i].copy() for i, f in enumerate(full.frames)})
+    finger_joints = {full.getJointId(name) for name in gripper.joints}
+    out = {}
+    for i, f in enumerate(full.frames):
+        j = f.parentJoint
+        while j > 0 and j not in finger_joints:
+            j = full.parents[j]
+        if j > 0 and f.name in places[0]:
+            M = places[1][f.name] * places[0][f.name].inverse()
+            out[f.name] = (np.array(M.rotation), np.array(M.translation))
+    return out
 
 
 def reach(checker) -> float:
@@ -253,8 +302,10 @@ def integrate_depth(checker, depth, intrinsics, camera_pose: Pose, *, name: str 
         camera_pose: the camera in the robot base frame, Isaac's camera axes (+X forward, +Z up).
         name: the map obstacle (created on first use).
         resolution: cell edge [m].
-        q: (dof,) the robot's configuration when the image was taken: points on the robot
-            (within `self_margin` [m] of its sphere cover) are dropped; None: no self-filter.
+        q: (dof,) the robot's configuration when the image was taken, or the full robot state
+            (dof + G,) with the gripper's joints last (the fingers where they are): points on
+            the robot (within `self_margin` [m] of a part's 26-DOP) are dropped; None: no
+            self-filter.
         max_range: points farther than this from the camera [m] are ignored.
         unknown: "free" (never observed = free) or "occupied" (within `bounds`).
         bounds: [[x0, y0, z0], [x1, y1, z1]] [m], base frame (needed with unknown="occupied").
