@@ -59,7 +59,8 @@ class CameraRig:
         self.integrate_time = 0.0  # [s] of wall time inside update_world_from_depth
 
     def refresh(self, mg, q, base_pose: Pose, cube_pose: Pose | None, cube_size: float) -> None:
-        """Render both cameras and integrate them into the map of `mg` (self-filter at `q`).
+        """Render both cameras and integrate them into the map of `mg` (self-filter at `q`, the
+        robot's state: arm joints then fingers).
 
         Args:
             base_pose: the robot's base in the World (the map is in the base frame).

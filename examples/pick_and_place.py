@@ -374,8 +374,8 @@ class PickAndPlace:
 
     def refresh_map(self) -> None:
         """--perceive: both depth cameras into the planner's occupancy map, the cube left out."""
-        self.rig.refresh(self.mg, self.planning_start(), Pose(*self.robot.get_world_pose()), Pose(*self.cube_pose()),
-                         CUBE_SIZE)
+        state = np.concatenate([self.planning_start(), self.fingers()])   # the fingers where they are
+        self.rig.refresh(self.mg, state, Pose(*self.robot.get_world_pose()), Pose(*self.cube_pose()), CUBE_SIZE)
 
     def set_floor_guard(self, on: bool) -> None:
         """Add (or remove) the planner's floor guard: boxes whose top is FLOOR_CLEARANCE above
@@ -572,8 +572,12 @@ class PickAndPlace:
         grasps, yaws = self.grasp_candidates(p, qc)
         self.sync_obstacles(ground=True)
         mg.add_obstacle(Cuboid("cube", [CUBE_SIZE] * 3, T_base_world @ Pose(p, qc)))
-        grasp = self.plan_task("grasp", lambda q, **o: mg.plan_grasp(q, grasps, "cube", approach=APPROACH_HEIGHT,
-                                                                     lift=APPROACH_HEIGHT, link=TCP, **o))
+        try:
+            grasp = self.plan_task("grasp", lambda q, **o: mg.plan_grasp(q, grasps, "cube", approach=APPROACH_HEIGHT,
+                                                                         lift=APPROACH_HEIGHT, link=TCP, **o))
+        except Exception:
+            mg.remove_obstacle("cube")  # (a --perceive sync keeps the planner's other obstacles)
+            raise
         yaw = float(yaws[grasp.grasp_index])
         down = hand_down(yaw)
         self.say(f"cube at ({p[0]:.3f}, {p[1]:.3f}, {p[2]:.3f}) m, yaw {np.degrees(cube_yaw(qc)):.0f} deg, "

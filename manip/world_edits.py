@@ -121,8 +121,10 @@ class WorldEdits:
             camera_pose: `Pose` of the camera in the robot base frame (Isaac's camera axes:
                 +X forward, +Z up).
             name: the map's obstacle name; `remove_obstacle(name)` clears it.
-            resolution: cell edge [m]. q: (dof,) configuration whose links are filtered out
-                (default: the default configuration). max_range: farther returns are ignored [m].
+            resolution: cell edge [m]. max_range: farther returns are ignored [m].
+            q: the robot's configuration (dof,), whose points are filtered out, or its full
+                state (arm, then gripper joints: `franka.get_joint_positions()`), which places
+                the fingers where they are; None: no self-filtering.
             unknown: "free" (cells never seen are free) or "occupied" (within `bounds`,
                 ((3,), (3,)) [m] in the base frame, unseen cells are obstacles).
             self_margin: points within this of the robot's geometry are dropped [m].
@@ -130,7 +132,7 @@ class WorldEdits:
         Rays mark their end cells occupied and the cells they cross free; details and what the
         map guarantees: `manip.perception.integrate`.
         """
-        return integrate_depth(self.checker, depth, intrinsics, camera_pose, q=self._arm_q(q, "q"), name=name,
+        return integrate_depth(self.checker, depth, intrinsics, camera_pose, q=q, name=name,
                                resolution=resolution, max_range=max_range, unknown=unknown, bounds=bounds,
                                self_margin=self_margin)
 
@@ -139,6 +141,6 @@ class WorldEdits:
         """Integrate a point cloud `points` (N, 3) [m] (base frame) seen from `origin` (3,) [m] into
         the occupancy obstacle `name`; the other arguments as `update_world_from_depth` (without
         `origin`, no ray frees a cell)."""
-        return integrate_pointcloud(self.checker, points, origin, q=self._arm_q(q, "q"), name=name,
+        return integrate_pointcloud(self.checker, points, origin, q=q, name=name,
                                     resolution=resolution, max_range=max_range, unknown=unknown, bounds=bounds,
                                     self_margin=self_margin)

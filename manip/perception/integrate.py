@@ -10,9 +10,7 @@ depth image; `integrate_pointcloud` does the same with a cloud. `MotionGenerator
    or beyond the robot's reach (`reach`), are dropped;
 2. self-filtering: with `q`, points within `self_margin` of the robot at q are dropped: of
    a part's 26-DOP (the polytope of 26 fixed directions around the convex hull of its
-   collision geometry; links and attached objects), looked up through the sphere cover; a
-   gripper's fingers count wherever their joints can put them, closed to open (the planner's
-   model holds them at their planning positions: `finger_travel`);
+   collision geometry; links and attached objects), looked up through the sphere cover;
 3. occupied: the cell of every remaining point (`manip.perception.kernels`);
 4. free: a cell occupied before (or, with `unknown="occupied"`, never observed) is freed
    when the image sees through it: every pixel ray crossing it measures a surface beyond the
@@ -144,73 +142,75 @@ class _Robot:
 
 
 def _robot(checker, q, margin: float) -> _Robot:
-    """The robot at q (dof,) for the self-filter (empty without q). A gripper's fingers count
-    wherever their joints can put them (`finger_travel`): the planner's model holds them at
-    their planning positions, the real fingers may be closed on an object."""
+    """The robot at q for the self-filter (empty without q): q (dof,) the arm, or the full
+    robot state (dof + G,) with the gripper's joints last, whose fingers are then placed where
+    they are (the planner's model holds them at its planning positions)."""
     if q is None:
         return _Robot(np.zeros((0, 3)), np.zeros(0), np.zeros(0, dtype=np.int64), np.zeros((0, 26, 4)), margin)
-    q = checker.kinematics.check_q(q, "q")
+    kin = checker.kinematics
+    gripper = checker.config.gripper
+    fingers = None
+    a = as_real_array(q, "q")
+    if gripper is not None and a.ndim == 1 and a.shape[0] == kin.dof + len(gripper.joints):
+        a, fingers = a[:kin.dof], a[kin.dof:]
+    q = kin.check_q(a, "q")
     if q.ndim != 1:
-        raise InvalidInputError(f"q must be one configuration ({checker.kinematics.dof},); got {q.shape}")
+        raise InvalidInputError(f"q must be one configuration ({kin.dof},) or a full robot state; got {q.shape}")
     st = checker.state
     C, r, _ = checker.spheres(q)
     R, p = st.joint_transforms(q[None])
     tb = st.motion_bounds
-    travel = finger_travel(checker.kinematics, [part.name for part in st.parts])
-    grow = np.zeros(len(st.parts))
+    moved = _finger_motions(checker, q, fingers)
     planes = np.empty((len(st.parts), 26, 4))
+    C = np.array(C, dtype=np.float64)
     for g, part in enumerate(st.parts):
         Rw = R[0, part.joint] @ part.R
         pw = p[0, part.joint] + R[0, part.joint] @ part.p
+        T = moved.get(part.name)
+        if T is not None:   # a finger: from its planning place to where it is
+            Rw, pw = T[0] @ Rw, T[0] @ pw + T[1]
+            sel = st.fine.part == g
+            C[sel] = C[sel] @ T[0].T + T[1]
         n = _DIRECTIONS @ Rw.T                     # the directions in the base frame
         support = tb.support[g] @ Rw.T + pw        # points whose hull (grown by support_radius) holds the part
         planes[g, :, :3] = n
         planes[g, :, 3] = (support @ n.T).max(axis=0) + tb.support_radius[g]
-        carrier, ends = travel.get(part.name, (None, None)) if not part.attached else (None, None)
-        if ends is not None and carrier == checker.kinematics.model.names[part.joint]:
-            # the hull swept along the finger's travel (a segment through its planning position)
-            moves = ends @ R[0, part.joint].T       # (2, 3) in the base frame
-            planes[g, :, 3] += np.maximum(0.0, (moves @ n.T).max(axis=0))
-            grow[g] = float(np.linalg.norm(moves, axis=1).max())
-    part_of_ball = np.ascontiguousarray(st.fine.part, dtype=np.int64)
-    radii = r + margin + grow[part_of_ball]
-    return _Robot(np.ascontiguousarray(C, dtype=np.float64), np.ascontiguousarray(radii, dtype=np.float64),
-                  part_of_ball, np.ascontiguousarray(planes), margin)
+    return _Robot(np.ascontiguousarray(C), np.ascontiguousarray(r + margin, dtype=np.float64),
+                  np.ascontiguousarray(st.fine.part, dtype=np.int64), np.ascontiguousarray(planes), margin)
 
 
-def finger_travel(kinematics, links) -> dict[str, tuple[str, np.ndarray]]:
-    """For each of `links` moved by the gripper's joints: (the joint carrying it in the planner's
-    model, (2, 3) its displacement [m] in that joint's frame from its planning position to the
-    gripper closed and to it open); the planner's model holds the fingers still."""
-    gripper = kinematics.config.gripper
-    if gripper is None:
+def _finger_motions(checker, q: np.ndarray, fingers: np.ndarray | None) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """{link: (R (3, 3), t (3,))}: the rigid motion (base frame) taking each link the gripper's
+    joints move from its place in the checker's model (its gripper positions) to its place at
+    `fingers` [m] (the arm at q)."""
+    gripper = checker.config.gripper
+    if fingers is None or gripper is None:
         return {}
     import pinocchio as pin
 
-    full = kinematics.full_model
+    kin = checker.kinematics
+    full = kin.full_model
     data = full.createData()
-    joints = [full.getJointId(j) for j in gripper.joints]
-    wanted = {f.name: i for i, f in enumerate(full.frames) if f.parentJoint in joints and f.name in set(links)}
-    if not wanted:
-        return {}
-
-    def placements(values) -> dict[str, np.ndarray]:
-        qf = pin.neutral(full)
-        for jid, v in zip(joints, values):
-            qf[full.joints[jid].idx_q] = v
+    places = []
+    for values in (checker.robot.gripper_positions, fingers):   # where the checker's model has them; where they are
+        qf = kin.locked_configuration.copy()
+        for name, v in zip(checker.config.arm_joints, q):
+            qf[full.joints[full.getJointId(name)].idx_q] = v
+        for name, v in zip(gripper.joints, values):
+            qf[full.joints[full.getJointId(name)].idx_q] = v
         pin.forwardKinematics(full, data, qf)
         pin.updateFramePlacements(full, data)
-        out = {}
-        for name, i in wanted.items():
-            carrier = full.parents[full.frames[i].parentJoint]   # the finger joint's parent joint
-            out[name] = data.oMi[carrier].actInv(data.oMf[i]).translation
-        return out
-
-    at_plan = placements(gripper.planning_positions)
-    closed, opened = placements(gripper.closed_positions), placements(gripper.open_positions)
-    carriers = {name: full.names[full.parents[full.frames[i].parentJoint]] for name, i in wanted.items()}
-    return {name: (carriers[name], np.array([closed[name] - at_plan[name], opened[name] - at_plan[name]]))
-            for name in wanted}
+        places.append({f.name: data.oMf[i].copy() for i, f in enumerate(full.frames)})
+    finger_joints = {full.getJointId(name) for name in gripper.joints}
+    out = {}
+    for i, f in enumerate(full.frames):
+        j = f.parentJoint
+        while j > 0 and j not in finger_joints:
+            j = full.parents[j]
+        if j > 0 and f.name in places[0]:
+            M = places[1][f.name] * places[0][f.name].inverse()
+            out[f.name] = (np.array(M.rotation), np.array(M.translation))
+    return out
 
 
 def reach(checker) -> float:
@@ -302,8 +302,10 @@ def integrate_depth(checker, depth, intrinsics, camera_pose: Pose, *, name: str 
         camera_pose: the camera in the robot base frame, Isaac's camera axes (+X forward, +Z up).
         name: the map obstacle (created on first use).
         resolution: cell edge [m].
-        q: (dof,) the robot's configuration when the image was taken: points on the robot
-            (within `self_margin` [m] of its sphere cover) are dropped; None: no self-filter.
+        q: (dof,) the robot's configuration when the image was taken, or the full robot state
+            (dof + G,) with the gripper's joints last (the fingers where they are): points on
+            the robot (within `self_margin` [m] of a part's 26-DOP) are dropped; None: no
+            self-filter.
         max_range: points farther than this from the camera [m] are ignored.
         unknown: "free" (never observed = free) or "occupied" (within `bounds`).
         bounds: [[x0, y0, z0], [x1, y1, z1]] [m], base frame (needed with unknown="occupied").
