@@ -366,6 +366,7 @@ class PickAndPlace:
         may let the cube touch it where it lies or is put down); with --perceive, what the
         cameras see instead (`refresh_map`)."""
         if self.rig is not None:
+            self.set_floor_guard(False)   # as the rebuilt world below: no guard (the grasp goes down to the floor)
             self.refresh_map()
             return
         ignore = [self.cube.prim_path, self.cube.name, *([] if ground else self.ground)]

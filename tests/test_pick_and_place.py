@@ -142,8 +142,9 @@ def test_episode_with_obstacles_avoids_them():
 
 def test_episode_perceiving_avoids_the_obstacles_the_cameras_see():
     demo = pp.PickAndPlace(seed=2, obstacles=True, verbose=False, perceive=True)
-    r = demo.run_episode(0)
+    r = demo.run_episode(0, perturb=True)   # moved after the place: picked again from the new map
     assert r.placed, r.reason
+    assert r.picks == 2
     assert_placed_in_simulator(demo)
     assert r.obstacle_contact_steps == 0
     # the planner's only obstacle from the World is the cameras' map (besides its own floor guard)
