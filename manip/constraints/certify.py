@@ -71,13 +71,15 @@ def segments_hold(constraints: Sequence[Constraint], kinematics: Kinematics, Q0:
     return ok, bad, worst
 
 
-def _hold(c: Constraint, kin: Kinematics, Q0: np.ndarray, Q1: np.ndarray):
-    """`segments_hold` for one constraint: (ok, bad, worst, evaluations)."""
+def _hold(c: Constraint, kin: Kinematics, Q0: np.ndarray, Q1: np.ndarray, slack: np.ndarray | None = None):
+    """`segments_hold` for one constraint: (ok, bad, worst, evaluations). `slack` (M,) [its
+    unit]: segment i must keep the violation <= -slack[i] (0 when None)."""
     M = Q0.shape[0]
     ok = np.ones(M, dtype=bool)
     bad = np.zeros(M, dtype=bool)
     worst = Q0.copy()
-    v = c.violation(kin, np.concatenate([Q0, Q1]))
+    extra = np.zeros(M) if slack is None else np.asarray(slack, dtype=float)
+    v = c.violation(kin, np.concatenate([Q0, Q1])) + np.concatenate([extra, extra])
     va, vb = v[:M], v[M:]
     L = c.segment_bound(kin, Q0, Q1)
     evaluations = 2 * M
@@ -98,7 +100,7 @@ def _hold(c: Constraint, kin: Kinematics, Q0: np.ndarray, Q1: np.ndarray):
         t0, t1 = k / pieces[owner], (k + 1) / pieces[owner]
         d = (qb - qa)[owner]
         inner = t1 < 1.0
-        v_in = c.violation(kin, qa[owner][inner] + t1[inner, None] * d[inner])
+        v_in = c.violation(kin, qa[owner][inner] + t1[inner, None] * d[inner]) + extra[seg[owner][inner]]
         evaluations += int(inner.sum())
         v1 = b[owner].copy()
         v1[inner] = v_in
@@ -120,7 +122,7 @@ def _hold(c: Constraint, kin: Kinematics, Q0: np.ndarray, Q1: np.ndarray):
             worst[seg] = 0.5 * (qa + qb)
             break
         qm = 0.5 * (qa + qb)
-        vm = c.violation(kin, qm)
+        vm = c.violation(kin, qm) + extra[seg]
         evaluations += qm.shape[0]
         hit = vm > 0
         if hit.any():
@@ -141,8 +143,12 @@ def _hold(c: Constraint, kin: Kinematics, Q0: np.ndarray, Q1: np.ndarray):
 
 
 def certify_constraints(constraints: Sequence[Constraint], kinematics: Kinematics,
-                        path: np.ndarray) -> ConstraintCertificate:
+                        path: np.ndarray, deviation: np.ndarray | None = None) -> ConstraintCertificate:
     """Prove every constraint holds over the straight interpolation of `path` (K, dof) (module doc).
+
+    With `deviation` (K-1, dof) [rad]: a motion that strays at most deviation[s] (per joint)
+    from segment s (e.g. a timed trajectory between its samples, `trajectory_deviation`) is
+    proved too: each segment keeps every constraint `segment_bound` of that displacement inside.
 
     Returns:
         ConstraintCertificate (certified, or the first failed segment and why).
@@ -153,7 +159,11 @@ def certify_constraints(constraints: Sequence[Constraint], kinematics: Kinematic
     queries = 0
     first, reason, text = None, "", ""
     for c in constraints:
-        ok, bad, worst, n = _hold(c, kinematics, Q[:-1], Q[1:])
+        slack = None
+        if deviation is not None:
+            D = np.asarray(deviation, dtype=float)
+            slack = c.segment_bound(kinematics, np.zeros_like(D), D)
+        ok, bad, worst, n = _hold(c, kinematics, Q[:-1], Q[1:], slack)
         queries += n
         if not ok.all():
             s = int(np.argmin(ok))
@@ -164,3 +174,13 @@ def certify_constraints(constraints: Sequence[Constraint], kinematics: Kinematic
     if first is None:
         return ConstraintCertificate(True, queries=queries)
     return ConstraintCertificate(False, first, reason, (text, ""), queries)
+
+
+def trajectory_deviation(accelerations: np.ndarray, dt: float, jerk: np.ndarray) -> np.ndarray:
+    """(K-1, dof) [rad]: how far a motion sampled every `dt` [s] can stray from the straight
+    line between consecutive samples: |a| dt^2 / 8 with |a| bounded over the interval by the
+    larger of the two samples' |acceleration| (K, dof) plus `jerk` (dof,) [rad/s^3] x dt (the
+    jerk limit the motion keeps)."""
+    A = np.abs(np.asarray(accelerations, dtype=float))
+    amax = np.maximum(A[:-1], A[1:]) + np.asarray(jerk, dtype=float) * dt
+    return amax * dt * dt / 8.0
