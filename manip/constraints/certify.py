@@ -22,6 +22,10 @@ from manip.kinematics import Kinematics
 
 #: A segment is not certified after this many halvings (2^-30 of its length).
 MAX_DEPTH = 30
+#: The deviation allowance of a timed motion (`certify_constraints(..., deviation)`) is used
+#: for a constraint when its bound is at most this share of the constraint's margin; a
+#: tighter constraint (or a coarser bound) is certified on the samples' polyline only.
+DEVIATION_SHARE = 0.5
 #: The first cut of an open segment: at most this many pieces, evaluated in one batch.
 FIRST_SPLIT = 32
 
@@ -148,7 +152,9 @@ def certify_constraints(constraints: Sequence[Constraint], kinematics: Kinematic
 
     With `deviation` (K-1, dof) [rad]: a motion that strays at most deviation[s] (per joint)
     from segment s (e.g. a timed trajectory between its samples, `trajectory_deviation`) is
-    proved too: each segment keeps every constraint `segment_bound` of that displacement inside.
+    proved too: each segment keeps every constraint `segment_bound` of that displacement
+    inside, for each constraint whose allowance is at most DEVIATION_SHARE of its margin
+    (the others: the polyline only).
 
     Returns:
         ConstraintCertificate (certified, or the first failed segment and why).
@@ -163,6 +169,8 @@ def certify_constraints(constraints: Sequence[Constraint], kinematics: Kinematic
         if deviation is not None:
             D = np.asarray(deviation, dtype=float)
             slack = c.segment_bound(kinematics, np.zeros_like(D), D)
+            if slack.max(initial=0.0) > DEVIATION_SHARE * c.margin:
+                slack = None  # too coarse a bound for this constraint: its samples' polyline only
         ok, bad, worst, n = _hold(c, kinematics, Q[:-1], Q[1:], slack)
         queries += n
         if not ok.all():
@@ -179,8 +187,9 @@ def certify_constraints(constraints: Sequence[Constraint], kinematics: Kinematic
 def trajectory_deviation(accelerations: np.ndarray, dt: float, jerk: np.ndarray) -> np.ndarray:
     """(K-1, dof) [rad]: how far a motion sampled every `dt` [s] can stray from the straight
     line between consecutive samples: |a| dt^2 / 8 with |a| bounded over the interval by the
-    larger of the two samples' |acceleration| (K, dof) plus `jerk` (dof,) [rad/s^3] x dt (the
-    jerk limit the motion keeps)."""
+    larger of the two samples' |acceleration| (K, dof) plus `jerk` (dof,) [rad/s^3] x dt / 2
+    (the jerk limit the motion keeps)."""
     A = np.abs(np.asarray(accelerations, dtype=float))
-    amax = np.maximum(A[:-1], A[1:]) + np.asarray(jerk, dtype=float) * dt
+    # |a| rises above the larger end by at most jerk x dt / 2 (up at the jerk, then down to the other end)
+    amax = np.maximum(A[:-1], A[1:]) + 0.5 * np.asarray(jerk, dtype=float) * dt
     return amax * dt * dt / 8.0

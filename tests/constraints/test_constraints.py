@@ -188,6 +188,8 @@ def test_the_certificate_of_a_timed_motion_allows_for_its_deviation_from_the_cho
     assert certify_constraints([c], kin, path).certified
     refused = certify_constraints([c], kin, path, deviation=np.full((5, 7), 1e-3))
     assert not refused.certified and refused.first_failed_segment == 0
+    # an allowance beyond half the constraint's margin (0.015 rad) is not applied (the polyline only)
+    assert certify_constraints([c], kin, path, deviation=np.full((5, 7), 3e-3)).certified
     # the deviation of a sampled motion: |a| dt^2 / 8 with |a| bounded by the samples and the jerk
     dev = trajectory_deviation(np.array([[1.0, -2.0], [3.0, 0.5]]), 0.1, np.array([10.0, 10.0]))
-    np.testing.assert_allclose(dev, [[(3.0 + 1.0) * 0.01 / 8, (2.0 + 1.0) * 0.01 / 8]])
+    np.testing.assert_allclose(dev, [[(3.0 + 0.5) * 0.01 / 8, (2.0 + 0.5) * 0.01 / 8]])
