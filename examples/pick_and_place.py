@@ -530,11 +530,13 @@ class PickAndPlace:
 
     def plan_task(self, phase: str, plan_fn, **options):
         """`plan_fn(start, seed=..., **options)` (a plan_grasp / plan_place call) from the measured
-        state, retried with new seeds like `plan`; raises PlanningFailed."""
+        state, retried with new seeds like `plan` (the straight-line stages with IK points every
+        LINEAR_STEP, the last try at the planner's finer default); raises PlanningFailed."""
         last = None
         for attempt in range(PLAN_TRIES):
             self._plan_seed += 1
-            r = plan_fn(self.planning_start(), seed=self._plan_seed, **options)
+            step = {"linear_step": LINEAR_STEP} if attempt + 1 < PLAN_TRIES else {}
+            r = plan_fn(self.planning_start(), seed=self._plan_seed, **step, **options)
             self._ep.plan_time += r.timings.get("total", 0.0)
             if r.success:
                 self._ep.plans += 1

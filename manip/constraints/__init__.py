@@ -8,7 +8,7 @@
 from __future__ import annotations
 
 from manip.constraints.base import Constraint
-from manip.constraints.certify import ConstraintCertificate, certify_constraints, segments_hold
+from manip.constraints.certify import ConstraintCertificate, certify_constraints, segments_hold, trajectory_deviation
 from manip.constraints.orientation import OrientationConstraint
 from manip.constraints.position import PositionConstraint
 from manip.constraints.project import project, satisfied
@@ -24,4 +24,5 @@ __all__ = [
     "project",
     "satisfied",
     "segments_hold",
+    "trajectory_deviation",
 ]

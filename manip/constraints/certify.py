@@ -22,6 +22,10 @@ from manip.kinematics import Kinematics
 
 #: A segment is not certified after this many halvings (2^-30 of its length).
 MAX_DEPTH = 30
+#: The deviation allowance of a timed motion (`certify_constraints(..., deviation)`) is used
+#: for a constraint when its bound is at most this share of the constraint's margin; a
+#: tighter constraint (or a coarser bound) is certified on the samples' polyline only.
+DEVIATION_SHARE = 0.5
 #: The first cut of an open segment: at most this many pieces, evaluated in one batch.
 FIRST_SPLIT = 32
 
@@ -71,13 +75,15 @@ def segments_hold(constraints: Sequence[Constraint], kinematics: Kinematics, Q0:
     return ok, bad, worst
 
 
-def _hold(c: Constraint, kin: Kinematics, Q0: np.ndarray, Q1: np.ndarray):
-    """`segments_hold` for one constraint: (ok, bad, worst, evaluations)."""
+def _hold(c: Constraint, kin: Kinematics, Q0: np.ndarray, Q1: np.ndarray, slack: np.ndarray | None = None):
+    """`segments_hold` for one constraint: (ok, bad, worst, evaluations). `slack` (M,) [its
+    unit]: segment i must keep the violation <= -slack[i] (0 when None)."""
     M = Q0.shape[0]
     ok = np.ones(M, dtype=bool)
     bad = np.zeros(M, dtype=bool)
     worst = Q0.copy()
-    v = c.violation(kin, np.concatenate([Q0, Q1]))
+    extra = np.zeros(M) if slack is None else np.asarray(slack, dtype=float)
+    v = c.violation(kin, np.concatenate([Q0, Q1])) + np.concatenate([extra, extra])
     va, vb = v[:M], v[M:]
     L = c.segment_bound(kin, Q0, Q1)
     evaluations = 2 * M
@@ -98,7 +104,7 @@ def _hold(c: Constraint, kin: Kinematics, Q0: np.ndarray, Q1: np.ndarray):
         t0, t1 = k / pieces[owner], (k + 1) / pieces[owner]
         d = (qb - qa)[owner]
         inner = t1 < 1.0
-        v_in = c.violation(kin, qa[owner][inner] + t1[inner, None] * d[inner])
+        v_in = c.violation(kin, qa[owner][inner] + t1[inner, None] * d[inner]) + extra[seg[owner][inner]]
         evaluations += int(inner.sum())
         v1 = b[owner].copy()
         v1[inner] = v_in
@@ -120,7 +126,7 @@ def _hold(c: Constraint, kin: Kinematics, Q0: np.ndarray, Q1: np.ndarray):
             worst[seg] = 0.5 * (qa + qb)
             break
         qm = 0.5 * (qa + qb)
-        vm = c.violation(kin, qm)
+        vm = c.violation(kin, qm) + extra[seg]
         evaluations += qm.shape[0]
         hit = vm > 0
         if hit.any():
@@ -141,8 +147,14 @@ def _hold(c: Constraint, kin: Kinematics, Q0: np.ndarray, Q1: np.ndarray):
 
 
 def certify_constraints(constraints: Sequence[Constraint], kinematics: Kinematics,
-                        path: np.ndarray) -> ConstraintCertificate:
+                        path: np.ndarray, deviation: np.ndarray | None = None) -> ConstraintCertificate:
     """Prove every constraint holds over the straight interpolation of `path` (K, dof) (module doc).
+
+    With `deviation` (K-1, dof) [rad]: a motion that strays at most deviation[s] (per joint)
+    from segment s (e.g. a timed trajectory between its samples, `trajectory_deviation`) is
+    proved too: each segment keeps every constraint `segment_bound` of that displacement
+    inside, for each constraint whose allowance is at most DEVIATION_SHARE of its margin
+    (the others: the polyline only).
 
     Returns:
         ConstraintCertificate (certified, or the first failed segment and why).
@@ -153,7 +165,13 @@ def certify_constraints(constraints: Sequence[Constraint], kinematics: Kinematic
     queries = 0
     first, reason, text = None, "", ""
     for c in constraints:
-        ok, bad, worst, n = _hold(c, kinematics, Q[:-1], Q[1:])
+        slack = None
+        if deviation is not None:
+            D = np.asarray(deviation, dtype=float)
+            slack = c.segment_bound(kinematics, np.zeros_like(D), D)
+            if slack.max(initial=0.0) > DEVIATION_SHARE * c.margin:
+                slack = None  # too coarse a bound for this constraint: its samples' polyline only
+        ok, bad, worst, n = _hold(c, kinematics, Q[:-1], Q[1:], slack)
         queries += n
         if not ok.all():
             s = int(np.argmin(ok))
@@ -164,3 +182,14 @@ def certify_constraints(constraints: Sequence[Constraint], kinematics: Kinematic
     if first is None:
         return ConstraintCertificate(True, queries=queries)
     return ConstraintCertificate(False, first, reason, (text, ""), queries)
+
+
+def trajectory_deviation(accelerations: np.ndarray, dt: float, jerk: np.ndarray) -> np.ndarray:
+    """(K-1, dof) [rad]: how far a motion sampled every `dt` [s] can stray from the straight
+    line between consecutive samples: |a| dt^2 / 8 with |a| bounded over the interval by the
+    larger of the two samples' |acceleration| (K, dof) plus `jerk` (dof,) [rad/s^3] x dt / 2
+    (the jerk limit the motion keeps)."""
+    A = np.abs(np.asarray(accelerations, dtype=float))
+    # |a| rises above the larger end by at most jerk x dt / 2 (up at the jerk, then down to the other end)
+    amax = np.maximum(A[:-1], A[1:]) + 0.5 * np.asarray(jerk, dtype=float) * dt
+    return amax * dt * dt / 8.0

@@ -55,6 +55,8 @@ class PositionConstraint(Constraint):
         """(N, 3) the link's origin [m] at Q (N, dof)."""
         Q = np.atleast_2d(np.asarray(Q, dtype=float))
         fid = kinematics.frame_id(link_or_ee(self.link, kinematics))
+        if Q.shape[0] <= 16:  # one compiled call: cheaper for a few configurations
+            return kinematics.frame_jacobians(Q, fid)[1]
         return kinematics.frame_transforms(Q, [fid])[1][:, 0]
 
     def residual(self, kinematics: Kinematics, Q: np.ndarray) -> np.ndarray:

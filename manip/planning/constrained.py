@@ -29,7 +29,8 @@ from collections.abc import Sequence
 import numpy as np
 
 from manip.collision.clearance import ClearanceTerms
-from manip.constraints import Constraint, certify_constraints, project, satisfied, segments_hold
+from manip.constraints import (Constraint, certify_constraints, project, satisfied, segments_hold,
+                               trajectory_deviation)
 from manip.planning.validity import ADVANCE_BACKOFF_STEPS, Validity
 
 #: Length [rad] (joint-space L2) of one projected step of the constrained search.
@@ -96,14 +97,21 @@ class ConstrainedValidity(Validity):
             ok[ok] = super().screen(np.asarray(Q0)[ok], np.asarray(Q1)[ok])
         return ok
 
-    def certify(self, path: np.ndarray):
+    def certify(self, path: np.ndarray, deviation: np.ndarray | None = None):
         """The collision certificate, then the constraints' (`certify_constraints`) over the
-        same interpolation: the first that fails is returned."""
+        same interpolation (and, with `deviation` (K-1, dof) [rad], over any motion that
+        strays that far from it): the first that fails is returned."""
         cert = super().certify(path)
         if not cert.certified:
             return cert
-        held = certify_constraints(self.constraints, self.kinematics, path)
+        held = certify_constraints(self.constraints, self.kinematics, path, deviation)
         return held if not held.certified else cert
+
+    def certify_trajectory(self, traj):
+        """`certify` of a timed trajectory's samples, the constraints proved for the true
+        motion between them too (`trajectory_deviation`: its accelerations and the jerk limits)."""
+        return self.certify(traj.positions, trajectory_deviation(traj.accelerations, traj.dt,
+                                                                 self.kinematics.limits.jerk))
 
     def advance(self, q0: np.ndarray, q1: np.ndarray, resolution: float | None = None) -> np.ndarray | None:
         res = self.resolution if resolution is None else resolution

@@ -38,7 +38,8 @@ def validate_trajectory(traj: Trajectory, start: np.ndarray, goal: np.ndarray, v
         return "trajectory does not start at the start or end at the goal"
     if traj.num_samples > MAX_SAMPLES:
         return f"trajectory has {traj.num_samples} samples (more than MAX_SAMPLES = {MAX_SAMPLES})"
-    cert = validity.certify(traj.positions)
+    certify = getattr(validity, "certify_trajectory", None)  # (tests hand in stand-in validities)
+    cert = certify(traj) if certify is not None else validity.certify(traj.positions)
     if not cert.certified:
         t = traj.times[cert.first_failed_segment]
         if cert.reason.startswith("constraint"):

@@ -101,6 +101,11 @@ class Validity:
         proved collision-free (a `MotionCertificate`)."""
         return self.checker.certify_path(path)
 
+    def certify_trajectory(self, traj):
+        """`certify` of a timed trajectory's samples (a constrained validity also proves its
+        constraints for the true motion between them, `planning.constrained`)."""
+        return self.certify(traj.positions)
+
     def path(self, path: np.ndarray) -> bool:
         """True when every segment of the polyline `path` (K, dof) is free at the fine resolution."""
         return bool(self.segments(path[:-1], path[1:]).all()) if len(path) > 1 else bool(self.configs(path).all())

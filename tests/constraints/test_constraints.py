@@ -166,3 +166,30 @@ def test_position_bad_input(kwargs, words):
 def test_unknown_link_is_named(franka_kinematics):
     with pytest.raises(UnknownNameError, match="OrientationConstraint link.*panda_hnd"):
         OrientationConstraint(link="panda_hnd").check(franka_kinematics)
+
+
+def test_the_certificate_of_a_timed_motion_allows_for_its_deviation_from_the_chords(franka_kinematics):
+    """Joint 1 turns a hand that points down: its tilt from a direction 0.0999 rad off the
+    vertical stays 0.0999 along the segment. Certified for the straight segment (tolerance
+    0.1), refused for a motion that may stray 1 mrad per joint from it (the bound of that
+    displacement, 7 mrad, is more than the 0.1 mrad left)."""
+    from manip.constraints import trajectory_deviation
+
+    kin = franka_kinematics
+    q0 = np.array([0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785])
+    u = kin.fk(q0, "panda_hand").rotation[:, 2]
+    a = 0.0999
+    e = np.array([1.0, 0.0, 0.0]) - u[0] * u
+    c = OrientationConstraint((0, 0, 1), np.cos(a) * u + np.sin(a) * e / np.linalg.norm(e), 0.1)
+    q1 = q0.copy()
+    q1[0] += 1.0
+    path = q0 + np.linspace(0, 1, 6)[:, None] * (q1 - q0)
+    np.testing.assert_allclose(c.tilt(kin, path), a, atol=1e-6)
+    assert certify_constraints([c], kin, path).certified
+    refused = certify_constraints([c], kin, path, deviation=np.full((5, 7), 1e-3))
+    assert not refused.certified and refused.first_failed_segment == 0
+    # an allowance beyond half the constraint's margin (0.015 rad) is not applied (the polyline only)
+    assert certify_constraints([c], kin, path, deviation=np.full((5, 7), 3e-3)).certified
+    # the deviation of a sampled motion: |a| dt^2 / 8 with |a| bounded by the samples and the jerk
+    dev = trajectory_deviation(np.array([[1.0, -2.0], [3.0, 0.5]]), 0.1, np.array([10.0, 10.0]))
+    np.testing.assert_allclose(dev, [[(3.0 + 0.5) * 0.01 / 8, (2.0 + 0.5) * 0.01 / 8]])
