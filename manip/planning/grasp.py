@@ -167,7 +167,8 @@ def plan_grasp(stages: Stages, start_q: np.ndarray, grasps: Pose, object_name: s
         q_g = seg_a.goal_q
         held = stages.checker.fork()
         held.attach_object(object_name, q=q_g, link=link)
-        lifting = stages.view(held.allowing(_touching(held.snapshot(), q_g, object_name)), constraints)
+        held_from = tuple(c.at_start(kin, q_g) for c in constraints)   # a relative pose: as held at the grasp
+        lifting = stages.view(held.allowing(_touching(held.snapshot(), q_g, object_name)), held_from)
         up = _shift(kin.fk(q_g, link), np.array([0.0, 0.0, lift]))
         seg_l = plan_linear(stages.context(options), lifting, stages.ik_solver, q_g, up, link, limits=stages.limits)
         if not seg_l.success:
@@ -199,7 +200,11 @@ def plan_place(stages: Stages, start_q: np.ndarray, placements: Pose, *, retreat
                                 f"attached: {sorted(attached)}")
     name, att = next(iter(attached.items()))
     ctx = stages.context({**options, "constraints": constraints})
-    carry = stages.view(world, ctx.options.constraints)
+    kin = stages.validity.kinematics
+    q0 = kin.check_q(start_q, "start_q")
+    # bound to the start (`Constraint.at_start`: a relative pose is held as it is there)
+    bound = tuple(c.at_start(kin, q0) for c in ctx.options.constraints) if q0.ndim == 1 else ctx.options.constraints
+    carry = stages.view(world, bound)
     start = ctx.check_start(start_q, carry.kinematics, carry)
     if ctx.failed:
         return _failed(ctx.result(), t0)
@@ -217,7 +222,7 @@ def plan_place(stages: Stages, start_q: np.ndarray, placements: Pose, *, retreat
     def stages_of(i: int):
         """(above-placement configuration, descent, retreat) of candidate i, or None (failure recorded)."""
         q_p = q[i]
-        putting = stages.view(world.allowing(_touching(world, q_p, name)), ctx.options.constraints)
+        putting = stages.view(world.allowing(_touching(world, q_p, name)), bound)
         above = _shift(goals[i], np.array([0.0, 0.0, approach]))
         r_above = _ik(stages, above, link, q_p, carry, ctx)
         if not r_above.success:

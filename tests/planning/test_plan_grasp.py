@@ -113,3 +113,18 @@ def test_start_in_collision_is_reported_as_the_free_stage(mg):
     q[1], q[3] = 1.5, -0.5  # the arm down through the table
     plan = mg.plan_grasp(q, top_grasps(), "cube", link=TCP)
     assert not plan.success and plan.status is PlanStatus.INVALID_START_WORLD_COLLISION
+
+
+def test_relative_pose_constraints_are_held_as_they_are_at_the_start_of_the_sequence(mg):
+    """A RelativePoseConstraint without a reference holds the relative pose it has when the
+    sequence starts (plan_place) or when the object is taken (plan_grasp's lift)."""
+    from manip import RelativePoseConstraint
+
+    q0 = mg.default_joint_positions
+    rigid = RelativePoseConstraint("panda_link7", TCP)   # two frames of one body: always held
+    grasp = mg.plan_grasp(q0, top_grasps(), "cube", link=TCP, constraints=(rigid,))
+    assert grasp.success, grasp.message
+    mg.attach_object("cube", q=grasp.segment("approach").goal_q, link=TCP)
+    placements = Pose.stack([Pose([0.4, -0.3, 0.025], quat.from_axis_angle([0, 0, 1], 0.0))])
+    plan = mg.plan_place(grasp.segment("lift").goal_q, placements, constraints=(rigid,))
+    assert plan.success, plan.message
