@@ -41,7 +41,7 @@ import time
 
 import numpy as np
 
-from manip import MotionGenerator, Pose, WorldConfig
+from manip import MotionGenerator, Pose
 from manip import quaternion as quat
 from manip.batch import Problem, plan_many
 from manip.benchmarking.verify import Verifier

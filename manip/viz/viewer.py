@@ -19,7 +19,6 @@ from __future__ import annotations
 import logging
 import threading
 import time
-from typing import Any
 
 import numpy as np
 from manip.errors import InvalidInputError

@@ -6,7 +6,6 @@ from __future__ import annotations
 import asyncio
 import warnings
 
-import numpy as np
 
 from manip.sim import DynamicCuboid, HelloWorld, HelloWorldExtension, SimulationApp, World
 
