@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from manip.collision.clearance import ClearanceModel, ClearanceTerms
+from manip.collision.clearance import ClearanceModel, ClearanceTerms, balls_by_body
 from manip.jit import kernel
 
 
@@ -62,18 +62,7 @@ class ArmClearance:
         hands out its own copy of the same cover)."""
         key = hash((fine.joint.tobytes(), fine.radii.tobytes(), np.ascontiguousarray(fine.centres).tobytes()))
         if self._cache is None or self._cache[0] != key:
-            moving = np.flatnonzero(fine.joint != 0)
-            order = moving[np.argsort(fine.joint[moving], kind="stable")]
-            joint = np.ascontiguousarray(fine.joint[order], dtype=np.int64)
-            centres = np.ascontiguousarray(fine.centres[order], dtype=float)
-            radii = np.ascontiguousarray(fine.radii[order], dtype=float)
-            bodies, start, count = np.unique(joint, return_index=True, return_counts=True)
-            bc = np.empty((bodies.size, 3))
-            br = np.empty(bodies.size)
-            for b in range(bodies.size):
-                c, r = centres[start[b]:start[b] + count[b]], radii[start[b]:start[b] + count[b]]
-                bc[b] = ((c - r[:, None]).min(axis=0) + (c + r[:, None]).max(axis=0)) / 2
-                br[b] = float((np.linalg.norm(c - bc[b], axis=1) + r).max())
+            joint, centres, radii, bodies, start, count, bc, br = balls_by_body(fine, np.flatnonzero(fine.joint != 0))
             arm = self.arm_of_joint[bodies]
             pa, pb = np.triu_indices(bodies.size, 1)
             cross = (arm[pa] != arm[pb]) & (arm[pa] >= 0) & (arm[pb] >= 0)

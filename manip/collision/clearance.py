@@ -78,20 +78,9 @@ class ClearanceModel:
         # keyed by the cover object itself (kept alive here, so a rebuilt cover, e.g. after a
         # gripper change, can never be mistaken for this one)
         if getattr(self, "_cache_fine", None) is not fine or self._cache_moving != moving.size:
-            order = moving[np.argsort(fine.joint[moving], kind="stable")]
-            joint = np.ascontiguousarray(fine.joint[order])
-            centres = np.ascontiguousarray(fine.centres[order])
-            radii = np.ascontiguousarray(fine.radii[order], dtype=float)
-            bodies, start, count = np.unique(joint, return_index=True, return_counts=True)
-            bc = np.empty((bodies.size, 3))
-            br = np.empty(bodies.size)
-            for b in range(bodies.size):
-                c, r = centres[start[b] : start[b] + count[b]], radii[start[b] : start[b] + count[b]]
-                bc[b] = ((c - r[:, None]).min(axis=0) + (c + r[:, None]).max(axis=0)) / 2
-                br[b] = float((np.linalg.norm(c - bc[b], axis=1) + r).max())
+            joint, centres, radii, bodies, start, count, bc, br = balls_by_body(fine, moving)
             self._cache_fine, self._cache_moving = fine, moving.size
-            self._cache = (centres, radii, joint, bodies.astype(np.int64), start.astype(np.int64),
-                           count.astype(np.int64), bc, br)
+            self._cache = (centres, radii, joint, bodies, start, count, bc, br)
         return self._cache
 
     def terms(self, Q: np.ndarray, activation: float) -> ClearanceTerms:
@@ -115,6 +104,25 @@ class ClearanceModel:
         grad = _term_gradients(R, p, n_i, sj[s_i], x, normal, self._ancestors, self._axes, self._revolute,
                                self._q_index, self.dof)
         return ClearanceTerms(n_i, dist, grad)
+
+
+def balls_by_body(fine, moving: np.ndarray) -> tuple:
+    """The balls `moving` (indices) of a sphere cover sorted by body (joint), and each body's
+    bounding ball: (joint (S,), centres (S, 3) [m], radii (S,) [m], bodies (B,), start (B,),
+    count (B,): body b's balls are [start[b], start[b] + count[b]), body centres (B, 3) in its
+    joint frame [m], body radii (B,) [m])."""
+    order = moving[np.argsort(fine.joint[moving], kind="stable")]
+    joint = np.ascontiguousarray(fine.joint[order], dtype=np.int64)
+    centres = np.ascontiguousarray(fine.centres[order], dtype=float)
+    radii = np.ascontiguousarray(fine.radii[order], dtype=float)
+    bodies, start, count = np.unique(joint, return_index=True, return_counts=True)
+    bc = np.empty((bodies.size, 3))
+    br = np.empty(bodies.size)
+    for b in range(bodies.size):
+        c, r = centres[start[b] : start[b] + count[b]], radii[start[b] : start[b] + count[b]]
+        bc[b] = ((c - r[:, None]).min(axis=0) + (c + r[:, None]).max(axis=0)) / 2
+        br[b] = float((np.linalg.norm(c - bc[b], axis=1) + r).max())
+    return (joint, centres, radii, bodies.astype(np.int64), start.astype(np.int64), count.astype(np.int64), bc, br)
 
 
 @kernel
