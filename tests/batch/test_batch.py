@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from manip import MotionGenerator, Pose, UnknownNameError
-from manip.batch import BATCH_OPTIONS, Problem, WorkerLostError, plan_many, plan_stream, problem_seed
+from manip.batch import BATCH_OPTIONS, Problem, plan_many, plan_stream, problem_seed
 from manip.batch import process_pool, worker
 from manip.batch.plan import run_tasks
 from manip.batch.problem import prepare
@@ -399,23 +399,6 @@ def test_warm_up_loads_every_kernel_that_planning_meets():
 
 
 # ------------------------------------------------------------------ Ray (the ray extra)
-@pytest.fixture(scope="module")
-def ray_cluster():
-    """Ray's test cluster: two nodes of one CPU each, on this machine."""
-    ray = pytest.importorskip("ray", reason="the Ray backend needs the ray extra: pip install 'manip-robotics[ray]'")
-    from ray.cluster_utils import Cluster
-
-    cluster = Cluster(initialize_head=True, head_node_args={"num_cpus": 1})
-    cluster.add_node(num_cpus=1)
-    ray.init(address=cluster.address, log_to_driver=False)
-    yield ray
-    from manip.batch import release_ray_actors
-
-    release_ray_actors()
-    ray.shutdown()
-    cluster.shutdown()
-
-
 def kept_pids(ray) -> list[int]:
     """Process ids of the actors kept warm after the last Ray batch."""
     from manip.batch import ray_backend

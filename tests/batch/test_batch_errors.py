@@ -117,23 +117,6 @@ def test_bad_input_found_before_the_workers_start_still_raises(problems):
 
 
 # ------------------------------------------------------------------ Ray (the ray extra)
-@pytest.fixture(scope="module")
-def ray_cluster():
-    """Ray's test cluster: two nodes of one CPU each, on this machine (as tests/test_batch.py)."""
-    ray = pytest.importorskip("ray", reason="the Ray backend needs the ray extra: pip install 'manip[ray]'")
-    from ray.cluster_utils import Cluster
-
-    cluster = Cluster(initialize_head=True, head_node_args={"num_cpus": 1})
-    cluster.add_node(num_cpus=1)
-    ray.init(address=cluster.address, log_to_driver=False)
-    yield ray
-    from manip.batch import release_ray_actors
-
-    release_ray_actors()
-    ray.shutdown()
-    cluster.shutdown()
-
-
 def test_ray_a_raising_problem_is_a_failed_result_and_the_batch_goes_on(ray_cluster, problems, reference):
     seen = Counter()
     for pid, result in plan_stream(problems, backend="ray", seed=SEED):

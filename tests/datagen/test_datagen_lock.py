@@ -13,8 +13,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-pytest.importorskip("pyarrow", reason="manip.datagen needs the datagen extra: pip install 'manip[datagen]'")
-pytest.importorskip("pandas", reason="manip.datagen needs the datagen extra: pip install 'manip[datagen]'")
+pytest.importorskip("pyarrow", reason="manip.datagen needs the datagen extra: pip install 'manip-robotics[datagen]'")
+pytest.importorskip("pandas", reason="manip.datagen needs the datagen extra: pip install 'manip-robotics[datagen]'")
 
 from manip.datagen import generate, read_dataset
 from manip.datagen.__main__ import main
