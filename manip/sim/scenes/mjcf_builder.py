@@ -210,10 +210,6 @@ def _stl_bytes(path: Path) -> bytes:
     with anyway (the model's visuals then show hulls for those links)."""
     if path.suffix.lower() == ".stl":
         return path.read_bytes()
-    import coal
-
-    from scipy.spatial import ConvexHull
-
     bvh = coal.MeshLoader().load(str(path), np.ones(3))
     V = np.array(bvh.vertices(), dtype=float).reshape(-1, 3)
     hull = ConvexHull(V)
