@@ -34,8 +34,9 @@ from manip.constraints import (Constraint, certify_constraints, project, satisfi
 from manip.planning.validity import ADVANCE_BACKOFF_STEPS, Validity
 
 #: Length [rad] (joint-space L2) of one projected step of the constrained search. The steps are
-#: projected one after the other while their certificates are batched: 0.3 rad took 0.79 x the
-#: CPU of 0.15 rad on the 40-per-kind constrained set (search 0.55 x), same motion times (BENCHMARKS.md).
+#: projected one after the other while their certificates are batched: 0.3 rad took 0.79 x / 0.94 x
+#: the CPU of 0.15 rad on the 40- / 80-per-kind constrained sets, motion times 1.00 x median, about
+#: 1.05 x at p90 (BENCHMARKS.md, "Constrained planning").
 STEER_STEP = 0.3
 #: Steps of the constrained steering checked together.
 STEER_BATCH = 4
