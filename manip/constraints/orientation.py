@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -106,11 +107,7 @@ class OrientationConstraint(Constraint):
         return (theta - self.tolerance)[:, None], -np.einsum("ni,nij->nj", n, J[:, 3:6])[:, None, :]
 
     def segment_bound(self, kinematics: Kinematics, Q0: np.ndarray, Q1: np.ndarray) -> np.ndarray:
-        # the link turns at most sum |dq_k| over the revolute joints moving it (unit axes), and
-        # its axis, hence the tilt, by no more than the link turns
-        fid = kinematics.frame_id(link_or_ee(self.link, kinematics))
-        w = revolute_chain_weights(kinematics, fid)
-        return np.abs(np.atleast_2d(Q1) - np.atleast_2d(Q0)) @ w
+        return np.abs(np.atleast_2d(Q1) - np.atleast_2d(Q0)) @ tilt_weights(self, kinematics)
 
     @property
     def margin(self) -> float:
@@ -121,6 +118,44 @@ class OrientationConstraint(Constraint):
         link = link_or_ee(self.link, kinematics)
         return (f"the tilt of {link}'s axis {_fmt(self.axis)} from {_fmt(self.direction)} is {theta:.4g} rad "
                 f"({math.degrees(theta):.1f} deg; tolerance {self.tolerance:.4g} rad)")
+
+
+def tilt_weights(c: OrientationConstraint, kinematics: Kinematics) -> np.ndarray:
+    """(dof,) w such that the tilt changes at most sum_k w_k |dq_k| along a straight joint-space
+    segment (a bound for every configuration, so it holds over the whole segment).
+
+    theta' = -n . omega with n = (u x d) / |u x d| a unit vector normal to both u (the link's
+    axis) and d (`direction`), omega = sum_k a_k q_k' (a_k: the world axis of revolute joint k,
+    unit): so |theta'| <= sum_k |a_k . n| |q_k'|, and |a_k . n| <= 1. Two joints have a
+    constant, smaller bound: the root joint (parent: the fixed world) has a constant world axis
+    a, and n is normal to d, so |a . n| <= |a x d| (0 for a vertical first joint and an upright
+    constraint); the frame's own parent joint has a constant axis a_f in the frame, and n is
+    normal to u, so |a . n| <= |a_f x axis| (0 when the constrained axis is that joint's axis).
+    """
+    cache = _WEIGHTS.setdefault(kinematics, {})
+    key = (c.link, c.axis, c.direction)
+    if key in cache:
+        return cache[key]
+    fid = kinematics.frame_id(link_or_ee(c.link, kinematics))
+    w = revolute_chain_weights(kinematics, fid)
+    chain, _, revolute, f_joint, f_R, _ = kinematics.jacobian_tables(fid)
+    specs = kinematics.joint_specs
+    if len(chain):
+        root = specs[int(chain[-1]) - 1]
+        if root.revolute and root.parent == 0:  # its axis is fixed in the world
+            a = np.asarray(root.R_placement) @ np.asarray(root.axis)
+            w[root.q_index] = min(w[root.q_index], float(np.linalg.norm(np.cross(a, c.direction))))
+        last = specs[int(f_joint) - 1] if f_joint > 0 else None
+        if last is not None and last.revolute:  # its axis is fixed in the frame
+            a_f = np.asarray(f_R).T @ np.asarray(last.axis)
+            w[last.q_index] = min(w[last.q_index], float(np.linalg.norm(np.cross(a_f, c.axis))))
+    w.setflags(write=False)
+    cache[key] = w
+    return w
+
+
+#: tilt_weights per kinematics and (link, axis, direction).
+_WEIGHTS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def _cross(u: np.ndarray, d: np.ndarray) -> np.ndarray:

@@ -33,8 +33,11 @@ from manip.constraints import (Constraint, certify_constraints, project, satisfi
                                trajectory_deviation)
 from manip.planning.validity import ADVANCE_BACKOFF_STEPS, Validity
 
-#: Length [rad] (joint-space L2) of one projected step of the constrained search.
-STEER_STEP = 0.15
+#: Length [rad] (joint-space L2) of one projected step of the constrained search. The steps are
+#: projected one after the other while their certificates are batched: 0.3 rad took 0.79 x / 0.94 x
+#: the CPU of 0.15 rad on the 40- / 80-per-kind constrained sets, motion times 1.00 x median, about
+#: 1.05 x at p90 (BENCHMARKS.md, "Constrained planning").
+STEER_STEP = 0.3
 #: Steps of the constrained steering checked together.
 STEER_BATCH = 4
 #: Scale [m] of a constraint term in the optimiser: one margin of a constraint weighs like this much clearance.

@@ -63,6 +63,9 @@ def test_box_distance_and_its_gradient(franka_kinematics, configs):
 
 @pytest.mark.parametrize("make", [
     lambda: OrientationConstraint((0, 0, 1), (0, 0, 1), 0.3, link="panda_hand"),
+    lambda: OrientationConstraint((1, 0, 0), (0, 0, 1), 0.3, link="panda_hand"),
+    lambda: OrientationConstraint((0, 0.6, 0.8), (0.6, 0, 0.8), 0.3, link="panda_hand_tcp"),
+    lambda: OrientationConstraint((0, 0, -1), (0, 0, 1), 0.3, link="panda_link5"),
     lambda: PositionConstraint((-0.5, -0.5, 0.0), (0.8, 0.5, 1.0), link="panda_hand_tcp"),
 ])
 def test_segment_bound_holds_on_random_segments(franka_kinematics, make):
@@ -77,6 +80,26 @@ def test_segment_bound_holds_on_random_segments(franka_kinematics, make):
         L = c.segment_bound(kin, q0[None], q1[None])[0]
         rate = np.max(np.abs(np.diff(r, axis=0)), axis=1) / (t[1] - t[0])
         assert np.all(rate <= L * (1 + 1e-9)), (rate.max(), L)
+
+
+def test_tilt_bound_skips_turns_that_cannot_tilt(franka_kinematics):
+    """An upright constraint: the vertical first joint's turn and, for the axis along the last
+    joint, the last joint's turn leave the tilt unchanged, and the bound says so (0)."""
+    kin = franka_kinematics
+    rng = np.random.default_rng(2)
+    top = OrientationConstraint((0, 0, 1), (0, 0, 1), 0.3, link="panda_hand")
+    side = OrientationConstraint((1, 0, 0), (0, 0, 1), 0.3, link="panda_hand")
+    for _ in range(5):
+        q0 = rng.uniform(kin.lower, kin.upper)
+        for joint, constraint in ((0, top), (0, side), (6, top)):
+            q1 = q0.copy()
+            q1[joint] = np.clip(q0[joint] + 1.0, kin.lower[joint], kin.upper[joint])
+            tilt = constraint.tilt(kin, q0 + np.linspace(0, 1, 50)[:, None] * (q1 - q0))
+            assert np.ptp(tilt) < 1e-9
+            assert constraint.segment_bound(kin, q0[None], q1[None])[0] == 0.0
+        q1 = q0.copy()
+        q1[6] = np.clip(q0[6] + 1.0, kin.lower[6], kin.upper[6])
+        assert side.segment_bound(kin, q0[None], q1[None])[0] == pytest.approx(abs(q1[6] - q0[6]))
 
 
 def test_certificate_refuses_a_violation_between_samples(franka_kinematics):
