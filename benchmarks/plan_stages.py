@@ -35,16 +35,20 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from manip import MotionGenerator, WorldConfig  # noqa: E402
-from manip.benchmarking.mbm_problems import goal_pose, load_mbm_problems  # noqa: E402
-from manip.benchmarking.quality import lower_bound_time, path_length, straight_line_length  # noqa: E402
-from manip.benchmarking.verify import Verifier  # noqa: E402
-from manip.collision.checker import CollisionChecker  # noqa: E402
-from manip.collision.clearance import ClearanceModel  # noqa: E402
-from manip.errors import InvalidInputError  # noqa: E402
-from manip.planning.trajopt import qp as qp_module  # noqa: E402
-from manip.planning.trajopt import refine as refine_module  # noqa: E402
-from manip.planning.trajopt.settings import TrajOptSettings  # noqa: E402
+from manip import MotionGenerator, WorldConfig
+from manip.benchmarking.mbm_problems import goal_pose, load_mbm_problems
+from manip.benchmarking.quality import (
+    lower_bound_time,
+    path_length,
+    straight_line_length,
+)
+from manip.benchmarking.verify import Verifier
+from manip.collision.checker import CollisionChecker
+from manip.collision.clearance import ClearanceModel
+from manip.errors import InvalidInputError
+from manip.planning.trajopt import qp as qp_module
+from manip.planning.trajopt import refine as refine_module
+from manip.planning.trajopt.settings import TrajOptSettings
 
 #: Counters of the plan being made: name -> [calls, main-thread CPU seconds].
 _COUNTERS: dict[str, list] = collections.defaultdict(lambda: [0, 0.0])
