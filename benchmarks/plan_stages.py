@@ -54,9 +54,8 @@ from manip.planning.trajopt.settings import TrajOptSettings
 _COUNTERS: dict[str, list] = collections.defaultdict(lambda: [0, 0.0])
 
 
-def _counted(owner, attr: str, name: str) -> None:
-    """Wrap owner.attr so that its calls and CPU time add to _COUNTERS[name] (outermost call only)."""
-    fn = getattr(owner, attr)
+def _counted(fn, name: str):
+    """fn wrapped so that its calls and CPU time add to _COUNTERS[name] (outermost call only)."""
     depth = [0]
 
     def wrapper(*args, **kwargs):
@@ -72,7 +71,25 @@ def _counted(owner, attr: str, name: str) -> None:
             c[0] += 1
             c[1] += time.thread_time() - t
 
-    setattr(owner, attr, wrapper)
+    return wrapper
+
+
+#: What is counted: (owner, attribute, counter name).
+_COUNTED = ((qp_module, "solve", "qp"), (refine_module, "optimize_trajectory", "trajopt"),
+            (ClearanceModel, "terms", "terms"), (CollisionChecker, "_check", "check"))
+
+
+@contextlib.contextmanager
+def _instrumented():
+    """manip's functions of `_COUNTED` counted (restored afterwards)."""
+    originals = [(owner, attr, owner.__dict__[attr]) for owner, attr, _ in _COUNTED]
+    try:
+        for owner, attr, name in _COUNTED:
+            setattr(owner, attr, _counted(getattr(owner, attr), name))
+        yield
+    finally:
+        for owner, attr, fn in originals:
+            setattr(owner, attr, fn)
 
 
 @contextlib.contextmanager
@@ -158,6 +175,27 @@ def compare(a_rows: list[dict], b_rows: list[dict]) -> str:
     return "\n".join(out)
 
 
+def _run(mg: MotionGenerator, problems: list, kinds: list[str], overrides: dict, seed: int, profiler) -> dict:
+    """{"A": rows with the default settings, "B": rows with `overrides` (empty without)}; one
+    untimed warm-up plan per goal kind first."""
+    mg.update_world(WorldConfig.from_dict(problems[0].world))
+    for kind in kinds:
+        plan_once(mg, problems[0], kind, seed)
+    rows = {"A": [], "B": []}
+    for i, p in enumerate(problems):
+        mg.update_world(WorldConfig.from_dict(p.world))
+        for kind in kinds:
+            order = (("A", "B") if i % 2 == 0 else ("B", "A")) if overrides else ("A",)
+            for variant in order:
+                with _settings(overrides if variant == "B" else {}):
+                    if profiler is not None and variant == "A":
+                        profiler.enable()
+                    rows[variant].append(plan_once(mg, p, kind, seed))
+                    if profiler is not None:
+                        profiler.disable()
+    return rows
+
+
 def parse_args(argv=None) -> argparse.Namespace:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--limit-per-scene", type=int, default=10, help="first N problems of each scene (before the check)")
@@ -188,34 +226,17 @@ def main(argv=None) -> int:
     problems = [p for p in load_mbm_problems(limit_per_scene=args.limit_per_scene)
                 if (args.scenes is None or p.scene in args.scenes) and verifier.check_problem(p).valid]
     kinds = ["joint", "pose"] if args.goal == "both" else [args.goal]
-    _counted(qp_module, "solve", "qp")
-    _counted(refine_module, "optimize_trajectory", "trajopt")
-    _counted(ClearanceModel, "terms", "terms")
-    _counted(CollisionChecker, "_check", "check")
     if not problems:
         print("no valid problems selected", file=sys.stderr)
         return 2
-    mg.update_world(WorldConfig.from_dict(problems[0].world))  # warm-up, untimed (kernels loaded)
-    for kind in kinds:
-        plan_once(mg, problems[0], kind, args.seed)
-    rows = {"A": [], "B": []}
     profiler = None
     if args.cprofile:
         import cProfile
 
         profiler = cProfile.Profile()
     load = os.getloadavg()
-    for i, p in enumerate(problems):
-        mg.update_world(WorldConfig.from_dict(p.world))
-        for kind in kinds:
-            order = ("A", "B") if not overrides or (i % 2 == 0) else ("B", "A")
-            for variant in order if overrides else ("A",):
-                with _settings(overrides if variant == "B" else {}):
-                    if profiler is not None and variant == "A":
-                        profiler.enable()
-                    rows[variant].append(plan_once(mg, p, kind, args.seed))
-                    if profiler is not None:
-                        profiler.disable()
+    with _instrumented():
+        rows = _run(mg, problems, kinds, overrides, args.seed, profiler)
     print(f"load average at start {load[0]:.2f}, at end {os.getloadavg()[0]:.2f}; {len(problems)} valid problems, "
           f"goals {', '.join(kinds)}")
     print(report(rows["A"]))

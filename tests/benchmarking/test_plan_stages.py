@@ -52,3 +52,12 @@ def test_unknown_or_bad_settings_fail_before_planning(stages):
         stages.main(["--set", "no_such_field=1"])
     with pytest.raises(InvalidInputError, match="first_iterations"):
         stages.main(["--set", "first_iterations=-1"])
+
+
+def test_the_counting_is_undone_after_a_run(stages):
+    from manip.collision.checker import CollisionChecker
+    from manip.planning.trajopt import qp
+
+    before = (qp.solve, CollisionChecker._check)
+    assert stages.main(["--limit-per-scene", "1", "--scenes", "box_panda", "--goal", "joint"]) == 0
+    assert (qp.solve, CollisionChecker._check) == before
