@@ -71,6 +71,7 @@ def workload(robots: list[str]) -> list[str]:
     mg.batch_ik(goals)
     mg.distance(q0)
     mg.check_collision(q0)
+    _blended_timing(mg, q0)
     _reactive_control()
     _two_arms()
     _perception(mg, q0)
@@ -78,6 +79,17 @@ def workload(robots: list[str]) -> list[str]:
         if name != "franka":
             MotionGenerator(name)
     return sorted(jit.compiled_names())
+
+
+def _blended_timing(mg, q0: np.ndarray) -> None:
+    """A path timed with its corners blended at speed (`timing.time_path(mode="blend")`): the
+    blend planner's deviation kernel, with its segments' own arrays (the plans above end in
+    optimised motions, which never need it; a plan whose optimised motion fails does)."""
+    from manip.timing import time_path
+
+    path = q0 + np.array([[0.0] * 7, [0.6, 0.2, 0, 0, 0, 0, 0], [1.2, 0.2, 0.1, 0, 0, 0, 0]])
+    if not time_path(path, mg.config.limits, mode="blend").success:
+        raise RuntimeError("the prebuild workload's blended timing failed")
 
 
 def _two_arms() -> None:

@@ -1,0 +1,63 @@
+"""benchmarks/plan_stages.py: the per-stage report and the settings A/B on real plans."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+
+import pytest
+from robot_constants import REPO_ROOT
+
+from manip.errors import InvalidInputError
+from manip.planning.trajopt.settings import TrajOptSettings
+
+
+@pytest.fixture(scope="module")
+def stages():
+    spec = importlib.util.spec_from_file_location("plan_stages", REPO_ROOT / "benchmarks" / "plan_stages.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_a_b_with_the_default_value_gives_the_same_plans_and_counts_their_qps(stages, tmp_path, capsys):
+    out = tmp_path / "rows.json"
+    default = TrajOptSettings().tolerance
+    assert stages.main(["--limit-per-scene", "1", "--scenes", "box_panda", "--set", f"tolerance={default!r}",
+                        "--json", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "| stage | share of stage time |" in text and "| trajopt |" in text
+    rows = json.loads(out.read_text())["rows"]
+    assert len(rows["A"]) == len(rows["B"]) == 2  # one problem, joint and pose goals
+    for a, b in zip(rows["A"], rows["B"]):
+        assert a["success"] and b["success"]
+        assert a["motion_hash"] == b["motion_hash"]  # the same settings: the same motion
+        assert a["counters"]["qp"][0] == b["counters"]["qp"][0] >= 1  # the optimiser ran and was counted
+        assert a["stages"]["trajopt"] > 0
+    assert "identical motions 2/2" in text and "QPs 1.000" in text
+
+
+def test_a_b_with_another_value_changes_the_optimiser(stages, tmp_path, capsys):
+    out = tmp_path / "rows.json"
+    assert stages.main(["--limit-per-scene", "1", "--scenes", "box_panda", "--goal", "joint", "--set",
+                        "first_iterations=0", "--json", str(out)]) == 0
+    rows = json.loads(out.read_text())["rows"]
+    a, b = rows["A"][0], rows["B"][0]
+    assert a["success"] and b["success"]
+    assert a["counters"]["qp"][0] != b["counters"]["qp"][0] or a["motion_hash"] != b["motion_hash"]
+
+
+def test_unknown_or_bad_settings_fail_before_planning(stages):
+    with pytest.raises(InvalidInputError, match="'no_such_field' is not a TrajOptSettings field"):
+        stages.main(["--set", "no_such_field=1"])
+    with pytest.raises(InvalidInputError, match="first_iterations"):
+        stages.main(["--set", "first_iterations=-1"])
+
+
+def test_the_counting_is_undone_after_a_run(stages):
+    from manip.collision.checker import CollisionChecker
+    from manip.planning.trajopt import qp
+
+    before = (qp.solve, CollisionChecker._check)
+    assert stages.main(["--limit-per-scene", "1", "--scenes", "box_panda", "--goal", "joint"]) == 0
+    assert (qp.solve, CollisionChecker._check) == before
