@@ -49,7 +49,7 @@ import numpy as np
 from manip.collision import broadphase
 from manip.collision.certify import MotionCertificate, certify_path
 from manip.collision.edits import WorldEdits
-from manip.collision.occupancy import occupancy_candidates
+from manip.collision.occupancy import geometry_collide, geometry_distance, occupancy_candidates
 from manip.collision.results import (  # noqa: F401  (re-exported: manip.collision.checker.X keeps working)
     AttachedObject,
     CollisionReport,
@@ -195,7 +195,7 @@ class CollisionChecker(WorldEdits, SegmentChecks):
             tfa = tfs[key] = self._part_tf(R, p, n, i)
         res = coal.CollisionResult()
         if kind == 0:
-            hit = bool(coal.collide(self._parts[i].geometry, tfa, self._ogeom[j], self._otf[j], self._req_world, res))
+            hit = geometry_collide(self._parts[i].geometry, tfa, self._ogeom[j], self._otf[j], self._req_world, res)
             return hit or self._inside_solid(i, j, tfa.getRotation(), tfa.getTranslation())
         key = (n, j)
         tfb = tfs.get(key)
@@ -252,6 +252,7 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         res = coal.CollisionResult()
         Tf = coal.Transform3s
         collide = coal.collide
+        wcollide = geometry_collide
         n_l = n.tolist()
         keys = None if group is None else group[n].tolist()
         kind_l, i_l, j_l = kind.tolist(), i.tolist(), j.tolist()
@@ -265,11 +266,11 @@ class CollisionChecker(WorldEdits, SegmentChecks):
             if kind_l[t] == 0:
                 # a large mesh's convex hull (which holds it) first: free there, free for certain
                 # (of a solid mesh's surface: then inside or outside it, `_inside_solid` says)
-                if hulls[a] is not None and not collide(hulls[a], ta, ogeom[b], otf[b], req_w, res):
+                if hulls[a] is not None and not wcollide(hulls[a], ta, ogeom[b], otf[b], req_w, res):
                     hit = False
                 else:
                     res.clear()
-                    hit = collide(geoms[a], ta, ogeom[b], otf[b], req_w, res)
+                    hit = wcollide(geoms[a], ta, ogeom[b], otf[b], req_w, res)
                 hit = hit or self._inside_solid(a, b, RA[t], pA[t])
             else:
                 tb = Tf(RB[t], pB[t])
@@ -344,8 +345,7 @@ class CollisionChecker(WorldEdits, SegmentChecks):
 
     # ------------------------------------------------------------------ reports and distances
     def _pair_distance(self, geom_a, tf_a, geom_b, tf_b) -> float:
-        res = coal.DistanceResult()
-        return float(coal.distance(geom_a, tf_a, geom_b, tf_b, coal.DistanceRequest(), res))
+        return geometry_distance(geom_a, tf_a, geom_b, tf_b, coal.DistanceRequest(), coal.DistanceResult())[0]
 
     def _contact(self, kind: int, a: int, b: int, distance: float) -> Contact:
         """The `Contact` of part a with obstacle b (kind 0) or with part b (kind 1); an

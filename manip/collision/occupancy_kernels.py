@@ -1,18 +1,20 @@
 """Compiled (numba) kernels of occupancy maps (`manip.collision.occupancy`).
 
-A map is a dense grid `occ` (nx, ny, nz) uint8 of cells of edge `res` [m]: cell (i, j, k)
-is the box [(o + (i, j, k)) res, (o + (i, j, k) + 1) res] with `o` the grid's integer origin.
-Distances are lower bounds of the distance from a point to the union of the occupied cells:
+A map is a dense grid `idx` (nx, ny, nz) int32 over cells of edge `res` [m]: cell (i, j, k)
+is the box [(o + (i, j, k)) res, (o + (i, j, k) + 1) res] with `o` the grid's integer origin;
+idx < 0 where the cell is free, else the row of the cell's own box in `cb` (C, 6) [m] (lo,
+hi: a box within the cell, `cell_boxes`). The map is the union of the cells' boxes.
+Distances are lower bounds of the distance from a point to that union:
 
 - outside the box [lo, hi] holding every occupied cell: the distance to that box;
 - in a block of B^3 cells: `blb[block]`, the distance between that block's box and the
   nearest occupied block's box (an exact Euclidean distance transform of the dilated block
   grid, `OccupancyMap`), which no point of the block can beat;
-- near a ball: the exact distance from its centre to every occupied cell within reach,
-  visiting only the occupied blocks (`bocc`) that can hold a nearer cell.
+- near a ball: the exact distance from its centre to the box of every occupied cell within
+  reach, visiting only the occupied blocks (`bocc`) that can hold a nearer cell.
 
 These kernels only filter (as `manip.collision.broadphase`): a pair they cannot clear goes
-to coal's exact check on the cells' boxes.
+to coal's exact check on the cells' boxes, merged (`merge_boxes`) and picked by `near_boxes`.
 """
 
 from __future__ import annotations
@@ -25,6 +27,8 @@ from manip.jit import kernel
 
 #: A ball whose reach spans more blocks than this per axis is bounded by the blocks only.
 MAX_REACH_BLOCKS = 6
+#: Cell boxes are rounded outwards to multiples of this [m] (`cell_boxes`).
+QUANTUM = 1e-4
 
 
 @kernel(inline="always")
@@ -51,11 +55,9 @@ def _coarse(x0, x1, x2, res, origin, blb, B, lo, hi):
 
 
 @kernel(inline="always")
-def _cells_within(x0, x1, x2, s, stop, occ, res, origin, bocc, B):
-    """The distance [m] from the point to the nearest occupied cell if it is below s (else s),
-    visiting the occupied blocks within s, nearest first in order of enumeration; returns as
-    soon as one closer than `stop` is found."""
-    best = s
+def _block_range(x0, x1, x2, s, res, origin, bocc, B):
+    """The blocks (I0, I1, J0, J1, K0, K1), inclusive, that can hold a point within s [m] of
+    the point (x0, x1, x2)."""
     n0, n1, n2 = bocc.shape
     I0 = max(int(math.floor(((x0 - s) / res - origin[0]) / B)), 0)
     I1 = min(int(math.floor(((x0 + s) / res - origin[0]) / B)), n0 - 1)
@@ -63,6 +65,16 @@ def _cells_within(x0, x1, x2, s, stop, occ, res, origin, bocc, B):
     J1 = min(int(math.floor(((x1 + s) / res - origin[1]) / B)), n1 - 1)
     K0 = max(int(math.floor(((x2 - s) / res - origin[2]) / B)), 0)
     K1 = min(int(math.floor(((x2 + s) / res - origin[2]) / B)), n2 - 1)
+    return I0, I1, J0, J1, K0, K1
+
+
+@kernel(inline="always")
+def _cells_within(x0, x1, x2, s, stop, idx, cb, res, origin, bocc, B):
+    """The distance [m] from the point to the nearest occupied cell's box if it is below s
+    (else s), visiting the occupied blocks within s, nearest first in order of enumeration;
+    returns as soon as one closer than `stop` is found."""
+    best = s
+    I0, I1, J0, J1, K0, K1 = _block_range(x0, x1, x2, s, res, origin, bocc, B)
     for I in range(I0, I1 + 1):
         a = max((origin[0] + I * B) * res - x0, 0.0, x0 - (origin[0] + (I + 1) * B) * res)
         for J in range(J0, J1 + 1):
@@ -73,17 +85,19 @@ def _cells_within(x0, x1, x2, s, stop, occ, res, origin, bocc, B):
                 c = max((origin[2] + K * B) * res - x2, 0.0, x2 - (origin[2] + (K + 1) * B) * res)
                 if a * a + b * b + c * c >= best * best:
                     continue
-                for i in range(I * B, min((I + 1) * B, occ.shape[0])):
+                for i in range(I * B, min((I + 1) * B, idx.shape[0])):
                     e0 = max((origin[0] + i) * res - x0, 0.0, x0 - (origin[0] + i + 1) * res)
-                    for j in range(J * B, min((J + 1) * B, occ.shape[1])):
+                    for j in range(J * B, min((J + 1) * B, idx.shape[1])):
                         e1 = max((origin[1] + j) * res - x1, 0.0, x1 - (origin[1] + j + 1) * res)
-                        ab = e0 * e0 + e1 * e1
-                        if ab >= best * best:
+                        if e0 * e0 + e1 * e1 >= best * best:   # the cell holds its box
                             continue
-                        for k in range(K * B, min((K + 1) * B, occ.shape[2])):
-                            if occ[i, j, k]:
-                                e2 = max((origin[2] + k) * res - x2, 0.0, x2 - (origin[2] + k + 1) * res)
-                                e = math.sqrt(ab + e2 * e2)
+                        for k in range(K * B, min((K + 1) * B, idx.shape[2])):
+                            m = idx[i, j, k]
+                            if m >= 0:
+                                f0 = max(cb[m, 0] - x0, 0.0, x0 - cb[m, 3])
+                                f1 = max(cb[m, 1] - x1, 0.0, x1 - cb[m, 4])
+                                f2 = max(cb[m, 2] - x2, 0.0, x2 - cb[m, 5])
+                                e = math.sqrt(f0 * f0 + f1 * f1 + f2 * f2)
                                 if e < best:
                                     best = e
                                     if best < stop:
@@ -92,31 +106,26 @@ def _cells_within(x0, x1, x2, s, stop, occ, res, origin, bocc, B):
 
 
 @kernel
-def _nearest_point(x0, x1, x2, s, occ, res, origin, bocc, B):
-    """The nearest point (3 floats) of the occupied cells within s [m] of the point (the point
-    itself when none is)."""
+def _nearest_point(x0, x1, x2, s, idx, cb, res, origin, bocc, B):
+    """The nearest point (3 floats) of the occupied cells' boxes within s [m] of the point
+    (the point itself when none is)."""
     best = s
     y0, y1, y2 = x0, x1, x2
-    n0, n1, n2 = bocc.shape
-    I0 = max(int(math.floor(((x0 - s) / res - origin[0]) / B)), 0)
-    I1 = min(int(math.floor(((x0 + s) / res - origin[0]) / B)), n0 - 1)
-    J0 = max(int(math.floor(((x1 - s) / res - origin[1]) / B)), 0)
-    J1 = min(int(math.floor(((x1 + s) / res - origin[1]) / B)), n1 - 1)
-    K0 = max(int(math.floor(((x2 - s) / res - origin[2]) / B)), 0)
-    K1 = min(int(math.floor(((x2 + s) / res - origin[2]) / B)), n2 - 1)
+    I0, I1, J0, J1, K0, K1 = _block_range(x0, x1, x2, s, res, origin, bocc, B)
     for I in range(I0, I1 + 1):
         for J in range(J0, J1 + 1):
             for K in range(K0, K1 + 1):
                 if not bocc[I, J, K]:
                     continue
-                for i in range(I * B, min((I + 1) * B, occ.shape[0])):
-                    for j in range(J * B, min((J + 1) * B, occ.shape[1])):
-                        for k in range(K * B, min((K + 1) * B, occ.shape[2])):
-                            if not occ[i, j, k]:
+                for i in range(I * B, min((I + 1) * B, idx.shape[0])):
+                    for j in range(J * B, min((J + 1) * B, idx.shape[1])):
+                        for k in range(K * B, min((K + 1) * B, idx.shape[2])):
+                            m = idx[i, j, k]
+                            if m < 0:
                                 continue
-                            c0 = min(max(x0, (origin[0] + i) * res), (origin[0] + i + 1) * res)
-                            c1 = min(max(x1, (origin[1] + j) * res), (origin[1] + j + 1) * res)
-                            c2 = min(max(x2, (origin[2] + k) * res), (origin[2] + k + 1) * res)
+                            c0 = min(max(x0, cb[m, 0]), cb[m, 3])
+                            c1 = min(max(x1, cb[m, 1]), cb[m, 4])
+                            c2 = min(max(x2, cb[m, 2]), cb[m, 5])
                             e = math.sqrt((x0 - c0) ** 2 + (x1 - c1) ** 2 + (x2 - c2) ** 2)
                             if e < best:
                                 best = e
@@ -125,7 +134,7 @@ def _nearest_point(x0, x1, x2, s, occ, res, origin, bocc, B):
 
 
 @kernel(inline="always")
-def ball_clearance(x0, x1, x2, r, need, occ, res, origin, blb, bocc, B, lo, hi):
+def ball_clearance(x0, x1, x2, r, need, idx, cb, res, origin, blb, bocc, B, lo, hi):
     """A lower bound [m] of the distance from the ball (centre, radius r) to the occupied
     cells; exact up to `need` (a value >= need means "clear by need")."""
     d = _coarse(x0, x1, x2, res, origin, blb, B, lo, hi) - r
@@ -134,11 +143,11 @@ def ball_clearance(x0, x1, x2, r, need, occ, res, origin, blb, bocc, B, lo, hi):
     s = need + r  # cells farther than s from the centre cannot bring the ball within need
     if 2.0 * s > MAX_REACH_BLOCKS * B * res:
         return d
-    return max(_cells_within(x0, x1, x2, s, -1.0, occ, res, origin, bocc, B) - r, d)
+    return max(_cells_within(x0, x1, x2, s, -1.0, idx, cb, res, origin, bocc, B) - r, d)
 
 
 @kernel(inline="always")
-def ball_near(x0, x1, x2, r, need, occ, res, origin, blb, bocc, B, lo, hi):
+def ball_near(x0, x1, x2, r, need, idx, cb, res, origin, blb, bocc, B, lo, hi):
     """True when the ball (centre, radius r) may come within `need` [m] of an occupied cell
     (a cell within reach is found, or the reach spans too many blocks to look)."""
     if _coarse(x0, x1, x2, res, origin, blb, B, lo, hi) - r >= need:
@@ -146,7 +155,7 @@ def ball_near(x0, x1, x2, r, need, occ, res, origin, blb, bocc, B, lo, hi):
     s = need + r
     if 2.0 * s > MAX_REACH_BLOCKS * B * res:
         return True
-    return _cells_within(x0, x1, x2, s, s, occ, res, origin, bocc, B) < s
+    return _cells_within(x0, x1, x2, s, s, idx, cb, res, origin, bocc, B) < s
 
 
 @kernel
@@ -154,7 +163,7 @@ def map_candidates(R, p, margins, exact_depth,
                    l0_joint, l0_c, l0_r, mem_start, mem_count, mem_parts,
                    part_joint, c_start, c_count, c_centres, c_radii,
                    f_start, f_count, f_centres, f_radii,
-                   occ, res, origin, blb, bocc, B, lo, hi):
+                   idx, cb, res, origin, blb, bocc, B, lo, hi):
     """(configuration, moving part) pairs that may come within margins[n] [m] of the map.
 
     Args:
@@ -165,7 +174,7 @@ def map_candidates(R, p, margins, exact_depth,
             `depth` is that ball's coarse bound (an order of likelihood only: boolean checks).
         l0_joint ... f_radii: the robot side of `broadphase.world_candidates` (one ball per
             moving joint, then each part's coarse and fine covers).
-        occ, res, origin, blb, bocc, B, lo, hi: the map (module docstring).
+        idx, cb, res, origin, blb, bocc, B, lo, hi: the map (module docstring).
 
     Returns:
         n, part (T,) int64 and depth (T,) [m] (see `exact_depth`).
@@ -191,7 +200,7 @@ def map_candidates(R, p, margins, exact_depth,
                     for r in range(3):
                         x[r] = (R[n, j, r, 0] * c_centres[b, 0] + R[n, j, r, 1] * c_centres[b, 1]
                                 + R[n, j, r, 2] * c_centres[b, 2] + p[n, j, r])
-                    if ball_near(x[0], x[1], x[2], c_radii[b], margin, occ, res, origin, blb, bocc, B, lo, hi):
+                    if ball_near(x[0], x[1], x[2], c_radii[b], margin, idx, cb, res, origin, blb, bocc, B, lo, hi):
                         near = True
                         break
                 if not near:
@@ -202,9 +211,9 @@ def map_candidates(R, p, margins, exact_depth,
                         x[r] = (R[n, j, r, 0] * f_centres[b, 0] + R[n, j, r, 1] * f_centres[b, 1]
                                 + R[n, j, r, 2] * f_centres[b, 2] + p[n, j, r])
                     if exact_depth:
-                        s = ball_clearance(x[0], x[1], x[2], f_radii[b], margin, occ, res, origin, blb, bocc, B, lo, hi)
+                        s = ball_clearance(x[0], x[1], x[2], f_radii[b], margin, idx, cb, res, origin, blb, bocc, B, lo, hi)
                     else:
-                        if ball_near(x[0], x[1], x[2], f_radii[b], margin, occ, res, origin, blb, bocc, B, lo, hi):
+                        if ball_near(x[0], x[1], x[2], f_radii[b], margin, idx, cb, res, origin, blb, bocc, B, lo, hi):
                             m = _coarse(x[0], x[1], x[2], res, origin, blb, B, lo, hi) - f_radii[b]
                             break
                         continue
@@ -223,79 +232,200 @@ def map_candidates(R, p, margins, exact_depth,
 
 
 @kernel
-def point_lower_bounds(X, occ, res, origin, blb, bocc, B, lo, hi, exact_within):
+def point_lower_bounds(X, idx, cb, res, origin, blb, bocc, B, lo, hi, exact_within):
     """(M,) lower bounds [m] of the distance of points X (M, 3) to the occupied cells, exact
     where they are below `exact_within` [m] (then within the enumerated cells)."""
     out = np.empty(X.shape[0])
     for m in range(X.shape[0]):
-        out[m] = ball_clearance(X[m, 0], X[m, 1], X[m, 2], 0.0, exact_within, occ, res, origin, blb, bocc, B, lo, hi)
+        out[m] = ball_clearance(X[m, 0], X[m, 1], X[m, 2], 0.0, exact_within, idx, cb, res, origin, blb, bocc, B, lo, hi)
     return out
 
 
 @kernel
-def merge_boxes(occ):
-    """The occupied cells of `occ` (nx, ny, nz) as disjoint boxes (M, 6) int64 [i0, j0, k0,
-    i1, j1, k1) (greedy: runs along z, grown along y, then along x)."""
-    nx, ny, nz = occ.shape
-    used = np.zeros(occ.shape, dtype=np.bool_)
-    out = np.empty((64, 6), dtype=np.int64)
+def cell_boxes(cells, bounds, idx, origin, res):
+    """The box (C, 6) [m] (lo, hi) of each occupied cell: `bounds` (C, 6) (what the cell
+    holds, e.g. the bounds of the points measured in it) rounded outwards to QUANTUM, clamped
+    to the cell and extended to each face the cell shares with an occupied cell (so the boxes
+    of a surface's cells meet; a flat surface's cells get equal boxes, which merge).
+
+    Args:
+        cells: (C, 3) int64 lattice indices; idx: the grid of `OccupancyMap` (row of each cell).
+    """
+    C = cells.shape[0]
+    out = np.empty((C, 6))
+    for m in range(C):
+        for a in range(3):
+            f0 = cells[m, a] * res
+            f1 = (cells[m, a] + 1) * res
+            lo_ = min(max(math.floor(bounds[m, a] / QUANTUM) * QUANTUM, f0), f1)
+            hi_ = min(max(math.ceil(bounds[m, 3 + a] / QUANTUM) * QUANTUM, lo_), f1)
+            if lo_ - f0 < 1e-12:   # on a face: the face itself (merged boxes compare faces exactly)
+                lo_ = f0
+            if f1 - hi_ < 1e-12:
+                hi_ = f1
+            for side in range(2):
+                ii = cells[m, 0] - origin[0]
+                jj = cells[m, 1] - origin[1]
+                kk = cells[m, 2] - origin[2]
+                step = -1 if side == 0 else 1
+                if a == 0:
+                    ii += step
+                elif a == 1:
+                    jj += step
+                else:
+                    kk += step
+                if 0 <= ii < idx.shape[0] and 0 <= jj < idx.shape[1] and 0 <= kk < idx.shape[2] and idx[ii, jj, kk] >= 0:
+                    if side == 0:
+                        lo_ = f0
+                    else:
+                        hi_ = f1
+            out[m, a] = lo_
+            out[m, 3 + a] = hi_
+    return out
+
+
+@kernel(inline="always")
+def _fits(m, used, cb, lo_a, hi_a, face_lo, face_hi, first, last, L, H):
+    """True when the cell box m (unused) spans [face_lo, face_hi] along axis `lo_a` (lo column
+    index; hi column `hi_a`), or from L (first cell) / to H (last cell) of a growing box."""
+    if m < 0 or used[m]:
+        return False
+    want_lo = L if first else face_lo
+    want_hi = H if last else face_hi
+    return cb[m, lo_a] == want_lo and cb[m, hi_a] == want_hi
+
+
+@kernel
+def merge_boxes(idx, cb, origin, res):
+    """The cells' boxes as fewer disjoint boxes whose union is the same: (M, 6) [m] (lo, hi)
+    and the box of each cell (C,) int64 (greedy in grid order: runs along z, grown along y,
+    then along x, while the cells' boxes tile a box)."""
+    nx, ny, nz = idx.shape
+    C = cb.shape[0]
+    used = np.zeros(C, dtype=np.bool_)
+    of_cell = np.empty(C, dtype=np.int64)
+    out = np.empty((64, 6))
     M = 0
+    L = np.empty(3)
+    H = np.empty(3)
     for i in range(nx):
         for j in range(ny):
             for k in range(nz):
-                if not occ[i, j, k] or used[i, j, k]:
+                m0 = idx[i, j, k]
+                if m0 < 0 or used[m0]:
                     continue
+                for a in range(3):
+                    L[a] = cb[m0, a]
+                    H[a] = cb[m0, 3 + a]
                 k1 = k + 1
-                while k1 < nz and occ[i, j, k1] and not used[i, j, k1]:
+                while k1 < nz:
+                    f = (origin[2] + k1) * res
+                    m = idx[i, j, k1]
+                    if (H[2] != f or m < 0 or used[m] or cb[m, 2] != f or cb[m, 0] != L[0] or cb[m, 3] != H[0]
+                            or cb[m, 1] != L[1] or cb[m, 4] != H[1]):
+                        break
+                    H[2] = cb[m, 5]
                     k1 += 1
                 j1 = j + 1
                 while j1 < ny:
+                    f = (origin[1] + j1) * res
+                    if H[1] != f:
+                        break
+                    m = idx[i, j1, k]
+                    if m < 0:
+                        break
+                    top = cb[m, 4]
                     ok = True
                     for kk in range(k, k1):
-                        if not occ[i, j1, kk] or used[i, j1, kk]:
+                        m = idx[i, j1, kk]
+                        if not (_fits(m, used, cb, 2, 5, (origin[2] + kk) * res, (origin[2] + kk + 1) * res,
+                                      kk == k, kk == k1 - 1, L[2], H[2])
+                                and cb[m, 1] == f and cb[m, 4] == top and cb[m, 0] == L[0] and cb[m, 3] == H[0]):
                             ok = False
                             break
                     if not ok:
                         break
+                    H[1] = top
                     j1 += 1
                 i1 = i + 1
                 while i1 < nx:
+                    f = (origin[0] + i1) * res
+                    if H[0] != f:
+                        break
+                    m = idx[i1, j, k]
+                    if m < 0:
+                        break
+                    top = cb[m, 3]
                     ok = True
                     for jj in range(j, j1):
                         for kk in range(k, k1):
-                            if not occ[i1, jj, kk] or used[i1, jj, kk]:
+                            m = idx[i1, jj, kk]
+                            if not (_fits(m, used, cb, 2, 5, (origin[2] + kk) * res, (origin[2] + kk + 1) * res,
+                                          kk == k, kk == k1 - 1, L[2], H[2])
+                                    and _fits(m, used, cb, 1, 4, (origin[1] + jj) * res, (origin[1] + jj + 1) * res,
+                                              jj == j, jj == j1 - 1, L[1], H[1])
+                                    and cb[m, 0] == f and cb[m, 3] == top):
                                 ok = False
                                 break
                         if not ok:
                             break
                     if not ok:
                         break
+                    H[0] = top
                     i1 += 1
-                used[i:i1, j:j1, k:k1] = True
                 if M == out.shape[0]:
-                    out = np.concatenate((out, np.empty((M, 6), dtype=np.int64)))
-                out[M, 0], out[M, 1], out[M, 2] = i, j, k
-                out[M, 3], out[M, 4], out[M, 5] = i1, j1, k1
+                    out = np.concatenate((out, np.empty((M, 6))))
+                for ii in range(i, i1):
+                    for jj in range(j, j1):
+                        for kk in range(k, k1):
+                            m = idx[ii, jj, kk]
+                            used[m] = True
+                            of_cell[m] = M
+                for a in range(3):
+                    out[M, a] = L[a]
+                    out[M, 3 + a] = H[a]
                 M += 1
-    return out[:M].copy()
+    return out[:M].copy(), of_cell
 
 
 @kernel
-def cells_contain(X, occ, res, origin):
-    """True when a point of X (K, 3) [m] lies in an occupied cell (on a face: either side)."""
+def near_boxes(boxes, lo, hi, limit):
+    """The boxes (M, 6) [m] within `limit` [m] of the box [lo, hi] (3,): (ids (T,) int64,
+    distances (T,) [m] between the two boxes: lower bounds of any geometry's inside [lo, hi])."""
+    ids = np.empty(boxes.shape[0], dtype=np.int64)
+    d = np.empty(boxes.shape[0])
+    T = 0
+    for m in range(boxes.shape[0]):
+        a = max(boxes[m, 0] - hi[0], 0.0, lo[0] - boxes[m, 3])
+        b = max(boxes[m, 1] - hi[1], 0.0, lo[1] - boxes[m, 4])
+        c = max(boxes[m, 2] - hi[2], 0.0, lo[2] - boxes[m, 5])
+        e = math.sqrt(a * a + b * b + c * c)
+        if e < limit:
+            ids[T] = m
+            d[T] = e
+            T += 1
+    return ids[:T].copy(), d[:T].copy()
+
+
+@kernel
+def cells_contain(X, idx, cb, res, origin):
+    """True when a point of X (K, 3) [m] lies in an occupied cell's box (faces included, to 1e-9 m)."""
     for m in range(X.shape[0]):
         for e in (0.0, -1e-9, 1e-9):
             i = int(math.floor((X[m, 0] + e) / res)) - origin[0]
             j = int(math.floor((X[m, 1] + e) / res)) - origin[1]
             k = int(math.floor((X[m, 2] + e) / res)) - origin[2]
-            if 0 <= i < occ.shape[0] and 0 <= j < occ.shape[1] and 0 <= k < occ.shape[2] and occ[i, j, k]:
-                return True
+            if 0 <= i < idx.shape[0] and 0 <= j < idx.shape[1] and 0 <= k < idx.shape[2] and idx[i, j, k] >= 0:
+                c = idx[i, j, k]
+                if (cb[c, 0] - 1e-9 <= X[m, 0] <= cb[c, 3] + 1e-9 and cb[c, 1] - 1e-9 <= X[m, 1] <= cb[c, 4] + 1e-9
+                        and cb[c, 2] - 1e-9 <= X[m, 2] <= cb[c, 5] + 1e-9):
+                    return True
     return False
 
 
 @kernel
 def map_nearest_terms(R, p, centres, radii, joint, bodies, start, count, body_centre, body_radius, activation,
-                      occ, res, origin, blb, bocc, B, lo, hi):
+                      idx, cb, res, origin, blb, bocc, B, lo, hi):
     """The clearance terms of `manip.collision.clearance` against a map: for each
     (configuration, body) the ball nearest the occupied cells, kept when closer than
     `activation` [m], with the unit gradient of its centre's distance (from the nearest point
@@ -331,7 +461,7 @@ def map_nearest_terms(R, p, centres, radii, joint, bodies, start, count, body_ce
                             + R[n, j, r, 2] * centres[s, 2] + p[n, j, r])
                 if _coarse(x[0], x[1], x[2], res, origin, blb, B, lo, hi) - radii[s] >= min(best, reach):
                     continue   # cannot be nearer than the best ball so far, nor active
-                d = ball_clearance(x[0], x[1], x[2], radii[s], min(best, reach), occ, res, origin, blb, bocc, B, lo, hi)
+                d = ball_clearance(x[0], x[1], x[2], radii[s], min(best, reach), idx, cb, res, origin, blb, bocc, B, lo, hi)
                 if d < best:
                     best = d
                     best_s = s
@@ -342,8 +472,8 @@ def map_nearest_terms(R, p, centres, radii, joint, bodies, start, count, body_ce
                 x_out[T, r] = (R[n, j, r, 0] * centres[s, 0] + R[n, j, r, 1] * centres[s, 1]
                                + R[n, j, r, 2] * centres[s, 2] + p[n, j, r])
             # the unit direction from the nearest point of the nearest cell to the centre
-            y0, y1, y2 = _nearest_point(x_out[T, 0], x_out[T, 1], x_out[T, 2], reach + radii[s], occ, res, origin,
-                                        bocc, B)
+            y0, y1, y2 = _nearest_point(x_out[T, 0], x_out[T, 1], x_out[T, 2], reach + radii[s], idx, cb, res,
+                                        origin, bocc, B)
             g0, g1, g2 = x_out[T, 0] - y0, x_out[T, 1] - y1, x_out[T, 2] - y2
             norm = math.sqrt(g0 * g0 + g1 * g1 + g2 * g2)
             if norm < 1e-12:   # the centre in a cell: away from that cell's centre
