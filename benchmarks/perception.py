@@ -102,8 +102,7 @@ def run(kinds: list[str], per_kind: int, seed: int, resolution: float = RESOLUTI
                 m = mg_map.update_world_from_depth(depth, K, Pose(p, o), q=pb.start, resolution=resolution)
                 integrate.append(time.thread_time() - c0)
             c0 = time.thread_time()   # the map's collision tables alone: built again from its cells
-            again = OccupancyMap.from_cells("camera", resolution, m.cells)
-            again.coal_geometry()
+            again = OccupancyMap.from_cells("camera", resolution, m.cells, m.bounds)
             mg_map.checker.replace_obstacle(again)
             rebuild.append(time.thread_time() - c0)
             mg_true.update_world(pb.world)

@@ -36,7 +36,8 @@ import coal
 import numpy as np
 from scipy import ndimage
 
-from manip.collision.occupancy_kernels import (cell_boxes, cells_contain, map_candidates, merge_boxes, near_boxes,
+from manip.collision.occupancy_kernels import (boxes_near_balls, boxes_touching, cell_boxes, cells_contain, map_candidates, merge_boxes,
+                                              near_boxes,
                                               point_lower_bounds)
 from manip.collision.shapes import Mesh, _check_name, as_pose
 from manip.errors import InvalidInputError
@@ -138,6 +139,7 @@ class OccupancyMap(Mesh):
         shared: dict = {}
         if c.shape[0] == 0:   # an empty map: one tiny box far away stands for the geometry
             boxes = np.concatenate([np.full(3, 1e6), np.full(3, 1e6 + 1e-3)])[None]
+            of_cell = np.zeros(0, dtype=np.int64)
             idx = np.full((1, 1, 1), -1, dtype=np.int32)
             cb = np.zeros((0, 6))
             origin = np.zeros(3, dtype=np.int64)
@@ -164,8 +166,8 @@ class OccupancyMap(Mesh):
             blocks[bi[:, 0], bi[:, 1], bi[:, 2]] = True
             grown = ndimage.binary_dilation(np.pad(blocks, 1), structure=np.ones((3, 3, 3), dtype=bool))[1:-1, 1:-1, 1:-1]
             blb = ndimage.distance_transform_edt(~grown) * (BLOCK * res) if not grown.all() else np.zeros(grown.shape)
-            boxes = merge_boxes(idx, cb, origin, float(res))[0]
-        shared["geometry"] = MapGeometry(boxes)
+            boxes, of_cell = merge_boxes(idx, cb, origin, float(res))
+        shared["geometry"] = MapGeometry(boxes, idx, of_cell, np.ascontiguousarray(origin, dtype=np.int64), float(res))
         shared["tables"] = (idx, np.ascontiguousarray(cb), float(res), np.ascontiguousarray(origin, dtype=np.int64),
                             np.ascontiguousarray(blb, dtype=np.float64), np.ascontiguousarray(blocks), BLOCK,
                             np.asarray(lo, dtype=float), np.asarray(hi, dtype=float))
@@ -285,10 +287,12 @@ class MapGeometry:
     `coal.Box` made on first use. Its `collide` / `distance` stand for coal's calls against
     one geometry: a part is tested against the boxes its (placed) bounding box comes near."""
 
-    def __init__(self, boxes: np.ndarray):
+    def __init__(self, boxes: np.ndarray, idx: np.ndarray, of_cell: np.ndarray, origin: np.ndarray, res: float):
         self.boxes = np.ascontiguousarray(boxes, dtype=np.float64)
         self.boxes.setflags(write=False)
+        self._grid = (self.boxes, idx, np.ascontiguousarray(of_cell, dtype=np.int64), origin, float(res))
         self._coal: list = [None] * self.boxes.shape[0]
+        self._local: dict = {}
 
     def _box(self, m: int) -> tuple:
         got = self._coal[m]
@@ -299,24 +303,38 @@ class MapGeometry:
                                    coal.Transform3s(np.eye(3), (lo + hi) / 2.0))
         return got
 
-    @staticmethod
-    def _aabb(geometry, tf) -> tuple[np.ndarray, np.ndarray]:
-        """The world box (lo, hi) holding `geometry` placed at `tf`."""
-        local = geometry.aabb_local
-        if not local.min_[0] <= local.max_[0]:   # not computed yet (coal's convex hulls)
-            geometry.computeLocalAABB()
+    def _obb(self, geometry, tf) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The oriented box (axes R (3, 3), centre (3,), half extents (3,)) [m] holding
+        `geometry` placed at `tf` (its local bounding box)."""
+        got = self._local.get(id(geometry))
+        if got is None or got[0] is not geometry:
             local = geometry.aabb_local
-        c, h = (local.min_ + local.max_) / 2.0, (local.max_ - local.min_) / 2.0
+            if not local.min_[0] <= local.max_[0]:   # not computed yet (coal's convex hulls)
+                geometry.computeLocalAABB()
+                local = geometry.aabb_local
+            got = self._local[id(geometry)] = (geometry, (local.min_ + local.max_) / 2.0, (local.max_ - local.min_) / 2.0)
         R = tf.getRotation()
-        cw = R @ c + tf.getTranslation()
+        return R, R @ got[1] + tf.getTranslation(), got[2]
+
+    def _aabb(self, geometry, tf) -> tuple[np.ndarray, np.ndarray]:
+        """The world box (lo, hi) holding `geometry` placed at `tf`."""
+        R, cw, h = self._obb(geometry, tf)
         hw = np.abs(R) @ h
         return cw - hw, cw + hw
 
-    def collide(self, geometry, tf, request, result) -> bool:
-        """coal.collide of `geometry` at `tf` against the boxes (within the request's security margin)."""
-        lo, hi = self._aabb(geometry, tf)
-        ids, d = near_boxes(self.boxes, lo, hi, float(request.security_margin) + 1e-9)
-        for m in ids[np.argsort(d)].tolist():
+    def collide(self, geometry, tf, request, result, balls=None) -> bool:
+        """coal.collide of `geometry` at `tf` against the boxes (within the request's security
+        margin); `balls` ((K, 3) centres, (K,) radii [m], base frame) holding the geometry, if
+        known, pick the boxes to test (else its bounding box does)."""
+        margin = float(request.security_margin) + 1e-9
+        if balls is not None:
+            ids, d = boxes_near_balls(*self._grid, balls[0], balls[1], margin)
+        else:
+            R, c, h = self._obb(geometry, tf)
+            ids, d = boxes_touching(*self._grid, R, c, h, margin)
+        if ids.size == 0:
+            return False
+        for m in (ids.tolist() if ids.size == 1 else ids[np.argsort(d)].tolist()):
             box, btf = self._box(m)
             result.clear()
             if coal.collide(geometry, tf, box, btf, request, result):
@@ -342,10 +360,11 @@ class MapGeometry:
         return best, normal
 
 
-def geometry_collide(geometry, tf, obstacle_geometry, obstacle_tf, request, result) -> bool:
-    """coal.collide, or `MapGeometry.collide` for an occupancy map's geometry."""
+def geometry_collide(geometry, tf, obstacle_geometry, obstacle_tf, request, result, balls=None) -> bool:
+    """coal.collide, or `MapGeometry.collide` for an occupancy map's geometry (`balls`: its
+    argument, a callable giving it, or None)."""
     if type(obstacle_geometry) is MapGeometry:
-        return obstacle_geometry.collide(geometry, tf, request, result)
+        return obstacle_geometry.collide(geometry, tf, request, result, balls() if callable(balls) else balls)
     return bool(coal.collide(geometry, tf, obstacle_geometry, obstacle_tf, request, result))
 
 

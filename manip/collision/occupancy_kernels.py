@@ -408,6 +408,134 @@ def near_boxes(boxes, lo, hi, limit):
 
 
 @kernel
+def boxes_touching(boxes, idx, of_cell, origin, res, R, c, h, margin):
+    """The boxes (M, 6) [m] that the oriented box (axes R (3, 3) columns, centre c (3,), half
+    extents h (3,)) grown by `margin` [m] overlaps (separating axis test on the 15 axes),
+    among those of the cells its bounding box meets (idx: the map's grid, of_cell (C,): the
+    box of each cell): ids (T,) int64 and the distances (T,) [m] between the box's bounding
+    box and each (an order: nearest first)."""
+    g = np.empty(3)
+    for a in range(3):
+        g[a] = h[a] + margin
+    wh = np.empty(3)   # half extents of the oriented box's bounding box
+    for r in range(3):
+        wh[r] = abs(R[r, 0]) * g[0] + abs(R[r, 1]) * g[1] + abs(R[r, 2]) * g[2]
+    lo = np.empty(3, dtype=np.int64)
+    hi = np.empty(3, dtype=np.int64)
+    for a in range(3):
+        lo[a] = max(int(math.floor((c[a] - wh[a]) / res)) - origin[a], 0)
+        hi[a] = min(int(math.floor((c[a] + wh[a]) / res)) - origin[a], idx.shape[a] - 1)
+    seen = np.zeros(boxes.shape[0], dtype=np.bool_)
+    cand = np.empty(64, dtype=np.int64)
+    nc = 0
+    for i in range(lo[0], hi[0] + 1):
+        for j in range(lo[1], hi[1] + 1):
+            for k in range(lo[2], hi[2] + 1):
+                cell = idx[i, j, k]
+                if cell < 0:
+                    continue
+                b = of_cell[cell]
+                if seen[b]:
+                    continue
+                seen[b] = True
+                if nc == cand.shape[0]:
+                    cand = np.concatenate((cand, np.empty(nc, dtype=np.int64)))
+                cand[nc] = b
+                nc += 1
+    ids = np.empty(nc, dtype=np.int64)
+    d = np.empty(nc)
+    T = 0
+    axis = np.empty(3)
+    bh = np.empty(3)
+    t = np.empty(3)
+    for n in range(nc):
+        m = cand[n]
+        sep = False
+        for a in range(3):
+            bh[a] = (boxes[m, 3 + a] - boxes[m, a]) / 2.0
+            t[a] = (boxes[m, 3 + a] + boxes[m, a]) / 2.0 - c[a]
+            if abs(t[a]) > bh[a] + wh[a]:
+                sep = True
+        if sep:
+            continue
+        for k in range(12):   # the oriented box's axes, then the 9 cross products
+            if k < 3:
+                for r in range(3):
+                    axis[r] = R[r, k]
+            else:
+                e = (k - 3) // 3   # world axis e x oriented axis f
+                f = (k - 3) % 3
+                u0, u1, u2 = R[0, f], R[1, f], R[2, f]
+                if e == 0:
+                    axis[0], axis[1], axis[2] = 0.0, -u2, u1
+                elif e == 1:
+                    axis[0], axis[1], axis[2] = u2, 0.0, -u0
+                else:
+                    axis[0], axis[1], axis[2] = -u1, u0, 0.0
+            n2 = axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]
+            if n2 < 1e-18:
+                continue
+            ra = abs(axis[0]) * bh[0] + abs(axis[1]) * bh[1] + abs(axis[2]) * bh[2]
+            rb = 0.0
+            for q in range(3):
+                rb += abs(axis[0] * R[0, q] + axis[1] * R[1, q] + axis[2] * R[2, q]) * g[q]
+            if abs(axis[0] * t[0] + axis[1] * t[1] + axis[2] * t[2]) > (ra + rb) * (1.0 + 1e-12) + 1e-12:
+                sep = True
+                break
+        if sep:
+            continue
+        x = max(abs(t[0]) - bh[0] - wh[0] + margin, 0.0)
+        y = max(abs(t[1]) - bh[1] - wh[1] + margin, 0.0)
+        z = max(abs(t[2]) - bh[2] - wh[2] + margin, 0.0)
+        ids[T] = m
+        d[T] = math.sqrt(x * x + y * y + z * z)
+        T += 1
+    return ids[:T].copy(), d[:T].copy()
+
+
+@kernel
+def boxes_near_balls(boxes, idx, of_cell, origin, res, X, r, margin):
+    """The boxes (M, 6) [m] within `margin` [m] of a ball (centres X (K, 3), radii r (K,)),
+    among those of the cells within reach (idx: the map's grid, of_cell (C,): the box of each
+    cell): ids (T,) int64 and the smallest ball-to-box distance (T,) [m] of each."""
+    best = np.full(boxes.shape[0], np.inf)
+    cand = np.empty(64, dtype=np.int64)
+    nc = 0
+    for s in range(X.shape[0]):
+        reach = r[s] + margin
+        lo0 = max(int(math.floor((X[s, 0] - reach) / res)) - origin[0], 0)
+        hi0 = min(int(math.floor((X[s, 0] + reach) / res)) - origin[0], idx.shape[0] - 1)
+        lo1 = max(int(math.floor((X[s, 1] - reach) / res)) - origin[1], 0)
+        hi1 = min(int(math.floor((X[s, 1] + reach) / res)) - origin[1], idx.shape[1] - 1)
+        lo2 = max(int(math.floor((X[s, 2] - reach) / res)) - origin[2], 0)
+        hi2 = min(int(math.floor((X[s, 2] + reach) / res)) - origin[2], idx.shape[2] - 1)
+        for i in range(lo0, hi0 + 1):
+            for j in range(lo1, hi1 + 1):
+                for k in range(lo2, hi2 + 1):
+                    cell = idx[i, j, k]
+                    if cell < 0:
+                        continue
+                    b = of_cell[cell]
+                    a = max(boxes[b, 0] - X[s, 0], 0.0, X[s, 0] - boxes[b, 3])
+                    e = max(boxes[b, 1] - X[s, 1], 0.0, X[s, 1] - boxes[b, 4])
+                    f = max(boxes[b, 2] - X[s, 2], 0.0, X[s, 2] - boxes[b, 5])
+                    d = math.sqrt(a * a + e * e + f * f) - r[s]
+                    if d >= margin or d >= best[b]:
+                        continue
+                    if best[b] == np.inf:
+                        if nc == cand.shape[0]:
+                            cand = np.concatenate((cand, np.empty(nc, dtype=np.int64)))
+                        cand[nc] = b
+                        nc += 1
+                    best[b] = d
+    ids = cand[:nc].copy()
+    out = np.empty(nc)
+    for n in range(nc):
+        out[n] = best[ids[n]]
+    return ids, out
+
+
+@kernel
 def cells_contain(X, idx, cb, res, origin):
     """True when a point of X (K, 3) [m] lies in an occupied cell's box (faces included, to 1e-9 m)."""
     for m in range(X.shape[0]):

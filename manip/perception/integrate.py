@@ -12,8 +12,9 @@ depth image; `integrate_pointcloud` does the same with a cloud. `MotionGenerator
    a part's 26-DOP (the polytope of 26 fixed directions around the convex hull of its
    collision geometry; links and attached objects), looked up through the sphere cover;
 3. occupied: the cell of every remaining point (`manip.perception.kernels`), holding the
-   bounding box of the points measured in it (`OccupancyMap.bounds`; over every update
-   until the cell is freed, so two cameras' views of one cell add up);
+   bounding box of the points measured in it and of the rays behind them to the cell's end
+   (`OccupancyMap.bounds`: exact on the side the camera saw, the whole cell on the side it
+   could not; over every update until the cell is freed, so two cameras' views add up);
 4. free: a cell occupied before (or, with `unknown="occupied"`, never observed) is freed
    when the image sees through it: every pixel ray crossing it measures a surface beyond the
    point where it leaves the cell (`cells_seen_free`), so an object that moved away

@@ -10,7 +10,8 @@ Cells are those of `manip.collision.occupancy`: cell (i, j, k) is the box [i r, 
   base frame, drops the points within a ball of the robot and beyond the range, and returns
   the key of each point's cell with the bounds of the points in it (a point within `SNAP`
   [m] before a cell face along its ray counts in the cell behind it, so that a surface on a
-  face is held by the cell behind it); at a silhouette (the next pixel sees far beyond, or
+  face is held by the cell behind it), and of the ray a cell diagonal beyond it (what the
+  point hides: the box is exact on the side the camera saw, the whole cell behind); at a silhouette (the next pixel sees far beyond, or
   nothing) the bounds reach that pixel's ray at the point's depth, so a surface's edge
   between two rays is held; `reduce_bounds` merges the rows of a repeated key;
 - `cells_seen_free`: which cells every pixel ray through them passes without a hit: the
@@ -196,6 +197,7 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, reach_c, reach_r,
         box_lo[a] = lo[a] * cell
         box_hi[a] = (lo[a] + shape[a]) * cell
     check_robot = centres.shape[0] > 0
+    behind = math.sqrt(3.0) * res   # [depth units]: at least a cell diagonal along the ray
     A = np.empty(W)
     for u in range(W):
         A[u] = (u - cx) / fx
@@ -241,23 +243,29 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, reach_c, reach_r,
             zs = z + SNAP   # SNAP further along the ray (depth units, as `cells_seen_free`)
             key = pack(int(math.floor((t[0] + zs * d0) * inv)), int(math.floor((t[1] + zs * d1) * inv)),
                        int(math.floor((t[2] + zs * d2) * inv)))
+            # behind the point the ray is hidden: the bounds take the ray a cell diagonal on
+            # (clamped to the cell by `OccupancyMap`), so only the side the camera saw is exact
+            zb = z + behind
+            y0 = t[0] + zb * d0
+            y1 = t[1] + zb * d1
+            y2 = t[2] + zb * d2
             slot = (key ^ (key >> 19) ^ (key >> 37)) & 65535
             if recent[slot] != key:
                 recent[slot] = key
                 row[slot] = P
                 out[P] = key
-                bounds[P, 0] = bounds[P, 3] = x0
-                bounds[P, 1] = bounds[P, 4] = x1
-                bounds[P, 2] = bounds[P, 5] = x2
+                bounds[P, 0], bounds[P, 3] = min(x0, y0), max(x0, y0)
+                bounds[P, 1], bounds[P, 4] = min(x1, y1), max(x1, y1)
+                bounds[P, 2], bounds[P, 5] = min(x2, y2), max(x2, y2)
                 P += 1
             else:
                 r = row[slot]
-                bounds[r, 0] = min(bounds[r, 0], x0)
-                bounds[r, 1] = min(bounds[r, 1], x1)
-                bounds[r, 2] = min(bounds[r, 2], x2)
-                bounds[r, 3] = max(bounds[r, 3], x0)
-                bounds[r, 4] = max(bounds[r, 4], x1)
-                bounds[r, 5] = max(bounds[r, 5], x2)
+                bounds[r, 0] = min(bounds[r, 0], x0, y0)
+                bounds[r, 1] = min(bounds[r, 1], x1, y1)
+                bounds[r, 2] = min(bounds[r, 2], x2, y2)
+                bounds[r, 3] = max(bounds[r, 3], x0, y0)
+                bounds[r, 4] = max(bounds[r, 4], x1, y1)
+                bounds[r, 5] = max(bounds[r, 5], x2, y2)
             # a silhouette: the surface goes on up to the next pixel's ray (whose depth is far
             # beyond, or unmeasured): the bounds take that ray's point at this depth
             jump = max(SILHOUETTE, SILHOUETTE_PX * z / fx)
