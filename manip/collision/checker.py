@@ -195,7 +195,8 @@ class CollisionChecker(WorldEdits, SegmentChecks):
             tfa = tfs[key] = self._part_tf(R, p, n, i)
         res = coal.CollisionResult()
         if kind == 0:
-            hit = geometry_collide(self._parts[i].geometry, tfa, self._ogeom[j], self._otf[j], self._req_world, res)
+            hit = geometry_collide(self._parts[i].geometry, tfa, self._ogeom[j], self._otf[j], self._req_world, res,
+                                   lambda: self._balls_at(i, tfa.getRotation(), tfa.getTranslation()))
             return hit or self._inside_solid(i, j, tfa.getRotation(), tfa.getTranslation())
         key = (n, j)
         tfb = tfs.get(key)

@@ -36,7 +36,7 @@ import coal
 import numpy as np
 from scipy import ndimage
 
-from manip.collision.occupancy_kernels import (boxes_near_balls, boxes_touching, cell_boxes, cells_contain, map_candidates, merge_boxes,
+from manip.collision.occupancy_kernels import (boxes_near_balls, cell_boxes, cells_contain, map_candidates, merge_boxes,
                                               near_boxes,
                                               point_lower_bounds)
 from manip.collision.shapes import Mesh, _check_name, as_pose
@@ -330,8 +330,7 @@ class MapGeometry:
         if balls is not None:
             ids, d = boxes_near_balls(*self._grid, balls[0], balls[1], margin)
         else:
-            R, c, h = self._obb(geometry, tf)
-            ids, d = boxes_touching(*self._grid, R, c, h, margin)
+            ids, d = near_boxes(self.boxes, *self._aabb(geometry, tf), margin)
         if ids.size == 0:
             return False
         for m in (ids.tolist() if ids.size == 1 else ids[np.argsort(d)].tolist()):

@@ -282,7 +282,7 @@ def _update(checker, name: str, resolution: float, unknown: str, bounds, frame: 
     if state is None:
         seen, sb = np.zeros(0, dtype=np.int64), np.zeros((0, 6))
         if prev is not None:   # a map given as cells: its bounds, or whole cells (the cells are sorted, so the keys)
-            seen = pack_all(np.ascontiguousarray(prev.cells))
+            seen = pack_all(np.array(prev.cells))   # a writable copy: the compiled signature
             sb = prev.bounds if prev.bounds is not None else _full_cells(prev.cells, prev.resolution)
         state = _MapState(resolution, seen, np.asarray(sb, dtype=np.float64), unknown)
         if unknown == "occupied":
