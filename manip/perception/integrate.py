@@ -66,6 +66,7 @@ CLOUD_PIXELS = 256
 #: Largest bounds grid of `unknown="occupied"` (cells).
 MAX_BOUNDS_CELLS = 8_000_000
 _UNKNOWN = ("free", "occupied")
+_FILL = ("points", "cells")
 
 
 @dataclass
@@ -267,7 +268,13 @@ def _merged_bounds(keys: np.ndarray, a_keys: np.ndarray, a_bounds: np.ndarray, b
     return out
 
 
-def _update(checker, name: str, resolution: float, unknown: str, bounds, frame: _Frame) -> OccupancyMap:
+def _fill(fill: str) -> str:
+    if fill not in _FILL:
+        raise InvalidInputError(f"fill must be one of {', '.join(map(repr, _FILL))}; got {fill!r}")
+    return fill
+
+
+def _update(checker, name: str, resolution: float, unknown: str, bounds, frame: _Frame, fill: str) -> OccupancyMap:
     """Apply one observation to the map `name` of `checker` and install the new map."""
     world = checker.world
     prev = world.get(name) if name in world else None
@@ -318,7 +325,8 @@ def _update(checker, name: str, resolution: float, unknown: str, bounds, frame: 
         cb = np.vstack([cb, _full_cells(hidden, resolution)])
     else:
         state = _MapState(resolution, seen, seen_bounds, unknown)
-    new = OccupancyMap.from_cells(name, resolution, cells, cb, _sorted=state.observed is None)
+    new = OccupancyMap.from_cells(name, resolution, cells, cb if fill == "points" else None,
+                                  _sorted=state.observed is None)
     if prev is None:
         checker.add_obstacle(new)
     else:
@@ -329,7 +337,7 @@ def _update(checker, name: str, resolution: float, unknown: str, bounds, frame: 
 
 def integrate_depth(checker, depth, intrinsics, camera_pose: Pose, *, name: str = "camera", resolution: float = 0.02,
                     q: np.ndarray | None = None, max_range: float = 3.0, unknown: str = "free", bounds=None,
-                    self_margin: float = 0.01) -> OccupancyMap:
+                    self_margin: float = 0.01, fill: str = "points") -> OccupancyMap:
     """Integrate one depth image into the occupancy map `name` of `checker` (module docstring).
 
     Args:
@@ -348,6 +356,9 @@ def integrate_depth(checker, depth, intrinsics, camera_pose: Pose, *, name: str 
         max_range: points farther than this from the camera [m] are ignored.
         unknown: "free" (never observed = free) or "occupied" (within `bounds`).
         bounds: [[x0, y0, z0], [x1, y1, z1]] [m], base frame (needed with unknown="occupied").
+        self_margin: points within this of the robot [m] are dropped.
+        fill: "points": an occupied cell holds the box of the points measured in it and of the
+            rays behind them (`OccupancyMap.bounds`); "cells": the whole cell.
 
     Returns:
         The new `OccupancyMap` (also in the checker's world).
@@ -359,6 +370,7 @@ def integrate_depth(checker, depth, intrinsics, camera_pose: Pose, *, name: str 
     rng = positive(max_range, "max_range", "m")
     margin = non_negative(self_margin, "self_margin", "m")
     b = _bounds(bounds, unknown)
+    fill = _fill(fill)
     R = np.ascontiguousarray(pose.rotation @ WORLD_AXES_TO_OPTICAL)
     t = np.ascontiguousarray(pose.position, dtype=np.float64)
     rob = _robot(checker, q, margin)
@@ -370,7 +382,7 @@ def integrate_depth(checker, depth, intrinsics, camera_pose: Pose, *, name: str 
     def seen_free(cells: np.ndarray) -> np.ndarray:
         return cells_seen_free(np.ascontiguousarray(cells, dtype=np.int64), d, fx, fy, cx, cy, R, t, res, NEAR)
 
-    return _update(checker, name, res, unknown, b, _Frame(keys, kb, seen_free))
+    return _update(checker, name, res, unknown, b, _Frame(keys, kb, seen_free), fill)
 
 
 def _cube_faces() -> list[np.ndarray]:
@@ -390,7 +402,7 @@ def _cube_faces() -> list[np.ndarray]:
 
 def integrate_pointcloud(checker, points, origin=None, *, name: str = "camera", resolution: float = 0.02,
                          q: np.ndarray | None = None, max_range: float = 3.0, unknown: str = "free", bounds=None,
-                         self_margin: float = 0.01) -> OccupancyMap:
+                         self_margin: float = 0.01, fill: str = "points") -> OccupancyMap:
     """Integrate a point cloud into the occupancy map `name` of `checker`.
 
     As `integrate_depth`, with the points given: (N, 3) [m] in the robot base frame (NaN
@@ -410,6 +422,7 @@ def integrate_pointcloud(checker, points, origin=None, *, name: str = "camera", 
     rng = positive(max_range, "max_range", "m")
     margin = non_negative(self_margin, "self_margin", "m")
     b = _bounds(bounds, unknown)
+    fill = _fill(fill)
     o = np.zeros(3) if origin is None else as_real_array(origin, "origin")
     if o.shape != (3,) or not np.all(np.isfinite(o)):
         raise InvalidInputError(f"origin must be a finite position (3,) [m] or None; got {origin!r}")
@@ -440,7 +453,7 @@ def integrate_pointcloud(checker, points, origin=None, *, name: str = "camera", 
             out |= cells_seen_free(c, img, f, f, (n - 1) / 2.0, (n - 1) / 2.0, Rf, o, res, NEAR)
         return out
 
-    return _update(checker, name, res, unknown, b, _Frame(keys, kb, seen_free))
+    return _update(checker, name, res, unknown, b, _Frame(keys, kb, seen_free), fill)
 
 
 def _cloud_cells(P: np.ndarray, origin: np.ndarray | None, res: float, rob: _Robot) -> tuple[np.ndarray, np.ndarray]:

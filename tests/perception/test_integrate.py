@@ -206,6 +206,8 @@ def test_bad_input_names_the_argument(mg):
         mg.update_world_from_depth(d, K, pose, unknown="maybe")
     with pytest.raises(InvalidInputError, match="bounds"):
         mg.update_world_from_depth(d, K, pose, unknown="occupied")
+    with pytest.raises(InvalidInputError, match="fill"):
+        mg.update_world_from_depth(d, K, pose, fill="solid")
     with pytest.raises(InvalidInputError, match="points"):
         mg.update_world_from_pointcloud(np.zeros((10, 2)))
     with pytest.raises(InvalidInputError, match="q"):
