@@ -133,8 +133,8 @@ def run(kinds: list[str], per_kind: int, seed: int, resolution: float = RESOLUTI
             print(f"  {kind}/{k}: true {row['true_status']} {row['true_time']:.3f} s, map {row['map_status']} "
                   f"{row['map_time']:.3f} s{' COLLIDES ' + str(row['collision_pair']) if row.get('collision') else ''}; "
                   f"{m.num_cells} cells, {m.num_boxes} boxes", flush=True)
-    return {"rows": rows, "resolution": resolution, "fill": fill, "integrate": np.array(integrate), "rebuild": np.array(rebuild),
-            "check_map": np.array(check_map), "check_true": np.array(check_true)}
+    return {"rows": rows, "resolution": resolution, "fill": fill, "integrate": np.array(integrate),
+            "rebuild": np.array(rebuild), "check_map": np.array(check_map), "check_true": np.array(check_true)}
 
 
 def table(res: dict, m: dict) -> str:

@@ -36,9 +36,8 @@ import coal
 import numpy as np
 from scipy import ndimage
 
-from manip.collision.occupancy_kernels import (boxes_near_balls, cell_boxes, cells_contain, map_candidates, merge_boxes,
-                                              near_boxes,
-                                              point_lower_bounds)
+from manip.collision.occupancy_boxes import boxes_near_balls, cell_boxes, merge_boxes, near_boxes
+from manip.collision.occupancy_kernels import cells_contain, map_candidates, point_lower_bounds
 from manip.collision.shapes import Mesh, _check_name, as_pose
 from manip.errors import InvalidInputError
 from manip.pose import Pose
@@ -164,7 +163,8 @@ class OccupancyMap(Mesh):
             blocks = np.zeros(tuple(int(s) for s in nb), dtype=bool)
             bi = rel // BLOCK
             blocks[bi[:, 0], bi[:, 1], bi[:, 2]] = True
-            grown = ndimage.binary_dilation(np.pad(blocks, 1), structure=np.ones((3, 3, 3), dtype=bool))[1:-1, 1:-1, 1:-1]
+            grown = ndimage.binary_dilation(np.pad(blocks, 1), structure=np.ones((3, 3, 3), dtype=bool))
+            grown = grown[1:-1, 1:-1, 1:-1]
             blb = ndimage.distance_transform_edt(~grown) * (BLOCK * res) if not grown.all() else np.zeros(grown.shape)
             boxes, of_cell = merge_boxes(idx, cb, origin, float(res))
         shared["geometry"] = MapGeometry(boxes, idx, of_cell, np.ascontiguousarray(origin, dtype=np.int64), float(res))
@@ -312,7 +312,8 @@ class MapGeometry:
             if not local.min_[0] <= local.max_[0]:   # not computed yet (coal's convex hulls)
                 geometry.computeLocalAABB()
                 local = geometry.aabb_local
-            got = self._local[id(geometry)] = (geometry, (local.min_ + local.max_) / 2.0, (local.max_ - local.min_) / 2.0)
+            got = (geometry, (local.min_ + local.max_) / 2.0, (local.max_ - local.min_) / 2.0)
+            self._local[id(geometry)] = got
         R = tf.getRotation()
         return R, R @ got[1] + tf.getTranslation(), got[2]
 
