@@ -26,9 +26,11 @@ What the map guarantees: every point a camera measured (and kept) lies in its ce
 meet (`OccupancyMap`), so a surface seen as face-adjacent cells is a closed sheet, and
 between cells that only share an edge or a corner the gap is at most the spacing of the
 measured points there (about depth / focal length [px]: 2-3 mm at 1.5 m for the cameras of
-`benchmarks/perception.py`). The volume behind a seen surface is not in the map: a part
-can only get there through a face no camera saw. With `unknown="free"` (the default), space never
-observed is free: an object no camera saw is not avoided. With `unknown="occupied"`, every
+`benchmarks/perception.py`). The volume behind a seen surface is in the map only to the end
+of the surface's cells: a part can only get there through a face no camera saw. With
+`fill="cells"` every occupied cell is whole (surfaces inflated by up to a cell). With
+`unknown="free"` (the default), space never observed is free: an object no camera saw is
+not avoided. With `unknown="occupied"`, every
 cell within `bounds` that no image has seen free is an obstacle, so only space observed free
 (or outside `bounds`) is planned through.
 
