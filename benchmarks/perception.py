@@ -76,7 +76,7 @@ def build_scene(world_dict: dict, start: np.ndarray):
     return world, franka, cams
 
 
-def run(kinds: list[str], per_kind: int, seed: int, resolution: float = RESOLUTION) -> dict:
+def run(kinds: list[str], per_kind: int, seed: int, resolution: float = RESOLUTION, fill: str = "points") -> dict:
     from manip import MotionGenerator, Pose
     from manip.benchmarking.scenes import make_problems
     from manip.benchmarking.verify import default_verifier
@@ -99,11 +99,10 @@ def run(kinds: list[str], per_kind: int, seed: int, resolution: float = RESOLUTI
                 p, o = cam.get_world_pose()
                 K = cam.get_intrinsics_matrix()
                 c0 = time.thread_time()
-                m = mg_map.update_world_from_depth(depth, K, Pose(p, o), q=pb.start, resolution=resolution)
+                m = mg_map.update_world_from_depth(depth, K, Pose(p, o), q=pb.start, resolution=resolution, fill=fill)
                 integrate.append(time.thread_time() - c0)
             c0 = time.thread_time()   # the map's collision tables alone: built again from its cells
-            again = OccupancyMap.from_cells("camera", resolution, m.cells)
-            again.coal_geometry()
+            again = OccupancyMap.from_cells("camera", resolution, m.cells, m.bounds)
             mg_map.checker.replace_obstacle(again)
             rebuild.append(time.thread_time() - c0)
             mg_true.update_world(pb.world)
@@ -134,8 +133,8 @@ def run(kinds: list[str], per_kind: int, seed: int, resolution: float = RESOLUTI
             print(f"  {kind}/{k}: true {row['true_status']} {row['true_time']:.3f} s, map {row['map_status']} "
                   f"{row['map_time']:.3f} s{' COLLIDES ' + str(row['collision_pair']) if row.get('collision') else ''}; "
                   f"{m.num_cells} cells, {m.num_boxes} boxes", flush=True)
-    return {"rows": rows, "resolution": resolution, "integrate": np.array(integrate), "rebuild": np.array(rebuild),
-            "check_map": np.array(check_map), "check_true": np.array(check_true)}
+    return {"rows": rows, "resolution": resolution, "fill": fill, "integrate": np.array(integrate),
+            "rebuild": np.array(rebuild), "check_map": np.array(check_map), "check_true": np.array(check_true)}
 
 
 def table(res: dict, m: dict) -> str:
@@ -192,17 +191,19 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--kinds", default="table,shelf,box,clutter")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--resolution", type=float, default=RESOLUTION, help="cell edge of the map [m]")
+    parser.add_argument("--fill", default="points", choices=("points", "cells"),
+                        help="what an occupied cell holds (update_world_from_depth's fill)")
     parser.add_argument("--write-md", action="store_true", help="update the Perception section of BENCHMARKS.md")
     args = parser.parse_args(argv)
     kinds = [k.strip() for k in args.kinds.split(",") if k.strip()]
     m = machine()
-    res = run(kinds, args.per_kind, args.seed, args.resolution)
+    res = run(kinds, args.per_kind, args.seed, args.resolution, args.fill)
     text = table(res, m)
     print()
     print(text)
     if args.write_md:
         cmd = (f"python benchmarks/perception.py --per-kind {args.per_kind} --kinds {args.kinds} --seed {args.seed} "
-               f"--resolution {args.resolution}")
+               f"--resolution {args.resolution} --fill {args.fill}")
         replace_section(ROOT / "BENCHMARKS.md", "## Perception",
                         "## Perception\n\n" f"`{cmd} --write-md` (see the script's docstring: seeded scenes in "
                         "manip.sim, two 640x480 depth cameras above and behind the robot, a 2 cm occupancy map "

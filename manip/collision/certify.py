@@ -50,7 +50,7 @@ import coal
 import numpy as np
 
 from manip.collision import broadphase
-from manip.collision.occupancy import occupancy_candidates
+from manip.collision.occupancy import geometry_distance, occupancy_candidates
 from manip.collision.robot_geometry import geometry_triangles
 from manip.collision.shapes import Capsule, Cuboid, Cylinder, Mesh, Sphere
 from manip.collision.solids import part_inside_a_solid
@@ -367,13 +367,14 @@ class _Context:
         res = self.res
         res.clear()
         if kind == 0:
-            d = coal.distance(pa.geometry if mesh else pa.hull, tf[0], self.state.obstacle_geometries[j],
-                              self.state.obstacle_transforms[j], self.req, res)
+            d, n = geometry_distance(pa.geometry if mesh else pa.hull, tf[0], self.state.obstacle_geometries[j],
+                                     self.state.obstacle_transforms[j], self.req, res)
         else:
             pb = self.parts[j]
             d = coal.distance(pa.geometry if mesh else pa.hull, tf[0], pb.geometry if mesh else pb.hull, tf[1],
                               self.req, res)
-        n = res.normal.copy() if (not mesh and d > 0.0) else None
+            n = res.normal.copy() if d > 0.0 else None
+        n = None if mesh else n
         # GJK stops within its tolerance of the true distance: keep a slack below it
         return float(d) - _DISTANCE_SLACK, n
 

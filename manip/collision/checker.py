@@ -49,7 +49,7 @@ import numpy as np
 from manip.collision import broadphase
 from manip.collision.certify import MotionCertificate, certify_path
 from manip.collision.edits import WorldEdits
-from manip.collision.occupancy import occupancy_candidates
+from manip.collision.occupancy import geometry_collide, geometry_distance, occupancy_candidates
 from manip.collision.results import (  # noqa: F401  (re-exported: manip.collision.checker.X keeps working)
     AttachedObject,
     CollisionReport,
@@ -195,7 +195,8 @@ class CollisionChecker(WorldEdits, SegmentChecks):
             tfa = tfs[key] = self._part_tf(R, p, n, i)
         res = coal.CollisionResult()
         if kind == 0:
-            hit = bool(coal.collide(self._parts[i].geometry, tfa, self._ogeom[j], self._otf[j], self._req_world, res))
+            hit = geometry_collide(self._parts[i].geometry, tfa, self._ogeom[j], self._otf[j], self._req_world, res,
+                                   lambda: self._balls_at(i, tfa.getRotation(), tfa.getTranslation()))
             return hit or self._inside_solid(i, j, tfa.getRotation(), tfa.getTranslation())
         key = (n, j)
         tfb = tfs.get(key)
@@ -252,6 +253,8 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         res = coal.CollisionResult()
         Tf = coal.Transform3s
         collide = coal.collide
+        wcollide = geometry_collide
+        maps = {o for o, _ in self._occupancy}
         n_l = n.tolist()
         keys = None if group is None else group[n].tolist()
         kind_l, i_l, j_l = kind.tolist(), i.tolist(), j.tolist()
@@ -265,11 +268,12 @@ class CollisionChecker(WorldEdits, SegmentChecks):
             if kind_l[t] == 0:
                 # a large mesh's convex hull (which holds it) first: free there, free for certain
                 # (of a solid mesh's surface: then inside or outside it, `_inside_solid` says)
-                if hulls[a] is not None and not collide(hulls[a], ta, ogeom[b], otf[b], req_w, res):
+                balls = (lambda: self._balls_at(a, RA[t], pA[t])) if b in maps else None  # noqa: B023
+                if hulls[a] is not None and not wcollide(hulls[a], ta, ogeom[b], otf[b], req_w, res, balls):
                     hit = False
                 else:
                     res.clear()
-                    hit = collide(geoms[a], ta, ogeom[b], otf[b], req_w, res)
+                    hit = wcollide(geoms[a], ta, ogeom[b], otf[b], req_w, res, balls)
                 hit = hit or self._inside_solid(a, b, RA[t], pA[t])
             else:
                 tb = Tf(RB[t], pB[t])
@@ -286,6 +290,19 @@ class CollisionChecker(WorldEdits, SegmentChecks):
                 done.add(keys[t])
                 found = True
         return found
+
+    def _balls_at(self, g: int, R: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The fine balls of part g (which hold its geometry) with the part placed at (R, p)
+        (base frame): centres (K, 3) [m], radii (K,) [m]."""
+        cache = self.__dict__.get("_part_balls")
+        if cache is None or cache[0] is not self._fine:
+            cache = self._part_balls = (self._fine, {})
+        local = cache[1].get(g)
+        if local is None:
+            part, fine = self._parts[g], self._fine
+            C = (fine.centres_of(g) - part.p) @ part.R   # joint frame -> the part's geometry frame
+            local = cache[1][g] = (np.ascontiguousarray(C), np.ascontiguousarray(fine.radii_of(g), dtype=np.float64))
+        return np.ascontiguousarray(local[0] @ R.T + p), local[1]
 
     def _inside_solid(self, g: int, o: int, R: np.ndarray, p: np.ndarray) -> bool:
         """True when obstacle o is a solid mesh and part g, placed at (R, p) (base frame) and
@@ -344,8 +361,7 @@ class CollisionChecker(WorldEdits, SegmentChecks):
 
     # ------------------------------------------------------------------ reports and distances
     def _pair_distance(self, geom_a, tf_a, geom_b, tf_b) -> float:
-        res = coal.DistanceResult()
-        return float(coal.distance(geom_a, tf_a, geom_b, tf_b, coal.DistanceRequest(), res))
+        return geometry_distance(geom_a, tf_a, geom_b, tf_b, coal.DistanceRequest(), coal.DistanceResult())[0]
 
     def _contact(self, kind: int, a: int, b: int, distance: float) -> Contact:
         """The `Contact` of part a with obstacle b (kind 0) or with part b (kind 1); an

@@ -1,20 +1,24 @@
 """`OccupancyMap`: an obstacle made of the occupied cells of a voxel grid (what cameras saw).
 
 The cells of edge `resolution` [m] lie on a lattice fixed to the robot base frame: cell
-(i, j, k) is the box [i r, (i + 1) r] x [j r, (j + 1) r] x [k r, (k + 1) r]. The map is the
-union of its occupied cells, as solid boxes, in every check of the planner and in its
-continuous certificate:
+(i, j, k) is [i r, (i + 1) r] x [j r, (j + 1) r] x [k r, (k + 1) r]. Each occupied cell holds
+a solid box within it: `bounds` (what was measured in it, e.g. the bounding box of the points
+that fell in it: a surface becomes a thin slab) or, without bounds, the whole cell; the box is
+extended to each face the cell shares with an occupied cell, so the boxes of a surface seen
+as face-adjacent cells meet. The map is the union of these boxes, in every check of the
+planner and in its continuous certificate:
 
-- broadphase: the robot's sphere covers against a distance bound of the cells (the box
+- broadphase: the robot's sphere covers against a distance bound of the boxes (the box
   holding them, blocks of `BLOCK` cells with an exact distance transform between blocks,
-  then the exact box distance of the cells within reach of each ball;
+  then the exact distance to the boxes of the cells within reach of each ball;
   `manip.collision.occupancy_kernels`), so a configuration far from every cell costs a few
   lookups whatever the number of cells;
-- exact: coal on the boundary of the union of the boxes (the occupied cells merged into
-  disjoint boxes, their faces as triangles); a part inside a box touches no triangle, so a
-  point of each of its pieces is looked up in the grid (`contains_points`), as for solid
-  meshes (`manip.collision.solids`); the certificate keeps every part off every face, so
-  the path's first configuration decides the inside question for the whole path.
+- exact: coal on the boxes (the cells' boxes merged into fewer disjoint ones that tile the
+  same union, `MapGeometry`): a part is tested against the boxes its bounding box comes near,
+  each a `coal.Box` made on first use, so installing a new map builds no coal geometry; a
+  part inside a box (not touching its faces) is found by the grid (`contains_points`), as for
+  solid meshes (`manip.collision.solids`); the certificate keeps every part off every face,
+  so the path's first configuration decides the inside question for the whole path.
 
 A map is immutable (like every shape): `manip.perception` builds a new one for each update.
 It lies in the base frame (its pose is the identity) and is never checked against the
@@ -32,7 +36,8 @@ import coal
 import numpy as np
 from scipy import ndimage
 
-from manip.collision.occupancy_kernels import cells_contain, map_candidates, merge_boxes, point_lower_bounds
+from manip.collision.occupancy_boxes import boxes_near_balls, cell_boxes, merge_boxes, near_boxes
+from manip.collision.occupancy_kernels import cells_contain, map_candidates, point_lower_bounds
 from manip.collision.shapes import Mesh, _check_name, as_pose
 from manip.errors import InvalidInputError
 from manip.pose import Pose
@@ -60,28 +65,34 @@ class OccupancyMap(Mesh):
     Attributes:
         resolution: the cells' edge [m].
         cells: (C, 3) int64 lattice indices of the occupied cells, sorted, read-only.
+        bounds: (C, 6) [m] (lo, hi) what each cell holds (before the extension to occupied
+            neighbours), read-only; None: whole cells.
     """
 
     kind: ClassVar[str] = "occupancy"
 
     resolution: float = 0.02
     cells: np.ndarray = dataclasses.field(default=None, repr=False)  # type: ignore[assignment]
+    bounds: np.ndarray | None = dataclasses.field(default=None, repr=False)
 
     def __init__(self, *args, **kwargs):
         raise InvalidInputError("build an OccupancyMap with OccupancyMap.from_cells(name, resolution, cells) "
                                 "or MotionGenerator.update_world_from_depth / update_world_from_pointcloud")
 
     @classmethod
-    def from_cells(cls, name: str, resolution: float, cells, _sorted: bool = False) -> OccupancyMap:
+    def from_cells(cls, name: str, resolution: float, cells, bounds=None, _sorted: bool = False) -> OccupancyMap:
         """A map of the given occupied cells.
 
         Args:
             name: the obstacle's name.
             resolution: cell edge [m] > 0.
             cells: (C, 3) integer lattice indices (C may be 0: an empty map).
+            bounds: (C, 6) [m] (x0, y0, z0, x1, y1, z1) per cell: the box the cell holds
+                (clamped to the cell; e.g. the bounds of the points measured in it); None:
+                whole cells. Repeated cells take the union of their bounds.
 
         Raises:
-            InvalidInputError: a bad name, resolution or cells array.
+            InvalidInputError: a bad name, resolution, cells or bounds array.
         """
         _check_name(name, "occupancy map")
         res = positive(resolution, f"occupancy map '{name}': resolution", "m")
@@ -91,60 +102,98 @@ class OccupancyMap(Mesh):
         if c.ndim != 2 or c.shape[1] != 3 or c.dtype.kind not in "iu":
             raise InvalidInputError(f"occupancy map '{name}': cells must be an integer (C, 3) array; "
                                     f"got {c.dtype.name} {c.shape}")
-        c = c.astype(np.int64) if _sorted else np.unique(c.astype(np.int64), axis=0)   # _sorted: distinct, sorted
+        b = None
+        if bounds is not None:
+            b = np.asarray(bounds, dtype=np.float64)
+            if b.size == 0:
+                b = b.reshape(0, 6)
+            if b.shape != (c.shape[0], 6) or not np.all(np.isfinite(b)) or np.any(b[:, 3:] < b[:, :3]):
+                raise InvalidInputError(f"occupancy map '{name}': bounds must be a finite ({c.shape[0]}, 6) array "
+                                        f"[x0, y0, z0, x1, y1, z1] [m] with x0 <= x1, y0 <= y1, z0 <= z1 per cell; "
+                                        f"got shape {b.shape}")
+        c = c.astype(np.int64)
+        if not _sorted:   # _sorted: distinct, sorted
+            c, inv = np.unique(c, axis=0, return_inverse=True)
+            inv = inv.reshape(-1)
+            if b is not None:
+                u = np.full((c.shape[0], 6), np.inf)
+                u[:, 3:] = -np.inf
+                np.minimum.at(u[:, :3], inv, b[:, :3])
+                np.maximum.at(u[:, 3:], inv, b[:, 3:])
+                b = u
         c.setflags(write=False)
+        if b is not None:
+            b = np.ascontiguousarray(b)
+            b.setflags(write=False)
         out = object.__new__(cls)
         for key, value in (("name", name), ("pose", Pose(np.zeros(3))), ("file_path", None), ("solid", True),
-                           ("resolution", float(res)), ("cells", c)):
+                           ("resolution", float(res)), ("cells", c), ("bounds", b)):
             object.__setattr__(out, key, value)
         out._tables_of(c)
         return out
 
     def _tables_of(self, c: np.ndarray) -> None:
-        """The dense grid, the broadphase bounds and the boxes' triangles of cells c (C, 3)."""
+        """The grid, the cells' boxes, the broadphase bounds and the merged boxes of cells c (C, 3)."""
         res = self.resolution
         shared: dict = {}
         if c.shape[0] == 0:   # an empty map: one tiny box far away stands for the geometry
-            lo = np.full(3, 1e6)
-            V = lo + _CORNERS * 1e-3
-            F = _BOX_FACES.copy()
-            occ = np.zeros((1, 1, 1), dtype=np.uint8)
+            boxes = np.concatenate([np.full(3, 1e6), np.full(3, 1e6 + 1e-3)])[None]
+            of_cell = np.zeros(0, dtype=np.int64)
+            idx = np.full((1, 1, 1), -1, dtype=np.int32)
+            cb = np.zeros((0, 6))
             origin = np.zeros(3, dtype=np.int64)
             blb = np.full((1, 1, 1), np.inf)
             blocks = np.zeros((1, 1, 1), dtype=bool)
-            hi = lo
+            lo = hi = boxes[0, :3]
         else:
             origin = c.min(axis=0)
             shape = c.max(axis=0) - origin + 1
             if int(np.prod(shape.astype(float))) > MAX_CELLS:
                 raise InvalidInputError(f"occupancy map '{self.name}': its cells span {shape.tolist()} cells "
                                         f"(more than {MAX_CELLS:,}); use a coarser resolution")
-            occ = np.zeros(tuple(int(s) for s in shape), dtype=np.uint8)
+            idx = np.full(tuple(int(s) for s in shape), -1, dtype=np.int32)
             rel = c - origin
-            occ[rel[:, 0], rel[:, 1], rel[:, 2]] = 1
-            lo, hi = origin * res, (origin + shape) * res
+            idx[rel[:, 0], rel[:, 1], rel[:, 2]] = np.arange(c.shape[0], dtype=np.int32)
+            bounds = self.bounds if self.bounds is not None else np.hstack([c * res, (c + 1) * res])
+            cb = cell_boxes(c, np.ascontiguousarray(bounds, dtype=np.float64), idx, origin, float(res))
+            lo, hi = cb[:, :3].min(axis=0), cb[:, 3:].max(axis=0)
             # blocks of BLOCK cells: the exact box-to-box distance between a block and the nearest
             # occupied block is the distance transform of the dilated block grid (module doc)
             nb = -(-shape // BLOCK)
             blocks = np.zeros(tuple(int(s) for s in nb), dtype=bool)
             bi = rel // BLOCK
             blocks[bi[:, 0], bi[:, 1], bi[:, 2]] = True
-            grown = ndimage.binary_dilation(np.pad(blocks, 1), structure=np.ones((3, 3, 3), dtype=bool))[1:-1, 1:-1, 1:-1]
+            grown = ndimage.binary_dilation(np.pad(blocks, 1), structure=np.ones((3, 3, 3), dtype=bool))
+            grown = grown[1:-1, 1:-1, 1:-1]
             blb = ndimage.distance_transform_edt(~grown) * (BLOCK * res) if not grown.all() else np.zeros(grown.shape)
-            boxes = merge_boxes(occ)
-            corners = (boxes[:, None, :3] + _CORNERS[None] * (boxes[:, None, 3:] - boxes[:, None, :3]) + origin) * res
-            V = corners.reshape(-1, 3)
-            F = (_BOX_FACES[None] + 8 * np.arange(boxes.shape[0])[:, None, None]).reshape(-1, 3)
-            shared["boxes"] = boxes
-        V.setflags(write=False)
-        F.setflags(write=False)
-        object.__setattr__(self, "vertices", V)
-        object.__setattr__(self, "faces", F)
-        object.__setattr__(self, "scale", np.ones(3))
-        shared["tables"] = (np.ascontiguousarray(occ), float(res), np.ascontiguousarray(origin, dtype=np.int64),
+            boxes, of_cell = merge_boxes(idx, cb, origin, float(res))
+        shared["geometry"] = MapGeometry(boxes, idx, of_cell, np.ascontiguousarray(origin, dtype=np.int64), float(res))
+        shared["tables"] = (idx, np.ascontiguousarray(cb), float(res), np.ascontiguousarray(origin, dtype=np.int64),
                             np.ascontiguousarray(blb, dtype=np.float64), np.ascontiguousarray(blocks), BLOCK,
                             np.asarray(lo, dtype=float), np.asarray(hi, dtype=float))
         object.__setattr__(self, "_grid", shared)
+        object.__setattr__(self, "scale", np.ones(3))
+
+    @property
+    def vertices(self) -> np.ndarray:   # type: ignore[override]
+        """(8 M, 3) corners [m] of the merged boxes (drawn, exported; built on first use)."""
+        return self._mesh()[0]
+
+    @property
+    def faces(self) -> np.ndarray:   # type: ignore[override]
+        """(12 M, 3) triangles of the merged boxes' faces."""
+        return self._mesh()[1]
+
+    def _mesh(self) -> tuple[np.ndarray, np.ndarray]:
+        mesh = self._grid.get("mesh")
+        if mesh is None:
+            b = self._grid["geometry"].boxes
+            V = (b[:, None, :3] + _CORNERS[None] * (b[:, None, 3:] - b[:, None, :3])).reshape(-1, 3)
+            F = (_BOX_FACES[None] + 8 * np.arange(b.shape[0])[:, None, None]).reshape(-1, 3)
+            V.setflags(write=False)
+            F.setflags(write=False)
+            mesh = self._grid["mesh"] = (V, F)
+        return mesh
 
     # ------------------------------------------------------------------ shape interface
     def _sharing_copy(self) -> OccupancyMap:
@@ -157,7 +206,7 @@ class OccupancyMap(Mesh):
         self._tables_of(self.cells)   # the dense tables are rebuilt (pickles carry the cells)
 
     def __getstate__(self) -> dict:
-        state = {k: v for k, v in self.__dict__.items() if k not in ("_grid", "vertices", "faces")}
+        state = {k: v for k, v in self.__dict__.items() if k != "_grid"}
         return state
 
     def with_pose(self, pose) -> OccupancyMap:
@@ -182,11 +231,14 @@ class OccupancyMap(Mesh):
         raise InvalidInputError(f"occupancy map '{self.name}' is already a grid; integrate at another resolution")
 
     def local_aabb(self) -> tuple[np.ndarray, np.ndarray]:
-        lo, hi = self._grid["tables"][6], self._grid["tables"][7]
+        lo, hi = self._grid["tables"][7], self._grid["tables"][8]
         return (lo + hi) / 2.0, (hi - lo) / 2.0
 
     def to_dict(self) -> dict:
-        return {"resolution": self.resolution, "cells": self.cells.tolist()}
+        out = {"resolution": self.resolution, "cells": self.cells.tolist()}
+        if self.bounds is not None:
+            out["bounds"] = self.bounds.tolist()
+        return out
 
     # ------------------------------------------------------------------ queries
     @property
@@ -196,14 +248,17 @@ class OccupancyMap(Mesh):
 
     @property
     def num_boxes(self) -> int:
-        """Number of disjoint boxes the cells are merged into (the exact geometry)."""
-        b = self._grid.get("boxes")
-        return 0 if b is None else int(b.shape[0])
+        """Number of disjoint boxes the cells' boxes are merged into (the exact geometry)."""
+        return 0 if self.num_cells == 0 else int(self._grid["geometry"].boxes.shape[0])
 
     @property
     def broadphase_tables(self) -> tuple:
-        """(occ, res, origin, blb, bocc, BLOCK, lo, hi): the tables of `occupancy_kernels`."""
+        """(idx, cb, res, origin, blb, bocc, BLOCK, lo, hi): the tables of `occupancy_kernels`."""
         return self._grid["tables"]
+
+    def cell_boxes(self) -> np.ndarray:
+        """(C, 6) [m] (lo, hi) the box each cell of `cells` holds (base frame)."""
+        return self._grid["tables"][1].copy()
 
     def cell_centres(self) -> np.ndarray:
         """(C, 3) centres [m] of the occupied cells (base frame)."""
@@ -211,8 +266,8 @@ class OccupancyMap(Mesh):
 
     def contains_points(self, X: np.ndarray) -> bool:
         """True when any point of X (K, 3) (base frame) lies in an occupied cell (faces included)."""
-        occ, res, origin = self._grid["tables"][:3]
-        return bool(cells_contain(np.ascontiguousarray(X, dtype=np.float64).reshape(-1, 3), occ, res, origin))
+        idx, cb, res, origin = self._grid["tables"][:4]
+        return bool(cells_contain(np.ascontiguousarray(X, dtype=np.float64).reshape(-1, 3), idx, cb, res, origin))
 
     def lower_bounds(self, X: np.ndarray, exact_within: float = 0.0) -> np.ndarray:
         """(M,) lower bounds [m] of the distances of points X (M, 3) to the occupied cells
@@ -222,20 +277,103 @@ class OccupancyMap(Mesh):
             return np.full(X.shape[0], np.inf)
         return point_lower_bounds(X, *self._grid["tables"], float(exact_within))
 
-    def coal_geometry(self):
-        """coal's triangles of the boxes' faces (a BVH, cached)."""
-        bvh = self._grid.get("bvh")
-        if bvh is None:
-            bvh = coal.BVHModelOBBRSS()
-            bvh.beginModel(self.faces.shape[0], self.vertices.shape[0])
-            bvh.addVertices(np.ascontiguousarray(self.vertices, dtype=float))
-            bvh.addTriangles(np.ascontiguousarray(self.faces, dtype=np.int64))
-            bvh.endModel()
-            self._grid["bvh"] = bvh
-        return bvh
+    def coal_geometry(self) -> MapGeometry:
+        """The exact geometry: the merged boxes, tested by `MapGeometry` (not one coal object)."""
+        return self._grid["geometry"]
 
 
+class MapGeometry:
+    """The exact geometry of a map: disjoint boxes (M, 6) [m] (lo, hi), base frame, each a
+    `coal.Box` made on first use. Its `collide` / `distance` stand for coal's calls against
+    one geometry: a part is tested against the boxes its (placed) bounding box comes near."""
 
+    def __init__(self, boxes: np.ndarray, idx: np.ndarray, of_cell: np.ndarray, origin: np.ndarray, res: float):
+        self.boxes = np.ascontiguousarray(boxes, dtype=np.float64)
+        self.boxes.setflags(write=False)
+        self._grid = (self.boxes, idx, np.ascontiguousarray(of_cell, dtype=np.int64), origin, float(res))
+        self._coal: list = [None] * self.boxes.shape[0]
+        self._local: dict = {}
+
+    def _box(self, m: int) -> tuple:
+        got = self._coal[m]
+        if got is None:
+            lo, hi = self.boxes[m, :3], self.boxes[m, 3:]
+            # a flat box (a surface measured in one plane) is given a nanometre of thickness for coal
+            got = self._coal[m] = (coal.Box(*np.maximum(hi - lo, 1e-9)),
+                                   coal.Transform3s(np.eye(3), (lo + hi) / 2.0))
+        return got
+
+    def _obb(self, geometry, tf) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The oriented box (axes R (3, 3), centre (3,), half extents (3,)) [m] holding
+        `geometry` placed at `tf` (its local bounding box)."""
+        got = self._local.get(id(geometry))
+        if got is None or got[0] is not geometry:
+            local = geometry.aabb_local
+            if not local.min_[0] <= local.max_[0]:   # not computed yet (coal's convex hulls)
+                geometry.computeLocalAABB()
+                local = geometry.aabb_local
+            got = (geometry, (local.min_ + local.max_) / 2.0, (local.max_ - local.min_) / 2.0)
+            self._local[id(geometry)] = got
+        R = tf.getRotation()
+        return R, R @ got[1] + tf.getTranslation(), got[2]
+
+    def _aabb(self, geometry, tf) -> tuple[np.ndarray, np.ndarray]:
+        """The world box (lo, hi) holding `geometry` placed at `tf`."""
+        R, cw, h = self._obb(geometry, tf)
+        hw = np.abs(R) @ h
+        return cw - hw, cw + hw
+
+    def collide(self, geometry, tf, request, result, balls=None) -> bool:
+        """coal.collide of `geometry` at `tf` against the boxes (within the request's security
+        margin); `balls` ((K, 3) centres, (K,) radii [m], base frame) holding the geometry, if
+        known, pick the boxes to test (else its bounding box does)."""
+        margin = float(request.security_margin) + 1e-9
+        if balls is not None:
+            ids, d = boxes_near_balls(*self._grid, balls[0], balls[1], margin)
+        else:
+            ids, d = near_boxes(self.boxes, *self._aabb(geometry, tf), margin)
+        if ids.size == 0:
+            return False
+        for m in (ids.tolist() if ids.size == 1 else ids[np.argsort(d)].tolist()):
+            box, btf = self._box(m)
+            result.clear()
+            if coal.collide(geometry, tf, box, btf, request, result):
+                return True
+        return False
+
+    def distance(self, geometry, tf, request, result) -> tuple[float, np.ndarray | None]:
+        """(coal's distance [m] of `geometry` at `tf` to the nearest box, the unit direction
+        from the geometry to that box between their closest points (None when touching))."""
+        lo, hi = self._aabb(geometry, tf)
+        ids, d = near_boxes(self.boxes, lo, hi, np.inf)
+        order = np.argsort(d)
+        best, normal = np.inf, None
+        for m, bound in zip(ids[order].tolist(), d[order].tolist()):
+            if bound >= best:
+                break
+            box, btf = self._box(m)
+            result.clear()
+            dist = float(coal.distance(geometry, tf, box, btf, request, result))
+            if dist < best:
+                best = dist
+                normal = result.normal.copy() if dist > 0.0 else None
+        return best, normal
+
+
+def geometry_collide(geometry, tf, obstacle_geometry, obstacle_tf, request, result, balls=None) -> bool:
+    """coal.collide, or `MapGeometry.collide` for an occupancy map's geometry (`balls`: its
+    argument, a callable giving it, or None)."""
+    if type(obstacle_geometry) is MapGeometry:
+        return obstacle_geometry.collide(geometry, tf, request, result, balls() if callable(balls) else balls)
+    return bool(coal.collide(geometry, tf, obstacle_geometry, obstacle_tf, request, result))
+
+
+def geometry_distance(geometry, tf, obstacle_geometry, obstacle_tf, request, result) -> tuple[float, np.ndarray | None]:
+    """(coal.distance, the normal of its result (None when touching)), or `MapGeometry.distance`."""
+    if type(obstacle_geometry) is MapGeometry:
+        return obstacle_geometry.distance(geometry, tf, request, result)
+    d = float(coal.distance(geometry, tf, obstacle_geometry, obstacle_tf, request, result))
+    return d, (result.normal.copy() if d > 0.0 else None)
 
 
 def occupancy_candidates(R: np.ndarray, p: np.ndarray, margins: np.ndarray, world_tables: tuple,
@@ -260,4 +398,6 @@ def occupancy_candidates(R: np.ndarray, p: np.ndarray, margins: np.ndarray, worl
         e = np.zeros(0, dtype=np.int64)
         return e, e, e, np.zeros(0)
     return tuple(np.concatenate(c) for c in zip(*out))
-__all__ = ["OccupancyMap", "BLOCK", "occupancy_candidates"]
+
+
+__all__ = ["OccupancyMap", "MapGeometry", "BLOCK", "occupancy_candidates", "geometry_collide", "geometry_distance"]

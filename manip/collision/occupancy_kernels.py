@@ -1,18 +1,20 @@
 """Compiled (numba) kernels of occupancy maps (`manip.collision.occupancy`).
 
-A map is a dense grid `occ` (nx, ny, nz) uint8 of cells of edge `res` [m]: cell (i, j, k)
-is the box [(o + (i, j, k)) res, (o + (i, j, k) + 1) res] with `o` the grid's integer origin.
-Distances are lower bounds of the distance from a point to the union of the occupied cells:
+A map is a dense grid `idx` (nx, ny, nz) int32 over cells of edge `res` [m]: cell (i, j, k)
+is the box [(o + (i, j, k)) res, (o + (i, j, k) + 1) res] with `o` the grid's integer origin;
+idx < 0 where the cell is free, else the row of the cell's own box in `cb` (C, 6) [m] (lo,
+hi: a box within the cell, `cell_boxes`). The map is the union of the cells' boxes.
+Distances are lower bounds of the distance from a point to that union:
 
 - outside the box [lo, hi] holding every occupied cell: the distance to that box;
 - in a block of B^3 cells: `blb[block]`, the distance between that block's box and the
   nearest occupied block's box (an exact Euclidean distance transform of the dilated block
   grid, `OccupancyMap`), which no point of the block can beat;
-- near a ball: the exact distance from its centre to every occupied cell within reach,
-  visiting only the occupied blocks (`bocc`) that can hold a nearer cell.
+- near a ball: the exact distance from its centre to the box of every occupied cell within
+  reach, visiting only the occupied blocks (`bocc`) that can hold a nearer cell.
 
 These kernels only filter (as `manip.collision.broadphase`): a pair they cannot clear goes
-to coal's exact check on the cells' boxes.
+to coal's exact check on the cells' boxes (`manip.collision.occupancy_boxes`).
 """
 
 from __future__ import annotations
@@ -51,11 +53,9 @@ def _coarse(x0, x1, x2, res, origin, blb, B, lo, hi):
 
 
 @kernel(inline="always")
-def _cells_within(x0, x1, x2, s, stop, occ, res, origin, bocc, B):
-    """The distance [m] from the point to the nearest occupied cell if it is below s (else s),
-    visiting the occupied blocks within s, nearest first in order of enumeration; returns as
-    soon as one closer than `stop` is found."""
-    best = s
+def _block_range(x0, x1, x2, s, res, origin, bocc, B):
+    """The blocks (I0, I1, J0, J1, K0, K1), inclusive, that can hold a point within s [m] of
+    the point (x0, x1, x2)."""
     n0, n1, n2 = bocc.shape
     I0 = max(int(math.floor(((x0 - s) / res - origin[0]) / B)), 0)
     I1 = min(int(math.floor(((x0 + s) / res - origin[0]) / B)), n0 - 1)
@@ -63,6 +63,16 @@ def _cells_within(x0, x1, x2, s, stop, occ, res, origin, bocc, B):
     J1 = min(int(math.floor(((x1 + s) / res - origin[1]) / B)), n1 - 1)
     K0 = max(int(math.floor(((x2 - s) / res - origin[2]) / B)), 0)
     K1 = min(int(math.floor(((x2 + s) / res - origin[2]) / B)), n2 - 1)
+    return I0, I1, J0, J1, K0, K1
+
+
+@kernel(inline="always")
+def _cells_within(x0, x1, x2, s, stop, idx, cb, res, origin, bocc, B):
+    """The distance [m] from the point to the nearest occupied cell's box if it is below s
+    (else s), visiting the occupied blocks within s, nearest first in order of enumeration;
+    returns as soon as one closer than `stop` is found."""
+    best = s
+    I0, I1, J0, J1, K0, K1 = _block_range(x0, x1, x2, s, res, origin, bocc, B)
     for I in range(I0, I1 + 1):
         a = max((origin[0] + I * B) * res - x0, 0.0, x0 - (origin[0] + (I + 1) * B) * res)
         for J in range(J0, J1 + 1):
@@ -73,17 +83,19 @@ def _cells_within(x0, x1, x2, s, stop, occ, res, origin, bocc, B):
                 c = max((origin[2] + K * B) * res - x2, 0.0, x2 - (origin[2] + (K + 1) * B) * res)
                 if a * a + b * b + c * c >= best * best:
                     continue
-                for i in range(I * B, min((I + 1) * B, occ.shape[0])):
+                for i in range(I * B, min((I + 1) * B, idx.shape[0])):
                     e0 = max((origin[0] + i) * res - x0, 0.0, x0 - (origin[0] + i + 1) * res)
-                    for j in range(J * B, min((J + 1) * B, occ.shape[1])):
+                    for j in range(J * B, min((J + 1) * B, idx.shape[1])):
                         e1 = max((origin[1] + j) * res - x1, 0.0, x1 - (origin[1] + j + 1) * res)
-                        ab = e0 * e0 + e1 * e1
-                        if ab >= best * best:
+                        if e0 * e0 + e1 * e1 >= best * best:   # the cell holds its box
                             continue
-                        for k in range(K * B, min((K + 1) * B, occ.shape[2])):
-                            if occ[i, j, k]:
-                                e2 = max((origin[2] + k) * res - x2, 0.0, x2 - (origin[2] + k + 1) * res)
-                                e = math.sqrt(ab + e2 * e2)
+                        for k in range(K * B, min((K + 1) * B, idx.shape[2])):
+                            m = idx[i, j, k]
+                            if m >= 0:
+                                f0 = max(cb[m, 0] - x0, 0.0, x0 - cb[m, 3])
+                                f1 = max(cb[m, 1] - x1, 0.0, x1 - cb[m, 4])
+                                f2 = max(cb[m, 2] - x2, 0.0, x2 - cb[m, 5])
+                                e = math.sqrt(f0 * f0 + f1 * f1 + f2 * f2)
                                 if e < best:
                                     best = e
                                     if best < stop:
@@ -92,31 +104,26 @@ def _cells_within(x0, x1, x2, s, stop, occ, res, origin, bocc, B):
 
 
 @kernel
-def _nearest_point(x0, x1, x2, s, occ, res, origin, bocc, B):
-    """The nearest point (3 floats) of the occupied cells within s [m] of the point (the point
-    itself when none is)."""
+def _nearest_point(x0, x1, x2, s, idx, cb, res, origin, bocc, B):
+    """The nearest point (3 floats) of the occupied cells' boxes within s [m] of the point
+    (the point itself when none is)."""
     best = s
     y0, y1, y2 = x0, x1, x2
-    n0, n1, n2 = bocc.shape
-    I0 = max(int(math.floor(((x0 - s) / res - origin[0]) / B)), 0)
-    I1 = min(int(math.floor(((x0 + s) / res - origin[0]) / B)), n0 - 1)
-    J0 = max(int(math.floor(((x1 - s) / res - origin[1]) / B)), 0)
-    J1 = min(int(math.floor(((x1 + s) / res - origin[1]) / B)), n1 - 1)
-    K0 = max(int(math.floor(((x2 - s) / res - origin[2]) / B)), 0)
-    K1 = min(int(math.floor(((x2 + s) / res - origin[2]) / B)), n2 - 1)
+    I0, I1, J0, J1, K0, K1 = _block_range(x0, x1, x2, s, res, origin, bocc, B)
     for I in range(I0, I1 + 1):
         for J in range(J0, J1 + 1):
             for K in range(K0, K1 + 1):
                 if not bocc[I, J, K]:
                     continue
-                for i in range(I * B, min((I + 1) * B, occ.shape[0])):
-                    for j in range(J * B, min((J + 1) * B, occ.shape[1])):
-                        for k in range(K * B, min((K + 1) * B, occ.shape[2])):
-                            if not occ[i, j, k]:
+                for i in range(I * B, min((I + 1) * B, idx.shape[0])):
+                    for j in range(J * B, min((J + 1) * B, idx.shape[1])):
+                        for k in range(K * B, min((K + 1) * B, idx.shape[2])):
+                            m = idx[i, j, k]
+                            if m < 0:
                                 continue
-                            c0 = min(max(x0, (origin[0] + i) * res), (origin[0] + i + 1) * res)
-                            c1 = min(max(x1, (origin[1] + j) * res), (origin[1] + j + 1) * res)
-                            c2 = min(max(x2, (origin[2] + k) * res), (origin[2] + k + 1) * res)
+                            c0 = min(max(x0, cb[m, 0]), cb[m, 3])
+                            c1 = min(max(x1, cb[m, 1]), cb[m, 4])
+                            c2 = min(max(x2, cb[m, 2]), cb[m, 5])
                             e = math.sqrt((x0 - c0) ** 2 + (x1 - c1) ** 2 + (x2 - c2) ** 2)
                             if e < best:
                                 best = e
@@ -125,7 +132,7 @@ def _nearest_point(x0, x1, x2, s, occ, res, origin, bocc, B):
 
 
 @kernel(inline="always")
-def ball_clearance(x0, x1, x2, r, need, occ, res, origin, blb, bocc, B, lo, hi):
+def ball_clearance(x0, x1, x2, r, need, idx, cb, res, origin, blb, bocc, B, lo, hi):
     """A lower bound [m] of the distance from the ball (centre, radius r) to the occupied
     cells; exact up to `need` (a value >= need means "clear by need")."""
     d = _coarse(x0, x1, x2, res, origin, blb, B, lo, hi) - r
@@ -134,11 +141,11 @@ def ball_clearance(x0, x1, x2, r, need, occ, res, origin, blb, bocc, B, lo, hi):
     s = need + r  # cells farther than s from the centre cannot bring the ball within need
     if 2.0 * s > MAX_REACH_BLOCKS * B * res:
         return d
-    return max(_cells_within(x0, x1, x2, s, -1.0, occ, res, origin, bocc, B) - r, d)
+    return max(_cells_within(x0, x1, x2, s, -1.0, idx, cb, res, origin, bocc, B) - r, d)
 
 
 @kernel(inline="always")
-def ball_near(x0, x1, x2, r, need, occ, res, origin, blb, bocc, B, lo, hi):
+def ball_near(x0, x1, x2, r, need, idx, cb, res, origin, blb, bocc, B, lo, hi):
     """True when the ball (centre, radius r) may come within `need` [m] of an occupied cell
     (a cell within reach is found, or the reach spans too many blocks to look)."""
     if _coarse(x0, x1, x2, res, origin, blb, B, lo, hi) - r >= need:
@@ -146,7 +153,7 @@ def ball_near(x0, x1, x2, r, need, occ, res, origin, blb, bocc, B, lo, hi):
     s = need + r
     if 2.0 * s > MAX_REACH_BLOCKS * B * res:
         return True
-    return _cells_within(x0, x1, x2, s, s, occ, res, origin, bocc, B) < s
+    return _cells_within(x0, x1, x2, s, s, idx, cb, res, origin, bocc, B) < s
 
 
 @kernel
@@ -154,7 +161,7 @@ def map_candidates(R, p, margins, exact_depth,
                    l0_joint, l0_c, l0_r, mem_start, mem_count, mem_parts,
                    part_joint, c_start, c_count, c_centres, c_radii,
                    f_start, f_count, f_centres, f_radii,
-                   occ, res, origin, blb, bocc, B, lo, hi):
+                   idx, cb, res, origin, blb, bocc, B, lo, hi):
     """(configuration, moving part) pairs that may come within margins[n] [m] of the map.
 
     Args:
@@ -165,7 +172,7 @@ def map_candidates(R, p, margins, exact_depth,
             `depth` is that ball's coarse bound (an order of likelihood only: boolean checks).
         l0_joint ... f_radii: the robot side of `broadphase.world_candidates` (one ball per
             moving joint, then each part's coarse and fine covers).
-        occ, res, origin, blb, bocc, B, lo, hi: the map (module docstring).
+        idx, cb, res, origin, blb, bocc, B, lo, hi: the map (module docstring).
 
     Returns:
         n, part (T,) int64 and depth (T,) [m] (see `exact_depth`).
@@ -191,7 +198,7 @@ def map_candidates(R, p, margins, exact_depth,
                     for r in range(3):
                         x[r] = (R[n, j, r, 0] * c_centres[b, 0] + R[n, j, r, 1] * c_centres[b, 1]
                                 + R[n, j, r, 2] * c_centres[b, 2] + p[n, j, r])
-                    if ball_near(x[0], x[1], x[2], c_radii[b], margin, occ, res, origin, blb, bocc, B, lo, hi):
+                    if ball_near(x[0], x[1], x[2], c_radii[b], margin, idx, cb, res, origin, blb, bocc, B, lo, hi):
                         near = True
                         break
                 if not near:
@@ -202,9 +209,9 @@ def map_candidates(R, p, margins, exact_depth,
                         x[r] = (R[n, j, r, 0] * f_centres[b, 0] + R[n, j, r, 1] * f_centres[b, 1]
                                 + R[n, j, r, 2] * f_centres[b, 2] + p[n, j, r])
                     if exact_depth:
-                        s = ball_clearance(x[0], x[1], x[2], f_radii[b], margin, occ, res, origin, blb, bocc, B, lo, hi)
+                        s = ball_clearance(x[0], x[1], x[2], f_radii[b], margin, idx, cb, res, origin, blb, bocc, B, lo, hi)
                     else:
-                        if ball_near(x[0], x[1], x[2], f_radii[b], margin, occ, res, origin, blb, bocc, B, lo, hi):
+                        if ball_near(x[0], x[1], x[2], f_radii[b], margin, idx, cb, res, origin, blb, bocc, B, lo, hi):
                             m = _coarse(x[0], x[1], x[2], res, origin, blb, B, lo, hi) - f_radii[b]
                             break
                         continue
@@ -223,79 +230,34 @@ def map_candidates(R, p, margins, exact_depth,
 
 
 @kernel
-def point_lower_bounds(X, occ, res, origin, blb, bocc, B, lo, hi, exact_within):
+def point_lower_bounds(X, idx, cb, res, origin, blb, bocc, B, lo, hi, exact_within):
     """(M,) lower bounds [m] of the distance of points X (M, 3) to the occupied cells, exact
     where they are below `exact_within` [m] (then within the enumerated cells)."""
     out = np.empty(X.shape[0])
     for m in range(X.shape[0]):
-        out[m] = ball_clearance(X[m, 0], X[m, 1], X[m, 2], 0.0, exact_within, occ, res, origin, blb, bocc, B, lo, hi)
+        out[m] = ball_clearance(X[m, 0], X[m, 1], X[m, 2], 0.0, exact_within, idx, cb, res, origin, blb, bocc, B, lo, hi)
     return out
 
 
 @kernel
-def merge_boxes(occ):
-    """The occupied cells of `occ` (nx, ny, nz) as disjoint boxes (M, 6) int64 [i0, j0, k0,
-    i1, j1, k1) (greedy: runs along z, grown along y, then along x)."""
-    nx, ny, nz = occ.shape
-    used = np.zeros(occ.shape, dtype=np.bool_)
-    out = np.empty((64, 6), dtype=np.int64)
-    M = 0
-    for i in range(nx):
-        for j in range(ny):
-            for k in range(nz):
-                if not occ[i, j, k] or used[i, j, k]:
-                    continue
-                k1 = k + 1
-                while k1 < nz and occ[i, j, k1] and not used[i, j, k1]:
-                    k1 += 1
-                j1 = j + 1
-                while j1 < ny:
-                    ok = True
-                    for kk in range(k, k1):
-                        if not occ[i, j1, kk] or used[i, j1, kk]:
-                            ok = False
-                            break
-                    if not ok:
-                        break
-                    j1 += 1
-                i1 = i + 1
-                while i1 < nx:
-                    ok = True
-                    for jj in range(j, j1):
-                        for kk in range(k, k1):
-                            if not occ[i1, jj, kk] or used[i1, jj, kk]:
-                                ok = False
-                                break
-                        if not ok:
-                            break
-                    if not ok:
-                        break
-                    i1 += 1
-                used[i:i1, j:j1, k:k1] = True
-                if M == out.shape[0]:
-                    out = np.concatenate((out, np.empty((M, 6), dtype=np.int64)))
-                out[M, 0], out[M, 1], out[M, 2] = i, j, k
-                out[M, 3], out[M, 4], out[M, 5] = i1, j1, k1
-                M += 1
-    return out[:M].copy()
-
-
-@kernel
-def cells_contain(X, occ, res, origin):
-    """True when a point of X (K, 3) [m] lies in an occupied cell (on a face: either side)."""
+def cells_contain(X, idx, cb, res, origin):
+    """True when a point of X (K, 3) [m] lies in an occupied cell's box (faces included, to 1e-9 m)."""
     for m in range(X.shape[0]):
         for e in (0.0, -1e-9, 1e-9):
             i = int(math.floor((X[m, 0] + e) / res)) - origin[0]
             j = int(math.floor((X[m, 1] + e) / res)) - origin[1]
             k = int(math.floor((X[m, 2] + e) / res)) - origin[2]
-            if 0 <= i < occ.shape[0] and 0 <= j < occ.shape[1] and 0 <= k < occ.shape[2] and occ[i, j, k]:
-                return True
+            if 0 <= i < idx.shape[0] and 0 <= j < idx.shape[1] and 0 <= k < idx.shape[2] and idx[i, j, k] >= 0:
+                c = idx[i, j, k]
+                if (cb[c, 0] - 1e-9 <= X[m, 0] <= cb[c, 3] + 1e-9 and cb[c, 1] - 1e-9 <= X[m, 1] <= cb[c, 4] + 1e-9
+                        and cb[c, 2] - 1e-9 <= X[m, 2] <= cb[c, 5] + 1e-9):
+                    return True
     return False
 
 
 @kernel
 def map_nearest_terms(R, p, centres, radii, joint, bodies, start, count, body_centre, body_radius, activation,
-                      occ, res, origin, blb, bocc, B, lo, hi):
+                      idx, cb, res, origin, blb, bocc, B, lo, hi):
     """The clearance terms of `manip.collision.clearance` against a map: for each
     (configuration, body) the ball nearest the occupied cells, kept when closer than
     `activation` [m], with the unit gradient of its centre's distance (from the nearest point
@@ -331,7 +293,7 @@ def map_nearest_terms(R, p, centres, radii, joint, bodies, start, count, body_ce
                             + R[n, j, r, 2] * centres[s, 2] + p[n, j, r])
                 if _coarse(x[0], x[1], x[2], res, origin, blb, B, lo, hi) - radii[s] >= min(best, reach):
                     continue   # cannot be nearer than the best ball so far, nor active
-                d = ball_clearance(x[0], x[1], x[2], radii[s], min(best, reach), occ, res, origin, blb, bocc, B, lo, hi)
+                d = ball_clearance(x[0], x[1], x[2], radii[s], min(best, reach), idx, cb, res, origin, blb, bocc, B, lo, hi)
                 if d < best:
                     best = d
                     best_s = s
@@ -342,8 +304,8 @@ def map_nearest_terms(R, p, centres, radii, joint, bodies, start, count, body_ce
                 x_out[T, r] = (R[n, j, r, 0] * centres[s, 0] + R[n, j, r, 1] * centres[s, 1]
                                + R[n, j, r, 2] * centres[s, 2] + p[n, j, r])
             # the unit direction from the nearest point of the nearest cell to the centre
-            y0, y1, y2 = _nearest_point(x_out[T, 0], x_out[T, 1], x_out[T, 2], reach + radii[s], occ, res, origin,
-                                        bocc, B)
+            y0, y1, y2 = _nearest_point(x_out[T, 0], x_out[T, 1], x_out[T, 2], reach + radii[s], idx, cb, res,
+                                        origin, bocc, B)
             g0, g1, g2 = x_out[T, 0] - y0, x_out[T, 1] - y1, x_out[T, 2] - y2
             norm = math.sqrt(g0 * g0 + g1 * g1 + g2 * g2)
             if norm < 1e-12:   # the centre in a cell: away from that cell's centre

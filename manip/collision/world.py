@@ -7,7 +7,8 @@ Reads and writes cuRobo's world format::
      "cylinder": {name: {"radius": r, "height": h, "pose": [...]}},
      "capsule":  {name: {"radius": r, "height": h, "pose": [...]}}   # or "base"/"tip" points
      "mesh":     {name: {"file_path": path, "pose": [...], "scale": [sx, sy, sz], "solid": false}},
-     "occupancy": {name: {"resolution": r, "cells": [[i, j, k], ...]}}}   # manip's: an OccupancyMap
+     "occupancy": {name: {"resolution": r, "cells": [[i, j, k], ...],          # manip's: an OccupancyMap
+                          "bounds": [[x0, y0, z0, x1, y1, z1], ...]}}}        # (optional: whole cells)
 
 A mesh is a surface unless `"solid": true` (a closed mesh as the volume it bounds; see `Mesh`).
 """
@@ -32,7 +33,7 @@ _FIELDS = {
     "cylinder": ({"radius", "height"}, {"pose"}),
     "capsule": ({"radius"}, {"height", "base", "tip", "pose"}),
     "mesh": (set(), {"file_path", "pose", "scale", "vertices", "faces", "solid"}),
-    "occupancy": ({"resolution", "cells"}, {"pose"}),
+    "occupancy": ({"resolution", "cells"}, {"pose", "bounds"}),
 }
 # Keys of cuRobo's entries that carry no geometry (colours, textures): accepted and ignored.
 _IGNORED = {"color", "texture", "tensor_args"}
@@ -245,7 +246,7 @@ def _from_entry(kind: str, name: str, entry: Any, base_dir: str | Path | None) -
     if kind == "occupancy":
         if pose is not None and not np.allclose(np.asarray(pose, dtype=float), [0, 0, 0, 1, 0, 0, 0]):
             raise InvalidInputError(f"occupancy '{name}': an occupancy map lies in the base frame (pose identity)")
-        return OccupancyMap.from_cells(name, entry["resolution"], entry["cells"])
+        return OccupancyMap.from_cells(name, entry["resolution"], entry["cells"], entry.get("bounds"))
     # mesh
     fp = entry.get("file_path")
     if fp is not None:

@@ -11,16 +11,26 @@ depth image; `integrate_pointcloud` does the same with a cloud. `MotionGenerator
 2. self-filtering: with `q`, points within `self_margin` of the robot at q are dropped: of
    a part's 26-DOP (the polytope of 26 fixed directions around the convex hull of its
    collision geometry; links and attached objects), looked up through the sphere cover;
-3. occupied: the cell of every remaining point (`manip.perception.kernels`);
+3. occupied: the cell of every remaining point (`manip.perception.kernels`), holding the
+   bounding box of the points measured in it and of the rays behind them to the cell's end
+   (`OccupancyMap.bounds`: exact on the side the camera saw, the whole cell on the side it
+   could not; over every update until the cell is freed, so two cameras' views add up);
 4. free: a cell occupied before (or, with `unknown="occupied"`, never observed) is freed
    when the image sees through it: every pixel ray crossing it measures a surface beyond the
    point where it leaves the cell (`cells_seen_free`), so an object that moved away
    disappears from where it was, while a cell next to a surface, or hidden behind one,
    keeps what it held. Cells seen occupied in this image stay occupied.
 
-What the map guarantees: every point a camera measured (and kept) lies in an occupied cell
-until an image sees through that cell. With `unknown="free"` (the default), space never
-observed is free: an object no camera saw is not avoided. With `unknown="occupied"`, every
+What the map guarantees: every point a camera measured (and kept) lies in its cell's box
+(to `SNAP`) until an image sees through that cell; the boxes of face-adjacent occupied cells
+meet (`OccupancyMap`), so a surface seen as face-adjacent cells is a closed sheet, and
+between cells that only share an edge or a corner the gap is at most the spacing of the
+measured points there (about depth / focal length [px]: 2-3 mm at 1.5 m for the cameras of
+`benchmarks/perception.py`). The volume behind a seen surface is in the map only to the end
+of the surface's cells: a part can only get there through a face no camera saw. With
+`fill="cells"` every occupied cell is whole (surfaces inflated by up to a cell). With
+`unknown="free"` (the default), space never observed is free: an object no camera saw is
+not avoided. With `unknown="occupied"`, every
 cell within `bounds` that no image has seen free is an obstacle, so only space observed free
 (or outside `bounds`) is planned through.
 
@@ -40,7 +50,7 @@ import numpy as np
 from manip.collision.occupancy import OccupancyMap
 from manip.errors import InvalidInputError
 from manip.perception.kernels import (SNAP, cells_seen_free, depth_cells, difference, on_robot, pack_all,
-                                      sorted_unique, sphere_index, union, unpack)
+                                      reduce_bounds, sorted_unique, sphere_index, union, unpack)
 from manip.pose import Pose
 from manip.validation import as_real_array, non_negative, positive
 
@@ -58,6 +68,7 @@ CLOUD_PIXELS = 256
 #: Largest bounds grid of `unknown="occupied"` (cells).
 MAX_BOUNDS_CELLS = 8_000_000
 _UNKNOWN = ("free", "occupied")
+_FILL = ("points", "cells")
 
 
 @dataclass
@@ -66,6 +77,7 @@ class _MapState:
 
     resolution: float
     seen: np.ndarray             # (C,) sorted keys of the cells seen occupied
+    seen_bounds: np.ndarray      # (C, 6) [m] (lo, hi) the bounds of the points measured in each
     unknown: str
     bounds_lo: np.ndarray | None = None   # (3,) int64 first cell of the bounds grid
     observed: np.ndarray | None = None    # bool grid over the bounds: seen (free or occupied)
@@ -228,14 +240,43 @@ def reach(checker) -> float:
 
 
 class _Frame:
-    """One observation: `cells` (occupied keys) and `seen_free(cells)`."""
+    """One observation: `keys` (occupied cells, sorted), `bounds` (the bounds (C, 6) [m] of
+    the points in each) and `seen_free(cells)`."""
 
-    def __init__(self, keys: np.ndarray, seen_free):
-        self.keys = sorted_unique(np.ascontiguousarray(keys, dtype=np.int64))
+    def __init__(self, keys: np.ndarray, bounds: np.ndarray, seen_free):
+        self.keys, self.bounds = reduce_bounds(np.ascontiguousarray(keys, dtype=np.int64),
+                                               np.ascontiguousarray(bounds, dtype=np.float64))
         self.seen_free = seen_free
 
 
-def _update(checker, name: str, resolution: float, unknown: str, bounds, frame: _Frame) -> OccupancyMap:
+def _full_cells(cells: np.ndarray, res: float) -> np.ndarray:
+    """(C, 6) [m] the whole cells of cells (C, 3)."""
+    return np.hstack([cells * res, (cells + 1) * res]).astype(np.float64)
+
+
+def _merged_bounds(keys: np.ndarray, a_keys: np.ndarray, a_bounds: np.ndarray, b_keys: np.ndarray,
+                   b_bounds: np.ndarray) -> np.ndarray:
+    """(C, 6): for each of keys (C,) (sorted, each in a_keys or b_keys), the union of its bounds
+    in a and in b."""
+    out = np.empty((keys.shape[0], 6))
+    out[:, :3], out[:, 3:] = np.inf, -np.inf
+    for k, bb in ((a_keys, a_bounds), (b_keys, b_bounds)):
+        if k.size == 0:
+            continue
+        pos = np.minimum(np.searchsorted(k, keys), k.size - 1)
+        hit = k[pos] == keys
+        out[hit, :3] = np.minimum(out[hit, :3], bb[pos[hit], :3])
+        out[hit, 3:] = np.maximum(out[hit, 3:], bb[pos[hit], 3:])
+    return out
+
+
+def _fill(fill: str) -> str:
+    if fill not in _FILL:
+        raise InvalidInputError(f"fill must be one of {', '.join(map(repr, _FILL))}; got {fill!r}")
+    return fill
+
+
+def _update(checker, name: str, resolution: float, unknown: str, bounds, frame: _Frame, fill: str) -> OccupancyMap:
     """Apply one observation to the map `name` of `checker` and install the new map."""
     world = checker.world
     prev = world.get(name) if name in world else None
@@ -248,8 +289,11 @@ def _update(checker, name: str, resolution: float, unknown: str, bounds, frame: 
                                 f"got resolution {resolution} m and unknown={unknown!r}: remove_obstacle('{name}') "
                                 "to start a new map")
     if state is None:
-        seen = np.zeros(0, dtype=np.int64) if prev is None else pack_all(np.ascontiguousarray(prev.cells))
-        state = _MapState(resolution, sorted_unique(seen), unknown)
+        seen, sb = np.zeros(0, dtype=np.int64), np.zeros((0, 6))
+        if prev is not None:   # a map given as cells: its bounds, or whole cells (the cells are sorted, so the keys)
+            seen = pack_all(np.array(prev.cells))   # a writable copy: the compiled signature
+            sb = prev.bounds if prev.bounds is not None else _full_cells(prev.cells, prev.resolution)
+        state = _MapState(resolution, seen, np.asarray(sb, dtype=np.float64), unknown)
         if unknown == "occupied":
             lo = np.floor(bounds[0] / resolution).astype(np.int64)
             hi = np.ceil(bounds[1] / resolution).astype(np.int64)
@@ -263,7 +307,9 @@ def _update(checker, name: str, resolution: float, unknown: str, bounds, frame: 
     if old.size:
         old = np.ascontiguousarray(old[~frame.seen_free(unpack(old))])
     seen = union(old, frame.keys)
+    seen_bounds = _merged_bounds(seen, state.seen, state.seen_bounds, frame.keys, frame.bounds)
     cells = unpack(seen)
+    cb = seen_bounds
     if state.observed is not None:
         obs = state.observed
         rel = cells - state.bounds_lo
@@ -275,11 +321,14 @@ def _update(checker, name: str, resolution: float, unknown: str, bounds, frame: 
             free = frame.seen_free(np.ascontiguousarray(hidden + state.bounds_lo))
             obs[tuple(hidden[free].T)] = True
             hidden = hidden[~free]
-        state = _MapState(resolution, seen, unknown, state.bounds_lo, obs)
-        cells = np.vstack([cells, hidden + state.bounds_lo])
+        state = _MapState(resolution, seen, seen_bounds, unknown, state.bounds_lo, obs)
+        hidden = hidden + state.bounds_lo
+        cells = np.vstack([cells, hidden])
+        cb = np.vstack([cb, _full_cells(hidden, resolution)])
     else:
-        state = _MapState(resolution, seen, unknown)
-    new = OccupancyMap.from_cells(name, resolution, cells, _sorted=state.observed is None)
+        state = _MapState(resolution, seen, seen_bounds, unknown)
+    new = OccupancyMap.from_cells(name, resolution, cells, cb if fill == "points" else None,
+                                  _sorted=state.observed is None)
     if prev is None:
         checker.add_obstacle(new)
     else:
@@ -290,7 +339,7 @@ def _update(checker, name: str, resolution: float, unknown: str, bounds, frame: 
 
 def integrate_depth(checker, depth, intrinsics, camera_pose: Pose, *, name: str = "camera", resolution: float = 0.02,
                     q: np.ndarray | None = None, max_range: float = 3.0, unknown: str = "free", bounds=None,
-                    self_margin: float = 0.01) -> OccupancyMap:
+                    self_margin: float = 0.01, fill: str = "points") -> OccupancyMap:
     """Integrate one depth image into the occupancy map `name` of `checker` (module docstring).
 
     Args:
@@ -309,6 +358,9 @@ def integrate_depth(checker, depth, intrinsics, camera_pose: Pose, *, name: str 
         max_range: points farther than this from the camera [m] are ignored.
         unknown: "free" (never observed = free) or "occupied" (within `bounds`).
         bounds: [[x0, y0, z0], [x1, y1, z1]] [m], base frame (needed with unknown="occupied").
+        self_margin: points within this of the robot [m] are dropped.
+        fill: "points": an occupied cell holds the box of the points measured in it and of the
+            rays behind them (`OccupancyMap.bounds`); "cells": the whole cell.
 
     Returns:
         The new `OccupancyMap` (also in the checker's world).
@@ -320,10 +372,11 @@ def integrate_depth(checker, depth, intrinsics, camera_pose: Pose, *, name: str 
     rng = positive(max_range, "max_range", "m")
     margin = non_negative(self_margin, "self_margin", "m")
     b = _bounds(bounds, unknown)
+    fill = _fill(fill)
     R = np.ascontiguousarray(pose.rotation @ WORLD_AXES_TO_OPTICAL)
     t = np.ascontiguousarray(pose.position, dtype=np.float64)
     rob = _robot(checker, q, margin)
-    keys, on_robot = depth_cells(d, fx, fy, cx, cy, R, t, rng, res, np.zeros(3), reach(checker) + 0.1,
+    keys, kb, on_robot = depth_cells(d, fx, fy, cx, cy, R, t, rng, res, np.zeros(3), reach(checker) + 0.1,
                                  rob.centres, rob.radii, rob.part, rob.planes, rob.margin, SELF_CELL,
                                  *sphere_index(rob.centres, rob.radii, SELF_CELL))
     logger.debug("depth image: %d points kept, %d on the robot", keys.size, on_robot)
@@ -331,7 +384,7 @@ def integrate_depth(checker, depth, intrinsics, camera_pose: Pose, *, name: str 
     def seen_free(cells: np.ndarray) -> np.ndarray:
         return cells_seen_free(np.ascontiguousarray(cells, dtype=np.int64), d, fx, fy, cx, cy, R, t, res, NEAR)
 
-    return _update(checker, name, res, unknown, b, _Frame(keys, seen_free))
+    return _update(checker, name, res, unknown, b, _Frame(keys, kb, seen_free), fill)
 
 
 def _cube_faces() -> list[np.ndarray]:
@@ -351,7 +404,7 @@ def _cube_faces() -> list[np.ndarray]:
 
 def integrate_pointcloud(checker, points, origin=None, *, name: str = "camera", resolution: float = 0.02,
                          q: np.ndarray | None = None, max_range: float = 3.0, unknown: str = "free", bounds=None,
-                         self_margin: float = 0.01) -> OccupancyMap:
+                         self_margin: float = 0.01, fill: str = "points") -> OccupancyMap:
     """Integrate a point cloud into the occupancy map `name` of `checker`.
 
     As `integrate_depth`, with the points given: (N, 3) [m] in the robot base frame (NaN
@@ -371,6 +424,7 @@ def integrate_pointcloud(checker, points, origin=None, *, name: str = "camera", 
     rng = positive(max_range, "max_range", "m")
     margin = non_negative(self_margin, "self_margin", "m")
     b = _bounds(bounds, unknown)
+    fill = _fill(fill)
     o = np.zeros(3) if origin is None else as_real_array(origin, "origin")
     if o.shape != (3,) or not np.all(np.isfinite(o)):
         raise InvalidInputError(f"origin must be a finite position (3,) [m] or None; got {origin!r}")
@@ -392,7 +446,7 @@ def integrate_pointcloud(checker, points, origin=None, *, name: str = "camera", 
             faces.append((np.ascontiguousarray(Rf), img))
     dist = np.linalg.norm(P - o, axis=1) if origin is not None else np.zeros(P.shape[0])
     keep = (dist <= rng) & (np.linalg.norm(P, axis=1) <= reach(checker) + 0.1)
-    keys = _cloud_cells(P[keep], None if origin is None else o, res, rob)
+    keys, kb = _cloud_cells(P[keep], None if origin is None else o, res, rob)
 
     def seen_free(cells: np.ndarray) -> np.ndarray:
         out = np.zeros(cells.shape[0], dtype=bool)
@@ -401,22 +455,24 @@ def integrate_pointcloud(checker, points, origin=None, *, name: str = "camera", 
             out |= cells_seen_free(c, img, f, f, (n - 1) / 2.0, (n - 1) / 2.0, Rf, o, res, NEAR)
         return out
 
-    return _update(checker, name, res, unknown, b, _Frame(keys, seen_free))
+    return _update(checker, name, res, unknown, b, _Frame(keys, kb, seen_free), fill)
 
 
-def _cloud_cells(P: np.ndarray, origin: np.ndarray | None, res: float, rob: _Robot) -> np.ndarray:
-    """Keys of the cells of points P (N, 3) [m] off the robot (`_Robot`); with an origin, a
-    point within SNAP before a cell face along its ray counts in the cell behind."""
+def _cloud_cells(P: np.ndarray, origin: np.ndarray | None, res: float, rob: _Robot) -> tuple[np.ndarray, np.ndarray]:
+    """Keys (N,) of the cells of points P (N, 3) [m] off the robot (`_Robot`), and the points
+    as bounds (N, 6) [m]; with an origin, a point within SNAP before a cell face along its ray
+    counts in the cell behind."""
     if P.shape[0] == 0:
-        return np.zeros(0, dtype=np.int64)
+        return np.zeros(0, dtype=np.int64), np.zeros((0, 6))
     if rob.planes.shape[0]:
         P = np.ascontiguousarray(P, dtype=np.float64)
         P = P[~on_robot(P, rob.centres, rob.radii, rob.part, rob.planes, rob.margin, SELF_CELL,
                         *sphere_index(rob.centres, rob.radii, SELF_CELL))]
+    at = P
     if origin is not None:
         ray = P - origin
-        P = P + SNAP * ray / np.maximum(np.linalg.norm(ray, axis=1, keepdims=True), 1e-12)
-    return pack_all(np.ascontiguousarray(np.floor(P / res).astype(np.int64)))
+        at = P + SNAP * ray / np.maximum(np.linalg.norm(ray, axis=1, keepdims=True), 1e-12)
+    return pack_all(np.ascontiguousarray(np.floor(at / res).astype(np.int64))), np.hstack([P, P])
 
 
 __all__ = ["integrate_depth", "integrate_pointcloud", "reach", "WORLD_AXES_TO_OPTICAL"]

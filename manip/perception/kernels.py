@@ -8,8 +8,12 @@ Cells are those of `manip.collision.occupancy`: cell (i, j, k) is the box [i r, 
   the self-filter finds the parts (each a 26-DOP) a point may lie on;
 - `depth_cells`: back-projects a depth image (pinhole, distance to the image plane) into the
   base frame, drops the points within a ball of the robot and beyond the range, and returns
-  the key of each point's cell (a point within `SNAP` [m] before a cell face along its ray
-  counts in the cell behind it, so that a surface on a face is held by the cell behind it);
+  the key of each point's cell with the bounds of the points in it (a point within `SNAP`
+  [m] before a cell face along its ray counts in the cell behind it, so that a surface on a
+  face is held by the cell behind it), and of the ray a cell diagonal beyond it (what the
+  point hides: the box is exact on the side the camera saw, the whole cell behind); at a silhouette (the next pixel sees far beyond, or
+  nothing) the bounds reach that pixel's ray at the point's depth, so a surface's edge
+  between two rays is held; `reduce_bounds` merges the rows of a repeated key;
 - `cells_seen_free`: which cells every pixel ray through them passes without a hit: the
   ray through a pixel's centre hits its surface at depth d (inf: nothing within range);
   within a cell it is free when d + SNAP exceeds the depth where it leaves the cell's box.
@@ -29,6 +33,10 @@ from manip.jit import kernel
 #: A point this close before a cell face along its ray (in depth units: metres along the
 #: optical axis, at most that many metres along the ray) counts in the cell behind it.
 SNAP = 1e-5
+#: A neighbouring pixel whose depth is farther by more than max(SILHOUETTE [m], SILHOUETTE_PX
+#: pixel footprints) (or unmeasured: NaN / inf) makes a pixel a silhouette (`depth_cells`).
+SILHOUETTE = 0.02
+SILHOUETTE_PX = 10.0
 _BIAS = 1 << 20
 _MASK = (1 << 21) - 1
 
@@ -156,8 +164,8 @@ def on_robot(X, centres, radii, ball_part, planes, margin, cell, lo, shape, star
 @kernel
 def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, reach_c, reach_r,
                 centres, radii, ball_part, planes, margin, cell, lo, shape, start, members):
-    """Keys (P,) of the cells of the depth image's points (repeats mostly removed), and the
-    number of points dropped on the robot.
+    """Keys (P,) of the cells of the depth image's points (repeats mostly removed), the bounds
+    (P, 6) [m] (lo, hi) of the points of each row, and the number of points dropped on the robot.
 
     Args:
         depth: (H, W) distances to the image plane [m] (inf / NaN: no point).
@@ -172,8 +180,10 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, reach_c, reach_r,
     """
     H, W = depth.shape
     out = np.empty(H * W, dtype=np.int64)
+    bounds = np.empty((H * W, 6))
     recent = np.full(1 << 16, -1, dtype=np.int64)   # keys written lately (neighbouring pixels share cells)
-    pending = np.empty((H * W, 3))   # points in cells partly covered by a ball: checked after
+    row = np.empty(1 << 16, dtype=np.int64)          # their rows
+    pending = np.empty((H * W, 6))   # points in cells partly covered by a ball (and SNAP along the ray): checked after
     n_pending = 0
     P = 0
     on_robot = 0
@@ -187,6 +197,7 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, reach_c, reach_r,
         box_lo[a] = lo[a] * cell
         box_hi[a] = (lo[a] + shape[a]) * cell
     check_robot = centres.shape[0] > 0
+    behind = math.sqrt(3.0) * res   # [depth units]: at least a cell diagonal along the ray
     A = np.empty(W)
     for u in range(W):
         A[u] = (u - cx) / fx
@@ -221,28 +232,92 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, reach_c, reach_r,
                 k = min(int((x2 - box_lo[2]) * icell), shape[2] - 1)
                 c = (i * shape[1] + j) * shape[2] + k
                 if start[c + 1] > start[c]:
-                    pending[n_pending, 0] = x0 + SNAP * d0
-                    pending[n_pending, 1] = x1 + SNAP * d1
-                    pending[n_pending, 2] = x2 + SNAP * d2
+                    pending[n_pending, 0] = x0
+                    pending[n_pending, 1] = x1
+                    pending[n_pending, 2] = x2
+                    pending[n_pending, 3] = SNAP * d0
+                    pending[n_pending, 4] = SNAP * d1
+                    pending[n_pending, 5] = SNAP * d2
                     n_pending += 1
                     continue
             zs = z + SNAP   # SNAP further along the ray (depth units, as `cells_seen_free`)
             key = pack(int(math.floor((t[0] + zs * d0) * inv)), int(math.floor((t[1] + zs * d1) * inv)),
                        int(math.floor((t[2] + zs * d2) * inv)))
+            # behind the point the ray is hidden: the bounds take the ray a cell diagonal on
+            # (clamped to the cell by `OccupancyMap`), so only the side the camera saw is exact
+            zb = z + behind
+            y0 = t[0] + zb * d0
+            y1 = t[1] + zb * d1
+            y2 = t[2] + zb * d2
             slot = (key ^ (key >> 19) ^ (key >> 37)) & 65535
             if recent[slot] != key:
                 recent[slot] = key
+                row[slot] = P
                 out[P] = key
+                bounds[P, 0], bounds[P, 3] = min(x0, y0), max(x0, y0)
+                bounds[P, 1], bounds[P, 4] = min(x1, y1), max(x1, y1)
+                bounds[P, 2], bounds[P, 5] = min(x2, y2), max(x2, y2)
                 P += 1
+            else:
+                r = row[slot]
+                bounds[r, 0] = min(bounds[r, 0], x0, y0)
+                bounds[r, 1] = min(bounds[r, 1], x1, y1)
+                bounds[r, 2] = min(bounds[r, 2], x2, y2)
+                bounds[r, 3] = max(bounds[r, 3], x0, y0)
+                bounds[r, 4] = max(bounds[r, 4], x1, y1)
+                bounds[r, 5] = max(bounds[r, 5], x2, y2)
+            # a silhouette: the surface goes on up to the next pixel's ray (whose depth is far
+            # beyond, or unmeasured): the bounds take that ray's point at this depth
+            jump = max(SILHOUETTE, SILHOUETTE_PX * z / fx)
+            r = row[slot]
+            for nb in range(4):
+                uu = u + (1 if nb == 0 else (-1 if nb == 1 else 0))
+                vv = v + (1 if nb == 2 else (-1 if nb == 3 else 0))
+                if uu < 0 or uu >= W or vv < 0 or vv >= H or depth[vv, uu] < z + jump:
+                    continue
+                bb = (vv - cy) / fy
+                g0 = t[0] + z * (R[0, 0] * A[uu] + R[0, 1] * bb + R[0, 2])
+                g1 = t[1] + z * (R[1, 0] * A[uu] + R[1, 1] * bb + R[1, 2])
+                g2 = t[2] + z * (R[2, 0] * A[uu] + R[2, 1] * bb + R[2, 2])
+                bounds[r, 0] = min(bounds[r, 0], g0)
+                bounds[r, 1] = min(bounds[r, 1], g1)
+                bounds[r, 2] = min(bounds[r, 2], g2)
+                bounds[r, 3] = max(bounds[r, 3], g0)
+                bounds[r, 4] = max(bounds[r, 4], g1)
+                bounds[r, 5] = max(bounds[r, 5], g2)
     # the points near the robot: each against the parts of the balls of its cell
     for n in range(n_pending):
-        y0, y1, y2 = pending[n, 0], pending[n, 1], pending[n, 2]
+        y0, y1, y2 = pending[n, 0] + pending[n, 3], pending[n, 1] + pending[n, 4], pending[n, 2] + pending[n, 5]
         if _robot_point(y0, y1, y2, centres, radii, ball_part, planes, margin, cell, lo, shape, start, members):
             on_robot += 1
             continue
         out[P] = pack(int(math.floor(y0 * inv)), int(math.floor(y1 * inv)), int(math.floor(y2 * inv)))
+        for a in range(3):
+            bounds[P, a] = bounds[P, 3 + a] = pending[n, a]
         P += 1
-    return out[:P].copy(), on_robot
+    return out[:P].copy(), bounds[:P].copy(), on_robot
+
+
+@kernel
+def reduce_bounds(keys, bounds):
+    """The sorted distinct keys of keys (P,) and the union of the bounds (P, 6) [m] (lo, hi)
+    of the rows of each."""
+    order = np.argsort(keys)
+    out = np.empty(keys.shape[0], dtype=np.int64)
+    ob = np.empty((keys.shape[0], 6))
+    n = -1
+    for m in range(order.shape[0]):
+        r = order[m]
+        if n < 0 or keys[r] != out[n]:
+            n += 1
+            out[n] = keys[r]
+            for a in range(6):
+                ob[n, a] = bounds[r, a]
+        else:
+            for a in range(3):
+                ob[n, a] = min(ob[n, a], bounds[r, a])
+                ob[n, 3 + a] = max(ob[n, 3 + a], bounds[r, 3 + a])
+    return out[:n + 1].copy(), ob[:n + 1].copy()
 
 
 @kernel

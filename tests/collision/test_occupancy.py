@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import pickle
 
 import numpy as np
@@ -102,3 +103,70 @@ def test_bad_input_names_the_argument():
         m.with_pose([0.1, 0.0, 0.0])
     with pytest.raises(InvalidInputError, match="from_cells"):
         OccupancyMap("camera")
+
+
+def test_bad_bounds_name_the_argument():
+    with pytest.raises(InvalidInputError, match="bounds"):
+        OccupancyMap.from_cells("camera", RES, CELLS, np.zeros((3, 6)))
+    b = np.hstack([CELLS * RES, (CELLS + 1) * RES])
+    b[0, 3] = b[0, 0] - 0.001   # hi < lo
+    with pytest.raises(InvalidInputError, match="bounds"):
+        OccupancyMap.from_cells("camera", RES, CELLS, b)
+
+
+# a table top measured as points at z = 0.013 m (in the middle of the cells of layer 0)
+TOP = 0.013
+SLAB_CELLS = block((15, -10, 0), (35, 10, 1))
+SLAB = np.hstack([SLAB_CELLS * RES, (SLAB_CELLS + 1) * RES])
+SLAB[:, 2] = SLAB[:, 5] = TOP
+
+
+def test_a_cell_holds_its_bounds_and_meets_its_occupied_neighbours():
+    m = OccupancyMap.from_cells("camera", RES, SLAB_CELLS, SLAB)
+    assert m.num_boxes == 1   # one flat sheet: the cells' boxes meet and merge
+    cb = m.cell_boxes()
+    np.testing.assert_allclose(cb[:, 2], TOP, atol=1e-4)
+    np.testing.assert_allclose(cb[:, 5], TOP, atol=1e-4)
+    assert m.contains_points(np.array([[0.5, 0.0, TOP]]))
+    assert not m.contains_points(np.array([[0.5, 0.0, TOP + 0.002]]))   # in the cell, above the surface
+    assert m.lower_bounds(np.array([[0.5, 0.0, TOP + 0.005]]), exact_within=0.05)[0] == pytest.approx(0.005, abs=2e-4)
+    # a lone cell keeps its bounds on every side
+    lone = OccupancyMap.from_cells("lone", RES, [[25, 0, 5]], [[0.505, 0.004, 0.101, 0.507, 0.016, 0.103]])
+    np.testing.assert_allclose(lone.cell_boxes()[0], [0.505, 0.004, 0.101, 0.507, 0.016, 0.103], atol=1.5e-4)
+    back = WorldConfig.from_dict(WorldConfig([m]).to_dict()).get("camera")
+    np.testing.assert_array_equal(back.cell_boxes(), m.cell_boxes())
+
+
+def sheet(z: float, res: float) -> OccupancyMap:
+    """A horizontal surface at height z [m] under the hand, measured in cells of edge res [m]."""
+    lo, hi = np.floor(np.array([0.21, -0.1]) / res).astype(int), np.ceil(np.array([0.41, 0.1]) / res).astype(int)
+    k = math.floor(z / res)
+    cells = block((lo[0], lo[1], k), (hi[0], hi[1], k + 1))
+    bounds = np.hstack([cells * res, (cells + 1) * res])
+    bounds[:, 2] = bounds[:, 5] = z
+    return OccupancyMap.from_cells("camera", res, cells, bounds)
+
+
+def test_the_hand_5_mm_above_a_measured_surface_is_free_and_certified_along_it():
+    mg = MotionGenerator("franka")
+    q = mg.default_joint_positions
+    z = 0.3
+    for _ in range(3):   # raise the surface until it is 5 mm below the robot
+        mg.add_obstacle(sheet(z, RES))
+        z += mg.checker.distance_report(q).world_distance - 0.005
+        mg.remove_obstacle("camera")
+    res = z / (math.floor(z / RES) + 0.3)   # about 2 cm, the surface 30 % up its cells
+    mg.add_obstacle(sheet(z, res))
+    assert not mg.check_collision(q)
+    assert mg.checker.distance_report(q).world_distance == pytest.approx(0.005, abs=2e-4)
+    whole = MotionGenerator("franka")
+    whole.add_obstacle(OccupancyMap.from_cells("camera", res, mg.world.get("camera").cells))
+    assert whole.check_collision(q)   # whole cells reach 14 mm above the surface
+    # along the sheet: certified; down into it: a collision
+    q2 = q.copy()
+    q2[0] += 0.1
+    assert mg.checker.certify_path(np.array([q, q2])).certified
+    deeper = q.copy()
+    deeper[3] -= 0.05   # the elbow bends: the hand goes 2.4 cm down, into the surface
+    assert mg.check_collision(deeper)
+    assert not mg.checker.certify_path(np.array([q, deeper])).certified

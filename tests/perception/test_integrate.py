@@ -124,14 +124,17 @@ def test_closed_fingers_given_in_the_robot_state_add_no_cell(mg):
     state[7:] = 0.02   # the fingers half closed, as on a 4 cm object (the planner's model holds them open)
     franka.set_joint_positions(state)
     for cam in cams:
-        integrate(mg, cam, q=state)       # the full state: arm joints, then the fingers
+        m = integrate(mg, cam, q=state)       # the full state: arm joints, then the fingers
     assert not mg.check_collision(state[:7])
+    tips = mg.fk(state[:7], "panda_hand").position + mg.fk(state[:7], "panda_hand").rotation @ [0.0, 0.0, 0.1]
+    near = lambda m: int((np.linalg.norm(m.cell_centres() - tips, axis=1) < 0.06).sum())  # noqa: E731
+    assert near(m) == 0
     # given the arm alone, the fingers are taken where the planner's model has them: their
     # surface seen where they really are stays in the map
     mg.remove_obstacle("camera")
     for cam in cams:
-        integrate(mg, cam, q=state[:7])
-    assert mg.check_collision(state[:7])
+        m = integrate(mg, cam, q=state[:7])
+    assert near(m) > 0
 
 
 def test_unknown_occupied_within_bounds(mg):
@@ -203,6 +206,8 @@ def test_bad_input_names_the_argument(mg):
         mg.update_world_from_depth(d, K, pose, unknown="maybe")
     with pytest.raises(InvalidInputError, match="bounds"):
         mg.update_world_from_depth(d, K, pose, unknown="occupied")
+    with pytest.raises(InvalidInputError, match="fill"):
+        mg.update_world_from_depth(d, K, pose, fill="solid")
     with pytest.raises(InvalidInputError, match="points"):
         mg.update_world_from_pointcloud(np.zeros((10, 2)))
     with pytest.raises(InvalidInputError, match="q"):
