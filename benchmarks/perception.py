@@ -76,7 +76,7 @@ def build_scene(world_dict: dict, start: np.ndarray):
     return world, franka, cams
 
 
-def run(kinds: list[str], per_kind: int, seed: int, resolution: float = RESOLUTION, fill: str = "points") -> dict:
+def run(kinds: list[str], per_kind: int, seed: int, resolution: float = RESOLUTION, fill: str = "cells") -> dict:
     from manip import MotionGenerator, Pose
     from manip.benchmarking.scenes import make_problems
     from manip.benchmarking.verify import default_verifier
@@ -191,7 +191,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--kinds", default="table,shelf,box,clutter")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--resolution", type=float, default=RESOLUTION, help="cell edge of the map [m]")
-    parser.add_argument("--fill", default="points", choices=("points", "cells"),
+    parser.add_argument("--fill", default="cells", choices=("points", "cells"),
                         help="what an occupied cell holds (update_world_from_depth's fill)")
     parser.add_argument("--write-md", action="store_true", help="update the Perception section of BENCHMARKS.md")
     args = parser.parse_args(argv)

@@ -112,7 +112,7 @@ class WorldEdits:
         return cfg
 
     def update_world_from_depth(self, depth, intrinsics, camera_pose, *, name="camera", resolution=0.02, q=None,
-                                max_range=3.0, unknown="free", bounds=None, self_margin=0.01, fill="points"):
+                                max_range=3.0, unknown="free", bounds=None, self_margin=0.01, fill="cells"):
         """Integrate one depth image into the occupancy obstacle `name` (created on first use).
 
         Args:
@@ -140,7 +140,7 @@ class WorldEdits:
                                self_margin=self_margin, fill=fill)
 
     def update_world_from_pointcloud(self, points, origin=None, *, name="camera", resolution=0.02, q=None,
-                                     max_range=3.0, unknown="free", bounds=None, self_margin=0.01, fill="points"):
+                                     max_range=3.0, unknown="free", bounds=None, self_margin=0.01, fill="cells"):
         """Integrate a point cloud `points` (N, 3) [m] (base frame) seen from `origin` (3,) [m] into
         the occupancy obstacle `name`; the other arguments as `update_world_from_depth` (without
         `origin`, no ray frees a cell)."""

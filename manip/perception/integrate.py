@@ -339,7 +339,7 @@ def _update(checker, name: str, resolution: float, unknown: str, bounds, frame: 
 
 def integrate_depth(checker, depth, intrinsics, camera_pose: Pose, *, name: str = "camera", resolution: float = 0.02,
                     q: np.ndarray | None = None, max_range: float = 3.0, unknown: str = "free", bounds=None,
-                    self_margin: float = 0.01, fill: str = "points") -> OccupancyMap:
+                    self_margin: float = 0.01, fill: str = "cells") -> OccupancyMap:
     """Integrate one depth image into the occupancy map `name` of `checker` (module docstring).
 
     Args:
@@ -404,7 +404,7 @@ def _cube_faces() -> list[np.ndarray]:
 
 def integrate_pointcloud(checker, points, origin=None, *, name: str = "camera", resolution: float = 0.02,
                          q: np.ndarray | None = None, max_range: float = 3.0, unknown: str = "free", bounds=None,
-                         self_margin: float = 0.01, fill: str = "points") -> OccupancyMap:
+                         self_margin: float = 0.01, fill: str = "cells") -> OccupancyMap:
     """Integrate a point cloud into the occupancy map `name` of `checker`.
 
     As `integrate_depth`, with the points given: (N, 3) [m] in the robot base frame (NaN
