@@ -57,6 +57,7 @@ from manip.ik import BatchIKResult, IKResult, IKSolver
 from manip.kinematics import Kinematics
 from manip.planning.arms import (
     check_goals,
+    held_batch_ik,
     held_validity,
     held_view,
     plan_link_poses,
@@ -326,7 +327,7 @@ class MotionGenerator(WorldEdits):
             goals: a batched Pose (N,) in the base frame.
             link: any frame of the URDF (default `ee_link`).
             seed_q: (dof,) or (N, dof) configurations to start from [rad] (a multi-arm robot
-                holds its other arms at the first one's values, as `ik`).
+                holds its other arms at each row's values, as `ik`).
             collision_free: only configurations free of collisions with the world and the
                 robot itself count as solutions (as in `ik`).
             **kwargs: as `IKSolver.solve_batch`.
@@ -338,8 +339,9 @@ class MotionGenerator(WorldEdits):
             seed_q = self.kinematics.check_q(self._arm_q(seed_q, "seed_q"), "seed_q")
         if flag(collision_free, "collision_free"):
             kwargs.setdefault("validity_fn", self._validity().configs)
-        return self._arm_solver(link, seed_q).solve_batch(goals if goals.is_batch else Pose.stack([goals]), link, seed_q=seed_q,
-                                          **kwargs)
+        goals = goals if goals.is_batch else Pose.stack([goals])
+        return held_batch_ik(self.config, self.kinematics, self.ik_solver, goals, link, seed_q,
+                             self.default_joint_positions, **kwargs)
 
     def _arm_q(self, q, what: str):
         """`q` with the gripper's values of a full robot state dropped: (..., dof + G) ->

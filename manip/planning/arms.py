@@ -31,6 +31,7 @@ import numpy as np
 from manip.collision.clearance import ClearanceModel
 from manip.errors import InvalidInputError, UnknownNameError
 from manip.ik import IKSolver
+from manip.ik.result import BatchIKResult
 from manip.kinematics import Kinematics
 from manip.planning.constrained import with_constraints
 from manip.planning.context import PlanContext
@@ -86,6 +87,41 @@ def held_view(config: RobotConfig, kinematics: Kinematics, solver: IKSolver, lin
         return kinematics, solver
     pinned = kinematics.pinned(q, free)
     return pinned, solver_like(solver, pinned)
+
+
+def held_batch_ik(config: RobotConfig, kinematics: Kinematics, solver: IKSolver, goals: Pose, link: str,
+                  seed_q: np.ndarray | None, default_q: np.ndarray, **kwargs) -> BatchIKResult:
+    """`IKSolver.solve_batch` of `goals` (N poses) moving only `link`'s arm: the other arms held
+    at each row's own `seed_q` (N, dof) values (at `seed_q` (dof,), or `default_q`, for every row).
+
+    Rows that hold the other arms at the same values are solved in one batch.
+    """
+    seeds = default_q if seed_q is None else np.asarray(seed_q, dtype=float)
+    free = free_joints(config, [link])
+    if free.all() or seeds.ndim == 1 or len(seeds) != len(goals):  # one held configuration (or the solver's error)
+        return held_view(config, kinematics, solver, [link], np.atleast_2d(seeds)[0])[1].solve_batch(
+            goals, link, seed_q=seed_q, **kwargs)
+    keys, group = np.unique(seeds[:, ~free], axis=0, return_inverse=True)
+    group = group.reshape(-1)
+    parts = []
+    for k in range(len(keys)):
+        rows = np.flatnonzero(group == k)
+        arm_solver = held_view(config, kinematics, solver, [link], seeds[rows[0]])[1]
+        parts.append((rows, arm_solver.solve_batch(goals[rows], link, seed_q=seeds[rows], **kwargs)))
+    if len(parts) == 1:
+        return parts[0][1]
+    n = len(seeds)
+    out = {name: np.empty((n,) + np.shape(getattr(parts[0][1], name))[1:], dtype=getattr(parts[0][1], name).dtype)
+           for name in ("success", "q", "position_error", "rotation_error", "iterations", "attempts")}
+    status, message = [None] * n, [""] * n
+    for rows, res in parts:
+        for name, arr in out.items():
+            arr[rows] = getattr(res, name)
+        for i, r in enumerate(rows):
+            status[r] = res.status[i]
+            message[r] = res.message[i] if res.message else ""
+    return BatchIKResult(**out, status=tuple(status), solve_time=sum(res.solve_time for _, res in parts),
+                         message=tuple(message))
 
 
 def held_validity(validity: Validity, kinematics: Kinematics) -> Validity:

@@ -61,6 +61,22 @@ def test_ik_of_one_link_moves_only_its_arm(dual):
     np.testing.assert_array_equal(batch.q[:, :7], np.broadcast_to(seed[:7], (2, 7)))
 
 
+def test_batch_ik_holds_each_rows_other_arm_at_that_rows_seed(dual):
+    seeds = np.repeat(dual.default_joint_positions[None], 3, axis=0)
+    seeds[:, 0] = [-0.6, 0.0, 0.6]             # the left arm turned three ways: the right arm's IK keeps each
+    seeds[2, 3] = -1.2
+    goals = Pose.stack([Pose([0.5, -0.3, 0.2], DOWN), Pose([0.3, -0.4, 0.3], DOWN), Pose([0.45, -0.2, 0.25], DOWN)])
+    batch = dual.batch_ik(goals, link="right_panda_hand", seed_q=seeds, collision_free=True)
+    assert batch.success.all()
+    np.testing.assert_array_equal(batch.q[:, :7], seeds[:, :7])
+    for i in range(3):
+        assert dual.fk(batch.q[i], "right_panda_hand").distance(goals[i])[0] < 1e-3
+        assert not dual.check_collision(batch.q[i])
+    # rows sharing the held values are solved together and give the same answer as alone
+    alone = dual.batch_ik(goals[[0]], link="right_panda_hand", seed_q=seeds[[0]], collision_free=True)
+    np.testing.assert_allclose(alone.q[0, :7], seeds[0, :7])
+
+
 def test_plan_poses_moves_both_hands_in_one_motion(dual, verifier):
     q0 = dual.default_joint_positions
     goals = {"left_panda_hand": Pose([0.45, 0.15, 0.35], DOWN), "right_panda_hand": Pose([0.55, -0.2, 0.2], DOWN)}
