@@ -60,6 +60,7 @@ from manip.planning.arms import (
     held_batch_ik,
     held_validity,
     held_view,
+    plan_link_lines,
     plan_link_poses,
 )
 from manip.planning.constrained import with_constraints
@@ -439,13 +440,14 @@ class MotionGenerator(WorldEdits):
             return self._plan_linear(start_q, goal, self._link(link), options)
         return self.plan_goalset(start_q, Pose.stack([goal]), link, **options)
 
-    def plan_poses(self, start_q, goals: dict[str, Pose], **options) -> PlanResult:
+    def plan_poses(self, start_q, goals: dict[str, Pose], *, linear: bool = False, **options) -> PlanResult:
         """One motion bringing several links (one per arm) to their poses together.
 
         `goals` maps a link name to a Pose in the base frame, e.g. both hands of a two-arm
         robot; one trajectory moves their arms at once and every link arrives at its end.
-        Arms without a goal keep their start. Logic and guarantees: `manip.planning.arms`.
-        `options` as `plan_joints`.
+        Arms without a goal keep their start. `linear=True`: each link moves on the straight
+        line to its goal, all at the same fraction of their lines (as `plan_pose(...,
+        linear=True)` for one). Logic and guarantees: `manip.planning.arms`. `options` as `plan_joints`.
         """
         ctx = self._context(options)
         goals = check_goals(self.config, self.kinematics, goals)
@@ -453,6 +455,9 @@ class MotionGenerator(WorldEdits):
         start = ctx.check_start(self._arm_q(start_q, "start_q"), self.kinematics, validity)
         if ctx.failed:
             return ctx.result()
+        if flag(linear, "linear"):
+            return plan_link_lines(ctx, validity, start, goals, config=self.config, kinematics=self.kinematics,
+                                   solver=self.ik_solver)
         return plan_link_poses(ctx, validity, start, goals, config=self.config, kinematics=self.kinematics,
                                solver=self.ik_solver, limits=self.limits, clearance=self.clearance)
 

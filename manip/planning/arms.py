@@ -13,7 +13,9 @@ of pose goals:
   free of the world and of its own arm; when that finds none, collisions with the other arms
   are ignored at this stage), the combinations are checked as whole configurations (arm
   against arm included) and ranked by the time-optimal motion to each, and one trajectory
-  moves every arm at once: all links arrive together. Arms without a goal are held.
+  moves every arm at once: all links arrive together. Arms without a goal are held. With
+  `linear=True` each link instead follows the straight line to its goal, all links at the
+  same fraction of their lines at every point (`plan_link_lines`).
 
 The combined configuration is planned and certified as one robot's: every pair of parts of
 two arms is checked on the exact meshes, as a link pair of one arm is.
@@ -36,6 +38,7 @@ from manip.kinematics import Kinematics
 from manip.planning.constrained import with_constraints
 from manip.planning.context import PlanContext
 from manip.planning.goal_configurations import IK_TOWARD_START
+from manip.planning.linear_motion import plan_linear_links
 from manip.planning.path.goals import order_goals
 from manip.planning.pipeline import plan_to_configs
 from manip.planning.result import PlanResult, PlanStatus
@@ -233,3 +236,22 @@ def plan_link_poses(ctx: PlanContext, validity: Validity, start: np.ndarray, goa
         result = replace(result, position_error=float(errors[:, 0].max()), rotation_error=float(errors[:, 1].max()),
                          goal_index=0)
     return result
+
+
+def plan_link_lines(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: dict[str, Pose], *,
+                    config: RobotConfig, kinematics: Kinematics, solver: IKSolver) -> PlanResult:
+    """`plan_poses(..., linear=True)`: every link of `goals` moves on the straight line from its
+    pose at `start` to its goal, all at the same fraction of their lines at each point (they
+    arrive together), each line followed by IK of its own arm (`planning.linear_motion`);
+    arms without a goal are held. The result is timed and certified as every linear motion.
+    """
+    kin = kinematics
+    moving = free_joints(config, list(goals))
+    if not moving.all():
+        kin = kinematics.pinned(start, moving)
+        validity = held_validity(validity, kin)
+    targets = []
+    for link, goal in goals.items():
+        arm_solver = held_view(config, kinematics, solver, [link], start)[1]
+        targets.append((link, goal, arm_solver, free_joints(config, [link]) if config.arms else None))
+    return plan_linear_links(ctx, validity, start, targets, limits=kin.limits)

@@ -92,6 +92,40 @@ def test_plan_poses_moves_both_hands_in_one_motion(dual, verifier):
     _verified(verifier, result, q0)
 
 
+def _line_fraction(points: np.ndarray, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(fraction along a -> b, distance from the line [m]) of points (N, 3)."""
+    d = b - a
+    f = (points - a) @ d / (d @ d)
+    return f, np.linalg.norm(points - (a + f[:, None] * d), axis=1)
+
+
+def test_plan_poses_linear_moves_both_hands_on_their_lines_together(dual, verifier):
+    q0 = dual.default_joint_positions
+    hands = ("left_panda_hand", "right_panda_hand")
+    starts = {h: dual.fk(q0, h) for h in hands}
+    goals = {"left_panda_hand": Pose(starts["left_panda_hand"].position + [0.05, -0.05, -0.15],
+                                     starts["left_panda_hand"].quaternion),
+             "right_panda_hand": Pose(starts["right_panda_hand"].position + [-0.03, 0.0, -0.08],
+                                      starts["right_panda_hand"].quaternion)}
+    result = dual.plan_poses(q0, goals, linear=True, seed=0)
+    assert result.success, result.message
+    assert result.source == "linear" and result.position_error < 1e-3
+    P = result.trajectory.resample(0.002).positions
+    fractions = []
+    for h in hands:
+        f, off = _line_fraction(dual.fk(P, h).position, starts[h].position, goals[h].position)
+        assert off.max() < 2e-3, (h, off.max())            # on its straight line throughout
+        fractions.append(f)
+    # together: both hands at the same fraction of their lines at every sample, and both arrive
+    assert np.abs(fractions[0] - fractions[1]).max() < 0.02
+    assert abs(fractions[0][-1] - 1) < 1e-3 and abs(fractions[1][-1] - 1) < 1e-3
+    _verified(verifier, result, q0)
+    # one goal: the other arm is held, as plan_pose(..., linear=True)
+    one = dual.plan_poses(q0, {"left_panda_hand": goals["left_panda_hand"]}, linear=True, seed=0)
+    assert one.success, one.message
+    np.testing.assert_array_equal(one.trajectory.positions[:, 7:], np.broadcast_to(q0[7:], (len(one.trajectory.positions), 7)))
+
+
 def test_plan_poses_hands_passing_each_other(dual, verifier):
     # the left hand goes right of the post, the right hand left of it: the arms cross
     q0 = dual.default_joint_positions
