@@ -31,6 +31,7 @@ from dataclasses import replace
 import numpy as np
 
 from manip.collision.clearance import ClearanceModel
+from manip.constraints.relative import RelativePoseConstraint
 from manip.errors import InvalidInputError, UnknownNameError
 from manip.ik import IKSolver
 from manip.ik.result import BatchIKResult
@@ -203,6 +204,9 @@ def plan_link_poses(ctx: PlanContext, validity: Validity, start: np.ndarray, goa
         of the links' solutions is collision-free. `position_error` / `rotation_error` are the
         largest over the links.
     """
+    carried = _rigid_carry(ctx, validity, start, goals, config=config, kinematics=kinematics, solver=solver)
+    if carried is not None:
+        return carried
     t_ik = time.perf_counter()
     per_link = []
     for link, goal in goals.items():
@@ -255,3 +259,39 @@ def plan_link_lines(ctx: PlanContext, validity: Validity, start: np.ndarray, goa
         arm_solver = held_view(config, kinematics, solver, [link], start)[1]
         targets.append((link, goal, arm_solver, free_joints(config, [link]) if config.arms else None))
     return plan_linear_links(ctx, validity, start, targets, limits=kin.limits)
+
+
+def _rigid_carry(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: dict[str, Pose], *,
+                 config: RobotConfig, kinematics: Kinematics, solver: IKSolver) -> PlanResult | None:
+    """The first try of a carry: when the plan holds a `RelativePoseConstraint` between the two
+    links of `goals` and the goals keep it, both links moved rigidly as one held object on its
+    straight line (its midpoint on the straight line, its orientation by slerp; link a ends on
+    its goal, link b where the held pose puts it), followed by IK, certified with the
+    constraint, timed (`plan_link_lines` with a carrier). The successful result, or None
+    (then the plan searches as for any goals): the straight carry collides, leaves the
+    constraint, or ends link b farther from its goal than IK's tolerances.
+    """
+    hold = next((c for c in validity.constraints if isinstance(c, RelativePoseConstraint)
+                 and {c.link_a, c.link_b} == set(goals) and c.reference is not None), None)
+    if hold is None:
+        return None
+    a, b = hold.link_a, hold.link_b
+    Ta, Tb = kinematics.fk(start, a), kinematics.fk(start, b)
+    move = goals[a] @ Ta.inverse()                                 # the held object's motion
+    dp, dr = (move @ Tb).distance(goals[b])
+    if dp > solver.position_tolerance or dr > solver.rotation_tolerance:
+        return None
+    c0 = Pose((Ta.position + Tb.position) / 2, Ta.quaternion)
+    kin, moving = kinematics, free_joints(config, [a, b])
+    if not moving.all():
+        kin = kinematics.pinned(start, moving)
+        validity = held_validity(validity, kin)
+    targets = [(link, goals[link], held_view(config, kinematics, solver, [link], start)[1],
+                free_joints(config, [link]) if config.arms else None) for link in (a, b)]
+    result = plan_linear_links(ctx, validity, start, targets, limits=kin.limits, carrier=(c0, move @ c0))
+    if result.success:
+        errors = np.array([kinematics.fk(result.goal_q, link).distance(goals[link]) for link in (a, b)])
+        if errors[:, 0].max() <= solver.position_tolerance and errors[:, 1].max() <= solver.rotation_tolerance:
+            return result
+    ctx.clear_failure()
+    return None

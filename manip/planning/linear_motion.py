@@ -57,12 +57,14 @@ def plan_linear(ctx: PlanContext, validity: Validity, ik_solver: IKSolver, start
 
 
 def plan_linear_links(ctx: PlanContext, validity: Validity, start_q: np.ndarray, targets: list, *,
-                      limits: JointLimits) -> PlanResult:
+                      limits: JointLimits, carrier: tuple[Pose, Pose] | None = None) -> PlanResult:
     """Straight-line motions of several links at once (`planning.path.linear.linear_paths`):
     each link on its own line, all at the same fraction of their lines, arriving together.
 
     Args:
         targets: per link (link, goal Pose, its IK solver, free (dof,) bool or None), as
+            `linear_paths`.
+        carrier: the links moved rigidly with this frame (its start and goal poses), as
             `linear_paths`.
 
     Returns / Raises: as `plan_linear`; `position_error` / `rotation_error` are the largest
@@ -84,7 +86,7 @@ def plan_linear_links(ctx: PlanContext, validity: Validity, start_q: np.ndarray,
     t = time.perf_counter()
     path, why = linear_paths(
         kinematics, targets, start, step=ctx.options.linear_step,
-        valid_batch=validity.configs, motion_valid=validity.motion,
+        valid_batch=validity.configs, motion_valid=validity.motion, carrier=carrier,
     )
     ctx.add_time("ik", t)
     if path is None:
