@@ -257,7 +257,7 @@ class Bimanual:
 
 
 def run_episodes(make_demo: Callable[..., Bimanual], doc: str, argv: list[str] | None, *, thing: str,
-                 done: str, success: float) -> int:
+                 things: str, done: str, success: float) -> int:
     """The examples' `main()`: the flags (--episodes, --seed, --viewer, --quiet), the episode
     loop (one line per episode: placed or not, the object's distance from its place position)
     and the summary; the exit status is 0 only when every episode placed the object.
@@ -266,8 +266,9 @@ def run_episodes(make_demo: Callable[..., Bimanual], doc: str, argv: list[str] |
         make_demo: `Demo(seed, viewer=, verbose=)`, a `Bimanual` with `episode(k) -> (placed,
             error [m], why not)`.
         doc: the example's module docstring (its first paragraph is the description).
-        thing: the object's name in the lines ("cube"); done: what the summary says was done
-            with it ("handed over and placed"); success: the distance counted as placed [m].
+        thing, things: the object's name in the lines ("cube", "cubes"); done: what the summary
+            says was done with them ("handed over and placed"); success: the distance counted
+            as placed [m].
     """
     parser = argparse.ArgumentParser(description=doc.split("\n\n")[0],
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -285,9 +286,10 @@ def run_episodes(make_demo: Callable[..., Bimanual], doc: str, argv: list[str] |
             t = time.perf_counter()
             ok, error, why = demo.episode(k)
             placed += ok
-            print(f"episode {k}: {'placed' if ok else 'FAILED'}, {thing} {error * 1000:.1f} mm from its place position, "
+            print(f"episode {k}: {'placed' if ok else 'FAILED'}, {thing} {error * 1000:.1f} mm from its place "
+                  f"position, "
                   f"{time.perf_counter() - t:.1f} s{'' if ok else ': ' + why}", flush=True)
     finally:
         demo.close()
-    print(f"{placed}/{args.episodes} {thing}s {done} within {success * 100:.0f} cm")
+    print(f"{placed}/{args.episodes} {things} {done} within {success * 100:.0f} cm")
     return 0 if placed == args.episodes else 1

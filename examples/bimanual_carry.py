@@ -139,7 +139,8 @@ class Carry(Bimanual):
 
 
 def main(argv: list[str] | None = None) -> int:
-    return run_episodes(Carry, __doc__, argv, thing="box", done="carried and put down", success=SUCCESS)
+    return run_episodes(Carry, __doc__, argv, thing="box", things="boxes", done="carried and put down",
+                        success=SUCCESS)
 
 
 if __name__ == "__main__":

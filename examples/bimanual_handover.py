@@ -136,7 +136,8 @@ class Handover(Bimanual):
 
 
 def main(argv: list[str] | None = None) -> int:
-    return run_episodes(Handover, __doc__, argv, thing="cube", done="handed over and placed", success=SUCCESS)
+    return run_episodes(Handover, __doc__, argv, thing="cube", things="cubes", done="handed over and placed",
+                        success=SUCCESS)
 
 
 if __name__ == "__main__":

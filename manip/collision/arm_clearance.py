@@ -116,7 +116,6 @@ def _arm_terms(R, p, bodies, start, count, centres, radii, bc, br, pa, pb, activ
     xbody = np.empty((B, 3))
     xs = np.empty((S, 3))
     placed = np.zeros(B, dtype=np.bool_)
-    y = np.empty(3)
     for n in range(N):
         for b in range(B):
             _place(R, p, n, bodies[b], bc[b], xbody[b])

@@ -123,7 +123,8 @@ def test_plan_poses_linear_moves_both_hands_on_their_lines_together(dual, verifi
     # one goal: the other arm is held, as plan_pose(..., linear=True)
     one = dual.plan_poses(q0, {"left_panda_hand": goals["left_panda_hand"]}, linear=True, seed=0)
     assert one.success, one.message
-    np.testing.assert_array_equal(one.trajectory.positions[:, 7:], np.broadcast_to(q0[7:], (len(one.trajectory.positions), 7)))
+    held = one.trajectory.positions[:, 7:]
+    np.testing.assert_array_equal(held, np.broadcast_to(q0[7:], held.shape))
 
 
 def test_plan_poses_hands_passing_each_other(dual, verifier):

@@ -52,7 +52,8 @@ def _blocks(n: int, dof: int, samples_per_interval: int) -> dict:
     slack = np.zeros((limit_G.shape[0], 3 * dof))
     slack[np.arange(slack.shape[0]), limit_slack] = -1.0
     blocks = dict(free=free, fixed=fixed, D=D, B=B, sample_t=sample_t, B_free=B[:, free], B_fixed=B[:, fixed],
-                  limit_G=limit_G, limit_G_sparse=sp.csr_matrix(limit_G), limit_order=limit_order, limit_slack=limit_slack,
+                  limit_G=limit_G, limit_G_sparse=sp.csr_matrix(limit_G), limit_order=limit_order,
+                  limit_slack=limit_slack,
                   limit_G_slack=np.hstack([limit_G, slack]), per_order=per_order)
     for a in [v for v in blocks.values() if isinstance(v, np.ndarray)] + [m for t in per_order.values() for m in t]:
         a.flags.writeable = False
