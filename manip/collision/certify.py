@@ -50,6 +50,7 @@ import coal
 import numpy as np
 
 from manip.collision import broadphase
+from manip.collision.bound_products import contract, pair_motion, rows_times
 from manip.collision.occupancy import occupancy_candidates
 from manip.collision.robot_geometry import geometry_triangles
 from manip.collision.shapes import Capsule, Cuboid, Cylinder, Mesh, Sphere
@@ -424,55 +425,6 @@ class _Context:
         return lo - hi > margin
 
 
-# The products below are loops, not BLAS calls: numpy's BLAS threads a product this size, and on
-# a loaded 2-core machine the second thread cost 10-20 x the product itself (BENCHMARKS.md, "Two arms").
-@kernel
-def _contract(D: np.ndarray, T: np.ndarray) -> np.ndarray:
-    """out[s, g, k] = sum_m D[s, m] T[g, k, m]: D (S, M), T (G, K, M) -> (S, G, K)."""
-    S, M = D.shape
-    G, K = T.shape[0], T.shape[1]
-    out = np.zeros((S, G, K))
-    for s in range(S):
-        for g in range(G):
-            for k in range(K):
-                acc = 0.0
-                for m in range(M):
-                    acc += D[s, m] * T[g, k, m]
-                out[s, g, k] = acc
-    return out
-
-
-@kernel
-def _rows_times(A: np.ndarray, D: np.ndarray) -> np.ndarray:
-    """out[s, g] = sum_k A[s, g, k] D[s, k]: A (S, G, K), D (S, K) -> (S, G)."""
-    S, G, K = A.shape
-    out = np.zeros((S, G))
-    for s in range(S):
-        for g in range(G):
-            acc = 0.0
-            for k in range(K):
-                acc += A[s, g, k] * D[s, k]
-            out[s, g] = acc
-    return out
-
-
-@kernel
-def _pair_motion(rho_seg: np.ndarray, a: np.ndarray, b: np.ndarray, mask_a: np.ndarray, mask_b: np.ndarray,
-                 D: np.ndarray) -> np.ndarray:
-    """out[s, k] = sum_j (rho_seg[s, a[k], j] mask_a[k, j] + rho_seg[s, b[k], j] mask_b[k, j]) D[s, j]:
-    the motion bound (S, P) of each part pair (a[k], b[k]) relative to each other on each segment."""
-    S, K = D.shape
-    P = a.shape[0]
-    out = np.zeros((S, P))
-    for s in range(S):
-        for k in range(P):
-            acc = 0.0
-            for j in range(K):
-                acc += (rho_seg[s, a[k], j] * mask_a[k, j] + rho_seg[s, b[k], j] * mask_b[k, j]) * D[s, j]
-            out[s, k] = acc
-    return out
-
-
 def _candidates(kernel, R, p, margins: np.ndarray, tables, Q: np.ndarray | None = None) -> tuple:
     """A broadphase kernel with a margin per configuration: configurations are grouped by
     their margin rounded up to a power of four (a few calls), results merged in order.
@@ -515,13 +467,13 @@ def certify_path(state: CollisionState, path: np.ndarray) -> MotionCertificate:
     S = Q.shape[0] - 1
     Dj = np.zeros((S, tb.axes.shape[0]))
     Dj[:, 1:] = np.abs(np.diff(Q, axis=0))[:, tb.q_of_joint[1:]]
-    rho_seg = 0.5 * (rho[:-1] + rho[1:] + _contract(Dj, tb.W))  # (S, G, J+1)
+    rho_seg = 0.5 * (rho[:-1] + rho[1:] + contract(Dj, tb.W))  # (S, G, J+1)
     rho_seg *= tb.part_chain[None]
-    M_part = _rows_times(rho_seg, Dj)  # (S, G) motion bound of each part
+    M_part = rows_times(rho_seg, Dj)  # (S, G) motion bound of each part
     # chord deviation bounds E (S, G) of every part on every segment
-    theta = _contract(Dj, np.ascontiguousarray(tb.strict.T)[None])[:, 0]  # (S, J+1): summed |dq| of the joints before k
-    inner = 2.0 * theta[:, None, :] * tb.dist[None] + _contract(Dj, tb.tail)
-    E_part = _rows_times(inner, Dj) / 8.0
+    theta = contract(Dj, np.ascontiguousarray(tb.strict.T)[None])[:, 0]  # (S, J+1): summed |dq| of the joints before k
+    inner = 2.0 * theta[:, None, :] * tb.dist[None] + contract(Dj, tb.tail)
+    E_part = rows_times(inner, Dj) / 8.0
     E_part[:, tb.no_chord] = np.inf
     # how far a ball of each part can get from its place at either end of a segment
     B_part = np.minimum(M_part, chord + E_part)
@@ -563,7 +515,7 @@ def certify_path(state: CollisionState, path: np.ndarray) -> MotionCertificate:
     # self pairs
     bp_pairs = st.self_pairs
     if bp_pairs.shape[0]:
-        M_pair = _pair_motion(rho_seg, np.ascontiguousarray(bp_pairs[:, 0]), np.ascontiguousarray(bp_pairs[:, 1]),
+        M_pair = pair_motion(rho_seg, np.ascontiguousarray(bp_pairs[:, 0]), np.ascontiguousarray(bp_pairs[:, 1]),
                               tb.pair_mask_a, tb.pair_mask_b, Dj)
         n, k, d = _candidates(broadphase.self_candidates, R, p, sample_margins(M_pair, spad), st.self_tables, Q)
         if n.size:
