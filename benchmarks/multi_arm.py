@@ -208,14 +208,16 @@ def plan_relative(mg: MotionGenerator, problems, tolerance=(0.005, 0.02)) -> dic
 
     hands = [a.ee_link for a in mg.config.arms]
     hold = RelativePoseConstraint(*hands, position_tolerance=tolerance[0], rotation_tolerance=tolerance[1])
-    out = {"solved": 0, "beyond": 0, "worst": -1.0, "cpu": [], "ratio": []}
+    out = {"solved": 0, "beyond": 0, "worst": -1.0, "cpu": [], "ratio": [], "straight": 0, "failed": []}
     for i, (start, goals) in enumerate(problems):
         c = time.process_time()
         r = mg.plan_poses(start, goals, constraints=(hold,), seed=i)
         out["cpu"].append(time.process_time() - c)
         if not r.success:
+            out["failed"].append(f"{i}: {r.status.name}")
             continue
         out["solved"] += 1
+        out["straight"] += r.source == "linear"  # the straight carry (`planning.arms`), not a searched path
         worst = float(hold.at_start(mg.kinematics, start).violation(mg.kinematics,
                                                                      r.trajectory.resample(0.001).positions).max())
         out["worst"] = max(out["worst"], worst)
@@ -262,7 +264,8 @@ def main(argv: list[str] | None = None) -> int:
     if args.relative:
         carries = relative_pose_problems(mg, args.relative, args.seed)
         rel = plan_relative(mg, carries)
-        print(f"\nRelativePoseConstraint (5 mm, 0.02 rad), {len(carries)} carries: {rel['solved']} solved, "
+        print(f"\nRelativePoseConstraint (5 mm, 0.02 rad), {len(carries)} carries: {rel['solved']} solved "
+              f"({rel['straight']} by the straight carry; failed: {', '.join(rel['failed']) or 'none'}), "
               f"{rel['beyond']} beyond the tolerances at 1 kHz (largest residual {rel['worst']:+.3f}: the "
               f"fraction of a tolerance used, minus 1), "
               f"CPU median / p98 {_stats(rel['cpu'])} ms, motion / lower bound median "

@@ -12,6 +12,9 @@ name starts with "_"); a module the two examples import.
 
 from __future__ import annotations
 
+import argparse
+import time
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -251,3 +254,42 @@ class Bimanual:
 
     def close(self) -> None:
         self.app.close()
+
+
+def run_episodes(make_demo: Callable[..., Bimanual], doc: str, argv: list[str] | None, *, thing: str,
+                 things: str, done: str, success: float) -> int:
+    """The examples' `main()`: the flags (--episodes, --seed, --viewer, --quiet), the episode
+    loop (one line per episode: placed or not, the object's distance from its place position)
+    and the summary; the exit status is 0 only when every episode placed the object.
+
+    Args:
+        make_demo: `Demo(seed, viewer=, verbose=)`, a `Bimanual` with `episode(k) -> (placed,
+            error [m], why not)`.
+        doc: the example's module docstring (its first paragraph is the description).
+        thing, things: the object's name in the lines ("cube", "cubes"); done: what the summary
+            says was done with them ("handed over and placed"); success: the distance counted
+            as placed [m].
+    """
+    parser = argparse.ArgumentParser(description=doc.split("\n\n")[0],
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--episodes", type=int, default=3, help="Episodes to run (default 3).")
+    parser.add_argument("--seed", type=int, default=0, help=f"Seed of the {thing} poses and of the plans.")
+    parser.add_argument("--viewer", action="store_true", help="Open MuJoCo's viewer (it needs a display).")
+    parser.add_argument("--quiet", action="store_true", help="Print only one line per episode and the summary.")
+    args = parser.parse_args(argv)
+    if args.episodes < 1:
+        parser.error("--episodes must be >= 1")
+    demo = make_demo(args.seed, viewer=args.viewer, verbose=not args.quiet)
+    placed = 0
+    try:
+        for k in range(args.episodes):
+            t = time.perf_counter()
+            ok, error, why = demo.episode(k)
+            placed += ok
+            print(f"episode {k}: {'placed' if ok else 'FAILED'}, {thing} {error * 1000:.1f} mm from its place "
+                  f"position, "
+                  f"{time.perf_counter() - t:.1f} s{'' if ok else ': ' + why}", flush=True)
+    finally:
+        demo.close()
+    print(f"{placed}/{args.episodes} {things} {done} within {success * 100:.0f} cm")
+    return 0 if placed == args.episodes else 1

@@ -20,13 +20,11 @@ every episode ends with the box within 1 cm of its place position and never drop
 
 from __future__ import annotations
 
-import argparse
 import sys
-import time
 
 import numpy as np
 
-from _bimanual import Bimanual, MotionFailed, hand_down
+from _bimanual import Bimanual, MotionFailed, hand_down, run_episodes
 from manip import MotionGenerator, Pose, RelativePoseConstraint
 from manip import quaternion as quat
 from manip.sim import DynamicCuboid, Franka, SimulationApp, VisualCuboid, World, create_new_stage
@@ -141,28 +139,8 @@ class Carry(Bimanual):
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--episodes", type=int, default=3, help="Episodes to run (default 3).")
-    parser.add_argument("--seed", type=int, default=0, help="Seed of the box poses and of the plans.")
-    parser.add_argument("--viewer", action="store_true", help="Open MuJoCo's viewer (it needs a display).")
-    parser.add_argument("--quiet", action="store_true", help="Print only one line per episode and the summary.")
-    args = parser.parse_args(argv)
-    if args.episodes < 1:
-        parser.error("--episodes must be >= 1")
-    demo = Carry(args.seed, viewer=args.viewer, verbose=not args.quiet)
-    placed = 0
-    try:
-        for k in range(args.episodes):
-            t = time.perf_counter()
-            ok, error, why = demo.episode(k)
-            placed += ok
-            print(f"episode {k}: {'placed' if ok else 'FAILED'}, box {error * 1000:.1f} mm from its place position, "
-                  f"{time.perf_counter() - t:.1f} s{'' if ok else ': ' + why}", flush=True)
-    finally:
-        demo.close()
-    print(f"{placed}/{args.episodes} boxes carried and put down within {SUCCESS * 100:.0f} cm")
-    return 0 if placed == args.episodes else 1
+    return run_episodes(Carry, __doc__, argv, thing="box", things="boxes", done="carried and put down",
+                        success=SUCCESS)
 
 
 if __name__ == "__main__":

@@ -23,16 +23,14 @@ when every episode ends with the cube within 1 cm of the place position.
 
 from __future__ import annotations
 
-import argparse
 import sys
-import time
 
 import numpy as np
 
 from manip import MotionGenerator, Pose
 from manip import quaternion as quat
 from manip.sim import DynamicCuboid, Franka, SimulationApp, VisualCuboid, World, create_new_stage
-from _bimanual import Bimanual, MotionFailed, hand_down
+from _bimanual import Bimanual, MotionFailed, hand_down, run_episodes
 
 CUBE = 0.05                                        # [m] edge
 PICK_X, PICK_Y = (0.42, 0.55), (0.22, 0.38)        # [m] where episodes put the cube (in front of the left arm)
@@ -138,28 +136,8 @@ class Handover(Bimanual):
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--episodes", type=int, default=3, help="Episodes to run (default 3).")
-    parser.add_argument("--seed", type=int, default=0, help="Seed of the cube poses and of the plans.")
-    parser.add_argument("--viewer", action="store_true", help="Open MuJoCo's viewer (it needs a display).")
-    parser.add_argument("--quiet", action="store_true", help="Print only one line per episode and the summary.")
-    args = parser.parse_args(argv)
-    if args.episodes < 1:
-        parser.error("--episodes must be >= 1")
-    demo = Handover(args.seed, viewer=args.viewer, verbose=not args.quiet)
-    placed = 0
-    try:
-        for k in range(args.episodes):
-            t = time.perf_counter()
-            ok, error, why = demo.episode(k)
-            placed += ok
-            print(f"episode {k}: {'placed' if ok else 'FAILED'}, cube {error * 1000:.1f} mm from the place position, "
-                  f"{time.perf_counter() - t:.1f} s{'' if ok else ': ' + why}", flush=True)
-    finally:
-        demo.close()
-    print(f"{placed}/{args.episodes} cubes handed over and placed within {SUCCESS * 100:.0f} cm")
-    return 0 if placed == args.episodes else 1
+    return run_episodes(Handover, __doc__, argv, thing="cube", things="cubes", done="handed over and placed",
+                        success=SUCCESS)
 
 
 if __name__ == "__main__":

@@ -57,8 +57,10 @@ from manip.ik import BatchIKResult, IKResult, IKSolver
 from manip.kinematics import Kinematics
 from manip.planning.arms import (
     check_goals,
+    held_batch_ik,
     held_validity,
     held_view,
+    plan_link_lines,
     plan_link_poses,
 )
 from manip.planning.constrained import with_constraints
@@ -326,7 +328,7 @@ class MotionGenerator(WorldEdits):
             goals: a batched Pose (N,) in the base frame.
             link: any frame of the URDF (default `ee_link`).
             seed_q: (dof,) or (N, dof) configurations to start from [rad] (a multi-arm robot
-                holds its other arms at the first one's values, as `ik`).
+                holds its other arms at each row's values, as `ik`).
             collision_free: only configurations free of collisions with the world and the
                 robot itself count as solutions (as in `ik`).
             **kwargs: as `IKSolver.solve_batch`.
@@ -338,8 +340,9 @@ class MotionGenerator(WorldEdits):
             seed_q = self.kinematics.check_q(self._arm_q(seed_q, "seed_q"), "seed_q")
         if flag(collision_free, "collision_free"):
             kwargs.setdefault("validity_fn", self._validity().configs)
-        return self._arm_solver(link, seed_q).solve_batch(goals if goals.is_batch else Pose.stack([goals]), link, seed_q=seed_q,
-                                          **kwargs)
+        goals = goals if goals.is_batch else Pose.stack([goals])
+        return held_batch_ik(self.config, self.kinematics, self.ik_solver, goals, link, seed_q,
+                             self.default_joint_positions, **kwargs)
 
     def _arm_q(self, q, what: str):
         """`q` with the gripper's values of a full robot state dropped: (..., dof + G) ->
@@ -437,13 +440,14 @@ class MotionGenerator(WorldEdits):
             return self._plan_linear(start_q, goal, self._link(link), options)
         return self.plan_goalset(start_q, Pose.stack([goal]), link, **options)
 
-    def plan_poses(self, start_q, goals: dict[str, Pose], **options) -> PlanResult:
+    def plan_poses(self, start_q, goals: dict[str, Pose], *, linear: bool = False, **options) -> PlanResult:
         """One motion bringing several links (one per arm) to their poses together.
 
         `goals` maps a link name to a Pose in the base frame, e.g. both hands of a two-arm
         robot; one trajectory moves their arms at once and every link arrives at its end.
-        Arms without a goal keep their start. Logic and guarantees: `manip.planning.arms`.
-        `options` as `plan_joints`.
+        Arms without a goal keep their start. `linear=True`: each link moves on the straight
+        line to its goal, all at the same fraction of their lines (as `plan_pose(...,
+        linear=True)` for one). Logic and guarantees: `manip.planning.arms`. `options` as `plan_joints`.
         """
         ctx = self._context(options)
         goals = check_goals(self.config, self.kinematics, goals)
@@ -451,6 +455,9 @@ class MotionGenerator(WorldEdits):
         start = ctx.check_start(self._arm_q(start_q, "start_q"), self.kinematics, validity)
         if ctx.failed:
             return ctx.result()
+        if flag(linear, "linear"):
+            return plan_link_lines(ctx, validity, start, goals, config=self.config, kinematics=self.kinematics,
+                                   solver=self.ik_solver)
         return plan_link_poses(ctx, validity, start, goals, config=self.config, kinematics=self.kinematics,
                                solver=self.ik_solver, limits=self.limits, clearance=self.clearance)
 

@@ -143,6 +143,15 @@ def test_bad_arms_raise_naming_the_argument(tmp_path):
         load_robot_config(tmp_path)
 
 
+def test_overlapping_bases_raise_naming_the_arms():
+    # two Pandas 10 cm apart: their base links (fixed, never checked by the planner) intersect
+    with pytest.raises(InvalidInputError, match="arms 'left' and 'right' overlap.*left_panda_link0.*right_panda_link0"):
+        MotionGenerator.from_robots({"left": ("franka", Pose([0, 0.05, 0])), "right": ("franka", Pose([0, -0.05, 0]))})
+    # apart (30 cm), the same robots load
+    mg = MotionGenerator.from_robots({"left": ("franka", Pose([0, 0.15, 0])), "right": ("franka", Pose([0, -0.15, 0]))})
+    assert [a.name for a in mg.config.arms] == ["left", "right"]
+
+
 def test_a_start_of_the_wrong_length_raises_naming_it(dual):
     with pytest.raises(InvalidInputError, match="start_q"):
         dual.plan_joints(np.zeros(7), dual.default_joint_positions)

@@ -17,6 +17,7 @@ import math
 
 import numpy as np
 
+from manip.collision.broadphase import _distance, _place
 from manip.collision.clearance import ClearanceModel, ClearanceTerms, balls_by_body
 from manip.jit import kernel
 
@@ -58,81 +59,100 @@ class ArmClearance:
 
     def _tables(self, fine) -> tuple:
         """The moving balls sorted by body, each body's bounding ball and slice, and the pairs of
-        bodies of two different arms; cached per cover (by content: a world snapshot's state
-        hands out its own copy of the same cover)."""
-        key = hash((fine.joint.tobytes(), fine.radii.tobytes(), np.ascontiguousarray(fine.centres).tobytes()))
-        if self._cache is None or self._cache[0] != key:
+        bodies of two different arms; cached per cover, keyed by the cover object itself (kept
+        alive here, so a rebuilt cover, e.g. after an attach, can never be mistaken for this
+        one; world snapshots share the checker's cover), as `ClearanceModel`."""
+        if self._cache is None or self._cache[0] is not fine:
             joint, centres, radii, bodies, start, count, bc, br = balls_by_body(fine, np.flatnonzero(fine.joint != 0))
             arm = self.arm_of_joint[bodies]
             pa, pb = np.triu_indices(bodies.size, 1)
             cross = (arm[pa] != arm[pb]) & (arm[pa] >= 0) & (arm[pb] >= 0)
-            self._cache = (key, joint, centres, radii, bodies, start, count, bc, br, pa[cross], pb[cross])
+            self._cache = (fine, bodies, start, count, centres, radii, bc, br, pa[cross], pb[cross])
         return self._cache[1:]
 
     def terms(self, Q: np.ndarray, activation: float) -> ClearanceTerms:
         """The world terms of configurations Q (N, dof), then the arm-arm terms closer than `activation` [m]."""
         Q = np.atleast_2d(np.asarray(Q, dtype=float))
-        base = self.clearance.terms(Q, activation)
         st = self.checker.state
-        joint, centres, radii, bodies, start, count, bc, br, pa, pb = self._tables(st.fine)
-        if pa.size == 0:
-            return base
         R, p = st.joint_transforms(Q)
-        BC = np.einsum("nbij,bj->nbi", R[:, bodies], bc) + p[:, bodies]              # (N, B, 3)
-        gap = np.linalg.norm(BC[:, pa] - BC[:, pb], axis=2) - br[pa] - br[pb]       # (N, P)
-        n_act, p_act = np.nonzero(gap < activation)
-        if n_act.size == 0:
+        base = self.clearance.terms_at(R, p, activation)
+        tables = self._tables(st.fine)
+        if tables[-1].size == 0:
             return base
-        n_act = n_act.astype(np.int64)
-        d, grad = _nearest_ball_pairs(R, p, n_act, pa[p_act], pb[p_act], bodies, start, count, centres, radii,
-                                      float(activation), self._ancestors, self._axes, self._revolute, self._q_index,
-                                      self.dof)
-        keep = d < activation
-        if not keep.any():
+        n, d, grad = _arm_terms(R, p, *tables, float(activation), self._ancestors, self._axes, self._revolute,
+                                self._q_index, self.dof)
+        if n.size == 0:
             return base
-        return ClearanceTerms(np.concatenate([base.config, n_act[keep]]), np.concatenate([base.distance, d[keep]]),
-                              np.concatenate([base.gradient, grad[keep]], axis=0))
+        return ClearanceTerms(np.concatenate([base.config, n]), np.concatenate([base.distance, d]),
+                              np.concatenate([base.gradient, grad], axis=0))
+
 
 @kernel
-def _nearest_ball_pairs(R, p, n_act, a_act, b_act, bodies, start, count, centres, radii, activation, ancestors, axes,
-                        revolute, q_index, dof):
-    """For each (configuration n_act[t], body a_act[t] of one arm, body b_act[t] of another) the
-    nearest pair of their balls: its distance (T,) [m] and, when below `activation`, its
-    gradient (T, dof) n^T (J_p(x_a) - J_p(x_b)), n the unit vector from x_b to x_a."""
-    T = n_act.shape[0]
-    d_out = np.full(T, np.inf)
+def _arm_terms(R, p, bodies, start, count, centres, radii, bc, br, pa, pb, activation, ancestors, axes, revolute,
+               q_index, dof):
+    """The arm-arm terms of N configurations: for each configuration and each body pair (pa[e],
+    pb[e]) (indices into `bodies`) whose bounding balls come closer than `activation` [m], the
+    nearest pair of their balls when closer than `activation`.
+
+    The search is exact: a ball of body a whose distance to body b's bounding ball (which holds
+    all of b's balls) is already no closer than the best pair found cannot give a nearer pair.
+
+    Returns:
+        n (T,) int64 configuration, distance (T,) [m], gradient (T, dof) n^T (J_p(x_a) - J_p(x_b)),
+        n the unit vector from x_b to x_a.
+    """
+    N = R.shape[0]
+    B = bodies.shape[0]
+    E = pa.shape[0]
+    S = centres.shape[0]
+    cap = N * E  # at most one term per configuration and body pair
+    n_out = np.empty(cap, dtype=np.int64)
+    d_out = np.empty(cap)
+    xa_out = np.empty((cap, 3))
+    xb_out = np.empty((cap, 3))
+    ja_out = np.empty(cap, dtype=np.int64)
+    jb_out = np.empty(cap, dtype=np.int64)
+    T = 0
+    xbody = np.empty((B, 3))
+    xs = np.empty((S, 3))
+    placed = np.zeros(B, dtype=np.bool_)
+    for n in range(N):
+        for b in range(B):
+            _place(R, p, n, bodies[b], bc[b], xbody[b])
+        placed[:] = False
+        for e in range(E):
+            a, b = pa[e], pb[e]
+            if _distance(xbody, a, xbody, b) - br[a] - br[b] >= activation:
+                continue
+            for body in (a, b):
+                if not placed[body]:
+                    for s in range(start[body], start[body] + count[body]):
+                        _place(R, p, n, bodies[body], centres[s], xs[s])
+                    placed[body] = True
+            best = activation
+            ia, ib = -1, -1
+            for s in range(start[a], start[a] + count[a]):
+                if _distance(xs, s, xbody, b) - radii[s] - br[b] >= best:
+                    continue
+                for k in range(start[b], start[b] + count[b]):
+                    d = _distance(xs, s, xs, k) - radii[s] - radii[k]
+                    if d < best:
+                        best, ia, ib = d, s, k
+            if ia < 0:
+                continue
+            n_out[T], d_out[T], ja_out[T], jb_out[T] = n, best, bodies[a], bodies[b]
+            for r in range(3):
+                xa_out[T, r] = xs[ia, r]
+                xb_out[T, r] = xs[ib, r]
+            T += 1
     grad = np.zeros((T, dof))
-    xa = np.empty(3)
-    xb = np.empty(3)
-    y = np.empty(3)
     for t in range(T):
-        n, a, b = n_act[t], a_act[t], b_act[t]
-        ja, jb = bodies[a], bodies[b]
-        K = count[b]
-        Y = np.empty((K, 3))
-        for k in range(K):
-            c = centres[start[b] + k]
-            for r in range(3):
-                Y[k, r] = R[n, jb, r, 0] * c[0] + R[n, jb, r, 1] * c[1] + R[n, jb, r, 2] * c[2] + p[n, jb, r]
-        for s in range(start[a], start[a] + count[a]):
-            c = centres[s]
-            for r in range(3):
-                y[r] = R[n, ja, r, 0] * c[0] + R[n, ja, r, 1] * c[1] + R[n, ja, r, 2] * c[2] + p[n, ja, r]
-            for k in range(K):
-                d = math.sqrt((y[0] - Y[k, 0]) ** 2 + (y[1] - Y[k, 1]) ** 2 + (y[2] - Y[k, 2]) ** 2) \
-                    - radii[s] - radii[start[b] + k]
-                if d < d_out[t]:
-                    d_out[t] = d
-                    for r in range(3):
-                        xa[r] = y[r]
-                        xb[r] = Y[k, r]
-        if d_out[t] >= activation:
-            continue
-        nx, ny, nz = xa[0] - xb[0], xa[1] - xb[1], xa[2] - xb[2]
+        n = n_out[t]
+        nx, ny, nz = xa_out[t, 0] - xb_out[t, 0], xa_out[t, 1] - xb_out[t, 1], xa_out[t, 2] - xb_out[t, 2]
         norm = max(math.sqrt(nx * nx + ny * ny + nz * nz), 1e-12)
         nx, ny, nz = nx / norm, ny / norm, nz / norm
         for side in range(2):
-            body = ja if side == 0 else jb
+            body = ja_out[t] if side == 0 else jb_out[t]
             sign = 1.0 if side == 0 else -1.0
             for k in range(1, ancestors.shape[0]):
                 if not ancestors[body, k]:
@@ -142,13 +162,15 @@ def _nearest_ball_pairs(R, p, n_act, a_act, b_act, bodies, start, count, centres
                 a1 = R[n, k, 1, 0] * e[0] + R[n, k, 1, 1] * e[1] + R[n, k, 1, 2] * e[2]
                 a2 = R[n, k, 2, 0] * e[0] + R[n, k, 2, 1] * e[1] + R[n, k, 2, 2] * e[2]
                 if revolute[k - 1]:
-                    x = xa if side == 0 else xb
-                    r0, r1, r2 = x[0] - p[n, k, 0], x[1] - p[n, k, 1], x[2] - p[n, k, 2]
+                    if side == 0:
+                        r0, r1, r2 = xa_out[t, 0] - p[n, k, 0], xa_out[t, 1] - p[n, k, 1], xa_out[t, 2] - p[n, k, 2]
+                    else:
+                        r0, r1, r2 = xb_out[t, 0] - p[n, k, 0], xb_out[t, 1] - p[n, k, 1], xb_out[t, 2] - p[n, k, 2]
                     c0, c1, c2 = a1 * r2 - a2 * r1, a2 * r0 - a0 * r2, a0 * r1 - a1 * r0
                 else:
                     c0, c1, c2 = a0, a1, a2
                 grad[t, q_index[k - 1]] += sign * (nx * c0 + ny * c1 + nz * c2)
-    return d_out, grad
+    return n_out[:T].copy(), d_out[:T].copy(), grad
 
 
 def arm_clearance(checker, config) -> ClearanceModel | ArmClearance:

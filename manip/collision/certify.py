@@ -50,6 +50,7 @@ import coal
 import numpy as np
 
 from manip.collision import broadphase
+from manip.collision.bound_products import contract, pair_motion, rows_times
 from manip.collision.occupancy import geometry_distance, occupancy_candidates
 from manip.collision.robot_geometry import geometry_triangles
 from manip.collision.shapes import Capsule, Cuboid, Cylinder, Mesh, Sphere
@@ -425,12 +426,6 @@ class _Context:
         return lo - hi > margin
 
 
-def _contract(D: np.ndarray, T: np.ndarray) -> np.ndarray:
-    """out[s, g, k] = sum_m D[s, m] T[g, k, m] (one matrix product)."""
-    G, K, M = T.shape
-    return (D @ T.reshape(G * K, M).T).reshape(D.shape[0], G, K)
-
-
 def _candidates(kernel, R, p, margins: np.ndarray, tables, Q: np.ndarray | None = None) -> tuple:
     """A broadphase kernel with a margin per configuration: configurations are grouped by
     their margin rounded up to a power of four (a few calls), results merged in order.
@@ -473,13 +468,13 @@ def certify_path(state: CollisionState, path: np.ndarray) -> MotionCertificate:
     S = Q.shape[0] - 1
     Dj = np.zeros((S, tb.axes.shape[0]))
     Dj[:, 1:] = np.abs(np.diff(Q, axis=0))[:, tb.q_of_joint[1:]]
-    rho_seg = 0.5 * (rho[:-1] + rho[1:] + _contract(Dj, tb.W))  # (S, G, J+1)
+    rho_seg = 0.5 * (rho[:-1] + rho[1:] + contract(Dj, tb.W))  # (S, G, J+1)
     rho_seg *= tb.part_chain[None]
-    M_part = np.matmul(rho_seg, Dj[:, :, None])[:, :, 0]  # (S, G) motion bound of each part
+    M_part = rows_times(rho_seg, Dj)  # (S, G) motion bound of each part
     # chord deviation bounds E (S, G) of every part on every segment
-    theta = Dj @ tb.strict  # (S, J+1): summed |dq| of the joints before k
-    inner = 2.0 * theta[:, None, :] * tb.dist[None] + _contract(Dj, tb.tail)
-    E_part = np.matmul(inner, Dj[:, :, None])[:, :, 0] / 8.0
+    theta = contract(Dj, np.ascontiguousarray(tb.strict.T)[None])[:, 0]  # (S, J+1): summed |dq| of the joints before k
+    inner = 2.0 * theta[:, None, :] * tb.dist[None] + contract(Dj, tb.tail)
+    E_part = rows_times(inner, Dj) / 8.0
     E_part[:, tb.no_chord] = np.inf
     # how far a ball of each part can get from its place at either end of a segment
     B_part = np.minimum(M_part, chord + E_part)
@@ -521,8 +516,8 @@ def certify_path(state: CollisionState, path: np.ndarray) -> MotionCertificate:
     # self pairs
     bp_pairs = st.self_pairs
     if bp_pairs.shape[0]:
-        rel = rho_seg[:, bp_pairs[:, 0]] * tb.pair_mask_a[None] + rho_seg[:, bp_pairs[:, 1]] * tb.pair_mask_b[None]
-        M_pair = np.matmul(rel, Dj[:, :, None])[:, :, 0]
+        M_pair = pair_motion(rho_seg, np.ascontiguousarray(bp_pairs[:, 0]), np.ascontiguousarray(bp_pairs[:, 1]),
+                              tb.pair_mask_a, tb.pair_mask_b, Dj)
         n, k, d = _candidates(broadphase.self_candidates, R, p, sample_margins(M_pair, spad), st.self_tables, Q)
         if n.size:
             s, k, _, da, db = both_ends(n, k, np.zeros(n.size, dtype=np.int64), d, (bp_pairs.shape[0], 1))

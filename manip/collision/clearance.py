@@ -87,12 +87,22 @@ class ClearanceModel:
         """The terms of configurations Q (N, dof) closer than `activation` [m] (padding not included)."""
         Q = np.atleast_2d(np.asarray(Q, dtype=float))
         st = self.checker.state
+        if len(st.obstacles) == 0:  # occupancy maps are obstacles too
+            return self._empty()
+        return self.terms_at(*st.joint_transforms(Q), activation)
+
+    def _empty(self) -> ClearanceTerms:
+        return ClearanceTerms(np.zeros(0, dtype=np.int64), np.zeros(0), np.zeros((0, self.dof)))
+
+    def terms_at(self, R: np.ndarray, p: np.ndarray, activation: float) -> ClearanceTerms:
+        """`terms` of the configurations whose joint frames are R (N, J+1, 3, 3), p (N, J+1, 3)
+        (`CollisionState.joint_transforms`), for a caller that has them already."""
+        st = self.checker.state
         fine = st.fine
-        empty = ClearanceTerms(np.zeros(0, dtype=np.int64), np.zeros(0), np.zeros((0, self.dof)))
+        empty = self._empty()
         moving = np.flatnonzero(fine.joint != 0)
         if len(st.obstacles) == 0 or moving.size == 0:
             return empty
-        R, p = st.joint_transforms(Q)
         tables = self._tables(fine, moving)
         n_i, s_i, o_i, dist, x, normal = _nearest_terms(R, p, *tables, float(activation), *st.obstacle_tables)
         for o, grid in st.occupancy_maps:   # occupancy maps: their own distances (`collision.occupancy`)

@@ -245,6 +245,7 @@ class RobotGeometry:
                     continue
                 pairs.append((a, b))
         self.self_pairs: list[tuple[int, int]] = pairs
+        _check_fixed_parts_apart(config, parts)
         # pairs that can never come within PROOF_CLEARANCE (`manip.collision.self_pairs`)
         digests = [_part_digest(part) for part in parts]
         cache = default_cache()
@@ -268,3 +269,33 @@ class RobotGeometry:
     def link_names(self) -> list[str]:
         """Links that carry collision geometry, in part order (unique)."""
         return list(dict.fromkeys(p.link for p in self.parts))
+
+
+def _check_fixed_parts_apart(config: RobotConfig, parts: list[RobotPart]) -> None:
+    """Raise when two arms' parts fixed to the combined base (joint 0: their base links, never
+    checked by the planner, as they never move) overlap: arms placed into each other.
+
+    Raises:
+        InvalidInputError: names both arms, their links and base poses.
+    """
+    if len(config.arms) < 2:
+        return
+    owner = {}
+    for g, part in enumerate(parts):
+        if part.joint == 0:
+            arm = next((a for a in config.arms if a.owns(part.link)), None)
+            if arm is not None:
+                owner[g] = arm
+    request, fixed = coal.CollisionRequest(), sorted(owner)
+    for i, a in enumerate(fixed):
+        for b in fixed[i + 1:]:
+            if owner[a] is owner[b]:
+                continue
+            ta = coal.Transform3s(parts[a].R, parts[a].p)
+            tb = coal.Transform3s(parts[b].R, parts[b].p)
+            if coal.collide(parts[a].geometry, ta, parts[b].geometry, tb, request, coal.CollisionResult()):
+                A, B = owner[a], owner[b]
+                raise InvalidInputError(
+                    f"arms: the arms '{A.name}' and '{B.name}' overlap where they are fixed: '{parts[a].link}' and "
+                    f"'{parts[b].link}' intersect at their base poses ({A.name}: {A.base_pose}, {B.name}: "
+                    f"{B.base_pose}); place the bases apart")

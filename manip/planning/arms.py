@@ -13,7 +13,9 @@ of pose goals:
   free of the world and of its own arm; when that finds none, collisions with the other arms
   are ignored at this stage), the combinations are checked as whole configurations (arm
   against arm included) and ranked by the time-optimal motion to each, and one trajectory
-  moves every arm at once: all links arrive together. Arms without a goal are held.
+  moves every arm at once: all links arrive together. Arms without a goal are held. With
+  `linear=True` each link instead follows the straight line to its goal, all links at the
+  same fraction of their lines at every point (`plan_link_lines`).
 
 The combined configuration is planned and certified as one robot's: every pair of parts of
 two arms is checked on the exact meshes, as a link pair of one arm is.
@@ -29,12 +31,15 @@ from dataclasses import replace
 import numpy as np
 
 from manip.collision.clearance import ClearanceModel
+from manip.constraints.relative import RelativePoseConstraint
 from manip.errors import InvalidInputError, UnknownNameError
 from manip.ik import IKSolver
+from manip.ik.result import BatchIKResult
 from manip.kinematics import Kinematics
 from manip.planning.constrained import with_constraints
 from manip.planning.context import PlanContext
 from manip.planning.goal_configurations import IK_TOWARD_START
+from manip.planning.linear_motion import plan_linear_links
 from manip.planning.path.goals import order_goals
 from manip.planning.pipeline import plan_to_configs
 from manip.planning.result import PlanResult, PlanStatus
@@ -86,6 +91,41 @@ def held_view(config: RobotConfig, kinematics: Kinematics, solver: IKSolver, lin
         return kinematics, solver
     pinned = kinematics.pinned(q, free)
     return pinned, solver_like(solver, pinned)
+
+
+def held_batch_ik(config: RobotConfig, kinematics: Kinematics, solver: IKSolver, goals: Pose, link: str,
+                  seed_q: np.ndarray | None, default_q: np.ndarray, **kwargs) -> BatchIKResult:
+    """`IKSolver.solve_batch` of `goals` (N poses) moving only `link`'s arm: the other arms held
+    at each row's own `seed_q` (N, dof) values (at `seed_q` (dof,), or `default_q`, for every row).
+
+    Rows that hold the other arms at the same values are solved in one batch.
+    """
+    seeds = default_q if seed_q is None else np.asarray(seed_q, dtype=float)
+    free = free_joints(config, [link])
+    if free.all() or seeds.ndim == 1 or len(seeds) != len(goals):  # one held configuration (or the solver's error)
+        return held_view(config, kinematics, solver, [link], np.atleast_2d(seeds)[0])[1].solve_batch(
+            goals, link, seed_q=seed_q, **kwargs)
+    keys, group = np.unique(seeds[:, ~free], axis=0, return_inverse=True)
+    group = group.reshape(-1)
+    parts = []
+    for k in range(len(keys)):
+        rows = np.flatnonzero(group == k)
+        arm_solver = held_view(config, kinematics, solver, [link], seeds[rows[0]])[1]
+        parts.append((rows, arm_solver.solve_batch(goals[rows], link, seed_q=seeds[rows], **kwargs)))
+    if len(parts) == 1:
+        return parts[0][1]
+    n = len(seeds)
+    out = {name: np.empty((n,) + np.shape(getattr(parts[0][1], name))[1:], dtype=getattr(parts[0][1], name).dtype)
+           for name in ("success", "q", "position_error", "rotation_error", "iterations", "attempts")}
+    status, message = [None] * n, [""] * n
+    for rows, res in parts:
+        for name, arr in out.items():
+            arr[rows] = getattr(res, name)
+        for i, r in enumerate(rows):
+            status[r] = res.status[i]
+            message[r] = res.message[i] if res.message else ""
+    return BatchIKResult(**out, status=tuple(status), solve_time=sum(res.solve_time for _, res in parts),
+                         message=tuple(message))
 
 
 def held_validity(validity: Validity, kinematics: Kinematics) -> Validity:
@@ -164,6 +204,9 @@ def plan_link_poses(ctx: PlanContext, validity: Validity, start: np.ndarray, goa
         of the links' solutions is collision-free. `position_error` / `rotation_error` are the
         largest over the links.
     """
+    carried = _rigid_carry(ctx, validity, start, goals, config=config, kinematics=kinematics, solver=solver)
+    if carried is not None:
+        return carried
     t_ik = time.perf_counter()
     per_link = []
     for link, goal in goals.items():
@@ -197,3 +240,58 @@ def plan_link_poses(ctx: PlanContext, validity: Validity, start: np.ndarray, goa
         result = replace(result, position_error=float(errors[:, 0].max()), rotation_error=float(errors[:, 1].max()),
                          goal_index=0)
     return result
+
+
+def plan_link_lines(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: dict[str, Pose], *,
+                    config: RobotConfig, kinematics: Kinematics, solver: IKSolver) -> PlanResult:
+    """`plan_poses(..., linear=True)`: every link of `goals` moves on the straight line from its
+    pose at `start` to its goal, all at the same fraction of their lines at each point (they
+    arrive together), each line followed by IK of its own arm (`planning.linear_motion`);
+    arms without a goal are held. The result is timed and certified as every linear motion.
+    """
+    kin = kinematics
+    moving = free_joints(config, list(goals))
+    if not moving.all():
+        kin = kinematics.pinned(start, moving)
+        validity = held_validity(validity, kin)
+    targets = []
+    for link, goal in goals.items():
+        arm_solver = held_view(config, kinematics, solver, [link], start)[1]
+        targets.append((link, goal, arm_solver, free_joints(config, [link]) if config.arms else None))
+    return plan_linear_links(ctx, validity, start, targets, limits=kin.limits)
+
+
+def _rigid_carry(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: dict[str, Pose], *,
+                 config: RobotConfig, kinematics: Kinematics, solver: IKSolver) -> PlanResult | None:
+    """The first try of a carry: when the plan holds a `RelativePoseConstraint` between the two
+    links of `goals` and the goals keep it, both links moved rigidly as one held object on its
+    straight line (its midpoint on the straight line, its orientation by slerp; link a ends on
+    its goal, link b where the held pose puts it), followed by IK, certified with the
+    constraint, timed (`plan_link_lines` with a carrier). The successful result, or None
+    (then the plan searches as for any goals): the straight carry collides, leaves the
+    constraint, or ends link b farther from its goal than IK's tolerances.
+    """
+    hold = next((c for c in validity.constraints if isinstance(c, RelativePoseConstraint)
+                 and {c.link_a, c.link_b} == set(goals) and c.reference is not None), None)
+    if hold is None:
+        return None
+    a, b = hold.link_a, hold.link_b
+    Ta, Tb = kinematics.fk(start, a), kinematics.fk(start, b)
+    move = goals[a] @ Ta.inverse()                                 # the held object's motion
+    dp, dr = (move @ Tb).distance(goals[b])
+    if dp > solver.position_tolerance or dr > solver.rotation_tolerance:
+        return None
+    c0 = Pose((Ta.position + Tb.position) / 2, Ta.quaternion)
+    kin, moving = kinematics, free_joints(config, [a, b])
+    if not moving.all():
+        kin = kinematics.pinned(start, moving)
+        validity = held_validity(validity, kin)
+    targets = [(link, goals[link], held_view(config, kinematics, solver, [link], start)[1],
+                free_joints(config, [link]) if config.arms else None) for link in (a, b)]
+    result = plan_linear_links(ctx, validity, start, targets, limits=kin.limits, carrier=(c0, move @ c0))
+    if result.success:
+        errors = np.array([kinematics.fk(result.goal_q, link).distance(goals[link]) for link in (a, b)])
+        if errors[:, 0].max() <= solver.position_tolerance and errors[:, 1].max() <= solver.rotation_tolerance:
+            return result
+    ctx.clear_failure()
+    return None

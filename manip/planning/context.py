@@ -159,6 +159,10 @@ class PlanContext:
         )
         return self._failure
 
+    def clear_failure(self) -> None:
+        """Forget a recorded failure: a first try failed and the plan goes on another way."""
+        self._failure = None
+
     def succeed(self, trajectory, path, goal_q, attempts: int, source: str) -> PlanResult:
         """A successful PlanResult with the timings so far (its message is SAFETY_NET when the
         time budget has run out, else empty)."""

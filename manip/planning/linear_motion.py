@@ -3,7 +3,8 @@
 The link moves along the straight line from its pose at the start to the goal pose (the
 orientation interpolated), through dense IK points (`planning.path.linear.linear_path`) that
 the validity accepts, timed as one smooth motion along them and certified like every plan
-(`planning.time_and_validate`). `MotionGenerator.plan_pose(..., linear=True)` and the grasp
+(`planning.time_and_validate`). `MotionGenerator.plan_pose(..., linear=True)`,
+`plan_poses(..., linear=True)` (several links, each on its own line, together) and the grasp
 stages (`planning.grasp`) call it, each with its own validity (a world snapshot, the plan's
 constraints, allowed contacts).
 """
@@ -20,7 +21,7 @@ from manip.errors import InvalidInputError
 from manip.ik import IKSolver
 from manip.limits import JointLimits
 from manip.planning.context import PlanContext
-from manip.planning.path.linear import linear_path
+from manip.planning.path.linear import linear_paths
 from manip.planning.result import PlanResult, PlanStatus
 from manip.planning.time_and_validate import time_and_validate
 from manip.planning.validity import Validity
@@ -52,22 +53,40 @@ def plan_linear(ctx: PlanContext, validity: Validity, ik_solver: IKSolver, start
     Raises:
         InvalidInputError: `linear_step` too small for the line's length (MAX_LINEAR_POINTS).
     """
+    return plan_linear_links(ctx, validity, start_q, [(link, goal, ik_solver, None)], limits=limits)
+
+
+def plan_linear_links(ctx: PlanContext, validity: Validity, start_q: np.ndarray, targets: list, *,
+                      limits: JointLimits, carrier: tuple[Pose, Pose] | None = None) -> PlanResult:
+    """Straight-line motions of several links at once (`planning.path.linear.linear_paths`):
+    each link on its own line, all at the same fraction of their lines, arriving together.
+
+    Args:
+        targets: per link (link, goal Pose, its IK solver, free (dof,) bool or None), as
+            `linear_paths`.
+        carrier: the links moved rigidly with this frame (its start and goal poses), as
+            `linear_paths`.
+
+    Returns / Raises: as `plan_linear`; `position_error` / `rotation_error` are the largest
+    over the links.
+    """
     kinematics = validity.kinematics
     start = ctx.check_start(start_q, kinematics, validity)
     if ctx.failed:
         return ctx.result()
-    length = float(np.linalg.norm(goal.position - kinematics.fk(start, link).position))
-    points = length / ctx.options.linear_step
-    if points > MAX_LINEAR_POINTS:
-        raise InvalidInputError(
-            f"linear_step: a {length:.4g} m line at linear_step = {ctx.options.linear_step:.3g} m needs "
-            f"{math.ceil(points)} IK points; at most MAX_LINEAR_POINTS = {MAX_LINEAR_POINTS} "
-            f"(give linear_step >= {length / MAX_LINEAR_POINTS:.3g} m)"
-        )
+    for link, goal, _, _ in targets:
+        length = float(np.linalg.norm(goal.position - kinematics.fk(start, link).position))
+        points = length / ctx.options.linear_step
+        if points > MAX_LINEAR_POINTS:
+            raise InvalidInputError(
+                f"linear_step: a {length:.4g} m line at linear_step = {ctx.options.linear_step:.3g} m needs "
+                f"{math.ceil(points)} IK points; at most MAX_LINEAR_POINTS = {MAX_LINEAR_POINTS} "
+                f"(give linear_step >= {length / MAX_LINEAR_POINTS:.3g} m)"
+            )
     t = time.perf_counter()
-    path, why = linear_path(
-        kinematics, ik_solver, start, goal, link, step=ctx.options.linear_step,
-        valid_batch=validity.configs, motion_valid=validity.motion,
+    path, why = linear_paths(
+        kinematics, targets, start, step=ctx.options.linear_step,
+        valid_batch=validity.configs, motion_valid=validity.motion, carrier=carrier,
     )
     ctx.add_time("ik", t)
     if path is None:
@@ -78,6 +97,6 @@ def plan_linear(ctx: PlanContext, validity: Validity, ik_solver: IKSolver, start
                                   deviation=LINEAR_DEVIATION, dense_deviation=LINEAR_SPLINE_DEVIATION)
     if traj is None:
         return ctx.fail(PlanStatus.TRAJOPT_FAIL, f"no valid timed trajectory: {why}", path=path, goal_q=goal_q)
-    dp, dr = kinematics.fk(goal_q, link).distance(goal)
+    errors = np.array([kinematics.fk(goal_q, link).distance(goal) for link, goal, _, _ in targets])
     result = ctx.succeed(traj, path, goal_q, 1, "linear")
-    return replace(result, position_error=float(dp), rotation_error=float(dr))
+    return replace(result, position_error=float(errors[:, 0].max()), rotation_error=float(errors[:, 1].max()))

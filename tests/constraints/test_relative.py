@@ -7,7 +7,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from manip import quaternion as quat
 from manip import InvalidInputError, MotionGenerator, Pose, RelativePoseConstraint, UnknownNameError
+from manip.collision.shapes import Cuboid
 from manip.constraints import certify_constraints
 
 EPS = 1e-6
@@ -125,3 +127,47 @@ def test_bad_input_raises_naming_the_argument(dual):
                          constraints=(RelativePoseConstraint(HANDS[0], "right_panda_hnd"),))
     with pytest.raises(InvalidInputError, match="two distinct"):
         dual.attach_object("x", link=(HANDS[0], HANDS[0]))
+
+
+def _carry_start(dual):
+    grasp = dual.plan_poses(dual.default_joint_positions, {HANDS[0]: Pose([0.5, 0.15, 0.2], DOWN),
+                                                          HANDS[1]: Pose([0.5, -0.15, 0.2], DOWN)}, seed=0)
+    assert grasp.success, grasp.message
+    return grasp.goal_q
+
+
+def test_a_turning_carry_moves_the_held_object_on_its_straight_line(dual):
+    start = _carry_start(dual)
+    hold = RelativePoseConstraint(*HANDS, position_tolerance=0.005, rotation_tolerance=0.02)
+    # the object between the hands: 10 cm up and aside, turned 0.4 rad about z
+    Ta = dual.fk(start, HANDS[0])
+    centre = (Ta.position + dual.fk(start, HANDS[1]).position) / 2
+    turn = Pose(centre + [-0.05, 0.05, 0.1], quat.from_axis_angle([0, 0, 1], 0.4)) @ Pose(-centre)
+    goals = {h: turn @ dual.fk(start, h) for h in HANDS}
+    result = dual.plan_poses(start, goals, constraints=(hold,), seed=0)
+    assert result.success, result.message
+    assert result.source == "linear"                       # the straight carry, not a searched path
+    dense = result.trajectory.resample(0.001).positions
+    assert hold.at_start(dual.kinematics, start).residual(dual.kinematics, dense).max() <= 0.0
+    mid = (dual.fk(dense, HANDS[0]).position + dual.fk(dense, HANDS[1]).position) / 2
+    d = turn.position + turn.rotation @ centre - centre    # the midpoint's displacement
+    f = (mid - centre) @ d / (d @ d)
+    assert np.linalg.norm(mid - (centre + f[:, None] * d), axis=1).max() < 2e-3
+    for h in HANDS:
+        assert dual.fk(result.goal_q, h).distance(goals[h])[0] < 1e-3
+
+
+def test_a_blocked_straight_carry_is_searched_around(dual):
+    start = _carry_start(dual)
+    hold = RelativePoseConstraint(*HANDS, position_tolerance=0.005, rotation_tolerance=0.02)
+    step = Pose([-0.15, 0.0, 0.0])                         # both hands 15 cm back
+    goals = {h: step @ dual.fk(start, h) for h in HANDS}
+    dual.add_obstacle(Cuboid("wall", [0.02, 0.6, 0.1], Pose([0.42, 0.0, 0.17])))   # in the hands' way: over it
+    try:
+        result = dual.plan_poses(start, goals, constraints=(hold,), seed=0, time_budget=30.0)
+    finally:
+        dual.remove_obstacle("wall")
+    assert result.success, result.message
+    assert result.source != "linear"
+    dense = result.trajectory.resample(0.001).positions
+    assert hold.at_start(dual.kinematics, start).residual(dual.kinematics, dense).max() <= 0.0

@@ -61,6 +61,22 @@ def test_ik_of_one_link_moves_only_its_arm(dual):
     np.testing.assert_array_equal(batch.q[:, :7], np.broadcast_to(seed[:7], (2, 7)))
 
 
+def test_batch_ik_holds_each_rows_other_arm_at_that_rows_seed(dual):
+    seeds = np.repeat(dual.default_joint_positions[None], 3, axis=0)
+    seeds[:, 0] = [-0.6, 0.0, 0.6]             # the left arm turned three ways: the right arm's IK keeps each
+    seeds[2, 3] = -1.2
+    goals = Pose.stack([Pose([0.5, -0.3, 0.2], DOWN), Pose([0.3, -0.4, 0.3], DOWN), Pose([0.45, -0.2, 0.25], DOWN)])
+    batch = dual.batch_ik(goals, link="right_panda_hand", seed_q=seeds, collision_free=True)
+    assert batch.success.all()
+    np.testing.assert_array_equal(batch.q[:, :7], seeds[:, :7])
+    for i in range(3):
+        assert dual.fk(batch.q[i], "right_panda_hand").distance(goals[i])[0] < 1e-3
+        assert not dual.check_collision(batch.q[i])
+    # rows sharing the held values are solved together and give the same answer as alone
+    alone = dual.batch_ik(goals[[0]], link="right_panda_hand", seed_q=seeds[[0]], collision_free=True)
+    np.testing.assert_allclose(alone.q[0, :7], seeds[0, :7])
+
+
 def test_plan_poses_moves_both_hands_in_one_motion(dual, verifier):
     q0 = dual.default_joint_positions
     goals = {"left_panda_hand": Pose([0.45, 0.15, 0.35], DOWN), "right_panda_hand": Pose([0.55, -0.2, 0.2], DOWN)}
@@ -74,6 +90,41 @@ def test_plan_poses_moves_both_hands_in_one_motion(dual, verifier):
     moving = np.abs(np.diff(P, axis=0)) > 1e-9
     assert np.any(moving[:, :7] & moving[:, 7:].any(axis=1, keepdims=True))
     _verified(verifier, result, q0)
+
+
+def _line_fraction(points: np.ndarray, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(fraction along a -> b, distance from the line [m]) of points (N, 3)."""
+    d = b - a
+    f = (points - a) @ d / (d @ d)
+    return f, np.linalg.norm(points - (a + f[:, None] * d), axis=1)
+
+
+def test_plan_poses_linear_moves_both_hands_on_their_lines_together(dual, verifier):
+    q0 = dual.default_joint_positions
+    hands = ("left_panda_hand", "right_panda_hand")
+    starts = {h: dual.fk(q0, h) for h in hands}
+    goals = {"left_panda_hand": Pose(starts["left_panda_hand"].position + [0.05, -0.05, -0.15],
+                                     starts["left_panda_hand"].quaternion),
+             "right_panda_hand": Pose(starts["right_panda_hand"].position + [-0.03, 0.0, -0.08],
+                                      starts["right_panda_hand"].quaternion)}
+    result = dual.plan_poses(q0, goals, linear=True, seed=0)
+    assert result.success, result.message
+    assert result.source == "linear" and result.position_error < 1e-3
+    P = result.trajectory.resample(0.002).positions
+    fractions = []
+    for h in hands:
+        f, off = _line_fraction(dual.fk(P, h).position, starts[h].position, goals[h].position)
+        assert off.max() < 2e-3, (h, off.max())            # on its straight line throughout
+        fractions.append(f)
+    # together: both hands at the same fraction of their lines at every sample, and both arrive
+    assert np.abs(fractions[0] - fractions[1]).max() < 0.02
+    assert abs(fractions[0][-1] - 1) < 1e-3 and abs(fractions[1][-1] - 1) < 1e-3
+    _verified(verifier, result, q0)
+    # one goal: the other arm is held, as plan_pose(..., linear=True)
+    one = dual.plan_poses(q0, {"left_panda_hand": goals["left_panda_hand"]}, linear=True, seed=0)
+    assert one.success, one.message
+    held = one.trajectory.positions[:, 7:]
+    np.testing.assert_array_equal(held, np.broadcast_to(q0[7:], held.shape))
 
 
 def test_plan_poses_hands_passing_each_other(dual, verifier):

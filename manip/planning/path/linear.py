@@ -12,6 +12,9 @@ from manip.pose import Pose
 #: Largest joint change [rad] allowed between IK solutions of consecutive line points (at
 #: most 5 mm / 0.05 rad apart); a bigger jump means the arm flips through a singularity.
 MAX_JOINT_JUMP = 0.1
+#: The IK points of a line are checked in groups of this many as they are found, so a line
+#: that collides early is given up before the rest is solved.
+CHECK_EVERY = 8
 
 
 def _slerp(q0: np.ndarray, q1: np.ndarray, s: np.ndarray) -> np.ndarray:
@@ -45,27 +48,80 @@ def linear_path(
     Returns:
         (path, "") or (None, reason).
     """
-    p0 = kinematics.fk(start, link)
-    dist = float(np.linalg.norm(goal.position - p0.position))
-    angle = float(quat.angle_between(p0.quaternion, goal.quaternion))
-    n = max(1, int(np.ceil(max(dist / step, angle / 0.05))))
+    return linear_paths(kinematics, [(link, goal, ik_solver, None)], start, step=step, valid_batch=valid_batch,
+                        motion_valid=motion_valid)
+
+
+def linear_paths(
+    kinematics,
+    targets: list[tuple[str, Pose, object, np.ndarray | None]],
+    start: np.ndarray,
+    *,
+    step: float,
+    valid_batch: Callable[[np.ndarray], np.ndarray],
+    motion_valid: Callable[[np.ndarray, np.ndarray], bool],
+    carrier: tuple[Pose, Pose] | None = None,
+) -> tuple[np.ndarray | None, str]:
+    """Joint path (M, dof) moving several links, each on the straight line from its pose at
+    `start` to its goal, together: every link at the same fraction of its line at each point
+    (so all arrive together), the point count set by the longest line (`step` [m], 0.05 rad).
+
+    Args:
+        targets: per link (link, goal Pose, its IK solver, free (dof,) bool: the joints its IK
+            sets, those of the arm that carries it; None: all). The links' joints must not
+            overlap (one link per arm).
+        start: (dof,) [rad].
+        carrier: (its pose at the start, at the goal): the links move rigidly with one frame
+            (a held object's) whose origin moves on the straight line and whose orientation is
+            interpolated by slerp, each link keeping its start pose in that frame (its goal
+            Pose is then where it ends up; give goals that keep the pose in the frame).
+
+    Returns:
+        (path, "") or (None, reason).
+    """
+    if carrier is not None:
+        c0, c1 = carrier
+        held = [c0.inverse() @ kinematics.fk(start, link) for link, _, _, _ in targets]
+        targets = [(link, c1 @ h, solver, free) for (link, _, solver, free), h in zip(targets, held)]
+    lines = []
+    n = 1
+    for link, goal, solver, free in targets:
+        p0 = kinematics.fk(start, link)
+        dist = float(np.linalg.norm(goal.position - p0.position))
+        angle = float(quat.angle_between(p0.quaternion, goal.quaternion))
+        n = max(n, int(np.ceil(max(dist / step, angle / 0.05))))
+        lines.append((link, p0, goal, solver, free))
+    if carrier is not None:  # the links' arcs: their lever arms about the frame's origin turn too
+        lever = max(float(np.linalg.norm(h.position)) for h in held)
+        n = max(n, int(np.ceil(lever * float(quat.angle_between(c0.quaternion, c1.quaternion)) / step)))
     s = np.linspace(0.0, 1.0, n + 1)[1:]
-    positions = p0.position + s[:, None] * (goal.position - p0.position)
-    quats = _slerp(p0.quaternion, goal.quaternion, s)
+    if carrier is None:
+        points = [(p0.position + s[:, None] * (goal.position - p0.position), _slerp(p0.quaternion, goal.quaternion, s))
+                  for _, p0, goal, _, _ in lines]
+    else:
+        frames = Pose(c0.position + s[:, None] * (c1.position - c0.position), _slerp(c0.quaternion, c1.quaternion, s))
+        points = [((f := frames @ h).position, f.quaternion) for h in held]
     path = [start]
     q = start
+    many = len(lines) > 1
     for i in range(n):
-        target = Pose(positions[i], quats[i])
-        res = ik_solver.solve(target, link, seed_q=q)
-        if not res.success:
-            return None, f"IK fails on the line at {s[i] * 100:.0f}% ({res.status.name})"
-        if np.max(np.abs(res.q - q)) > MAX_JOINT_JUMP:
-            return None, f"the arm would jump {np.max(np.abs(res.q - q)):.2f} rad at {s[i] * 100:.0f}% of the line"
-        q = res.q
+        q_next = q.copy()
+        for (link, _, _, solver, free), (positions, quats) in zip(lines, points):
+            res = solver.solve(Pose(positions[i], quats[i]), link, seed_q=q)
+            where = f" ('{link}')" if many else ""
+            if not res.success:
+                return None, f"IK fails on the line{where} at {s[i] * 100:.0f}% ({res.status.name})"
+            moved = res.q if free is None else np.where(free, res.q, q_next)
+            jump = float(np.max(np.abs(moved - q)))
+            if jump > MAX_JOINT_JUMP:
+                return None, f"the arm{where} would jump {jump:.2f} rad at {s[i] * 100:.0f}% of the line"
+            q_next = moved
+        q = q_next
         path.append(q)
+        if i % CHECK_EVERY == CHECK_EVERY - 1 or i == n - 1:  # fail early: the IK points so far
+            if not np.all(valid_batch(np.asarray(path[-CHECK_EVERY:] if i >= CHECK_EVERY else path[1:]))):
+                return None, "the straight line collides"
     path = np.asarray(path)
-    if not np.all(valid_batch(path[1:])):
-        return None, "the straight line collides"
     for a, b in zip(path[:-1], path[1:]):
         if not motion_valid(a, b):
             return None, "the straight line collides"

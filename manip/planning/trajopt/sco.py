@@ -52,7 +52,8 @@ def _blocks(n: int, dof: int, samples_per_interval: int) -> dict:
     slack = np.zeros((limit_G.shape[0], 3 * dof))
     slack[np.arange(slack.shape[0]), limit_slack] = -1.0
     blocks = dict(free=free, fixed=fixed, D=D, B=B, sample_t=sample_t, B_free=B[:, free], B_fixed=B[:, fixed],
-                  limit_G=limit_G, limit_order=limit_order, limit_slack=limit_slack,
+                  limit_G=limit_G, limit_G_sparse=sp.csr_matrix(limit_G), limit_order=limit_order,
+                  limit_slack=limit_slack,
                   limit_G_slack=np.hstack([limit_G, slack]), per_order=per_order)
     for a in [v for v in blocks.values() if isinstance(v, np.ndarray)] + [m for t in per_order.values() for m in t]:
         a.flags.writeable = False
@@ -77,6 +78,8 @@ class SplineProblem:
         self.q_fixed = b["B_fixed"] @ fixed_c  # (M, dof) fixed points' share
         # limit rows: per order, rows touching a free point; G = +-kron(I, Df), rhs = lim -+ fixed share
         self.limit_G, self.limit_order = b["limit_G"], b["limit_order"]
+        # the same rows sparse (~1 % filled): their products with x, without a threaded dense BLAS call
+        self.limit_G_sparse = b["limit_G_sparse"]
         self.limit_slack, self.limit_G_slack = b["limit_slack"], b["limit_G_slack"]  # (L,), (L, dof * m + 3 dof)
         self.limit_fixed, self.cost = [], {}
         for k in (1, 2, 3):
@@ -163,7 +166,7 @@ def sco_fixed_step(prob: SplineProblem, c0: np.ndarray, h: float, radius: float,
     activation = margin + s.activation
     terms = clearance.terms(prob.B @ c, activation)
     floor = min(margin, _min_distance(terms, activation)) - 1e-3  # never worse than the seed
-    merit = _merit(P, q_lin, c, prob, terms, margin, s.penalty, G_lim, h_lim)
+    merit = _merit(P_sparse, q_lin, c, prob, terms, margin, s.penalty, h_lim)
     nx = P.shape[0]
     for _ in range(s.iterations):
         if time.perf_counter() > deadline or solves >= max_solves:
@@ -173,7 +176,7 @@ def sco_fixed_step(prob: SplineProblem, c0: np.ndarray, h: float, radius: float,
         # rows: limit rows in use (> 1 - LIMIT_ROW_SLACK of their limit; the others cannot
         # become active within the trust region's first steps, and limits are soft anyway: the
         # result is re-timed exactly), then collision rows, each with its own slack (L1)
-        keep = G_lim @ x0.T.ravel() - h_lim > -s.limit_row_slack * row_lim
+        keep = prob.limit_G_sparse @ x0.T.ravel() - h_lim > -s.limit_row_slack * row_lim
         z = _solve_qp(prob, P_sparse, q_lin, G_lim_slack[keep], h_lim[keep], G_col, h_col, x0, radius, lower, upper, s,
                       slack_cost, slack_lb, slack_ub)
         solves += 1
@@ -182,13 +185,13 @@ def sco_fixed_step(prob: SplineProblem, c0: np.ndarray, h: float, radius: float,
         x = np.clip(z[:nx].reshape(prob.dof, -1).T, lower, upper)
         c_new = prob.control(x)
         terms_new = clearance.terms(prob.B @ c_new, activation)
-        merit_new = _merit(P, q_lin, c_new, prob, terms_new, margin, s.penalty, G_lim, h_lim)
+        merit_new = _merit(P_sparse, q_lin, c_new, prob, terms_new, margin, s.penalty, h_lim)
         for _ in range(s.line_search if merit_new > merit else 0):
             # half the step first (one clearance evaluation instead of a QP; a convex
             # combination keeps the bounds and the end rays)
             c_new = 0.5 * (c + c_new)
             terms_new = clearance.terms(prob.B @ c_new, activation)
-            merit_new = _merit(P, q_lin, c_new, prob, terms_new, margin, s.penalty, G_lim, h_lim)
+            merit_new = _merit(P_sparse, q_lin, c_new, prob, terms_new, margin, s.penalty, h_lim)
             if merit_new <= merit:
                 break
         if merit_new > merit:
@@ -237,7 +240,7 @@ def sco_free_step(prob: SplineProblem, c0: np.ndarray, *, limits: JointLimits, c
 
     def merit_of(c_: np.ndarray, terms_) -> float:
         x = c_[3:n].T.ravel()
-        return float(weight * _polygon_step(c_, limits) + 0.5 * x @ P @ x + q_lin @ x
+        return float(weight * _polygon_step(c_, limits) + 0.5 * x @ (P_sparse @ x) + q_lin @ x
                      + s.penalty * _violation(terms_, margin))
 
     merit = merit_of(c, terms)
@@ -248,7 +251,7 @@ def sco_free_step(prob: SplineProblem, c0: np.ndarray, *, limits: JointLimits, c
         x0 = c[3:n]
         G_lim, h_lim = _limit_rows(prob, h, limits)
         row_lim = _row_limits(prob, h, limits)
-        keep = G_lim @ x0.T.ravel() - h_lim > -s.limit_row_slack * row_lim
+        keep = prob.limit_G_sparse @ x0.T.ravel() - h_lim > -s.limit_row_slack * row_lim
         # G x <= lim(h') - fixed share, with lim(h') >= lim(h) (k h' / h - (k - 1)) for order k
         k, lim = order[keep], row_lim[keep]
         G_col, h_col = _collision_rows(prob, c, terms, margin)
@@ -259,7 +262,7 @@ def sco_free_step(prob: SplineProblem, c0: np.ndarray, *, limits: JointLimits, c
         if z is None:
             break
         xz = z[:nx]
-        predicted = merit - float(0.5 * xz @ (P @ xz) + q_lin @ xz + weight * z[nx] + s.penalty * z[nx + 1 + R:].sum())
+        predicted = merit - float(0.5 * xz @ (P_sparse @ xz) + q_lin @ xz + weight * z[nx] + s.penalty * z[nx + 1 + R:].sum())
         c_new = prob.control(np.clip(xz.reshape(dof, -1).T, lower, upper))
         step = float(np.max(np.abs(c_new - c)))
         for half in range(s.line_search + 1):
@@ -295,14 +298,14 @@ def _polygon_step(c: np.ndarray, limits: JointLimits) -> float:
                      np.cbrt(np.max(d3 / limits.jerk)), 1e-9))
 
 
-def _merit(P, q_lin, c, prob: SplineProblem, terms, margin: float, penalty: float, G_lim, h_lim) -> float:
+def _merit(P: sp.csc_matrix, q_lin, c, prob: SplineProblem, terms, margin: float, penalty: float, h_lim) -> float:
     """Objective plus L1 penalties of the sampled clearance below `margin` [m] and of the
     limits' excess: per derivative order and joint, the largest excess of its rows (in units
     of the limits' per-step values), as the QP's one slack per order and joint counts it."""
     x = c[3 : prob.n].T.ravel()
     largest = np.zeros(3 * prob.dof)
-    np.maximum.at(largest, prob.limit_slack, G_lim @ x - h_lim)
-    return float(0.5 * x @ P @ x + q_lin @ x + penalty * (_violation(terms, margin) + largest.sum()))
+    np.maximum.at(largest, prob.limit_slack, prob.limit_G_sparse @ x - h_lim)
+    return float(0.5 * x @ (P @ x) + q_lin @ x + penalty * (_violation(terms, margin) + largest.sum()))
 
 
 def _violation(terms, margin: float) -> float:
