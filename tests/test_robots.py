@@ -18,7 +18,7 @@ from manip.benchmarking.verify import Verifier
 from manip.errors import InvalidInputError
 from manip.motion_generator import MotionGenerator
 from manip.pose import Pose
-from manip.robot_config import available_robots, load_robot_config
+from manip.robot_config import available_robots
 
 ROBOTS = ["ur5", "ur10", "kinova", "xarm7"]
 

@@ -50,7 +50,7 @@ import numpy as np
 from manip.collision.occupancy import OccupancyMap
 from manip.errors import InvalidInputError
 from manip.perception.kernels import (SNAP, cells_seen_free, depth_cells, difference, on_robot, pack_all,
-                                      reduce_bounds, sorted_unique, sphere_index, union, unpack)
+                                      reduce_bounds, sphere_index, union, unpack)
 from manip.pose import Pose
 from manip.validation import as_real_array, non_negative, positive
 

@@ -395,21 +395,6 @@ def cells_seen_free(cells, depth, fx, fy, cx, cy, R, t, res, near):
 
 
 @kernel
-def sorted_unique(keys):
-    """The sorted distinct values of keys (P,) int64."""
-    if keys.shape[0] == 0:
-        return keys.copy()
-    s = np.sort(keys)
-    out = np.empty_like(s)
-    n = 0
-    for m in range(s.shape[0]):
-        if m == 0 or s[m] != s[m - 1]:
-            out[n] = s[m]
-            n += 1
-    return out[:n].copy()
-
-
-@kernel
 def difference(a, b):
     """The values of sorted a (A,) not in sorted b (B,) (both distinct), sorted."""
     out = np.empty_like(a)
