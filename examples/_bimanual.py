@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import argparse
 import time
-from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -105,8 +104,39 @@ class Bimanual:
         """The arm's TCP pose in the planner's base frame (= the world: the base is at the origin)."""
         return self.mg.fk(self.q(), arm.tcp)
 
+    #: set by each example: the held object's name ("cube"), its place position (3,) [m] and
+    #: the distance from it counted as placed [m]
+    thing: str
+    place: np.ndarray
+    success: float
+
     def object_position(self) -> np.ndarray:
         raise NotImplementedError
+
+    def start_pose(self, rng: np.random.Generator) -> None:
+        """Put the object at the episode's seeded start pose (before it settles)."""
+        raise NotImplementedError
+
+    def run(self) -> None:
+        """The episode's motions; raises MotionFailed when one cannot be planned or held."""
+        raise NotImplementedError
+
+    def episode(self, index: int) -> tuple[bool, float, str]:
+        """One episode from a seeded start pose: (placed, final error [m], why not)."""
+        self.reset()
+        self.start_pose(np.random.default_rng([self.seed, index]))
+        self.settle()
+        why = ""
+        try:
+            self.run()
+        except MotionFailed as exc:
+            why = str(exc)
+            self.say(f"FAILED: {why}")
+        error = float(np.linalg.norm(self.object_position() - self.place))
+        placed = error < self.success
+        if not placed and not why:
+            why = f"the {self.thing} rests {error * 100:.1f} cm from its place position"
+        return placed, error, why
 
     def object_in_tcp(self, arm: Arm) -> np.ndarray:
         """(3,) the held object's centre in the arm's TCP frame [m] (measured)."""
@@ -256,20 +286,19 @@ class Bimanual:
         self.app.close()
 
 
-def run_episodes(make_demo: Callable[..., Bimanual], doc: str, argv: list[str] | None, *, thing: str,
-                 things: str, done: str, success: float) -> int:
+def run_episodes(make_demo: type[Bimanual], doc: str, argv: list[str] | None, *, things: str, done: str) -> int:
     """The examples' `main()`: the flags (--episodes, --seed, --viewer, --quiet), the episode
     loop (one line per episode: placed or not, the object's distance from its place position)
     and the summary; the exit status is 0 only when every episode placed the object.
 
     Args:
-        make_demo: `Demo(seed, viewer=, verbose=)`, a `Bimanual` with `episode(k) -> (placed,
-            error [m], why not)`.
+        make_demo: the example's `Bimanual` class, `Demo(seed, viewer=, verbose=)` (its `thing`
+            names the object in the lines, its `success` is the distance counted as placed [m]).
         doc: the example's module docstring (its first paragraph is the description).
-        thing, things: the object's name in the lines ("cube", "cubes"); done: what the summary
-            says was done with them ("handed over and placed"); success: the distance counted
-            as placed [m].
+        things: the object's plural in the summary ("cubes"); done: what the summary says was
+            done with them ("handed over and placed").
     """
+    thing, success = make_demo.thing, make_demo.success
     parser = argparse.ArgumentParser(description=doc.split("\n\n")[0],
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--episodes", type=int, default=3, help="Episodes to run (default 3).")

@@ -24,7 +24,7 @@ import sys
 
 import numpy as np
 
-from _bimanual import Bimanual, MotionFailed, hand_down, run_episodes
+from _bimanual import Bimanual, hand_down, run_episodes
 from manip import MotionGenerator, Pose, RelativePoseConstraint
 from manip import quaternion as quat
 from manip.sim import DynamicCuboid, Franka, SimulationApp, VisualCuboid, World, create_new_stage
@@ -46,6 +46,8 @@ CARRY = dict(velocity_scale=0.5, acceleration_scale=0.5)
 
 class Carry(Bimanual):
     """The scene and one carry episode (see the module docstring)."""
+
+    thing, place, success = "box", PLACE, SUCCESS
 
     def __init__(self, seed: int, viewer: bool = False, verbose: bool = True):
         self.app = SimulationApp({"headless": not viewer})
@@ -77,24 +79,9 @@ class Carry(Bimanual):
         pts = self.box_pose().transform_points(np.array([[0.0, GRIP, 0.0], [0.0, -GRIP, 0.0]]))
         return pts[0], pts[1]
 
-    def episode(self, index: int) -> tuple[bool, float, str]:
-        """One carry from a seeded box pose: (placed, final error [m], why not)."""
-        rng = np.random.default_rng([self.seed, index])
-        self.reset()
+    def start_pose(self, rng: np.random.Generator) -> None:
         p0 = np.array([rng.uniform(*START_X), rng.uniform(*START_Y), BOX[2] / 2])
         self.box.set_world_pose(p0, quat.from_axis_angle([0, 0, 1], rng.uniform(-START_YAW, START_YAW)))
-        self.settle()
-        why = ""
-        try:
-            self.run()
-        except MotionFailed as exc:
-            why = str(exc)
-            self.say(f"FAILED: {why}")
-        error = float(np.linalg.norm(self.object_position() - PLACE))
-        placed = error < SUCCESS
-        if not placed and not why:
-            why = f"the box rests {error * 100:.1f} cm from its place position"
-        return placed, error, why
 
     def run(self) -> None:
         mg, L, R = self.mg, self.arms[0], self.arms[1]
@@ -139,8 +126,7 @@ class Carry(Bimanual):
 
 
 def main(argv: list[str] | None = None) -> int:
-    return run_episodes(Carry, __doc__, argv, thing="box", things="boxes", done="carried and put down",
-                        success=SUCCESS)
+    return run_episodes(Carry, __doc__, argv, things="boxes", done="carried and put down")
 
 
 if __name__ == "__main__":

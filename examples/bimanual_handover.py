@@ -30,7 +30,7 @@ import numpy as np
 from manip import MotionGenerator, Pose
 from manip import quaternion as quat
 from manip.sim import DynamicCuboid, Franka, SimulationApp, VisualCuboid, World, create_new_stage
-from _bimanual import Bimanual, MotionFailed, hand_down, run_episodes
+from _bimanual import Bimanual, hand_down, run_episodes
 
 CUBE = 0.05                                        # [m] edge
 PICK_X, PICK_Y = (0.42, 0.55), (0.22, 0.38)        # [m] where episodes put the cube (in front of the left arm)
@@ -53,6 +53,8 @@ RIGHT_PLACE = quat.from_matrix(np.array([[0.0, 1, 0], [1, 0, 0], [0, 0, -1]]))
 class Handover(Bimanual):
     """The scene and one handover episode (see the module docstring)."""
 
+    thing, place, success = "cube", PLACE, SUCCESS
+
     def __init__(self, seed: int, viewer: bool = False, verbose: bool = True):
         self.app = SimulationApp({"headless": not viewer})
         World.clear_instance()
@@ -71,24 +73,9 @@ class Handover(Bimanual):
         super().__init__(world, mg, left, right, seed=seed, render=bool(viewer), verbose=verbose)
         world.reset()
 
-    def episode(self, index: int) -> tuple[bool, float, str]:
-        """One handover from a seeded cube pose: (placed, final error [m], why not)."""
-        rng = np.random.default_rng([self.seed, index])
-        self.reset()
+    def start_pose(self, rng: np.random.Generator) -> None:
         p0 = np.array([rng.uniform(*PICK_X), rng.uniform(*PICK_Y), CUBE / 2])
         self.cube.set_world_pose(p0, quat.from_axis_angle([0, 0, 1], rng.uniform(-np.pi, np.pi)))
-        self.settle()
-        why = ""
-        try:
-            self.run()
-        except MotionFailed as exc:
-            why = str(exc)
-            self.say(f"FAILED: {why}")
-        error = float(np.linalg.norm(self.object_position() - PLACE))
-        placed = error < SUCCESS
-        if not placed and not why:
-            why = f"the cube rests {error * 100:.1f} cm from the place position"
-        return placed, error, why
 
     def object_position(self) -> np.ndarray:
         return np.asarray(self.cube.get_world_pose()[0], dtype=float)
@@ -136,8 +123,7 @@ class Handover(Bimanual):
 
 
 def main(argv: list[str] | None = None) -> int:
-    return run_episodes(Handover, __doc__, argv, thing="cube", things="cubes", done="handed over and placed",
-                        success=SUCCESS)
+    return run_episodes(Handover, __doc__, argv, things="cubes", done="handed over and placed")
 
 
 if __name__ == "__main__":
