@@ -33,22 +33,12 @@ if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
 from benchmarks.report import replace_section  # noqa: E402
-from benchmarks.pick_and_place import machine  # noqa: E402
+from benchmarks.pick_and_place import load_example, machine  # noqa: E402
 
 RESOLUTION = 0.02  # [m]
 CAMERAS = (((-0.6, -0.9, 1.5), (0.45, 0.0, 0.25)), ((-0.6, 0.9, 1.5), (0.45, 0.0, 0.25)))
 FOCAL_LENGTH = 1.2   # Isaac's units: an 82 deg horizontal field of view
 OPTIONS = {"search_iterations": 10000, "time_budget": 60.0}
-
-
-def look_at(eye, target) -> np.ndarray:
-    from manip import quaternion as quat
-
-    f = np.asarray(target, float) - np.asarray(eye, float)
-    f /= np.linalg.norm(f)
-    left = np.cross([0.0, 0.0, 1.0], f)
-    left /= np.linalg.norm(left)
-    return quat.from_matrix(np.stack([f, left, np.cross(f, left)], axis=1))
 
 
 def build_scene(world_dict: dict, start: np.ndarray):
@@ -65,6 +55,7 @@ def build_scene(world_dict: dict, start: np.ndarray):
         world.scene.add(FixedCylinder(f"/World/{name}", name=name, position=np.array(e["pose"][:3]),
                                       radius=e["radius"], height=e["height"], orientation=np.array(e["pose"][3:])))
     franka = world.scene.add(Franka("/World/Franka", name="franka"))
+    look_at = load_example("perception_rig").look_at  # Isaac's camera axes, as the flagship's cameras
     cams = []
     for i, (eye, target) in enumerate(CAMERAS):
         cam = Camera(f"/World/cam{i}", position=np.array(eye), orientation=look_at(eye, target), resolution=(640, 480))

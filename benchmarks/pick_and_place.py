@@ -38,9 +38,9 @@ CONFIGS = ("plain", "obstacles", "perceive")
 TARGET = {"plain": (TARGET_SUCCESS, TARGET_RTF), "obstacles": (TARGET_SUCCESS, TARGET_RTF), "perceive": (0.95, 0.0)}
 
 
-def load_example():
-    """The example module (examples/ is not a package)."""
-    spec = importlib.util.spec_from_file_location("pick_and_place_example", ROOT / "examples" / "pick_and_place.py")
+def load_example(name: str = "pick_and_place"):
+    """The module examples/<name>.py (examples/ is not a package)."""
+    spec = importlib.util.spec_from_file_location(f"{name}_example", ROOT / "examples" / f"{name}.py")
     mod = importlib.util.module_from_spec(spec)
     sys.modules[spec.name] = mod  # dataclasses look their module up while the class is built
     spec.loader.exec_module(mod)
