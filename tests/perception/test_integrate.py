@@ -113,6 +113,51 @@ def test_the_robot_in_view_adds_no_cell_on_itself(mg):
     assert mg.check_collision(q)
 
 
+def test_the_robot_moved_between_images_adds_no_cell_where_it_now_is(mg):
+    """The self-filter is built once per configuration (both cameras at the same q share it):
+    an image taken after the robot moved is filtered at the new q, not the last one."""
+    world = World()
+    world.scene.add_default_ground_plane()
+    franka = world.scene.add(Franka("/World/Franka", name="franka"))
+    cams = [camera_at(f"/World/cam{i}", eye, [0.3, 0.0, 0.4]) for i, eye in
+            enumerate(([1.4, -0.9, 1.0], [1.4, 0.9, 1.0]))]
+    world.reset()
+    q0 = franka.get_joint_positions().copy()
+    for cam in cams:
+        integrate(mg, cam, q=q0)
+    q1 = q0.copy()
+    q1[0] += 0.8          # the arm turned to one side
+    q1[3] += 0.5
+    franka.set_joint_positions(q1)
+    world.step(render=False)
+    q1 = franka.get_joint_positions().copy()
+    for cam in cams:
+        integrate(mg, cam, q=q1)
+    assert not mg.check_collision(q1[:7])
+    assert mg.distance(q1[:7]) > 0.05
+
+
+def test_two_threads_integrating_into_one_map_keep_both_observations(mg):
+    """Updates of one map take turns: two threads each adding their own points keep all of them."""
+    import threading
+
+    n = 25
+    clouds = [[np.array([[0.31 + 0.02 * i, y, 0.41]]) for i in range(n)] for y in (-0.29, 0.29)]
+
+    def add(cloud):
+        for points in cloud:
+            mg.update_world_from_pointcloud(points, name="shared")
+
+    threads = [threading.Thread(target=add, args=(c,)) for c in clouds]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    m = mg.world.get("shared")
+    assert m.num_cells == 2 * n
+    assert all(m.contains_points(c[0]) for cloud in clouds for c in cloud)
+
+
 def test_closed_fingers_given_in_the_robot_state_add_no_cell(mg):
     world = World()
     world.scene.add_default_ground_plane()
