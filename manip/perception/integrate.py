@@ -369,7 +369,7 @@ def _update_locked(checker, name: str, resolution: float, unknown: str, bounds, 
 
 def integrate_depth(checker, depth, intrinsics, camera_pose: Pose, *, name: str = "camera", resolution: float = 0.02,
                     q: np.ndarray | None = None, max_range: float = 3.0, unknown: str = "free", bounds=None,
-                    self_margin: float = 0.01, fill: str = "cells") -> OccupancyMap:
+                    self_margin: float = 0.01, fill: str = "points") -> OccupancyMap:
     """Integrate one depth image into the occupancy map `name` of `checker` (module docstring).
 
     Args:
@@ -389,8 +389,9 @@ def integrate_depth(checker, depth, intrinsics, camera_pose: Pose, *, name: str 
         unknown: "free" (never observed = free) or "occupied" (within `bounds`).
         bounds: [[x0, y0, z0], [x1, y1, z1]] [m], base frame (needed with unknown="occupied").
         self_margin: points within this of the robot [m] are dropped.
-        fill: "points": an occupied cell holds the box of the points measured in it and of the
-            rays behind them (`OccupancyMap.bounds`); "cells": the whole cell.
+        fill: "points" (the default): an occupied cell holds the box of the points measured in
+            it and of the rays behind them (`OccupancyMap.bounds`: exact on the side the camera
+            saw); "cells": the whole cell (surfaces inflated by up to a cell).
 
     Returns:
         The new `OccupancyMap` (also in the checker's world).
@@ -439,7 +440,7 @@ def _cube_faces() -> list[np.ndarray]:
 
 def integrate_pointcloud(checker, points, origin=None, *, name: str = "camera", resolution: float = 0.02,
                          q: np.ndarray | None = None, max_range: float = 3.0, unknown: str = "free", bounds=None,
-                         self_margin: float = 0.01, fill: str = "cells") -> OccupancyMap:
+                         self_margin: float = 0.01, fill: str = "points") -> OccupancyMap:
     """Integrate a point cloud into the occupancy map `name` of `checker`.
 
     As `integrate_depth`, with the points given: (N, 3) [m] in the robot base frame (NaN

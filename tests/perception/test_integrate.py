@@ -285,3 +285,40 @@ def test_closing_fingers_add_no_cell_on_themselves(mg):
     assert mg.world.get("camera").num_cells > 100
     assert not mg.check_collision(q)
     assert mg.distance(q) > 0.05
+
+
+def _plane_under(mg, q, z: float, fill=None):
+    """Integrate a synthetic image of a horizontal surface at height z [m], 12 cm around the
+    hand, seen by a camera 1 m above it looking straight down (inf elsewhere)."""
+    hand = mg.fk(q, "panda_hand").position
+    K = np.array([[300.0, 0.0, 99.5], [0.0, 300.0, 99.5], [0.0, 0.0, 1.0]])
+    eye = np.array([hand[0], hand[1], z + 1.0])
+    down = Pose(eye, [np.sqrt(0.5), 0.0, np.sqrt(0.5), 0.0])   # Isaac's +X forward turned to -Z
+    u, v = np.meshgrid(np.arange(200), np.arange(200))
+    # optical x = world -y, optical y = world -x for this camera: the pixel's point on the plane
+    off = np.stack([-(v - K[1, 2]) / K[1, 1], -(u - K[0, 2]) / K[0, 0]], axis=-1) * 1.0
+    depth = np.where(np.linalg.norm(off, axis=-1) < 0.12, 1.0, np.inf).astype(np.float32)
+    kwargs = {} if fill is None else {"fill": fill}
+    return mg.update_world_from_depth(depth, K, down, **kwargs)
+
+
+def test_by_default_a_start_5_mm_above_a_seen_surface_is_free(mg):
+    """The default map holds a surface as it was measured on the side the camera saw (the
+    cell's depth behind it): the hand 5 mm above a seen table is free, and a motion along it
+    is certified; whole cells (`fill="cells"`) put it in collision."""
+    q = mg.default_joint_positions
+    z = 0.2
+    for _ in range(3):   # raise the surface until it is 5 mm below the robot
+        _plane_under(mg, q, z)
+        z += mg.checker.distance_report(q).world_distance - 0.005
+        mg.remove_obstacle("camera")
+    _plane_under(mg, q, z)
+    assert not mg.check_collision(q)
+    assert mg.checker.distance_report(q).world_distance == pytest.approx(0.005, abs=5e-4)
+    q2 = q.copy()
+    q2[0] += 0.05
+    assert mg.checker.certify_path(np.array([q, q2])).certified
+    whole = MotionGenerator("franka")
+    _plane_under(whole, q, z, fill="cells")
+    assert (math.floor(z / 0.02) + 1) * 0.02 > z + 0.005   # the surface's cell reaches above the hand
+    assert whole.check_collision(q)
