@@ -182,7 +182,8 @@ def _self_filter(checker, q, margin: float) -> _SelfFilter:
     if got is not None and got[0] is fine and got[1] == key:
         return got[2]
     rob = _robot(checker, q, margin)
-    out = _SelfFilter(rob, sphere_index(rob.centres, rob.radii, SELF_CELL), reach(checker))
+    far = got[2].reach if got is not None and got[0] is fine else reach(checker)   # the robot's, not q's
+    out = _SelfFilter(rob, sphere_index(rob.centres, rob.radii, SELF_CELL), far)
     _FILTERS[checker] = (fine, key, out)
     return out
 
