@@ -259,9 +259,10 @@ def table(res: dict, fill: str) -> str:
         f"{np.median(f['check_true']) * 1e6:.1f} us ({np.median(f['check_map']) / np.median(f['check_true']):.2f}x) |",
         f"| problems solved with the true primitives | {len(solvable)}/{len(rows)} |",
         f"| of those solved on the map | {len(both)}/{len(solvable)} ({100 * len(both) / max(len(solvable), 1):.1f} %) |",
-        f"| planning time (CPU) median, both solved: map / primitives | "
-        f"{np.median([r['map_time'] for r in both]) * 1e3:.0f} / {np.median([r['true_time'] for r in both]) * 1e3:.0f} ms "
-        f"({np.median([r['map_time'] for r in both]) / np.median([r['true_time'] for r in both]):.2f}x) |",
+        "| planning time (CPU) median, both solved: map / primitives | " + (
+            f"{np.median([r['map_time'] for r in both]) * 1e3:.0f} / {np.median([r['true_time'] for r in both]) * 1e3:.0f} "
+            f"ms ({np.median([r['map_time'] for r in both]) / np.median([r['true_time'] for r in both]):.2f}x) |"
+            if both else "none solved on both |"),
         f"| of those whose start and goal keep >= a cell diagonal ({res['resolution'] * np.sqrt(3) * 100:.1f} cm) "
         f"from the obstacles | {len(wide_ok)}/{len(wide)} ({100 * len(wide_ok) / max(len(wide), 1):.1f} %) |",
         f"| map plans colliding with the true geometry (verifier), all | {coll}/{len(planned)} |",
