@@ -123,7 +123,7 @@ def _perception(mg, q0) -> None:
     down = Pose([0.6, 0.0, 1.0], [np.sqrt(0.5), 0.0, np.sqrt(0.5), 0.0])   # +X forward turned to -Z
     depth = np.full((48, 64), 1.0, dtype=np.float32)
     mg.update_world_from_depth(depth, K, down, q=q0)
-    mg.update_world_from_depth(depth * 1.2, K, down, q=q0)    # the first plane seen through: freed
+    mg.update_world_from_depth((depth * 1.2).astype(np.float64), K, down, q=q0)   # seen through: freed (float64 depth)
     mg.update_world_from_depth(depth, K, down, name="bounded", unknown="occupied", bounds=[[0.3, -0.3, -0.3], [0.9, 0.3, 0.1]])
     m = mg.update_world_from_pointcloud(np.array([[0.6, 0.0, -0.2], [0.7, 0.1, -0.2]]), origin=[0.6, 0.0, 1.0], q=q0)
     m.contains_points(np.array([[0.6, 0.0, -0.19]]))

@@ -112,7 +112,7 @@ class WorldEdits:
         return cfg
 
     def update_world_from_depth(self, depth, intrinsics, camera_pose, *, name="camera", resolution=0.02, q=None,
-                                max_range=3.0, unknown="free", bounds=None, self_margin=0.01, fill="cells"):
+                                max_range=3.0, unknown="free", bounds=None, self_margin=0.01, fill="points"):
         """Integrate one depth image into the occupancy obstacle `name` (created on first use).
 
         Args:
@@ -128,9 +128,9 @@ class WorldEdits:
             unknown: "free" (cells never seen are free) or "occupied" (within `bounds`,
                 ((3,), (3,)) [m] in the base frame, unseen cells are obstacles).
             self_margin: points within this of the robot's geometry are dropped [m].
-            fill: what an occupied cell holds: "points" (the box of the points measured in it
-                and of the rays hidden behind them: surfaces as the camera saw them) or
-                "cells" (the whole cell: surfaces inflated by up to a cell).
+            fill: what an occupied cell holds: "points" (the default: the box of the points
+                measured in it and of the rays hidden behind them: surfaces as the camera saw
+                them) or "cells" (the whole cell: surfaces inflated by up to a cell).
 
         Rays mark their end cells occupied and the cells they cross free; details and what the
         map guarantees: `manip.perception.integrate`.
@@ -140,7 +140,7 @@ class WorldEdits:
                                self_margin=self_margin, fill=fill)
 
     def update_world_from_pointcloud(self, points, origin=None, *, name="camera", resolution=0.02, q=None,
-                                     max_range=3.0, unknown="free", bounds=None, self_margin=0.01, fill="cells"):
+                                     max_range=3.0, unknown="free", bounds=None, self_margin=0.01, fill="points"):
         """Integrate a point cloud `points` (N, 3) [m] (base frame) seen from `origin` (3,) [m] into
         the occupancy obstacle `name`; the other arguments as `update_world_from_depth` (without
         `origin`, no ray frees a cell)."""

@@ -36,7 +36,7 @@ import coal
 import numpy as np
 from scipy import ndimage
 
-from manip.collision.occupancy_boxes import boxes_near_balls, cell_boxes, merge_boxes, near_boxes
+from manip.collision.occupancy_boxes import boxes_near_balls, cell_range, grid_tables, merge_boxes, near_boxes
 from manip.collision.occupancy_kernels import cells_contain, map_candidates, point_lower_bounds
 from manip.collision.shapes import Mesh, _check_name, as_pose
 from manip.errors import InvalidInputError
@@ -146,25 +146,15 @@ class OccupancyMap(Mesh):
             blocks = np.zeros((1, 1, 1), dtype=bool)
             lo = hi = boxes[0, :3]
         else:
-            origin = c.min(axis=0)
-            shape = c.max(axis=0) - origin + 1
+            origin, shape = cell_range(c)
             if int(np.prod(shape.astype(float))) > MAX_CELLS:
                 raise InvalidInputError(f"occupancy map '{self.name}': its cells span {shape.tolist()} cells "
                                         f"(more than {MAX_CELLS:,}); use a coarser resolution")
-            idx = np.full(tuple(int(s) for s in shape), -1, dtype=np.int32)
-            rel = c - origin
-            idx[rel[:, 0], rel[:, 1], rel[:, 2]] = np.arange(c.shape[0], dtype=np.int32)
-            bounds = self.bounds if self.bounds is not None else np.hstack([c * res, (c + 1) * res])
-            cb = cell_boxes(c, np.ascontiguousarray(bounds, dtype=np.float64), idx, origin, float(res))
-            lo, hi = cb[:, :3].min(axis=0), cb[:, 3:].max(axis=0)
+            whole = self.bounds is None
+            bounds = np.zeros((0, 6)) if whole else np.array(self.bounds, dtype=np.float64)   # writable: one signature
             # blocks of BLOCK cells: the exact box-to-box distance between a block and the nearest
             # occupied block is the distance transform of the dilated block grid (module doc)
-            nb = -(-shape // BLOCK)
-            blocks = np.zeros(tuple(int(s) for s in nb), dtype=bool)
-            bi = rel // BLOCK
-            blocks[bi[:, 0], bi[:, 1], bi[:, 2]] = True
-            grown = ndimage.binary_dilation(np.pad(blocks, 1), structure=np.ones((3, 3, 3), dtype=bool))
-            grown = grown[1:-1, 1:-1, 1:-1]
+            idx, cb, lo, hi, blocks, grown = grid_tables(c, bounds, whole, origin, shape, float(res), BLOCK)
             blb = ndimage.distance_transform_edt(~grown) * (BLOCK * res) if not grown.all() else np.zeros(grown.shape)
             boxes, of_cell = merge_boxes(idx, cb, origin, float(res))
         shared["geometry"] = MapGeometry(boxes, idx, of_cell, np.ascontiguousarray(origin, dtype=np.int64), float(res))

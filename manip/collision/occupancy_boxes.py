@@ -62,6 +62,61 @@ def cell_boxes(cells, bounds, idx, origin, res):
     return out
 
 
+@kernel
+def cell_range(cells):
+    """(origin (3,), shape (3,)) int64: the first cell and the extent of the grid holding cells (C, 3) (C > 0)."""
+    lo = cells[0].copy()
+    hi = cells[0].copy()
+    for m in range(1, cells.shape[0]):
+        for a in range(3):
+            lo[a] = min(lo[a], cells[m, a])
+            hi[a] = max(hi[a], cells[m, a])
+    return lo, hi - lo + 1
+
+
+@kernel
+def grid_tables(cells, bounds, whole, origin, shape, res, B):
+    """The tables of `OccupancyMap` for cells (C, 3) (distinct) in the grid (origin, shape):
+    idx (shape) int32 (the row of each occupied cell, -1 elsewhere), the cells' boxes (C, 6)
+    (`cell_boxes` of bounds (C, 6) [m], or of whole cells when `whole`), the box (lo, hi) (3,)
+    holding them, and the grid of blocks of B^3 cells: occupied, and occupied or next to an
+    occupied block (26-neighbours)."""
+    C = cells.shape[0]
+    idx = np.full((shape[0], shape[1], shape[2]), -1, dtype=np.int32)
+    nb0, nb1, nb2 = -(-shape[0] // B), -(-shape[1] // B), -(-shape[2] // B)
+    blocks = np.zeros((nb0, nb1, nb2), dtype=np.bool_)
+    for m in range(C):
+        i, j, k = cells[m, 0] - origin[0], cells[m, 1] - origin[1], cells[m, 2] - origin[2]
+        idx[i, j, k] = m
+        blocks[i // B, j // B, k // B] = True
+    if whole:
+        b = np.empty((C, 6))
+        for m in range(C):
+            for a in range(3):
+                b[m, a] = cells[m, a] * res
+                b[m, 3 + a] = (cells[m, a] + 1) * res
+    else:
+        b = bounds
+    cb = cell_boxes(cells, b, idx, origin, res)
+    lo = np.full(3, np.inf)
+    hi = np.full(3, -np.inf)
+    for m in range(C):
+        for a in range(3):
+            lo[a] = min(lo[a], cb[m, a])
+            hi[a] = max(hi[a], cb[m, 3 + a])
+    grown = np.zeros((nb0, nb1, nb2), dtype=np.bool_)
+    for i in range(nb0):
+        for j in range(nb1):
+            for k in range(nb2):
+                if not blocks[i, j, k]:
+                    continue
+                for a in range(max(i - 1, 0), min(i + 2, nb0)):
+                    for e in range(max(j - 1, 0), min(j + 2, nb1)):
+                        for f in range(max(k - 1, 0), min(k + 2, nb2)):
+                            grown[a, e, f] = True
+    return idx, cb, lo, hi, blocks, grown
+
+
 @kernel(inline="always")
 def _fits(m, used, cb, lo_a, hi_a, face_lo, face_hi, first, last, L, H):
     """True when the cell box m (unused) spans [face_lo, face_hi] along axis `lo_a` (lo column

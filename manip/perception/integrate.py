@@ -10,7 +10,8 @@ depth image; `integrate_pointcloud` does the same with a cloud. `MotionGenerator
    or beyond the robot's reach (`reach`), are dropped;
 2. self-filtering: with `q`, points within `self_margin` of the robot at q are dropped: of
    a part's 26-DOP (the polytope of 26 fixed directions around the convex hull of its
-   collision geometry; links and attached objects), looked up through the sphere cover;
+   collision geometry; links and attached objects), looked up through the sphere cover
+   (built once per q: the images of several cameras taken at the same q share it);
 3. occupied: the cell of every remaining point (`manip.perception.kernels`), holding the
    bounding box of the points measured in it and of the rays behind them to the cell's end
    (`OccupancyMap.bounds`: exact on the side the camera saw, the whole cell on the side it
@@ -37,11 +38,15 @@ cell within `bounds` that no image has seen free is an obstacle, so only space o
 The map's state between updates (the cells seen occupied; with `unknown="occupied"` which
 cells were observed) is kept beside the map obstacle of the world (keyed by that very
 obstacle): removing the obstacle, or replacing it with another shape, starts a new map.
+Threads updating the maps of one checker take turns in applying their images (read the
+map, free, merge, build and install the new one), so no observation is lost; the
+back-projection and the self-filter run in parallel.
 """
 
 from __future__ import annotations
 
 import logging
+import threading
 import weakref
 from dataclasses import dataclass
 
@@ -49,8 +54,8 @@ import numpy as np
 
 from manip.collision.occupancy import OccupancyMap
 from manip.errors import InvalidInputError
-from manip.perception.kernels import (SNAP, cells_seen_free, depth_cells, difference, on_robot, pack_all,
-                                      reduce_bounds, sphere_index, union, unpack)
+from manip.perception.kernels import (SNAP, cells_seen_free, depth_cells, difference, merge_observation, on_robot,
+                                      pack_all, reduce_bounds, sphere_index, unpack)
 from manip.pose import Pose
 from manip.validation import as_real_array, non_negative, positive
 
@@ -77,7 +82,7 @@ class _MapState:
 
     resolution: float
     seen: np.ndarray             # (C,) sorted keys of the cells seen occupied
-    seen_bounds: np.ndarray      # (C, 6) [m] (lo, hi) the bounds of the points measured in each
+    seen_bounds: np.ndarray      # (C, 6) [m] (lo, hi) the bounds of the points measured in each (fill="cells": the cell)
     unknown: str
     bounds_lo: np.ndarray | None = None   # (3,) int64 first cell of the bounds grid
     observed: np.ndarray | None = None    # bool grid over the bounds: seen (free or occupied)
@@ -94,9 +99,9 @@ def _depth(depth) -> np.ndarray:
     d = depth[..., 0] if depth.ndim == 3 and depth.shape[2] == 1 else depth
     if d.ndim != 2 or d.shape[0] < 1 or d.shape[1] < 1:
         raise InvalidInputError(f"depth must have shape (H, W) (or (H, W, 1)); got {depth.shape}")
-    if np.any(d < 0):
-        raise InvalidInputError("depth must be >= 0 (inf or NaN where nothing was measured); got negative values")
-    return np.ascontiguousarray(d, dtype=np.float64)
+    if not d.flags.c_contiguous or not d.flags.writeable:   # the kernels' signature: a writable C array
+        d = np.array(d, order="C")
+    return d   # float32 or float64 as given (negative values: `depth_cells` counts them)
 
 
 def _intrinsics(K) -> tuple[float, float, float, float]:
@@ -151,6 +156,36 @@ class _Robot:
     part: np.ndarray      # (S,) int64 part of each ball
     planes: np.ndarray    # (G, 26, 4): n (unit, base frame) and offset d: the part is in n.x <= d
     margin: float
+
+
+@dataclass(frozen=True)
+class _SelfFilter:
+    """The self-filter at one q: the robot (`_Robot`), the index of its balls (`sphere_index`)
+    and the reach [m] (`reach`) beyond which points are dropped."""
+
+    robot: _Robot
+    index: tuple
+    reach: float
+
+
+#: {checker: (robot cover, key, _SelfFilter)}: the last self-filter of each checker, so that
+#: the images of several cameras taken at the same q build it once.
+_FILTERS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _self_filter(checker, q, margin: float) -> _SelfFilter:
+    """The self-filter of `checker` at q (as `_robot`), built once per (robot model, q, margin)."""
+    fine = checker.state.fine   # replaced when the robot's parts change (attached objects, fingers)
+    a = None if q is None else np.asarray(q)
+    key = (margin, None) if a is None else (margin, a.dtype.str, a.shape, a.tobytes())
+    got = _FILTERS.get(checker)
+    if got is not None and got[0] is fine and got[1] == key:
+        return got[2]
+    rob = _robot(checker, q, margin)
+    far = got[2].reach if got is not None and got[0] is fine else reach(checker)   # the robot's, not q's
+    out = _SelfFilter(rob, sphere_index(rob.centres, rob.radii, SELF_CELL), far)
+    _FILTERS[checker] = (fine, key, out)
+    return out
 
 
 def _robot(checker, q, margin: float) -> _Robot:
@@ -254,30 +289,28 @@ def _full_cells(cells: np.ndarray, res: float) -> np.ndarray:
     return np.hstack([cells * res, (cells + 1) * res]).astype(np.float64)
 
 
-def _merged_bounds(keys: np.ndarray, a_keys: np.ndarray, a_bounds: np.ndarray, b_keys: np.ndarray,
-                   b_bounds: np.ndarray) -> np.ndarray:
-    """(C, 6): for each of keys (C,) (sorted, each in a_keys or b_keys), the union of its bounds
-    in a and in b."""
-    out = np.empty((keys.shape[0], 6))
-    out[:, :3], out[:, 3:] = np.inf, -np.inf
-    for k, bb in ((a_keys, a_bounds), (b_keys, b_bounds)):
-        if k.size == 0:
-            continue
-        pos = np.minimum(np.searchsorted(k, keys), k.size - 1)
-        hit = k[pos] == keys
-        out[hit, :3] = np.minimum(out[hit, :3], bb[pos[hit], :3])
-        out[hit, 3:] = np.maximum(out[hit, 3:], bb[pos[hit], 3:])
-    return out
-
-
 def _fill(fill: str) -> str:
     if fill not in _FILL:
         raise InvalidInputError(f"fill must be one of {', '.join(map(repr, _FILL))}; got {fill!r}")
     return fill
 
 
+#: {checker: lock}: one update of a checker's maps at a time (read the map, build, install).
+_LOCKS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+_LOCKS_LOCK = threading.Lock()
+
+
 def _update(checker, name: str, resolution: float, unknown: str, bounds, frame: _Frame, fill: str) -> OccupancyMap:
-    """Apply one observation to the map `name` of `checker` and install the new map."""
+    """Apply one observation to the map `name` of `checker` and install the new map; threads
+    updating the same checker take turns, so every observation is kept."""
+    with _LOCKS_LOCK:
+        lock = _LOCKS.setdefault(checker, threading.Lock())
+    with lock:
+        return _update_locked(checker, name, resolution, unknown, bounds, frame, fill)
+
+
+def _update_locked(checker, name: str, resolution: float, unknown: str, bounds, frame: _Frame,
+                   fill: str) -> OccupancyMap:
     world = checker.world
     prev = world.get(name) if name in world else None
     if prev is not None and not isinstance(prev, OccupancyMap):
@@ -304,10 +337,8 @@ def _update(checker, name: str, resolution: float, unknown: str, bounds, frame: 
             state.observed = np.zeros(tuple(int(x) for x in hi - lo), dtype=bool)
     # cells occupied before and not seen occupied now: freed where the image sees through them
     old = difference(state.seen, frame.keys)
-    if old.size:
-        old = np.ascontiguousarray(old[~frame.seen_free(unpack(old))])
-    seen = union(old, frame.keys)
-    seen_bounds = _merged_bounds(seen, state.seen, state.seen_bounds, frame.keys, frame.bounds)
+    freed = np.ascontiguousarray(old[frame.seen_free(unpack(old))]) if old.size else old
+    seen, seen_bounds = merge_observation(state.seen, state.seen_bounds, freed, frame.keys, frame.bounds)
     cells = unpack(seen)
     cb = seen_bounds
     if state.observed is not None:
@@ -339,7 +370,7 @@ def _update(checker, name: str, resolution: float, unknown: str, bounds, frame: 
 
 def integrate_depth(checker, depth, intrinsics, camera_pose: Pose, *, name: str = "camera", resolution: float = 0.02,
                     q: np.ndarray | None = None, max_range: float = 3.0, unknown: str = "free", bounds=None,
-                    self_margin: float = 0.01, fill: str = "cells") -> OccupancyMap:
+                    self_margin: float = 0.01, fill: str = "points") -> OccupancyMap:
     """Integrate one depth image into the occupancy map `name` of `checker` (module docstring).
 
     Args:
@@ -359,8 +390,9 @@ def integrate_depth(checker, depth, intrinsics, camera_pose: Pose, *, name: str 
         unknown: "free" (never observed = free) or "occupied" (within `bounds`).
         bounds: [[x0, y0, z0], [x1, y1, z1]] [m], base frame (needed with unknown="occupied").
         self_margin: points within this of the robot [m] are dropped.
-        fill: "points": an occupied cell holds the box of the points measured in it and of the
-            rays behind them (`OccupancyMap.bounds`); "cells": the whole cell.
+        fill: "points" (the default): an occupied cell holds the box of the points measured in
+            it and of the rays behind them (`OccupancyMap.bounds`: exact on the side the camera
+            saw); "cells": the whole cell (surfaces inflated by up to a cell).
 
     Returns:
         The new `OccupancyMap` (also in the checker's world).
@@ -374,11 +406,16 @@ def integrate_depth(checker, depth, intrinsics, camera_pose: Pose, *, name: str 
     b = _bounds(bounds, unknown)
     fill = _fill(fill)
     R = np.ascontiguousarray(pose.rotation @ WORLD_AXES_TO_OPTICAL)
-    t = np.ascontiguousarray(pose.position, dtype=np.float64)
-    rob = _robot(checker, q, margin)
-    keys, kb, on_robot = depth_cells(d, fx, fy, cx, cy, R, t, rng, res, np.zeros(3), reach(checker) + 0.1,
-                                 rob.centres, rob.radii, rob.part, rob.planes, rob.margin, SELF_CELL,
-                                 *sphere_index(rob.centres, rob.radii, SELF_CELL))
+    t = np.array(pose.position, dtype=np.float64)   # a writable copy: the compiled signature
+    sf = _self_filter(checker, q, margin)
+    rob = sf.robot
+    keys, kb, on_robot, negative = depth_cells(d, fx, fy, cx, cy, R, t, rng, res, fill == "points", np.zeros(3),
+                                               sf.reach + 0.1,
+                                               rob.centres, rob.radii, rob.part, rob.planes, rob.margin, SELF_CELL,
+                                               *sf.index)
+    if negative:
+        raise InvalidInputError(f"depth must be >= 0 (inf or NaN where nothing was measured); got {negative} "
+                                "negative values")
     logger.debug("depth image: %d points kept, %d on the robot", keys.size, on_robot)
 
     def seen_free(cells: np.ndarray) -> np.ndarray:
@@ -404,7 +441,7 @@ def _cube_faces() -> list[np.ndarray]:
 
 def integrate_pointcloud(checker, points, origin=None, *, name: str = "camera", resolution: float = 0.02,
                          q: np.ndarray | None = None, max_range: float = 3.0, unknown: str = "free", bounds=None,
-                         self_margin: float = 0.01, fill: str = "cells") -> OccupancyMap:
+                         self_margin: float = 0.01, fill: str = "points") -> OccupancyMap:
     """Integrate a point cloud into the occupancy map `name` of `checker`.
 
     As `integrate_depth`, with the points given: (N, 3) [m] in the robot base frame (NaN
@@ -428,7 +465,7 @@ def integrate_pointcloud(checker, points, origin=None, *, name: str = "camera", 
     o = np.zeros(3) if origin is None else as_real_array(origin, "origin")
     if o.shape != (3,) or not np.all(np.isfinite(o)):
         raise InvalidInputError(f"origin must be a finite position (3,) [m] or None; got {origin!r}")
-    rob = _robot(checker, q, margin)
+    sf = _self_filter(checker, q, margin)
     n = CLOUD_PIXELS
     f = n / 2.0   # 90 deg per face
     faces = []
@@ -445,8 +482,8 @@ def integrate_pointcloud(checker, points, origin=None, *, name: str = "camera", 
             img[np.isinf(img)] = np.nan   # no point in this pixel: no ray
             faces.append((np.ascontiguousarray(Rf), img))
     dist = np.linalg.norm(P - o, axis=1) if origin is not None else np.zeros(P.shape[0])
-    keep = (dist <= rng) & (np.linalg.norm(P, axis=1) <= reach(checker) + 0.1)
-    keys, kb = _cloud_cells(P[keep], None if origin is None else o, res, rob)
+    keep = (dist <= rng) & (np.linalg.norm(P, axis=1) <= sf.reach + 0.1)
+    keys, kb = _cloud_cells(P[keep], None if origin is None else o, res, sf)
 
     def seen_free(cells: np.ndarray) -> np.ndarray:
         out = np.zeros(cells.shape[0], dtype=bool)
@@ -458,16 +495,16 @@ def integrate_pointcloud(checker, points, origin=None, *, name: str = "camera", 
     return _update(checker, name, res, unknown, b, _Frame(keys, kb, seen_free), fill)
 
 
-def _cloud_cells(P: np.ndarray, origin: np.ndarray | None, res: float, rob: _Robot) -> tuple[np.ndarray, np.ndarray]:
-    """Keys (N,) of the cells of points P (N, 3) [m] off the robot (`_Robot`), and the points
-    as bounds (N, 6) [m]; with an origin, a point within SNAP before a cell face along its ray
-    counts in the cell behind."""
+def _cloud_cells(P: np.ndarray, origin: np.ndarray | None, res: float, sf: _SelfFilter) -> tuple[np.ndarray, np.ndarray]:
+    """Keys (N,) of the cells of points P (N, 3) [m] off the robot (`_SelfFilter`), and the
+    points as bounds (N, 6) [m]; with an origin, a point within SNAP before a cell face along
+    its ray counts in the cell behind."""
     if P.shape[0] == 0:
         return np.zeros(0, dtype=np.int64), np.zeros((0, 6))
+    rob = sf.robot
     if rob.planes.shape[0]:
         P = np.ascontiguousarray(P, dtype=np.float64)
-        P = P[~on_robot(P, rob.centres, rob.radii, rob.part, rob.planes, rob.margin, SELF_CELL,
-                        *sphere_index(rob.centres, rob.radii, SELF_CELL))]
+        P = P[~on_robot(P, rob.centres, rob.radii, rob.part, rob.planes, rob.margin, SELF_CELL, *sf.index)]
     at = P
     if origin is not None:
         ray = P - origin

@@ -162,10 +162,11 @@ def on_robot(X, centres, radii, ball_part, planes, margin, cell, lo, shape, star
 
 
 @kernel
-def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, reach_c, reach_r,
+def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, reach_r,
                 centres, radii, ball_part, planes, margin, cell, lo, shape, start, members):
     """Keys (P,) of the cells of the depth image's points (repeats mostly removed), the bounds
-    (P, 6) [m] (lo, hi) of the points of each row, and the number of points dropped on the robot.
+    (P, 6) [m] (lo, hi) of the points of each row, the number of points dropped on the robot
+    and the number of negative depths (invalid input: the caller raises).
 
     Args:
         depth: (H, W) distances to the image plane [m] (inf / NaN: no point).
@@ -173,6 +174,8 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, reach_c, reach_r,
         R, t: (3, 3), (3,) the optical frame (x right, y down, z forward) in the base frame.
         max_range: points farther than this from the camera [m] are dropped.
         res: cell edge [m].
+        exact: True: each row's bounds are those of its points and rays (module docstring);
+            False: the whole cell (`fill="cells"`: no bounds computed per point).
         reach_c, reach_r: (3,) and [m]: points outside this ball are dropped (beyond reach).
         centres, radii, ball_part, planes, margin, cell, lo, shape, start, members: the
             robot (`_robot_point`): balls grown by the margin, their parts, the parts' 26-DOPs
@@ -187,6 +190,7 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, reach_c, reach_r,
     n_pending = 0
     P = 0
     on_robot = 0
+    negative = 0
     rr = reach_r * reach_r
     mr = max_range * max_range
     inv = 1.0 / res
@@ -210,6 +214,8 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, reach_c, reach_r,
         for u in range(W):
             z = depth[v, u]
             if not (z > 0.0 and z < np.inf):
+                if z < 0.0:
+                    negative += 1
                 continue
             a = A[u]
             if z * z * (1.0 + a * a + b * b) > mr:
@@ -241,8 +247,20 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, reach_c, reach_r,
                     n_pending += 1
                     continue
             zs = z + SNAP   # SNAP further along the ray (depth units, as `cells_seen_free`)
-            key = pack(int(math.floor((t[0] + zs * d0) * inv)), int(math.floor((t[1] + zs * d1) * inv)),
-                       int(math.floor((t[2] + zs * d2) * inv)))
+            ci = int(math.floor((t[0] + zs * d0) * inv))
+            cj = int(math.floor((t[1] + zs * d1) * inv))
+            ck = int(math.floor((t[2] + zs * d2) * inv))
+            key = pack(ci, cj, ck)
+            if not exact:   # whole cells: one row per cell (as far as the recent keys tell)
+                slot = (key ^ (key >> 19) ^ (key >> 37)) & 65535
+                if recent[slot] != key:
+                    recent[slot] = key
+                    out[P] = key
+                    bounds[P, 0], bounds[P, 3] = ci * res, (ci + 1) * res
+                    bounds[P, 1], bounds[P, 4] = cj * res, (cj + 1) * res
+                    bounds[P, 2], bounds[P, 5] = ck * res, (ck + 1) * res
+                    P += 1
+                continue
             # behind the point the ray is hidden: the bounds take the ray a cell diagonal on
             # (clamped to the cell by `OccupancyMap`), so only the side the camera saw is exact
             zb = z + behind
@@ -291,11 +309,16 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, reach_c, reach_r,
         if _robot_point(y0, y1, y2, centres, radii, ball_part, planes, margin, cell, lo, shape, start, members):
             on_robot += 1
             continue
-        out[P] = pack(int(math.floor(y0 * inv)), int(math.floor(y1 * inv)), int(math.floor(y2 * inv)))
+        ci, cj, ck = int(math.floor(y0 * inv)), int(math.floor(y1 * inv)), int(math.floor(y2 * inv))
+        out[P] = pack(ci, cj, ck)
         for a in range(3):
             bounds[P, a] = bounds[P, 3 + a] = pending[n, a]
+        if not exact:
+            bounds[P, 0], bounds[P, 3] = ci * res, (ci + 1) * res
+            bounds[P, 1], bounds[P, 4] = cj * res, (cj + 1) * res
+            bounds[P, 2], bounds[P, 5] = ck * res, (ck + 1) * res
         P += 1
-    return out[:P].copy(), bounds[:P].copy(), on_robot
+    return out[:P].copy(), bounds[:P].copy(), on_robot, negative
 
 
 @kernel
@@ -411,22 +434,39 @@ def difference(a, b):
 
 
 @kernel
-def union(a, b):
-    """The sorted union of sorted distinct a (A,) and b (B,)."""
-    out = np.empty(a.shape[0] + b.shape[0], dtype=np.int64)
+def merge_observation(seen, seen_bounds, freed, keys, bounds):
+    """The cells seen occupied after an observation: (sorted keys (C,), bounds (C, 6) [m]) of
+    the cells of seen (S,) (sorted, bounds (S, 6)) not in freed (sorted, a subset of seen) and
+    of keys (K,) (sorted, distinct; bounds (K, 6)); a cell in both takes the union of its bounds."""
+    out = np.empty(seen.shape[0] + keys.shape[0], dtype=np.int64)
+    ob = np.empty((out.shape[0], 6))
     i = 0
     j = 0
+    f = 0
     n = 0
-    while i < a.shape[0] or j < b.shape[0]:
-        if j == b.shape[0] or (i < a.shape[0] and a[i] < b[j]):
-            out[n] = a[i]
+    while i < seen.shape[0] or j < keys.shape[0]:
+        if i < seen.shape[0]:
+            while f < freed.shape[0] and freed[f] < seen[i]:
+                f += 1
+            if f < freed.shape[0] and freed[f] == seen[i] and (j == keys.shape[0] or keys[j] != seen[i]):
+                i += 1   # freed (and not seen occupied again)
+                continue
+        if j == keys.shape[0] or (i < seen.shape[0] and seen[i] < keys[j]):
+            out[n] = seen[i]
+            for a in range(6):
+                ob[n, a] = seen_bounds[i, a]
             i += 1
-        elif i == a.shape[0] or b[j] < a[i]:
-            out[n] = b[j]
+        elif i == seen.shape[0] or keys[j] < seen[i]:
+            out[n] = keys[j]
+            for a in range(6):
+                ob[n, a] = bounds[j, a]
             j += 1
         else:
-            out[n] = a[i]
+            out[n] = seen[i]
+            for a in range(3):
+                ob[n, a] = min(seen_bounds[i, a], bounds[j, a])
+                ob[n, 3 + a] = max(seen_bounds[i, 3 + a], bounds[j, 3 + a])
             i += 1
             j += 1
         n += 1
-    return out[:n].copy()
+    return out[:n].copy(), ob[:n].copy()

@@ -113,6 +113,51 @@ def test_the_robot_in_view_adds_no_cell_on_itself(mg):
     assert mg.check_collision(q)
 
 
+def test_the_robot_moved_between_images_adds_no_cell_where_it_now_is(mg):
+    """The self-filter is built once per configuration (both cameras at the same q share it):
+    an image taken after the robot moved is filtered at the new q, not the last one."""
+    world = World()
+    world.scene.add_default_ground_plane()
+    franka = world.scene.add(Franka("/World/Franka", name="franka"))
+    cams = [camera_at(f"/World/cam{i}", eye, [0.3, 0.0, 0.4]) for i, eye in
+            enumerate(([1.4, -0.9, 1.0], [1.4, 0.9, 1.0]))]
+    world.reset()
+    q0 = franka.get_joint_positions().copy()
+    for cam in cams:
+        integrate(mg, cam, q=q0)
+    q1 = q0.copy()
+    q1[0] += 0.8          # the arm turned to one side
+    q1[3] += 0.5
+    franka.set_joint_positions(q1)
+    world.step(render=False)
+    q1 = franka.get_joint_positions().copy()
+    for cam in cams:
+        integrate(mg, cam, q=q1)
+    assert not mg.check_collision(q1[:7])
+    assert mg.distance(q1[:7]) > 0.05
+
+
+def test_two_threads_integrating_into_one_map_keep_both_observations(mg):
+    """Updates of one map take turns: two threads each adding their own points keep all of them."""
+    import threading
+
+    n = 25
+    clouds = [[np.array([[0.31 + 0.02 * i, y, 0.41]]) for i in range(n)] for y in (-0.29, 0.29)]
+
+    def add(cloud):
+        for points in cloud:
+            mg.update_world_from_pointcloud(points, name="shared")
+
+    threads = [threading.Thread(target=add, args=(c,)) for c in clouds]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    m = mg.world.get("shared")
+    assert m.num_cells == 2 * n
+    assert all(m.contains_points(c[0]) for cloud in clouds for c in cloud)
+
+
 def test_closed_fingers_given_in_the_robot_state_add_no_cell(mg):
     world = World()
     world.scene.add_default_ground_plane()
@@ -240,3 +285,40 @@ def test_closing_fingers_add_no_cell_on_themselves(mg):
     assert mg.world.get("camera").num_cells > 100
     assert not mg.check_collision(q)
     assert mg.distance(q) > 0.05
+
+
+def _plane_under(mg, q, z: float, fill=None):
+    """Integrate a synthetic image of a horizontal surface at height z [m], 12 cm around the
+    hand, seen by a camera 1 m above it looking straight down (inf elsewhere)."""
+    hand = mg.fk(q, "panda_hand").position
+    K = np.array([[300.0, 0.0, 99.5], [0.0, 300.0, 99.5], [0.0, 0.0, 1.0]])
+    eye = np.array([hand[0], hand[1], z + 1.0])
+    down = Pose(eye, [np.sqrt(0.5), 0.0, np.sqrt(0.5), 0.0])   # Isaac's +X forward turned to -Z
+    u, v = np.meshgrid(np.arange(200), np.arange(200))
+    # optical x = world -y, optical y = world -x for this camera: the pixel's point on the plane
+    off = np.stack([-(v - K[1, 2]) / K[1, 1], -(u - K[0, 2]) / K[0, 0]], axis=-1) * 1.0
+    depth = np.where(np.linalg.norm(off, axis=-1) < 0.12, 1.0, np.inf).astype(np.float32)
+    kwargs = {} if fill is None else {"fill": fill}
+    return mg.update_world_from_depth(depth, K, down, **kwargs)
+
+
+def test_by_default_a_start_5_mm_above_a_seen_surface_is_free(mg):
+    """The default map holds a surface as it was measured on the side the camera saw (the
+    cell's depth behind it): the hand 5 mm above a seen table is free, and a motion along it
+    is certified; whole cells (`fill="cells"`) put it in collision."""
+    q = mg.default_joint_positions
+    z = 0.2
+    for _ in range(3):   # raise the surface until it is 5 mm below the robot
+        _plane_under(mg, q, z)
+        z += mg.checker.distance_report(q).world_distance - 0.005
+        mg.remove_obstacle("camera")
+    _plane_under(mg, q, z)
+    assert not mg.check_collision(q)
+    assert mg.checker.distance_report(q).world_distance == pytest.approx(0.005, abs=5e-4)
+    q2 = q.copy()
+    q2[0] += 0.05
+    assert mg.checker.certify_path(np.array([q, q2])).certified
+    whole = MotionGenerator("franka")
+    _plane_under(whole, q, z, fill="cells")
+    assert (math.floor(z / 0.02) + 1) * 0.02 > z + 0.005   # the surface's cell reaches above the hand
+    assert whole.check_collision(q)
