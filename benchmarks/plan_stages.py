@@ -14,11 +14,12 @@ clearance terms' CPU time and the collision checker's (`CollisionChecker._check`
 With `--set` (`TrajOptSettings` fields, e.g. `--set tolerance=0.01 first_iterations=1`, or a
 module's constant as `module:NAME=VALUE`, e.g. `--set manip.planning.path.search:MAX_REPAIRS=4`),
 every plan is made twice, with the defaults and with the settings given (alternating which goes
-first; the world is loaded again for each, so constants read when the checker's tables are built
-count too), and the report gives the ratios: CPU, QPs, identical motions, motion time / lower
-bound and path length / straight line per goal kind. QP counts and motions do not depend on the machine;
-CPU times do (take the bench lock, note the load). The counting wraps a few functions of manip
-for the run's duration (measurement only: plans are unchanged).
+first; the world is loaded again for each, so constants read when the world's tables are built
+count too, not those read when a checker is constructed), and the report gives the ratios: CPU,
+wall, QPs, identical motions, motion time / lower bound and path length / straight line per goal
+kind. QP counts and motions do not depend on the machine; CPU times do (take the bench lock, note
+the load). The counting wraps a few functions of manip for the run's duration (measurement
+only: plans are unchanged).
 """
 
 from __future__ import annotations
