@@ -11,12 +11,15 @@ CPU time (`time.thread_time`) and the wall time, each stage's share (`PlanResult
 the optimiser's QPs (count and CPU time of `planning.trajopt.qp.solve`, PIQP included), the
 clearance terms' CPU time and the collision checker's (`CollisionChecker._check`).
 
-With `--set` (`TrajOptSettings` fields, e.g. `--set tolerance=0.01 first_iterations=1`), every
-plan is made twice, with the defaults and with the settings given (alternating which goes first),
-and the report gives the ratios: CPU, QPs, identical motions, motion time / lower bound and
-path length / straight line per goal kind. QP counts and motions do not depend on the machine;
-CPU times do (take the bench lock, note the load). The counting wraps a few functions of manip
-for the run's duration (measurement only: plans are unchanged).
+With `--set` (`TrajOptSettings` fields, e.g. `--set tolerance=0.01 first_iterations=1`, or a
+module's constant as `module:NAME=VALUE`, e.g. `--set manip.planning.path.search:MAX_REPAIRS=4`),
+every plan is made twice, with the defaults and with the settings given (alternating which goes
+first; the world is loaded again for each, so constants read when the world's tables are built
+count too, not those read when a checker is constructed), and the report gives the ratios: CPU,
+wall, QPs, identical motions, motion time / lower bound and path length / straight line per goal
+kind. QP counts and motions do not depend on the machine; CPU times do (take the bench lock, note
+the load). The counting wraps a few functions of manip for the run's duration (measurement
+only: plans are unchanged).
 """
 
 from __future__ import annotations
@@ -93,27 +96,48 @@ def _instrumented():
 
 
 @contextlib.contextmanager
-def _settings(overrides: dict):
-    """The optimiser's default settings replaced by TrajOptSettings(**overrides) (refine's default)."""
+def _settings(overrides: dict, constants: dict | None = None):
+    """The optimiser's default settings replaced by TrajOptSettings(**overrides) (refine's default),
+    and the module constants {(module, name): value} of `constants` set (restored afterwards)."""
     original = refine_module.TrajOptSettings
+    saved = [(m, k, getattr(m, k)) for m, k in (constants or {})]
     if overrides:
         refine_module.TrajOptSettings = lambda: original(**overrides)
+    for (m, k), v in (constants or {}).items():
+        setattr(m, k, v)
     try:
         yield
     finally:
         refine_module.TrajOptSettings = original
+        for m, k, v in saved:
+            setattr(m, k, v)
+
+
+def parse_constant(key: str, value) -> tuple[tuple, object]:
+    """`module:NAME` and its value -> ((module, NAME), value); the constant must exist."""
+    import importlib
+
+    module_name, _, name = key.partition(":")
+    try:
+        module = importlib.import_module(module_name)
+    except ImportError as e:
+        raise InvalidInputError(f"--set {key}: no module {module_name!r} ({e})") from None
+    if not name or not hasattr(module, name):
+        raise InvalidInputError(f"--set {key}: module {module_name} has no constant {name!r}")
+    return (module, name), value
 
 
 def plan_once(mg: MotionGenerator, problem, kind: str, seed: int) -> dict:
     """One plan's row: CPU, wall, stages, counters and the motion's quality figures."""
     _COUNTERS.clear()
-    c0, w0 = time.thread_time(), time.perf_counter()
+    c0, w0, p0 = time.thread_time(), time.perf_counter(), time.process_time()
     if kind == "joint":
         r = mg.plan_joints(problem.start, problem.goal, seed=seed)
     else:
         r = mg.plan_pose(problem.start, goal_pose(problem), link="panda_hand", seed=seed)
     row = dict(problem=f"{problem.scene}/{problem.index}", kind=kind, success=bool(r.success),
-               cpu=time.thread_time() - c0, wall=time.perf_counter() - w0, stages=dict(r.timings),
+               cpu=time.thread_time() - c0, wall=time.perf_counter() - w0, process=time.process_time() - p0,
+               stages=dict(r.timings),
                counters={k: list(v) for k, v in _COUNTERS.items()})
     if r.success:
         P = np.asarray(r.trajectory.positions)
@@ -132,9 +156,11 @@ def report(rows: list[dict]) -> str:
     """The per-plan summary, the stage table and the optimiser's figures of one set of rows."""
     cpu = np.array([r["cpu"] for r in rows])
     wall = np.array([r["wall"] for r in rows])
+    proc = np.array([r.get("process", np.nan) for r in rows])
     out = [f"plans {len(rows)}, solved {sum(r['success'] for r in rows)}; CPU median {np.median(cpu) * 1e3:.1f} ms, "
            f"mean {cpu.mean() * 1e3:.1f}, p98 {_pct(cpu, 98) * 1e3:.0f}; wall median {np.median(wall) * 1e3:.1f} ms, "
-           f"mean {wall.mean() * 1e3:.1f}, p98 {_pct(wall, 98) * 1e3:.0f}", "",
+           f"mean {wall.mean() * 1e3:.1f}, p98 {_pct(wall, 98) * 1e3:.0f}; process CPU (all threads) median "
+           f"{np.median(proc) * 1e3:.1f} ms, mean {proc.mean() * 1e3:.1f}", "",
            "| stage | share of stage time | median [ms] | p98 [ms] |", "|---|---|---|---|"]
     stages = collections.defaultdict(lambda: np.zeros(len(rows)))
     for i, r in enumerate(rows):
@@ -158,12 +184,14 @@ def compare(a_rows: list[dict], b_rows: list[dict]) -> str:
     """B against A (the same plans): CPU, QPs, identical motions and the quality ratios."""
     both = [(a, b) for a, b in zip(a_rows, b_rows) if a["success"] and b["success"]]
     ca, cb = np.array([a["cpu"] for a in a_rows]), np.array([b["cpu"] for b in b_rows])
+    wa, wb = np.array([a["wall"] for a in a_rows]), np.array([b["wall"] for b in b_rows])
     qa = sum(a["counters"].get("qp", [0, 0])[0] for a in a_rows)
     qb = sum(b["counters"].get("qp", [0, 0])[0] for b in b_rows)
     same = sum(a["motion_hash"] == b["motion_hash"] for a, b in both)
     out = [f"B / A: solved {sum(r['success'] for r in a_rows)} -> {sum(r['success'] for r in b_rows)}; identical "
-           f"motions {same}/{len(both)}; CPU median {np.median(cb) / np.median(ca):.3f}, mean {cb.mean() / ca.mean():.3f}; "
-           f"QPs {qb / max(qa, 1):.3f}"]
+           f"motions {same}/{len(both)}; CPU median {np.median(cb) / np.median(ca):.3f}, mean {cb.mean() / ca.mean():.3f}, "
+           f"p98 {_pct(cb, 98) / _pct(ca, 98):.3f}; wall median {np.median(wb) / np.median(wa):.3f}, mean "
+           f"{wb.mean() / wa.mean():.3f}; QPs {qb / max(qa, 1):.3f}"]
     for kind in ("joint", "pose"):
         pairs = [(a, b) for a, b in both if a["kind"] == kind]
         if not pairs:
@@ -175,19 +203,26 @@ def compare(a_rows: list[dict], b_rows: list[dict]) -> str:
     return "\n".join(out)
 
 
-def _run(mg: MotionGenerator, problems: list, kinds: list[str], overrides: dict, seed: int, profiler) -> dict:
-    """{"A": rows with the default settings, "B": rows with `overrides` (empty without)}; one
-    untimed warm-up plan per goal kind first."""
-    mg.update_world(WorldConfig.from_dict(problems[0].world))
-    for kind in kinds:
-        plan_once(mg, problems[0], kind, seed)
+def _run(mg: MotionGenerator, problems: list, kinds: list[str], overrides: dict, seed: int, profiler,
+         constants: dict | None = None) -> dict:
+    """{"A": rows with the default settings, "B": rows with `overrides` and `constants` (empty
+    without)}; one untimed warm-up plan per goal kind (and variant) first."""
+    variants = ("A", "B") if overrides or constants else ("A",)
+    for variant in variants:
+        with _settings(overrides if variant == "B" else {}, constants if variant == "B" else None):
+            mg.update_world(WorldConfig.from_dict(problems[0].world))
+            for kind in kinds:
+                plan_once(mg, problems[0], kind, seed)
     rows = {"A": [], "B": []}
     for i, p in enumerate(problems):
-        mg.update_world(WorldConfig.from_dict(p.world))
+        if not constants:
+            mg.update_world(WorldConfig.from_dict(p.world))
         for kind in kinds:
-            order = (("A", "B") if i % 2 == 0 else ("B", "A")) if overrides else ("A",)
+            order = variants if i % 2 == 0 else variants[::-1]
             for variant in order:
-                with _settings(overrides if variant == "B" else {}):
+                with _settings(overrides if variant == "B" else {}, constants if variant == "B" else None):
+                    if constants:  # the tables are built with the variant's constants
+                        mg.update_world(WorldConfig.from_dict(p.world))
                     if profiler is not None and variant == "A":
                         profiler.enable()
                     rows[variant].append(plan_once(mg, p, kind, seed))
@@ -203,7 +238,8 @@ def parse_args(argv=None) -> argparse.Namespace:
     ap.add_argument("--goal", choices=("joint", "pose", "both"), default="both")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--set", nargs="*", default=[], metavar="KEY=VALUE",
-                    help="TrajOptSettings fields of variant B (Python literals); every plan is made with both")
+                    help="TrajOptSettings fields or module:CONSTANT values of variant B (Python literals); every "
+                         "plan is made with both")
     ap.add_argument("--json", default=None, help="write every row here")
     ap.add_argument("--cprofile", default=None, help="write a cProfile of the planning here (default settings only)")
     return ap.parse_args(argv)
@@ -213,10 +249,14 @@ def main(argv=None) -> int:
     import ast
 
     args = parse_args(argv)
-    overrides = {}
+    overrides, constants = {}, {}
     names = [f.name for f in dataclasses.fields(TrajOptSettings)]
     for kv in args.set:
         key, _, value = kv.partition("=")
+        if ":" in key:
+            k, v = parse_constant(key, ast.literal_eval(value))
+            constants[k] = v
+            continue
         if key not in names:
             raise InvalidInputError(f"--set {kv!r}: {key!r} is not a TrajOptSettings field ({', '.join(names)})")
         overrides[key] = ast.literal_eval(value)
@@ -236,17 +276,20 @@ def main(argv=None) -> int:
         profiler = cProfile.Profile()
     load = os.getloadavg()
     with _instrumented():
-        rows = _run(mg, problems, kinds, overrides, args.seed, profiler)
+        rows = _run(mg, problems, kinds, overrides, args.seed, profiler, constants)
     print(f"load average at start {load[0]:.2f}, at end {os.getloadavg()[0]:.2f}; {len(problems)} valid problems, "
           f"goals {', '.join(kinds)}")
     print(report(rows["A"]))
-    if overrides:
-        print(f"\nB = TrajOptSettings({', '.join(f'{k}={v!r}' for k, v in overrides.items())})")
+    if overrides or constants:
+        print(f"\nB = TrajOptSettings({', '.join(f'{k}={v!r}' for k, v in overrides.items())})"
+              + "".join(f", {m.__name__}.{k} = {v!r}" for (m, k), v in constants.items()))
         print(report(rows["B"]))
         print()
         print(compare(rows["A"], rows["B"]))
     if args.json:
-        Path(args.json).write_text(json.dumps(dict(load=load, overrides=overrides, rows=rows), default=str))
+        Path(args.json).write_text(json.dumps(dict(load=load, overrides=overrides, rows=rows,
+                                                   constants={f"{m.__name__}:{k}": v for (m, k), v in constants.items()}),
+                                              default=str))
     if profiler is not None:
         profiler.dump_stats(args.cprofile)
     return 0

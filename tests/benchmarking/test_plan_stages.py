@@ -61,3 +61,36 @@ def test_the_counting_is_undone_after_a_run(stages):
     before = (qp.solve, CollisionChecker._check)
     assert stages.main(["--limit-per-scene", "1", "--scenes", "box_panda", "--goal", "joint"]) == 0
     assert (qp.solve, CollisionChecker._check) == before
+
+
+def test_a_b_of_a_module_constant_is_applied_to_variant_b_only_and_restored(stages, tmp_path, capsys):
+    from manip.planning.path import shortcut as shortcut_module
+    from manip.planning.path import search
+
+    out = tmp_path / "rows.json"
+    calls = {"A": 0, "B": 0}
+    original = shortcut_module.remove_redundant
+
+    def counted(*args, **kwargs):  # which variant's plans see the constant
+        calls["B" if search.MAX_REPAIRS == 5 else "A"] += 1
+        return original(*args, **kwargs)
+
+    shortcut_module.remove_redundant = counted
+    try:
+        assert stages.main(["--limit-per-scene", "1", "--scenes", "table_pick_panda", "--goal", "joint", "--set",
+                            "manip.planning.path.search:MAX_REPAIRS=5", "--json", str(out)]) == 0
+    finally:
+        shortcut_module.remove_redundant = original
+    assert search.MAX_REPAIRS == 6  # restored
+    assert calls["A"] > 0 and calls["B"] > 0
+    data = json.loads(out.read_text())
+    assert data["constants"] == {"manip.planning.path.search:MAX_REPAIRS": 5}
+    assert len(data["rows"]["A"]) == len(data["rows"]["B"]) == 1
+    assert "manip.planning.path.search.MAX_REPAIRS = 5" in capsys.readouterr().out
+
+
+def test_unknown_module_constants_fail_before_planning(stages):
+    with pytest.raises(InvalidInputError, match="has no constant 'NO_SUCH'"):
+        stages.main(["--set", "manip.planning.path.search:NO_SUCH=1"])
+    with pytest.raises(InvalidInputError, match="no module 'manip.no_such_module'"):
+        stages.main(["--set", "manip.no_such_module:X=1"])
