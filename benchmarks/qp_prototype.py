@@ -44,7 +44,7 @@ from manip.planning.trajopt import qp
 SOLVED, MAX_ITERATIONS, NUMERICAL = 0, 1, 2
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(nogil=True)  # no disk cache: the tests load this file as a dynamic module
 def _row_products(ptr, idx, val, x):
     """M x for M (r, c) by rows (CSR: ptr (r + 1,), idx, val)."""
     r = ptr.shape[0] - 1
@@ -57,7 +57,7 @@ def _row_products(ptr, idx, val, x):
     return out
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(nogil=True)  # no disk cache: the tests load this file as a dynamic module
 def interior_point(P_data, P_indices, P_indptr, q, G, h, A, b, lb, ub, key, eps_abs, eps_rel, max_iter, rho, delta,
                    dual0=1.0, slack0=1.0):
     """Solve the QP (module docstring). P (n, n) CSC (data, indices, indptr; both triangles),
