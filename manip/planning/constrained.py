@@ -211,16 +211,14 @@ class ConstrainedClearance:
         cfg, dist, grad = [base.config], [base.distance], [base.gradient]
         for c in self.constraints:
             m = c.margin
-            r = c.residual(self.kinematics, Q)  # (N, m)
+            r, J = c.optimizer_rows(self.kinematics, Q)  # (N, k), (N, k, dof)
             d = self.target + TERM_SCALE * (-r / m - 0.5)
             n, k = np.nonzero(d < activation)
             if n.size == 0:
                 continue
-            J = c.jacobian(self.kinematics, Q[np.unique(n)])
-            pos = np.searchsorted(np.unique(n), n)
             cfg.append(n.astype(np.int64))
             dist.append(d[n, k])
-            grad.append(-TERM_SCALE / m * J[pos, k])
+            grad.append(-TERM_SCALE / m * J[n, k])
         return ClearanceTerms(np.concatenate(cfg), np.concatenate(dist), np.concatenate(grad, axis=0))
 
 
