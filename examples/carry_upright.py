@@ -6,20 +6,24 @@
 A Franka in MuJoCo (`manip.sim`) picks an open cup (a thin-walled cylinder, 6.8 cm across,
 7.8 cm tall, a free body) standing on shelf A with a side grasp, carries it around a post to
 shelf B and puts it down. The cup holds small spheres (1 cm radius, free bodies). Every
-motion is planned by the MotionGenerator and keeps `OrientationConstraint(tolerance)` on the
-hand: the hand's axis that holds the cup's axis stays within the tolerance of the vertical
-over the whole continuous motion (`plan_grasp` for the grasp, `plan_place(constraints=...)`
-for the carry). The simulation measures the cup's tilt (its axis against the vertical) at
-every physics step and counts the spheres still in the cup at the end.
+motion is planned by the MotionGenerator with an `OrientationConstraint` held over the whole
+continuous motion (`plan_grasp` for the grasp and the lift, `plan_place(constraints=...)` for
+the carry): before the grasp on the hand's axis that will hold the cup's axis; once the cup
+is held, on the cup's own axis as measured in the hand (so an offset of the grasp counts).
+The simulation measures the cup's tilt (its axis against the vertical) at every physics step
+and counts the spheres still in the cup at the end.
 
 The physics is honest: the cup is held by the fingers' friction only, the spheres roll in
-it. The planned motion keeps the hand within the tolerance (and so does the simulated hand,
-measured); the cup itself also turns in the grasp, which the printed cup tilt shows: held,
-it creeps steadily (about 0.03 rad/s at seed 1: MuJoCo's friction is a soft constraint, so a
-steady load slips slowly; `noslip_iterations` stops the creep, but the carry's accelerations
-still turn it about 0.05 rad between the pads). Exit status 0 when the cup stands on shelf
-B, every sphere is in it, and the hand's measured tilt never exceeded the tolerance while it
-held the cup.
+it. What the planner guarantees is the planned motion's tilt; the cup's measured tilt adds
+the arm's tracking error and the cup's slip in the grasp. So the plan holds the cup's axis
+within `tolerance - GRIP_BUDGET` and the grip is modelled stiffly enough to stay inside the
+budget: friction cones stiffened (`impratio` 10: MuJoCo's friction is a soft constraint, under
+the cup's steady off-axis load the default one lets it creep about 0.03 rad/s) and the finger
+pads' contacts stiffer (time constant 2 ms, MuJoCo substeps of 0.5 ms). Measured over seeds
+0-9 (BENCHMARKS.md, "Carrying a cup upright"): the cup's tilt 0.067-0.080 rad, at most 0.008
+rad above the planned tilt of its axis (the arm's tracking and the cup's slip in the grasp
+together; 0.08 above with MuJoCo's default grip). Exit status 0 when the cup stands on shelf
+B, every sphere is in it, and the cup's measured tilt never exceeded `tolerance`.
 """
 
 from __future__ import annotations
@@ -55,6 +59,14 @@ GRASP_BACK = 0.012  # [m] TCP this far short of the cup's axis (the palm clear o
 SQUEEZE = 0.006  # [m] each finger's target inside the cup's outer face (about 9 N of grip each)
 CARRY_SCALE = 0.3  # velocity and acceleration scale while the cup is held
 PADDING = 0.01  # [m]
+#: [rad] of the tolerance kept for the grip's slip and the arm's tracking error: the planner
+#: holds the cup's axis within tolerance - GRIP_BUDGET (measured: the cup's tilt <= 0.008 above the plan's)
+GRIP_BUDGET = 0.02
+#: The grip: MuJoCo substep [s], the finger pads' contact time constant [s] (>= 2 substeps)
+#: and the friction cones' impedance ratio (MuJoCo's `impratio`: friction stiffer than the normal force)
+SUBSTEP = 0.0005
+PAD_TIMECONST = 0.002
+IMPRATIO = 10.0
 
 
 #: The cup's friction (sliding 1.2, torsional 0.02 m, rolling 0.1 mm); against the fingers the
@@ -92,7 +104,7 @@ class CarryUpright:
         self.app = SimulationApp({"headless": not viewer})
         World.clear_instance()
         create_new_stage()
-        self.world = World(physics_dt=1.0 / 60.0)
+        self.world = World(physics_dt=1.0 / 60.0, substep_dt=SUBSTEP)
         scene = self.world.scene
         scene.add_default_ground_plane()
         for name, top in (("shelf_a", SHELF_A), ("shelf_b", SHELF_B)):
@@ -115,6 +127,7 @@ class CarryUpright:
                                                         radius=MARBLE_RADIUS, mass=0.005, color=[0.2, 0.3, 0.9])))
         self.robot = scene.add(Franka("/World/Franka", name="franka"))
         self.world.reset()
+        self.stiffen_grip()
         self.cup_body = mujoco.mj_name2id(self.world.model, mujoco.mjtObj.mjOBJ_BODY, "/World/cup/cup")
         self.controller = self.robot.get_articulation_controller()
         self.mg = MotionGenerator("franka", seed=seed, padding=PADDING)
@@ -125,9 +138,24 @@ class CarryUpright:
         self.stage_tilt: dict[str, float] = {}  # the largest measured tilt in each stage
         self.stage = "start"
         self._measuring = False
-        # the hand's axis that holds the cup's axis: -x of the TCP in a side grasp (`side_grasp`)
-        self.upright = OrientationConstraint(axis=(-1.0, 0.0, 0.0), direction=(0.0, 0.0, 1.0), tolerance=tolerance,
-                                             link=TCP)
+        # the hand's axis that holds the cup's axis: -x of the TCP in a side grasp (`side_grasp`);
+        # once the cup is held, the cup's axis as measured in the hand (`hold`)
+        self.upright = self.constraint((-1.0, 0.0, 0.0))
+
+    def constraint(self, axis) -> OrientationConstraint:
+        """`axis` (3,) of the TCP frame within tolerance - GRIP_BUDGET of the vertical."""
+        return OrientationConstraint(axis=axis, direction=(0.0, 0.0, 1.0), tolerance=self.tolerance - GRIP_BUDGET,
+                                     link=TCP)
+
+    def stiffen_grip(self) -> None:
+        """The finger pads' contacts stiffer (PAD_TIMECONST) and the friction cones (IMPRATIO):
+        the cup held by friction then slips within GRIP_BUDGET (module docstring)."""
+        m = self.world.model
+        fingers = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, f"{self.robot.prim_path}/{name}")
+                   for name in ("panda_leftfinger", "panda_rightfinger")]
+        assert min(fingers) >= 0, "the Franka's finger bodies"
+        m.geom_solref[np.isin(m.geom_bodyid, fingers), 0] = PAD_TIMECONST
+        m.opt.impratio = IMPRATIO
 
     # ------------------------------------------------------------------ simulation
     def say(self, text: str) -> None:
@@ -147,9 +175,10 @@ class CarryUpright:
         return float(np.arccos(np.clip(self.cup_pose()[1][2, 2], -1.0, 1.0)))
 
     def hand_tilt(self) -> float:
-        """Angle [rad] between the hand's cup axis (-x of the TCP) and the vertical, measured."""
+        """Angle [rad] between the constrained axis of the hand (`self.upright.axis`) and the vertical, measured."""
         _, q = self.robot.end_effector.get_world_pose()
-        return float(np.arccos(np.clip(-quat.to_matrix(np.asarray(q, dtype=float))[2, 0], -1.0, 1.0)))
+        up = quat.to_matrix(np.asarray(q, dtype=float)) @ np.asarray(self.upright.axis)
+        return float(np.arccos(np.clip(up[2], -1.0, 1.0)))
 
     def step(self, action: ArticulationAction | None = None) -> None:
         """One physics step with gravity compensation of the arm (as the flagship example)."""
@@ -200,6 +229,12 @@ class CarryUpright:
         self.mg.add_obstacle(Cylinder("cup", CUP_RADIUS + CUP_WALL, CUP_HEIGHT,
                                       Pose(p + axis * CUP_HEIGHT / 2, quat.from_matrix(R))))
 
+    def hold(self) -> None:
+        """Constrain the cup's own axis from now on: its direction in the TCP frame, measured."""
+        _, R = self.cup_pose()
+        hand = self.mg.kinematics.fk(self.q(), TCP).rotation
+        self.upright = self.constraint(hand.T @ R[:, 2])
+
     def run(self) -> bool:
         mg = self.mg
         for _ in range(180):  # the marbles settle
@@ -223,6 +258,7 @@ class CarryUpright:
         mg.attach_object(Cylinder("cup", CUP_RADIUS + CUP_WALL, CUP_HEIGHT,
                                   Pose(p + R[:, 2] * CUP_HEIGHT / 2, quat.from_matrix(R))), q=self.q(), link=TCP)
         self.execute("lift", grasp.segment("lift"))
+        self.hold()
         carry = {"velocity_scale": CARRY_SCALE, "acceleration_scale": CARRY_SCALE}
         goals = Pose.stack([Pose(CUP_GOAL + [0.0, 0.0, CUP_HEIGHT / 2 + 0.002], quat.from_axis_angle([0, 0, 1], a))
                             for a in np.arange(-2, 3) * np.pi / 6])
@@ -248,7 +284,8 @@ class CarryUpright:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--tolerance", type=float, default=0.1, help="Largest tilt of the hand's cup axis [rad].")
+    parser.add_argument("--tolerance", type=float, default=0.1,
+                        help=f"Largest tilt of the cup [rad], measured (the plan keeps {GRIP_BUDGET} rad of it for the grip).")
     parser.add_argument("--marbles", type=int, default=6, help="Spheres in the cup (0-8).")
     parser.add_argument("--seed", type=int, default=0, help="Seed of the marbles' placement and of the planning.")
     parser.add_argument("--viewer", action="store_true", help="Open MuJoCo's window (needs a display).")
@@ -256,8 +293,8 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if not 0 <= args.marbles <= 8:
         parser.error("--marbles must be in 0..8")
-    if not 0.0 < args.tolerance < 1.0:
-        parser.error("--tolerance must be in (0, 1) rad")
+    if not GRIP_BUDGET < args.tolerance < 1.0:
+        parser.error(f"--tolerance must be in ({GRIP_BUDGET}, 1) rad (GRIP_BUDGET of it is kept for the grip)")
     demo = CarryUpright(args.tolerance, args.marbles, viewer=args.viewer, seed=args.seed, verbose=not args.quiet)
     try:
         done = demo.run()
@@ -266,14 +303,13 @@ def main(argv: list[str] | None = None) -> int:
         kept = demo.marbles_in_cup()
         print(f"cup on shelf B: {'yes' if on_b else 'no'} ({bottom[0]:.3f}, {bottom[1]:.3f}, {bottom[2]:.3f}) m; "
               f"marbles in the cup: {kept}/{args.marbles}")
-        print(f"measured tilt of the hand's cup axis while it held the cup: max {demo.max_hand_tilt:.4f} rad "
-              f"(tolerance {args.tolerance} rad)")
-        print(f"measured tilt of the cup: max {demo.max_tilt:.4f} rad (by stage: "
-              + ", ".join(f"{k} {v:.4f}" for k, v in demo.stage_tilt.items())
-              + "; the cup also pivots a little between the finger pads)")
+        print(f"measured tilt of the cup: max {demo.max_tilt:.4f} rad (tolerance {args.tolerance} rad; by stage: "
+              + ", ".join(f"{k} {v:.4f}" for k, v in demo.stage_tilt.items()) + ")")
+        print(f"measured tilt of the hand's constrained axis while it held the cup: max {demo.max_hand_tilt:.4f} rad "
+              f"(planned within {demo.upright.tolerance:.3f} rad)")
     finally:
         demo.close()
-    ok = done and on_b and kept == args.marbles and demo.max_hand_tilt <= args.tolerance
+    ok = done and on_b and kept == args.marbles and demo.max_tilt <= args.tolerance
     print("carried upright" if ok else "FAILED")
     return 0 if ok else 1
 

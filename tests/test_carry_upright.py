@@ -33,11 +33,11 @@ def test_the_cup_is_carried_upright_with_its_marbles():
         bottom, R = demo.cup_pose()
         assert np.linalg.norm(bottom[:2] - cu.CUP_GOAL[:2]) < 0.03 and abs(bottom[2] - cu.CUP_GOAL[2]) < 0.01
         assert demo.marbles_in_cup() == 6
-        # measured in the simulation at every physics step: the hand that holds the cup keeps
-        # the planned tolerance; the cup's own tilt is measured too (it pivots a little in the
-        # grasp; see the example's docstring)
+        # measured in the simulation at every physics step, from the first motion to the end:
+        # the cup's own tilt (the plan holds it within 0.1 - GRIP_BUDGET; the grip's slip and the
+        # arm's tracking stay within the budget)
+        assert 0.0 < demo.max_tilt <= 0.1
         assert 0.0 < demo.max_hand_tilt <= 0.1
-        assert demo.max_tilt > 0.0
         assert np.all(demo.robot.gripper.get_joint_positions() > 0.035)  # released
     finally:
         demo.close()
@@ -47,4 +47,4 @@ def test_cli_reports_the_measured_tilt(capsys):
     assert cu.main(["--marbles", "2", "--quiet"]) == 0
     out = capsys.readouterr().out
     assert "marbles in the cup: 2/2" in out and "measured tilt of the cup" in out and "carried upright" in out
-    assert "measured tilt of the hand's cup axis" in out
+    assert "measured tilt of the hand's constrained axis" in out

@@ -22,6 +22,10 @@ planner:
   max over t <= (v0 + v1 + L) / 2, bisecting the segment until that closes.
 - optionally `residual_and_jacobian(kinematics, Q)`: both at once (one kinematics pass; the
   projection calls it).
+- optionally `optimizer_rows(kinematics, Q)`: the rows the trajectory optimiser linearises
+  (default: the residual's). A residual that curves sharply in q (a cone's angle) can give
+  smoother rows whose set lies inside the constraint's (`OrientationConstraint`: flat faces
+  of a polygon inside its cone), so the optimiser's linear model holds over longer steps.
 - `margin`: how far inside the set [unit] the planner aims (projections land there; the
   optimiser's rows keep it), so that short straight segments between such configurations
   certify without bisection. A fraction of the tolerance.
@@ -85,6 +89,13 @@ class Constraint(ABC):
     def residual_and_jacobian(self, kinematics: Kinematics, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(residual (N, m), jacobian (N, m, dof)) at Q (N, dof); override to share the kinematics."""
         return self.residual(kinematics, Q), self.jacobian(kinematics, Q)
+
+    def optimizer_rows(self, kinematics: Kinematics, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(rows (N, k), jacobian (N, k, dof)) at Q (N, dof) for the trajectory optimiser's
+        linearised constraint rows [unit]: wherever every row is <= 0 the constraint holds (an
+        inner approximation of its set is fine; the certificate judges the result). Default:
+        `residual_and_jacobian`."""
+        return self.residual_and_jacobian(kinematics, Q)
 
     def at_start(self, kinematics: Kinematics, q: np.ndarray) -> Constraint:
         """This constraint for a plan that starts at q (dof,): itself, unless it refers to the

@@ -15,6 +15,12 @@ from manip.validation import vec
 
 #: Share of the tolerance the planner aims inside the cone (`Constraint.margin`).
 MARGIN_FRACTION = 0.3
+#: Faces of the polygon inside the cone that the trajectory optimiser keeps (`optimizer_rows`).
+OPTIMIZER_FACES = 16
+#: Faces nearest the link's axis given to the optimiser at each configuration.
+OPTIMIZER_ROWS = 2
+#: Tolerances up to this [rad] use the polygon's faces in the optimiser; wider cones, the angle.
+OPTIMIZER_FACES_MAX_TOLERANCE = math.pi / 4
 
 
 def unit_vector(value, what: str) -> np.ndarray:
@@ -106,6 +112,32 @@ class OrientationConstraint(Constraint):
         theta = np.arctan2(s, u @ d)
         return (theta - self.tolerance)[:, None], -np.einsum("ni,nij->nj", n, J[:, 3:6])[:, None, :]
 
+    def optimizer_rows(self, kinematics: Kinematics, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The faces of a regular polygon inside the cone, as rows e_k . u - s <= 0 (u the
+        link's axis in the world, e_k OPTIMIZER_FACES unit vectors normal to `direction`,
+        s = sin(tolerance) cos(pi / faces): the polygon's corners on the cone) and -u . d <= 0 (the
+        cone's half of the sphere): where they hold, the tilt is within the tolerance.
+        The tilt's angle is a cone whose curvature across the tilt is 1 / sin(tilt) (about 11
+        per rad at 0.09 rad): the optimiser's linear model of it fails over a step of a few
+        hundredths of a radian and its trust region collapses; a face is linear in u. Wider
+        tolerances (> OPTIMIZER_FACES_MAX_TOLERANCE) use the angle."""
+        if self.tolerance > OPTIMIZER_FACES_MAX_TOLERANCE:
+            return self.residual_and_jacobian(kinematics, Q)
+        Q = np.atleast_2d(np.asarray(Q, dtype=float))
+        fid = kinematics.frame_id(link_or_ee(self.link, kinematics))
+        R, _, J = kinematics.frame_jacobians(Q, fid)
+        u = R @ np.asarray(self.axis)  # (N, 3)
+        E = _faces(self.direction)  # (K, 3)
+        s = math.sin(self.tolerance) * math.cos(math.pi / E.shape[0])
+        # the OPTIMIZER_ROWS faces nearest u (the others are farther from it than its step can
+        # go), and -u . d <= 0: the cone's half of the sphere
+        near = np.argsort(-(u @ E.T), axis=1)[:, :OPTIMIZER_ROWS]  # (N, m)
+        F = np.concatenate([E[near], np.broadcast_to(-np.asarray(self.direction), (len(u), 1, 3))], axis=1)
+        rows = np.einsum("nki,ni->nk", F, u)
+        rows[:, :-1] -= s
+        # d(f . u)/dq = f . (w x u) = (u x f) . w, w = J_w q'
+        return rows, np.einsum("nki,nij->nkj", np.cross(u[:, None, :], F), J[:, 3:6])
+
     def segment_bound(self, kinematics: Kinematics, Q0: np.ndarray, Q1: np.ndarray) -> np.ndarray:
         return np.abs(np.atleast_2d(Q1) - np.atleast_2d(Q0)) @ tilt_weights(self, kinematics)
 
@@ -156,6 +188,17 @@ def tilt_weights(c: OrientationConstraint, kinematics: Kinematics) -> np.ndarray
 
 #: tilt_weights per kinematics and (link, axis, direction).
 _WEIGHTS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _faces(direction: tuple) -> np.ndarray:
+    """(OPTIMIZER_FACES, 3) unit vectors normal to `direction`, evenly spaced around it."""
+    d = np.asarray(direction)
+    a = np.eye(3)[int(np.argmin(np.abs(d)))]
+    e1 = np.cross(d, a)
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(d, e1)
+    phi = 2.0 * np.pi * np.arange(OPTIMIZER_FACES) / OPTIMIZER_FACES
+    return np.cos(phi)[:, None] * e1 + np.sin(phi)[:, None] * e2
 
 
 def _cross(u: np.ndarray, d: np.ndarray) -> np.ndarray:

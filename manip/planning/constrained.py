@@ -40,6 +40,8 @@ from manip.planning.validity import ADVANCE_BACKOFF_STEPS, Validity
 STEER_STEP = 0.3
 #: Steps of the constrained steering checked together.
 STEER_BATCH = 4
+#: Segments `ConstrainedValidity` remembers as keeping the constraints (then it forgets them all).
+HELD_MEMORY = 4096
 #: Scale [m] of a constraint term in the optimiser: one margin of a constraint weighs like this much clearance.
 TERM_SCALE = 0.01
 
@@ -59,6 +61,9 @@ class ConstrainedValidity(Validity):
         self.constraints = tuple(constraints)
         for c in self.constraints:
             c.check(self.kinematics)
+        # segments `screen` found to keep the constraints (their ends' bytes): shortcutting
+        # screens many candidates and then checks the screened ones again with `segments`
+        self._held: set[bytes] = set()
 
     def strict(self) -> ConstrainedValidity:
         return ConstrainedValidity(self, self.constraints, True)
@@ -75,8 +80,20 @@ class ConstrainedValidity(Validity):
         """(N,) True where every constraint holds at Q (N, dof)."""
         return satisfied(self.constraints, self.kinematics, Q)
 
-    def _segments_hold(self, Q0: np.ndarray, Q1: np.ndarray) -> np.ndarray:
-        return segments_hold(self.constraints, self.kinematics, Q0, Q1)[0]
+    def _segments_hold(self, Q0: np.ndarray, Q1: np.ndarray, remember: bool = False) -> np.ndarray:
+        """(M,) True where the segment Q0[i] -> Q1[i] keeps every constraint (`segments_hold`);
+        segments remembered by an earlier call with `remember` are not certified again."""
+        Q0, Q1 = np.atleast_2d(Q0), np.atleast_2d(Q1)
+        keys = [a.tobytes() + b.tobytes() for a, b in zip(Q0, Q1)] if self._held or remember else None
+        ok = np.zeros(Q0.shape[0], dtype=bool) if keys is None else np.array([k in self._held for k in keys])
+        if not ok.all():
+            todo = ~ok
+            ok[todo] = segments_hold(self.constraints, self.kinematics, Q0[todo], Q1[todo])[0]
+        if remember:
+            if len(self._held) > HELD_MEMORY:
+                self._held.clear()
+            self._held.update(k for k, held in zip(keys, ok) if held)
+        return ok
 
     def configs(self, Q: np.ndarray) -> np.ndarray:
         Q = np.atleast_2d(Q)
@@ -95,7 +112,7 @@ class ConstrainedValidity(Validity):
         return ok
 
     def screen(self, Q0: np.ndarray, Q1: np.ndarray) -> np.ndarray:
-        ok = self._segments_hold(Q0, Q1)
+        ok = self._segments_hold(Q0, Q1, remember=True)
         if ok.any():
             ok[ok] = super().screen(np.asarray(Q0)[ok], np.asarray(Q1)[ok])
         return ok
@@ -211,16 +228,14 @@ class ConstrainedClearance:
         cfg, dist, grad = [base.config], [base.distance], [base.gradient]
         for c in self.constraints:
             m = c.margin
-            r = c.residual(self.kinematics, Q)  # (N, m)
+            r, J = c.optimizer_rows(self.kinematics, Q)  # (N, k), (N, k, dof)
             d = self.target + TERM_SCALE * (-r / m - 0.5)
             n, k = np.nonzero(d < activation)
             if n.size == 0:
                 continue
-            J = c.jacobian(self.kinematics, Q[np.unique(n)])
-            pos = np.searchsorted(np.unique(n), n)
             cfg.append(n.astype(np.int64))
             dist.append(d[n, k])
-            grad.append(-TERM_SCALE / m * J[pos, k])
+            grad.append(-TERM_SCALE / m * J[n, k])
         return ClearanceTerms(np.concatenate(cfg), np.concatenate(dist), np.concatenate(grad, axis=0))
 
 

@@ -44,6 +44,31 @@ def test_tilt_gradient_matches_finite_differences(franka_kinematics, configs, li
         np.testing.assert_allclose(Jq, _fd(c, kin, q), atol=1e-6)
 
 
+@pytest.mark.parametrize("direction,tolerance", [((0, 0, 1), 0.1), ((0, 0.6, 0.8), 0.4)])
+def test_optimizer_rows_lie_inside_the_cone_and_their_gradient_matches(franka_kinematics, configs, direction,
+                                                                       tolerance):
+    kin = franka_kinematics
+    c = OrientationConstraint(axis=(0, 1, 0), direction=direction, tolerance=tolerance, link="panda_hand")
+    r, J = c.optimizer_rows(kin, configs)
+    fd = np.stack([(c.optimizer_rows(kin, configs + EPS * e)[0] - c.optimizer_rows(kin, configs - EPS * e)[0])
+                   / (2 * EPS) for e in np.eye(kin.dof)], axis=-1)
+    np.testing.assert_allclose(J, fd, atol=1e-6)
+    # an inner approximation: wherever every row holds, the tilt is within the tolerance (the
+    # polygon's corners touch the cone), and most of the cone is covered
+    Q = np.random.default_rng(5).uniform(kin.lower, kin.upper, (40000, kin.dof))
+    inside = np.all(c.optimizer_rows(kin, Q)[0] <= 0.0, axis=1)
+    tilt = c.tilt(kin, Q)
+    assert inside.sum() > 50 and tilt[inside].max() <= tolerance + 1e-12
+    assert inside.sum() >= 0.95 * np.sum(tilt <= tolerance)
+
+
+def test_optimizer_rows_of_a_wide_cone_are_the_angle(franka_kinematics, configs):
+    kin = franka_kinematics
+    c = OrientationConstraint(axis=(0, 1, 0), direction=(0, 0, 1), tolerance=1.2, link="panda_hand")
+    r, J = c.optimizer_rows(kin, configs)
+    np.testing.assert_allclose(r, c.residual(kin, configs), atol=1e-12)
+
+
 def test_box_distance_and_its_gradient(franka_kinematics, configs):
     kin = franka_kinematics
     lo, hi = np.array([0.2, -0.4, 0.1]), np.array([0.7, 0.4, np.inf])
