@@ -18,7 +18,7 @@ MARGIN_FRACTION = 0.3
 #: Faces of the polygon inside the cone that the trajectory optimiser keeps (`optimizer_rows`).
 OPTIMIZER_FACES = 16
 #: Faces nearest the link's axis given to the optimiser at each configuration.
-OPTIMIZER_ROWS = 2
+OPTIMIZER_ROWS = 1
 #: Tolerances up to this [rad] use the polygon's faces in the optimiser; wider cones, the angle.
 OPTIMIZER_FACES_MAX_TOLERANCE = math.pi / 4
 
