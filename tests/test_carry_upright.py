@@ -3,23 +3,16 @@ simulator measures (the cup's tilt at every physics step, the marbles left in th
 
 from __future__ import annotations
 
-import importlib.util
-import sys
-
 import numpy as np
 import pytest
 
-from robot_constants import REPO_ROOT
+from robot_constants import REPO_ROOT, load_script
 
 EXAMPLE = REPO_ROOT / "examples" / "carry_upright.py"
 
 
 def _load():
-    spec = importlib.util.spec_from_file_location("carry_upright_example", EXAMPLE)
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = mod
-    spec.loader.exec_module(mod)
-    return mod
+    return load_script(EXAMPLE, "carry_upright_example")
 
 
 cu = _load()

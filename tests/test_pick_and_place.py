@@ -3,7 +3,6 @@ simulator, judged by the cube's pose read back from the simulator, not by the sc
 
 from __future__ import annotations
 
-import importlib.util
 import subprocess
 import sys
 
@@ -12,18 +11,14 @@ import pytest
 
 from manip import Pose
 from manip import quaternion as quat
-from robot_constants import REPO_ROOT
+from robot_constants import REPO_ROOT, load_script
 
 ROOT = REPO_ROOT
 EXAMPLE = ROOT / "examples" / "pick_and_place.py"
 
 
 def _load():
-    spec = importlib.util.spec_from_file_location("pick_and_place_example", EXAMPLE)
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = mod
-    spec.loader.exec_module(mod)
-    return mod
+    return load_script(EXAMPLE, "pick_and_place_example")
 
 
 pp = _load()

@@ -2,24 +2,18 @@
 
 from __future__ import annotations
 
-import importlib.util
 import json
-import sys
 
 import numpy as np
 import pytest
-from robot_constants import REPO_ROOT
+from robot_constants import REPO_ROOT, load_script
 
 ROOT = REPO_ROOT
 
 
 @pytest.fixture(scope="module")
 def driver():
-    spec = importlib.util.spec_from_file_location("mbm_driver", ROOT / "benchmarks" / "mbm.py")
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules["mbm_driver"] = mod
-    spec.loader.exec_module(mod)
-    return mod
+    return load_script(ROOT / "benchmarks" / "mbm.py", "mbm_driver")
 
 
 class StraightLine:

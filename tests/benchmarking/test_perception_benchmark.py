@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
-import importlib.util
 
 import numpy as np
 import pytest
-from robot_constants import REPO_ROOT
+from robot_constants import REPO_ROOT, load_script
 
 from manip import Pose
 from manip import quaternion as quat
@@ -14,10 +13,7 @@ from manip import quaternion as quat
 
 @pytest.fixture(scope="module")
 def bench():
-    spec = importlib.util.spec_from_file_location("perception_benchmark", REPO_ROOT / "benchmarks" / "perception.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_script(REPO_ROOT / "benchmarks" / "perception.py", "perception_benchmark")
 
 
 BOX = {"dims": [0.1, 0.2, 0.3], "pose": [0.6, 0.1, 0.15, *quat.from_axis_angle([0, 0, 1], 0.4)]}

@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
-import importlib.util
 import json
 
 import pytest
-from robot_constants import REPO_ROOT
+from robot_constants import REPO_ROOT, load_script
 
 from manip.errors import InvalidInputError
 from manip.planning.trajopt.settings import TrajOptSettings
@@ -14,10 +13,7 @@ from manip.planning.trajopt.settings import TrajOptSettings
 
 @pytest.fixture(scope="module")
 def stages():
-    spec = importlib.util.spec_from_file_location("plan_stages", REPO_ROOT / "benchmarks" / "plan_stages.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_script(REPO_ROOT / "benchmarks" / "plan_stages.py", "plan_stages")
 
 
 def test_a_b_with_the_default_value_gives_the_same_plans_and_counts_their_qps(stages, tmp_path, capsys):

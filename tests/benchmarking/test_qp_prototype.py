@@ -2,19 +2,15 @@
 
 from __future__ import annotations
 
-import importlib.util
 
 import numpy as np
 import pytest
-from robot_constants import REPO_ROOT
+from robot_constants import REPO_ROOT, load_script
 
 
 @pytest.fixture(scope="module")
 def prototype():
-    spec = importlib.util.spec_from_file_location("qp_prototype", REPO_ROOT / "benchmarks" / "qp_prototype.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_script(REPO_ROOT / "benchmarks" / "qp_prototype.py", "qp_prototype")
 
 
 def test_the_prototype_solves_recorded_qps_as_piqp_does(prototype):

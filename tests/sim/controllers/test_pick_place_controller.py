@@ -12,7 +12,7 @@ import pytest
 from manip.errors import InvalidInputError
 from manip.sim import DynamicCuboid, Franka, PickPlaceController, SimulationError, World
 from manip.sim.controllers.pick_place_controller import FRANKA_EVENTS_DT
-from robot_constants import REPO_ROOT
+from robot_constants import REPO_ROOT, load_script
 
 CUBE_START = np.array([0.4, 0.2, 0.025])
 PLACE = np.array([0.4, -0.3, 0.025])
@@ -197,13 +197,7 @@ def test_the_flagship_reports_a_failed_grasp_and_picks_the_cube_again_where_it_i
     """Issue 17, item 9, in examples/pick_and_place.py: a cube moved away while the hand
     descends is not attached to the planner's hand 30 cm away; the episode says why and
     picks it up again where it now lies."""
-    import importlib.util
-
-    path = REPO_ROOT / "examples" / "pick_and_place.py"
-    spec = importlib.util.spec_from_file_location("pick_and_place_grasp_check", path)
-    pp = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = pp
-    spec.loader.exec_module(pp)
+    pp = load_script(REPO_ROOT / "examples" / "pick_and_place.py", "pick_and_place_grasp_check")
     demo = pp.PickAndPlace(seed=3, verbose=False)
     run_stage, attached = demo.run_stage, []
     moved_to = np.array([0.45, 0.3, 0.025])

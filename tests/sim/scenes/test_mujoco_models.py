@@ -8,7 +8,6 @@ with the wheel radius and wheel base it advertises.
 
 from __future__ import annotations
 
-import importlib.util
 import xml.etree.ElementTree as ET
 
 import mujoco
@@ -18,6 +17,7 @@ import pytest
 
 from manip.kinematics import Kinematics
 from manip.robot_config import RobotConfig, robots_root
+from robot_constants import load_script
 
 ARM = [f"panda_joint{i}" for i in range(1, 8)]
 FINGERS = ["panda_finger_joint1", "panda_finger_joint2"]
@@ -82,9 +82,7 @@ def test_franka_generated_file_is_up_to_date(franka_config: RobotConfig, franka_
     path = robots_root() / "tools" / "make_franka_mjcf.py"
     if not path.exists():
         pytest.skip("generator not shipped (installed wheel)")
-    spec = importlib.util.spec_from_file_location("make_franka_mjcf", path)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
+    mod = load_script(path, "make_franka_mjcf")
     with open(franka_path) as f:
         assert f.read() == mod.generate(franka_config.urdf_path, franka_config.srdf_path)
 
