@@ -93,13 +93,19 @@ def test_moving_the_box_away_and_integrating_again_frees_its_cells(mg):
     assert after.contains_points(np.array([[0.35, -0.5, 0.1]]))
 
 
-def test_the_robot_in_view_adds_no_cell_on_itself(mg):
+def franka_in_view():
+    """(world, franka, cameras): a Franka on the ground, reset, seen by two cameras from its front corners."""
     world = World()
     world.scene.add_default_ground_plane()
     franka = world.scene.add(Franka("/World/Franka", name="franka"))
     cams = [camera_at(f"/World/cam{i}", eye, [0.3, 0.0, 0.4]) for i, eye in
             enumerate(([1.4, -0.9, 1.0], [1.4, 0.9, 1.0]))]
     world.reset()
+    return world, franka, cams
+
+
+def test_the_robot_in_view_adds_no_cell_on_itself(mg):
+    world, franka, cams = franka_in_view()
     q = franka.get_joint_positions()
     for cam in cams:
         integrate(mg, cam, q=q)
@@ -116,12 +122,7 @@ def test_the_robot_in_view_adds_no_cell_on_itself(mg):
 def test_the_robot_moved_between_images_adds_no_cell_where_it_now_is(mg):
     """The self-filter is built once per configuration (both cameras at the same q share it):
     an image taken after the robot moved is filtered at the new q, not the last one."""
-    world = World()
-    world.scene.add_default_ground_plane()
-    franka = world.scene.add(Franka("/World/Franka", name="franka"))
-    cams = [camera_at(f"/World/cam{i}", eye, [0.3, 0.0, 0.4]) for i, eye in
-            enumerate(([1.4, -0.9, 1.0], [1.4, 0.9, 1.0]))]
-    world.reset()
+    world, franka, cams = franka_in_view()
     q0 = franka.get_joint_positions().copy()
     for cam in cams:
         integrate(mg, cam, q=q0)
