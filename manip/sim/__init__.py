@@ -66,12 +66,22 @@ from manip.sim.materials import OmniGlass, OmniPBR, PreviewSurface, VisualMateri
 from manip.sim.core.recording import CameraView, OffscreenRenderingError
 from manip.sim.sensors.camera import Camera
 from manip.sim.utils.rotations import (
+    deg2rad,
     euler_angles_to_quat,
+    euler_angles_to_quats,
     euler_angles_to_rot_matrix,
     quat_to_euler_angles,
     quat_to_rot_matrix,
+    quats_to_euler_angles,
+    quats_to_rot_matrices,
+    quats_to_rotvecs,
+    rad2deg,
+    rot_matrices_to_quats,
     rot_matrix_to_euler_angles,
     rot_matrix_to_quat,
+    rotvecs_to_quats,
+    wxyz2xyzw,
+    xyzw2wxyz,
 )
 from manip.sim.scenes.scene import CollisionObject, Scene
 from manip.sim.core.simulation_context import SimulationContext, SimulationInstabilityError, SimulationWarning
@@ -144,4 +154,7 @@ __all__ = [
     "is_stage_loading", "jetbot_model_path", "open_stage", "quat_to_euler_angles", "quat_to_rot_matrix",
     "resolve_asset_path", "robot_model_path", "rot_matrix_to_euler_angles", "rot_matrix_to_quat", "save_stage",
     "update_stage", "update_stage_async",
+    # isaacsim.core.utils.numpy.rotations (batched)
+    "deg2rad", "euler_angles_to_quats", "quats_to_euler_angles", "quats_to_rot_matrices", "quats_to_rotvecs",
+    "rad2deg", "rot_matrices_to_quats", "rotvecs_to_quats", "wxyz2xyzw", "xyzw2wxyz",
 ]

@@ -45,7 +45,7 @@ def _name(model: mujoco.MjModel, obj: mujoco.mjtObj, i: int, prefix: str) -> str
 def _color(model: mujoco.MjModel, g: int) -> tuple[tuple[int, int, int], float | None]:
     mat = int(model.geom_matid[g])
     rgba = model.mat_rgba[mat] if mat >= 0 else model.geom_rgba[g]
-    rgb = tuple(int(round(255 * c)) for c in rgba[:3])
+    rgb = tuple(int(round(255 * min(max(c, 0.0), 1.0))) for c in rgba[:3])   # above 1 (USD HDR) draws saturated
     alpha = float(rgba[3])
     return rgb, (None if alpha >= 1.0 else alpha)
 

@@ -7,7 +7,9 @@ editing a USD material does. As in Isaac, a shape created without `visual_materi
 its own `PreviewSurface` at `/World/Looks/visual_material[_N]` carrying its `color` (0.5 grey
 by default), so `cube.get_applied_visual_material().get_color()` reads the cube's colour.
 
-What MuJoCo draws: the colour (diffuse colour, RGB in [0, 1]) and opacity. Roughness,
+What MuJoCo draws: the colour (diffuse colour, linear RGB >= 0: as in USD, a component above 1
+is allowed and drawn saturated, so Isaac tutorials that pass 0-255 values draw the same saturated
+colours as in Isaac) and opacity. Roughness,
 metallic, textures (MDL/USD files), index of refraction and the rest are kept and returned
 by their getters but not rendered (MuJoCo's renderer has no MDL shaders).
 """
@@ -36,10 +38,11 @@ def unique_material_path(initial: str = "/World/Looks/visual_material") -> str:
     return path
 
 
-def _rgb(color, what: str = "color") -> np.ndarray:
+def rgb(color, what: str = "color") -> np.ndarray:
+    """`color` as a finite, non-negative RGB (3,) (USD's linear diffuse colour; > 1 draws saturated)."""
     c = vec(color, 3, what)
-    if np.any(c < 0) or np.any(c > 1):
-        raise InvalidInputError(f"{what} must be RGB in [0, 1]; got {c}")
+    if np.any(c < 0):
+        raise InvalidInputError(f"{what} must be RGB with components >= 0 (1 = full intensity); got {c}")
     return c
 
 
@@ -101,12 +104,12 @@ class VisualMaterial:
 
     # ------------------------------------------------------------------ what MuJoCo draws
     def set_color(self, color) -> None:
-        """Diffuse colour, RGB in [0, 1]; every bound object is redrawn with it."""
-        self._color = _rgb(color)
+        """Diffuse colour, RGB >= 0 (1 = full; above 1 draws saturated); every bound object is redrawn with it."""
+        self._color = rgb(color)
         self._refresh()
 
     def get_color(self) -> np.ndarray:
-        """Diffuse colour (3,), RGB in [0, 1]."""
+        """Diffuse colour (3,), RGB as set."""
         return self._color.copy()
 
     def set_opacity(self, opacity: float) -> None:
@@ -128,7 +131,7 @@ class PreviewSurface(VisualMaterial):
         prim_path: where the material lives.
         name: its name.
         shader: Isaac's USD shader; kept as given.
-        color: (3,) diffuse colour, RGB in [0, 1] (default 0.5 grey).
+        color: (3,) diffuse colour, RGB >= 0 (default 0.5 grey).
         roughness, metallic: in [0, 1] (kept, not rendered by MuJoCo).
     """
 
@@ -137,7 +140,7 @@ class PreviewSurface(VisualMaterial):
         super().__init__(name, prim_path, shaders_list=[shader] if shader is not None else None)
         self.shaders_list = [shader] if shader is not None else []
         if color is not None:
-            self._color = _rgb(color)
+            self._color = rgb(color)
         self._roughness = _unit(roughness, "roughness") if roughness is not None else 0.5
         self._metallic = _unit(metallic, "metallic") if metallic is not None else 0.0
 
@@ -162,14 +165,14 @@ class OmniPBR(VisualMaterial):
         prim_path, name, shader: as PreviewSurface.
         texture_path: an image file (kept, not rendered: MuJoCo textures need their own asset).
         texture_scale, texture_translate: (2,) UV scale and offset.
-        color: (3,) RGB in [0, 1].
+        color: (3,) RGB >= 0.
     """
 
     def __init__(self, prim_path: str, name: str = "omni_pbr", shader: Any = None, texture_path: str | None = None,
                  texture_scale=None, texture_translate=None, color=None):
         super().__init__(name, prim_path, shaders_list=[shader] if shader is not None else None)
         if color is not None:
-            self._color = _rgb(color)
+            self._color = rgb(color)
         self._texture = texture_path
         self._texture_scale = vec(texture_scale, 2, "texture_scale") if texture_scale is not None else np.ones(2)
         self._texture_translate = (vec(texture_translate, 2, "texture_translate") if texture_translate is not None
@@ -231,7 +234,7 @@ class OmniGlass(VisualMaterial):
                  ior: float | None = None, depth: float | None = None, thin_walled: bool | None = None):
         super().__init__(name, prim_path, shaders_list=[shader] if shader is not None else None)
         if color is not None:
-            self._color = _rgb(color)
+            self._color = rgb(color)
         self._opacity = 0.3
         self._ior = float(ior) if ior is not None else 1.491
         self._depth = float(depth) if depth is not None else 0.001

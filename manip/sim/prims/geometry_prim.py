@@ -14,7 +14,7 @@ import mujoco
 import numpy as np
 
 from manip.errors import InvalidInputError
-from manip.sim.materials.visual_material import PreviewSurface, VisualMaterial, unique_material_path
+from manip.sim.materials.visual_material import PreviewSurface, VisualMaterial, rgb, unique_material_path
 from manip.sim.scenes.contact_model import PHYSX_DEFAULT_FRICTION, check_combine_mode
 from manip.sim.scenes.stage import SimHandle
 from manip.sim.prims.xform_prim import XFormPrim
@@ -119,9 +119,7 @@ class GeometryPrim(XFormPrim):
         physics_material: PhysicsMaterial | None = None,
         visual_material=None,
     ):
-        self._color = vec(color, 3, "color") if color is not None else np.array([0.5, 0.5, 0.5])
-        if np.any(self._color < 0) or np.any(self._color > 1):
-            raise InvalidInputError(f"color must be RGB in [0, 1]; got {self._color}")
+        self._color = rgb(color) if color is not None else np.array([0.5, 0.5, 0.5])
         self._physics_material = physics_material
         self._geom_id = -1
         self._opacity = 1.0
@@ -194,11 +192,10 @@ class GeometryPrim(XFormPrim):
         return self._color.copy()
 
     def set_color(self, color) -> None:
-        """Set the colour, RGB in [0, 1]: of the applied visual material if there is one
-        (every object sharing it changes, as editing the material in Isaac), else of this object."""
-        c = vec(color, 3, "color")
-        if np.any(c < 0) or np.any(c > 1):
-            raise InvalidInputError(f"color must be RGB in [0, 1]; got {c}")
+        """Set the colour, RGB >= 0 (1 full; above 1 drawn saturated, as USD's): of the applied visual
+        material if there is one (every object sharing it changes, as editing the material in
+        Isaac), else of this object."""
+        c = rgb(color)
         if self._visual_material is not None:
             self._visual_material.set_color(c)
         else:

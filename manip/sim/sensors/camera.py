@@ -104,7 +104,9 @@ class Camera(XFormPrim):
         self._focal_length = DEFAULT_FOCAL_LENGTH
         self._horizontal_aperture = DEFAULT_HORIZONTAL_APERTURE
         self._clipping = DEFAULT_CLIPPING_RANGE
-        self._renderers: dict[bool, mujoco.Renderer] = {}
+        self._renderers: dict[str, mujoco.Renderer] = {}   # by mode: "rgb", "depth", "segmentation"
+        self._annotators: set[str] = set()   # the optional frame entries asked for ("normals", "motion_vectors")
+        self._paused_frame: dict | None = None
         self._renderer_model = None
         self._frame: dict[str, int] = {"rendering_frame": 0}
         R_usd = self._to_usd(orientation, "world") if orientation is not None else _TO_USD["world"]
@@ -254,18 +256,63 @@ class Camera(XFormPrim):
     def add_distance_to_camera_to_frame(self) -> None:
         """Kept for Isaac scripts: `get_current_frame()["distance_to_camera"]` is filled."""
 
+    def add_normals_to_frame(self) -> None:
+        """`get_current_frame()["normals"]`: (H, W, 4) float32 world-frame surface normals
+        (`manip.sim.sensors.annotators.normals`)."""
+        self._annotators.add("normals")
+
+    def add_motion_vectors_to_frame(self) -> None:
+        """`get_current_frame()["motion_vectors"]`: (H, W, 4) float32, the image motion [px] of
+        each pixel's surface over the camera's frame period (`get_dt()`, or the World's physics
+        step when no frequency is set), from the simulation's velocities
+        (`manip.sim.sensors.annotators.motion_vectors`)."""
+        self._annotators.add("motion_vectors")
+
+    def remove_normals_from_frame(self) -> None:
+        self._annotators.discard("normals")
+
+    def remove_motion_vectors_from_frame(self) -> None:
+        self._annotators.discard("motion_vectors")
+
+    def pause(self) -> None:
+        """Freeze `get_current_frame()` at the current frame until `resume()` (Isaac's sensor pause)."""
+        self._paused_frame = self._current_frame()
+
+    def resume(self) -> None:
+        self._paused_frame = None
+
+    def is_paused(self) -> bool:
+        return self._paused_frame is not None
+
     def get_current_frame(self, clone: bool = False) -> dict:
-        """{"rgba", "distance_to_image_plane", "distance_to_camera", "rendering_frame"} of the current state."""
+        """{"rgba", "distance_to_image_plane", "distance_to_camera", "rendering_frame"} of the
+        current state, plus "normals" / "motion_vectors" once added (`add_..._to_frame`)."""
+        return self._paused_frame if self._paused_frame is not None else self._current_frame()
+
+    def _current_frame(self) -> dict:
+        from manip.sim.sensors import annotators
+
         depth = self.get_depth()
         K = self.get_intrinsics_matrix()
-        w, h = self._resolution
-        u, v = np.meshgrid((np.arange(w) - K[0, 2]) / K[0, 0], (np.arange(h) - K[1, 2]) / K[1, 1])
-        return {"rgba": self.get_rgba(), "distance_to_image_plane": depth,
-                "distance_to_camera": (depth * np.sqrt(1.0 + u * u + v * v)).astype(np.float32),
-                "rendering_frame": self._frame["rendering_frame"]}
+        points = annotators.camera_points(depth, K)
+        frame = {"rgba": self.get_rgba(), "distance_to_image_plane": depth,
+                 "distance_to_camera": np.linalg.norm(np.nan_to_num(points, nan=np.inf), axis=-1).astype(np.float32)}
+        p_cam, q_cam = self.get_world_pose(camera_axes="ros")
+        R_cam = quat.to_matrix(q_cam)
+        if "normals" in self._annotators:
+            frame["normals"] = annotators.normals(points, R_cam)
+        if "motion_vectors" in self._annotators:
+            sim = self._sim
+            period = self.get_dt() if self._frequency > 0 else (sim.physics_dt or float(sim.model.opt.timestep))
+            seg = self._render("segmentation")
+            geom_ids = np.where(seg[..., 1] == int(mujoco.mjtObj.mjOBJ_GEOM), seg[..., 0], -1)
+            frame["motion_vectors"] = annotators.motion_vectors(sim.model, sim.data, points, geom_ids, K, p_cam,
+                                                                R_cam, period)
+        frame["rendering_frame"] = self._frame["rendering_frame"]
+        return frame
 
     # ------------------------------------------------------------------ images
-    def _renderer(self, depth: bool) -> mujoco.Renderer:
+    def _renderer(self, mode: str) -> mujoco.Renderer:
         sim = self._sim
         if sim is None:
             raise SimulationError(f"Camera {self.prim_path!r}: call World.reset() before reading images")
@@ -273,18 +320,22 @@ class Camera(XFormPrim):
             self._close_renderers()
             self._renderer_model = sim.model
             self._apply_lens()
-        r = self._renderers.get(depth)
+        r = self._renderers.get(mode)
         if r is None:
             from manip.sim.core.recording import make_renderer
 
             w, h = self._resolution
-            r = self._renderers[depth] = make_renderer(sim.model, w, h)
-            if depth:
+            r = self._renderers[mode] = make_renderer(sim.model, w, h)
+            if mode == "depth":
                 r.enable_depth_rendering()
+            elif mode == "segmentation":
+                r.enable_segmentation_rendering()
         return r
 
-    def _render(self, depth: bool) -> np.ndarray:
-        r = self._renderer(depth)
+    def _render(self, mode: str) -> np.ndarray:
+        """The current state rendered: "rgb" (H, W, 3) uint8, "depth" (H, W) [m] or
+        "segmentation" (H, W, 2) (object id, object type; -1 where nothing)."""
+        r = self._renderer(mode)
         sim = self._sim
         sim.ensure_kinematics()
         m = sim.model
@@ -305,7 +356,7 @@ class Camera(XFormPrim):
 
     def get_rgba(self) -> np.ndarray:
         """(H, W, 4) uint8 RGBA image of the current state (alpha 255)."""
-        rgb = self._render(False)
+        rgb = self._render("rgb")
         out = np.empty(rgb.shape[:2] + (4,), dtype=np.uint8)
         out[..., :3] = rgb
         out[..., 3] = 255
@@ -318,7 +369,7 @@ class Camera(XFormPrim):
     def get_depth(self) -> np.ndarray:
         """(H, W) float32 depth [m]: the distance of the surface seen at each pixel to the
         image plane (along the optical axis), inf where nothing is hit within the clipping range."""
-        z = np.array(self._render(True), dtype=np.float32)
+        z = np.array(self._render("depth"), dtype=np.float32)
         near, far = self._clipping
         z[(z >= np.float32(far) * np.float32(1.0 - 1e-5)) | (z < np.float32(near))] = np.inf
         return z

@@ -76,7 +76,7 @@ def test_omni_pbr_and_glass_keep_their_parameters_and_draw_their_colour():
 
 
 @pytest.mark.parametrize("make", [
-    lambda: PreviewSurface("/World/Looks/x", color=[2.0, 0, 0]),
+    lambda: PreviewSurface("/World/Looks/x", color=[-0.1, 0, 0]),   # (above 1 is USD's HDR colour: allowed)
     lambda: PreviewSurface("/World/Looks/x", roughness=1.5),
     lambda: VisualCuboid("/World/c", name="c", visual_material="red"),
     lambda: VisualCuboid("/World/c", name="c").apply_visual_material([1, 0, 0]),
