@@ -241,4 +241,3 @@ def test_the_certificate_of_a_timed_motion_allows_for_its_deviation_from_the_cho
     # the deviation of a sampled motion: |a| dt^2 / 8 with |a| bounded by the samples and the jerk
     dev = trajectory_deviation(np.array([[1.0, -2.0], [3.0, 0.5]]), 0.1, np.array([10.0, 10.0]))
     np.testing.assert_allclose(dev, [[(3.0 + 0.5) * 0.01 / 8, (2.0 + 0.5) * 0.01 / 8]])
-
