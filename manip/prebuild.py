@@ -6,8 +6,8 @@ Run once where manip is installed from source (`make setup` does) and before bui
 wheel (the wheel carries `manip/_prebuilt/`). It starts one child process that
 
 - compiles every kernel for the generic CPU of this architecture (`manip.jit`) by running
-  a workload that meets every one of them: plans of each kind, IK, clearance and the reactive
-  controller on the Panda, the arm-arm clearance of the two-arm Panda robot, a joint plan and an
+  a workload that meets every one of them: plans of each kind (one with a constraint), IK,
+  clearance and the reactive controller on the Panda, the arm-arm clearance of the two-arm Panda robot, a joint plan and an
   IK call on every shipped arm;
 - computes the shipped robots' sphere covers and self-pair proofs (`manip.disk_cache`),
 
@@ -68,6 +68,7 @@ def workload(robots: list[str]) -> list[str]:
     failed = [r.status.name for r in results if not r.success]
     if failed:
         raise RuntimeError(f"the prebuild workload's plans failed: {failed}")
+    _constrained(mg, q0, q1)
     mg.batch_ik(goals)
     mg.distance(q0)
     mg.check_collision(q0)
@@ -90,6 +91,20 @@ def _blended_timing(mg, q0: np.ndarray) -> None:
     path = q0 + np.array([[0.0] * 7, [0.6, 0.2, 0, 0, 0, 0, 0], [1.2, 0.2, 0.1, 0, 0, 0, 0]])
     if not time_path(path, mg.config.limits, mode="blend").success:
         raise RuntimeError("the prebuild workload's blended timing failed")
+
+
+def _constrained(mg, q0: np.ndarray, q1: np.ndarray) -> None:
+    """A plan keeping the hand pointing down and a projection onto that cone (the compiled
+    certificate and projection of `OrientationConstraint`, `constraints.tilt_kernels`)."""
+    from manip import OrientationConstraint
+    from manip.constraints import project
+
+    down = OrientationConstraint(axis=(0, 0, 1), direction=(0, 0, -1), tolerance=0.1)
+    if project([down], mg.kinematics, q0 + 0.2) is None:
+        raise RuntimeError("the prebuild workload's projection onto a constraint failed")
+    r = mg.plan_joints(q0, q1, constraints=(down,), seed=0, time_budget=900.0)
+    if not r.success:
+        raise RuntimeError(f"the prebuild workload's constrained plan failed: {r.status.name}")
 
 
 def _two_arms() -> None:

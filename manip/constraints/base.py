@@ -29,6 +29,9 @@ planner:
 - `margin`: how far inside the set [unit] the planner aims (projections land there; the
   optimiser's rows keep it), so that short straight segments between such configurations
   certify without bisection. A fraction of the tolerance.
+- optionally `project_alone` / `hold_alone`: the projection onto its set and the certificate
+  of segments for this constraint alone in one compiled call (`OrientationConstraint`'s:
+  `tilt_kernels`); the generic NumPy versions run otherwise.
 - `explain(kinematics, q)`: a one-line description of the constrained quantity at q (dof,)
   with its tolerance, for messages ("tilt 0.23 rad of panda_hand's axis ... > 0.1 rad").
 
@@ -96,6 +99,17 @@ class Constraint(ABC):
         inner approximation of its set is fine; the certificate judges the result). Default:
         `residual_and_jacobian`."""
         return self.residual_and_jacobian(kinematics, Q)
+
+    def project_alone(self, kinematics: Kinematics, q: np.ndarray, max_steps: int, damping: float):
+        """Optional: `constraints.project([self], ...)` of q (dof,) in one compiled call ((dof,) or
+        None); NotImplemented (the default): the generic projection runs."""
+        return NotImplemented
+
+    def hold_alone(self, kinematics: Kinematics, Q0: np.ndarray, Q1: np.ndarray, slack: np.ndarray):
+        """Optional: the certificate of segments Q0[i] -> Q1[i] (M, dof) for this constraint with
+        slack (M,) [unit] in one compiled call: (ok, bad, worst, evaluations) as
+        `constraints.certify`'s; NotImplemented (the default): the generic proof runs."""
+        return NotImplemented
 
     def at_start(self, kinematics: Kinematics, q: np.ndarray) -> Constraint:
         """This constraint for a plan that starts at q (dof,): itself, unless it refers to the

@@ -79,10 +79,13 @@ def _hold(c: Constraint, kin: Kinematics, Q0: np.ndarray, Q1: np.ndarray, slack:
     """`segments_hold` for one constraint: (ok, bad, worst, evaluations). `slack` (M,) [its
     unit]: segment i must keep the violation <= -slack[i] (0 when None)."""
     M = Q0.shape[0]
+    extra = np.zeros(M) if slack is None else np.asarray(slack, dtype=float)
+    fast = c.hold_alone(kin, Q0, Q1, extra)  # the constraint's compiled proof, when it has one
+    if fast is not NotImplemented:
+        return fast
     ok = np.ones(M, dtype=bool)
     bad = np.zeros(M, dtype=bool)
     worst = Q0.copy()
-    extra = np.zeros(M) if slack is None else np.asarray(slack, dtype=float)
     v = c.violation(kin, np.concatenate([Q0, Q1])) + np.concatenate([extra, extra])
     va, vb = v[:M], v[M:]
     L = c.segment_bound(kin, Q0, Q1)

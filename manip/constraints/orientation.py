@@ -2,13 +2,16 @@
 
 from __future__ import annotations
 
+import functools
 import math
 import weakref
 from dataclasses import dataclass
 
 import numpy as np
 
+from manip.constraints import certify
 from manip.constraints.base import Constraint, link_or_ee, revolute_chain_weights
+from manip.constraints.tilt_kernels import hold_tilt, project_tilt
 from manip.errors import InvalidInputError
 from manip.kinematics import Kinematics
 from manip.validation import vec
@@ -77,6 +80,12 @@ class OrientationConstraint(Constraint):
         object.__setattr__(self, "tolerance", tol)
         if self.link is not None and (not isinstance(self.link, str) or not self.link):
             raise InvalidInputError(f"link must be a frame name (a non-empty str) or None; got {self.link!r}")
+        # arrays the hot paths use (the projection and the certificate call them per configuration)
+        d = np.array(self.direction)
+        object.__setattr__(self, "_a", _frozen(np.array(self.axis)))
+        object.__setattr__(self, "_d", _frozen(d))
+        object.__setattr__(self, "_cross_d", _frozen(np.array([[0.0, -d[2], d[1]], [d[2], 0.0, -d[0]],
+                                                               [-d[1], d[0], 0.0]])))  # u @ it = u x d
 
     # ------------------------------------------------------------------ the interface
     def check(self, kinematics: Kinematics) -> None:
@@ -86,12 +95,11 @@ class OrientationConstraint(Constraint):
         """(N,) the angle [rad] between the link's axis and `direction` at Q (N, dof)."""
         Q = np.atleast_2d(np.asarray(Q, dtype=float))
         fid = kinematics.frame_id(link_or_ee(self.link, kinematics))
-        # a few configurations at a time (the planner's usual call): one compiled call is
-        # cheaper than the batched transforms' NumPy steps
-        R = kinematics.frame_jacobians(Q, fid)[0] if Q.shape[0] <= 16 else kinematics.frame_transforms(Q, [fid])[0][:, 0]
-        u = R @ np.asarray(self.axis)
+        # up to ~a hundred configurations (the planner's and the certificate's usual calls): one
+        # compiled call is cheaper than the batched transforms' NumPy steps
+        R = kinematics.frame_jacobians(Q, fid)[0] if Q.shape[0] <= 128 else kinematics.frame_transforms(Q, [fid])[0][:, 0]
         # arccos: within 1e-8 rad of the exact angle here, and cheaper than atan2(|u x d|, u . d)
-        return np.arccos(np.clip(u @ np.asarray(self.direction), -1.0, 1.0))
+        return np.arccos(np.clip((R @ self._a) @ self._d, -1.0, 1.0))
 
     def residual(self, kinematics: Kinematics, Q: np.ndarray) -> np.ndarray:
         return (self.tilt(kinematics, Q) - self.tolerance)[:, None]
@@ -104,12 +112,11 @@ class OrientationConstraint(Constraint):
         Q = np.atleast_2d(np.asarray(Q, dtype=float))
         fid = kinematics.frame_id(link_or_ee(self.link, kinematics))
         R, _, J = kinematics.frame_jacobians(Q, fid)
-        u = R @ np.asarray(self.axis)
-        d = np.asarray(self.direction)
-        c = _cross(u, d)
+        u = R @ self._a
+        c = u @ self._cross_d  # u x d
         s = np.sqrt(np.einsum("ni,ni->n", c, c))
         n = c / np.maximum(s, 1e-12)[:, None]  # theta = 0 or pi: c = 0, a zero gradient
-        theta = np.arctan2(s, u @ d)
+        theta = np.arctan2(s, u @ self._d)
         return (theta - self.tolerance)[:, None], -np.einsum("ni,nij->nj", n, J[:, 3:6])[:, None, :]
 
     def optimizer_rows(self, kinematics: Kinematics, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -126,20 +133,35 @@ class OrientationConstraint(Constraint):
         Q = np.atleast_2d(np.asarray(Q, dtype=float))
         fid = kinematics.frame_id(link_or_ee(self.link, kinematics))
         R, _, J = kinematics.frame_jacobians(Q, fid)
-        u = R @ np.asarray(self.axis)  # (N, 3)
-        E = _faces(self.direction)  # (K, 3)
+        u = R @ self._a  # (N, 3)
+        E = _faces(self.direction, OPTIMIZER_FACES)  # (K, 3)
         s = math.sin(self.tolerance) * math.cos(math.pi / E.shape[0])
         # the OPTIMIZER_ROWS faces nearest u (the others are farther from it than its step can
         # go), and -u . d <= 0: the cone's half of the sphere
         near = np.argsort(-(u @ E.T), axis=1)[:, :OPTIMIZER_ROWS]  # (N, m)
-        F = np.concatenate([E[near], np.broadcast_to(-np.asarray(self.direction), (len(u), 1, 3))], axis=1)
+        F = np.concatenate([E[near], np.broadcast_to(-self._d, (len(u), 1, 3))], axis=1)
         rows = np.einsum("nki,ni->nk", F, u)
         rows[:, :-1] -= s
         # d(f . u)/dq = f . (w x u) = (u x f) . w, w = J_w q'
-        return rows, np.einsum("nki,nij->nkj", np.cross(u[:, None, :], F), J[:, 3:6])
+        return rows, np.einsum("nki,nij->nkj", _cross_rows(u, F), J[:, 3:6])
 
     def segment_bound(self, kinematics: Kinematics, Q0: np.ndarray, Q1: np.ndarray) -> np.ndarray:
         return np.abs(np.atleast_2d(Q1) - np.atleast_2d(Q0)) @ tilt_weights(self, kinematics)
+
+    def project_alone(self, kinematics: Kinematics, q: np.ndarray, max_steps: int, damping: float):
+        fid = kinematics.frame_id(link_or_ee(self.link, kinematics))
+        q, converged = project_tilt(np.ascontiguousarray(q, dtype=np.float64), kinematics.lower, kinematics.upper,
+                                    *kinematics.fk_tables(), *kinematics.jacobian_tables(fid), self._a, self._d,
+                                    self.tolerance, self.margin, damping, max_steps)
+        return q if converged else None
+
+    def hold_alone(self, kinematics: Kinematics, Q0: np.ndarray, Q1: np.ndarray, slack: np.ndarray):
+        fid = kinematics.frame_id(link_or_ee(self.link, kinematics))
+        f_joint, f_R = kinematics.jacobian_tables(fid)[3:5]
+        return hold_tilt(np.ascontiguousarray(Q0, dtype=np.float64), np.ascontiguousarray(Q1, dtype=np.float64),
+                         np.ascontiguousarray(slack, dtype=np.float64), tilt_weights(self, kinematics),
+                         *kinematics.fk_tables(), f_joint, f_R, self._a, self._d, self.tolerance,
+                         certify.FIRST_SPLIT, certify.MAX_DEPTH)
 
     @property
     def margin(self) -> float:
@@ -190,21 +212,31 @@ def tilt_weights(c: OrientationConstraint, kinematics: Kinematics) -> np.ndarray
 _WEIGHTS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
-def _faces(direction: tuple) -> np.ndarray:
-    """(OPTIMIZER_FACES, 3) unit vectors normal to `direction`, evenly spaced around it."""
+@functools.lru_cache(maxsize=64)
+def _faces(direction: tuple, faces: int) -> np.ndarray:
+    """(faces, 3) unit vectors normal to `direction`, evenly spaced around it (read-only)."""
     d = np.asarray(direction)
     a = np.eye(3)[int(np.argmin(np.abs(d)))]
     e1 = np.cross(d, a)
     e1 /= np.linalg.norm(e1)
     e2 = np.cross(d, e1)
-    phi = 2.0 * np.pi * np.arange(OPTIMIZER_FACES) / OPTIMIZER_FACES
-    return np.cos(phi)[:, None] * e1 + np.sin(phi)[:, None] * e2
+    phi = 2.0 * np.pi * np.arange(faces) / faces
+    return _frozen(np.cos(phi)[:, None] * e1 + np.sin(phi)[:, None] * e2)
 
 
-def _cross(u: np.ndarray, d: np.ndarray) -> np.ndarray:
-    """(N, 3) the cross products of the rows of u (N, 3) with d (3,) (np.cross costs ~0.1 ms a call)."""
-    return np.stack([u[:, 1] * d[2] - u[:, 2] * d[1], u[:, 2] * d[0] - u[:, 0] * d[2],
-                     u[:, 0] * d[1] - u[:, 1] * d[0]], axis=1)
+def _cross_rows(u: np.ndarray, F: np.ndarray) -> np.ndarray:
+    """(N, K, 3) u[n] x F[n, k] for u (N, 3), F (N, K, 3) (np.cross costs ~0.1 ms a call)."""
+    out = np.empty(F.shape)
+    u0, u1, u2 = u[:, 0:1], u[:, 1:2], u[:, 2:3]
+    out[..., 0] = u1 * F[..., 2] - u2 * F[..., 1]
+    out[..., 1] = u2 * F[..., 0] - u0 * F[..., 2]
+    out[..., 2] = u0 * F[..., 1] - u1 * F[..., 0]
+    return out
+
+
+def _frozen(a: np.ndarray) -> np.ndarray:
+    a.setflags(write=False)
+    return a
 
 
 def _fmt(v) -> str:

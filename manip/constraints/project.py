@@ -25,27 +25,32 @@ def project(constraints: Sequence[Constraint], kinematics: Kinematics, q: np.nda
     """`q` (dof,) moved into the allowed set, at least half of each constraint's margin inside
     (a configuration already there is returned as given); None when it did not converge.
     """
-    q = np.array(q, dtype=float)
+    if len(constraints) == 1:  # one constraint: its compiled projection, when it has one
+        out = constraints[0].project_alone(kinematics, np.array(q, dtype=float), max_steps, DAMPING)
+        if out is not NotImplemented:
+            return out
+    q = np.array(q, dtype=float)[None]
     lower, upper = kinematics.lower, kinematics.upper
+    margins = [c.margin for c in constraints]
     for _ in range(max_steps + 1):
         rows, jacs, done = [], [], True
-        for c in constraints:
-            m = c.margin
-            r, J = c.residual_and_jacobian(kinematics, q[None])
+        for c, m in zip(constraints, margins):
+            r, J = c.residual_and_jacobian(kinematics, q)
             r, J = r[0], J[0]
-            if np.any(r > -0.5 * m):
+            if r.max() > -0.5 * m:
                 done = False
             active = r > -m
             if active.any():
                 rows.append((r[active] + m) / m)
                 jacs.append(J[active] / m)
-        if done:
-            return q
-        if not rows:
-            return q
-        r = np.concatenate(rows)
-        J = np.concatenate(jacs)
-        dq = -J.T @ np.linalg.solve(J @ J.T + DAMPING * np.eye(J.shape[0]), r)
+        if done or not rows:
+            return q[0]
+        r = rows[0] if len(rows) == 1 else np.concatenate(rows)
+        J = jacs[0] if len(jacs) == 1 else np.concatenate(jacs)
+        if J.shape[0] == 1:  # one active row (an orientation): the least-squares step in closed form
+            dq = J[0] * -(r[0] / (J[0] @ J[0] + DAMPING))
+        else:
+            dq = -J.T @ np.linalg.solve(J @ J.T + DAMPING * np.eye(J.shape[0]), r)
         q = np.clip(q + dq, lower, upper)
     return None
 
