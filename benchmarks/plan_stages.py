@@ -164,6 +164,20 @@ def _part(fn, name: str, root: bool):
     return wrapper
 
 
+class _TimedSolver:
+    """A PIQP SparseSolver whose setup and solve are timed as parts."""
+
+    def __init__(self, solver):
+        self._solver = solver
+        self.settings = solver.settings
+        self.setup = _part(solver.setup, "PIQP setup", False)
+        self.solve = _part(solver.solve, "PIQP solve", False)
+
+    @property
+    def result(self):
+        return self._solver.result
+
+
 class _TimedPiqp:
     """`piqp` as `qp.solve` uses it, its SparseSolver's setup and solve timed as parts."""
 
@@ -172,18 +186,7 @@ class _TimedPiqp:
         self._piqp = piqp
 
     def SparseSolver(self):  # noqa: N802 (piqp's name)
-        solver = self._piqp.SparseSolver()
-
-        class Timed:
-            settings = solver.settings
-            setup = staticmethod(_part(solver.setup, "PIQP setup", False))
-            solve = staticmethod(_part(solver.solve, "PIQP solve", False))
-
-            @property
-            def result(self):
-                return solver.result
-
-        return Timed()
+        return _TimedSolver(self._piqp.SparseSolver())
 
 
 @contextlib.contextmanager

@@ -43,20 +43,25 @@ def _inequality_rows(lim_indptr, lim_indices, lim_data, keep, extra_col, extra_v
         if keep[r]:
             new[r] = L
             L += 1
-    nnz = T
-    for j in range(nx):
-        for k in range(lim_indptr[j], lim_indptr[j + 1]):
-            if keep[lim_indices[k]]:
-                nnz += 1
-        i, jj = j // m, j % m
-        for t in range(T):
-            if -(gradient[t, i] * B_free[config[t], jj]) != 0.0:
-                nnz += 1
+    # the clearance rows touching each free point (its basis weight at the row's sample is not 0)
+    by_point = np.empty((m, T), np.int64)
+    on_point = np.zeros(m, np.int64)
+    for t in range(T):
+        for jj in range(m):
+            if B_free[config[t], jj] != 0.0:
+                by_point[jj, on_point[jj]] = t
+                on_point[jj] += 1
+    # the kept rows of each extra variable, in order
+    by_extra = np.empty((n_extra, L), np.int64)
+    on_extra = np.zeros(n_extra, np.int64)
     for r in range(rows):
         if keep[r] and extra_val[r] != 0.0:
-            nnz += 1
-    data = np.empty(nnz)
-    indices = np.empty(nnz, np.int32)
+            e = extra_col[r]
+            by_extra[e, on_extra[e]] = r
+            on_extra[e] += 1
+    size = lim_indptr[nx] + dof * on_point.sum() + on_extra.sum() + T  # at most
+    data = np.empty(size)
+    indices = np.empty(size, np.int32)
     indptr = np.empty(nz + 1, np.int32)
     k = 0
     for j in range(nx):  # a control-point coordinate: its limit rows, then its clearance rows
@@ -68,7 +73,8 @@ def _inequality_rows(lim_indptr, lim_indices, lim_data, keep, extra_col, extra_v
                 indices[k] = new[r]
                 k += 1
         i, jj = j // m, j % m
-        for t in range(T):
+        for q in range(on_point[jj]):
+            t = by_point[jj, q]
             v = -(gradient[t, i] * B_free[config[t], jj])
             if v != 0.0:
                 data[k] = v
@@ -76,11 +82,11 @@ def _inequality_rows(lim_indptr, lim_indices, lim_data, keep, extra_col, extra_v
                 k += 1
     for e in range(n_extra):  # the extra variables: their entries in the limit rows
         indptr[nx + e] = k
-        for r in range(rows):
-            if keep[r] and extra_col[r] == e and extra_val[r] != 0.0:
-                data[k] = extra_val[r]
-                indices[k] = new[r]
-                k += 1
+        for q in range(on_extra[e]):
+            r = by_extra[e, q]
+            data[k] = extra_val[r]
+            indices[k] = new[r]
+            k += 1
     for e in range(n_rays):  # the ray parameters: in no inequality
         indptr[nx + n_extra + e] = k
     for t in range(T):  # each clearance row's slack
@@ -89,7 +95,7 @@ def _inequality_rows(lim_indptr, lim_indices, lim_data, keep, extra_col, extra_v
         indices[k] = L + t
         k += 1
     indptr[nz] = k
-    return data, indices, indptr, L
+    return data[:k], indices[:k], indptr, L
 
 
 def inequality_rows(limit_G: sp.csc_matrix, keep: np.ndarray, extra_col: np.ndarray, extra_val: np.ndarray,

@@ -88,12 +88,13 @@ class SplineProblem:
         self.limit_slack = b["limit_slack"]  # (L,) each row's slack: (order - 1) * dof + joint
         # (runs,) first row of each run of rows of one slack; (3 dof, 2) the two runs of each slack
         self.limit_runs, self.limit_run_pairs = b["limit_runs"], b["limit_run_pairs"]
-        self.limit_fixed, self.cost = [], {}
+        limit_fixed, self.cost = [], {}
         for k in (1, 2, 3):
             rows_fixed, D_fixed, DtD, Dt = b["per_order"][k]
             share = (rows_fixed @ fixed_c).T.ravel()  # joint-major (dof * R,)
-            self.limit_fixed += [share, -share]
+            limit_fixed += [share, -share]
             self.cost[k] = (DtD, Dt @ (D_fixed @ fixed_c))  # (m, m), (m, dof)
+        self.limit_fixed = np.concatenate(limit_fixed)  # (L,) the fixed points' share of each limit row
 
     def set_rays(self, d_start: np.ndarray | None, d_goal: np.ndarray | None, points: int) -> None:
         """Tie the first `points` free control points to start + a d_start and the last ones to
@@ -165,13 +166,13 @@ def sco_fixed_step(prob: SplineProblem, c0: np.ndarray, h: float, radius: float,
     lower, upper = limits.lower, limits.upper
     c = c0.copy()
     solves = 0
-    _, h_lim = _limit_rows(prob, h, limits)
+    row_lim = _row_limits(prob, h, limits)
+    h_lim = row_lim - prob.limit_fixed  # the limit rows' right-hand sides
     S = 3 * prob.dof  # one slack per derivative order and joint, >= 0, L1-penalised (-1 in its limit rows)
     slack_col, slack_val = prob.limit_slack.copy(), np.full(prob.limit_slack.size, -1.0)
     slack_cost, slack_lb, slack_ub = np.full(S, s.penalty), np.zeros(S), np.full(S, np.inf)
-    row_lim = _row_limits(prob, h, limits)
     P, q_lin = _objective(prob, h, limits, s)
-    P_sparse = sp.csc_matrix(P)
+    P_sparse = _csc(P)
     activation = margin + s.activation
     terms = clearance.terms(prob.B @ c, activation)
     floor = min(margin, _min_distance(terms, activation)) - 1e-3  # never worse than the seed
@@ -239,7 +240,7 @@ def sco_free_step(prob: SplineProblem, c0: np.ndarray, *, limits: JointLimits, c
     c = c0.copy()
     h_ref = _polygon_step(c, limits)
     P, q_lin = _objective(prob, h_ref, limits, s)
-    P_sparse = sp.csc_matrix(P)
+    P_sparse = _csc(P)
     nx, R = P.shape[0], len(prob.rays)
     order = prob.limit_slack // dof + 1  # (L,) the derivative order of each limit row
     h_column = np.zeros(order.size, dtype=np.int64)  # every limit row has h in extra column 0
@@ -248,19 +249,20 @@ def sco_free_step(prob: SplineProblem, c0: np.ndarray, *, limits: JointLimits, c
     floor = min(margin, _min_distance(terms, activation)) - 1e-3
     weight = s.time_weight / h_ref
 
-    def merit_of(c_: np.ndarray, terms_) -> float:
+    def merit_of(c_: np.ndarray, terms_) -> tuple[float, float]:
+        """(the merit of c_, its `_polygon_step`)."""
         x = c_[3:n].T.ravel()
-        return float(weight * _polygon_step(c_, limits) + 0.5 * x @ (P_sparse @ x) + q_lin @ x
-                     + s.penalty * _violation(terms_, margin))
+        h_ = _polygon_step(c_, limits)
+        return float(weight * h_ + 0.5 * x @ (P_sparse @ x) + q_lin @ x + s.penalty * _violation(terms_, margin)), h_
 
-    merit = merit_of(c, terms)
+    merit, h_c = merit_of(c, terms)  # h_c: c's `_polygon_step`
     radius = s.trust_region
     solves = 0
     while solves < min(s.free_iterations, max_solves) and time.perf_counter() <= deadline:
-        h = _polygon_step(c, limits)
+        h = h_c
         x0 = c[3:n]
-        _, h_lim = _limit_rows(prob, h, limits)
         row_lim = _row_limits(prob, h, limits)
+        h_lim = row_lim - prob.limit_fixed
         keep = prob.limit_G_sparse @ x0.T.ravel() - h_lim > -s.limit_row_slack * row_lim
         # G x <= lim(h') - fixed share, with lim(h') >= lim(h) (k h' / h - (k - 1)) for order k
         k, lim = order[keep], row_lim[keep]
@@ -280,13 +282,13 @@ def sco_free_step(prob: SplineProblem, c0: np.ndarray, *, limits: JointLimits, c
             if half:  # half the step (a clearance evaluation, not a QP; keeps the bounds and rays)
                 c_new, predicted, step = 0.5 * (c + c_new), 0.5 * predicted, 0.5 * step
             terms_new = clearance.terms(prob.B @ c_new, activation)
-            merit_new = merit_of(c_new, terms_new)
+            merit_new, h_new = merit_of(c_new, terms_new)
             better = merit_new < merit and _min_distance(terms_new, activation) >= floor
             if better or predicted <= s.tolerance * weight * h:
                 break
         if better:
             ratio = (merit - merit_new) / max(predicted, 1e-12)
-            c, terms, merit = c_new, terms_new, merit_new
+            c, terms, merit, h_c = c_new, terms_new, merit_new, h_new
         if predicted <= s.tolerance * weight * h:
             break  # less than `tolerance` of the duration left to gain, by the model
         if not better or ratio < 0.25:
@@ -354,13 +356,13 @@ def _min_distance(terms, activation: float) -> float:
     return float(terms.distance.min()) if terms.distance.size else activation
 
 
-def _limit_rows(prob: SplineProblem, h: float, limits: JointLimits) -> tuple[np.ndarray, np.ndarray]:
-    """G x <= hv for the velocity, acceleration and jerk limits at step h (joint-major x)."""
-    rhs = []
-    lims = {1: limits.velocity * h, 2: limits.acceleration * h**2, 3: limits.jerk * h**3}
-    for (order, rows), fixed in zip(prob.limit_order, prob.limit_fixed):
-        rhs.append(np.repeat(lims[order], rows) - fixed)
-    return prob.limit_G, np.concatenate(rhs)
+def _csc(P: np.ndarray) -> sp.csc_matrix:
+    """`sp.csc_matrix(P)` of a dense P (the same nonzeros in the same order), without scipy's
+    conversion through COO."""
+    cols, rows = np.nonzero(P.T)  # by column, rows ascending (exact zeros left out)
+    indptr = np.zeros(P.shape[1] + 1, dtype=np.int32)
+    np.cumsum(np.bincount(cols, minlength=P.shape[1]), out=indptr[1:])
+    return sp.csc_matrix((P.T[cols, rows], rows.astype(np.int32), indptr), shape=P.shape)
 
 
 def _row_limits(prob: SplineProblem, h: float, limits: JointLimits) -> np.ndarray:
