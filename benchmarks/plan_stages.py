@@ -115,6 +115,7 @@ _TRAJOPT_PARTS = (
     (optimizer_module, "sco_fixed_step", "glue (refine, SCO loops)"),
     (optimizer_module, "sco_free_step", "glue (refine, SCO loops)"),
     (qp_module, "inequality_rows", "QP assembly: inequality rows"),
+    (qp_module, "csc_of_transpose", "QP assembly: inequality rows"),  # before issue 33's round three
     (qp_module, "solve", "QP: PIQP's solver object, settings, result"),
     (qp_module, "regularised", "QP assembly"),
     (qp_module, "with_columns", "QP assembly"),
@@ -122,6 +123,7 @@ _TRAJOPT_PARTS = (
     (sco_module.SplineProblem, "ray_rows", "QP assembly"),
     (sco_module, "_collision_rows", "QP rows: clearance, limits, objective"),
     (sco_module, "_csc", "QP rows: clearance, limits, objective"),
+    (sco_module, "_limit_rows", "QP rows: clearance, limits, objective"),  # before issue 33's round three
     (sco_module, "_row_limits", "QP rows: clearance, limits, objective"),
     (sco_module, "_objective", "QP rows: clearance, limits, objective"),
     (ClearanceModel, "terms", "clearance terms: nearest balls, gradients"),
@@ -193,10 +195,11 @@ class _TimedPiqp:
 @contextlib.contextmanager
 def _trajopt_parts():
     """The parts of `_TRAJOPT_PARTS` and PIQP's calls timed (restored afterwards)."""
-    originals = [(owner, attr, owner.__dict__[attr]) for owner, attr, _ in _TRAJOPT_PARTS]
+    parts = [(owner, attr, name) for owner, attr, name in _TRAJOPT_PARTS if attr in owner.__dict__]  # (older trees)
+    originals = [(owner, attr, owner.__dict__[attr]) for owner, attr, _ in parts]
     piqp = qp_module.piqp
     try:
-        for i, (owner, attr, name) in enumerate(_TRAJOPT_PARTS):
+        for i, (owner, attr, name) in enumerate(parts):
             fn = owner.__dict__[attr]
             if isinstance(fn, classmethod):
                 setattr(owner, attr, classmethod(_part(fn.__func__, name, False)))

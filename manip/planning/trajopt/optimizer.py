@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import logging
 import time
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -200,9 +200,9 @@ def _free_duration(prob: SplineProblem, c: np.ndarray, h_seed: float, *, limits:
     solves = 0
     if s.first_iterations:
         ok, first, solves, why, _ = sco_fixed_step(prob, c, h_seed, s.trust_region, limits=limits,
-                                                   clearance=clearance, margin=margin,
-                                                   settings=replace(s, iterations=s.first_iterations),
-                                                   deadline=deadline, max_solves=max_solves)
+                                                   clearance=clearance, margin=margin, settings=s,
+                                                   deadline=deadline, max_solves=max_solves,
+                                                   iterations=s.first_iterations)
         logger.debug("trajopt: at the seed's T = %.3f s: %s (%d QPs) %s", prob.n * h_seed, "ok" if ok else "failed",
                      solves, why)
         c = first if ok else c

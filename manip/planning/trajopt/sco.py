@@ -146,11 +146,12 @@ class SplineProblem:
 
 def sco_fixed_step(prob: SplineProblem, c0: np.ndarray, h: float, radius: float, *, limits: JointLimits,
                    clearance: ClearanceModel, margin: float, settings: TrajOptSettings, deadline: float,
-                   max_solves: int | float = np.inf):
+                   max_solves: int | float = np.inf, iterations: int | None = None):
     """Sequential convex optimisation at step h (an L1 penalty method with a trust region).
 
     `limits`: the call's scaled limits (with position limits); `margin` [m]; `radius`: the
-    trust region's first radius [rad]; `deadline`: a `time.perf_counter()` value.
+    trust region's first radius [rad]; `deadline`: a `time.perf_counter()` value;
+    `iterations`: at most (None: `settings.iterations`).
 
     The velocity, acceleration and jerk limits at step h and the clearance above `margin`
     are soft (slack variables with `s.penalty`): the QP is always feasible, and the caller
@@ -178,7 +179,7 @@ def sco_fixed_step(prob: SplineProblem, c0: np.ndarray, h: float, radius: float,
     floor = min(margin, _min_distance(terms, activation)) - 1e-3  # never worse than the seed
     merit = _merit(P_sparse, q_lin, c, prob, terms, margin, s.penalty, h_lim)
     nx = P.shape[0]
-    for _ in range(s.iterations):
+    for _ in range(s.iterations if iterations is None else iterations):
         if time.perf_counter() > deadline or solves >= max_solves:
             break
         h_col = _collision_rows(prob, c, terms, margin)
