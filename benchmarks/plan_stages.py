@@ -3,7 +3,7 @@
 A/B of trajectory-optimiser settings in one run.
 
     python benchmarks/plan_stages.py [--limit-per-scene 10] [--scenes cage_panda ...] [--goal both]
-        [--set KEY=VALUE ...] [--json OUT] [--cprofile OUT] [--trajopt-table]
+        [--set KEY=VALUE ... | --tree OTHER_CHECKOUT] [--json OUT] [--cprofile OUT] [--trajopt-table]
 
 Plans the first N valid problems of each scene (the verifier's problem check, as
 `benchmarks/mbm.py`; goal kinds joint and pose, seed 0) and reports, per plan, the main thread's
@@ -17,7 +17,9 @@ every plan is made twice, with the defaults and with the settings given (alterna
 first; the world is loaded again for each, so constants read when the world's tables are built
 count too, not those read when a checker is constructed), and the report gives the ratios: CPU,
 wall, QPs, identical motions, motion time / lower bound and path length / straight line per goal
-kind. QP counts and motions do not depend on the machine; CPU times do (take the bench lock, note
+kind. `--tree PATH` makes variant B the manip of another checkout instead (this script in a worker
+process with that tree first on the path; the plans alternate between the two processes): an A/B of
+code. QP counts and motions do not depend on the machine; CPU times do (take the bench lock, note
 the load). The counting wraps a few functions of manip for the run's duration (measurement
 only: plans are unchanged).
 
@@ -33,15 +35,18 @@ import argparse
 import collections
 import contextlib
 import dataclasses
+import hashlib
 import json
 import os
+import subprocess
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+#: The checkout whose manip is measured: this one, or another for a `--tree` worker.
+sys.path.insert(0, os.environ.get("PLAN_STAGES_TREE") or str(Path(__file__).resolve().parents[1]))
 
 from manip import MotionGenerator, WorldConfig
 from manip.benchmarking.mbm_problems import goal_pose, load_mbm_problems
@@ -290,7 +295,8 @@ def plan_once(mg: MotionGenerator, problem, kind: str, seed: int) -> dict:
     if r.success:
         P = np.asarray(r.trajectory.positions)
         lim = mg.config.limits
-        row.update(source=r.source, duration=float(r.trajectory.times[-1]), motion_hash=hash(P.tobytes()),
+        row.update(source=r.source, duration=float(r.trajectory.times[-1]),
+                   motion_hash=hashlib.sha1(P.tobytes()).hexdigest(),  # the same in any process
                    lower_bound=lower_bound_time(P[0], P[-1], lim.velocity, lim.acceleration, lim.jerk),
                    path=path_length(P), straight=straight_line_length(P[0], P[-1]))
     return row
@@ -351,12 +357,51 @@ def compare(a_rows: list[dict], b_rows: list[dict]) -> str:
     return "\n".join(out)
 
 
+class _TreeWorker:
+    """Variant B planned by another checkout's manip: this script in a worker process (`--worker`)
+    with that tree first on the path, asked for one plan at a time."""
+
+    def __init__(self, tree: str, args: argparse.Namespace):
+        cmd = [sys.executable, str(Path(__file__).resolve()), "--worker", "--limit-per-scene",
+               str(args.limit_per_scene), "--seed", str(args.seed)] + (["--scenes", *args.scenes] if args.scenes else [])
+        env = dict(os.environ, PLAN_STAGES_TREE=str(Path(tree).resolve()), PYTHONPATH=str(Path(tree).resolve()))
+        self.proc = subprocess.Popen(cmd + (["--trajopt-table"] if args.trajopt_table else []), env=env,
+                                     stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+        self.problems = json.loads(self.proc.stdout.readline())  # after its warm-up plans
+
+    def plan(self, index: int, kind: str) -> dict:
+        self.proc.stdin.write(f"{index} {kind}\n")
+        self.proc.stdin.flush()
+        return json.loads(self.proc.stdout.readline())
+
+    def close(self) -> None:
+        self.proc.stdin.close()
+        self.proc.wait()
+
+
+def _serve(mg: MotionGenerator, problems: list, args: argparse.Namespace) -> int:
+    """`--worker`: plans the problems asked for on stdin ("index kind" lines), one JSON row per line."""
+    mg.update_world(WorldConfig.from_dict(problems[0].world))
+    for kind in ("joint", "pose"):
+        plan_once(mg, problems[0], kind, args.seed)
+    print(json.dumps(len(problems)), flush=True)
+    current = None
+    with _instrumented(), (_trajopt_parts() if args.trajopt_table else contextlib.nullcontext()):
+        for line in sys.stdin:
+            index, kind = line.split()
+            if current != index:
+                mg.update_world(WorldConfig.from_dict(problems[int(index)].world))
+                current = index
+            print(json.dumps(plan_once(mg, problems[int(index)], kind, args.seed), default=str), flush=True)
+    return 0
+
+
 def _run(mg: MotionGenerator, problems: list, kinds: list[str], overrides: dict, seed: int, profiler,
-         constants: dict | None = None) -> dict:
-    """{"A": rows with the default settings, "B": rows with `overrides` and `constants` (empty
-    without)}; one untimed warm-up plan per goal kind (and variant) first."""
-    variants = ("A", "B") if overrides or constants else ("A",)
-    for variant in variants:
+         constants: dict | None = None, worker: _TreeWorker | None = None) -> dict:
+    """{"A": rows with the default settings, "B": rows with `overrides` and `constants`, or of
+    `worker`'s tree (empty without)}; one untimed warm-up plan per goal kind (and variant) first."""
+    variants = ("A", "B") if overrides or constants or worker else ("A",)
+    for variant in variants[: 1 if worker else 2]:
         with _settings(overrides if variant == "B" else {}, constants if variant == "B" else None):
             mg.update_world(WorldConfig.from_dict(problems[0].world))
             for kind in kinds:
@@ -368,6 +413,9 @@ def _run(mg: MotionGenerator, problems: list, kinds: list[str], overrides: dict,
         for kind in kinds:
             order = variants if i % 2 == 0 else variants[::-1]
             for variant in order:
+                if worker is not None and variant == "B":
+                    rows["B"].append(worker.plan(i, kind))
+                    continue
                 with _settings(overrides if variant == "B" else {}, constants if variant == "B" else None):
                     if constants:  # the tables are built with the variant's constants
                         mg.update_world(WorldConfig.from_dict(p.world))
@@ -390,6 +438,8 @@ def parse_args(argv=None) -> argparse.Namespace:
                          "plan is made with both")
     ap.add_argument("--json", default=None, help="write every row here")
     ap.add_argument("--cprofile", default=None, help="write a cProfile of the planning here (default settings only)")
+    ap.add_argument("--tree", default=None, help="variant B: the manip of this other checkout (an A/B of code)")
+    ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)  # `--tree`'s worker process
     ap.add_argument("--trajopt-table", action="store_true",
                     help="account for the optimiser stage's CPU by part (PIQP, assembly, clearance terms, ...)")
     return ap.parse_args(argv)
@@ -411,6 +461,10 @@ def main(argv=None) -> int:
             raise InvalidInputError(f"--set {kv!r}: {key!r} is not a TrajOptSettings field ({', '.join(names)})")
         overrides[key] = ast.literal_eval(value)
     TrajOptSettings(**overrides)  # a bad field or value fails here, with its own message
+    if args.tree and (overrides or constants):
+        raise InvalidInputError("--tree and --set: one B variant at a time")
+    if args.tree and not (Path(args.tree) / "manip" / "__init__.py").is_file():
+        raise InvalidInputError(f"--tree {args.tree!r}: not a checkout of manip (no manip/__init__.py there)")
     mg = MotionGenerator("franka")
     verifier = Verifier(mg.config)
     problems = [p for p in load_mbm_problems(limit_per_scene=args.limit_per_scene)
@@ -419,21 +473,29 @@ def main(argv=None) -> int:
     if not problems:
         print("no valid problems selected", file=sys.stderr)
         return 2
+    if args.worker:
+        return _serve(mg, problems, args)
+    worker = _TreeWorker(args.tree, args) if args.tree else None
     profiler = None
     if args.cprofile:
         import cProfile
 
         profiler = cProfile.Profile()
     load = os.getloadavg()
-    with _instrumented(), (_trajopt_parts() if args.trajopt_table else contextlib.nullcontext()):
-        rows = _run(mg, problems, kinds, overrides, args.seed, profiler, constants)
+    try:
+        with _instrumented(), (_trajopt_parts() if args.trajopt_table else contextlib.nullcontext()):
+            rows = _run(mg, problems, kinds, overrides, args.seed, profiler, constants, worker)
+    finally:
+        if worker is not None:
+            worker.close()
     print(f"load average at start {load[0]:.2f}, at end {os.getloadavg()[0]:.2f}; {len(problems)} valid problems, "
           f"goals {', '.join(kinds)}")
     print(report(rows["A"]))
     if args.trajopt_table:
         print("\n" + trajopt_table(rows["A"]))
-    if overrides or constants:
-        print(f"\nB = TrajOptSettings({', '.join(f'{k}={v!r}' for k, v in overrides.items())})"
+    if overrides or constants or worker:
+        print(f"\nB = the manip of {Path(args.tree).resolve()}" if worker else
+              f"\nB = TrajOptSettings({', '.join(f'{k}={v!r}' for k, v in overrides.items())})"
               + "".join(f", {m.__name__}.{k} = {v!r}" for (m, k), v in constants.items()))
         print(report(rows["B"]))
         if args.trajopt_table:
@@ -441,7 +503,7 @@ def main(argv=None) -> int:
         print()
         print(compare(rows["A"], rows["B"]))
     if args.json:
-        Path(args.json).write_text(json.dumps(dict(load=load, overrides=overrides, rows=rows,
+        Path(args.json).write_text(json.dumps(dict(load=load, overrides=overrides, tree=args.tree, rows=rows,
                                                    constants={f"{m.__name__}:{k}": v for (m, k), v in constants.items()}),
                                               default=str))
     if profiler is not None:
