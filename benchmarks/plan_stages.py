@@ -58,8 +58,8 @@ from manip.benchmarking.quality import (
 from manip.benchmarking.verify import Verifier
 from manip.collision.checker import CollisionChecker
 from manip.collision.clearance import ClearanceModel
-from manip.errors import InvalidInputError
 from manip.collision.state import CollisionState
+from manip.errors import InvalidInputError
 from manip.planning import pipeline as pipeline_module
 from manip.planning.trajopt import bspline as bspline_module
 from manip.planning.trajopt import optimizer as optimizer_module
