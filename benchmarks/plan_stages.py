@@ -3,7 +3,7 @@
 A/B of trajectory-optimiser settings in one run.
 
     python benchmarks/plan_stages.py [--limit-per-scene 10] [--scenes cage_panda ...] [--goal both]
-        [--set KEY=VALUE ...] [--json OUT] [--cprofile OUT]
+        [--set KEY=VALUE ... | --tree OTHER_CHECKOUT] [--json OUT] [--cprofile OUT] [--trajopt-table]
 
 Plans the first N valid problems of each scene (the verifier's problem check, as
 `benchmarks/mbm.py`; goal kinds joint and pose, seed 0) and reports, per plan, the main thread's
@@ -17,9 +17,16 @@ every plan is made twice, with the defaults and with the settings given (alterna
 first; the world is loaded again for each, so constants read when the world's tables are built
 count too, not those read when a checker is constructed), and the report gives the ratios: CPU,
 wall, QPs, identical motions, motion time / lower bound and path length / straight line per goal
-kind. QP counts and motions do not depend on the machine; CPU times do (take the bench lock, note
+kind. `--tree PATH` makes variant B the manip of another checkout instead (this script in a worker
+process with that tree first on the path; the plans alternate between the two processes): an A/B of
+code. QP counts and motions do not depend on the machine; CPU times do (take the bench lock, note
 the load). The counting wraps a few functions of manip for the run's duration (measurement
 only: plans are unchanged).
+
+`--trajopt-table` accounts for all of the optimiser stage's CPU time (`refine.refine` but its
+certified validation): each part's exclusive main-thread CPU time (PIQP's setup and solve, the
+QP's assembly, the clearance terms' FK and nearest balls, the merit, the fit, ..., and the
+Python glue of the SCO loops as the rest), and what each optimiser call of a plan came to.
 """
 
 from __future__ import annotations
@@ -28,15 +35,18 @@ import argparse
 import collections
 import contextlib
 import dataclasses
+import hashlib
 import json
 import os
+import subprocess
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+#: The checkout whose manip is measured: this one, or another for a `--tree` worker.
+sys.path.insert(0, os.environ.get("PLAN_STAGES_TREE") or str(Path(__file__).resolve().parents[1]))
 
 from manip import MotionGenerator, WorldConfig
 from manip.benchmarking.mbm_problems import goal_pose, load_mbm_problems
@@ -48,10 +58,16 @@ from manip.benchmarking.quality import (
 from manip.benchmarking.verify import Verifier
 from manip.collision.checker import CollisionChecker
 from manip.collision.clearance import ClearanceModel
+from manip.collision.state import CollisionState
 from manip.errors import InvalidInputError
+from manip.planning import pipeline as pipeline_module
+from manip.planning.trajopt import bspline as bspline_module
+from manip.planning.trajopt import optimizer as optimizer_module
 from manip.planning.trajopt import qp as qp_module
 from manip.planning.trajopt import refine as refine_module
+from manip.planning.trajopt import sco as sco_module
 from manip.planning.trajopt.settings import TrajOptSettings
+from manip.trajectory import Trajectory
 
 #: Counters of the plan being made: name -> [calls, main-thread CPU seconds].
 _COUNTERS: dict[str, list] = collections.defaultdict(lambda: [0, 0.0])
@@ -95,6 +111,140 @@ def _instrumented():
             setattr(owner, attr, fn)
 
 
+#: The optimiser stage's parts (`--trajopt-table`): (owner, attribute, part). The root is
+#: `refine.refine`; a part's time excludes the parts called inside it; "glue" is what is left of
+#: the root and of the SCO loops themselves.
+_TRAJOPT_PARTS = (
+    (pipeline_module, "refine", "glue (refine, SCO loops)"),
+    (refine_module, "validate_trajectory", "validate (certificate; not the trajopt stage)"),
+    (optimizer_module, "sco_fixed_step", "glue (refine, SCO loops)"),
+    (optimizer_module, "sco_free_step", "glue (refine, SCO loops)"),
+    (qp_module, "inequality_rows", "QP assembly: inequality rows"),
+    (qp_module, "csc_of_transpose", "QP assembly: inequality rows"),  # before issue 33's round three
+    (qp_module, "solve", "QP: PIQP's solver object, settings, result"),
+    (qp_module, "regularised", "QP assembly"),
+    (qp_module, "with_columns", "QP assembly"),
+    (sco_module, "_solve_qp", "QP assembly"),
+    (sco_module.SplineProblem, "ray_rows", "QP assembly"),
+    (sco_module, "_collision_rows", "QP rows: clearance, limits, objective"),
+    (sco_module, "_csc", "QP rows: clearance, limits, objective"),
+    (sco_module, "_limit_rows", "QP rows: clearance, limits, objective"),  # before issue 33's round three
+    (sco_module, "_row_limits", "QP rows: clearance, limits, objective"),
+    (sco_module, "_objective", "QP rows: clearance, limits, objective"),
+    (ClearanceModel, "terms", "clearance terms: nearest balls, gradients"),
+    (CollisionState, "joint_transforms", "clearance terms: FK of the samples"),
+    (sco_module, "_merit", "merit and clearance floor"),
+    (sco_module, "_polygon_step", "merit and clearance floor"),
+    (sco_module, "_violation", "merit and clearance floor"),
+    (sco_module, "_min_distance", "merit and clearance floor"),
+    (bspline_module, "control_from_samples", "fit of the seed"),
+    (optimizer_module, "_end_directions", "end rays (directions, projection)"),
+    (sco_module.SplineProblem, "project_rays", "end rays (directions, projection)"),
+    (sco_module.SplineProblem, "__init__", "problem setup (SplineProblem)"),
+    (optimizer_module, "_check_seed", "problem setup (SplineProblem)"),
+    (bspline_module, "limit_step", "re-time and sample the result"),
+    (bspline_module, "to_profile", "re-time and sample the result"),
+    (Trajectory, "from_profile", "re-time and sample the result"),
+)
+_PARTS_CPU: dict[str, float] = collections.defaultdict(float)
+_PARTS_CALLS: dict[str, int] = collections.defaultdict(int)
+_STACK: list = []  # [part, start CPU, CPU of the parts called inside]
+
+
+def _part(fn, name: str, root: bool):
+    """fn wrapped so that its exclusive CPU time adds to _PARTS_CPU[name] (inside the root only)."""
+
+    def wrapper(*args, **kwargs):
+        if (not _STACK and not root) or (_STACK and _STACK[-1][0].startswith("validate")):
+            return fn(*args, **kwargs)  # outside the stage, or inside the certificate (its own part)
+        frame = [name, time.thread_time(), 0.0]
+        _STACK.append(frame)
+        try:
+            return fn(*args, **kwargs)
+        finally:
+            _STACK.pop()
+            elapsed = time.thread_time() - frame[1]
+            _PARTS_CPU[name] += elapsed - frame[2]
+            _PARTS_CALLS[name] += 1
+            if _STACK:
+                _STACK[-1][2] += elapsed
+
+    return wrapper
+
+
+class _TimedSolver:
+    """A PIQP SparseSolver whose setup and solve are timed as parts."""
+
+    def __init__(self, solver):
+        self._solver = solver
+        self.settings = solver.settings
+        self.setup = _part(solver.setup, "PIQP setup", False)
+        self.solve = _part(solver.solve, "PIQP solve", False)
+
+    @property
+    def result(self):
+        return self._solver.result
+
+
+class _TimedPiqp:
+    """`piqp` as `qp.solve` uses it, its SparseSolver's setup and solve timed as parts."""
+
+    def __init__(self, piqp):
+        self.PIQP_SOLVED = piqp.PIQP_SOLVED
+        self._piqp = piqp
+
+    def SparseSolver(self):  # noqa: N802 (piqp's name)
+        return _TimedSolver(self._piqp.SparseSolver())
+
+
+@contextlib.contextmanager
+def _trajopt_parts():
+    """The parts of `_TRAJOPT_PARTS` and PIQP's calls timed (restored afterwards)."""
+    parts = [(owner, attr, name) for owner, attr, name in _TRAJOPT_PARTS if attr in owner.__dict__]  # (older trees)
+    originals = [(owner, attr, owner.__dict__[attr]) for owner, attr, _ in parts]
+    piqp = qp_module.piqp
+    try:
+        for i, (owner, attr, name) in enumerate(parts):
+            fn = owner.__dict__[attr]
+            if isinstance(fn, classmethod):
+                setattr(owner, attr, classmethod(_part(fn.__func__, name, False)))
+            else:
+                setattr(owner, attr, _part(fn, name, i == 0))
+        qp_module.piqp = _TimedPiqp(piqp)
+        yield
+    finally:
+        qp_module.piqp = piqp
+        for owner, attr, fn in originals:
+            setattr(owner, attr, fn)
+
+
+def trajopt_table(rows: list[dict]) -> str:
+    """The optimiser stage's CPU by part, over the plans of `rows` (their "parts" counters)."""
+    cpu = collections.defaultdict(float)
+    calls = collections.defaultdict(int)
+    for r in rows:
+        for k, (n, t) in r.get("parts", {}).items():
+            cpu[k] += t
+            calls[k] += n
+    total_plans = sum(r["cpu"] for r in rows)
+    stage = sum(v for k, v in cpu.items() if not k.startswith("validate"))
+    n = max(len(rows), 1)
+    out = [f"optimiser stage (refine but its validation): {stage * 1e3 / n:.2f} ms CPU per plan, "
+           f"{100 * stage / total_plans:.1f} % of the plans' CPU", "",
+           "| part | share of the stage | per plan [ms] | calls per plan |", "|---|---|---|---|"]
+    for k, v in sorted(cpu.items(), key=lambda kv: -kv[1]):
+        share = "" if k.startswith("validate") else f"{100 * v / stage:.1f} %"
+        out.append(f"| {k} | {share} | {v * 1e3 / n:.2f} | {calls[k] / n:.1f} |")
+    runs = [r["counters"].get("trajopt", [0, 0]) for r in rows]
+    qps = [r["counters"].get("qp", [0, 0])[0] for r in rows]
+    used = [r.get("source") == "trajopt" for r in rows]
+    out += ["", f"optimiser calls per plan {np.mean([c[0] for c in runs]):.2f} (plans with 2+: "
+            f"{sum(c[0] > 1 for c in runs)}/{len(rows)}); the optimiser's motion returned in {sum(used)}/{len(rows)} "
+            f"plans; QPs of plans whose motion is not the optimiser's: {sum(q for q, u in zip(qps, used) if not u)} "
+            f"of {sum(qps)}"]
+    return "\n".join(out)
+
+
 @contextlib.contextmanager
 def _settings(overrides: dict, constants: dict | None = None):
     """The optimiser's default settings replaced by TrajOptSettings(**overrides) (refine's default),
@@ -130,6 +280,8 @@ def parse_constant(key: str, value) -> tuple[tuple, object]:
 def plan_once(mg: MotionGenerator, problem, kind: str, seed: int) -> dict:
     """One plan's row: CPU, wall, stages, counters and the motion's quality figures."""
     _COUNTERS.clear()
+    _PARTS_CPU.clear()
+    _PARTS_CALLS.clear()
     c0, w0, p0 = time.thread_time(), time.perf_counter(), time.process_time()
     if kind == "joint":
         r = mg.plan_joints(problem.start, problem.goal, seed=seed)
@@ -138,11 +290,13 @@ def plan_once(mg: MotionGenerator, problem, kind: str, seed: int) -> dict:
     row = dict(problem=f"{problem.scene}/{problem.index}", kind=kind, success=bool(r.success),
                cpu=time.thread_time() - c0, wall=time.perf_counter() - w0, process=time.process_time() - p0,
                stages=dict(r.timings),
-               counters={k: list(v) for k, v in _COUNTERS.items()})
+               counters={k: list(v) for k, v in _COUNTERS.items()},
+               parts={k: [_PARTS_CALLS[k], v] for k, v in _PARTS_CPU.items()})
     if r.success:
         P = np.asarray(r.trajectory.positions)
         lim = mg.config.limits
-        row.update(duration=float(r.trajectory.times[-1]), motion_hash=hash(P.tobytes()),
+        row.update(source=r.source, duration=float(r.trajectory.times[-1]),
+                   motion_hash=hashlib.sha1(P.tobytes()).hexdigest(),  # the same in any process
                    lower_bound=lower_bound_time(P[0], P[-1], lim.velocity, lim.acceleration, lim.jerk),
                    path=path_length(P), straight=straight_line_length(P[0], P[-1]))
     return row
@@ -203,12 +357,51 @@ def compare(a_rows: list[dict], b_rows: list[dict]) -> str:
     return "\n".join(out)
 
 
+class _TreeWorker:
+    """Variant B planned by another checkout's manip: this script in a worker process (`--worker`)
+    with that tree first on the path, asked for one plan at a time."""
+
+    def __init__(self, tree: str, args: argparse.Namespace):
+        cmd = [sys.executable, str(Path(__file__).resolve()), "--worker", "--limit-per-scene",
+               str(args.limit_per_scene), "--seed", str(args.seed)] + (["--scenes", *args.scenes] if args.scenes else [])
+        env = dict(os.environ, PLAN_STAGES_TREE=str(Path(tree).resolve()), PYTHONPATH=str(Path(tree).resolve()))
+        self.proc = subprocess.Popen(cmd + (["--trajopt-table"] if args.trajopt_table else []), env=env,
+                                     stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+        self.problems = json.loads(self.proc.stdout.readline())  # after its warm-up plans
+
+    def plan(self, index: int, kind: str) -> dict:
+        self.proc.stdin.write(f"{index} {kind}\n")
+        self.proc.stdin.flush()
+        return json.loads(self.proc.stdout.readline())
+
+    def close(self) -> None:
+        self.proc.stdin.close()
+        self.proc.wait()
+
+
+def _serve(mg: MotionGenerator, problems: list, args: argparse.Namespace) -> int:
+    """`--worker`: plans the problems asked for on stdin ("index kind" lines), one JSON row per line."""
+    mg.update_world(WorldConfig.from_dict(problems[0].world))
+    for kind in ("joint", "pose"):
+        plan_once(mg, problems[0], kind, args.seed)
+    print(json.dumps(len(problems)), flush=True)
+    current = None
+    with _instrumented(), (_trajopt_parts() if args.trajopt_table else contextlib.nullcontext()):
+        for line in sys.stdin:
+            index, kind = line.split()
+            if current != index:
+                mg.update_world(WorldConfig.from_dict(problems[int(index)].world))
+                current = index
+            print(json.dumps(plan_once(mg, problems[int(index)], kind, args.seed), default=str), flush=True)
+    return 0
+
+
 def _run(mg: MotionGenerator, problems: list, kinds: list[str], overrides: dict, seed: int, profiler,
-         constants: dict | None = None) -> dict:
-    """{"A": rows with the default settings, "B": rows with `overrides` and `constants` (empty
-    without)}; one untimed warm-up plan per goal kind (and variant) first."""
-    variants = ("A", "B") if overrides or constants else ("A",)
-    for variant in variants:
+         constants: dict | None = None, worker: _TreeWorker | None = None) -> dict:
+    """{"A": rows with the default settings, "B": rows with `overrides` and `constants`, or of
+    `worker`'s tree (empty without)}; one untimed warm-up plan per goal kind (and variant) first."""
+    variants = ("A", "B") if overrides or constants or worker else ("A",)
+    for variant in variants[: 1 if worker else 2]:
         with _settings(overrides if variant == "B" else {}, constants if variant == "B" else None):
             mg.update_world(WorldConfig.from_dict(problems[0].world))
             for kind in kinds:
@@ -220,6 +413,9 @@ def _run(mg: MotionGenerator, problems: list, kinds: list[str], overrides: dict,
         for kind in kinds:
             order = variants if i % 2 == 0 else variants[::-1]
             for variant in order:
+                if worker is not None and variant == "B":
+                    rows["B"].append(worker.plan(i, kind))
+                    continue
                 with _settings(overrides if variant == "B" else {}, constants if variant == "B" else None):
                     if constants:  # the tables are built with the variant's constants
                         mg.update_world(WorldConfig.from_dict(p.world))
@@ -242,6 +438,10 @@ def parse_args(argv=None) -> argparse.Namespace:
                          "plan is made with both")
     ap.add_argument("--json", default=None, help="write every row here")
     ap.add_argument("--cprofile", default=None, help="write a cProfile of the planning here (default settings only)")
+    ap.add_argument("--tree", default=None, help="variant B: the manip of this other checkout (an A/B of code)")
+    ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)  # `--tree`'s worker process
+    ap.add_argument("--trajopt-table", action="store_true",
+                    help="account for the optimiser stage's CPU by part (PIQP, assembly, clearance terms, ...)")
     return ap.parse_args(argv)
 
 
@@ -261,6 +461,10 @@ def main(argv=None) -> int:
             raise InvalidInputError(f"--set {kv!r}: {key!r} is not a TrajOptSettings field ({', '.join(names)})")
         overrides[key] = ast.literal_eval(value)
     TrajOptSettings(**overrides)  # a bad field or value fails here, with its own message
+    if args.tree and (overrides or constants):
+        raise InvalidInputError("--tree and --set: one B variant at a time")
+    if args.tree and not (Path(args.tree) / "manip" / "__init__.py").is_file():
+        raise InvalidInputError(f"--tree {args.tree!r}: not a checkout of manip (no manip/__init__.py there)")
     mg = MotionGenerator("franka")
     verifier = Verifier(mg.config)
     problems = [p for p in load_mbm_problems(limit_per_scene=args.limit_per_scene)
@@ -269,25 +473,37 @@ def main(argv=None) -> int:
     if not problems:
         print("no valid problems selected", file=sys.stderr)
         return 2
+    if args.worker:
+        return _serve(mg, problems, args)
+    worker = _TreeWorker(args.tree, args) if args.tree else None
     profiler = None
     if args.cprofile:
         import cProfile
 
         profiler = cProfile.Profile()
     load = os.getloadavg()
-    with _instrumented():
-        rows = _run(mg, problems, kinds, overrides, args.seed, profiler, constants)
+    try:
+        with _instrumented(), (_trajopt_parts() if args.trajopt_table else contextlib.nullcontext()):
+            rows = _run(mg, problems, kinds, overrides, args.seed, profiler, constants, worker)
+    finally:
+        if worker is not None:
+            worker.close()
     print(f"load average at start {load[0]:.2f}, at end {os.getloadavg()[0]:.2f}; {len(problems)} valid problems, "
           f"goals {', '.join(kinds)}")
     print(report(rows["A"]))
-    if overrides or constants:
-        print(f"\nB = TrajOptSettings({', '.join(f'{k}={v!r}' for k, v in overrides.items())})"
+    if args.trajopt_table:
+        print("\n" + trajopt_table(rows["A"]))
+    if overrides or constants or worker:
+        print(f"\nB = the manip of {Path(args.tree).resolve()}" if worker else
+              f"\nB = TrajOptSettings({', '.join(f'{k}={v!r}' for k, v in overrides.items())})"
               + "".join(f", {m.__name__}.{k} = {v!r}" for (m, k), v in constants.items()))
         print(report(rows["B"]))
+        if args.trajopt_table:
+            print("\n" + trajopt_table(rows["B"]))
         print()
         print(compare(rows["A"], rows["B"]))
     if args.json:
-        Path(args.json).write_text(json.dumps(dict(load=load, overrides=overrides, rows=rows,
+        Path(args.json).write_text(json.dumps(dict(load=load, overrides=overrides, tree=args.tree, rows=rows,
                                                    constants={f"{m.__name__}:{k}": v for (m, k), v in constants.items()}),
                                               default=str))
     if profiler is not None:

@@ -32,6 +32,7 @@ from pathlib import Path
 
 import numba
 import numpy as np
+import scipy.sparse as sp
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
@@ -476,11 +477,11 @@ def record(limit_per_scene: int, scenes: list[str] | None = None) -> list[dict]:
     recorded = []
     solve = qp.solve
 
-    def recording(P, q, G_T, h, A, b, lb, ub, solver):
-        recorded.append({"P": P.copy(), "q": q.copy(), "G_T": G_T.copy(), "h": h.copy(),
+    def recording(P, q, G, h, A, b, lb, ub, solver):
+        recorded.append({"P": P.copy(), "q": q.copy(), "G_T": G.toarray().T, "h": h.copy(),
                          "A": None if A is None else A.copy(), "b": None if b is None else b.copy(),
                          "lb": lb.copy(), "ub": ub.copy()})
-        return solve(P, q, G_T, h, A, b, lb, ub, solver)
+        return solve(P, q, G, h, A, b, lb, ub, solver)
 
     mg = MotionGenerator("franka")
     verifier = Verifier(mg.config)
@@ -517,6 +518,7 @@ def compare(qps: list[dict]) -> dict:
         n = P.shape[0]
         key, nx = _key(P, n)
         G = np.ascontiguousarray(r["G_T"].T)
+        G_csc = sp.csc_matrix(G)  # as the planner gives it to `qp.solve`
         A = np.zeros((0, n)) if r["A"] is None else r["A"].toarray()
         b = np.zeros(0) if r["b"] is None else r["b"]
         t0 = time.thread_time()
@@ -524,7 +526,7 @@ def compare(qps: list[dict]) -> dict:
                                        r["h"], A, b, r["lb"], r["ub"], key, qp.PIQP_EPS, 0.1 * qp.PIQP_EPS, 60, 1e-9,
                                        1e-7, max(1.0, float(np.abs(r["q"]).max())), 1.0)
         t1 = time.thread_time()
-        zp = qp.solve(P, r["q"], r["G_T"], r["h"], r["A"], r["b"], r["lb"], r["ub"], "piqp")
+        zp = qp.solve(P, r["q"], G_csc, r["h"], r["A"], r["b"], r["lb"], r["ub"], "piqp")
         t2 = time.thread_time()
         if i:  # the first call compiles
             t_ipm.append(t1 - t0)

@@ -90,3 +90,39 @@ def test_unknown_module_constants_fail_before_planning(stages):
         stages.main(["--set", "manip.planning.path.search:NO_SUCH=1"])
     with pytest.raises(InvalidInputError, match="no module 'manip.no_such_module'"):
         stages.main(["--set", "manip.no_such_module:X=1"])
+
+
+def test_the_trajopt_table_accounts_for_the_whole_stage_and_is_undone(stages, tmp_path, capsys):
+    from manip.planning.trajopt import qp, sco
+
+    before = (qp.piqp, qp.solve, sco._solve_qp)
+    out = tmp_path / "rows.json"
+    assert stages.main(["--limit-per-scene", "1", "--scenes", "box_panda", "--goal", "joint", "--trajopt-table",
+                        "--json", str(out)]) == 0
+    assert (qp.piqp, qp.solve, sco._solve_qp) == before
+    text = capsys.readouterr().out
+    assert "| part | share of the stage |" in text and "| PIQP solve |" in text and "| PIQP setup |" in text
+    row = json.loads(out.read_text())["rows"]["A"][0]
+    parts = row["parts"]
+    assert parts["PIQP solve"][0] == parts["PIQP setup"][0] == row["counters"]["qp"][0] >= 1
+    stage = sum(t for k, (_, t) in parts.items() if not k.startswith("validate"))
+    # every part's time is the stage's (exclusive times of one call tree): they add up to the
+    # optimiser's own CPU time and stay within the plan's
+    assert row["counters"]["trajopt"][1] <= stage <= row["cpu"]
+
+
+def test_a_b_against_another_checkout_plans_b_in_a_worker_with_that_tree(stages, tmp_path, capsys):
+    out = tmp_path / "rows.json"
+    # this checkout against itself: B planned by the worker process, the same motions
+    assert stages.main(["--limit-per-scene", "1", "--scenes", "box_panda", "--tree", str(REPO_ROOT), "--json",
+                        str(out)]) == 0
+    text = capsys.readouterr().out
+    assert f"B = the manip of {REPO_ROOT.resolve()}" in text and "identical motions 2/2" in text
+    rows = json.loads(out.read_text())["rows"]
+    for a, b in zip(rows["A"], rows["B"]):
+        assert a["problem"] == b["problem"] and a["kind"] == b["kind"] and b["success"]
+        assert a["counters"]["qp"][0] == b["counters"]["qp"][0] >= 1  # counted in the worker too
+    with pytest.raises(InvalidInputError, match="not a checkout of manip"):
+        stages.main(["--tree", str(tmp_path)])
+    with pytest.raises(InvalidInputError, match="one B variant at a time"):
+        stages.main(["--tree", str(REPO_ROOT), "--set", "tolerance=0.01"])

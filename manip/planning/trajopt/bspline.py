@@ -17,6 +17,8 @@ So limits imposed on the control points hold for the whole motion, not only at s
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 from manip.limits import JointLimits
@@ -34,8 +36,10 @@ def difference_matrix(n_points: int, order: int) -> np.ndarray:
     return D
 
 
+@lru_cache(maxsize=16)
 def basis_matrix(intervals: int, samples_per_interval: int) -> tuple[np.ndarray, np.ndarray]:
-    """Sample matrix B (M, N + 3) with q(t_m) = B[m] @ c, and the sample times in units of h (M,).
+    """Sample matrix B (M, N + 3) with q(t_m) = B[m] @ c, and the sample times in units of h (M,)
+    (read-only: shared by every call of the same sizes).
 
     Samples: `samples_per_interval` evenly spaced per piece, plus the end.
     """
@@ -48,6 +52,7 @@ def basis_matrix(intervals: int, samples_per_interval: int) -> tuple[np.ndarray,
         B[k * s : (k + 1) * s, k : k + 4] = U
     B[-1, n : n + 3] = np.array([1.0, 4.0, 1.0]) / 6.0
     times = np.concatenate([np.arange(n * s) / s, [float(n)]])
+    B.flags.writeable = times.flags.writeable = False
     return B, times
 
 

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import logging
 import time
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -132,6 +132,7 @@ def optimize_trajectory(
         prob.set_rays(d_start if 0 in near else None, d_goal if 1 in near else None, settings.ray_points)
         c = prob.project_rays(c)
     margin = padding + settings.margin
+    clearance = _RememberedTerms(clearance)  # the free-duration SCO starts where the first iterations ended
     if settings.free_duration:
         return _free_duration(prob, c, float(seed_times[-1]) / n, limits=limits, clearance=clearance, margin=margin,
                               settings=settings, deadline=deadline, h_floor=max(min_duration, 0.0) / n,
@@ -199,9 +200,9 @@ def _free_duration(prob: SplineProblem, c: np.ndarray, h_seed: float, *, limits:
     solves = 0
     if s.first_iterations:
         ok, first, solves, why, _ = sco_fixed_step(prob, c, h_seed, s.trust_region, limits=limits,
-                                                   clearance=clearance, margin=margin,
-                                                   settings=replace(s, iterations=s.first_iterations),
-                                                   deadline=deadline, max_solves=max_solves)
+                                                   clearance=clearance, margin=margin, settings=s,
+                                                   deadline=deadline, max_solves=max_solves,
+                                                   iterations=s.first_iterations)
         logger.debug("trajopt: at the seed's T = %.3f s: %s (%d QPs) %s", prob.n * h_seed, "ok" if ok else "failed",
                      solves, why)
         c = first if ok else c
@@ -212,6 +213,25 @@ def _free_duration(prob: SplineProblem, c: np.ndarray, h_seed: float, *, limits:
     h = bspline.limit_step(c, limits)
     logger.debug("trajopt: free duration T = %.3f s (%d QPs)", prob.n * h, solves)
     return TrajOptResult(True, bspline.to_profile(c, h), c, prob.n * h, solves, "", prob.ends_tied)
+
+
+class _RememberedTerms:
+    """A clearance model's `terms`, each result kept for the rest of one optimisation (the world
+    does not change meanwhile): the same samples are not evaluated twice."""
+
+    def __init__(self, clearance: ClearanceModel):
+        self._clearance = clearance
+        self._seen: dict = {}
+
+    def terms(self, Q: np.ndarray, activation: float):
+        Q = np.ascontiguousarray(Q, dtype=float)
+        key = (Q.shape, float(activation), Q.tobytes())
+        found = self._seen.get(key)
+        if found is None:
+            if len(self._seen) >= 64:  # a bound on the memory (an optimisation makes ~10-40 calls)
+                self._seen.clear()
+            found = self._seen[key] = self._clearance.terms(Q, activation)
+        return found
 
 
 def _check_seed(positions, times) -> tuple[np.ndarray, np.ndarray]:
@@ -235,21 +255,23 @@ def _end_directions(seed_positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]
     q = seed_positions
 
     def last_on_line(q0: np.ndarray, rows: np.ndarray) -> np.ndarray:
-        """From q0 to the farthest of `rows` (in order) still on the line through the first that moves."""
-        direction = None
-        best = None
-        for r in rows:
-            v = r - q0
-            n = np.linalg.norm(v)
-            if n < 1e-12:
-                continue
-            if direction is None:
-                direction = v / n
-            elif np.linalg.norm(v - (v @ direction) * direction) > 1e-6:
-                break
-            best = r
-        if best is None:
-            return rows[-1] - q0 if len(rows) else np.zeros_like(q0)
-        return best - q0
+        """From q0 to the farthest of `rows` (in order) still on the line through the first that
+        moves (rows that do not move are passed over)."""
+        if not len(rows):
+            return np.zeros_like(q0)
+        V = rows - q0
+        moving = np.flatnonzero(np.linalg.norm(V, axis=1) >= 1e-12)
+        if moving.size == 0:
+            return rows[-1] - q0
+        first, rest = moving[0], moving[1:]
+        direction = V[first] / np.linalg.norm(V[first])
+        W = V[rest]
+        off = np.linalg.norm(W - (W @ direction)[:, None] * direction, axis=1) > 1e-6
+        if off.any():  # the motion turns at rest[k]: the last moving row before it
+            k = int(np.argmax(off))
+            last = rest[k - 1] if k > 0 else first
+        else:
+            last = rest[-1] if rest.size else first
+        return rows[last] - q0  # a new array (a row of V is a view: its alignment can change dot products' last bit)
 
     return last_on_line(q[0], q[1:]), last_on_line(q[-1], q[-2::-1])

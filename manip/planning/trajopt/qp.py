@@ -29,35 +29,91 @@ _SOLVER_OPTIONS = {"osqp": {"eps_abs": 1e-6, "eps_rel": 1e-6, "polish": True, "v
 
 
 @kernel
-def _nonzeros_by_row(M: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(data, indices, indptr) of M (r, c) compressed by rows (= M.T in CSC)."""
-    r, c = M.shape
-    nnz = 0
-    for i in range(r):
-        for j in range(c):
-            if M[i, j] != 0.0:
-                nnz += 1
-    data = np.empty(nnz)
-    indices = np.empty(nnz, np.int32)
-    indptr = np.empty(r + 1, np.int32)
+def _inequality_rows(lim_indptr, lim_indices, lim_data, keep, extra_col, extra_val, n_extra, n_rays, gradient,
+                     config, B_free):
+    """(data, indices, indptr, L) of `inequality_rows`' G in CSC; L: the limit rows kept."""
+    nx = lim_indptr.shape[0] - 1
+    rows = keep.shape[0]
+    T, dof = gradient.shape
+    m = B_free.shape[1]
+    nz = nx + n_extra + n_rays + T
+    new = np.full(rows, -1, np.int64)  # the kept limit rows' row indices in G
+    L = 0
+    for r in range(rows):
+        if keep[r]:
+            new[r] = L
+            L += 1
+    # the clearance rows touching each free point (its basis weight at the row's sample is not 0)
+    by_point = np.empty((m, T), np.int64)
+    on_point = np.zeros(m, np.int64)
+    for t in range(T):
+        for jj in range(m):
+            if B_free[config[t], jj] != 0.0:
+                by_point[jj, on_point[jj]] = t
+                on_point[jj] += 1
+    # the kept rows of each extra variable, in order
+    by_extra = np.empty((n_extra, L), np.int64)
+    on_extra = np.zeros(n_extra, np.int64)
+    for r in range(rows):
+        if keep[r] and extra_val[r] != 0.0:
+            e = extra_col[r]
+            by_extra[e, on_extra[e]] = r
+            on_extra[e] += 1
+    size = lim_indptr[nx] + dof * on_point.sum() + on_extra.sum() + T  # at most
+    data = np.empty(size)
+    indices = np.empty(size, np.int32)
+    indptr = np.empty(nz + 1, np.int32)
     k = 0
-    for i in range(r):
-        indptr[i] = k
-        for j in range(c):
-            v = M[i, j]
+    for j in range(nx):  # a control-point coordinate: its limit rows, then its clearance rows
+        indptr[j] = k
+        for p in range(lim_indptr[j], lim_indptr[j + 1]):
+            r = lim_indices[p]
+            if keep[r]:
+                data[k] = lim_data[p]
+                indices[k] = new[r]
+                k += 1
+        i, jj = j // m, j % m
+        for q in range(on_point[jj]):
+            t = by_point[jj, q]
+            v = -(gradient[t, i] * B_free[config[t], jj])
             if v != 0.0:
                 data[k] = v
-                indices[k] = j
+                indices[k] = L + t
                 k += 1
-    indptr[r] = k
-    return data, indices, indptr
+    for e in range(n_extra):  # the extra variables: their entries in the limit rows
+        indptr[nx + e] = k
+        for q in range(on_extra[e]):
+            r = by_extra[e, q]
+            data[k] = extra_val[r]
+            indices[k] = new[r]
+            k += 1
+    for e in range(n_rays):  # the ray parameters: in no inequality
+        indptr[nx + n_extra + e] = k
+    for t in range(T):  # each clearance row's slack
+        indptr[nx + n_extra + n_rays + t] = k
+        data[k] = -1.0
+        indices[k] = L + t
+        k += 1
+    indptr[nz] = k
+    return data[:k], indices[:k], indptr, L
 
 
-def csc_of_transpose(MT: np.ndarray) -> sp.csc_matrix:
-    """The CSC matrix M (c, r) of its dense transpose MT (r, c) (row i of MT = column i of M)."""
-    MT = np.ascontiguousarray(MT, dtype=float)
-    data, indices, indptr = _nonzeros_by_row(MT)
-    return sp.csc_matrix((data, indices, indptr), shape=(MT.shape[1], MT.shape[0]))
+def inequality_rows(limit_G: sp.csc_matrix, keep: np.ndarray, extra_col: np.ndarray, extra_val: np.ndarray,
+                    n_extra: int, n_rays: int, gradient: np.ndarray, config: np.ndarray,
+                    B_free: np.ndarray) -> sp.csc_matrix:
+    """The inequality rows G (L + T, nz) of one SCO step's QP (CSC), straight from their parts.
+
+    Variables z = [x (nx = dof * m, joint-major), `n_extra` extra variables, `n_rays` ray
+    parameters, T clearance slacks]. Rows: the limit rows of `limit_G` (rows, nx) where `keep`
+    (rows,) is True, each with `extra_val[r]` in extra column `extra_col[r]`; then T clearance
+    rows, row t = -gradient[t] (T, dof) times the sample's basis weights B_free[config[t]]
+    (config (T,), B_free (M, m)) on x, and -1 on its slack. Exact zeros are left out.
+    """
+    gradient = np.ascontiguousarray(gradient, dtype=float)
+    config = np.ascontiguousarray(config, dtype=np.int64)
+    data, indices, indptr, L = _inequality_rows(limit_G.indptr, limit_G.indices, limit_G.data, keep, extra_col,
+                                                extra_val, n_extra, n_rays, gradient, config, B_free)
+    return sp.csc_matrix((data, indices, indptr), shape=(L + gradient.shape[0], indptr.size - 1))
 
 
 def with_columns(M: sp.csc_matrix, extra: int) -> sp.csc_matrix:
@@ -89,7 +145,7 @@ def solver_available(name: object) -> bool:
     return name == "piqp" or (isinstance(name, str) and name in installed_solvers())
 
 
-def solve(P: sp.csc_matrix, q: np.ndarray, G_T: np.ndarray, h: np.ndarray, A: sp.csc_matrix | None,
+def solve(P: sp.csc_matrix, q: np.ndarray, G: sp.csc_matrix, h: np.ndarray, A: sp.csc_matrix | None,
           b: np.ndarray | None, lb: np.ndarray, ub: np.ndarray, solver: str) -> np.ndarray | None:
     """argmin 1/2 z^T P z + q^T z subject to G z <= h, A z = b, lb <= z <= ub, or None when
     the solver fails.
@@ -97,7 +153,7 @@ def solve(P: sp.csc_matrix, q: np.ndarray, G_T: np.ndarray, h: np.ndarray, A: sp
     Args:
         P: (n, n) positive semidefinite (CSC).
         q: (n,).
-        G_T: (n, k) the inequality rows, transposed (dense).
+        G: (k, n) the inequality rows (CSC).
         h: (k,).
         A, b: (e, n) (CSC), (e,); None for no equalities.
         lb, ub: (n,) bounds (+-inf for none).
@@ -108,11 +164,10 @@ def solve(P: sp.csc_matrix, q: np.ndarray, G_T: np.ndarray, h: np.ndarray, A: sp
         qp.settings.verbose = False
         qp.settings.eps_abs = qp.settings.eps_duality_gap_abs = PIQP_EPS
         qp.settings.eps_rel = qp.settings.eps_duality_gap_rel = PIQP_EPS * 0.1
-        qp.setup(P, q, A, b, csc_of_transpose(G_T), None, h, lb, ub)
+        qp.setup(P, q, A, b, G, None, h, lb, ub)
         return qp.result.x.copy() if qp.solve() == piqp.PIQP_SOLVED else None
     import qpsolvers  # only off the default path (its import costs ~70 ms per process)
 
-    G = csc_of_transpose(G_T)
     if solver in qpsolvers.dense_solvers:  # the others take CSC matrices
         P, G = P.toarray(), G.toarray()
         A = None if A is None else A.toarray()

@@ -58,8 +58,6 @@ def refine(
     if seed.duration <= bound * 1.03:
         return None
     settings = SMOOTH if o.smoothness == "smooth" else TrajOptSettings()
-    retries = [replace(settings, ray_points=k) for k in RETRY_RAY_POINTS
-               if settings.ray_points < k <= settings.intervals // 2 - 2]
     left = QP_BUDGET
 
     def optimize(motion: Trajectory, s: TrajOptSettings) -> tuple[Trajectory | None, int]:
@@ -87,7 +85,15 @@ def refine(
         ctx.add_time("validate", t)
         return not why
 
-    for attempt, s in enumerate([settings, *retries]):
+    def tries():
+        """The settings of each try: the call's, then more ray points (built only when needed:
+        validating a settings object costs ~0.1 ms)."""
+        yield settings
+        for k in RETRY_RAY_POINTS:
+            if settings.ray_points < k <= settings.intervals // 2 - 2:
+                yield replace(settings, ray_points=k)
+
+    for attempt, s in enumerate(tries()):
         if left < 1:
             break
         traj, ends_tied = optimize(seed, s)

@@ -49,12 +49,16 @@ def _blocks(n: int, dof: int, samples_per_interval: int) -> dict:
         per_order[k] = (D[k][rows][:, fixed], D[k][:, fixed], Df.T @ Df, Df.T)
     limit_G = np.vstack(limit_G)
     limit_slack = np.concatenate(limit_slack)
-    slack = np.zeros((limit_G.shape[0], 3 * dof))
-    slack[np.arange(slack.shape[0]), limit_slack] = -1.0
+    limit_G_csc = sp.csc_matrix(limit_G)  # the QP's rows are assembled from its columns (`qp.inequality_rows`)
+    limit_G_csc.sort_indices()
+    # the limit rows come in runs of one slack (order, joint) each, every slack twice (+G, -G)
+    runs = np.flatnonzero(np.diff(limit_slack, prepend=-1) != 0)
+    run_slack = limit_slack[runs]
     blocks = dict(free=free, fixed=fixed, D=D, B=B, sample_t=sample_t, B_free=B[:, free], B_fixed=B[:, fixed],
-                  limit_G=limit_G, limit_G_sparse=sp.csr_matrix(limit_G), limit_order=limit_order,
-                  limit_slack=limit_slack,
-                  limit_G_slack=np.hstack([limit_G, slack]), per_order=per_order)
+                  limit_G=limit_G, limit_G_sparse=sp.csr_matrix(limit_G), limit_G_csc=limit_G_csc,
+                  limit_order=limit_order, limit_slack=limit_slack, limit_runs=runs,
+                  limit_run_pairs=np.stack([np.flatnonzero(run_slack == j) for j in range(3 * dof)]),
+                  per_order=per_order)
     for a in [v for v in blocks.values() if isinstance(v, np.ndarray)] + [m for t in per_order.values() for m in t]:
         a.flags.writeable = False
     return blocks
@@ -78,15 +82,19 @@ class SplineProblem:
         self.q_fixed = b["B_fixed"] @ fixed_c  # (M, dof) fixed points' share
         # limit rows: per order, rows touching a free point; G = +-kron(I, Df), rhs = lim -+ fixed share
         self.limit_G, self.limit_order = b["limit_G"], b["limit_order"]
-        # the same rows sparse (~1 % filled): their products with x, without a threaded dense BLAS call
-        self.limit_G_sparse = b["limit_G_sparse"]
-        self.limit_slack, self.limit_G_slack = b["limit_slack"], b["limit_G_slack"]  # (L,), (L, dof * m + 3 dof)
-        self.limit_fixed, self.cost = [], {}
+        # the same rows sparse (~1 % filled): their products with x, without a threaded dense BLAS call;
+        # and by columns, for the QP's assembly
+        self.limit_G_sparse, self.limit_G_csc = b["limit_G_sparse"], b["limit_G_csc"]
+        self.limit_slack = b["limit_slack"]  # (L,) each row's slack: (order - 1) * dof + joint
+        # (runs,) first row of each run of rows of one slack; (3 dof, 2) the two runs of each slack
+        self.limit_runs, self.limit_run_pairs = b["limit_runs"], b["limit_run_pairs"]
+        limit_fixed, self.cost = [], {}
         for k in (1, 2, 3):
             rows_fixed, D_fixed, DtD, Dt = b["per_order"][k]
             share = (rows_fixed @ fixed_c).T.ravel()  # joint-major (dof * R,)
-            self.limit_fixed += [share, -share]
+            limit_fixed += [share, -share]
             self.cost[k] = (DtD, Dt @ (D_fixed @ fixed_c))  # (m, m), (m, dof)
+        self.limit_fixed = np.concatenate(limit_fixed)  # (L,) the fixed points' share of each limit row
 
     def set_rays(self, d_start: np.ndarray | None, d_goal: np.ndarray | None, points: int) -> None:
         """Tie the first `points` free control points to start + a d_start and the last ones to
@@ -116,7 +124,9 @@ class SplineProblem:
                 A[r * dof + i, i * m + (k - 3)] = 1.0
                 A[r * dof + i, dof * m + gap + r] = -d[i]
                 b[r * dof + i] = anchor[i]
-        self._ray_rows[gap] = qp.csc_of_transpose(A.T), b
+        A_csc = sp.csc_matrix(A)  # exact zeros left out, row indices sorted
+        A_csc.sort_indices()
+        self._ray_rows[gap] = A_csc, b
         return self._ray_rows[gap]
 
     def project_rays(self, c: np.ndarray) -> np.ndarray:
@@ -136,11 +146,12 @@ class SplineProblem:
 
 def sco_fixed_step(prob: SplineProblem, c0: np.ndarray, h: float, radius: float, *, limits: JointLimits,
                    clearance: ClearanceModel, margin: float, settings: TrajOptSettings, deadline: float,
-                   max_solves: int | float = np.inf):
+                   max_solves: int | float = np.inf, iterations: int | None = None):
     """Sequential convex optimisation at step h (an L1 penalty method with a trust region).
 
     `limits`: the call's scaled limits (with position limits); `margin` [m]; `radius`: the
-    trust region's first radius [rad]; `deadline`: a `time.perf_counter()` value.
+    trust region's first radius [rad]; `deadline`: a `time.perf_counter()` value;
+    `iterations`: at most (None: `settings.iterations`).
 
     The velocity, acceleration and jerk limits at step h and the clearance above `margin`
     are soft (slack variables with `s.penalty`): the QP is always feasible, and the caller
@@ -156,29 +167,29 @@ def sco_fixed_step(prob: SplineProblem, c0: np.ndarray, h: float, radius: float,
     lower, upper = limits.lower, limits.upper
     c = c0.copy()
     solves = 0
-    G_lim, h_lim = _limit_rows(prob, h, limits)
-    G_lim_slack = prob.limit_G_slack  # the same rows with their slack columns (-1)
-    S = G_lim_slack.shape[1] - G_lim.shape[1]  # one slack per derivative order and joint, >= 0, L1-penalised
-    slack_cost, slack_lb, slack_ub = np.full(S, s.penalty), np.zeros(S), np.full(S, np.inf)
     row_lim = _row_limits(prob, h, limits)
+    h_lim = row_lim - prob.limit_fixed  # the limit rows' right-hand sides
+    S = 3 * prob.dof  # one slack per derivative order and joint, >= 0, L1-penalised (-1 in its limit rows)
+    slack_col, slack_val = prob.limit_slack.copy(), np.full(prob.limit_slack.size, -1.0)
+    slack_cost, slack_lb, slack_ub = np.full(S, s.penalty), np.zeros(S), np.full(S, np.inf)
     P, q_lin = _objective(prob, h, limits, s)
-    P_sparse = sp.csc_matrix(P)
+    P_sparse = _csc(P)
     activation = margin + s.activation
     terms = clearance.terms(prob.B @ c, activation)
     floor = min(margin, _min_distance(terms, activation)) - 1e-3  # never worse than the seed
     merit = _merit(P_sparse, q_lin, c, prob, terms, margin, s.penalty, h_lim)
     nx = P.shape[0]
-    for _ in range(s.iterations):
+    for _ in range(s.iterations if iterations is None else iterations):
         if time.perf_counter() > deadline or solves >= max_solves:
             break
-        G_col, h_col = _collision_rows(prob, c, terms, margin)
+        h_col = _collision_rows(prob, c, terms, margin)
         x0 = c[3 : prob.n]
         # rows: limit rows in use (> 1 - LIMIT_ROW_SLACK of their limit; the others cannot
         # become active within the trust region's first steps, and limits are soft anyway: the
         # result is re-timed exactly), then collision rows, each with its own slack (L1)
         keep = prob.limit_G_sparse @ x0.T.ravel() - h_lim > -s.limit_row_slack * row_lim
-        z = _solve_qp(prob, P_sparse, q_lin, G_lim_slack[keep], h_lim[keep], G_col, h_col, x0, radius, lower, upper, s,
-                      slack_cost, slack_lb, slack_ub)
+        z = _solve_qp(prob, P_sparse, q_lin, keep, slack_col, slack_val, S, h_lim[keep], terms, h_col, x0, radius,
+                      lower, upper, s, slack_cost, slack_lb, slack_ub)
         solves += 1
         if z is None:
             return False, c0, solves, "the QP solver failed", radius
@@ -230,33 +241,36 @@ def sco_free_step(prob: SplineProblem, c0: np.ndarray, *, limits: JointLimits, c
     c = c0.copy()
     h_ref = _polygon_step(c, limits)
     P, q_lin = _objective(prob, h_ref, limits, s)
-    P_sparse = sp.csc_matrix(P)
+    P_sparse = _csc(P)
     nx, R = P.shape[0], len(prob.rays)
     order = prob.limit_slack // dof + 1  # (L,) the derivative order of each limit row
+    h_column = np.zeros(order.size, dtype=np.int64)  # every limit row has h in extra column 0
     activation = margin + s.activation
     terms = clearance.terms(prob.B @ c, activation)
     floor = min(margin, _min_distance(terms, activation)) - 1e-3
     weight = s.time_weight / h_ref
 
-    def merit_of(c_: np.ndarray, terms_) -> float:
+    def merit_of(c_: np.ndarray, terms_) -> tuple[float, float]:
+        """(the merit of c_, its `_polygon_step`)."""
         x = c_[3:n].T.ravel()
-        return float(weight * _polygon_step(c_, limits) + 0.5 * x @ (P_sparse @ x) + q_lin @ x
-                     + s.penalty * _violation(terms_, margin))
+        h_ = _polygon_step(c_, limits)
+        return float(weight * h_ + 0.5 * x @ (P_sparse @ x) + q_lin @ x + s.penalty * _violation(terms_, margin)), h_
 
-    merit = merit_of(c, terms)
+    merit, h_c = merit_of(c, terms)  # h_c: c's `_polygon_step`
     radius = s.trust_region
     solves = 0
     while solves < min(s.free_iterations, max_solves) and time.perf_counter() <= deadline:
-        h = _polygon_step(c, limits)
+        h = h_c
         x0 = c[3:n]
-        G_lim, h_lim = _limit_rows(prob, h, limits)
         row_lim = _row_limits(prob, h, limits)
+        h_lim = row_lim - prob.limit_fixed
         keep = prob.limit_G_sparse @ x0.T.ravel() - h_lim > -s.limit_row_slack * row_lim
         # G x <= lim(h') - fixed share, with lim(h') >= lim(h) (k h' / h - (k - 1)) for order k
         k, lim = order[keep], row_lim[keep]
-        G_col, h_col = _collision_rows(prob, c, terms, margin)
-        G_h = np.hstack([G_lim[keep], (-lim * k / h)[:, None]])  # [x, h] columns
-        z = _solve_qp(prob, P_sparse, q_lin, G_h, h_lim[keep] - k * lim, G_col, h_col, x0, radius, lower, upper, s,
+        h_col = _collision_rows(prob, c, terms, margin)
+        h_col_of_rows = -row_lim * order / h  # the rows' entries in the h column
+        z = _solve_qp(prob, P_sparse, q_lin, keep, h_column, h_col_of_rows, 1, h_lim[keep] - k * lim, terms, h_col,
+                      x0, radius, lower, upper, s,
                       np.array([weight]), np.array([max(h_floor, 0.5 * h)]), np.array([2.0 * h]))
         solves += 1
         if z is None:
@@ -269,13 +283,13 @@ def sco_free_step(prob: SplineProblem, c0: np.ndarray, *, limits: JointLimits, c
             if half:  # half the step (a clearance evaluation, not a QP; keeps the bounds and rays)
                 c_new, predicted, step = 0.5 * (c + c_new), 0.5 * predicted, 0.5 * step
             terms_new = clearance.terms(prob.B @ c_new, activation)
-            merit_new = merit_of(c_new, terms_new)
+            merit_new, h_new = merit_of(c_new, terms_new)
             better = merit_new < merit and _min_distance(terms_new, activation) >= floor
             if better or predicted <= s.tolerance * weight * h:
                 break
         if better:
             ratio = (merit - merit_new) / max(predicted, 1e-12)
-            c, terms, merit = c_new, terms_new, merit_new
+            c, terms, merit, h_c = c_new, terms_new, merit_new, h_new
         if predicted <= s.tolerance * weight * h:
             break  # less than `tolerance` of the duration left to gain, by the model
         if not better or ratio < 0.25:
@@ -303,8 +317,9 @@ def _merit(P: sp.csc_matrix, q_lin, c, prob: SplineProblem, terms, margin: float
     limits' excess: per derivative order and joint, the largest excess of its rows (in units
     of the limits' per-step values), as the QP's one slack per order and joint counts it."""
     x = c[3 : prob.n].T.ravel()
-    largest = np.zeros(3 * prob.dof)
-    np.maximum.at(largest, prob.limit_slack, prob.limit_G_sparse @ x - h_lim)
+    run_max = np.maximum.reduceat(prob.limit_G_sparse @ x - h_lim, prob.limit_runs)
+    pairs = prob.limit_run_pairs
+    largest = np.maximum(np.maximum(run_max[pairs[:, 0]], run_max[pairs[:, 1]]), 0.0)
     return float(0.5 * x @ (P @ x) + q_lin @ x + penalty * (_violation(terms, margin) + largest.sum()))
 
 
@@ -313,43 +328,42 @@ def _violation(terms, margin: float) -> float:
     return float(np.maximum(0.0, margin - terms.distance).sum()) if terms.distance.size else 0.0
 
 
-def _solve_qp(prob: SplineProblem, P: sp.csc_matrix, q_lin, G_lim, h_lim, G_col, h_col, x0, radius, lower, upper,
-              s: TrajOptSettings, q_extra, lb_extra, ub_extra):
+def _solve_qp(prob: SplineProblem, P: sp.csc_matrix, q_lin, keep, extra_col, extra_val, E: int, h_lim, terms, h_col,
+              x0, radius, lower, upper, s: TrajOptSettings, q_extra, lb_extra, ub_extra):
     """One SCO step's QP; the solution z = [x (dof * m), E extra variables, ray parameters (R),
     clearance slacks (T)] (`planning.trajopt.qp`), or None when the solver fails.
 
     minimise 1/2 x^T P x + q^T x + q_extra . extra + penalty * (clearance slacks), subject to
-    the limit rows G_lim (L, dof * m + E: their x and extra columns) <= h_lim, the clearance
-    rows (each with its slack >= 0), the trust region and the position limits around x0
-    (m, dof), lb_extra <= extra <= ub_extra (E,), and the end rays (equalities). The extra
-    variables: the limit slacks of `sco_fixed_step` or the step h of `sco_free_step`.
+    the limit rows of `prob` where `keep` (each with `extra_val` in the extra column `extra_col`)
+    <= h_lim (of the kept rows), the clearance rows of `terms` <= h_col (each with its slack
+    >= 0), the trust region and the position limits around x0 (m, dof), lb_extra <= extra <=
+    ub_extra (E,), and the end rays (equalities). The extra variables: the limit slacks of
+    `sco_fixed_step` or the step h of `sco_free_step`.
     """
     nx, R = P.shape[0], len(prob.rays)
-    E, L, T = G_lim.shape[1] - nx, h_lim.size, h_col.size
+    L, T = h_lim.size, h_col.size
     nz = nx + E + R + T
-    G_T = np.zeros((nz, L + T))
-    G_T[: nx + E, :L] = G_lim.T
-    G_T[:nx, L:] = G_col.T
-    G_T[nx + E + R + np.arange(T), L + np.arange(T)] = -1.0
+    G = qp.inequality_rows(prob.limit_G_csc, keep, extra_col, extra_val, E, R, terms.gradient, terms.config,
+                           prob.B_free)
     h = np.concatenate([h_lim, h_col])
     qz = np.concatenate([q_lin, q_extra, np.zeros(R), np.full(T, s.penalty)])
     lb = np.concatenate([np.maximum(lower[None, :], x0 - radius).T.ravel(), lb_extra, np.zeros(R + T)])
     ub = np.concatenate([np.minimum(upper[None, :], x0 + radius).T.ravel(), ub_extra, np.ones(R), np.full(T, np.inf)])
     A, b = prob.ray_rows(E)
-    return qp.solve(qp.regularised(P, nz - nx), qz, G_T, h, qp.with_columns(A, T) if R else None, b, lb, ub, s.solver)
+    return qp.solve(qp.regularised(P, nz - nx), qz, G, h, qp.with_columns(A, T) if R else None, b, lb, ub, s.solver)
 
 
 def _min_distance(terms, activation: float) -> float:
     return float(terms.distance.min()) if terms.distance.size else activation
 
 
-def _limit_rows(prob: SplineProblem, h: float, limits: JointLimits) -> tuple[np.ndarray, np.ndarray]:
-    """G x <= hv for the velocity, acceleration and jerk limits at step h (joint-major x)."""
-    rhs = []
-    lims = {1: limits.velocity * h, 2: limits.acceleration * h**2, 3: limits.jerk * h**3}
-    for (order, rows), fixed in zip(prob.limit_order, prob.limit_fixed):
-        rhs.append(np.repeat(lims[order], rows) - fixed)
-    return prob.limit_G, np.concatenate(rhs)
+def _csc(P: np.ndarray) -> sp.csc_matrix:
+    """`sp.csc_matrix(P)` of a dense P (the same nonzeros in the same order), without scipy's
+    conversion through COO."""
+    cols, rows = np.nonzero(P.T)  # by column, rows ascending (exact zeros left out)
+    indptr = np.zeros(P.shape[1] + 1, dtype=np.int32)
+    np.cumsum(np.bincount(cols, minlength=P.shape[1]), out=indptr[1:])
+    return sp.csc_matrix((P.T[cols, rows], rows.astype(np.int32), indptr), shape=P.shape)
 
 
 def _row_limits(prob: SplineProblem, h: float, limits: JointLimits) -> np.ndarray:
@@ -375,15 +389,13 @@ def _objective(prob: SplineProblem, h: float, limits: JointLimits, s: TrajOptSet
     return P, q
 
 
-def _collision_rows(prob: SplineProblem, c: np.ndarray, terms, margin: float):
-    """G x <= hv linearising every clearance term: d + g . (q_m(x) - q_m) >= margin (before slack)."""
+def _collision_rows(prob: SplineProblem, c: np.ndarray, terms, margin: float) -> np.ndarray:
+    """hv (T,) of the rows G x <= hv linearising every clearance term: d + g . (q_m(x) - q_m) >=
+    margin (before slack); G's rows, -g (x) the sample's basis weights on the free points, are
+    assembled with the QP (`qp.inequality_rows`)."""
     if terms.config.size == 0:
-        return np.zeros((0, prob.dof * prob.free.size)), np.zeros(0)
+        return np.zeros(0)
     q_m = prob.B[terms.config] @ c  # (T, dof)
-    target = margin
-    # g . (Bf x + fixed share) >= target - d + g . q_m
-    Bf = prob.B_free[terms.config]  # (T, m)
-    g = terms.gradient
-    rhs = target - terms.distance + np.einsum("td,td->t", g, q_m - prob.q_fixed[terms.config])
-    G = -(g[:, :, None] * Bf[:, None, :]).reshape(g.shape[0], -1)  # joint-major: (T, dof * m)
-    return G, -rhs
+    # g . (Bf x + fixed share) >= margin - d + g . q_m
+    rhs = margin - terms.distance + np.einsum("td,td->t", terms.gradient, q_m - prob.q_fixed[terms.config])
+    return -rhs
