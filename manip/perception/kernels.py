@@ -37,6 +37,8 @@ SNAP = 1e-5
 #: pixel footprints) (or unmeasured: NaN / inf) makes a pixel a silhouette (`depth_cells`).
 SILHOUETTE = 0.02
 SILHOUETTE_PX = 10.0
+#: Slots of `depth_cells`' table of the cells written lately (a power of two).
+RECENT = 1 << 12
 _BIAS = 1 << 20
 _MASK = (1 << 21) - 1
 
@@ -120,20 +122,29 @@ def sphere_index(centres, radii, res):
 
 
 @kernel(inline="always")
-def _robot_point(y0, y1, y2, centres, radii, ball_part, planes, margin, cell, lo, shape, start, members):
-    """True when the point lies within `margin` of a part's 26-DOP, a part found through the
-    (grown) balls of the point's cell of `sphere_index`."""
-    i = int(math.floor(y0 / cell)) - lo[0]
-    j = int(math.floor(y1 / cell)) - lo[1]
-    k = int(math.floor(y2 / cell)) - lo[2]
-    if i < 0 or j < 0 or k < 0 or i >= shape[0] or j >= shape[1] or k >= shape[2]:
+def _on_part(y0, y1, y2, ball, centres, radii, ball_part, planes, margin):
+    """True when the point lies in (grown) ball `ball` and within `margin` of its part's 26-DOP."""
+    g0 = y0 - centres[ball, 0]
+    g1 = y1 - centres[ball, 1]
+    g2 = y2 - centres[ball, 2]
+    if g0 * g0 + g1 * g1 + g2 * g2 > radii[ball] * radii[ball]:
         return False
-    c = (i * shape[1] + j) * shape[2] + k
+    g = ball_part[ball]
+    for f in range(planes.shape[1]):
+        if planes[g, f, 0] * y0 + planes[g, f, 1] * y1 + planes[g, f, 2] * y2 - planes[g, f, 3] > margin:
+            return False
+    return True
+
+
+@kernel(inline="always")
+def _robot_ball(y0, y1, y2, centres, radii, ball_part, planes, margin, c, start, members):
+    """A ball of cell c of `sphere_index` that holds the point, the point within `margin` of
+    its part's 26-DOP (the point lies on the robot), or -1."""
     last = -1
     for m in range(start[c], start[c + 1]):
         ball = members[m]
         g = ball_part[ball]
-        if g == last:
+        if g == last:   # this part's 26-DOP was tested: the point is not within it
             continue
         g0 = y0 - centres[ball, 0]
         g1 = y1 - centres[ball, 1]
@@ -147,8 +158,21 @@ def _robot_point(y0, y1, y2, centres, radii, ball_part, planes, margin, cell, lo
                 inside = False
                 break
         if inside:
-            return True
-    return False
+            return ball
+    return -1
+
+
+@kernel(inline="always")
+def _robot_point(y0, y1, y2, centres, radii, ball_part, planes, margin, cell, lo, shape, start, members):
+    """True when the point lies within `margin` of a part's 26-DOP, a part found through the
+    (grown) balls of the point's cell of `sphere_index`."""
+    i = int(math.floor(y0 / cell)) - lo[0]
+    j = int(math.floor(y1 / cell)) - lo[1]
+    k = int(math.floor(y2 / cell)) - lo[2]
+    if i < 0 or j < 0 or k < 0 or i >= shape[0] or j >= shape[1] or k >= shape[2]:
+        return False
+    c = (i * shape[1] + j) * shape[2] + k
+    return _robot_ball(y0, y1, y2, centres, radii, ball_part, planes, margin, c, start, members) >= 0
 
 
 @kernel
@@ -159,6 +183,29 @@ def on_robot(X, centres, radii, ball_part, planes, margin, cell, lo, shape, star
         out[n] = _robot_point(X[n, 0], X[n, 1], X[n, 2], centres, radii, ball_part, planes, margin, cell, lo, shape,
                               start, members)
     return out
+
+
+@kernel(inline="always")
+def _row_spans(depth):
+    """(H,) the first and (H,) the last pixel of each row of depth (H, W) that holds a finite
+    non-zero value (a depth, or a negative one), and how many pixels these spans hold (a
+    branch-free pass: most of an image is often empty)."""
+    H, W = depth.shape
+    first = np.empty(H, dtype=np.int64)
+    last = np.empty(H, dtype=np.int64)
+    n = 0
+    for v in range(H):
+        f = W
+        g = -1
+        for u in range(W):
+            z = depth[v, u]
+            some = z < np.inf and z != 0.0
+            f = min(f, u if some else W)
+            g = max(g, u if some else -1)
+        first[v] = f
+        last[v] = g
+        n += max(g - f + 1, 0)
+    return first, last, n
 
 
 @kernel
@@ -182,15 +229,15 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, rea
             (G, 26, 4), and the balls' index (`sphere_index` with cells of edge `cell` [m]).
     """
     H, W = depth.shape
-    out = np.empty(H * W, dtype=np.int64)
-    bounds = np.empty((H * W, 6))
-    recent = np.full(1 << 16, -1, dtype=np.int64)   # keys written lately (neighbouring pixels share cells)
-    row = np.empty(1 << 16, dtype=np.int64)          # their rows
-    pending = np.empty((H * W, 6))   # points in cells partly covered by a ball (and SNAP along the ray): checked after
-    n_pending = 0
+    first, last, cap = _row_spans(depth)
+    out = np.empty(cap, dtype=np.int64)   # a row per pixel at most
+    bounds = np.empty((cap, 6))
+    recent = np.full(RECENT, -1, dtype=np.int64)   # keys written lately (neighbouring pixels share cells)
+    row = np.empty(RECENT, dtype=np.int64)          # their rows
     P = 0
     on_robot = 0
     negative = 0
+    hint = -1   # the ball of the last point found on the robot
     rr = reach_r * reach_r
     mr = max_range * max_range
     inv = 1.0 / res
@@ -205,13 +252,17 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, rea
     A = np.empty(W)
     for u in range(W):
         A[u] = (u - cx) / fx
+    # the run of pixels in one cell (row `cr`, key `cur`): its bounds, written back when it ends
+    cur = -1
+    cr = -1
+    m0 = m1 = m2 = m3 = m4 = m5 = 0.0
     for v in range(H):
         b = (v - cy) / fy
         # the direction (a, b, 1) in the base frame is Ra a + Rb (per row: Rb = R[:, 1] b + R[:, 2])
         e0 = R[0, 1] * b + R[0, 2]
         e1 = R[1, 1] * b + R[1, 2]
         e2 = R[2, 1] * b + R[2, 2]
-        for u in range(W):
+        for u in range(first[v], last[v] + 1):
             z = depth[v, u]
             if not (z > 0.0 and z < np.inf):
                 if z < 0.0:
@@ -237,14 +288,32 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, rea
                 j = min(int((x1 - box_lo[1]) * icell), shape[1] - 1)
                 k = min(int((x2 - box_lo[2]) * icell), shape[2] - 1)
                 c = (i * shape[1] + j) * shape[2] + k
-                if start[c + 1] > start[c]:
-                    pending[n_pending, 0] = x0
-                    pending[n_pending, 1] = x1
-                    pending[n_pending, 2] = x2
-                    pending[n_pending, 3] = SNAP * d0
-                    pending[n_pending, 4] = SNAP * d1
-                    pending[n_pending, 5] = SNAP * d2
-                    n_pending += 1
+                if start[c + 1] > start[c]:   # near the robot: on it (dropped), or a point of its own
+                    y0, y1, y2 = x0 + SNAP * d0, x1 + SNAP * d1, x2 + SNAP * d2
+                    if hint >= 0 and _on_part(y0, y1, y2, hint, centres, radii, ball_part, planes, margin):
+                        on_robot += 1   # the ball of the last point on the robot (neighbouring pixels share it)
+                        continue
+                    i = int(math.floor(y0 / cell)) - lo[0]
+                    j = int(math.floor(y1 / cell)) - lo[1]
+                    k = int(math.floor(y2 / cell)) - lo[2]
+                    if not (i < 0 or j < 0 or k < 0 or i >= shape[0] or j >= shape[1] or k >= shape[2]):
+                        ball = _robot_ball(y0, y1, y2, centres, radii, ball_part, planes, margin,
+                                           (i * shape[1] + j) * shape[2] + k, start, members)
+                        if ball >= 0:
+                            hint = ball
+                            on_robot += 1
+                            continue
+                    ci, cj, ck = int(math.floor(y0 * inv)), int(math.floor(y1 * inv)), int(math.floor(y2 * inv))
+                    out[P] = pack(ci, cj, ck)
+                    if exact:
+                        bounds[P, 0] = bounds[P, 3] = x0
+                        bounds[P, 1] = bounds[P, 4] = x1
+                        bounds[P, 2] = bounds[P, 5] = x2
+                    else:
+                        bounds[P, 0], bounds[P, 3] = ci * res, (ci + 1) * res
+                        bounds[P, 1], bounds[P, 4] = cj * res, (cj + 1) * res
+                        bounds[P, 2], bounds[P, 5] = ck * res, (ck + 1) * res
+                    P += 1
                     continue
             zs = z + SNAP   # SNAP further along the ray (depth units, as `cells_seen_free`)
             ci = int(math.floor((t[0] + zs * d0) * inv))
@@ -252,14 +321,16 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, rea
             ck = int(math.floor((t[2] + zs * d2) * inv))
             key = pack(ci, cj, ck)
             if not exact:   # whole cells: one row per cell (as far as the recent keys tell)
-                slot = (key ^ (key >> 19) ^ (key >> 37)) & 65535
-                if recent[slot] != key:
-                    recent[slot] = key
-                    out[P] = key
-                    bounds[P, 0], bounds[P, 3] = ci * res, (ci + 1) * res
-                    bounds[P, 1], bounds[P, 4] = cj * res, (cj + 1) * res
-                    bounds[P, 2], bounds[P, 5] = ck * res, (ck + 1) * res
-                    P += 1
+                if key != cur:
+                    cur = key
+                    slot = (key ^ (key >> 19) ^ (key >> 37)) & (RECENT - 1)
+                    if recent[slot] != key:
+                        recent[slot] = key
+                        out[P] = key
+                        bounds[P, 0], bounds[P, 3] = ci * res, (ci + 1) * res
+                        bounds[P, 1], bounds[P, 4] = cj * res, (cj + 1) * res
+                        bounds[P, 2], bounds[P, 5] = ck * res, (ck + 1) * res
+                        P += 1
                 continue
             # behind the point the ray is hidden: the bounds take the ray a cell diagonal on
             # (clamped to the cell by `OccupancyMap`), so only the side the camera saw is exact
@@ -267,57 +338,50 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, rea
             y0 = t[0] + zb * d0
             y1 = t[1] + zb * d1
             y2 = t[2] + zb * d2
-            slot = (key ^ (key >> 19) ^ (key >> 37)) & 65535
-            if recent[slot] != key:
-                recent[slot] = key
-                row[slot] = P
-                out[P] = key
-                bounds[P, 0], bounds[P, 3] = min(x0, y0), max(x0, y0)
-                bounds[P, 1], bounds[P, 4] = min(x1, y1), max(x1, y1)
-                bounds[P, 2], bounds[P, 5] = min(x2, y2), max(x2, y2)
-                P += 1
+            if key != cur:   # a new run: the last one's bounds into its row; this cell's row
+                if cr >= 0:
+                    bounds[cr, 0] = min(bounds[cr, 0], m0)
+                    bounds[cr, 1] = min(bounds[cr, 1], m1)
+                    bounds[cr, 2] = min(bounds[cr, 2], m2)
+                    bounds[cr, 3] = max(bounds[cr, 3], m3)
+                    bounds[cr, 4] = max(bounds[cr, 4], m4)
+                    bounds[cr, 5] = max(bounds[cr, 5], m5)
+                cur = key
+                slot = (key ^ (key >> 19) ^ (key >> 37)) & (RECENT - 1)
+                if recent[slot] != key:
+                    recent[slot] = key
+                    row[slot] = P
+                    out[P] = key
+                    bounds[P, 0] = bounds[P, 1] = bounds[P, 2] = np.inf
+                    bounds[P, 3] = bounds[P, 4] = bounds[P, 5] = -np.inf
+                    P += 1
+                cr = row[slot]
+                m0, m1, m2 = min(x0, y0), min(x1, y1), min(x2, y2)
+                m3, m4, m5 = max(x0, y0), max(x1, y1), max(x2, y2)
             else:
-                r = row[slot]
-                bounds[r, 0] = min(bounds[r, 0], x0, y0)
-                bounds[r, 1] = min(bounds[r, 1], x1, y1)
-                bounds[r, 2] = min(bounds[r, 2], x2, y2)
-                bounds[r, 3] = max(bounds[r, 3], x0, y0)
-                bounds[r, 4] = max(bounds[r, 4], x1, y1)
-                bounds[r, 5] = max(bounds[r, 5], x2, y2)
+                m0, m1, m2 = min(m0, x0, y0), min(m1, x1, y1), min(m2, x2, y2)
+                m3, m4, m5 = max(m3, x0, y0), max(m4, x1, y1), max(m5, x2, y2)
             # a silhouette: the surface goes on up to the next pixel's ray (whose depth is far
             # beyond, or unmeasured): the bounds take that ray's point at this depth
-            jump = max(SILHOUETTE, SILHOUETTE_PX * z / fx)
-            r = row[slot]
+            far = z + max(SILHOUETTE, SILHOUETTE_PX * z / fx)
             for nb in range(4):
                 uu = u + (1 if nb == 0 else (-1 if nb == 1 else 0))
                 vv = v + (1 if nb == 2 else (-1 if nb == 3 else 0))
-                if uu < 0 or uu >= W or vv < 0 or vv >= H or depth[vv, uu] < z + jump:
+                if uu < 0 or uu >= W or vv < 0 or vv >= H or depth[vv, uu] < far:
                     continue
                 bb = (vv - cy) / fy
                 g0 = t[0] + z * (R[0, 0] * A[uu] + R[0, 1] * bb + R[0, 2])
                 g1 = t[1] + z * (R[1, 0] * A[uu] + R[1, 1] * bb + R[1, 2])
                 g2 = t[2] + z * (R[2, 0] * A[uu] + R[2, 1] * bb + R[2, 2])
-                bounds[r, 0] = min(bounds[r, 0], g0)
-                bounds[r, 1] = min(bounds[r, 1], g1)
-                bounds[r, 2] = min(bounds[r, 2], g2)
-                bounds[r, 3] = max(bounds[r, 3], g0)
-                bounds[r, 4] = max(bounds[r, 4], g1)
-                bounds[r, 5] = max(bounds[r, 5], g2)
-    # the points near the robot: each against the parts of the balls of its cell
-    for n in range(n_pending):
-        y0, y1, y2 = pending[n, 0] + pending[n, 3], pending[n, 1] + pending[n, 4], pending[n, 2] + pending[n, 5]
-        if _robot_point(y0, y1, y2, centres, radii, ball_part, planes, margin, cell, lo, shape, start, members):
-            on_robot += 1
-            continue
-        ci, cj, ck = int(math.floor(y0 * inv)), int(math.floor(y1 * inv)), int(math.floor(y2 * inv))
-        out[P] = pack(ci, cj, ck)
-        for a in range(3):
-            bounds[P, a] = bounds[P, 3 + a] = pending[n, a]
-        if not exact:
-            bounds[P, 0], bounds[P, 3] = ci * res, (ci + 1) * res
-            bounds[P, 1], bounds[P, 4] = cj * res, (cj + 1) * res
-            bounds[P, 2], bounds[P, 5] = ck * res, (ck + 1) * res
-        P += 1
+                m0, m1, m2 = min(m0, g0), min(m1, g1), min(m2, g2)
+                m3, m4, m5 = max(m3, g0), max(m4, g1), max(m5, g2)
+    if cr >= 0:
+        bounds[cr, 0] = min(bounds[cr, 0], m0)
+        bounds[cr, 1] = min(bounds[cr, 1], m1)
+        bounds[cr, 2] = min(bounds[cr, 2], m2)
+        bounds[cr, 3] = max(bounds[cr, 3], m3)
+        bounds[cr, 4] = max(bounds[cr, 4], m4)
+        bounds[cr, 5] = max(bounds[cr, 5], m5)
     return out[:P].copy(), bounds[:P].copy(), on_robot, negative
 
 
