@@ -154,7 +154,7 @@ class _Robot:
     centres: np.ndarray   # (S, 3) [m] ball centres, base frame
     radii: np.ndarray     # (S,) [m] radii grown by the margin
     part: np.ndarray      # (S,) int64 part of each ball
-    planes: np.ndarray    # (G, 26, 4): n (unit, base frame) and offset d: the part is in n.x <= d
+    dop: np.ndarray       # (G, 4, 26): per face n (unit, base frame; 3 rows) and offset d: the part is in n.x <= d
     margin: float
 
 
@@ -188,12 +188,33 @@ def _self_filter(checker, q, margin: float) -> _SelfFilter:
     return out
 
 
+#: {checker state's sphere cover: (part joint (G,), R (G, 3, 3), p (G, 3), h (G, 26))}: each
+#: part's place on its joint and its 26-DOP in its own frame (h: the offsets of the faces
+#: `_DIRECTIONS`), so that the DOP at q is n = R_part D, d = h + n.p_part.
+_PARTS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _parts(st) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The robot parts' constants of `_PARTS` for the checker state `st` (built once per cover)."""
+    got = _PARTS.get(st.fine)
+    if got is None:
+        tb = st.motion_bounds
+        joint = np.array([part.joint for part in st.parts], dtype=np.int64)
+        R = np.array([part.R for part in st.parts], dtype=np.float64).reshape(-1, 3, 3)
+        p = np.array([part.p for part in st.parts], dtype=np.float64).reshape(-1, 3)
+        # max over the support points s (part frame) of D.s, grown by the support radius
+        h = np.array([(tb.support[g] @ _DIRECTIONS.T).max(axis=0) + tb.support_radius[g]
+                      for g in range(len(st.parts))]).reshape(-1, 26)
+        got = _PARTS[st.fine] = (joint, R, p, h)
+    return got
+
+
 def _robot(checker, q, margin: float) -> _Robot:
     """The robot at q for the self-filter (empty without q): q (dof,) the arm, or the full
     robot state (dof + G,) with the gripper's joints last, whose fingers are then placed where
     they are (the planner's model holds them at its planning positions)."""
     if q is None:
-        return _Robot(np.zeros((0, 3)), np.zeros(0), np.zeros(0, dtype=np.int64), np.zeros((0, 26, 4)), margin)
+        return _Robot(np.zeros((0, 3)), np.zeros(0), np.zeros(0, dtype=np.int64), np.zeros((0, 4, 26)), margin)
     kin = checker.kinematics
     gripper = checker.config.gripper
     fingers = None
@@ -204,26 +225,25 @@ def _robot(checker, q, margin: float) -> _Robot:
     if q.ndim != 1:
         raise InvalidInputError(f"q must be one configuration ({kin.dof},) or a full robot state; got {q.shape}")
     st = checker.state
+    joint, Rp, pp, h = _parts(st)
     C, r, _ = checker.spheres(q)
     R, p = st.joint_transforms(q[None])
-    tb = st.motion_bounds
-    moved = _finger_motions(checker, q, fingers)
-    planes = np.empty((len(st.parts), 26, 4))
+    Rw = R[0, joint] @ Rp                                    # (G, 3, 3) each part in the base frame
+    pw = p[0, joint] + np.einsum("gij,gj->gi", R[0, joint], pp)
     C = np.array(C, dtype=np.float64)
+    moved = _finger_motions(checker, q, fingers)
     for g, part in enumerate(st.parts):
-        Rw = R[0, part.joint] @ part.R
-        pw = p[0, part.joint] + R[0, part.joint] @ part.p
         T = moved.get(part.name)
         if T is not None:   # a finger: from its planning place to where it is
-            Rw, pw = T[0] @ Rw, T[0] @ pw + T[1]
+            Rw[g], pw[g] = T[0] @ Rw[g], T[0] @ pw[g] + T[1]
             sel = st.fine.part == g
             C[sel] = C[sel] @ T[0].T + T[1]
-        n = _DIRECTIONS @ Rw.T                     # the directions in the base frame
-        support = tb.support[g] @ Rw.T + pw        # points whose hull (grown by support_radius) holds the part
-        planes[g, :, :3] = n
-        planes[g, :, 3] = (support @ n.T).max(axis=0) + tb.support_radius[g]
+    n = np.einsum("gij,fj->gif", Rw, _DIRECTIONS)             # (G, 3, 26) the faces' normals, base frame
+    dop = np.empty((len(st.parts), 4, 26))
+    dop[:, :3] = n
+    dop[:, 3] = h + np.einsum("gif,gi->gf", n, pw)
     return _Robot(np.ascontiguousarray(C), np.ascontiguousarray(r + margin, dtype=np.float64),
-                  np.ascontiguousarray(st.fine.part, dtype=np.int64), np.ascontiguousarray(planes), margin)
+                  np.ascontiguousarray(st.fine.part, dtype=np.int64), dop, margin)
 
 
 def _finger_motions(checker, q: np.ndarray, fingers: np.ndarray | None) -> dict[str, tuple[np.ndarray, np.ndarray]]:
@@ -411,7 +431,7 @@ def integrate_depth(checker, depth, intrinsics, camera_pose: Pose, *, name: str 
     rob = sf.robot
     keys, kb, on_robot, negative = depth_cells(d, fx, fy, cx, cy, R, t, rng, res, fill == "points", np.zeros(3),
                                                sf.reach + 0.1,
-                                               rob.centres, rob.radii, rob.part, rob.planes, rob.margin, SELF_CELL,
+                                               rob.centres, rob.radii, rob.part, rob.dop, rob.margin, SELF_CELL,
                                                *sf.index)
     if negative:
         raise InvalidInputError(f"depth must be >= 0 (inf or NaN where nothing was measured); got {negative} "
@@ -502,9 +522,9 @@ def _cloud_cells(P: np.ndarray, origin: np.ndarray | None, res: float, sf: _Self
     if P.shape[0] == 0:
         return np.zeros(0, dtype=np.int64), np.zeros((0, 6))
     rob = sf.robot
-    if rob.planes.shape[0]:
+    if rob.dop.shape[0]:
         P = np.ascontiguousarray(P, dtype=np.float64)
-        P = P[~on_robot(P, rob.centres, rob.radii, rob.part, rob.planes, rob.margin, SELF_CELL, *sf.index)]
+        P = P[~on_robot(P, rob.centres, rob.radii, rob.part, rob.dop, rob.margin, SELF_CELL, *sf.index)]
     at = P
     if origin is not None:
         ray = P - origin

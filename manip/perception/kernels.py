@@ -74,9 +74,8 @@ def pack_all(cells):
 def sphere_index(centres, radii, res):
     """The balls (S, 3), (S,) [m] by the cells (of edge `res`) they touch: (origin (3,) int64,
     shape (3,) int64, start (cells + 1,) int64, members (M,) int64), a CSR over the grid of
-    cells holding every ball (ball s is listed in each cell its box overlaps, unless a ball
-    holds the whole cell: then the cell lists only that ball, first, and start[c] < 0 marks it
-    as inside)."""
+    cells holding every ball (ball s is listed, in the order of s, in each cell its box
+    overlaps)."""
     S = centres.shape[0]
     lo = np.empty(3, dtype=np.int64)
     hi = np.empty(3, dtype=np.int64)
@@ -122,22 +121,28 @@ def sphere_index(centres, radii, res):
 
 
 @kernel(inline="always")
-def _on_part(y0, y1, y2, ball, centres, radii, ball_part, planes, margin):
+def _in_dop(y0, y1, y2, g, dop, margin):
+    """True when the point lies within `margin` [m] of part g's 26-DOP: n.y - d <= margin for
+    every face (dop (G, 4, 26): the faces' n (3 rows) and d; a branch-free count)."""
+    out = 0
+    for f in range(dop.shape[2]):
+        out += dop[g, 0, f] * y0 + dop[g, 1, f] * y1 + dop[g, 2, f] * y2 - dop[g, 3, f] > margin
+    return out == 0
+
+
+@kernel(inline="always")
+def _on_part(y0, y1, y2, ball, centres, radii, ball_part, dop, margin):
     """True when the point lies in (grown) ball `ball` and within `margin` of its part's 26-DOP."""
     g0 = y0 - centres[ball, 0]
     g1 = y1 - centres[ball, 1]
     g2 = y2 - centres[ball, 2]
     if g0 * g0 + g1 * g1 + g2 * g2 > radii[ball] * radii[ball]:
         return False
-    g = ball_part[ball]
-    for f in range(planes.shape[1]):
-        if planes[g, f, 0] * y0 + planes[g, f, 1] * y1 + planes[g, f, 2] * y2 - planes[g, f, 3] > margin:
-            return False
-    return True
+    return _in_dop(y0, y1, y2, ball_part[ball], dop, margin)
 
 
 @kernel(inline="always")
-def _robot_ball(y0, y1, y2, centres, radii, ball_part, planes, margin, c, start, members):
+def _robot_ball(y0, y1, y2, centres, radii, ball_part, dop, margin, c, start, members):
     """A ball of cell c of `sphere_index` that holds the point, the point within `margin` of
     its part's 26-DOP (the point lies on the robot), or -1."""
     last = -1
@@ -152,18 +157,13 @@ def _robot_ball(y0, y1, y2, centres, radii, ball_part, planes, margin, c, start,
         if g0 * g0 + g1 * g1 + g2 * g2 > radii[ball] * radii[ball]:
             continue
         last = g
-        inside = True
-        for f in range(planes.shape[1]):
-            if planes[g, f, 0] * y0 + planes[g, f, 1] * y1 + planes[g, f, 2] * y2 - planes[g, f, 3] > margin:
-                inside = False
-                break
-        if inside:
+        if _in_dop(y0, y1, y2, g, dop, margin):
             return ball
     return -1
 
 
 @kernel(inline="always")
-def _robot_point(y0, y1, y2, centres, radii, ball_part, planes, margin, cell, lo, shape, start, members):
+def _robot_point(y0, y1, y2, centres, radii, ball_part, dop, margin, cell, lo, shape, start, members):
     """True when the point lies within `margin` of a part's 26-DOP, a part found through the
     (grown) balls of the point's cell of `sphere_index`."""
     i = int(math.floor(y0 / cell)) - lo[0]
@@ -172,15 +172,15 @@ def _robot_point(y0, y1, y2, centres, radii, ball_part, planes, margin, cell, lo
     if i < 0 or j < 0 or k < 0 or i >= shape[0] or j >= shape[1] or k >= shape[2]:
         return False
     c = (i * shape[1] + j) * shape[2] + k
-    return _robot_ball(y0, y1, y2, centres, radii, ball_part, planes, margin, c, start, members) >= 0
+    return _robot_ball(y0, y1, y2, centres, radii, ball_part, dop, margin, c, start, members) >= 0
 
 
 @kernel
-def on_robot(X, centres, radii, ball_part, planes, margin, cell, lo, shape, start, members):
+def on_robot(X, centres, radii, ball_part, dop, margin, cell, lo, shape, start, members):
     """(N,) bool: which points X (N, 3) [m] lie on the robot (`_robot_point`)."""
     out = np.zeros(X.shape[0], dtype=np.bool_)
     for n in range(X.shape[0]):
-        out[n] = _robot_point(X[n, 0], X[n, 1], X[n, 2], centres, radii, ball_part, planes, margin, cell, lo, shape,
+        out[n] = _robot_point(X[n, 0], X[n, 1], X[n, 2], centres, radii, ball_part, dop, margin, cell, lo, shape,
                               start, members)
     return out
 
@@ -210,7 +210,7 @@ def _row_spans(depth):
 
 @kernel
 def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, reach_r,
-                centres, radii, ball_part, planes, margin, cell, lo, shape, start, members):
+                centres, radii, ball_part, dop, margin, cell, lo, shape, start, members):
     """Keys (P,) of the cells of the depth image's points (repeats mostly removed), the bounds
     (P, 6) [m] (lo, hi) of the points of each row, the number of points dropped on the robot
     and the number of negative depths (invalid input: the caller raises).
@@ -224,9 +224,9 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, rea
         exact: True: each row's bounds are those of its points and rays (module docstring);
             False: the whole cell (`fill="cells"`: no bounds computed per point).
         reach_c, reach_r: (3,) and [m]: points outside this ball are dropped (beyond reach).
-        centres, radii, ball_part, planes, margin, cell, lo, shape, start, members: the
+        centres, radii, ball_part, dop, margin, cell, lo, shape, start, members: the
             robot (`_robot_point`): balls grown by the margin, their parts, the parts' 26-DOPs
-            (G, 26, 4), and the balls' index (`sphere_index` with cells of edge `cell` [m]).
+            (G, 4, 26: `_in_dop`), and the balls' index (`sphere_index` with cells of edge `cell` [m]).
     """
     H, W = depth.shape
     first, last, cap = _row_spans(depth)
@@ -290,14 +290,14 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, rea
                 c = (i * shape[1] + j) * shape[2] + k
                 if start[c + 1] > start[c]:   # near the robot: on it (dropped), or a point of its own
                     y0, y1, y2 = x0 + SNAP * d0, x1 + SNAP * d1, x2 + SNAP * d2
-                    if hint >= 0 and _on_part(y0, y1, y2, hint, centres, radii, ball_part, planes, margin):
+                    if hint >= 0 and _on_part(y0, y1, y2, hint, centres, radii, ball_part, dop, margin):
                         on_robot += 1   # the ball of the last point on the robot (neighbouring pixels share it)
                         continue
                     i = int(math.floor(y0 / cell)) - lo[0]
                     j = int(math.floor(y1 / cell)) - lo[1]
                     k = int(math.floor(y2 / cell)) - lo[2]
                     if not (i < 0 or j < 0 or k < 0 or i >= shape[0] or j >= shape[1] or k >= shape[2]):
-                        ball = _robot_ball(y0, y1, y2, centres, radii, ball_part, planes, margin,
+                        ball = _robot_ball(y0, y1, y2, centres, radii, ball_part, dop, margin,
                                            (i * shape[1] + j) * shape[2] + k, start, members)
                         if ball >= 0:
                             hint = ball
@@ -365,9 +365,23 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, rea
             # beyond, or unmeasured): the bounds take that ray's point at this depth
             far = z + max(SILHOUETTE, SILHOUETTE_PX * z / fx)
             for nb in range(4):
-                uu = u + (1 if nb == 0 else (-1 if nb == 1 else 0))
-                vv = v + (1 if nb == 2 else (-1 if nb == 3 else 0))
-                if uu < 0 or uu >= W or vv < 0 or vv >= H or depth[vv, uu] < far:
+                if nb == 0:
+                    uu, vv = u + 1, v
+                    if uu >= W:
+                        continue
+                elif nb == 1:
+                    uu, vv = u - 1, v
+                    if uu < 0:
+                        continue
+                elif nb == 2:
+                    uu, vv = u, v + 1
+                    if vv >= H:
+                        continue
+                else:
+                    uu, vv = u, v - 1
+                    if vv < 0:
+                        continue
+                if depth[vv, uu] < far:
                     continue
                 bb = (vv - cy) / fy
                 g0 = t[0] + z * (R[0, 0] * A[uu] + R[0, 1] * bb + R[0, 2])
