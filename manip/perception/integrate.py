@@ -46,6 +46,7 @@ back-projection and the self-filter run in parallel.
 from __future__ import annotations
 
 import logging
+import math
 import threading
 import weakref
 from dataclasses import dataclass
@@ -108,14 +109,17 @@ def _intrinsics(K) -> tuple[float, float, float, float]:
     K = as_real_array(K, "intrinsics")
     if K.shape != (3, 3):
         raise InvalidInputError(f"intrinsics must be a (3, 3) matrix [[fx, 0, cx], [0, fy, cy], [0, 0, 1]]; got {K.shape}")
-    if not np.all(np.isfinite(K)):
+    (fx, s, cx), (k10, fy, cy), (k20, k21, k22) = K.tolist()   # floats: cheaper than NumPy's calls on 9 values
+    if not all(math.isfinite(v) for v in (fx, s, cx, k10, fy, cy, k20, k21, k22)):
         raise InvalidInputError(f"intrinsics must be finite; got {K.tolist()}")
-    if not (K[0, 0] > 0 and K[1, 1] > 0) or not np.allclose(K[2], [0, 0, 1]) or K[1, 0] != 0:
+    # the last row [0, 0, 1] to NumPy's allclose tolerance (atol 1e-8, rtol 1e-5)
+    last_row = abs(k20) <= 1e-8 and abs(k21) <= 1e-8 and abs(k22 - 1.0) <= 1e-8 + 1e-5
+    if not (fx > 0 and fy > 0) or not last_row or k10 != 0:
         raise InvalidInputError(f"intrinsics must be [[fx, s, cx], [0, fy, cy], [0, 0, 1]] with fx, fy > 0; "
                                 f"got {K.tolist()}")
-    if K[0, 1] != 0:
-        raise InvalidInputError(f"intrinsics with skew are not supported (K[0, 1] = {K[0, 1]}); give K[0, 1] = 0")
-    return float(K[0, 0]), float(K[1, 1]), float(K[0, 2]), float(K[1, 2])
+    if s != 0:
+        raise InvalidInputError(f"intrinsics with skew are not supported (K[0, 1] = {s}); give K[0, 1] = 0")
+    return fx, fy, cx, cy
 
 
 def _pose(camera_pose) -> Pose:
@@ -183,7 +187,7 @@ def _self_filter(checker, q, margin: float) -> _SelfFilter:
         return got[2]
     rob = _robot(checker, q, margin)
     far = got[2].reach if got is not None and got[0] is fine else reach(checker)   # the robot's, not q's
-    out = _SelfFilter(rob, sphere_index(rob.centres, rob.radii, SELF_CELL), far)
+    out = _SelfFilter(rob, sphere_index(rob.centres, rob.radii, rob.part, rob.dop.shape[0], SELF_CELL), far)
     _FILTERS[checker] = (fine, key, out)
     return out
 

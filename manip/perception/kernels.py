@@ -71,11 +71,12 @@ def pack_all(cells):
 
 
 @kernel
-def sphere_index(centres, radii, res):
-    """The balls (S, 3), (S,) [m] by the cells (of edge `res`) they touch: (origin (3,) int64,
-    shape (3,) int64, start (cells + 1,) int64, members (M,) int64), a CSR over the grid of
-    cells holding every ball (ball s is listed, in the order of s, in each cell its box
-    overlaps)."""
+def sphere_index(centres, radii, ball_part, parts, res):
+    """The robot's balls (S, 3), (S,) [m] (of parts ball_part (S,), `parts` of them) for the
+    self-filter: (origin (3,) int64, shape (3,) int64, near (cells,) uint8, box (parts, 6) [m],
+    start (parts + 1,) int64, balls (S,) int64): `near` marks the cells (of edge `res`, over
+    the grid holding every ball) that a ball's box of cells overlaps; `box` is the bounding
+    box (lo, hi) of each part's balls and balls[start[g]:start[g + 1]] are part g's balls."""
     S = centres.shape[0]
     lo = np.empty(3, dtype=np.int64)
     hi = np.empty(3, dtype=np.int64)
@@ -93,31 +94,38 @@ def sphere_index(centres, radii, res):
     shape = np.empty(3, dtype=np.int64)
     for a in range(3):
         shape[a] = hi[a] - lo[a] + 1
-    ncell = shape[0] * shape[1] * shape[2]
-    count = np.zeros(ncell + 1, dtype=np.int64)
-    for rep in range(2):
-        if rep == 1:
-            for c in range(ncell):
-                count[c + 1] += count[c]
-            members = np.empty(count[ncell], dtype=np.int64)
-            fill = count[:ncell].copy()
-        for s in range(S):
-            i0 = int(math.floor((centres[s, 0] - radii[s]) / res)) - lo[0]
-            i1 = int(math.floor((centres[s, 0] + radii[s]) / res)) - lo[0]
-            j0 = int(math.floor((centres[s, 1] - radii[s]) / res)) - lo[1]
-            j1 = int(math.floor((centres[s, 1] + radii[s]) / res)) - lo[1]
-            k0 = int(math.floor((centres[s, 2] - radii[s]) / res)) - lo[2]
-            k1 = int(math.floor((centres[s, 2] + radii[s]) / res)) - lo[2]
-            for i in range(i0, i1 + 1):
-                for j in range(j0, j1 + 1):
-                    for k in range(k0, k1 + 1):
-                        c = (i * shape[1] + j) * shape[2] + k
-                        if rep == 0:
-                            count[c + 1] += 1
-                        else:
-                            members[fill[c]] = s
-                            fill[c] += 1
-    return lo, shape, count, members
+    near = np.zeros(shape[0] * shape[1] * shape[2], dtype=np.uint8)
+    box = np.empty((parts, 6))
+    for g in range(parts):
+        for a in range(3):
+            box[g, a] = np.inf
+            box[g, 3 + a] = -np.inf
+    start = np.zeros(parts + 1, dtype=np.int64)
+    for s in range(S):
+        i0 = int(math.floor((centres[s, 0] - radii[s]) / res)) - lo[0]
+        i1 = int(math.floor((centres[s, 0] + radii[s]) / res)) - lo[0]
+        j0 = int(math.floor((centres[s, 1] - radii[s]) / res)) - lo[1]
+        j1 = int(math.floor((centres[s, 1] + radii[s]) / res)) - lo[1]
+        k0 = int(math.floor((centres[s, 2] - radii[s]) / res)) - lo[2]
+        k1 = int(math.floor((centres[s, 2] + radii[s]) / res)) - lo[2]
+        for i in range(i0, i1 + 1):
+            for j in range(j0, j1 + 1):
+                base = (i * shape[1] + j) * shape[2]
+                for k in range(k0, k1 + 1):
+                    near[base + k] = 1
+        g = ball_part[s]
+        start[g + 1] += 1
+        for a in range(3):   # padded: a point in a ball is in its part's box despite rounding
+            box[g, a] = min(box[g, a], centres[s, a] - radii[s] - 1e-9)
+            box[g, 3 + a] = max(box[g, 3 + a], centres[s, a] + radii[s] + 1e-9)
+    for g in range(parts):
+        start[g + 1] += start[g]
+    balls = np.empty(S, dtype=np.int64)
+    fill = start[:parts].copy()
+    for s in range(S):
+        balls[fill[ball_part[s]]] = s
+        fill[ball_part[s]] += 1
+    return lo, shape, near, box, start, balls
 
 
 @kernel(inline="always")
@@ -142,46 +150,45 @@ def _on_part(y0, y1, y2, ball, centres, radii, ball_part, dop, margin):
 
 
 @kernel(inline="always")
-def _robot_ball(y0, y1, y2, centres, radii, ball_part, dop, margin, c, start, members):
-    """A ball of cell c of `sphere_index` that holds the point, the point within `margin` of
-    its part's 26-DOP (the point lies on the robot), or -1."""
-    last = -1
-    for m in range(start[c], start[c + 1]):
-        ball = members[m]
-        g = ball_part[ball]
-        if g == last:   # this part's 26-DOP was tested: the point is not within it
+def _robot_ball(y0, y1, y2, centres, radii, dop, margin, box, start, balls):
+    """A ball that holds the point, the point within `margin` of its part's 26-DOP (the point
+    lies on the robot), or -1 (parts by the boxes of their balls, `sphere_index`)."""
+    for g in range(box.shape[0]):
+        if not (box[g, 0] <= y0 <= box[g, 3] and box[g, 1] <= y1 <= box[g, 4] and box[g, 2] <= y2 <= box[g, 5]):
             continue
-        g0 = y0 - centres[ball, 0]
-        g1 = y1 - centres[ball, 1]
-        g2 = y2 - centres[ball, 2]
-        if g0 * g0 + g1 * g1 + g2 * g2 > radii[ball] * radii[ball]:
+        if not _in_dop(y0, y1, y2, g, dop, margin):
             continue
-        last = g
-        if _in_dop(y0, y1, y2, g, dop, margin):
-            return ball
+        for m in range(start[g], start[g + 1]):
+            ball = balls[m]
+            g0 = y0 - centres[ball, 0]
+            g1 = y1 - centres[ball, 1]
+            g2 = y2 - centres[ball, 2]
+            if g0 * g0 + g1 * g1 + g2 * g2 <= radii[ball] * radii[ball]:
+                return ball
     return -1
 
 
 @kernel(inline="always")
-def _robot_point(y0, y1, y2, centres, radii, ball_part, dop, margin, cell, lo, shape, start, members):
-    """True when the point lies within `margin` of a part's 26-DOP, a part found through the
-    (grown) balls of the point's cell of `sphere_index`."""
+def _robot_point(y0, y1, y2, centres, radii, dop, margin, cell, lo, shape, near, box, start, balls):
+    """True when the point lies in a (grown) ball of a part and within `margin` of that part's
+    26-DOP (`sphere_index`: the point's cell is near a ball)."""
     i = int(math.floor(y0 / cell)) - lo[0]
     j = int(math.floor(y1 / cell)) - lo[1]
     k = int(math.floor(y2 / cell)) - lo[2]
     if i < 0 or j < 0 or k < 0 or i >= shape[0] or j >= shape[1] or k >= shape[2]:
         return False
-    c = (i * shape[1] + j) * shape[2] + k
-    return _robot_ball(y0, y1, y2, centres, radii, ball_part, dop, margin, c, start, members) >= 0
+    if near[(i * shape[1] + j) * shape[2] + k] == 0:
+        return False
+    return _robot_ball(y0, y1, y2, centres, radii, dop, margin, box, start, balls) >= 0
 
 
 @kernel
-def on_robot(X, centres, radii, ball_part, dop, margin, cell, lo, shape, start, members):
-    """(N,) bool: which points X (N, 3) [m] lie on the robot (`_robot_point`)."""
+def on_robot(X, centres, radii, ball_part, dop, margin, cell, lo, shape, near, box, start, balls):
+    """(N,) bool: which points X (N, 3) [m] lie on the robot (`_robot_point`; ball_part unused)."""
     out = np.zeros(X.shape[0], dtype=np.bool_)
     for n in range(X.shape[0]):
-        out[n] = _robot_point(X[n, 0], X[n, 1], X[n, 2], centres, radii, ball_part, dop, margin, cell, lo, shape,
-                              start, members)
+        out[n] = _robot_point(X[n, 0], X[n, 1], X[n, 2], centres, radii, dop, margin, cell, lo, shape, near, box,
+                              start, balls)
     return out
 
 
@@ -210,7 +217,7 @@ def _row_spans(depth):
 
 @kernel
 def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, reach_r,
-                centres, radii, ball_part, dop, margin, cell, lo, shape, start, members):
+                centres, radii, ball_part, dop, margin, cell, lo, shape, near, box, start, balls):
     """Keys (P,) of the cells of the depth image's points (repeats mostly removed), the bounds
     (P, 6) [m] (lo, hi) of the points of each row, the number of points dropped on the robot
     and the number of negative depths (invalid input: the caller raises).
@@ -224,9 +231,11 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, rea
         exact: True: each row's bounds are those of its points and rays (module docstring);
             False: the whole cell (`fill="cells"`: no bounds computed per point).
         reach_c, reach_r: (3,) and [m]: points outside this ball are dropped (beyond reach).
-        centres, radii, ball_part, dop, margin, cell, lo, shape, start, members: the
+        centres, radii, ball_part, dop, margin, cell, lo, shape, near, box, start, balls: the
             robot (`_robot_point`): balls grown by the margin, their parts, the parts' 26-DOPs
-            (G, 4, 26: `_in_dop`), and the balls' index (`sphere_index` with cells of edge `cell` [m]).
+            (G, 4, 26: `_in_dop`), and the balls' index (`sphere_index` with cells of edge
+            `cell` [m]): a point whose cell is near a ball is checked, and kept alone if not
+            on the robot.
     """
     H, W = depth.shape
     first, last, cap = _row_spans(depth)
@@ -288,21 +297,16 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, rea
                 j = min(int((x1 - box_lo[1]) * icell), shape[1] - 1)
                 k = min(int((x2 - box_lo[2]) * icell), shape[2] - 1)
                 c = (i * shape[1] + j) * shape[2] + k
-                if start[c + 1] > start[c]:   # near the robot: on it (dropped), or a point of its own
+                if near[c]:   # near the robot: on it (dropped), or a point of its own
                     y0, y1, y2 = x0 + SNAP * d0, x1 + SNAP * d1, x2 + SNAP * d2
                     if hint >= 0 and _on_part(y0, y1, y2, hint, centres, radii, ball_part, dop, margin):
                         on_robot += 1   # the ball of the last point on the robot (neighbouring pixels share it)
                         continue
-                    i = int(math.floor(y0 / cell)) - lo[0]
-                    j = int(math.floor(y1 / cell)) - lo[1]
-                    k = int(math.floor(y2 / cell)) - lo[2]
-                    if not (i < 0 or j < 0 or k < 0 or i >= shape[0] or j >= shape[1] or k >= shape[2]):
-                        ball = _robot_ball(y0, y1, y2, centres, radii, ball_part, dop, margin,
-                                           (i * shape[1] + j) * shape[2] + k, start, members)
-                        if ball >= 0:
-                            hint = ball
-                            on_robot += 1
-                            continue
+                    ball = _robot_ball(y0, y1, y2, centres, radii, dop, margin, box, start, balls)
+                    if ball >= 0:
+                        hint = ball
+                        on_robot += 1
+                        continue
                     ci, cj, ck = int(math.floor(y0 * inv)), int(math.floor(y1 * inv)), int(math.floor(y2 * inv))
                     out[P] = pack(ci, cj, ck)
                     if exact:
