@@ -44,6 +44,14 @@ _MASK = (1 << 21) - 1
 
 
 @kernel(inline="always")
+def ifloor(x):
+    """int(math.floor(x)) for finite |x| < 2^62, without a libm call (the portable x86-64
+    build, SSE2 only, has no rounding instruction)."""
+    i = int(x)   # towards zero
+    return i - 1 if x < i else i
+
+
+@kernel(inline="always")
 def pack(i, j, k):
     """The int64 key of cell (i, j, k)."""
     return ((i + _BIAS) << 42) | ((j + _BIAS) << 21) | (k + _BIAS)
@@ -172,9 +180,9 @@ def _robot_ball(y0, y1, y2, centres, radii, dop, margin, box, start, balls):
 def _robot_point(y0, y1, y2, centres, radii, dop, margin, cell, lo, shape, near, box, start, balls):
     """True when the point lies in a (grown) ball of a part and within `margin` of that part's
     26-DOP (`sphere_index`: the point's cell is near a ball)."""
-    i = int(math.floor(y0 / cell)) - lo[0]
-    j = int(math.floor(y1 / cell)) - lo[1]
-    k = int(math.floor(y2 / cell)) - lo[2]
+    i = ifloor(y0 / cell) - lo[0]
+    j = ifloor(y1 / cell) - lo[1]
+    k = ifloor(y2 / cell) - lo[2]
     if i < 0 or j < 0 or k < 0 or i >= shape[0] or j >= shape[1] or k >= shape[2]:
         return False
     if near[(i * shape[1] + j) * shape[2] + k] == 0:
@@ -202,13 +210,20 @@ def _row_spans(depth):
     last = np.empty(H, dtype=np.int64)
     n = 0
     for v in range(H):
-        f = W
-        g = -1
-        for u in range(W):
+        some = 0
+        for u in range(W):   # a count without branches
             z = depth[v, u]
-            some = z < np.inf and z != 0.0
-            f = min(f, u if some else W)
-            g = max(g, u if some else -1)
+            some += (z < np.inf) & (z != 0.0)
+        f = 0
+        g = W - 1
+        if some == 0:
+            f = W
+            g = -1
+        else:
+            while not (depth[v, f] < np.inf and depth[v, f] != 0.0):
+                f += 1
+            while not (depth[v, g] < np.inf and depth[v, g] != 0.0):
+                g -= 1
         first[v] = f
         last[v] = g
         n += max(g - f + 1, 0)
@@ -307,7 +322,7 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, rea
                         hint = ball
                         on_robot += 1
                         continue
-                    ci, cj, ck = int(math.floor(y0 * inv)), int(math.floor(y1 * inv)), int(math.floor(y2 * inv))
+                    ci, cj, ck = ifloor(y0 * inv), ifloor(y1 * inv), ifloor(y2 * inv)
                     out[P] = pack(ci, cj, ck)
                     if exact:
                         bounds[P, 0] = bounds[P, 3] = x0
@@ -320,9 +335,9 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, rea
                     P += 1
                     continue
             zs = z + SNAP   # SNAP further along the ray (depth units, as `cells_seen_free`)
-            ci = int(math.floor((t[0] + zs * d0) * inv))
-            cj = int(math.floor((t[1] + zs * d1) * inv))
-            ck = int(math.floor((t[2] + zs * d2) * inv))
+            ci = ifloor((t[0] + zs * d0) * inv)
+            cj = ifloor((t[1] + zs * d1) * inv)
+            ck = ifloor((t[2] + zs * d2) * inv)
             key = pack(ci, cj, ck)
             if not exact:   # whole cells: one row per cell (as far as the recent keys tell)
                 if key != cur:
