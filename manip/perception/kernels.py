@@ -4,8 +4,9 @@ Cells are those of `manip.collision.occupancy`: cell (i, j, k) is the box [i r, 
 (r the resolution) in the robot base frame; a cell is named by one int64 key
 (`pack`: 21 bits per axis, |index| < 2^20).
 
-- `sphere_index`, `on_robot`: the robot's balls at q in a grid of cells (CSR), through which
-  the self-filter finds the parts (each a 26-DOP) a point may lie on;
+- `sphere_index`, `on_robot`: the robot's balls at q: a grid of the cells near a ball and
+  each part's balls with their bounding box, through which the self-filter finds the parts
+  (each a 26-DOP) a point may lie on;
 - `depth_cells`: back-projects a depth image (pinhole, distance to the image plane) into the
   base frame, drops the points within a ball of the robot and beyond the range, and returns
   the key of each point's cell with the bounds of the points in it (a point within `SNAP`
