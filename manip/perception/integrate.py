@@ -46,6 +46,7 @@ back-projection and the self-filter run in parallel.
 from __future__ import annotations
 
 import logging
+import math
 import threading
 import weakref
 from dataclasses import dataclass
@@ -108,14 +109,17 @@ def _intrinsics(K) -> tuple[float, float, float, float]:
     K = as_real_array(K, "intrinsics")
     if K.shape != (3, 3):
         raise InvalidInputError(f"intrinsics must be a (3, 3) matrix [[fx, 0, cx], [0, fy, cy], [0, 0, 1]]; got {K.shape}")
-    if not np.all(np.isfinite(K)):
+    (fx, s, cx), (k10, fy, cy), (k20, k21, k22) = K.tolist()   # floats: cheaper than NumPy's calls on 9 values
+    if not all(math.isfinite(v) for v in (fx, s, cx, k10, fy, cy, k20, k21, k22)):
         raise InvalidInputError(f"intrinsics must be finite; got {K.tolist()}")
-    if not (K[0, 0] > 0 and K[1, 1] > 0) or not np.allclose(K[2], [0, 0, 1]) or K[1, 0] != 0:
+    # the last row [0, 0, 1] to NumPy's allclose tolerance (atol 1e-8, rtol 1e-5)
+    last_row = abs(k20) <= 1e-8 and abs(k21) <= 1e-8 and abs(k22 - 1.0) <= 1e-8 + 1e-5
+    if not (fx > 0 and fy > 0) or not last_row or k10 != 0:
         raise InvalidInputError(f"intrinsics must be [[fx, s, cx], [0, fy, cy], [0, 0, 1]] with fx, fy > 0; "
                                 f"got {K.tolist()}")
-    if K[0, 1] != 0:
-        raise InvalidInputError(f"intrinsics with skew are not supported (K[0, 1] = {K[0, 1]}); give K[0, 1] = 0")
-    return float(K[0, 0]), float(K[1, 1]), float(K[0, 2]), float(K[1, 2])
+    if s != 0:
+        raise InvalidInputError(f"intrinsics with skew are not supported (K[0, 1] = {s}); give K[0, 1] = 0")
+    return fx, fy, cx, cy
 
 
 def _pose(camera_pose) -> Pose:
@@ -154,7 +158,7 @@ class _Robot:
     centres: np.ndarray   # (S, 3) [m] ball centres, base frame
     radii: np.ndarray     # (S,) [m] radii grown by the margin
     part: np.ndarray      # (S,) int64 part of each ball
-    planes: np.ndarray    # (G, 26, 4): n (unit, base frame) and offset d: the part is in n.x <= d
+    dop: np.ndarray       # (G, 4, 26): per face n (unit, base frame; 3 rows) and offset d: the part is in n.x <= d
     margin: float
 
 
@@ -183,9 +187,30 @@ def _self_filter(checker, q, margin: float) -> _SelfFilter:
         return got[2]
     rob = _robot(checker, q, margin)
     far = got[2].reach if got is not None and got[0] is fine else reach(checker)   # the robot's, not q's
-    out = _SelfFilter(rob, sphere_index(rob.centres, rob.radii, SELF_CELL), far)
+    out = _SelfFilter(rob, sphere_index(rob.centres, rob.radii, rob.part, rob.dop.shape[0], SELF_CELL), far)
     _FILTERS[checker] = (fine, key, out)
     return out
+
+
+#: {checker state's sphere cover: (part joint (G,), R (G, 3, 3), p (G, 3), h (G, 26))}: each
+#: part's place on its joint and its 26-DOP in its own frame (h: the offsets of the faces
+#: `_DIRECTIONS`), so that the DOP at q is n = R_part D, d = h + n.p_part.
+_PARTS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _parts(st) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The robot parts' constants of `_PARTS` for the checker state `st` (built once per cover)."""
+    got = _PARTS.get(st.fine)
+    if got is None:
+        tb = st.motion_bounds
+        joint = np.array([part.joint for part in st.parts], dtype=np.int64)
+        R = np.array([part.R for part in st.parts], dtype=np.float64).reshape(-1, 3, 3)
+        p = np.array([part.p for part in st.parts], dtype=np.float64).reshape(-1, 3)
+        # max over the support points s (part frame) of D.s, grown by the support radius
+        h = np.array([(tb.support[g] @ _DIRECTIONS.T).max(axis=0) + tb.support_radius[g]
+                      for g in range(len(st.parts))]).reshape(-1, 26)
+        got = _PARTS[st.fine] = (joint, R, p, h)
+    return got
 
 
 def _robot(checker, q, margin: float) -> _Robot:
@@ -193,7 +218,7 @@ def _robot(checker, q, margin: float) -> _Robot:
     robot state (dof + G,) with the gripper's joints last, whose fingers are then placed where
     they are (the planner's model holds them at its planning positions)."""
     if q is None:
-        return _Robot(np.zeros((0, 3)), np.zeros(0), np.zeros(0, dtype=np.int64), np.zeros((0, 26, 4)), margin)
+        return _Robot(np.zeros((0, 3)), np.zeros(0), np.zeros(0, dtype=np.int64), np.zeros((0, 4, 26)), margin)
     kin = checker.kinematics
     gripper = checker.config.gripper
     fingers = None
@@ -204,26 +229,25 @@ def _robot(checker, q, margin: float) -> _Robot:
     if q.ndim != 1:
         raise InvalidInputError(f"q must be one configuration ({kin.dof},) or a full robot state; got {q.shape}")
     st = checker.state
+    joint, Rp, pp, h = _parts(st)
     C, r, _ = checker.spheres(q)
     R, p = st.joint_transforms(q[None])
-    tb = st.motion_bounds
-    moved = _finger_motions(checker, q, fingers)
-    planes = np.empty((len(st.parts), 26, 4))
+    Rw = R[0, joint] @ Rp                                    # (G, 3, 3) each part in the base frame
+    pw = p[0, joint] + np.einsum("gij,gj->gi", R[0, joint], pp)
     C = np.array(C, dtype=np.float64)
+    moved = _finger_motions(checker, q, fingers)
     for g, part in enumerate(st.parts):
-        Rw = R[0, part.joint] @ part.R
-        pw = p[0, part.joint] + R[0, part.joint] @ part.p
         T = moved.get(part.name)
         if T is not None:   # a finger: from its planning place to where it is
-            Rw, pw = T[0] @ Rw, T[0] @ pw + T[1]
+            Rw[g], pw[g] = T[0] @ Rw[g], T[0] @ pw[g] + T[1]
             sel = st.fine.part == g
             C[sel] = C[sel] @ T[0].T + T[1]
-        n = _DIRECTIONS @ Rw.T                     # the directions in the base frame
-        support = tb.support[g] @ Rw.T + pw        # points whose hull (grown by support_radius) holds the part
-        planes[g, :, :3] = n
-        planes[g, :, 3] = (support @ n.T).max(axis=0) + tb.support_radius[g]
+    n = np.einsum("gij,fj->gif", Rw, _DIRECTIONS)             # (G, 3, 26) the faces' normals, base frame
+    dop = np.empty((len(st.parts), 4, 26))
+    dop[:, :3] = n
+    dop[:, 3] = h + np.einsum("gif,gi->gf", n, pw)
     return _Robot(np.ascontiguousarray(C), np.ascontiguousarray(r + margin, dtype=np.float64),
-                  np.ascontiguousarray(st.fine.part, dtype=np.int64), np.ascontiguousarray(planes), margin)
+                  np.ascontiguousarray(st.fine.part, dtype=np.int64), dop, margin)
 
 
 def _finger_motions(checker, q: np.ndarray, fingers: np.ndarray | None) -> dict[str, tuple[np.ndarray, np.ndarray]]:
@@ -411,7 +435,7 @@ def integrate_depth(checker, depth, intrinsics, camera_pose: Pose, *, name: str 
     rob = sf.robot
     keys, kb, on_robot, negative = depth_cells(d, fx, fy, cx, cy, R, t, rng, res, fill == "points", np.zeros(3),
                                                sf.reach + 0.1,
-                                               rob.centres, rob.radii, rob.part, rob.planes, rob.margin, SELF_CELL,
+                                               rob.centres, rob.radii, rob.part, rob.dop, rob.margin, SELF_CELL,
                                                *sf.index)
     if negative:
         raise InvalidInputError(f"depth must be >= 0 (inf or NaN where nothing was measured); got {negative} "
@@ -502,9 +526,9 @@ def _cloud_cells(P: np.ndarray, origin: np.ndarray | None, res: float, sf: _Self
     if P.shape[0] == 0:
         return np.zeros(0, dtype=np.int64), np.zeros((0, 6))
     rob = sf.robot
-    if rob.planes.shape[0]:
+    if rob.dop.shape[0]:
         P = np.ascontiguousarray(P, dtype=np.float64)
-        P = P[~on_robot(P, rob.centres, rob.radii, rob.part, rob.planes, rob.margin, SELF_CELL, *sf.index)]
+        P = P[~on_robot(P, rob.centres, rob.radii, rob.part, rob.dop, rob.margin, SELF_CELL, *sf.index)]
     at = P
     if origin is not None:
         ray = P - origin

@@ -4,8 +4,9 @@ Cells are those of `manip.collision.occupancy`: cell (i, j, k) is the box [i r, 
 (r the resolution) in the robot base frame; a cell is named by one int64 key
 (`pack`: 21 bits per axis, |index| < 2^20).
 
-- `sphere_index`, `on_robot`: the robot's balls at q in a grid of cells (CSR), through which
-  the self-filter finds the parts (each a 26-DOP) a point may lie on;
+- `sphere_index`, `on_robot`: the robot's balls at q: a grid of the cells near a ball and
+  each part's balls with their bounding box, through which the self-filter finds the parts
+  (each a 26-DOP) a point may lie on;
 - `depth_cells`: back-projects a depth image (pinhole, distance to the image plane) into the
   base frame, drops the points within a ball of the robot and beyond the range, and returns
   the key of each point's cell with the bounds of the points in it (a point within `SNAP`
@@ -37,8 +38,18 @@ SNAP = 1e-5
 #: pixel footprints) (or unmeasured: NaN / inf) makes a pixel a silhouette (`depth_cells`).
 SILHOUETTE = 0.02
 SILHOUETTE_PX = 10.0
+#: Slots of `depth_cells`' table of the cells written lately (a power of two).
+RECENT = 1 << 12
 _BIAS = 1 << 20
 _MASK = (1 << 21) - 1
+
+
+@kernel(inline="always")
+def ifloor(x):
+    """int(math.floor(x)) for finite |x| < 2^62, without a libm call (the portable x86-64
+    build, SSE2 only, has no rounding instruction)."""
+    i = int(x)   # towards zero
+    return i - 1 if x < i else i
 
 
 @kernel(inline="always")
@@ -69,12 +80,12 @@ def pack_all(cells):
 
 
 @kernel
-def sphere_index(centres, radii, res):
-    """The balls (S, 3), (S,) [m] by the cells (of edge `res`) they touch: (origin (3,) int64,
-    shape (3,) int64, start (cells + 1,) int64, members (M,) int64), a CSR over the grid of
-    cells holding every ball (ball s is listed in each cell its box overlaps, unless a ball
-    holds the whole cell: then the cell lists only that ball, first, and start[c] < 0 marks it
-    as inside)."""
+def sphere_index(centres, radii, ball_part, parts, res):
+    """The robot's balls (S, 3), (S,) [m] (of parts ball_part (S,), `parts` of them) for the
+    self-filter: (origin (3,) int64, shape (3,) int64, near (cells,) uint8, box (parts, 6) [m],
+    start (parts + 1,) int64, balls (S,) int64): `near` marks the cells (of edge `res`, over
+    the grid holding every ball) that a ball's box of cells overlaps; `box` is the bounding
+    box (lo, hi) of each part's balls and balls[start[g]:start[g + 1]] are part g's balls."""
     S = centres.shape[0]
     lo = np.empty(3, dtype=np.int64)
     hi = np.empty(3, dtype=np.int64)
@@ -92,78 +103,137 @@ def sphere_index(centres, radii, res):
     shape = np.empty(3, dtype=np.int64)
     for a in range(3):
         shape[a] = hi[a] - lo[a] + 1
-    ncell = shape[0] * shape[1] * shape[2]
-    count = np.zeros(ncell + 1, dtype=np.int64)
-    for rep in range(2):
-        if rep == 1:
-            for c in range(ncell):
-                count[c + 1] += count[c]
-            members = np.empty(count[ncell], dtype=np.int64)
-            fill = count[:ncell].copy()
-        for s in range(S):
-            i0 = int(math.floor((centres[s, 0] - radii[s]) / res)) - lo[0]
-            i1 = int(math.floor((centres[s, 0] + radii[s]) / res)) - lo[0]
-            j0 = int(math.floor((centres[s, 1] - radii[s]) / res)) - lo[1]
-            j1 = int(math.floor((centres[s, 1] + radii[s]) / res)) - lo[1]
-            k0 = int(math.floor((centres[s, 2] - radii[s]) / res)) - lo[2]
-            k1 = int(math.floor((centres[s, 2] + radii[s]) / res)) - lo[2]
-            for i in range(i0, i1 + 1):
-                for j in range(j0, j1 + 1):
-                    for k in range(k0, k1 + 1):
-                        c = (i * shape[1] + j) * shape[2] + k
-                        if rep == 0:
-                            count[c + 1] += 1
-                        else:
-                            members[fill[c]] = s
-                            fill[c] += 1
-    return lo, shape, count, members
+    near = np.zeros(shape[0] * shape[1] * shape[2], dtype=np.uint8)
+    box = np.empty((parts, 6))
+    for g in range(parts):
+        for a in range(3):
+            box[g, a] = np.inf
+            box[g, 3 + a] = -np.inf
+    start = np.zeros(parts + 1, dtype=np.int64)
+    for s in range(S):
+        i0 = int(math.floor((centres[s, 0] - radii[s]) / res)) - lo[0]
+        i1 = int(math.floor((centres[s, 0] + radii[s]) / res)) - lo[0]
+        j0 = int(math.floor((centres[s, 1] - radii[s]) / res)) - lo[1]
+        j1 = int(math.floor((centres[s, 1] + radii[s]) / res)) - lo[1]
+        k0 = int(math.floor((centres[s, 2] - radii[s]) / res)) - lo[2]
+        k1 = int(math.floor((centres[s, 2] + radii[s]) / res)) - lo[2]
+        for i in range(i0, i1 + 1):
+            for j in range(j0, j1 + 1):
+                base = (i * shape[1] + j) * shape[2]
+                for k in range(k0, k1 + 1):
+                    near[base + k] = 1
+        g = ball_part[s]
+        start[g + 1] += 1
+        for a in range(3):   # padded: a point in a ball is in its part's box despite rounding
+            box[g, a] = min(box[g, a], centres[s, a] - radii[s] - 1e-9)
+            box[g, 3 + a] = max(box[g, 3 + a], centres[s, a] + radii[s] + 1e-9)
+    for g in range(parts):
+        start[g + 1] += start[g]
+    balls = np.empty(S, dtype=np.int64)
+    fill = start[:parts].copy()
+    for s in range(S):
+        balls[fill[ball_part[s]]] = s
+        fill[ball_part[s]] += 1
+    return lo, shape, near, box, start, balls
 
 
 @kernel(inline="always")
-def _robot_point(y0, y1, y2, centres, radii, ball_part, planes, margin, cell, lo, shape, start, members):
-    """True when the point lies within `margin` of a part's 26-DOP, a part found through the
-    (grown) balls of the point's cell of `sphere_index`."""
-    i = int(math.floor(y0 / cell)) - lo[0]
-    j = int(math.floor(y1 / cell)) - lo[1]
-    k = int(math.floor(y2 / cell)) - lo[2]
+def _in_dop(y0, y1, y2, g, dop, margin):
+    """True when the point lies within `margin` [m] of part g's 26-DOP: n.y - d <= margin for
+    every face (dop (G, 4, 26): the faces' n (3 rows) and d; a branch-free count)."""
+    out = 0
+    for f in range(dop.shape[2]):
+        out += dop[g, 0, f] * y0 + dop[g, 1, f] * y1 + dop[g, 2, f] * y2 - dop[g, 3, f] > margin
+    return out == 0
+
+
+@kernel(inline="always")
+def _on_part(y0, y1, y2, ball, centres, radii, ball_part, dop, margin):
+    """True when the point lies in (grown) ball `ball` and within `margin` of its part's 26-DOP."""
+    g0 = y0 - centres[ball, 0]
+    g1 = y1 - centres[ball, 1]
+    g2 = y2 - centres[ball, 2]
+    if g0 * g0 + g1 * g1 + g2 * g2 > radii[ball] * radii[ball]:
+        return False
+    return _in_dop(y0, y1, y2, ball_part[ball], dop, margin)
+
+
+@kernel(inline="always")
+def _robot_ball(y0, y1, y2, centres, radii, dop, margin, box, start, balls):
+    """A ball that holds the point, the point within `margin` of its part's 26-DOP (the point
+    lies on the robot), or -1 (parts by the boxes of their balls, `sphere_index`)."""
+    for g in range(box.shape[0]):
+        if not (box[g, 0] <= y0 <= box[g, 3] and box[g, 1] <= y1 <= box[g, 4] and box[g, 2] <= y2 <= box[g, 5]):
+            continue
+        if not _in_dop(y0, y1, y2, g, dop, margin):
+            continue
+        for m in range(start[g], start[g + 1]):
+            ball = balls[m]
+            g0 = y0 - centres[ball, 0]
+            g1 = y1 - centres[ball, 1]
+            g2 = y2 - centres[ball, 2]
+            if g0 * g0 + g1 * g1 + g2 * g2 <= radii[ball] * radii[ball]:
+                return ball
+    return -1
+
+
+@kernel(inline="always")
+def _robot_point(y0, y1, y2, centres, radii, dop, margin, cell, lo, shape, near, box, start, balls):
+    """True when the point lies in a (grown) ball of a part and within `margin` of that part's
+    26-DOP (`sphere_index`: the point's cell is near a ball)."""
+    i = ifloor(y0 / cell) - lo[0]
+    j = ifloor(y1 / cell) - lo[1]
+    k = ifloor(y2 / cell) - lo[2]
     if i < 0 or j < 0 or k < 0 or i >= shape[0] or j >= shape[1] or k >= shape[2]:
         return False
-    c = (i * shape[1] + j) * shape[2] + k
-    last = -1
-    for m in range(start[c], start[c + 1]):
-        ball = members[m]
-        g = ball_part[ball]
-        if g == last:
-            continue
-        g0 = y0 - centres[ball, 0]
-        g1 = y1 - centres[ball, 1]
-        g2 = y2 - centres[ball, 2]
-        if g0 * g0 + g1 * g1 + g2 * g2 > radii[ball] * radii[ball]:
-            continue
-        last = g
-        inside = True
-        for f in range(planes.shape[1]):
-            if planes[g, f, 0] * y0 + planes[g, f, 1] * y1 + planes[g, f, 2] * y2 - planes[g, f, 3] > margin:
-                inside = False
-                break
-        if inside:
-            return True
-    return False
+    if near[(i * shape[1] + j) * shape[2] + k] == 0:
+        return False
+    return _robot_ball(y0, y1, y2, centres, radii, dop, margin, box, start, balls) >= 0
 
 
 @kernel
-def on_robot(X, centres, radii, ball_part, planes, margin, cell, lo, shape, start, members):
-    """(N,) bool: which points X (N, 3) [m] lie on the robot (`_robot_point`)."""
+def on_robot(X, centres, radii, ball_part, dop, margin, cell, lo, shape, near, box, start, balls):
+    """(N,) bool: which points X (N, 3) [m] lie on the robot (`_robot_point`; ball_part unused)."""
     out = np.zeros(X.shape[0], dtype=np.bool_)
     for n in range(X.shape[0]):
-        out[n] = _robot_point(X[n, 0], X[n, 1], X[n, 2], centres, radii, ball_part, planes, margin, cell, lo, shape,
-                              start, members)
+        out[n] = _robot_point(X[n, 0], X[n, 1], X[n, 2], centres, radii, dop, margin, cell, lo, shape, near, box,
+                              start, balls)
     return out
+
+
+@kernel(inline="always")
+def _row_spans(depth):
+    """(H,) the first and (H,) the last pixel of each row of depth (H, W) that holds a finite
+    non-zero value (a depth, or a negative one), and how many pixels these spans hold (a
+    branch-free pass: most of an image is often empty)."""
+    H, W = depth.shape
+    first = np.empty(H, dtype=np.int64)
+    last = np.empty(H, dtype=np.int64)
+    n = 0
+    for v in range(H):
+        some = 0
+        for u in range(W):   # a count without branches
+            z = depth[v, u]
+            some += (z < np.inf) & (z != 0.0)
+        f = 0
+        g = W - 1
+        if some == 0:
+            f = W
+            g = -1
+        else:
+            while not (depth[v, f] < np.inf and depth[v, f] != 0.0):
+                f += 1
+            while not (depth[v, g] < np.inf and depth[v, g] != 0.0):
+                g -= 1
+        first[v] = f
+        last[v] = g
+        n += max(g - f + 1, 0)
+    return first, last, n
 
 
 @kernel
 def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, reach_r,
-                centres, radii, ball_part, planes, margin, cell, lo, shape, start, members):
+                centres, radii, ball_part, dop, margin, cell, lo, shape, near, box, start, balls):
     """Keys (P,) of the cells of the depth image's points (repeats mostly removed), the bounds
     (P, 6) [m] (lo, hi) of the points of each row, the number of points dropped on the robot
     and the number of negative depths (invalid input: the caller raises).
@@ -177,20 +247,22 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, rea
         exact: True: each row's bounds are those of its points and rays (module docstring);
             False: the whole cell (`fill="cells"`: no bounds computed per point).
         reach_c, reach_r: (3,) and [m]: points outside this ball are dropped (beyond reach).
-        centres, radii, ball_part, planes, margin, cell, lo, shape, start, members: the
+        centres, radii, ball_part, dop, margin, cell, lo, shape, near, box, start, balls: the
             robot (`_robot_point`): balls grown by the margin, their parts, the parts' 26-DOPs
-            (G, 26, 4), and the balls' index (`sphere_index` with cells of edge `cell` [m]).
+            (G, 4, 26: `_in_dop`), and the balls' index (`sphere_index` with cells of edge
+            `cell` [m]): a point whose cell is near a ball is checked, and kept alone if not
+            on the robot.
     """
     H, W = depth.shape
-    out = np.empty(H * W, dtype=np.int64)
-    bounds = np.empty((H * W, 6))
-    recent = np.full(1 << 16, -1, dtype=np.int64)   # keys written lately (neighbouring pixels share cells)
-    row = np.empty(1 << 16, dtype=np.int64)          # their rows
-    pending = np.empty((H * W, 6))   # points in cells partly covered by a ball (and SNAP along the ray): checked after
-    n_pending = 0
+    first, last, cap = _row_spans(depth)
+    out = np.empty(cap, dtype=np.int64)   # a row per pixel at most
+    bounds = np.empty((cap, 6))
+    recent = np.full(RECENT, -1, dtype=np.int64)   # keys written lately (neighbouring pixels share cells)
+    row = np.empty(RECENT, dtype=np.int64)          # their rows
     P = 0
     on_robot = 0
     negative = 0
+    hint = -1   # the ball of the last point found on the robot
     rr = reach_r * reach_r
     mr = max_range * max_range
     inv = 1.0 / res
@@ -205,13 +277,17 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, rea
     A = np.empty(W)
     for u in range(W):
         A[u] = (u - cx) / fx
+    # the run of pixels in one cell (row `cr`, key `cur`): its bounds, written back when it ends
+    cur = -1
+    cr = -1
+    m0 = m1 = m2 = m3 = m4 = m5 = 0.0
     for v in range(H):
         b = (v - cy) / fy
         # the direction (a, b, 1) in the base frame is Ra a + Rb (per row: Rb = R[:, 1] b + R[:, 2])
         e0 = R[0, 1] * b + R[0, 2]
         e1 = R[1, 1] * b + R[1, 2]
         e2 = R[2, 1] * b + R[2, 2]
-        for u in range(W):
+        for u in range(first[v], last[v] + 1):
             z = depth[v, u]
             if not (z > 0.0 and z < np.inf):
                 if z < 0.0:
@@ -237,29 +313,44 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, rea
                 j = min(int((x1 - box_lo[1]) * icell), shape[1] - 1)
                 k = min(int((x2 - box_lo[2]) * icell), shape[2] - 1)
                 c = (i * shape[1] + j) * shape[2] + k
-                if start[c + 1] > start[c]:
-                    pending[n_pending, 0] = x0
-                    pending[n_pending, 1] = x1
-                    pending[n_pending, 2] = x2
-                    pending[n_pending, 3] = SNAP * d0
-                    pending[n_pending, 4] = SNAP * d1
-                    pending[n_pending, 5] = SNAP * d2
-                    n_pending += 1
+                if near[c]:   # near the robot: on it (dropped), or a point of its own
+                    y0, y1, y2 = x0 + SNAP * d0, x1 + SNAP * d1, x2 + SNAP * d2
+                    if hint >= 0 and _on_part(y0, y1, y2, hint, centres, radii, ball_part, dop, margin):
+                        on_robot += 1   # the ball of the last point on the robot (neighbouring pixels share it)
+                        continue
+                    ball = _robot_ball(y0, y1, y2, centres, radii, dop, margin, box, start, balls)
+                    if ball >= 0:
+                        hint = ball
+                        on_robot += 1
+                        continue
+                    ci, cj, ck = ifloor(y0 * inv), ifloor(y1 * inv), ifloor(y2 * inv)
+                    out[P] = pack(ci, cj, ck)
+                    if exact:
+                        bounds[P, 0] = bounds[P, 3] = x0
+                        bounds[P, 1] = bounds[P, 4] = x1
+                        bounds[P, 2] = bounds[P, 5] = x2
+                    else:
+                        bounds[P, 0], bounds[P, 3] = ci * res, (ci + 1) * res
+                        bounds[P, 1], bounds[P, 4] = cj * res, (cj + 1) * res
+                        bounds[P, 2], bounds[P, 5] = ck * res, (ck + 1) * res
+                    P += 1
                     continue
             zs = z + SNAP   # SNAP further along the ray (depth units, as `cells_seen_free`)
-            ci = int(math.floor((t[0] + zs * d0) * inv))
-            cj = int(math.floor((t[1] + zs * d1) * inv))
-            ck = int(math.floor((t[2] + zs * d2) * inv))
+            ci = ifloor((t[0] + zs * d0) * inv)
+            cj = ifloor((t[1] + zs * d1) * inv)
+            ck = ifloor((t[2] + zs * d2) * inv)
             key = pack(ci, cj, ck)
             if not exact:   # whole cells: one row per cell (as far as the recent keys tell)
-                slot = (key ^ (key >> 19) ^ (key >> 37)) & 65535
-                if recent[slot] != key:
-                    recent[slot] = key
-                    out[P] = key
-                    bounds[P, 0], bounds[P, 3] = ci * res, (ci + 1) * res
-                    bounds[P, 1], bounds[P, 4] = cj * res, (cj + 1) * res
-                    bounds[P, 2], bounds[P, 5] = ck * res, (ck + 1) * res
-                    P += 1
+                if key != cur:
+                    cur = key
+                    slot = (key ^ (key >> 19) ^ (key >> 37)) & (RECENT - 1)
+                    if recent[slot] != key:
+                        recent[slot] = key
+                        out[P] = key
+                        bounds[P, 0], bounds[P, 3] = ci * res, (ci + 1) * res
+                        bounds[P, 1], bounds[P, 4] = cj * res, (cj + 1) * res
+                        bounds[P, 2], bounds[P, 5] = ck * res, (ck + 1) * res
+                        P += 1
                 continue
             # behind the point the ray is hidden: the bounds take the ray a cell diagonal on
             # (clamped to the cell by `OccupancyMap`), so only the side the camera saw is exact
@@ -267,57 +358,64 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, rea
             y0 = t[0] + zb * d0
             y1 = t[1] + zb * d1
             y2 = t[2] + zb * d2
-            slot = (key ^ (key >> 19) ^ (key >> 37)) & 65535
-            if recent[slot] != key:
-                recent[slot] = key
-                row[slot] = P
-                out[P] = key
-                bounds[P, 0], bounds[P, 3] = min(x0, y0), max(x0, y0)
-                bounds[P, 1], bounds[P, 4] = min(x1, y1), max(x1, y1)
-                bounds[P, 2], bounds[P, 5] = min(x2, y2), max(x2, y2)
-                P += 1
+            if key != cur:   # a new run: the last one's bounds into its row; this cell's row
+                if cr >= 0:
+                    bounds[cr, 0] = min(bounds[cr, 0], m0)
+                    bounds[cr, 1] = min(bounds[cr, 1], m1)
+                    bounds[cr, 2] = min(bounds[cr, 2], m2)
+                    bounds[cr, 3] = max(bounds[cr, 3], m3)
+                    bounds[cr, 4] = max(bounds[cr, 4], m4)
+                    bounds[cr, 5] = max(bounds[cr, 5], m5)
+                cur = key
+                slot = (key ^ (key >> 19) ^ (key >> 37)) & (RECENT - 1)
+                if recent[slot] != key:
+                    recent[slot] = key
+                    row[slot] = P
+                    out[P] = key
+                    bounds[P, 0] = bounds[P, 1] = bounds[P, 2] = np.inf
+                    bounds[P, 3] = bounds[P, 4] = bounds[P, 5] = -np.inf
+                    P += 1
+                cr = row[slot]
+                m0, m1, m2 = min(x0, y0), min(x1, y1), min(x2, y2)
+                m3, m4, m5 = max(x0, y0), max(x1, y1), max(x2, y2)
             else:
-                r = row[slot]
-                bounds[r, 0] = min(bounds[r, 0], x0, y0)
-                bounds[r, 1] = min(bounds[r, 1], x1, y1)
-                bounds[r, 2] = min(bounds[r, 2], x2, y2)
-                bounds[r, 3] = max(bounds[r, 3], x0, y0)
-                bounds[r, 4] = max(bounds[r, 4], x1, y1)
-                bounds[r, 5] = max(bounds[r, 5], x2, y2)
+                m0, m1, m2 = min(m0, x0, y0), min(m1, x1, y1), min(m2, x2, y2)
+                m3, m4, m5 = max(m3, x0, y0), max(m4, x1, y1), max(m5, x2, y2)
             # a silhouette: the surface goes on up to the next pixel's ray (whose depth is far
             # beyond, or unmeasured): the bounds take that ray's point at this depth
-            jump = max(SILHOUETTE, SILHOUETTE_PX * z / fx)
-            r = row[slot]
+            far = z + max(SILHOUETTE, SILHOUETTE_PX * z / fx)
             for nb in range(4):
-                uu = u + (1 if nb == 0 else (-1 if nb == 1 else 0))
-                vv = v + (1 if nb == 2 else (-1 if nb == 3 else 0))
-                if uu < 0 or uu >= W or vv < 0 or vv >= H or depth[vv, uu] < z + jump:
+                if nb == 0:
+                    uu, vv = u + 1, v
+                    if uu >= W:
+                        continue
+                elif nb == 1:
+                    uu, vv = u - 1, v
+                    if uu < 0:
+                        continue
+                elif nb == 2:
+                    uu, vv = u, v + 1
+                    if vv >= H:
+                        continue
+                else:
+                    uu, vv = u, v - 1
+                    if vv < 0:
+                        continue
+                if depth[vv, uu] < far:
                     continue
                 bb = (vv - cy) / fy
                 g0 = t[0] + z * (R[0, 0] * A[uu] + R[0, 1] * bb + R[0, 2])
                 g1 = t[1] + z * (R[1, 0] * A[uu] + R[1, 1] * bb + R[1, 2])
                 g2 = t[2] + z * (R[2, 0] * A[uu] + R[2, 1] * bb + R[2, 2])
-                bounds[r, 0] = min(bounds[r, 0], g0)
-                bounds[r, 1] = min(bounds[r, 1], g1)
-                bounds[r, 2] = min(bounds[r, 2], g2)
-                bounds[r, 3] = max(bounds[r, 3], g0)
-                bounds[r, 4] = max(bounds[r, 4], g1)
-                bounds[r, 5] = max(bounds[r, 5], g2)
-    # the points near the robot: each against the parts of the balls of its cell
-    for n in range(n_pending):
-        y0, y1, y2 = pending[n, 0] + pending[n, 3], pending[n, 1] + pending[n, 4], pending[n, 2] + pending[n, 5]
-        if _robot_point(y0, y1, y2, centres, radii, ball_part, planes, margin, cell, lo, shape, start, members):
-            on_robot += 1
-            continue
-        ci, cj, ck = int(math.floor(y0 * inv)), int(math.floor(y1 * inv)), int(math.floor(y2 * inv))
-        out[P] = pack(ci, cj, ck)
-        for a in range(3):
-            bounds[P, a] = bounds[P, 3 + a] = pending[n, a]
-        if not exact:
-            bounds[P, 0], bounds[P, 3] = ci * res, (ci + 1) * res
-            bounds[P, 1], bounds[P, 4] = cj * res, (cj + 1) * res
-            bounds[P, 2], bounds[P, 5] = ck * res, (ck + 1) * res
-        P += 1
+                m0, m1, m2 = min(m0, g0), min(m1, g1), min(m2, g2)
+                m3, m4, m5 = max(m3, g0), max(m4, g1), max(m5, g2)
+    if cr >= 0:
+        bounds[cr, 0] = min(bounds[cr, 0], m0)
+        bounds[cr, 1] = min(bounds[cr, 1], m1)
+        bounds[cr, 2] = min(bounds[cr, 2], m2)
+        bounds[cr, 3] = max(bounds[cr, 3], m3)
+        bounds[cr, 4] = max(bounds[cr, 4], m4)
+        bounds[cr, 5] = max(bounds[cr, 5], m5)
     return out[:P].copy(), bounds[:P].copy(), on_robot, negative
 
 
