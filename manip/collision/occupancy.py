@@ -37,6 +37,7 @@ import numpy as np
 from scipy import ndimage
 
 from manip.collision.occupancy_boxes import boxes_near_balls, cell_range, grid_tables, merge_boxes, near_boxes
+from manip.collision.occupancy_exact import part_boxes, part_hull
 from manip.collision.occupancy_kernels import cells_contain, map_candidates, point_lower_bounds
 from manip.collision.shapes import Mesh, _check_name, as_pose
 from manip.errors import InvalidInputError
@@ -318,6 +319,17 @@ class MapGeometry:
         margin); `balls` ((K, 3) centres, (K,) radii [m], base frame) holding the geometry, if
         known, pick the boxes to test (else its bounding box does)."""
         margin = float(request.security_margin) + 1e-9
+        hull = part_hull(geometry)
+        if hull is not None:   # the boxes a cheap test decides are not given to coal
+            hit, ids = part_boxes(*self._grid, tf.getRotation(), tf.getTranslation(), *hull, float(request.security_margin))
+            if hit:
+                return True
+            for m in ids.tolist():
+                box, btf = self._box(m)
+                result.clear()
+                if coal.collide(geometry, tf, box, btf, request, result):
+                    return True
+            return False
         if balls is not None:
             ids, d = boxes_near_balls(*self._grid, balls[0], balls[1], margin)
         else:
