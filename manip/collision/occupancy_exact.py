@@ -19,6 +19,8 @@ import math
 
 import numpy as np
 
+from manip.collision.solids import solid_data, weld
+from manip.errors import InvalidInputError
 from manip.jit import kernel
 
 #: A vertex closer than this to a box's faces, or a separation closer than this to the
@@ -36,10 +38,30 @@ def _kdop(V: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.ascontiguousarray(D), np.ascontiguousarray((V @ D.T).max(axis=0))
 
 
+def _surface_depth(geometry, V: np.ndarray, eq: np.ndarray, area: float) -> float:
+    """How far [m] a closed mesh's surface may lie inside its convex hull's boundary (each
+    triangle bounded by the facet plane nearest its three corners); 0 for a convex solid,
+    inf for a surface that is not closed."""
+    if not hasattr(geometry, "tri_indices"):   # coal.Convex: a solid
+        return 0.0
+    F = np.array([[t[0], t[1], t[2]] for t in (geometry.tri_indices(i) for i in range(geometry.num_tris))],
+                 dtype=np.int64).reshape(-1, 3)
+    W, F = weld(V, F)
+    try:
+        volume = solid_data(W, F, "part").volume
+    except InvalidInputError:   # open or inconsistent: the inside of the hull says nothing
+        return np.inf
+    below = -(W @ eq[:, :3].T + eq[:, 3])   # (P, facets) >= 0: each vertex's depth under each facet's plane
+    depth = float(below[F].max(axis=1).min(axis=1).max())
+    # the hull's points deeper than `depth` are all inside the surface, or all outside: then it
+    # would enclose no more than the shell between them and the boundary
+    return depth if abs(volume) > area * depth else np.inf
+
+
 def part_hull(geometry) -> tuple[np.ndarray, ...] | None:
     """(vertices (P, 3), k-DOP normals (26, 3), offsets (26,), hull normals (F, 3), offsets
-    (F,)) [m] of a part's coal geometry in its frame (n . x <= offset for every point of the
-    part), or None for a shape these tests do not handle (spheres, cylinders, ...: coal alone
+    (F,), how far its surface may lie inside the hull's boundary (inf: unknown)) [m] of a part's coal geometry in its
+    frame (n . x <= offset for every point of the part), or None for a shape these tests do not handle (spheres, cylinders, ...: coal alone
     decides). Cached per geometry."""
     got = _LOCAL.get(id(geometry))
     if got is not None and got[0] is geometry:
@@ -48,7 +70,7 @@ def part_hull(geometry) -> tuple[np.ndarray, ...] | None:
     if hasattr(geometry, "halfSide"):   # coal.Box
         h = np.asarray(geometry.halfSide, dtype=float)
         V = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float) * h
-        data = (V, *_kdop(V), np.vstack([np.eye(3), -np.eye(3)]), np.concatenate([h, h]))
+        data = (V, *_kdop(V), np.vstack([np.eye(3), -np.eye(3)]), np.concatenate([h, h]), 0.0)
     else:
         if hasattr(geometry, "num_tris") and hasattr(geometry, "vertices"):   # a BVH mesh
             V = np.asarray(geometry.vertices(), dtype=float).reshape(-1, 3)
@@ -59,10 +81,12 @@ def part_hull(geometry) -> tuple[np.ndarray, ...] | None:
         if V is not None and V.shape[0] >= 4:
             from scipy.spatial import ConvexHull, QhullError
             try:
-                eq = ConvexHull(V).equations   # n . x + d <= 0 inside
+                hull = ConvexHull(V)
+                eq = hull.equations   # n . x + d <= 0 inside
             except (QhullError, ValueError):   # flat: the world axes alone
-                eq = np.zeros((0, 4))
-            data = (np.ascontiguousarray(V), *_kdop(V), np.ascontiguousarray(eq[:, :3]), np.ascontiguousarray(-eq[:, 3]))
+                hull, eq = None, np.zeros((0, 4))
+            data = (np.ascontiguousarray(V), *_kdop(V), np.ascontiguousarray(eq[:, :3]), np.ascontiguousarray(-eq[:, 3]),
+                    np.inf if hull is None else _surface_depth(geometry, V, eq, hull.area))
     if len(_LOCAL) > 4096:
         _LOCAL.clear()
     _LOCAL[id(geometry)] = (geometry, data)
@@ -94,6 +118,30 @@ def _separation(Pl, boxes, b):
 
 
 @kernel(inline="always")
+def _crosses(Pl, boxes, b, depth):
+    """True when a corner of box b lies deeper than `depth` [m] inside the placed planes Pl
+    (F, 4) (n, h) and another outside them (each beyond TOLERANCE): the box crosses a closed
+    surface lying within `depth` inside their boundary."""
+    inside = outside = False
+    for c in range(8):
+        x0 = boxes[b, 3] if c & 1 else boxes[b, 0]
+        x1 = boxes[b, 4] if c & 2 else boxes[b, 1]
+        x2 = boxes[b, 5] if c & 4 else boxes[b, 2]
+        worst = -np.inf
+        for f in range(Pl.shape[0]):
+            worst = max(worst, Pl[f, 0] * x0 + Pl[f, 1] * x1 + Pl[f, 2] * x2 - Pl[f, 3])
+            if worst > TOLERANCE:
+                break
+        if worst > TOLERANCE:
+            outside = True
+        elif worst < -depth - TOLERANCE:
+            inside = True
+        if inside and outside:
+            return True
+    return False
+
+
+@kernel(inline="always")
 def _planes_separate(Pl, boxes, b, sep):
     """True when a placed plane of Pl (F, 4) (n, h: n . x <= h holds the part) keeps the part
     more than sep [m] from box b (the box's lowest point along n is beyond it)."""
@@ -107,7 +155,7 @@ def _planes_separate(Pl, boxes, b, sep):
 
 
 @kernel
-def part_boxes(boxes, idx, of_cell, origin, res, R, t, V, Nk, hk, N, h, margin):
+def part_boxes(boxes, idx, of_cell, origin, res, R, t, V, Nk, hk, N, h, depth, margin):
     """The boxes (M, 6) [m] of a map a part may touch, and whether one surely does.
 
     Args:
@@ -115,7 +163,9 @@ def part_boxes(boxes, idx, of_cell, origin, res, R, t, V, Nk, hk, N, h, margin):
             origin, cell edge (`MapGeometry`).
         R, t: (3, 3), (3,) the part's placement; V (P, 3): its vertices, (Nk (D, 3), hk (D,))
             and (N (F, 3), h (F,)): planes n . x <= h holding it (a k-DOP, its convex hull),
-            in its frame (`part_hull`).
+            in its frame (`part_hull`); depth: how far the part's closed surface may lie inside
+            its hull's boundary [m] (a box corner deeper than that inside the hull and one
+            outside it: the box crosses the part's surface).
         margin: coal's security margin [m].
 
     Returns:
@@ -189,6 +239,8 @@ def part_boxes(boxes, idx, of_cell, origin, res, R, t, V, Nk, hk, N, h, margin):
         if Ph.shape[0] == 0 and N.shape[0] > 0:
             Ph = _placed_planes(N, h, R, t)
         if not _planes_separate(Ph, boxes, b, sep):
+            if depth < np.inf and _crosses(Ph, boxes, b, depth):
+                return True, np.zeros(0, dtype=np.int64)
             keep[T] = b
             T += 1
     return False, keep[:T].copy()
