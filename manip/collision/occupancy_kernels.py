@@ -103,34 +103,6 @@ def _cells_within(x0, x1, x2, s, stop, idx, cb, res, origin, bocc, B):
     return best
 
 
-@kernel
-def _nearest_point(x0, x1, x2, s, idx, cb, res, origin, bocc, B):
-    """The nearest point (3 floats) of the occupied cells' boxes within s [m] of the point
-    (the point itself when none is)."""
-    best = s
-    y0, y1, y2 = x0, x1, x2
-    I0, I1, J0, J1, K0, K1 = _block_range(x0, x1, x2, s, res, origin, bocc, B)
-    for I in range(I0, I1 + 1):
-        for J in range(J0, J1 + 1):
-            for K in range(K0, K1 + 1):
-                if not bocc[I, J, K]:
-                    continue
-                for i in range(I * B, min((I + 1) * B, idx.shape[0])):
-                    for j in range(J * B, min((J + 1) * B, idx.shape[1])):
-                        for k in range(K * B, min((K + 1) * B, idx.shape[2])):
-                            m = idx[i, j, k]
-                            if m < 0:
-                                continue
-                            c0 = min(max(x0, cb[m, 0]), cb[m, 3])
-                            c1 = min(max(x1, cb[m, 1]), cb[m, 4])
-                            c2 = min(max(x2, cb[m, 2]), cb[m, 5])
-                            e = math.sqrt((x0 - c0) ** 2 + (x1 - c1) ** 2 + (x2 - c2) ** 2)
-                            if e < best:
-                                best = e
-                                y0, y1, y2 = c0, c1, c2
-    return y0, y1, y2
-
-
 @kernel(inline="always")
 def ball_clearance(x0, x1, x2, r, need, idx, cb, res, origin, blb, bocc, B, lo, hi):
     """A lower bound [m] of the distance from the ball (centre, radius r) to the occupied
@@ -255,13 +227,52 @@ def cells_contain(X, idx, cb, res, origin):
     return False
 
 
+@kernel(inline="always")
+def _nearest_within(x0, x1, x2, s, idx, cb, res, origin, bocc, B):
+    """(the distance [m] from the point to the nearest occupied cell's box if below s, else
+    s; that box's nearest point (3 floats), the point itself when none is within s)."""
+    best = s
+    y0, y1, y2 = x0, x1, x2
+    I0, I1, J0, J1, K0, K1 = _block_range(x0, x1, x2, s, res, origin, bocc, B)
+    for I in range(I0, I1 + 1):
+        a = max((origin[0] + I * B) * res - x0, 0.0, x0 - (origin[0] + (I + 1) * B) * res)
+        for J in range(J0, J1 + 1):
+            b = max((origin[1] + J * B) * res - x1, 0.0, x1 - (origin[1] + (J + 1) * B) * res)
+            for K in range(K0, K1 + 1):
+                if not bocc[I, J, K]:
+                    continue
+                c = max((origin[2] + K * B) * res - x2, 0.0, x2 - (origin[2] + (K + 1) * B) * res)
+                if a * a + b * b + c * c >= best * best:
+                    continue
+                for i in range(I * B, min((I + 1) * B, idx.shape[0])):
+                    e0 = max((origin[0] + i) * res - x0, 0.0, x0 - (origin[0] + i + 1) * res)
+                    for j in range(J * B, min((J + 1) * B, idx.shape[1])):
+                        e1 = max((origin[1] + j) * res - x1, 0.0, x1 - (origin[1] + j + 1) * res)
+                        if e0 * e0 + e1 * e1 >= best * best:   # the cell holds its box
+                            continue
+                        for k in range(K * B, min((K + 1) * B, idx.shape[2])):
+                            m = idx[i, j, k]
+                            if m >= 0:
+                                f0 = max(cb[m, 0] - x0, 0.0, x0 - cb[m, 3])
+                                f1 = max(cb[m, 1] - x1, 0.0, x1 - cb[m, 4])
+                                f2 = max(cb[m, 2] - x2, 0.0, x2 - cb[m, 5])
+                                e = math.sqrt(f0 * f0 + f1 * f1 + f2 * f2)
+                                if e < best:
+                                    best = e
+                                    y0 = min(max(x0, cb[m, 0]), cb[m, 3])
+                                    y1 = min(max(x1, cb[m, 1]), cb[m, 4])
+                                    y2 = min(max(x2, cb[m, 2]), cb[m, 5])
+    return best, y0, y1, y2
+
+
 @kernel
 def map_nearest_terms(R, p, centres, radii, joint, bodies, start, count, body_centre, body_radius, activation,
                       idx, cb, res, origin, blb, bocc, B, lo, hi):
     """The clearance terms of `manip.collision.clearance` against a map: for each
     (configuration, body) the ball nearest the occupied cells, kept when closer than
     `activation` [m], with the unit gradient of its centre's distance (from the nearest point
-    of the nearest cell).
+    of the nearest cell). Each ball looks only as far as the nearest found so far (ties: the
+    first ball); one whose coarse bound is beyond that is not looked at.
 
     Returns:
         (n, s (T,) int64, distance (T,) [m], centre x (T, 3), unit normal (T, 3)).
@@ -276,7 +287,6 @@ def map_nearest_terms(R, p, centres, radii, joint, bodies, start, count, body_ce
     nrm = np.empty((cap, 3))
     x = np.empty(3)
     T = 0
-    reach = activation
     for n in range(N):
         for b in range(Bn):
             j = bodies[b]
@@ -285,27 +295,27 @@ def map_nearest_terms(R, p, centres, radii, joint, bodies, start, count, body_ce
                         + R[n, j, r, 2] * body_centre[b, 2] + p[n, j, r])
             if _coarse(x[0], x[1], x[2], res, origin, blb, B, lo, hi) - body_radius[b] >= activation:
                 continue
-            best = np.inf
+            best = activation   # only a ball nearer than this gives a term
             best_s = -1
+            y0 = y1 = y2 = 0.0
             for s in range(start[b], start[b] + count[b]):
                 for r in range(3):
                     x[r] = (R[n, j, r, 0] * centres[s, 0] + R[n, j, r, 1] * centres[s, 1]
                             + R[n, j, r, 2] * centres[s, 2] + p[n, j, r])
-                if _coarse(x[0], x[1], x[2], res, origin, blb, B, lo, hi) - radii[s] >= min(best, reach):
+                if _coarse(x[0], x[1], x[2], res, origin, blb, B, lo, hi) - radii[s] >= best:
                     continue   # cannot be nearer than the best ball so far, nor active
-                d = ball_clearance(x[0], x[1], x[2], radii[s], min(best, reach), idx, cb, res, origin, blb, bocc, B, lo, hi)
-                if d < best:
-                    best = d
+                e, c0, c1, c2 = _nearest_within(x[0], x[1], x[2], best + radii[s], idx, cb, res, origin, bocc, B)
+                if e < best + radii[s] and e - radii[s] < best:
+                    best = e - radii[s]
                     best_s = s
-            if best >= activation:
+                    y0, y1, y2 = c0, c1, c2
+            if best_s < 0:
                 continue
             s = best_s
             for r in range(3):
                 x_out[T, r] = (R[n, j, r, 0] * centres[s, 0] + R[n, j, r, 1] * centres[s, 1]
                                + R[n, j, r, 2] * centres[s, 2] + p[n, j, r])
             # the unit direction from the nearest point of the nearest cell to the centre
-            y0, y1, y2 = _nearest_point(x_out[T, 0], x_out[T, 1], x_out[T, 2], reach + radii[s], idx, cb, res,
-                                        origin, bocc, B)
             g0, g1, g2 = x_out[T, 0] - y0, x_out[T, 1] - y1, x_out[T, 2] - y2
             norm = math.sqrt(g0 * g0 + g1 * g1 + g2 * g2)
             if norm < 1e-12:   # the centre in a cell: away from that cell's centre
