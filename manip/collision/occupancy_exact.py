@@ -93,7 +93,7 @@ def part_hull(geometry) -> tuple[np.ndarray, ...] | None:
     return data
 
 
-@kernel
+@kernel(inline="always")
 def _placed_planes(N, h, R, t):
     """The planes n . x <= h (N (F, 3), h (F,), part frame) placed at (R, t): (F, 4) (n, h)."""
     out = np.empty((N.shape[0], 4))
