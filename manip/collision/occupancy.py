@@ -13,8 +13,9 @@ planner and in its continuous certificate:
   then the exact distance to the boxes of the cells within reach of each ball;
   `manip.collision.occupancy_kernels`), so a configuration far from every cell costs a few
   lookups whatever the number of cells;
-- exact: coal on the boxes (the cells' boxes merged into fewer disjoint ones that tile the
-  same union, `MapGeometry`): a part is tested against the boxes its bounding box comes near,
+- exact: a part against the boxes (the cells' boxes merged into fewer disjoint ones that
+  tile the same union, `MapGeometry`) in the cells its vertices' box spans, decided by cheap
+  conclusive tests where they can (`manip.collision.occupancy_exact`) and by coal on the rest,
   each a `coal.Box` made on first use, so installing a new map builds no coal geometry; a
   part inside a box (not touching its faces) is found by the grid (`contains_points`), as for
   solid meshes (`manip.collision.solids`); the certificate keeps every part off every face,
@@ -276,7 +277,8 @@ class OccupancyMap(Mesh):
 class MapGeometry:
     """The exact geometry of a map: disjoint boxes (M, 6) [m] (lo, hi), base frame, each a
     `coal.Box` made on first use. Its `collide` / `distance` stand for coal's calls against
-    one geometry: a part is tested against the boxes its (placed) bounding box comes near."""
+    one geometry: a part is tested against the boxes its (placed) bounding box comes near
+    (`collide`: those `occupancy_exact.part_boxes` leaves undecided)."""
 
     def __init__(self, boxes: np.ndarray, idx: np.ndarray, of_cell: np.ndarray, origin: np.ndarray, res: float):
         self.boxes = np.ascontiguousarray(boxes, dtype=np.float64)
@@ -316,12 +318,14 @@ class MapGeometry:
 
     def collide(self, geometry, tf, request, result, balls=None) -> bool:
         """coal.collide of `geometry` at `tf` against the boxes (within the request's security
-        margin); `balls` ((K, 3) centres, (K,) radii [m], base frame) holding the geometry, if
-        known, pick the boxes to test (else its bounding box does)."""
+        margin): a mesh, convex or box by `occupancy_exact.part_boxes` and coal on the boxes it
+        leaves; another shape by coal on the boxes `balls` ((K, 3) centres, (K,) radii [m],
+        base frame, holding the geometry), if known, come near (else its bounding box)."""
         margin = float(request.security_margin) + 1e-9
         hull = part_hull(geometry)
         if hull is not None:   # the boxes a cheap test decides are not given to coal
-            hit, ids = part_boxes(*self._grid, tf.getRotation(), tf.getTranslation(), *hull, float(request.security_margin))
+            hit, ids = part_boxes(*self._grid, tf.getRotation(), tf.getTranslation(), *hull,
+                                  float(request.security_margin))
             if hit:
                 return True
             for m in ids.tolist():

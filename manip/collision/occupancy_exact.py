@@ -1,16 +1,19 @@
 """Exact part-against-map tests decided without coal where a cheap test is conclusive.
 
 A moving part (a triangle mesh, a convex or a box) against the boxes of an occupancy map
-(`manip.collision.occupancy.MapGeometry`): of the boxes within reach of the part's balls,
+(`manip.collision.occupancy.MapGeometry`): of the boxes in the cells its vertices' box spans,
 
 - a box that a vertex of the part lies in (within coal's security margin) collides: the vertex
   is a point of the part, the box a solid;
-- a box separated from the part's convex hull by more than the margin along one of the
-  world axes or one of the hull's face planes is free: the hull holds the part;
-- the others (neither decided) go to coal, nearest first.
+- a box with a corner inside a closed part (deeper than its surface may lie under its convex
+  hull's boundary) and a corner outside the hull collides: the box crosses the surface;
+- a box beyond the margin from the part's vertices' box, or beyond a plane of its 26-DOP or
+  of its convex hull, is free: each holds the part;
+- the others (neither decided) go to coal, the nearest (by the 26-DOP) first.
 
-Each answer is coal's, up to `TOLERANCE` [m] at the boundary (a vertex must be inside by that
-much, a separation must exceed the margin by that much; anything closer goes to coal).
+Each answer is coal's, up to `TOLERANCE` [m] at the boundary (a vertex or corner must be
+inside by that much, a separation must exceed the margin by that much; anything closer goes
+to coal).
 """
 
 from __future__ import annotations
@@ -59,10 +62,14 @@ def _surface_depth(geometry, V: np.ndarray, eq: np.ndarray, area: float) -> floa
 
 
 def part_hull(geometry) -> tuple[np.ndarray, ...] | None:
-    """(vertices (P, 3), k-DOP normals (26, 3), offsets (26,), hull normals (F, 3), offsets
-    (F,), how far its surface may lie inside the hull's boundary (inf: unknown)) [m] of a part's coal geometry in its
-    frame (n . x <= offset for every point of the part), or None for a shape these tests do not handle (spheres, cylinders, ...: coal alone
-    decides). Cached per geometry."""
+    """The data of a part's coal geometry (its frame) for `part_boxes`, or None for a shape
+    these tests do not handle (spheres, cylinders, ...: coal alone decides). Cached.
+
+    Returns:
+        (vertices (P, 3), 26-DOP normals (26, 3), offsets (26,), convex hull normals (F, 3),
+        offsets (F,): n . x <= offset for every point of the part, how far its surface may
+        lie inside the hull's boundary (inf: not a closed mesh)) [m].
+    """
     got = _LOCAL.get(id(geometry))
     if got is not None and got[0] is geometry:
         return got[1]
@@ -83,7 +90,7 @@ def part_hull(geometry) -> tuple[np.ndarray, ...] | None:
             try:
                 hull = ConvexHull(V)
                 eq = hull.equations   # n . x + d <= 0 inside
-            except (QhullError, ValueError):   # flat: the world axes alone
+            except (QhullError, ValueError):   # flat: the vertices' box and the 26-DOP alone
                 hull, eq = None, np.zeros((0, 4))
             data = (np.ascontiguousarray(V), *_kdop(V), np.ascontiguousarray(eq[:, :3]), np.ascontiguousarray(-eq[:, 3]),
                     np.inf if hull is None else _surface_depth(geometry, V, eq, hull.area))
@@ -162,15 +169,16 @@ def part_boxes(boxes, idx, of_cell, origin, res, R, t, V, Nk, hk, N, h, depth, m
         boxes, idx, of_cell, origin, res: the map's merged boxes, grid, box of each cell, grid
             origin, cell edge (`MapGeometry`).
         R, t: (3, 3), (3,) the part's placement; V (P, 3): its vertices, (Nk (D, 3), hk (D,))
-            and (N (F, 3), h (F,)): planes n . x <= h holding it (a k-DOP, its convex hull),
+            and (N (F, 3), h (F,)): planes n . x <= h holding it (its 26-DOP, its convex hull),
             in its frame (`part_hull`); depth: how far the part's closed surface may lie inside
             its hull's boundary [m] (a box corner deeper than that inside the hull and one
             outside it: the box crosses the part's surface).
         margin: coal's security margin [m].
 
     Returns:
-        (hit: a vertex lies in a box (within the margin), ids (T,) int64 of the boxes left
-        to coal, nearest ball first).
+        (hit: a vertex of the part lies in a box (within the margin) or a box crosses its
+        closed surface, ids (T,) int64 of the boxes left to coal, nearest by the 26-DOP
+        first).
     """
     P = V.shape[0]
     W = np.empty((P, 3))
