@@ -320,7 +320,8 @@ class MapGeometry:
         """coal.collide of `geometry` at `tf` against the boxes (within the request's security
         margin): a mesh, convex or box by `occupancy_exact.part_boxes` and coal on the boxes it
         leaves; another shape by coal on the boxes `balls` ((K, 3) centres, (K,) radii [m],
-        base frame, holding the geometry), if known, come near (else its bounding box)."""
+        base frame, holding the geometry, or a callable giving them), if known, come near
+        (else its bounding box)."""
         margin = float(request.security_margin) + 1e-9
         hull = part_hull(geometry)
         if hull is not None:   # the boxes a cheap test decides are not given to coal
@@ -334,6 +335,8 @@ class MapGeometry:
                 if coal.collide(geometry, tf, box, btf, request, result):
                     return True
             return False
+        if callable(balls):
+            balls = balls()
         if balls is not None:
             ids, d = boxes_near_balls(*self._grid, balls[0], balls[1], margin)
         else:
@@ -370,7 +373,7 @@ def geometry_collide(geometry, tf, obstacle_geometry, obstacle_tf, request, resu
     """coal.collide, or `MapGeometry.collide` for an occupancy map's geometry (`balls`: its
     argument, a callable giving it, or None)."""
     if type(obstacle_geometry) is MapGeometry:
-        return obstacle_geometry.collide(geometry, tf, request, result, balls() if callable(balls) else balls)
+        return obstacle_geometry.collide(geometry, tf, request, result, balls)
     return bool(coal.collide(geometry, tf, obstacle_geometry, obstacle_tf, request, result))
 
 
