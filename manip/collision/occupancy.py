@@ -145,7 +145,7 @@ class OccupancyMap(Mesh):
             cb = np.zeros((0, 6))
             origin = np.zeros(3, dtype=np.int64)
             blb = np.full((1, 1, 1), np.inf)
-            blocks = np.zeros((1, 1, 1), dtype=bool)
+            blocks = np.concatenate([np.full(3, np.inf), np.full(3, -np.inf)]).reshape(1, 1, 1, 6)   # empty
             lo = hi = boxes[0, :3]
         else:
             origin, shape = cell_range(c)
@@ -156,6 +156,7 @@ class OccupancyMap(Mesh):
             bounds = np.zeros((0, 6)) if whole else np.array(self.bounds, dtype=np.float64)   # writable: one signature
             # blocks of BLOCK cells: the exact box-to-box distance between a block and the nearest
             # occupied block is the distance transform of the dilated block grid (module doc)
+            # blocks: the box holding each block's cells' boxes
             idx, cb, lo, hi, blocks, grown = grid_tables(c, bounds, whole, origin, shape, float(res), BLOCK)
             blb = ndimage.distance_transform_edt(~grown) * (BLOCK * res) if not grown.all() else np.zeros(grown.shape)
             boxes, of_cell = merge_boxes(idx, cb, origin, float(res))
@@ -245,7 +246,8 @@ class OccupancyMap(Mesh):
 
     @property
     def broadphase_tables(self) -> tuple:
-        """(idx, cb, res, origin, blb, bocc, BLOCK, lo, hi): the tables of `occupancy_kernels`."""
+        """(idx, cb, res, origin, blb, bocc, BLOCK, lo, hi): the tables of `occupancy_kernels`
+        (bocc (nb0, nb1, nb2, 6) [m]: the box holding each block's cells' boxes)."""
         return self._grid["tables"]
 
     def cell_boxes(self) -> np.ndarray:
