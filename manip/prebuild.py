@@ -143,6 +143,9 @@ def _perception(mg, q0) -> None:
     m = mg.update_world_from_pointcloud(np.array([[0.6, 0.0, -0.2], [0.7, 0.1, -0.2]]), origin=[0.6, 0.0, 1.0], q=q0)
     m.contains_points(np.array([[0.6, 0.0, -0.19]]))
     mg.distance(q0)
+    Q = np.random.default_rng(0).uniform(mg.lower_limits, mg.upper_limits, (64, mg.lower_limits.size))
+    if not mg.checker.in_collision_batch(Q).any():   # parts against the maps' boxes (`occupancy_exact`)
+        raise RuntimeError("the prebuild workload's configurations met no occupancy map")
     r = mg.plan_pose(q0, Pose([0.45, 0.3, 0.35], [0, 1, 0, 0]), seed=0, time_budget=900.0)
     if not r.success:
         raise RuntimeError(f"the prebuild workload's plan on an occupancy map failed: {r.status.name}")

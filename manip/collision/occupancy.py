@@ -13,8 +13,9 @@ planner and in its continuous certificate:
   then the exact distance to the boxes of the cells within reach of each ball;
   `manip.collision.occupancy_kernels`), so a configuration far from every cell costs a few
   lookups whatever the number of cells;
-- exact: coal on the boxes (the cells' boxes merged into fewer disjoint ones that tile the
-  same union, `MapGeometry`): a part is tested against the boxes its bounding box comes near,
+- exact: a part against the boxes (the cells' boxes merged into fewer disjoint ones that
+  tile the same union, `MapGeometry`) in the cells its vertices' box spans, decided by cheap
+  conclusive tests where they can (`manip.collision.occupancy_exact`) and by coal on the rest,
   each a `coal.Box` made on first use, so installing a new map builds no coal geometry; a
   part inside a box (not touching its faces) is found by the grid (`contains_points`), as for
   solid meshes (`manip.collision.solids`); the certificate keeps every part off every face,
@@ -37,6 +38,7 @@ import numpy as np
 from scipy import ndimage
 
 from manip.collision.occupancy_boxes import boxes_near_balls, cell_range, grid_tables, merge_boxes, near_boxes
+from manip.collision.occupancy_exact import part_boxes, part_hull
 from manip.collision.occupancy_kernels import cells_contain, map_candidates, point_lower_bounds
 from manip.collision.shapes import Mesh, _check_name, as_pose
 from manip.errors import InvalidInputError
@@ -143,7 +145,7 @@ class OccupancyMap(Mesh):
             cb = np.zeros((0, 6))
             origin = np.zeros(3, dtype=np.int64)
             blb = np.full((1, 1, 1), np.inf)
-            blocks = np.zeros((1, 1, 1), dtype=bool)
+            blocks = np.concatenate([np.full(3, np.inf), np.full(3, -np.inf)]).reshape(1, 1, 1, 6)   # empty
             lo = hi = boxes[0, :3]
         else:
             origin, shape = cell_range(c)
@@ -154,6 +156,7 @@ class OccupancyMap(Mesh):
             bounds = np.zeros((0, 6)) if whole else np.array(self.bounds, dtype=np.float64)   # writable: one signature
             # blocks of BLOCK cells: the exact box-to-box distance between a block and the nearest
             # occupied block is the distance transform of the dilated block grid (module doc)
+            # blocks: the box holding each block's cells' boxes
             idx, cb, lo, hi, blocks, grown = grid_tables(c, bounds, whole, origin, shape, float(res), BLOCK)
             blb = ndimage.distance_transform_edt(~grown) * (BLOCK * res) if not grown.all() else np.zeros(grown.shape)
             boxes, of_cell = merge_boxes(idx, cb, origin, float(res))
@@ -243,7 +246,8 @@ class OccupancyMap(Mesh):
 
     @property
     def broadphase_tables(self) -> tuple:
-        """(idx, cb, res, origin, blb, bocc, BLOCK, lo, hi): the tables of `occupancy_kernels`."""
+        """(idx, cb, res, origin, blb, bocc, BLOCK, lo, hi): the tables of `occupancy_kernels`
+        (bocc (nb0, nb1, nb2, 6) [m]: the box holding each block's cells' boxes)."""
         return self._grid["tables"]
 
     def cell_boxes(self) -> np.ndarray:
@@ -275,7 +279,8 @@ class OccupancyMap(Mesh):
 class MapGeometry:
     """The exact geometry of a map: disjoint boxes (M, 6) [m] (lo, hi), base frame, each a
     `coal.Box` made on first use. Its `collide` / `distance` stand for coal's calls against
-    one geometry: a part is tested against the boxes its (placed) bounding box comes near."""
+    one geometry: a part is tested against the boxes its (placed) bounding box comes near
+    (`collide`: those `occupancy_exact.part_boxes` leaves undecided)."""
 
     def __init__(self, boxes: np.ndarray, idx: np.ndarray, of_cell: np.ndarray, origin: np.ndarray, res: float):
         self.boxes = np.ascontiguousarray(boxes, dtype=np.float64)
@@ -315,9 +320,25 @@ class MapGeometry:
 
     def collide(self, geometry, tf, request, result, balls=None) -> bool:
         """coal.collide of `geometry` at `tf` against the boxes (within the request's security
-        margin); `balls` ((K, 3) centres, (K,) radii [m], base frame) holding the geometry, if
-        known, pick the boxes to test (else its bounding box does)."""
+        margin): a mesh, convex or box by `occupancy_exact.part_boxes` and coal on the boxes it
+        leaves; another shape by coal on the boxes `balls` ((K, 3) centres, (K,) radii [m],
+        base frame, holding the geometry, or a callable giving them), if known, come near
+        (else its bounding box)."""
         margin = float(request.security_margin) + 1e-9
+        hull = part_hull(geometry)
+        if hull is not None:   # the boxes a cheap test decides are not given to coal
+            hit, ids = part_boxes(*self._grid, tf.getRotation(), tf.getTranslation(), *hull,
+                                  float(request.security_margin))
+            if hit:
+                return True
+            for m in ids.tolist():
+                box, btf = self._box(m)
+                result.clear()
+                if coal.collide(geometry, tf, box, btf, request, result):
+                    return True
+            return False
+        if callable(balls):
+            balls = balls()
         if balls is not None:
             ids, d = boxes_near_balls(*self._grid, balls[0], balls[1], margin)
         else:
@@ -354,7 +375,7 @@ def geometry_collide(geometry, tf, obstacle_geometry, obstacle_tf, request, resu
     """coal.collide, or `MapGeometry.collide` for an occupancy map's geometry (`balls`: its
     argument, a callable giving it, or None)."""
     if type(obstacle_geometry) is MapGeometry:
-        return obstacle_geometry.collide(geometry, tf, request, result, balls() if callable(balls) else balls)
+        return obstacle_geometry.collide(geometry, tf, request, result, balls)
     return bool(coal.collide(geometry, tf, obstacle_geometry, obstacle_tf, request, result))
 
 

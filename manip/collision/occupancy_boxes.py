@@ -79,8 +79,9 @@ def grid_tables(cells, bounds, whole, origin, shape, res, B):
     """The tables of `OccupancyMap` for cells (C, 3) (distinct) in the grid (origin, shape):
     idx (shape) int32 (the row of each occupied cell, -1 elsewhere), the cells' boxes (C, 6)
     (`cell_boxes` of bounds (C, 6) [m], or of whole cells when `whole`), the box (lo, hi) (3,)
-    holding them, and the grid of blocks of B^3 cells: occupied, and occupied or next to an
-    occupied block (26-neighbours)."""
+    holding them, and the grid of blocks of B^3 cells: the box (6,) (lo, hi) holding each
+    block's cells' boxes (lo > hi: an empty block), and occupied or next to an occupied block
+    (26-neighbours)."""
     C = cells.shape[0]
     idx = np.full((shape[0], shape[1], shape[2]), -1, dtype=np.int32)
     nb0, nb1, nb2 = -(-shape[0] // B), -(-shape[1] // B), -(-shape[2] // B)
@@ -104,6 +105,14 @@ def grid_tables(cells, bounds, whole, origin, shape, res, B):
         for a in range(3):
             lo[a] = min(lo[a], cb[m, a])
             hi[a] = max(hi[a], cb[m, 3 + a])
+    content = np.empty((nb0, nb1, nb2, 6))   # per block the box holding its cells' boxes
+    content[..., :3] = np.inf
+    content[..., 3:] = -np.inf
+    for m in range(C):
+        I, J, K = (cells[m, 0] - origin[0]) // B, (cells[m, 1] - origin[1]) // B, (cells[m, 2] - origin[2]) // B
+        for a in range(3):
+            content[I, J, K, a] = min(content[I, J, K, a], cb[m, a])
+            content[I, J, K, 3 + a] = max(content[I, J, K, 3 + a], cb[m, 3 + a])
     grown = np.zeros((nb0, nb1, nb2), dtype=np.bool_)
     for i in range(nb0):
         for j in range(nb1):
@@ -114,7 +123,7 @@ def grid_tables(cells, bounds, whole, origin, shape, res, B):
                     for e in range(max(j - 1, 0), min(j + 2, nb1)):
                         for f in range(max(k - 1, 0), min(k + 2, nb2)):
                             grown[a, e, f] = True
-    return idx, cb, lo, hi, blocks, grown
+    return idx, cb, lo, hi, content, grown
 
 
 @kernel(inline="always")

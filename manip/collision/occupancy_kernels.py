@@ -11,7 +11,9 @@ Distances are lower bounds of the distance from a point to that union:
   nearest occupied block's box (an exact Euclidean distance transform of the dilated block
   grid, `OccupancyMap`), which no point of the block can beat;
 - near a ball: the exact distance from its centre to the box of every occupied cell within
-  reach, visiting only the occupied blocks (`bocc`) that can hold a nearer cell.
+  reach, visiting only the occupied blocks whose content box (`bocc` (nb0, nb1, nb2, 6) [m]:
+  the box holding the block's cells' boxes; lo > hi when empty) can hold a nearer cell, and
+  in them only the cells that box spans.
 
 These kernels only filter (as `manip.collision.broadphase`): a pair they cannot clear goes
 to coal's exact check on the cells' boxes (`manip.collision.occupancy_boxes`).
@@ -56,7 +58,7 @@ def _coarse(x0, x1, x2, res, origin, blb, B, lo, hi):
 def _block_range(x0, x1, x2, s, res, origin, bocc, B):
     """The blocks (I0, I1, J0, J1, K0, K1), inclusive, that can hold a point within s [m] of
     the point (x0, x1, x2)."""
-    n0, n1, n2 = bocc.shape
+    n0, n1, n2 = bocc.shape[0], bocc.shape[1], bocc.shape[2]
     I0 = max(int(math.floor(((x0 - s) / res - origin[0]) / B)), 0)
     I1 = min(int(math.floor(((x0 + s) / res - origin[0]) / B)), n0 - 1)
     J0 = max(int(math.floor(((x1 - s) / res - origin[1]) / B)), 0)
@@ -67,29 +69,44 @@ def _block_range(x0, x1, x2, s, res, origin, bocc, B):
 
 
 @kernel(inline="always")
+def _cell_span(lo, hi, first, end, res, o):
+    """The cells [i0, i1) of the block's cells [first, end) that can hold part of the box
+    [lo, hi] along one axis (a cell to spare on each side)."""
+    i0 = max(first, int(math.floor(lo / res)) - o - 1)
+    i1 = min(end, int(math.floor(hi / res)) - o + 2)
+    return i0, i1
+
+
+@kernel(inline="always")
 def _cells_within(x0, x1, x2, s, stop, idx, cb, res, origin, bocc, B):
     """The distance [m] from the point to the nearest occupied cell's box if it is below s
-    (else s), visiting the occupied blocks within s, nearest first in order of enumeration;
-    returns as soon as one closer than `stop` is found."""
+    (else s), visiting the occupied blocks whose content box (`bocc`) lies within s, nearest
+    first in order of enumeration; returns as soon as one closer than `stop` is found."""
     best = s
     I0, I1, J0, J1, K0, K1 = _block_range(x0, x1, x2, s, res, origin, bocc, B)
     for I in range(I0, I1 + 1):
-        a = max((origin[0] + I * B) * res - x0, 0.0, x0 - (origin[0] + (I + 1) * B) * res)
         for J in range(J0, J1 + 1):
-            b = max((origin[1] + J * B) * res - x1, 0.0, x1 - (origin[1] + (J + 1) * B) * res)
             for K in range(K0, K1 + 1):
-                if not bocc[I, J, K]:
+                if bocc[I, J, K, 0] > bocc[I, J, K, 3]:   # empty
                     continue
-                c = max((origin[2] + K * B) * res - x2, 0.0, x2 - (origin[2] + (K + 1) * B) * res)
+                a = max(bocc[I, J, K, 0] - x0, 0.0, x0 - bocc[I, J, K, 3])
+                b = max(bocc[I, J, K, 1] - x1, 0.0, x1 - bocc[I, J, K, 4])
+                c = max(bocc[I, J, K, 2] - x2, 0.0, x2 - bocc[I, J, K, 5])
                 if a * a + b * b + c * c >= best * best:
                     continue
-                for i in range(I * B, min((I + 1) * B, idx.shape[0])):
+                i0, i1 = _cell_span(bocc[I, J, K, 0], bocc[I, J, K, 3], I * B, min((I + 1) * B, idx.shape[0]), res,
+                                    origin[0])
+                j0, j1 = _cell_span(bocc[I, J, K, 1], bocc[I, J, K, 4], J * B, min((J + 1) * B, idx.shape[1]), res,
+                                    origin[1])
+                k0, k1 = _cell_span(bocc[I, J, K, 2], bocc[I, J, K, 5], K * B, min((K + 1) * B, idx.shape[2]), res,
+                                    origin[2])
+                for i in range(i0, i1):
                     e0 = max((origin[0] + i) * res - x0, 0.0, x0 - (origin[0] + i + 1) * res)
-                    for j in range(J * B, min((J + 1) * B, idx.shape[1])):
+                    for j in range(j0, j1):
                         e1 = max((origin[1] + j) * res - x1, 0.0, x1 - (origin[1] + j + 1) * res)
                         if e0 * e0 + e1 * e1 >= best * best:   # the cell holds its box
                             continue
-                        for k in range(K * B, min((K + 1) * B, idx.shape[2])):
+                        for k in range(k0, k1):
                             m = idx[i, j, k]
                             if m >= 0:
                                 f0 = max(cb[m, 0] - x0, 0.0, x0 - cb[m, 3])
@@ -101,34 +118,6 @@ def _cells_within(x0, x1, x2, s, stop, idx, cb, res, origin, bocc, B):
                                     if best < stop:
                                         return best
     return best
-
-
-@kernel
-def _nearest_point(x0, x1, x2, s, idx, cb, res, origin, bocc, B):
-    """The nearest point (3 floats) of the occupied cells' boxes within s [m] of the point
-    (the point itself when none is)."""
-    best = s
-    y0, y1, y2 = x0, x1, x2
-    I0, I1, J0, J1, K0, K1 = _block_range(x0, x1, x2, s, res, origin, bocc, B)
-    for I in range(I0, I1 + 1):
-        for J in range(J0, J1 + 1):
-            for K in range(K0, K1 + 1):
-                if not bocc[I, J, K]:
-                    continue
-                for i in range(I * B, min((I + 1) * B, idx.shape[0])):
-                    for j in range(J * B, min((J + 1) * B, idx.shape[1])):
-                        for k in range(K * B, min((K + 1) * B, idx.shape[2])):
-                            m = idx[i, j, k]
-                            if m < 0:
-                                continue
-                            c0 = min(max(x0, cb[m, 0]), cb[m, 3])
-                            c1 = min(max(x1, cb[m, 1]), cb[m, 4])
-                            c2 = min(max(x2, cb[m, 2]), cb[m, 5])
-                            e = math.sqrt((x0 - c0) ** 2 + (x1 - c1) ** 2 + (x2 - c2) ** 2)
-                            if e < best:
-                                best = e
-                                y0, y1, y2 = c0, c1, c2
-    return y0, y1, y2
 
 
 @kernel(inline="always")
@@ -255,13 +244,58 @@ def cells_contain(X, idx, cb, res, origin):
     return False
 
 
+@kernel(inline="always")
+def _nearest_within(x0, x1, x2, s, idx, cb, res, origin, bocc, B):
+    """(the distance [m] from the point to the nearest occupied cell's box if below s, else
+    s; that box's nearest point (3 floats), the point itself when none is within s)."""
+    best = s
+    y0, y1, y2 = x0, x1, x2
+    I0, I1, J0, J1, K0, K1 = _block_range(x0, x1, x2, s, res, origin, bocc, B)
+    for I in range(I0, I1 + 1):
+        for J in range(J0, J1 + 1):
+            for K in range(K0, K1 + 1):
+                if bocc[I, J, K, 0] > bocc[I, J, K, 3]:   # empty
+                    continue
+                a = max(bocc[I, J, K, 0] - x0, 0.0, x0 - bocc[I, J, K, 3])
+                b = max(bocc[I, J, K, 1] - x1, 0.0, x1 - bocc[I, J, K, 4])
+                c = max(bocc[I, J, K, 2] - x2, 0.0, x2 - bocc[I, J, K, 5])
+                if a * a + b * b + c * c >= best * best:
+                    continue
+                i0, i1 = _cell_span(bocc[I, J, K, 0], bocc[I, J, K, 3], I * B, min((I + 1) * B, idx.shape[0]), res,
+                                    origin[0])
+                j0, j1 = _cell_span(bocc[I, J, K, 1], bocc[I, J, K, 4], J * B, min((J + 1) * B, idx.shape[1]), res,
+                                    origin[1])
+                k0, k1 = _cell_span(bocc[I, J, K, 2], bocc[I, J, K, 5], K * B, min((K + 1) * B, idx.shape[2]), res,
+                                    origin[2])
+                for i in range(i0, i1):
+                    e0 = max((origin[0] + i) * res - x0, 0.0, x0 - (origin[0] + i + 1) * res)
+                    for j in range(j0, j1):
+                        e1 = max((origin[1] + j) * res - x1, 0.0, x1 - (origin[1] + j + 1) * res)
+                        if e0 * e0 + e1 * e1 >= best * best:   # the cell holds its box
+                            continue
+                        for k in range(k0, k1):
+                            m = idx[i, j, k]
+                            if m >= 0:
+                                f0 = max(cb[m, 0] - x0, 0.0, x0 - cb[m, 3])
+                                f1 = max(cb[m, 1] - x1, 0.0, x1 - cb[m, 4])
+                                f2 = max(cb[m, 2] - x2, 0.0, x2 - cb[m, 5])
+                                e = math.sqrt(f0 * f0 + f1 * f1 + f2 * f2)
+                                if e < best:
+                                    best = e
+                                    y0 = min(max(x0, cb[m, 0]), cb[m, 3])
+                                    y1 = min(max(x1, cb[m, 1]), cb[m, 4])
+                                    y2 = min(max(x2, cb[m, 2]), cb[m, 5])
+    return best, y0, y1, y2
+
+
 @kernel
 def map_nearest_terms(R, p, centres, radii, joint, bodies, start, count, body_centre, body_radius, activation,
                       idx, cb, res, origin, blb, bocc, B, lo, hi):
     """The clearance terms of `manip.collision.clearance` against a map: for each
     (configuration, body) the ball nearest the occupied cells, kept when closer than
     `activation` [m], with the unit gradient of its centre's distance (from the nearest point
-    of the nearest cell).
+    of the nearest cell). Each ball looks only as far as the nearest found so far (ties: the
+    first ball); one whose coarse bound is beyond that is not looked at.
 
     Returns:
         (n, s (T,) int64, distance (T,) [m], centre x (T, 3), unit normal (T, 3)).
@@ -276,7 +310,6 @@ def map_nearest_terms(R, p, centres, radii, joint, bodies, start, count, body_ce
     nrm = np.empty((cap, 3))
     x = np.empty(3)
     T = 0
-    reach = activation
     for n in range(N):
         for b in range(Bn):
             j = bodies[b]
@@ -285,27 +318,27 @@ def map_nearest_terms(R, p, centres, radii, joint, bodies, start, count, body_ce
                         + R[n, j, r, 2] * body_centre[b, 2] + p[n, j, r])
             if _coarse(x[0], x[1], x[2], res, origin, blb, B, lo, hi) - body_radius[b] >= activation:
                 continue
-            best = np.inf
+            best = activation   # only a ball nearer than this gives a term
             best_s = -1
+            y0 = y1 = y2 = 0.0
             for s in range(start[b], start[b] + count[b]):
                 for r in range(3):
                     x[r] = (R[n, j, r, 0] * centres[s, 0] + R[n, j, r, 1] * centres[s, 1]
                             + R[n, j, r, 2] * centres[s, 2] + p[n, j, r])
-                if _coarse(x[0], x[1], x[2], res, origin, blb, B, lo, hi) - radii[s] >= min(best, reach):
+                if _coarse(x[0], x[1], x[2], res, origin, blb, B, lo, hi) - radii[s] >= best:
                     continue   # cannot be nearer than the best ball so far, nor active
-                d = ball_clearance(x[0], x[1], x[2], radii[s], min(best, reach), idx, cb, res, origin, blb, bocc, B, lo, hi)
-                if d < best:
-                    best = d
+                e, c0, c1, c2 = _nearest_within(x[0], x[1], x[2], best + radii[s], idx, cb, res, origin, bocc, B)
+                if e < best + radii[s] and e - radii[s] < best:
+                    best = e - radii[s]
                     best_s = s
-            if best >= activation:
+                    y0, y1, y2 = c0, c1, c2
+            if best_s < 0:
                 continue
             s = best_s
             for r in range(3):
                 x_out[T, r] = (R[n, j, r, 0] * centres[s, 0] + R[n, j, r, 1] * centres[s, 1]
                                + R[n, j, r, 2] * centres[s, 2] + p[n, j, r])
             # the unit direction from the nearest point of the nearest cell to the centre
-            y0, y1, y2 = _nearest_point(x_out[T, 0], x_out[T, 1], x_out[T, 2], reach + radii[s], idx, cb, res,
-                                        origin, bocc, B)
             g0, g1, g2 = x_out[T, 0] - y0, x_out[T, 1] - y1, x_out[T, 2] - y2
             norm = math.sqrt(g0 * g0 + g1 * g1 + g2 * g2)
             if norm < 1e-12:   # the centre in a cell: away from that cell's centre

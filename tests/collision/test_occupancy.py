@@ -10,6 +10,7 @@ import pytest
 
 from manip import MotionGenerator, Pose, WorldConfig
 from manip.collision import Cuboid, OccupancyMap
+from manip.collision.clearance import ClearanceModel
 from manip.errors import InvalidInputError
 
 RES = 0.02
@@ -42,6 +43,21 @@ def test_checks_equal_those_of_the_same_boxes(pair):
     np.testing.assert_array_equal(a, b)
     for q in Q[~b][:40]:   # clearances are exact (penetration depths of a mesh of boxes are not compared)
         assert on_map.distance(q) == pytest.approx(on_boxes.distance(q), abs=1e-5)
+
+
+def test_clearance_terms_are_those_of_the_same_boxes_and_only_active_ones(pair):
+    on_map, on_boxes = pair
+    Q = np.random.default_rng(1).uniform(on_map.lower_limits, on_map.upper_limits, (300, 7))
+    activation = 0.03
+    a = ClearanceModel(on_map.checker).terms(Q, activation)
+    b = ClearanceModel(on_boxes.checker).terms(Q, activation)
+    assert np.all(a.distance < activation - 1e-9)   # no term for a body without a cell nearer than that
+    assert 30 < a.config.size <= b.config.size
+    for n in np.unique(b.config):   # the map is one obstacle: its nearest term is the boxes' nearest
+        nearest = b.distance[b.config == n].min()
+        if nearest >= 0.0:   # (inside a box, the map gives the ball's centre depth, the boxes a signed distance)
+            assert a.distance[a.config == n].min() == pytest.approx(nearest, abs=1e-9)
+    assert set(a.config.tolist()) == set(b.config.tolist())
 
 
 def test_the_certificate_proves_motions_around_the_cells_and_refuses_motions_through_them(pair):

@@ -1,0 +1,254 @@
+"""Exact part-against-map tests decided without coal where a cheap test is conclusive.
+
+A moving part (a triangle mesh, a convex or a box) against the boxes of an occupancy map
+(`manip.collision.occupancy.MapGeometry`): of the boxes in the cells its vertices' box spans,
+
+- a box that a vertex of the part lies in (within coal's security margin) collides: the vertex
+  is a point of the part, the box a solid;
+- a box with a corner inside a closed part (deeper than its surface may lie under its convex
+  hull's boundary) and a corner outside the hull collides: the box crosses the surface;
+- a box beyond the margin from the part's vertices' box, or beyond a plane of its 26-DOP or
+  of its convex hull, is free: each holds the part;
+- the others (neither decided) go to coal, the nearest (by the 26-DOP) first.
+
+Each answer is coal's, up to `TOLERANCE` [m] at the boundary (a vertex or corner must be
+inside by that much, a separation must exceed the margin by that much; anything closer goes
+to coal).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from manip.collision.solids import solid_data, weld
+from manip.errors import InvalidInputError
+from manip.jit import kernel
+
+#: A vertex closer than this to a box's faces, or a separation closer than this to the
+#: margin, is left to coal [m].
+TOLERANCE = 1e-9
+
+_LOCAL: dict[int, tuple] = {}
+
+
+def _kdop(V: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The 26 planes (unit normals (26, 3), offsets (26,)) of the k-DOP holding points V (P, 3)."""
+    D = np.array([[x, y, z] for x in (-1, 0, 1) for y in (-1, 0, 1) for z in (-1, 0, 1) if (x, y, z) != (0, 0, 0)],
+                 dtype=float)
+    D /= np.linalg.norm(D, axis=1)[:, None]
+    return np.ascontiguousarray(D), np.ascontiguousarray((V @ D.T).max(axis=0))
+
+
+def _surface_depth(geometry, V: np.ndarray, eq: np.ndarray, area: float) -> float:
+    """How far [m] a closed mesh's surface may lie inside its convex hull's boundary (each
+    triangle bounded by the facet plane nearest its three corners); 0 for a convex solid,
+    inf for a surface that is not closed."""
+    if not hasattr(geometry, "tri_indices"):   # coal.Convex: a solid
+        return 0.0
+    F = np.array([[t[0], t[1], t[2]] for t in (geometry.tri_indices(i) for i in range(geometry.num_tris))],
+                 dtype=np.int64).reshape(-1, 3)
+    W, F = weld(V, F)
+    try:
+        volume = solid_data(W, F, "part").volume
+    except InvalidInputError:   # open or inconsistent: the inside of the hull says nothing
+        return np.inf
+    below = -(W @ eq[:, :3].T + eq[:, 3])   # (P, facets) >= 0: each vertex's depth under each facet's plane
+    depth = float(below[F].max(axis=1).min(axis=1).max())
+    # the hull's points deeper than `depth` are all inside the surface, or all outside: then it
+    # would enclose no more than the shell between them and the boundary
+    return depth if abs(volume) > area * depth else np.inf
+
+
+def part_hull(geometry) -> tuple[np.ndarray, ...] | None:
+    """The data of a part's coal geometry (its frame) for `part_boxes`, or None for a shape
+    these tests do not handle (spheres, cylinders, ...: coal alone decides). Cached.
+
+    Returns:
+        (vertices (P, 3), 26-DOP normals (26, 3), offsets (26,), convex hull normals (F, 3),
+        offsets (F,): n . x <= offset for every point of the part, how far its surface may
+        lie inside the hull's boundary (inf: not a closed mesh)) [m].
+    """
+    got = _LOCAL.get(id(geometry))
+    if got is not None and got[0] is geometry:
+        return got[1]
+    data = None
+    if hasattr(geometry, "halfSide"):   # coal.Box
+        h = np.asarray(geometry.halfSide, dtype=float)
+        V = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float) * h
+        data = (V, *_kdop(V), np.vstack([np.eye(3), -np.eye(3)]), np.concatenate([h, h]), 0.0)
+    else:
+        if hasattr(geometry, "num_tris") and hasattr(geometry, "vertices"):   # a BVH mesh
+            V = np.asarray(geometry.vertices(), dtype=float).reshape(-1, 3)
+        elif hasattr(geometry, "points") and hasattr(geometry, "num_points"):   # coal.Convex
+            V = np.asarray(geometry.points(), dtype=float).reshape(-1, 3)
+        else:
+            V = None
+        if V is not None and V.shape[0] >= 4:
+            from scipy.spatial import ConvexHull, QhullError
+            try:
+                hull = ConvexHull(V)
+                eq = hull.equations   # n . x + d <= 0 inside
+            except (QhullError, ValueError):   # flat: the vertices' box and the 26-DOP alone
+                hull, eq = None, np.zeros((0, 4))
+            data = (np.ascontiguousarray(V), *_kdop(V), np.ascontiguousarray(eq[:, :3]), np.ascontiguousarray(-eq[:, 3]),
+                    np.inf if hull is None else _surface_depth(geometry, V, eq, hull.area))
+    if len(_LOCAL) > 4096:
+        _LOCAL.clear()
+    _LOCAL[id(geometry)] = (geometry, data)
+    return data
+
+
+@kernel(inline="always")
+def _placed_planes(N, h, R, t):
+    """The planes n . x <= h (N (F, 3), h (F,), part frame) placed at (R, t): (F, 4) (n, h)."""
+    out = np.empty((N.shape[0], 4))
+    for f in range(N.shape[0]):
+        for a in range(3):
+            out[f, a] = R[a, 0] * N[f, 0] + R[a, 1] * N[f, 1] + R[a, 2] * N[f, 2]
+        out[f, 3] = h[f] + out[f, 0] * t[0] + out[f, 1] * t[1] + out[f, 2] * t[2]
+    return out
+
+
+@kernel(inline="always")
+def _separation(Pl, boxes, b):
+    """The largest gap [m] between box b and a placed plane of Pl (F, 4) (n, h: n . x <= h
+    holds the part) along its normal: a lower bound of their distance (< 0: they overlap)."""
+    out = -np.inf
+    for f in range(Pl.shape[0]):
+        n0, n1, n2 = Pl[f, 0], Pl[f, 1], Pl[f, 2]
+        low = (n0 * (boxes[b, 0] if n0 > 0.0 else boxes[b, 3]) + n1 * (boxes[b, 1] if n1 > 0.0 else boxes[b, 4])
+               + n2 * (boxes[b, 2] if n2 > 0.0 else boxes[b, 5]))
+        out = max(out, low - Pl[f, 3])
+    return out
+
+
+@kernel(inline="always")
+def _crosses(Pl, boxes, b, depth):
+    """True when a corner of box b lies deeper than `depth` [m] inside the placed planes Pl
+    (F, 4) (n, h) and another outside them (each beyond TOLERANCE): the box crosses a closed
+    surface lying within `depth` inside their boundary."""
+    inside = outside = False
+    for c in range(8):
+        x0 = boxes[b, 3] if c & 1 else boxes[b, 0]
+        x1 = boxes[b, 4] if c & 2 else boxes[b, 1]
+        x2 = boxes[b, 5] if c & 4 else boxes[b, 2]
+        worst = -np.inf
+        for f in range(Pl.shape[0]):
+            worst = max(worst, Pl[f, 0] * x0 + Pl[f, 1] * x1 + Pl[f, 2] * x2 - Pl[f, 3])
+            if worst > TOLERANCE:
+                break
+        if worst > TOLERANCE:
+            outside = True
+        elif worst < -depth - TOLERANCE:
+            inside = True
+        if inside and outside:
+            return True
+    return False
+
+
+@kernel(inline="always")
+def _planes_separate(Pl, boxes, b, sep):
+    """True when a placed plane of Pl (F, 4) (n, h: n . x <= h holds the part) keeps the part
+    more than sep [m] from box b (the box's lowest point along n is beyond it)."""
+    for f in range(Pl.shape[0]):
+        n0, n1, n2 = Pl[f, 0], Pl[f, 1], Pl[f, 2]
+        low = (n0 * (boxes[b, 0] if n0 > 0.0 else boxes[b, 3]) + n1 * (boxes[b, 1] if n1 > 0.0 else boxes[b, 4])
+               + n2 * (boxes[b, 2] if n2 > 0.0 else boxes[b, 5]))
+        if low - Pl[f, 3] > sep:
+            return True
+    return False
+
+
+@kernel
+def part_boxes(boxes, idx, of_cell, origin, res, R, t, V, Nk, hk, N, h, depth, margin):
+    """The boxes (M, 6) [m] of a map a part may touch, and whether one surely does.
+
+    Args:
+        boxes, idx, of_cell, origin, res: the map's merged boxes, grid, box of each cell, grid
+            origin, cell edge (`MapGeometry`).
+        R, t: (3, 3), (3,) the part's placement; V (P, 3): its vertices, (Nk (D, 3), hk (D,))
+            and (N (F, 3), h (F,)): planes n . x <= h holding it (its 26-DOP, its convex hull),
+            in its frame (`part_hull`); depth: how far the part's closed surface may lie inside
+            its hull's boundary [m] (a box corner deeper than that inside the hull and one
+            outside it: the box crosses the part's surface).
+        margin: coal's security margin [m].
+
+    Returns:
+        (hit: a vertex of the part lies in a box (within the margin) or a box crosses its
+        closed surface, ids (T,) int64 of the boxes left to coal, nearest by the 26-DOP
+        first).
+    """
+    P = V.shape[0]
+    W = np.empty((P, 3))
+    wlo = np.full(3, np.inf)
+    whi = np.full(3, -np.inf)
+    for v in range(P):
+        for a in range(3):
+            W[v, a] = R[a, 0] * V[v, 0] + R[a, 1] * V[v, 1] + R[a, 2] * V[v, 2] + t[a]
+            wlo[a] = min(wlo[a], W[v, a])
+            whi[a] = max(whi[a], W[v, a])
+    Pk = _placed_planes(Nk, hk, R, t)
+    Ph = np.empty((0, 4))   # the hull's planes placed, when first needed
+    sep = margin + TOLERANCE
+    inner = margin - TOLERANCE   # a vertex nearer than this to a box (or inside it) collides
+    seen = np.zeros(boxes.shape[0], dtype=np.bool_)
+    cand = np.empty(64, dtype=np.int64)
+    dist = np.empty(64)
+    nc = 0
+    lo0 = max(int(math.floor((wlo[0] - sep) / res)) - origin[0], 0)
+    hi0 = min(int(math.floor((whi[0] + sep) / res)) - origin[0], idx.shape[0] - 1)
+    lo1 = max(int(math.floor((wlo[1] - sep) / res)) - origin[1], 0)
+    hi1 = min(int(math.floor((whi[1] + sep) / res)) - origin[1], idx.shape[1] - 1)
+    lo2 = max(int(math.floor((wlo[2] - sep) / res)) - origin[2], 0)
+    hi2 = min(int(math.floor((whi[2] + sep) / res)) - origin[2], idx.shape[2] - 1)
+    for i in range(lo0, hi0 + 1):
+        for j in range(lo1, hi1 + 1):
+            for k in range(lo2, hi2 + 1):
+                cell = idx[i, j, k]
+                if cell < 0:
+                    continue
+                b = of_cell[cell]
+                if seen[b]:
+                    continue
+                seen[b] = True
+                free = False
+                for a in range(3):   # the vertices' box
+                    if boxes[b, a] - whi[a] > sep or wlo[a] - boxes[b, 3 + a] > sep:
+                        free = True
+                        break
+                if free:
+                    continue
+                d = _separation(Pk, boxes, b)   # along the k-DOP's planes: a lower bound
+                if d > sep:
+                    continue
+                if nc == cand.shape[0]:
+                    cand = np.concatenate((cand, np.empty(nc, dtype=np.int64)))
+                    dist = np.concatenate((dist, np.empty(nc)))
+                cand[nc] = b
+                dist[nc] = d
+                nc += 1
+    order = np.argsort(dist[:nc])
+    keep = np.empty(nc, dtype=np.int64)
+    T = 0
+    for n in range(nc):   # nearest first: a vertex inside decides; the hull's planes clear
+        b = cand[order[n]]
+        for v in range(P):
+            e0 = max(boxes[b, 0] - W[v, 0], W[v, 0] - boxes[b, 3])
+            e1 = max(boxes[b, 1] - W[v, 1], W[v, 1] - boxes[b, 4])
+            e2 = max(boxes[b, 2] - W[v, 2], W[v, 2] - boxes[b, 5])
+            if max(e0, e1, e2) < -TOLERANCE:   # inside by more than the tolerance
+                return True, np.zeros(0, dtype=np.int64)
+            if inner > 0.0:
+                g0, g1, g2 = max(e0, 0.0), max(e1, 0.0), max(e2, 0.0)
+                if g0 * g0 + g1 * g1 + g2 * g2 < inner * inner:
+                    return True, np.zeros(0, dtype=np.int64)
+        if Ph.shape[0] == 0 and N.shape[0] > 0:
+            Ph = _placed_planes(N, h, R, t)
+        if not _planes_separate(Ph, boxes, b, sep):
+            if depth < np.inf and _crosses(Ph, boxes, b, depth):
+                return True, np.zeros(0, dtype=np.int64)
+            keep[T] = b
+            T += 1
+    return False, keep[:T].copy()
