@@ -146,6 +146,13 @@ def _perception(mg, q0) -> None:
     Q = np.random.default_rng(0).uniform(mg.lower_limits, mg.upper_limits, (64, mg.lower_limits.size))
     if not mg.checker.in_collision_batch(Q).any():   # parts against the maps' boxes (`occupancy_exact`)
         raise RuntimeError("the prebuild workload's configurations met no occupancy map")
+    from manip import Sphere
+
+    hand = mg.fk(q0)   # a held sphere: shapes `occupancy_exact` leaves to coal (`boxes_near_balls`)
+    mg.attach_object(Sphere("held", 0.04, Pose(hand.position, [1.0, 0.0, 0.0, 0.0])), q=q0)
+    mg.checker.in_collision_batch(Q)
+    mg.detach_object(q0)
+    mg.remove_obstacle("held")
     r = mg.plan_pose(q0, Pose([0.45, 0.3, 0.35], [0, 1, 0, 0]), seed=0, time_budget=900.0)
     if not r.success:
         raise RuntimeError(f"the prebuild workload's plan on an occupancy map failed: {r.status.name}")
