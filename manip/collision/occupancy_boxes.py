@@ -249,6 +249,13 @@ def near_boxes(boxes, lo, hi, limit):
     return ids[:T].copy(), d[:T].copy()
 
 
+@kernel(inline="always")
+def index_span(lo, hi, res, o, n):
+    """(first, last) indices (inclusive) along one axis of the grid's cells (edge res [m], the
+    first at cell o, n of them) that meet [lo, hi] [m]; first > last when none does."""
+    return max(int(math.floor(lo / res)) - o, 0), min(int(math.floor(hi / res)) - o, n - 1)
+
+
 @kernel
 def boxes_near_balls(boxes, idx, of_cell, origin, res, X, r, margin):
     """The boxes (M, 6) [m] within `margin` [m] of a ball (centres X (K, 3), radii r (K,)),
@@ -259,12 +266,9 @@ def boxes_near_balls(boxes, idx, of_cell, origin, res, X, r, margin):
     nc = 0
     for s in range(X.shape[0]):
         reach = r[s] + margin
-        lo0 = max(int(math.floor((X[s, 0] - reach) / res)) - origin[0], 0)
-        hi0 = min(int(math.floor((X[s, 0] + reach) / res)) - origin[0], idx.shape[0] - 1)
-        lo1 = max(int(math.floor((X[s, 1] - reach) / res)) - origin[1], 0)
-        hi1 = min(int(math.floor((X[s, 1] + reach) / res)) - origin[1], idx.shape[1] - 1)
-        lo2 = max(int(math.floor((X[s, 2] - reach) / res)) - origin[2], 0)
-        hi2 = min(int(math.floor((X[s, 2] + reach) / res)) - origin[2], idx.shape[2] - 1)
+        lo0, hi0 = index_span(X[s, 0] - reach, X[s, 0] + reach, res, origin[0], idx.shape[0])
+        lo1, hi1 = index_span(X[s, 1] - reach, X[s, 1] + reach, res, origin[1], idx.shape[1])
+        lo2, hi2 = index_span(X[s, 2] - reach, X[s, 2] + reach, res, origin[2], idx.shape[2])
         for i in range(lo0, hi0 + 1):
             for j in range(lo1, hi1 + 1):
                 for k in range(lo2, hi2 + 1):

@@ -18,10 +18,9 @@ to coal).
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
+from manip.collision.occupancy_boxes import index_span
 from manip.collision.solids import solid_data, weld
 from manip.errors import InvalidInputError
 from manip.jit import kernel
@@ -197,12 +196,9 @@ def part_boxes(boxes, idx, of_cell, origin, res, R, t, V, Nk, hk, N, h, depth, m
     cand = np.empty(64, dtype=np.int64)
     dist = np.empty(64)
     nc = 0
-    lo0 = max(int(math.floor((wlo[0] - sep) / res)) - origin[0], 0)
-    hi0 = min(int(math.floor((whi[0] + sep) / res)) - origin[0], idx.shape[0] - 1)
-    lo1 = max(int(math.floor((wlo[1] - sep) / res)) - origin[1], 0)
-    hi1 = min(int(math.floor((whi[1] + sep) / res)) - origin[1], idx.shape[1] - 1)
-    lo2 = max(int(math.floor((wlo[2] - sep) / res)) - origin[2], 0)
-    hi2 = min(int(math.floor((whi[2] + sep) / res)) - origin[2], idx.shape[2] - 1)
+    lo0, hi0 = index_span(wlo[0] - sep, whi[0] + sep, res, origin[0], idx.shape[0])
+    lo1, hi1 = index_span(wlo[1] - sep, whi[1] + sep, res, origin[1], idx.shape[1])
+    lo2, hi2 = index_span(wlo[2] - sep, whi[2] + sep, res, origin[2], idx.shape[2])
     for i in range(lo0, hi0 + 1):
         for j in range(lo1, hi1 + 1):
             for k in range(lo2, hi2 + 1):

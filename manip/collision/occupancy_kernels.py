@@ -78,11 +78,13 @@ def _cell_span(lo, hi, first, end, res, o):
 
 
 @kernel(inline="always")
-def _cells_within(x0, x1, x2, s, stop, idx, cb, res, origin, bocc, B):
-    """The distance [m] from the point to the nearest occupied cell's box if it is below s
-    (else s), visiting the occupied blocks whose content box (`bocc`) lies within s, nearest
-    first in order of enumeration; returns as soon as one closer than `stop` is found."""
+def _nearest_within(x0, x1, x2, s, stop, idx, cb, res, origin, bocc, B):
+    """(the distance [m] from the point to the nearest occupied cell's box if below s, else
+    s; that box's nearest point (3 floats), the point itself when none is within s), visiting
+    the occupied blocks whose content box (`bocc`) lies within s; returns as soon as a box
+    closer than `stop` [m] is found (stop < 0: the nearest)."""
     best = s
+    y0, y1, y2 = x0, x1, x2
     I0, I1, J0, J1, K0, K1 = _block_range(x0, x1, x2, s, res, origin, bocc, B)
     for I in range(I0, I1 + 1):
         for J in range(J0, J1 + 1):
@@ -115,9 +117,12 @@ def _cells_within(x0, x1, x2, s, stop, idx, cb, res, origin, bocc, B):
                                 e = math.sqrt(f0 * f0 + f1 * f1 + f2 * f2)
                                 if e < best:
                                     best = e
+                                    y0 = min(max(x0, cb[m, 0]), cb[m, 3])
+                                    y1 = min(max(x1, cb[m, 1]), cb[m, 4])
+                                    y2 = min(max(x2, cb[m, 2]), cb[m, 5])
                                     if best < stop:
-                                        return best
-    return best
+                                        return best, y0, y1, y2
+    return best, y0, y1, y2
 
 
 @kernel(inline="always")
@@ -130,7 +135,7 @@ def ball_clearance(x0, x1, x2, r, need, idx, cb, res, origin, blb, bocc, B, lo, 
     s = need + r  # cells farther than s from the centre cannot bring the ball within need
     if 2.0 * s > MAX_REACH_BLOCKS * B * res:
         return d
-    return max(_cells_within(x0, x1, x2, s, -1.0, idx, cb, res, origin, bocc, B) - r, d)
+    return max(_nearest_within(x0, x1, x2, s, -1.0, idx, cb, res, origin, bocc, B)[0] - r, d)
 
 
 @kernel(inline="always")
@@ -142,7 +147,7 @@ def ball_near(x0, x1, x2, r, need, idx, cb, res, origin, blb, bocc, B, lo, hi):
     s = need + r
     if 2.0 * s > MAX_REACH_BLOCKS * B * res:
         return True
-    return _cells_within(x0, x1, x2, s, s, idx, cb, res, origin, bocc, B) < s
+    return _nearest_within(x0, x1, x2, s, s, idx, cb, res, origin, bocc, B)[0] < s
 
 
 @kernel
@@ -244,50 +249,6 @@ def cells_contain(X, idx, cb, res, origin):
     return False
 
 
-@kernel(inline="always")
-def _nearest_within(x0, x1, x2, s, idx, cb, res, origin, bocc, B):
-    """(the distance [m] from the point to the nearest occupied cell's box if below s, else
-    s; that box's nearest point (3 floats), the point itself when none is within s)."""
-    best = s
-    y0, y1, y2 = x0, x1, x2
-    I0, I1, J0, J1, K0, K1 = _block_range(x0, x1, x2, s, res, origin, bocc, B)
-    for I in range(I0, I1 + 1):
-        for J in range(J0, J1 + 1):
-            for K in range(K0, K1 + 1):
-                if bocc[I, J, K, 0] > bocc[I, J, K, 3]:   # empty
-                    continue
-                a = max(bocc[I, J, K, 0] - x0, 0.0, x0 - bocc[I, J, K, 3])
-                b = max(bocc[I, J, K, 1] - x1, 0.0, x1 - bocc[I, J, K, 4])
-                c = max(bocc[I, J, K, 2] - x2, 0.0, x2 - bocc[I, J, K, 5])
-                if a * a + b * b + c * c >= best * best:
-                    continue
-                i0, i1 = _cell_span(bocc[I, J, K, 0], bocc[I, J, K, 3], I * B, min((I + 1) * B, idx.shape[0]), res,
-                                    origin[0])
-                j0, j1 = _cell_span(bocc[I, J, K, 1], bocc[I, J, K, 4], J * B, min((J + 1) * B, idx.shape[1]), res,
-                                    origin[1])
-                k0, k1 = _cell_span(bocc[I, J, K, 2], bocc[I, J, K, 5], K * B, min((K + 1) * B, idx.shape[2]), res,
-                                    origin[2])
-                for i in range(i0, i1):
-                    e0 = max((origin[0] + i) * res - x0, 0.0, x0 - (origin[0] + i + 1) * res)
-                    for j in range(j0, j1):
-                        e1 = max((origin[1] + j) * res - x1, 0.0, x1 - (origin[1] + j + 1) * res)
-                        if e0 * e0 + e1 * e1 >= best * best:   # the cell holds its box
-                            continue
-                        for k in range(k0, k1):
-                            m = idx[i, j, k]
-                            if m >= 0:
-                                f0 = max(cb[m, 0] - x0, 0.0, x0 - cb[m, 3])
-                                f1 = max(cb[m, 1] - x1, 0.0, x1 - cb[m, 4])
-                                f2 = max(cb[m, 2] - x2, 0.0, x2 - cb[m, 5])
-                                e = math.sqrt(f0 * f0 + f1 * f1 + f2 * f2)
-                                if e < best:
-                                    best = e
-                                    y0 = min(max(x0, cb[m, 0]), cb[m, 3])
-                                    y1 = min(max(x1, cb[m, 1]), cb[m, 4])
-                                    y2 = min(max(x2, cb[m, 2]), cb[m, 5])
-    return best, y0, y1, y2
-
-
 @kernel
 def map_nearest_terms(R, p, centres, radii, joint, bodies, start, count, body_centre, body_radius, activation,
                       idx, cb, res, origin, blb, bocc, B, lo, hi):
@@ -327,7 +288,8 @@ def map_nearest_terms(R, p, centres, radii, joint, bodies, start, count, body_ce
                             + R[n, j, r, 2] * centres[s, 2] + p[n, j, r])
                 if _coarse(x[0], x[1], x[2], res, origin, blb, B, lo, hi) - radii[s] >= best:
                     continue   # cannot be nearer than the best ball so far, nor active
-                e, c0, c1, c2 = _nearest_within(x[0], x[1], x[2], best + radii[s], idx, cb, res, origin, bocc, B)
+                e, c0, c1, c2 = _nearest_within(x[0], x[1], x[2], best + radii[s], -1.0, idx, cb, res, origin,
+                                                bocc, B)
                 if e < best + radii[s] and e - radii[s] < best:
                     best = e - radii[s]
                     best_s = s

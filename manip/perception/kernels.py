@@ -231,6 +231,17 @@ def _row_spans(depth):
     return first, last, n
 
 
+@kernel(inline="always")
+def _widen(bounds, row, m0, m1, m2, m3, m4, m5):
+    """Widen row `row` of bounds (P, 6) (lo, hi) [m] to hold the box (m0, m1, m2)-(m3, m4, m5)."""
+    bounds[row, 0] = min(bounds[row, 0], m0)
+    bounds[row, 1] = min(bounds[row, 1], m1)
+    bounds[row, 2] = min(bounds[row, 2], m2)
+    bounds[row, 3] = max(bounds[row, 3], m3)
+    bounds[row, 4] = max(bounds[row, 4], m4)
+    bounds[row, 5] = max(bounds[row, 5], m5)
+
+
 @kernel
 def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, reach_r,
                 centres, radii, ball_part, dop, margin, cell, lo, shape, near, box, start, balls):
@@ -360,12 +371,7 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, rea
             y2 = t[2] + zb * d2
             if key != cur:   # a new run: the last one's bounds into its row; this cell's row
                 if cr >= 0:
-                    bounds[cr, 0] = min(bounds[cr, 0], m0)
-                    bounds[cr, 1] = min(bounds[cr, 1], m1)
-                    bounds[cr, 2] = min(bounds[cr, 2], m2)
-                    bounds[cr, 3] = max(bounds[cr, 3], m3)
-                    bounds[cr, 4] = max(bounds[cr, 4], m4)
-                    bounds[cr, 5] = max(bounds[cr, 5], m5)
+                    _widen(bounds, cr, m0, m1, m2, m3, m4, m5)
                 cur = key
                 slot = (key ^ (key >> 19) ^ (key >> 37)) & (RECENT - 1)
                 if recent[slot] != key:
@@ -410,12 +416,7 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, rea
                 m0, m1, m2 = min(m0, g0), min(m1, g1), min(m2, g2)
                 m3, m4, m5 = max(m3, g0), max(m4, g1), max(m5, g2)
     if cr >= 0:
-        bounds[cr, 0] = min(bounds[cr, 0], m0)
-        bounds[cr, 1] = min(bounds[cr, 1], m1)
-        bounds[cr, 2] = min(bounds[cr, 2], m2)
-        bounds[cr, 3] = max(bounds[cr, 3], m3)
-        bounds[cr, 4] = max(bounds[cr, 4], m4)
-        bounds[cr, 5] = max(bounds[cr, 5], m5)
+        _widen(bounds, cr, m0, m1, m2, m3, m4, m5)
     return out[:P].copy(), bounds[:P].copy(), on_robot, negative
 
 
