@@ -131,7 +131,7 @@ def _reactive_control() -> None:
 
 def _perception(mg, q0) -> None:
     """Depth images and a cloud into an occupancy map, then a plan on it (the map's kernels)."""
-    from manip import Pose
+    from manip import Pose, Sphere
 
     mg.update_world({})
     K = np.array([[40.0, 0.0, 31.5], [0.0, 40.0, 23.5], [0.0, 0.0, 1.0]])
@@ -146,8 +146,6 @@ def _perception(mg, q0) -> None:
     Q = np.random.default_rng(0).uniform(mg.lower_limits, mg.upper_limits, (64, mg.lower_limits.size))
     if not mg.checker.in_collision_batch(Q).any():   # parts against the maps' boxes (`occupancy_exact`)
         raise RuntimeError("the prebuild workload's configurations met no occupancy map")
-    from manip import Sphere
-
     hand = mg.fk(q0)   # a held sphere: shapes `occupancy_exact` leaves to coal (`boxes_near_balls`)
     mg.attach_object(Sphere("held", 0.04, Pose(hand.position, [1.0, 0.0, 0.0, 0.0])), q=q0)
     mg.checker.in_collision_batch(Q)

@@ -34,6 +34,7 @@ from manip import quaternion as quat
 from manip.errors import InvalidInputError
 from manip.sim.prims.xform_prim import XFormPrim
 from manip.sim.scenes.stage import SimulationError
+from manip.sim.sensors import annotators
 from manip.validation import positive
 
 logger = logging.getLogger(__name__)
@@ -290,8 +291,6 @@ class Camera(XFormPrim):
         return self._paused_frame if self._paused_frame is not None else self._current_frame()
 
     def _current_frame(self) -> dict:
-        from manip.sim.sensors import annotators
-
         depth = self.get_depth()
         K = self.get_intrinsics_matrix()
         points = annotators.camera_points(depth, K)
@@ -377,10 +376,7 @@ class Camera(XFormPrim):
     def get_pointcloud(self) -> np.ndarray:
         """(N, 3) points [m] in the world frame, one per pixel that hit a surface (row-major)."""
         depth = self.get_depth()
-        K = self.get_intrinsics_matrix()
-        v, u = np.nonzero(np.isfinite(depth))
-        z = depth[v, u].astype(float)
-        P_ros = np.stack([(u - K[0, 2]) / K[0, 0] * z, (v - K[1, 2]) / K[1, 1] * z, z], axis=1)
+        P_ros = annotators.camera_points(depth, self.get_intrinsics_matrix())[np.isfinite(depth)]
         p, q = self.get_world_pose(camera_axes="ros")
         return P_ros @ quat.to_matrix(q).T + p
 
