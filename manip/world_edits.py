@@ -129,8 +129,8 @@ class WorldEdits:
                 ((3,), (3,)) [m] in the base frame, unseen cells are obstacles).
             self_margin: points within this of the robot's geometry are dropped [m].
             fill: what an occupied cell holds: "points" (the default: the box of the points
-                measured in it and of the rays hidden behind them: surfaces as the camera saw
-                them) or "cells" (the whole cell: surfaces inflated by up to a cell).
+                measured in it: surfaces as the camera saw them, what they hide unknown)
+                or "cells" (the whole cell: surfaces inflated by up to a cell).
 
         Rays mark their end cells occupied and the cells they cross free; details and what the
         map guarantees: `manip.perception.integrate`.

@@ -13,9 +13,9 @@ depth image; `integrate_pointcloud` does the same with a cloud. `MotionGenerator
    collision geometry; links and attached objects), looked up through the sphere cover
    (built once per q: the images of several cameras taken at the same q share it);
 3. occupied: the cell of every remaining point (`manip.perception.kernels`), holding the
-   bounding box of the points measured in it and of the rays behind them to the cell's end
-   (`OccupancyMap.bounds`: exact on the side the camera saw, the whole cell on the side it
-   could not; over every update until the cell is freed, so two cameras' views add up);
+   bounding box of the points measured in it (`OccupancyMap.bounds`: the surface as the
+   camera saw it; what a point hides behind it is unknown, not in the box; over every
+   update until the cell is freed, so two cameras' views add up);
 4. free: a cell occupied before (or, with `unknown="occupied"`, never observed) is freed
    when the image sees through it: every pixel ray crossing it measures a surface beyond the
    point where it leaves the cell (`cells_seen_free`), so an object that moved away
@@ -27,8 +27,9 @@ What the map guarantees: every point a camera measured (and kept) lies in its ce
 meet (`OccupancyMap`), so a surface seen as face-adjacent cells is a closed sheet, and
 between cells that only share an edge or a corner the gap is at most the spacing of the
 measured points there (about depth / focal length [px]: 2-3 mm at 1.5 m for the cameras of
-`benchmarks/perception.py`). The volume behind a seen surface is in the map only to the end
-of the surface's cells: a part can only get there through a face no camera saw. With
+`benchmarks/perception.py`). The volume behind a seen surface is not in the map (with
+`unknown="free"`): a part can only get there through the seen surface (which the checks and
+the continuous certificate refuse) or through a face no camera saw. With
 `fill="cells"` every occupied cell is whole (surfaces inflated by up to a cell). With
 `unknown="free"` (the default), space never observed is free: an object no camera saw is
 not avoided. With `unknown="occupied"`, every
@@ -415,8 +416,8 @@ def integrate_depth(checker, depth, intrinsics, camera_pose: Pose, *, name: str 
         bounds: [[x0, y0, z0], [x1, y1, z1]] [m], base frame (needed with unknown="occupied").
         self_margin: points within this of the robot [m] are dropped.
         fill: "points" (the default): an occupied cell holds the box of the points measured in
-            it and of the rays behind them (`OccupancyMap.bounds`: exact on the side the camera
-            saw); "cells": the whole cell (surfaces inflated by up to a cell).
+            it (`OccupancyMap.bounds`: the surface as the camera saw it); "cells": the whole
+            cell (surfaces inflated by up to a cell).
 
     Returns:
         The new `OccupancyMap` (also in the checker's world).

@@ -11,10 +11,10 @@ Cells are those of `manip.collision.occupancy`: cell (i, j, k) is the box [i r, 
   base frame, drops the points within a ball of the robot and beyond the range, and returns
   the key of each point's cell with the bounds of the points in it (a point within `SNAP`
   [m] before a cell face along its ray counts in the cell behind it, so that a surface on a
-  face is held by the cell behind it), and of the ray a cell diagonal beyond it (what the
-  point hides: the box is exact on the side the camera saw, the whole cell behind); at a silhouette (the next pixel sees far beyond, or
-  nothing) the bounds reach that pixel's ray at the point's depth, so a surface's edge
-  between two rays is held; `reduce_bounds` merges the rows of a repeated key;
+  face is held by the cell behind it): the box is the surface as the camera saw it, and what
+  a point hides behind it is unknown (not in the box); at a silhouette (the next pixel sees
+  far beyond, or nothing) the bounds reach that pixel's ray at the point's depth, so a
+  surface's edge between two rays is held; `reduce_bounds` merges the rows of a repeated key;
 - `cells_seen_free`: which cells every pixel ray through them passes without a hit: the
   ray through a pixel's centre hits its surface at depth d (inf: nothing within range);
   within a cell it is free when d + SNAP exceeds the depth where it leaves the cell's box.
@@ -284,7 +284,6 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, rea
         box_lo[a] = lo[a] * cell
         box_hi[a] = (lo[a] + shape[a]) * cell
     check_robot = centres.shape[0] > 0
-    behind = math.sqrt(3.0) * res   # [depth units]: at least a cell diagonal along the ray
     A = np.empty(W)
     for u in range(W):
         A[u] = (u - cx) / fx
@@ -363,12 +362,7 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, rea
                         bounds[P, 2], bounds[P, 5] = ck * res, (ck + 1) * res
                         P += 1
                 continue
-            # behind the point the ray is hidden: the bounds take the ray a cell diagonal on
-            # (clamped to the cell by `OccupancyMap`), so only the side the camera saw is exact
-            zb = z + behind
-            y0 = t[0] + zb * d0
-            y1 = t[1] + zb * d1
-            y2 = t[2] + zb * d2
+            # the bounds hold the point (what it hides behind it is unknown: not in the box)
             if key != cur:   # a new run: the last one's bounds into its row; this cell's row
                 if cr >= 0:
                     _widen(bounds, cr, m0, m1, m2, m3, m4, m5)
@@ -382,11 +376,11 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, rea
                     bounds[P, 3] = bounds[P, 4] = bounds[P, 5] = -np.inf
                     P += 1
                 cr = row[slot]
-                m0, m1, m2 = min(x0, y0), min(x1, y1), min(x2, y2)
-                m3, m4, m5 = max(x0, y0), max(x1, y1), max(x2, y2)
+                m0, m1, m2 = x0, x1, x2
+                m3, m4, m5 = x0, x1, x2
             else:
-                m0, m1, m2 = min(m0, x0, y0), min(m1, x1, y1), min(m2, x2, y2)
-                m3, m4, m5 = max(m3, x0, y0), max(m4, x1, y1), max(m5, x2, y2)
+                m0, m1, m2 = min(m0, x0), min(m1, x1), min(m2, x2)
+                m3, m4, m5 = max(m3, x0), max(m4, x1), max(m5, x2)
             # a silhouette: the surface goes on up to the next pixel's ray (whose depth is far
             # beyond, or unmeasured): the bounds take that ray's point at this depth
             far = z + max(SILHOUETTE, SILHOUETTE_PX * z / fx)

@@ -304,8 +304,8 @@ def _plane_under(mg, q, z: float, fill=None):
 
 
 def test_by_default_a_start_5_mm_above_a_seen_surface_is_free(mg):
-    """The default map holds a surface as it was measured on the side the camera saw (the
-    cell's depth behind it): the hand 5 mm above a seen table is free, and a motion along it
+    """The default map holds a surface as it was measured (what it hides is unknown, not in
+    the map): the hand 5 mm above a seen table is free, and a motion along it
     is certified; whole cells (`fill="cells"`) put it in collision."""
     q = mg.default_joint_positions
     z = 0.2
@@ -323,3 +323,18 @@ def test_by_default_a_start_5_mm_above_a_seen_surface_is_free(mg):
     _plane_under(whole, q, z, fill="cells")
     assert (math.floor(z / 0.02) + 1) * 0.02 > z + 0.005   # the surface's cell reaches above the hand
     assert whole.check_collision(q)
+
+
+def test_what_a_seen_surface_hides_is_unknown_not_occupied(mg):
+    """A surface seen from above holds its measured points only: a point 5 mm under it, in
+    the same cell, is not in the default map (the space a surface hides is unknown, free by
+    default, like a board's underside no camera saw); whole cells hold it."""
+    q = mg.default_joint_positions
+    hand = mg.fk(q, "panda_hand").position
+    z = (math.floor((hand[2] - 0.3) / 0.02) + 0.75) * 0.02   # 3/4 up its cell: 15 mm of the cell below it
+    m = _plane_under(mg, q, z)
+    on, under = np.array([[hand[0], hand[1], z]]), np.array([[hand[0], hand[1], z - 0.005]])
+    assert m.contains_points(on)
+    assert not m.contains_points(under)
+    whole = _plane_under(MotionGenerator("franka"), q, z, fill="cells")
+    assert whole.contains_points(under)
