@@ -11,7 +11,7 @@ from manip.constraints.base import Constraint
 from manip.constraints.certify import ConstraintCertificate, certify_constraints, segments_hold, trajectory_deviation
 from manip.constraints.orientation import OrientationConstraint
 from manip.constraints.position import PositionConstraint
-from manip.constraints.project import project, satisfied
+from manip.constraints.projection import project, satisfied
 from manip.constraints.relative import RelativePoseConstraint
 
 __all__ = [
