@@ -149,6 +149,9 @@ def _perception(mg, q0) -> None:
     hand = mg.fk(q0)   # a held sphere: shapes `occupancy_exact` leaves to coal (`boxes_near_balls`)
     mg.attach_object(Sphere("held", 0.04, Pose(hand.position, [1.0, 0.0, 0.0, 0.0])), q=q0)
     mg.checker.in_collision_batch(Q)
+    low = mg.ik(Pose([0.55, 0.0, 0.035], [np.sqrt(0.5), 0.0, np.sqrt(0.5), 0.0]), seed_q=q0)   # the hand level, 3.5 cm up
+    if not low.success or "held" not in {c.a for c in mg.checker.collision_report(low.q).contacts}:
+        raise RuntimeError("the prebuild workload's held sphere met no occupancy map")
     mg.detach_object(q0)
     mg.remove_obstacle("held")
     r = mg.plan_pose(q0, Pose([0.45, 0.3, 0.35], [0, 1, 0, 0]), seed=0, time_budget=900.0)
