@@ -16,6 +16,7 @@ from manip.errors import InvalidInputError, UnknownNameError
 #   from omni.isaac.core.articulations import Articulation ... import carb
 from manip.sim import (
     Articulation,
+    ArticulationAction,
     ArticulationKinematicsSolver,
     LulaKinematicsSolver,
     RigidPrim,
@@ -177,7 +178,7 @@ def test_a_second_robot_from_urdf_and_yaml_in_the_world(tmp_path):
                                        orientation=quat.from_axis_angle(np.array([0.0, 0.0, 1.0]), 2.5)))
     world.reset()
     ur5.set_joint_positions(cfg.default_joint_positions)
-    ur5.apply_action(ur5.get_applied_action().__class__(joint_positions=cfg.default_joint_positions))
+    ur5.apply_action(ArticulationAction(joint_positions=cfg.default_joint_positions))
     _settle(world, 50)
     kin = LulaKinematicsSolver(str(tmp_path / "ur5.yaml"), str(cfg.urdf_path))
     art_kin = ArticulationKinematicsSolver(ur5, kin, "tool0")
