@@ -215,6 +215,8 @@ class LulaKinematicsSolver:
     def _solver(self, tol_p: float, tol_r: float, attempts: int) -> IKSolver:
         key = (tol_p, tol_r, attempts)
         if key not in self._solvers:
+            if len(self._solvers) >= 16:  # a script sweeping tolerances keeps a bounded cache
+                self._solvers.clear()
             self._solvers[key] = IKSolver(self.kinematics, position_tolerance=tol_p, rotation_tolerance=tol_r,
                                           max_attempts=attempts, seed=self._seed)
         return self._solvers[key]

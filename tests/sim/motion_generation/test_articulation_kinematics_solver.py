@@ -192,3 +192,22 @@ def test_a_second_robot_from_urdf_and_yaml_in_the_world(tmp_path):
     p, R = art_kin.compute_end_effector_pose()
     assert np.linalg.norm(p - target) < 5e-3
     assert quat.angle_between(quat.from_matrix(R), DOWN) < 0.02
+
+
+def test_articulation_subset_reads_and_drives_its_joints_by_name():
+    from manip.sim import ArticulationSubset
+
+    world, franka = _world_with_franka(gravity=(0.0, 0.0, 0.0))
+    subset = ArticulationSubset(franka, ["panda_joint7", "panda_joint1"])
+    np.testing.assert_array_equal(subset.joint_indices, [6, 0])
+    assert subset.num_joints == 2 and subset.joint_names == ["panda_joint7", "panda_joint1"]
+    np.testing.assert_allclose(subset.get_joint_positions(), franka.get_joint_positions()[[6, 0]])
+    subset.apply_action([0.5, 0.3])
+    _settle(world, 200)
+    np.testing.assert_allclose(subset.get_joint_positions(), [0.5, 0.3], atol=1e-3)
+    np.testing.assert_allclose(subset.get_joint_velocities(), [0.0, 0.0], atol=1e-2)
+    # a solver whose joints the robot does not have: the first use names them
+    with pytest.raises(UnknownNameError, match="shoulder_pan_joint"):
+        ArticulationSubset(franka, ["shoulder_pan_joint"]).get_joint_positions()
+    with pytest.raises(InvalidInputError, match="articulation"):
+        ArticulationSubset(object(), ["panda_joint1"])
