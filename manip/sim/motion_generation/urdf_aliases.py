@@ -8,10 +8,11 @@ temporary folder with every mesh path made absolute.
 
 The Franka's `right_gripper` (Isaac's Lula end-effector frame): a link fixed to
 `panda_hand`, 0.1 m along panda_hand's z axis, with panda_hand's orientation (identity
-rotation). The 0.1 m offset along the hand's z is Isaac's; its rotation about that axis
-could not be checked against Isaac's lula_franka_gen.urdf (not available here): if Isaac's
-frame is turned about z (the parallel jaw is symmetric under a half turn), an orientation
-target reaches the same hand pose turned by that angle about the approach axis.
+rotation). Isaac's lula_franka_gen.urdf was not available to check this against: the
+0.1 m along the hand's z is Isaac's frame as its tutorial describes it, and the rotation about
+that axis is unverified. If Isaac's frame is turned about z (the parallel jaw is symmetric
+under a half turn), an orientation target is reached with the hand turned by that angle
+about the approach axis.
 """
 
 from __future__ import annotations
