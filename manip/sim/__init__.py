@@ -13,8 +13,9 @@ An Isaac Sim tutorial script ports by changing its imports::
     print(cube.get_world_pose())
 
 Every `omni.isaac.core...`, `omni.isaac.wheeled_robots...`, `omni.isaac.franka...`,
-`omni.isaac.examples...`, `omni.isaac.kit` and `isaacsim...` name a tutorial imports becomes
-`from manip.sim import NAME`; `import carb` becomes `from manip.sim import carb` (the README's
+`omni.isaac.examples...`, `omni.isaac.motion_generation...`, `omni.isaac.kit` and `isaacsim...`
+name a tutorial imports becomes `from manip.sim import NAME` (`interface_config_loader`, a
+module in Isaac, too); `import carb` becomes `from manip.sim import carb` (the README's
 "Porting a tutorial" has the table). Isaac asset paths such as
 `get_assets_root_path() + "/Isaac/Robots/Franka/franka.usd"` load the bundled models
 (`manip.sim.assets`). Quaternions are (w, x, y, z); units are SI.
@@ -24,7 +25,8 @@ callbacks, carb, rendering), `scenes/` (Scene, the stage and the MJCF it compile
 `prims/` (XFormPrim, RigidPrim, GeometryPrim, views), `objects/` (the shapes, the ground
 plane), `articulations/` (Articulation and its view, the compiled core), `robots/` (Robot
 wrappers, Franka, WheeledRobot, SingleManipulator), `controllers/`, `tasks/`, `samples/`
-(BaseSample, its extension, HelloWorld), `utils/` (types, rotations); beside them
+(BaseSample, its extension, HelloWorld), `utils/` (types, rotations), `motion_generation/`
+(LulaKinematicsSolver, ArticulationKinematicsSolver); beside them
 `assets` (Isaac's asset paths) and `playback` (a planned trajectory played in the World).
 See `manip.sim.core.simulation_context` for time stepping, `manip.sim.articulations.articulation`
 for the drives, `manip.sim.core.recording` for offscreen video.
@@ -132,15 +134,24 @@ from manip.sim.tasks.base_task import BaseTask, PickPlace, find_unique_string_na
 from manip.sim.prims.views import RigidPrimView, XFormPrimView
 from manip.sim.tasks.follow_target import FollowTarget
 from manip.sim.controllers.rmpflow import RMPFlowController
+from manip.sim.motion_generation import (
+    ArticulationKinematicsSolver,
+    ArticulationSubset,
+    LulaKinematicsSolver,
+    get_extension_path_from_name,
+    interface_config_loader,
+)
 
 #: Every name a ported Isaac script imports (no submodules: `from manip.sim import *` binds names only).
 __all__ = [
-    "Articulation", "ArticulationAction", "ArticulationController", "ArticulationView", "BaseController",
+    "Articulation", "ArticulationAction", "ArticulationController", "ArticulationKinematicsSolver",
+    "ArticulationSubset", "ArticulationView", "BaseController",
     "BaseSample", "BaseSampleExtension", "BaseTask", "Camera", "CameraView", "CollisionObject", "DOF_PROPERTIES_DTYPE",
     "DifferentialController", "DynamicCapsule", "DynamicCone", "DynamicCuboid", "DynamicCylinder", "DynamicSphere",
     "DynamicState", "DynamicsViewState", "FixedCapsule", "FixedCone", "FixedCuboid", "FixedCylinder",
     "FixedSphere", "FollowTarget", "Franka", "GeometryPrim", "GroundPlane", "HelloWorld", "HelloWorldExtension",
-    "ISAAC_ASSETS", "JointsState", "OffscreenRenderingError", "OmniGlass", "OmniPBR", "ParallelGripper",
+    "ISAAC_ASSETS", "JointsState", "LulaKinematicsSolver", "OffscreenRenderingError", "OmniGlass", "OmniPBR",
+    "ParallelGripper",
     "PhysicsMaterial", "PickPlace", "PickPlaceController", "PreviewSurface", "RMPFlowController", "RigidPrim",
     "RigidPrimView", "Robot", "Scene", "SimulationApp", "SimulationContext", "SimulationError",
     "SimulationInstabilityError", "SimulationWarning", "SingleArticulation", "SingleGeometryPrim",
@@ -150,7 +161,7 @@ __all__ = [
     "available_assets", "carb", "clear_stage", "create_new_stage", "create_new_stage_async", "create_prim",
     "delete_prim", "euler_angles_to_quat", "euler_angles_to_rot_matrix", "euler_to_rot_matrix",
     "find_matching_prim_paths", "find_unique_string_name", "franka_model_path", "get_assets_root_path",
-    "get_current_stage", "get_prim_at_path", "get_stage_units", "gf_quat_to_np_array", "is_prim_path_valid",
+    "get_current_stage", "get_extension_path_from_name", "get_prim_at_path", "get_stage_units", "gf_quat_to_np_array", "is_prim_path_valid",
     "is_stage_loading", "jetbot_model_path", "open_stage", "quat_to_euler_angles", "quat_to_rot_matrix",
     "resolve_asset_path", "robot_model_path", "rot_matrix_to_euler_angles", "rot_matrix_to_quat", "save_stage",
     "update_stage", "update_stage_async",

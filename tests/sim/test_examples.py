@@ -21,6 +21,7 @@ CASES = {
     "tutorial_pick_and_place.py": ["--steps", "1400"],
     "bimanual_handover.py": ["--episodes", "1", "--quiet"],
     "bimanual_carry.py": ["--episodes", "1", "--quiet"],
+    "lula_kinematics.py": ["--steps", "240"],
 }
 
 
