@@ -5,6 +5,8 @@
 - Results (`manip.ik.result`): `IKResult`, `BatchIKResult`, `IKSolutions`, and `IKStatus`
   whose `hint` says what to change.
 - `manip.ik.kernels`: the compiled (numba) descent and the rotation logarithm.
+- `manip.ik.position`: position-only IK (`solve_position`: a frame's origin to a point, any
+  orientation), for Isaac's `compute_inverse_kinematics` without a target orientation.
 """
 
 from __future__ import annotations

@@ -12,7 +12,7 @@ is `manip.kinematics.Kinematics` (Pinocchio); pose inverse kinematics is
 `manip.ik.IKSolver` (damped least squares with joint limits: the warm start first, then the
 default cspace seeds, one attempt each, then up to `max_attempts` random restarts, seeded:
 the same call gives the same answer); position-only IK (no target orientation) is the same
-iteration on the position rows (`manip.sim.motion_generation.position_ik`).
+iteration on the position rows (`manip.ik.position`).
 
 Frames: every link of the URDF (`get_all_frame_names`). Poses are in the world (stage)
 frame: the robot's root link (`root_link` of the YAML, default the URDF's root) is placed by
@@ -36,7 +36,7 @@ from manip.ik import IKSolver
 from manip.kinematics import Kinematics
 from manip.pose import Pose
 from manip.robot_config import GripperConfig, config_from_urdf
-from manip.sim.motion_generation.position_ik import solve_position
+from manip.ik.position import solve_position
 from manip.sim.motion_generation.robot_description import LulaRobotDescription, load_robot_description
 from manip.sim.motion_generation.urdf_aliases import resolve_urdf
 from manip.urdf import MOVABLE_TYPES, UrdfTree, build_model
