@@ -14,8 +14,9 @@ depth image; `integrate_pointcloud` does the same with a cloud. `MotionGenerator
    (built once per q: the images of several cameras taken at the same q share it);
 3. occupied: the cell of every remaining point (`manip.perception.kernels`), holding the
    bounding box of the points measured in it (`OccupancyMap.bounds`: the surface as the
-   camera saw it; what a point hides behind it is unknown, not in the box; over every
-   update until the cell is freed, so two cameras' views add up);
+   camera saw it; what a point hides behind it is unknown: not in the box, or with
+   `unknown="occupied"` in it, the ray a cell diagonal behind the point clamped to the cell;
+   over every update until the cell is freed, so two cameras' views add up);
 4. free: a cell occupied before (or, with `unknown="occupied"`, never observed) is freed
    when the image sees through it: every pixel ray crossing it measures a surface beyond the
    point where it leaves the cell (`cells_seen_free`), so an object that moved away
@@ -33,8 +34,9 @@ the continuous certificate refuse) or through a face no camera saw. With
 `fill="cells"` every occupied cell is whole (surfaces inflated by up to a cell). With
 `unknown="free"` (the default), space never observed is free: an object no camera saw is
 not avoided. With `unknown="occupied"`, every
-cell within `bounds` that no image has seen free is an obstacle, so only space observed free
-(or outside `bounds`) is planned through.
+cell within `bounds` that no image has seen free is an obstacle and a surface's own cell holds
+what the surface hides in it, so only space observed free (or outside `bounds`) is planned
+through.
 
 The map's state between updates (the cells seen occupied; with `unknown="occupied"` which
 cells were observed) is kept beside the map obstacle of the world (keyed by that very
@@ -434,8 +436,8 @@ def integrate_depth(checker, depth, intrinsics, camera_pose: Pose, *, name: str 
     t = np.array(pose.position, dtype=np.float64)   # a writable copy: the compiled signature
     sf = _self_filter(checker, q, margin)
     rob = sf.robot
-    keys, kb, on_robot, negative = depth_cells(d, fx, fy, cx, cy, R, t, rng, res, fill == "points", np.zeros(3),
-                                               sf.reach + 0.1,
+    keys, kb, on_robot, negative = depth_cells(d, fx, fy, cx, cy, R, t, rng, res, fill == "points",
+                                               _hidden_depth(unknown, res), np.zeros(3), sf.reach + 0.1,
                                                rob.centres, rob.radii, rob.part, rob.dop, rob.margin, SELF_CELL,
                                                *sf.index)
     if negative:
@@ -508,7 +510,7 @@ def integrate_pointcloud(checker, points, origin=None, *, name: str = "camera", 
             faces.append((np.ascontiguousarray(Rf), img))
     dist = np.linalg.norm(P - o, axis=1) if origin is not None else np.zeros(P.shape[0])
     keep = (dist <= rng) & (np.linalg.norm(P, axis=1) <= sf.reach + 0.1)
-    keys, kb = _cloud_cells(P[keep], None if origin is None else o, res, sf)
+    keys, kb = _cloud_cells(P[keep], None if origin is None else o, res, sf, _hidden_depth(unknown, res))
 
     def seen_free(cells: np.ndarray) -> np.ndarray:
         out = np.zeros(cells.shape[0], dtype=bool)
@@ -520,10 +522,12 @@ def integrate_pointcloud(checker, points, origin=None, *, name: str = "camera", 
     return _update(checker, name, res, unknown, b, _Frame(keys, kb, seen_free), fill)
 
 
-def _cloud_cells(P: np.ndarray, origin: np.ndarray | None, res: float, sf: _SelfFilter) -> tuple[np.ndarray, np.ndarray]:
+def _cloud_cells(P: np.ndarray, origin: np.ndarray | None, res: float, sf: _SelfFilter,
+                 behind: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
     """Keys (N,) of the cells of points P (N, 3) [m] off the robot (`_SelfFilter`), and the
     points as bounds (N, 6) [m]; with an origin, a point within SNAP before a cell face along
-    its ray counts in the cell behind."""
+    its ray counts in the cell behind, and the bounds hold its ray `behind` [m] further
+    (`_hidden_depth`; without an origin, `behind` > 0 gives the whole cell)."""
     if P.shape[0] == 0:
         return np.zeros(0, dtype=np.int64), np.zeros((0, 6))
     rob = sf.robot
@@ -531,10 +535,24 @@ def _cloud_cells(P: np.ndarray, origin: np.ndarray | None, res: float, sf: _Self
         P = np.ascontiguousarray(P, dtype=np.float64)
         P = P[~on_robot(P, rob.centres, rob.radii, rob.part, rob.dop, rob.margin, SELF_CELL, *sf.index)]
     at = P
+    lo = hi = P
     if origin is not None:
         ray = P - origin
-        at = P + SNAP * ray / np.maximum(np.linalg.norm(ray, axis=1, keepdims=True), 1e-12)
-    return pack_all(np.ascontiguousarray(np.floor(at / res).astype(np.int64))), np.hstack([P, P])
+        ray = ray / np.maximum(np.linalg.norm(ray, axis=1, keepdims=True), 1e-12)
+        at = P + SNAP * ray
+        if behind > 0.0:
+            lo, hi = np.minimum(P, P + behind * ray), np.maximum(P, P + behind * ray)
+    elif behind > 0.0:   # no ray: which side a point hides is not known; its whole cell
+        lo = np.floor(at / res) * res
+        hi = lo + res
+    return pack_all(np.ascontiguousarray(np.floor(at / res).astype(np.int64))), np.hstack([lo, hi])
+
+
+def _hidden_depth(unknown: str, res: float) -> float:
+    """How far behind a measured point its cell's box reaches along the ray [m]: with
+    `unknown="occupied"` a cell diagonal (clamped to the cell: the part of a surface's own cell
+    the surface hides is unknown, so an obstacle), else 0 (the points alone: hidden = free)."""
+    return math.sqrt(3.0) * res if unknown == "occupied" else 0.0
 
 
 __all__ = ["integrate_depth", "integrate_pointcloud", "reach", "WORLD_AXES_TO_OPTICAL"]

@@ -12,7 +12,8 @@ Cells are those of `manip.collision.occupancy`: cell (i, j, k) is the box [i r, 
   the key of each point's cell with the bounds of the points in it (a point within `SNAP`
   [m] before a cell face along its ray counts in the cell behind it, so that a surface on a
   face is held by the cell behind it): the box is the surface as the camera saw it, and what
-  a point hides behind it is unknown (not in the box); at a silhouette (the next pixel sees
+  a point hides behind it is unknown (not in the box; with `behind` > 0, for
+  `unknown="occupied"`, the ray that far behind the point too); at a silhouette (the next pixel sees
   far beyond, or nothing) the bounds reach that pixel's ray at the point's depth, so a
   surface's edge between two rays is held; `reduce_bounds` merges the rows of a repeated key;
 - `cells_seen_free`: which cells every pixel ray through them passes without a hit: the
@@ -243,7 +244,7 @@ def _widen(bounds, row, m0, m1, m2, m3, m4, m5):
 
 
 @kernel
-def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, reach_r,
+def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, behind, reach_c, reach_r,
                 centres, radii, ball_part, dop, margin, cell, lo, shape, near, box, start, balls):
     """Keys (P,) of the cells of the depth image's points (repeats mostly removed), the bounds
     (P, 6) [m] (lo, hi) of the points of each row, the number of points dropped on the robot
@@ -257,6 +258,9 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, rea
         res: cell edge [m].
         exact: True: each row's bounds are those of its points and rays (module docstring);
             False: the whole cell (`fill="cells"`: no bounds computed per point).
+        behind: with `exact`, the bounds also hold each point's ray this far behind it [depth
+            units] (clamped to the cell by `OccupancyMap`; `unknown="occupied"`: what a seen
+            surface hides in its own cell is unknown, so in the map); 0: the points alone.
         reach_c, reach_r: (3,) and [m]: points outside this ball are dropped (beyond reach).
         centres, radii, ball_part, dop, margin, cell, lo, shape, near, box, start, balls: the
             robot (`_robot_point`): balls grown by the margin, their parts, the parts' 26-DOPs
@@ -362,7 +366,11 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, rea
                         bounds[P, 2], bounds[P, 5] = ck * res, (ck + 1) * res
                         P += 1
                 continue
-            # the bounds hold the point (what it hides behind it is unknown: not in the box)
+            # the bounds hold the point and its ray `behind` further (0: the point alone)
+            zb = z + behind
+            y0 = t[0] + zb * d0
+            y1 = t[1] + zb * d1
+            y2 = t[2] + zb * d2
             if key != cur:   # a new run: the last one's bounds into its row; this cell's row
                 if cr >= 0:
                     _widen(bounds, cr, m0, m1, m2, m3, m4, m5)
@@ -376,11 +384,11 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, reach_c, rea
                     bounds[P, 3] = bounds[P, 4] = bounds[P, 5] = -np.inf
                     P += 1
                 cr = row[slot]
-                m0, m1, m2 = x0, x1, x2
-                m3, m4, m5 = x0, x1, x2
+                m0, m1, m2 = min(x0, y0), min(x1, y1), min(x2, y2)
+                m3, m4, m5 = max(x0, y0), max(x1, y1), max(x2, y2)
             else:
-                m0, m1, m2 = min(m0, x0), min(m1, x1), min(m2, x2)
-                m3, m4, m5 = max(m3, x0), max(m4, x1), max(m5, x2)
+                m0, m1, m2 = min(m0, x0, y0), min(m1, x1, y1), min(m2, x2, y2)
+                m3, m4, m5 = max(m3, x0, y0), max(m4, x1, y1), max(m5, x2, y2)
             # a silhouette: the surface goes on up to the next pixel's ray (whose depth is far
             # beyond, or unmeasured): the bounds take that ray's point at this depth
             far = z + max(SILHOUETTE, SILHOUETTE_PX * z / fx)

@@ -288,7 +288,7 @@ def test_closing_fingers_add_no_cell_on_themselves(mg):
     assert mg.distance(q) > 0.05
 
 
-def _plane_under(mg, q, z: float, fill=None):
+def _plane_under(mg, q, z: float, fill=None, **options):
     """Integrate a synthetic image of a horizontal surface at height z [m], 12 cm around the
     hand, seen by a camera 1 m above it looking straight down (inf elsewhere)."""
     hand = mg.fk(q, "panda_hand").position
@@ -300,7 +300,7 @@ def _plane_under(mg, q, z: float, fill=None):
     off = np.stack([-(v - K[1, 2]) / K[1, 1], -(u - K[0, 2]) / K[0, 0]], axis=-1) * 1.0
     depth = np.where(np.linalg.norm(off, axis=-1) < 0.12, 1.0, np.inf).astype(np.float32)
     kwargs = {} if fill is None else {"fill": fill}
-    return mg.update_world_from_depth(depth, K, down, **kwargs)
+    return mg.update_world_from_depth(depth, K, down, **kwargs, **options)
 
 
 def test_by_default_a_start_5_mm_above_a_seen_surface_is_free(mg):
@@ -338,3 +338,22 @@ def test_what_a_seen_surface_hides_is_unknown_not_occupied(mg):
     assert not m.contains_points(under)
     whole = _plane_under(MotionGenerator("franka"), q, z, fill="cells")
     assert whole.contains_points(under)
+
+
+def test_with_unknown_occupied_what_a_seen_surface_hides_in_its_own_cell_is_an_obstacle(mg):
+    """With unknown="occupied" only observed free space is free: the part of a surface's own
+    cell behind the surface (hidden from the camera) is in the map, the part in front of it
+    (which the rays crossed) is not. The bounds end at that cell's lower face, so no unknown
+    cell behind it covers the hidden part (below the bounds, unknown space is free)."""
+    q = mg.default_joint_positions
+    hand = mg.fk(q, "panda_hand").position
+    z = (math.floor((hand[2] - 0.3) / 0.02) + 0.75) * 0.02   # 3/4 up its cell
+    bottom = math.floor(z / 0.02) * 0.02
+    box = [[hand[0] - 0.2, hand[1] - 0.2, bottom], [hand[0] + 0.2, hand[1] + 0.2, z + 0.2]]
+    m = _plane_under(mg, q, z, unknown="occupied", bounds=box)
+    at = lambda dz: np.array([[hand[0], hand[1], z + dz]])   # noqa: E731
+    assert m.contains_points(at(0.0))
+    assert m.contains_points(at(-0.005))       # hidden, in the surface's cell
+    assert not m.contains_points(at(0.003))    # in front of the surface, in its cell: seen free
+    assert not m.contains_points(at(0.1))      # seen free
+    assert not m.contains_points(at(-0.05))    # below the bounds: unknown = free there
