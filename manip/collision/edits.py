@@ -319,6 +319,9 @@ class WorldEdits:
         link = self.config.ee_link if link is None else link
         fid = kin.frame_id(link, "link")
         if isinstance(obstacle, str):
+            if obstacle in self._attached:
+                raise InvalidInputError(f"'{obstacle}' is already attached (to {self._attached[obstacle].link}); "
+                                        "detach_object it first")
             shape = self._world.get(obstacle)
             in_world = True
         elif isinstance(obstacle, Obstacle) and type(obstacle) is not Obstacle:
