@@ -152,6 +152,28 @@ class XFormPrim(DefaultPoseMixin):
     def unbind_simulation(self) -> None:
         self._sim = None
 
+    def _removed_message(self, what: str) -> str | None:
+        """Why this prim (not bound to a compiled world) has no state: it is no longer on the
+        stage, so its stored values are stale (Isaac's deleted prim is invalid too); or None."""
+        if self._wrapped_reference is not None or self._wrapped_object is not None \
+                or get_current_stage().get_prim(self.prim_path) is self:
+            return None
+        return (f"{self.name}.{what}: {self.prim_path!r} is no longer on the stage (removed by scene.remove_object / "
+                "scene.clear / world.clear, or made for an earlier World); add a new object")
+
+    def _removed(self, what: str) -> bool:
+        """Getters: True (after a warning, as for a robot's removed link) when the prim was removed."""
+        message = self._removed_message(what)
+        if message:
+            logger.warning("%s; returning None", message)
+        return message is not None
+
+    def _require_on_stage(self, what: str) -> None:
+        """Setters: raise SimulationError when the prim was removed (nothing to set)."""
+        message = self._removed_message(what)
+        if message:
+            raise SimulationError(message)
+
     # ------------------------------------------------------------------ pose
     def get_world_pose(self) -> tuple[np.ndarray, np.ndarray]:
         """World pose: position (3,) [m] and orientation (4,) (w, x, y, z).
@@ -174,6 +196,8 @@ class XFormPrim(DefaultPoseMixin):
                 return pose
             if self._wrapped_object is not None:
                 return self._wrapped_object.get_world_pose()
+            if self._removed("get_world_pose"):
+                return None  # type: ignore[return-value]
             return self._pose[0].copy(), self._pose[1].copy()
         d = sim.data
         if self._qadr >= 0:
@@ -205,6 +229,7 @@ class XFormPrim(DefaultPoseMixin):
             if self._wrapped_object is not None:
                 self._wrapped_object.set_world_pose(p, q)
                 return
+            self._require_on_stage("set_world_pose")
             self._pose = (p if p is not None else self._pose[0], q if q is not None else self._pose[1])
             return
         d = sim.data
