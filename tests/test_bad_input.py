@@ -331,6 +331,9 @@ def test_world_edits(mg):
     _raises(lambda: mg.add_obstacle(Cuboid("table", [0.1] * 3)), "name")
     _raises(lambda: mg.remove_obstacle("nothing"), "obstacle", UnknownNameError)
     _raises(lambda: mg.update_world(42), "world")
+    # a cuRobo user's world file name: the message says how to read it
+    _raises(lambda: mg.update_world("collision_table.yml"), "WorldConfig.from_yaml(path)")
+    _raises(lambda: MotionGenerator("franka", Path("collision_table.yml")), "WorldConfig.from_yaml(path)")
     _raises(lambda: mg.checker.update_obstacle_pose("table", [0, 0]), "pose")
     _raises(lambda: mg.attach_object("nothing"), "obstacle", UnknownNameError)
     _raises(lambda: mg.attach_object(Cuboid("held", [0.02] * 3), q=[0.0] * 6), "q")
