@@ -378,8 +378,15 @@ def create_new_stage() -> Stage:
 
 
 def is_prim_path_valid(prim_path: str) -> bool:
-    """Whether a prim exists at `prim_path` on the current stage."""
-    return prim_path in _STAGE._prims
+    """Whether a prim exists at `prim_path` on the current stage: an object, a referenced
+    model, or a body or site of a referenced model ("/World/Franka/panda_hand", as in Isaac,
+    where a robot's links are prims below it)."""
+    if prim_path in _STAGE._prims:
+        return True
+    for path, prim in _STAGE._prims.items():
+        if isinstance(prim, ReferencePrim) and prim_path.startswith(path + "/"):
+            return prim.authored_pose(prim_path) is not None
+    return False
 
 
 def add_reference_to_stage(usd_path: str | Path, prim_path: str, prim_type: str = "Xform") -> ReferencePrim:
