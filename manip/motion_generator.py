@@ -50,6 +50,7 @@ from pathlib import Path
 
 import numpy as np
 
+from manip import curobo_names
 from manip.collision import CollisionChecker, WorldConfig
 from manip.collision.arm_clearance import arm_clearance
 from manip.errors import InvalidInputError
@@ -570,4 +571,4 @@ class MotionGenerator(WorldEdits):
                 f"wrap the generator, TutorialMotionGen(motion_gen=mg).{name}(...), or build the wrapper directly, "
                 f"TutorialMotionGen('franka')"
             )
-        raise AttributeError(f"'{type(self).__name__}' object has no attribute '{name}'")
+        raise curobo_names.missing(type(self).__name__, curobo_names.MOTION_GEN, name)
