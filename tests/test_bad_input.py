@@ -18,6 +18,7 @@ import pytest
 from manip import InvalidInputError, MotionGenerator, Pose, UnknownNameError
 from manip import quaternion as quat
 from manip.articulation_action import ArticulationAction
+from manip.control import ReactiveController
 from manip.collision import Capsule, CollisionChecker, Cuboid, Cylinder, Mesh, Sphere, WorldConfig
 from manip.errors import ManipError
 from manip.ik import IKSolver
@@ -395,4 +396,8 @@ def test_more_collision_arguments(mg):
     _raises(lambda: mg.checker.set_gripper_positions([0.04, 1j]), "gripper")
     _raises(lambda: mg.checker.set_gripper_positions([0.04, 0.5]), "gripper")
     _raises(lambda: load_robot_config(123), "robot", UnknownNameError)
+    # a MotionGenerator where a robot is expected (the reactive controller's first argument):
+    # it was "robot '<manip.motion_generator.MotionGenerator object at 0x...>' not found"
+    _raises(lambda: ReactiveController(mg), "which holds one: pass its .config", InvalidInputError)
+    assert ReactiveController(mg.config).step(READY, mg.fk(READY, "panda_hand_tcp"), 0.01) is not None
     assert not mg.checker.attached_objects
