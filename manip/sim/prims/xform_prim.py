@@ -93,10 +93,19 @@ class XFormPrim(DefaultPoseMixin):
         for path in stage.prim_paths():
             if prim_path.startswith(path + "/") and stage.find_reference(path) is not None:
                 self._wrapped_reference = stage.find_reference(path)
-        if self._wrapped_reference is not None or self._wrapped_object is not None:
+        if self._wrapped_reference is not None and self._mount(self._wrapped_reference):
+            self._wrapped_reference = None  # a prim of its own, fixed to a link of the model
+            stage.add_prim(self, inside_reference=True)
+        elif self._wrapped_reference is not None or self._wrapped_object is not None:
             stage.register_wrapper(self)
         else:
             stage.add_prim(self)
+
+    def _mount(self, reference: ReferencePrim) -> bool:
+        """Whether this prim, at a path inside `reference`'s model, is a new prim fixed to one
+        of its links (a camera on a wrist) rather than a wrapper of the model's own body or
+        site; subclasses that can be mounted say so (Camera)."""
+        return False
 
     def _make_default_state(self) -> XFormPrimState:
         return XFormPrimState(self._pose[0].copy(), self._pose[1].copy())

@@ -155,6 +155,12 @@ class ReferencePrim:
         R = quat.to_matrix(self.orientation)
         return self.position + R @ p, quat.multiply(self.orientation, q)
 
+    def has_body(self, prim_path: str) -> bool:
+        """Whether the model has a body (a link) at `prim_path` (its name after the prefix)."""
+        self.authored_pose(self.prefix)  # loads the file alone once
+        model = self._probe[0]
+        return mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, prim_path[len(self.prefix):]) >= 0
+
     def _load_spec(self) -> mujoco.MjSpec:
         try:
             if self.file_path.suffix.lower() == ".urdf":
@@ -276,7 +282,9 @@ class Stage:
         self.callbacks = CallbackTable("stage")
         self.sim: SimHandle | None = None  # set by the World while a compiled model exists
 
-    def add_prim(self, prim: Any) -> None:
+    def add_prim(self, prim: Any, inside_reference: bool = False) -> None:
+        """Put `prim` on the stage; `inside_reference`: a prim fixed to a link of a referenced
+        model (a wrist camera), below the model's path."""
         path = validate_prim_path(prim.prim_path)
         if path in self._prims:
             raise InvalidInputError(
@@ -284,7 +292,8 @@ class Stage:
                 f"or remove it first"
             )
         for existing in self._prims:
-            if path.startswith(existing + "/") and isinstance(self._prims[existing], ReferencePrim):
+            if path.startswith(existing + "/") and isinstance(self._prims[existing], ReferencePrim) \
+                    and not inside_reference:
                 raise InvalidInputError(
                     f"{path!r} lies inside the referenced model at {existing!r}; objects must be created outside it"
                 )
