@@ -32,6 +32,7 @@ import numpy as np
 
 from manip import quaternion as quat
 from manip.errors import InvalidInputError
+from manip.pose import Pose
 from manip.sim.prims.xform_prim import XFormPrim
 from manip.sim.scenes.stage import SimulationError
 from manip.sim.utils.bounds import bounded_vec
@@ -61,15 +62,16 @@ def _axes(camera_axes: str) -> np.ndarray:
     return _TO_USD[camera_axes]
 
 
-def _compose(a: tuple[np.ndarray, np.ndarray], b: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """(position, wxyz) of b's frame given in a's frame, in a's parent frame."""
-    return a[0] + quat.to_matrix(a[1]) @ b[0], quat.multiply(a[1], b[1])
+def _compose(a, b) -> tuple[np.ndarray, np.ndarray]:
+    """(position, wxyz) of frame b given in frame a, in a's parent frame (a @ b)."""
+    c = Pose(*a) @ Pose(*b)
+    return c.position.copy(), c.quaternion.copy()
 
 
-def _relative(a: tuple[np.ndarray, np.ndarray], b: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """(position, wxyz) of frame b in frame a (both given in the same parent frame)."""
-    qa_inv = quat.conjugate(a[1])
-    return quat.to_matrix(qa_inv) @ (b[0] - a[0]), quat.multiply(qa_inv, b[1])
+def _relative(a, b) -> tuple[np.ndarray, np.ndarray]:
+    """(position, wxyz) of frame b in frame a, both given in one parent frame (a^-1 @ b)."""
+    inv = Pose(*a).inverse()
+    return _compose((inv.position, inv.quaternion), b)
 
 
 def _resolution(value) -> tuple[int, int]:
