@@ -60,6 +60,7 @@ def _objects() -> dict:
         "PickPlaceController": sim.PickPlaceController(name="ppc", gripper=franka.gripper,
                                                        robot_articulation=franka),
         "BaseTask": task, "PickPlace": task,
+        "RMPFlowController": sim.RMPFlowController(name="rmp", robot_articulation=franka),
     })
     return objs
 
