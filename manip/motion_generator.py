@@ -477,6 +477,8 @@ class MotionGenerator(WorldEdits):
             raise InvalidInputError(f"goals must be a manip.Pose; got {type(goals).__name__}")
         if not goals.is_batch:
             goals = Pose.stack([goals])
+        if len(goals) == 0:
+            raise InvalidInputError("goals must hold at least one pose; got an empty batch")
         validity = self._validity(ctx, start_q)
         start = ctx.check_start(self._arm_q(start_q, "start_q"), self.kinematics, validity)
         if ctx.failed:

@@ -401,3 +401,19 @@ def test_more_collision_arguments(mg):
     _raises(lambda: ReactiveController(mg), "which holds one: pass its .config", InvalidInputError)
     assert ReactiveController(mg.config).step(READY, mg.fk(READY, "panda_hand_tcp"), 0.01) is not None
     assert not mg.checker.attached_objects
+
+
+def test_an_empty_batch_of_goal_poses_is_refused(mg):
+    # plan_goalset crashed with "ValueError: min() arg is an empty sequence"; plan_grasp
+    # returned IK_FAIL "no grasp candidate was tried"; plan_place blamed "poses"
+    empty = Pose(np.zeros((0, 3)), np.zeros((0, 4)))
+    _raises(lambda: mg.plan_goalset(READY, empty), "goals must hold at least one pose")
+    mg.add_obstacle(Cuboid("cube_e", [0.05] * 3, Pose([0.5, 0.0, 0.05])))
+    try:
+        _raises(lambda: mg.plan_grasp(READY, empty, "cube_e"), "grasps must hold at least one pose")
+        mg.attach_object("cube_e", q=READY)
+        _raises(lambda: mg.plan_place(READY, empty), "placements must hold at least one pose")
+        mg.detach_object(READY)
+    finally:
+        mg.remove_obstacle("cube_e")
+    assert len(mg.batch_ik(empty).success) == 0 and mg.plan_batch(np.zeros((0, 7)), empty) == []  # batches of 0
