@@ -95,6 +95,7 @@ CONSTRAINED_USE = textwrap.dedent("""
     # a start read from a returned trajectory (its arrays are read-only), then a straight line
     ok = [mg.plan_pose(first.trajectory.positions[-1], Pose([0.4, -0.1, 0.35], [0, 1, 0, 0]), linear=True,
                        constraints=(upright,)).success]
+    ok.append(not mg.checker.in_collision_batch(first.trajectory.positions).any())  # read-only and column-major
     mg.add_obstacle(Cuboid("cube", [0.05, 0.05, 0.05], Pose([0.5, -0.3, 0.025])))
     grasps = Pose.stack([Pose([0.5, -0.3, 0.028], quat.multiply(quat.from_axis_angle([0, 0, 1], a), [0, 1, 0, 0]))
                          for a in (0.0, np.pi / 2)])
@@ -106,13 +107,14 @@ CONSTRAINED_USE = textwrap.dedent("""
 """)
 
 
-def test_constrained_lines_and_places_from_read_only_trajectories_compile_nothing(tmp_path):
-    # a trajectory's arrays are read-only: passed on to a kernel as they are, each would compile
-    # a second version of it (8 s of CPU for the tilt certificate's) in a fresh environment
+def test_a_returned_trajectorys_arrays_passed_on_compile_nothing(tmp_path):
+    # a trajectory's arrays are read-only (and its positions column-major): passed on to a kernel
+    # as they are, each compiled a second version of it (8 s of CPU for the tilt certificate's,
+    # 6 s for the self-collision broadphase's) in a fresh environment
     out = _fresh(tmp_path, code=CONSTRAINED_USE)
     assert out.returncode == 0, out.stderr
     report = json.loads(out.stdout.strip().splitlines()[-1])
-    assert report["ok"] == [True, True, True]
+    assert report["ok"] == [True, True, True, True]
     assert report["compiled"] == [], f"kernels compiled in a fresh process: {report['compiled']}"
     assert "compiling" not in out.stderr, out.stderr
 
