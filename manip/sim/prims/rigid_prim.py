@@ -22,6 +22,8 @@ class RigidPrim(XFormPrim):
     a prim path inside a referenced model (e.g. "/World/Franka/panda_hand"), a link of it
     (velocities and mass readable, not settable: the joints move it)."""
 
+    _mounts_on_links = False  # a body (a robot's link) or a shape of its own, never a frame on a link
+
     def _make_default_state(self) -> DynamicState:
         return DynamicState(self._pose[0].copy(), self._pose[1].copy(), np.zeros(3), np.zeros(3))
 

@@ -125,6 +125,7 @@ class ReferencePrim:
         # The model's ArticulationCore, set by the World while a compiled model exists.
         self.core: Any = None
         self._probe: tuple[mujoco.MjModel, mujoco.MjData] | None = None  # the file alone, for authored poses
+        self._names: tuple[frozenset, frozenset] | None = None  # the file's (body, site) names
 
     def unbind_simulation(self) -> None:
         """Forget the compiled model's core (the prim was removed from the stage)."""
@@ -155,11 +156,22 @@ class ReferencePrim:
         R = quat.to_matrix(self.orientation)
         return self.position + R @ p, quat.multiply(self.orientation, q)
 
+    def _element_names(self) -> tuple[frozenset, frozenset]:
+        """The file's body and site names, read once from its parsed spec (nothing compiled or
+        kept but the names)."""
+        if self._names is None:
+            spec = self._load_spec()
+            self._names = (frozenset(b.name for b in spec.bodies), frozenset(x.name for x in spec.sites))
+        return self._names
+
     def has_body(self, prim_path: str) -> bool:
         """Whether the model has a body (a link) at `prim_path` (its name after the prefix)."""
-        self.authored_pose(self.prefix)  # loads the file alone once
-        model = self._probe[0]
-        return mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, prim_path[len(self.prefix):]) >= 0
+        return prim_path.startswith(self.prefix) and prim_path[len(self.prefix):] in self._element_names()[0]
+
+    def has_element(self, prim_path: str) -> bool:
+        """Whether the model has a body or a site at `prim_path`."""
+        bodies, sites = self._element_names()
+        return prim_path.startswith(self.prefix) and prim_path[len(self.prefix):] in bodies | sites
 
     def _load_spec(self) -> mujoco.MjSpec:
         try:
@@ -394,7 +406,7 @@ def is_prim_path_valid(prim_path: str) -> bool:
         return True
     for path, prim in _STAGE._prims.items():
         if isinstance(prim, ReferencePrim) and prim_path.startswith(path + "/"):
-            return prim.authored_pose(prim_path) is not None
+            return prim.has_element(prim_path)
     return False
 
 

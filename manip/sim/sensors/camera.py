@@ -32,10 +32,8 @@ import numpy as np
 
 from manip import quaternion as quat
 from manip.errors import InvalidInputError
-from manip.pose import Pose
 from manip.sim.prims.xform_prim import XFormPrim
 from manip.sim.scenes.stage import SimulationError
-from manip.sim.utils.bounds import bounded_vec
 from manip.sim.sensors import annotators
 from manip.validation import positive
 
@@ -60,18 +58,6 @@ def _axes(camera_axes: str) -> np.ndarray:
     if camera_axes not in _TO_USD:
         raise InvalidInputError(f"camera_axes must be one of {', '.join(_TO_USD)}; got {camera_axes!r}")
     return _TO_USD[camera_axes]
-
-
-def _compose(a, b) -> tuple[np.ndarray, np.ndarray]:
-    """(position, wxyz) of frame b given in frame a, in a's parent frame (a @ b)."""
-    c = Pose(*a) @ Pose(*b)
-    return c.position.copy(), c.quaternion.copy()
-
-
-def _relative(a, b) -> tuple[np.ndarray, np.ndarray]:
-    """(position, wxyz) of frame b in frame a, both given in one parent frame (a^-1 @ b)."""
-    inv = Pose(*a).inverse()
-    return _compose((inv.position, inv.quaternion), b)
 
 
 def _resolution(value) -> tuple[int, int]:
@@ -131,72 +117,29 @@ class Camera(XFormPrim):
         self._paused_frame: dict | None = None
         self._renderer_model = None
         self._frame: dict[str, int] = {"rendering_frame": 0}
-        self._mount_link: str | None = None   # the link of a referenced model the camera is fixed to
-        self._link_id = -1
         R_usd = self._to_usd(orientation, "world") if orientation is not None else _TO_USD["world"]
         super().__init__(prim_path, name=name, position=position, translation=translation,
                          orientation=quat.from_matrix(R_usd))
-        if self._mount_link is not None and translation is None:
-            # a world pose (at the robot's authored pose): kept as the pose in the link's frame
-            self._pose = _relative(self._link_pose(), self._pose)
-            self._default_state = self._make_default_state()
 
     # ------------------------------------------------------------------ building
-    def _mount(self, reference) -> bool:
-        """Inside a referenced model: fixed to the nearest body above the camera's path."""
-        if reference.authored_pose(self.prim_path) is not None:
-            return False  # the model's own body or site of that name: wrapped, as any XFormPrim
-        link = self.prim_path.rsplit("/", 1)[0]
-        while link.startswith(reference.prefix) and not reference.has_body(link):
-            link = link.rsplit("/", 1)[0]
-        if not link.startswith(reference.prefix):
-            raise InvalidInputError(f"Camera {self.prim_path!r} lies inside the model at {reference.prim_path!r} but "
-                                    f"below none of its links: place it under one, e.g. "
-                                    f"'{reference.prim_path}/<link>/camera'")
-        self._mount_link = link
-        self._mount_ref = reference
-        return True
-
-    @property
-    def mount_link(self) -> str | None:
-        """The prim path of the robot link the camera is fixed to (None: placed in the world)."""
-        return self._mount_link
-
     def add_to_spec(self, spec: mujoco.MjSpec):
+        body = super().add_to_spec(spec)
         if self._mount_link is None:
-            body = super().add_to_spec(spec)
             body.add_camera(name=self.prim_path, fovy=self._fovy())
-            return body
-        body = spec.body(self._mount_link)
-        if body is None:
-            raise SimulationError(f"Camera {self.prim_path!r}: its link {self._mount_link!r} is not in the model")
-        body.add_camera(name=self.prim_path, pos=self._pose[0].tolist(), quat=self._pose[1].tolist(),
-                        fovy=self._fovy())
         return body
 
+    def _add_mounted(self, body: mujoco.MjsBody) -> None:
+        body.add_camera(name=self.prim_path, pos=self._pose[0].tolist(), quat=self._pose[1].tolist(),
+                        fovy=self._fovy())
+
+    def _write_local(self, model: mujoco.MjModel, position: np.ndarray, orientation: np.ndarray) -> None:
+        model.cam_pos[self._cam_id] = position
+        model.cam_quat[self._cam_id] = orientation
+
     def bind_simulation(self, sim) -> None:
-        if self._mount_link is None:
-            super().bind_simulation(sim)
-        else:
-            self._sim = sim
-            self._link_id = mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_BODY, self._mount_link)
+        super().bind_simulation(sim)
         self._cam_id = mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_CAMERA, self.prim_path)
         self._close_renderers()
-
-    def _link_pose(self) -> tuple[np.ndarray, np.ndarray]:
-        """World pose of the link a mounted camera is fixed to (authored before the first reset)."""
-        sim = self._sim
-        if sim is None:
-            return self._mount_ref.authored_pose(self._mount_link)
-        sim.ensure_kinematics()
-        return sim.data.xpos[self._link_id].copy(), sim.data.xquat[self._link_id].copy()
-
-    def _set_local(self, position, q_usd) -> None:
-        """A mounted camera's pose in its link's frame (USD camera axes)."""
-        self._pose = (position, q_usd)
-        if self._sim is not None:
-            self._sim.model.cam_pos[self._cam_id] = position
-            self._sim.model.cam_quat[self._cam_id] = q_usd
 
     def unbind_simulation(self) -> None:
         self._close_renderers()
@@ -215,12 +158,7 @@ class Camera(XFormPrim):
     def get_world_pose(self, camera_axes: str = "world") -> tuple[np.ndarray, np.ndarray]:
         """Position (3,) [m] and orientation (4,) (w, x, y, z) in the given camera axes."""
         M = _axes(camera_axes)
-        if self._mount_link is None:
-            pose = super().get_world_pose()
-        elif self._removed("get_world_pose"):
-            pose = None
-        else:
-            pose = _compose(self._link_pose(), self._pose)
+        pose = super().get_world_pose()
         if pose is None:
             return None  # type: ignore[return-value]
         p, q_usd = pose
@@ -228,41 +166,31 @@ class Camera(XFormPrim):
 
     def set_world_pose(self, position=None, orientation=None, camera_axes: str = "world") -> None:
         """Move the camera; `orientation` (w, x, y, z) in the given camera axes (None keeps it).
-        A mounted camera stays fixed to its link, at the pose this puts it in the link's frame."""
+        A camera on a robot's link stays fixed to it, at the pose this gives in the link's frame."""
         _axes(camera_axes)
         q_usd = None if orientation is None else quat.from_matrix(self._to_usd(orientation, camera_axes))
-        if self._mount_link is None:
-            super().set_world_pose(position, q_usd)
-            return
-        self._require_on_stage("set_world_pose")
-        p_now, q_now = _compose(self._link_pose(), self._pose)
-        world = (bounded_vec(position, "position", "position") if position is not None else p_now,
-                 q_usd if q_usd is not None else q_now)
-        self._set_local(*_relative(self._link_pose(), world))
+        super().set_world_pose(position, q_usd)
 
     def get_local_pose(self, camera_axes: str = "world") -> tuple[np.ndarray, np.ndarray]:
-        """The pose in the link's frame for a mounted camera, else the world pose (no parent
-        transform)."""
+        """The pose in the link's frame for a camera on a robot's link, else the world pose."""
         if self._mount_link is None:
             return self.get_world_pose(camera_axes)
-        M = _axes(camera_axes)
-        return self._pose[0].copy(), quat.from_matrix(quat.to_matrix(self._pose[1]) @ M.T)
+        p, q_usd = super().get_local_pose()
+        return p, quat.from_matrix(quat.to_matrix(q_usd) @ _axes(camera_axes).T)
 
     def set_local_pose(self, translation=None, orientation=None, camera_axes: str = "world") -> None:
-        """The pose in the link's frame for a mounted camera, else the world pose."""
+        """The pose in the link's frame for a camera on a robot's link, else the world pose."""
         if self._mount_link is None:
             self.set_world_pose(translation, orientation, camera_axes)
             return
         _axes(camera_axes)
-        self._require_on_stage("set_local_pose")
-        t = bounded_vec(translation, "position", "translation") if translation is not None else self._pose[0]
-        q = quat.from_matrix(self._to_usd(orientation, camera_axes)) if orientation is not None else self._pose[1]
-        self._set_local(t, q)
+        q_usd = None if orientation is None else quat.from_matrix(self._to_usd(orientation, camera_axes))
+        super().set_local_pose(translation, q_usd)
 
     def post_reset(self) -> None:
         """Back to the default pose (kept in USD's axes)."""
         if self._mount_link is not None:
-            self._set_local(self._default_state.position.copy(), self._default_state.orientation.copy())
+            super().post_reset()
             return
         self.set_world_pose(self._default_state.position, self._default_state.orientation, camera_axes="usd")
 
