@@ -30,6 +30,7 @@ import threading
 from pathlib import Path
 
 import numba
+import numpy as np
 from numba.core.caching import FunctionCache, IndexDataCacheFile
 
 from manip.disk_cache import PREBUILT_ROOT, prebuilt_enabled
@@ -62,6 +63,18 @@ def kernel(fn=None, **options):
         return dispatcher
 
     return wrap if fn is None else wrap(fn)
+
+
+def kernel_array(a, dtype=np.float64) -> np.ndarray:
+    """`a` as a C-contiguous, writable array of `dtype` (a copy only when needed).
+
+    Kernels are compiled (and prebuilt) for writable arrays; a read-only one, such as a
+    returned trajectory's `positions`, would make numba compile a second version of the
+    kernel (1-8 s of CPU each in a fresh environment). Pass kernels' array arguments that
+    may come from a caller through this.
+    """
+    out = np.ascontiguousarray(a, dtype=dtype)
+    return out if out.flags.writeable else out.copy()
 
 
 def kernel_files() -> list[Path]:

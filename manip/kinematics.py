@@ -23,7 +23,7 @@ import pinocchio as pin
 
 from manip import quaternion as quat
 from manip.errors import InvalidInputError, UnknownNameError
-from manip.jit import kernel
+from manip.jit import kernel, kernel_array
 from manip.limits import JointLimits
 from manip.pose import Pose
 from manip.robot_config import RobotConfig
@@ -300,10 +300,7 @@ class Kinematics:
 
         Index 0 is the universe (identity). Q: (N, dof).
         """
-        Q = np.ascontiguousarray(Q, dtype=np.float64)
-        if not Q.flags.writeable:  # a read-only array would compile (~1 s) a second version of the kernel
-            Q = Q.copy()
-        return _joint_frames(Q, self._sb_q, self._sb_parent_a, self._sb_table)
+        return _joint_frames(kernel_array(Q), self._sb_q, self._sb_parent_a, self._sb_table)
 
     @property
     def joint_specs(self) -> tuple[JointSpec, ...]:
@@ -401,7 +398,7 @@ class Kinematics:
         Returns:
             (R (N, 3, 3), p (N, 3), J (N, 6, dof)) of the frame.
         """
-        return _frame_jacobians(np.ascontiguousarray(Q, dtype=np.float64), *self.fk_tables(),
+        return _frame_jacobians(kernel_array(Q), *self.fk_tables(),
                                 *self.jacobian_tables(frame_id))
 
     def fk(self, q: np.ndarray, link: str) -> Pose:

@@ -50,6 +50,7 @@ from pathlib import Path
 
 import numpy as np
 
+from manip import curobo_names
 from manip.collision import CollisionChecker, WorldConfig
 from manip.collision.arm_clearance import arm_clearance
 from manip.errors import InvalidInputError
@@ -476,6 +477,8 @@ class MotionGenerator(WorldEdits):
             raise InvalidInputError(f"goals must be a manip.Pose; got {type(goals).__name__}")
         if not goals.is_batch:
             goals = Pose.stack([goals])
+        if len(goals) == 0:
+            raise InvalidInputError("goals must hold at least one pose; got an empty batch")
         validity = self._validity(ctx, start_q)
         start = ctx.check_start(self._arm_q(start_q, "start_q"), self.kinematics, validity)
         if ctx.failed:
@@ -570,4 +573,4 @@ class MotionGenerator(WorldEdits):
                 f"wrap the generator, TutorialMotionGen(motion_gen=mg).{name}(...), or build the wrapper directly, "
                 f"TutorialMotionGen('franka')"
             )
-        raise AttributeError(f"'{type(self).__name__}' object has no attribute '{name}'")
+        raise curobo_names.missing(type(self).__name__, curobo_names.MOTION_GEN, name)

@@ -163,6 +163,9 @@ class Pose:
     # ------------------------------------------------------------------ algebra
     def __matmul__(self, other: Pose) -> Pose:
         """Composition: (A @ B) maps B's frame through A (T_a_c = T_a_b @ T_b_c)."""
+        if isinstance(other, (np.ndarray, list, tuple)):
+            raise InvalidInputError(f"Pose @ {type(other).__name__}: `@` composes two Poses; map points (..., 3) "
+                                    "with pose.transform_points(points)")
         if not isinstance(other, Pose):
             return NotImplemented
         if self.is_batch and other.is_batch and len(self) != len(other):

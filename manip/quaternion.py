@@ -141,8 +141,23 @@ def angle_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def from_axis_angle(axis: np.ndarray, angle: np.ndarray) -> np.ndarray:
-    """Quaternion (w, x, y, z) of a rotation by `angle` [rad] about unit `axis` (3,)."""
-    axis = np.asarray(axis, dtype=float)
-    angle = np.asarray(angle, dtype=float)
+    """Quaternion (w, x, y, z) of a rotation by `angle` [rad] about unit `axis` (3,) (or
+    broadcast batches: axis (..., 3), angle (...)).
+
+    Raises:
+        InvalidInputError: `axis` not 3 real finite components of norm within
+            `UNIT_NORM_TOLERANCE` of 1 (a zero or unnormalised axis would give a quaternion
+            that is not a rotation), or `angle` not real and finite.
+    """
+    axis = _real(axis, "axis")
+    angle = _real(angle, "angle")
+    if axis.ndim == 0 or axis.shape[-1] != 3:
+        raise InvalidInputError(f"axis must have 3 components (x, y, z); got shape {axis.shape}")
+    if not (np.all(np.isfinite(axis)) and np.all(np.isfinite(angle))):
+        raise InvalidInputError(f"axis and angle must be finite; got axis {axis}, angle {angle}")
+    n = np.linalg.norm(axis, axis=-1)
+    if np.any(np.abs(n - 1.0) > UNIT_NORM_TOLERANCE):
+        raise InvalidInputError(f"axis must be a unit vector (norm within {UNIT_NORM_TOLERANCE:g} of 1); got {axis} "
+                                f"of norm {n}: pass axis / |axis|")
     half = 0.5 * angle[..., None]
     return np.concatenate([np.cos(half), np.sin(half) * axis], axis=-1)

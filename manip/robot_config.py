@@ -249,12 +249,18 @@ def load_robot_config(name_or_path: str | Path) -> RobotConfig:
     Raises:
         UnknownNameError: no robot of that name, or a link or joint the URDF does not have;
             the message lists the available ones.
+        InvalidInputError: `name_or_path` is an object holding a RobotConfig (a MotionGenerator:
+            the message says to pass its `.config`).
         RobotConfigError: the file is malformed (missing keys, wrong types, non-finite or
             non-positive limits, limits beyond the URDF's, `ee_link` not below `base_link`)
             or names missing model files, or has a key it does not know, at the top level or
             in a section (`colision`, `collision: paddign`, ...; the message lists the valid
             keys; keys starting with `x_` are extension keys, accepted and ignored).
     """
+    if isinstance(getattr(name_or_path, "config", None), RobotConfig):  # a MotionGenerator, say
+        raise InvalidInputError(f"robot must be a robot name ({', '.join(available_robots())}), the path of a "
+                                f"robot.yaml or its folder, or a RobotConfig; got a {type(name_or_path).__name__}, "
+                                "which holds one: pass its .config")
     if not isinstance(name_or_path, (str, Path)) or not str(name_or_path):
         raise UnknownNameError("robot", repr(name_or_path), available_robots())
     candidate = Path(name_or_path)

@@ -37,12 +37,8 @@ class WorldEdits:
         return self.checker.world
 
     def update_world(self, world: WorldConfig | dict) -> None:
-        """Replace every obstacle with those of `world` (a WorldConfig or cuRobo-style dict)."""
-        if isinstance(world, dict):
-            world = WorldConfig.from_dict(world)
-        if not isinstance(world, WorldConfig):
-            raise InvalidInputError(f"world must be a WorldConfig or a dict; got {type(world).__name__}")
-        self.checker.set_world(world)
+        """Replace every obstacle with those of `world` (a WorldConfig or cuRobo-style dict; None: no obstacles)."""
+        self.checker.set_world(WorldConfig() if world is None else world)
 
     def add_obstacle(self, obstacle) -> None:
         """Add one obstacle (Cuboid, Sphere, Cylinder, Capsule or Mesh)."""

@@ -18,6 +18,7 @@ import pytest
 from manip import InvalidInputError, MotionGenerator, Pose, UnknownNameError
 from manip import quaternion as quat
 from manip.articulation_action import ArticulationAction
+from manip.control import ReactiveController
 from manip.collision import Capsule, CollisionChecker, Cuboid, Cylinder, Mesh, Sphere, WorldConfig
 from manip.errors import ManipError
 from manip.ik import IKSolver
@@ -331,6 +332,9 @@ def test_world_edits(mg):
     _raises(lambda: mg.add_obstacle(Cuboid("table", [0.1] * 3)), "name")
     _raises(lambda: mg.remove_obstacle("nothing"), "obstacle", UnknownNameError)
     _raises(lambda: mg.update_world(42), "world")
+    # a cuRobo user's world file name: the message says how to read it
+    _raises(lambda: mg.update_world("collision_table.yml"), "WorldConfig.from_yaml(path)")
+    _raises(lambda: MotionGenerator("franka", Path("collision_table.yml")), "WorldConfig.from_yaml(path)")
     _raises(lambda: mg.checker.update_obstacle_pose("table", [0, 0]), "pose")
     _raises(lambda: mg.attach_object("nothing"), "obstacle", UnknownNameError)
     _raises(lambda: mg.attach_object(Cuboid("held", [0.02] * 3), q=[0.0] * 6), "q")
@@ -392,4 +396,24 @@ def test_more_collision_arguments(mg):
     _raises(lambda: mg.checker.set_gripper_positions([0.04, 1j]), "gripper")
     _raises(lambda: mg.checker.set_gripper_positions([0.04, 0.5]), "gripper")
     _raises(lambda: load_robot_config(123), "robot", UnknownNameError)
+    # a MotionGenerator where a robot is expected (the reactive controller's first argument):
+    # it was "robot '<manip.motion_generator.MotionGenerator object at 0x...>' not found"
+    _raises(lambda: ReactiveController(mg), "which holds one: pass its .config", InvalidInputError)
+    assert ReactiveController(mg.config).step(READY, mg.fk(READY, "panda_hand_tcp"), 0.01) is not None
     assert not mg.checker.attached_objects
+
+
+def test_an_empty_batch_of_goal_poses_is_refused(mg):
+    # plan_goalset crashed with "ValueError: min() arg is an empty sequence"; plan_grasp
+    # returned IK_FAIL "no grasp candidate was tried"; plan_place blamed "poses"
+    empty = Pose(np.zeros((0, 3)), np.zeros((0, 4)))
+    _raises(lambda: mg.plan_goalset(READY, empty), "goals must hold at least one pose")
+    mg.add_obstacle(Cuboid("cube_e", [0.05] * 3, Pose([0.5, 0.0, 0.05])))
+    try:
+        _raises(lambda: mg.plan_grasp(READY, empty, "cube_e"), "grasps must hold at least one pose")
+        mg.attach_object("cube_e", q=READY)
+        _raises(lambda: mg.plan_place(READY, empty), "placements must hold at least one pose")
+        mg.detach_object(READY)
+    finally:
+        mg.remove_obstacle("cube_e")
+    assert len(mg.batch_ik(empty).success) == 0 and mg.plan_batch(np.zeros((0, 7)), empty) == []  # batches of 0

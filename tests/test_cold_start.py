@@ -63,11 +63,11 @@ FIRST_USE = textwrap.dedent("""
 """)
 
 
-def _fresh(tmp_path: Path, **env) -> subprocess.CompletedProcess:
-    """FIRST_USE in a new process whose numba and manip caches are empty folders."""
+def _fresh(tmp_path: Path, code: str = FIRST_USE, **env) -> subprocess.CompletedProcess:
+    """`code` (FIRST_USE) in a new process whose numba and manip caches are empty folders."""
     full = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "numba"), MANIP_CACHE_DIR=str(tmp_path / "manip"),
                 MUJOCO_GL=os.environ.get("MUJOCO_GL", "egl"), **env)
-    return subprocess.run([sys.executable, "-c", FIRST_USE], capture_output=True, text=True, env=full, cwd=tmp_path,
+    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=full, cwd=tmp_path,
                           timeout=900)
 
 
@@ -93,6 +93,42 @@ def test_a_fresh_process_plans_and_simulates_without_compiling(tmp_path):
     assert "compiling" not in out.stderr and "computing the collision geometry" not in out.stderr, out.stderr
     # nothing was computed for the Panda: its geometry came from the prebuilt folder
     assert not list((tmp_path / "manip").glob("spheres-*"))
+
+
+CONSTRAINED_USE = textwrap.dedent("""
+    import json
+    import numpy as np
+    from manip import Cuboid, MotionGenerator, OrientationConstraint, Pose, jit
+    from manip import quaternion as quat
+    mg = MotionGenerator("franka", {"cuboid": {"table": {"dims": [1.0, 1.2, 0.04], "pose": [0.5, 0, -0.02, 1, 0, 0, 0]}}})
+    q0 = mg.default_joint_positions
+    upright = OrientationConstraint(axis=(0, 0, 1), direction=(0, 0, -1), tolerance=0.1)
+    first = mg.plan_pose(q0, Pose([0.45, -0.3, 0.25], [0, 1, 0, 0]))
+    # a start read from a returned trajectory (its arrays are read-only), then a straight line
+    ok = [mg.plan_pose(first.trajectory.positions[-1], Pose([0.4, -0.1, 0.35], [0, 1, 0, 0]), linear=True,
+                       constraints=(upright,)).success]
+    ok.append(not mg.checker.in_collision_batch(first.trajectory.positions).any())  # read-only and column-major
+    mg.add_obstacle(Cuboid("cube", [0.05, 0.05, 0.05], Pose([0.5, -0.3, 0.025])))
+    grasps = Pose.stack([Pose([0.5, -0.3, 0.028], quat.multiply(quat.from_axis_angle([0, 0, 1], a), [0, 1, 0, 0]))
+                         for a in (0.0, np.pi / 2)])
+    grasp = mg.plan_grasp(q0, grasps, "cube", link="panda_hand_tcp")
+    mg.attach_object("cube", q=grasp.segment("approach").goal_q, link="panda_hand_tcp")
+    place = mg.plan_place(grasp.segment("lift").goal_q, Pose.stack([Pose([0.4, 0.3, 0.025])]), constraints=(upright,))
+    ok += [grasp.success, place.success]
+    print(json.dumps({"ok": ok, "compiled": jit.compiled_names()}))
+""")
+
+
+def test_a_returned_trajectorys_arrays_passed_on_compile_nothing(tmp_path):
+    # a trajectory's arrays are read-only (and its positions column-major): passed on to a kernel
+    # as they are, each compiled a second version of it (8 s of CPU for the tilt certificate's,
+    # 6 s for the self-collision broadphase's) in a fresh environment
+    out = _fresh(tmp_path, code=CONSTRAINED_USE)
+    assert out.returncode == 0, out.stderr
+    report = json.loads(out.stdout.strip().splitlines()[-1])
+    assert report["ok"] == [True, True, True, True]
+    assert report["compiled"] == [], f"kernels compiled in a fresh process: {report['compiled']}"
+    assert "compiling" not in out.stderr, out.stderr
 
 
 def test_without_the_prebuilt_files_one_line_says_what_is_compiled_and_that_it_happens_once(tmp_path):

@@ -202,3 +202,26 @@ def test_velocity_scale_slows_the_motion(mg):
     assert fast.success and slow.success
     assert slow.trajectory.duration > fast.trajectory.duration * 1.3
     assert np.all(np.abs(slow.trajectory.velocities) <= 0.5 * mg.velocity_limits + 1e-9)
+
+
+def test_curobo_names_point_to_manips():
+    mg = MotionGenerator("franka")
+    q0 = mg.default_joint_positions
+    # a cuRobo script's first calls: each was a bare "object has no attribute"
+    with pytest.raises(AttributeError, match=r"no 'plan_single' \(cuRobo's name\); manip's equivalent: "
+                                             r"MotionGenerator.plan_pose\(start_q, goal_pose\)"):
+        mg.plan_single
+    with pytest.raises(AttributeError, match="MotionGenerator.attach_object"):
+        mg.attach_objects_to_robot
+    result = mg.plan_joints(q0, q0 + 0.1)
+    with pytest.raises(AttributeError, match=r"PlanResult.trajectory \(times, positions"):
+        result.get_interpolated_plan()
+    with pytest.raises(AttributeError, match="'PlanResult' object has no attribute 'no_such_field'"):
+        result.no_such_field
+    assert not hasattr(mg, "warmup") and hasattr(result, "trajectory")
+    # results still pickle and copy (plan_many sends them between processes)
+    import copy
+    import pickle
+    again = pickle.loads(pickle.dumps(result))
+    assert np.array_equal(again.trajectory.positions, result.trajectory.positions)
+    assert copy.deepcopy(result).status is result.status

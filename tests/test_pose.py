@@ -199,3 +199,12 @@ def test_invalid_conversions():
         Pose.stack([])
     with pytest.raises(InvalidInputError, match="single pose"):
         Pose.identity(2).transform_points(np.zeros(3))
+
+
+def test_pose_at_points_points_to_transform_points():
+    pose = Pose([0.1, 0.2, 0.3], [0, 1, 0, 0])
+    # numpy's own error was "matmul: Input operand 0 does not have enough dimensions"
+    for points in (np.array([0.0, 0.0, 0.1]), [0.0, 0.0, 0.1], np.zeros((2, 3))):
+        with pytest.raises(InvalidInputError, match="transform_points"):
+            pose @ points
+    np.testing.assert_allclose(pose.transform_points([0.0, 0.0, 0.1]), [0.1, 0.2, 0.2], atol=1e-15)

@@ -120,3 +120,20 @@ def test_batched_equals_single(v: np.ndarray):
     for i in range(5):
         np.testing.assert_allclose(R[i], quat.to_matrix(Q[i]), atol=1e-15)
         np.testing.assert_allclose(back[i], quat.from_matrix(R[i]), atol=1e-15)
+
+
+def test_from_axis_angle_takes_unit_axes_and_refuses_others():
+    q = quat.from_axis_angle([0, 0, 1], np.pi / 2)
+    np.testing.assert_allclose(q, [np.cos(np.pi / 4), 0, 0, np.sin(np.pi / 4)], atol=1e-15)
+    batch = quat.from_axis_angle(np.array([[1.0, 0, 0], [0, 1.0, 0]]), np.array([0.3, -0.4]))
+    np.testing.assert_allclose(np.linalg.norm(batch, axis=-1), 1.0)
+    np.testing.assert_allclose(quat.to_matrix(batch[1]), pin.utils.rotate("y", -0.4), atol=1e-12)
+    # an axis of norm 2 gave (0.71, 0, 0, 1.41): no rotation, and an error far from its cause
+    with pytest.raises(InvalidInputError, match=r"axis must be a unit vector .*axis / \|axis\|"):
+        quat.from_axis_angle([0, 0, 2], np.pi / 2)
+    with pytest.raises(InvalidInputError, match="axis must be a unit vector"):
+        quat.from_axis_angle([0, 0, 0], np.pi / 2)
+    with pytest.raises(InvalidInputError, match="axis must have 3 components"):
+        quat.from_axis_angle([0, 1], 0.1)
+    with pytest.raises(InvalidInputError, match="finite"):
+        quat.from_axis_angle([0, 0, 1], np.nan)

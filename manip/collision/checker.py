@@ -66,6 +66,7 @@ from manip.collision.state import CollisionState
 from manip.collision.tables import coal_transform
 from manip.collision.world import WorldConfig
 from manip.errors import InvalidInputError
+from manip.jit import kernel_array
 from manip.kinematics import Kinematics
 from manip.robot_config import RobotConfig
 from manip.validation import non_negative
@@ -173,8 +174,7 @@ class CollisionChecker(WorldEdits, SegmentChecks):
                 if n.size:
                     found.append((n, np.zeros(n.size, dtype=np.int64), g, o, d))
         if self_ and self._bpairs.shape[0]:
-            if not (Q.flags.c_contiguous and Q.flags.writeable and Q.dtype == np.float64):
-                Q = np.array(Q, dtype=np.float64)  # one compiled signature of the kernel
+            Q = kernel_array(Q)  # one compiled signature of the kernel: C order, writable (a trajectory's is neither)
             n, k, d = broadphase.self_candidates(R, p, Q, self._self_padding + 1e-9, *self._bp_self)
             if n.size:
                 pairs = self._bp_pairs

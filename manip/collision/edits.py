@@ -15,6 +15,7 @@ one sees one world for a whole plan while other threads edit.
 from __future__ import annotations
 
 import threading
+from pathlib import Path
 from typing import Sequence
 
 import coal
@@ -87,7 +88,9 @@ class WorldEdits:
         elif isinstance(world, dict):
             world = WorldConfig.from_dict(world)
         elif not isinstance(world, WorldConfig):
-            raise InvalidInputError(f"world must be a WorldConfig or a dict in cuRobo's world format; got {type(world).__name__}")
+            hint = " (a YAML file: WorldConfig.from_yaml(path))" if isinstance(world, (str, Path)) else ""
+            raise InvalidInputError(f"world must be a WorldConfig or a dict in cuRobo's world format; got "
+                                    f"{type(world).__name__}{hint}")
         with self._writing():
             clash = [n for n in world.names if n in self._attached]
             if clash:
@@ -319,6 +322,9 @@ class WorldEdits:
         link = self.config.ee_link if link is None else link
         fid = kin.frame_id(link, "link")
         if isinstance(obstacle, str):
+            if obstacle in self._attached:
+                raise InvalidInputError(f"'{obstacle}' is already attached (to {self._attached[obstacle].link}); "
+                                        "detach_object it first")
             shape = self._world.get(obstacle)
             in_world = True
         elif isinstance(obstacle, Obstacle) and type(obstacle) is not Obstacle:

@@ -13,6 +13,7 @@ from manip.constraints import certify
 from manip.constraints.base import Constraint, link_or_ee, revolute_chain_weights
 from manip.constraints.tilt_kernels import hold_tilt, project_tilt
 from manip.errors import InvalidInputError
+from manip.jit import kernel_array
 from manip.kinematics import Kinematics
 from manip.validation import vec
 
@@ -150,7 +151,7 @@ class OrientationConstraint(Constraint):
 
     def project_alone(self, kinematics: Kinematics, q: np.ndarray, max_steps: int, damping: float):
         fid = kinematics.frame_id(link_or_ee(self.link, kinematics))
-        q, converged = project_tilt(np.ascontiguousarray(q, dtype=np.float64), kinematics.lower, kinematics.upper,
+        q, converged = project_tilt(kernel_array(q), kinematics.lower, kinematics.upper,
                                     *kinematics.fk_tables(), *kinematics.jacobian_tables(fid), self._a, self._d,
                                     self.tolerance, self.margin, damping, max_steps)
         return q if converged else None
@@ -158,8 +159,7 @@ class OrientationConstraint(Constraint):
     def hold_alone(self, kinematics: Kinematics, Q0: np.ndarray, Q1: np.ndarray, slack: np.ndarray):
         fid = kinematics.frame_id(link_or_ee(self.link, kinematics))
         f_joint, f_R = kinematics.jacobian_tables(fid)[3:5]
-        return hold_tilt(np.ascontiguousarray(Q0, dtype=np.float64), np.ascontiguousarray(Q1, dtype=np.float64),
-                         np.ascontiguousarray(slack, dtype=np.float64), tilt_weights(self, kinematics),
+        return hold_tilt(kernel_array(Q0), kernel_array(Q1), kernel_array(slack), tilt_weights(self, kinematics),
                          *kinematics.fk_tables(), f_joint, f_R, self._a, self._d, self.tolerance,
                          certify.FIRST_SPLIT, certify.MAX_DEPTH)
 

@@ -106,6 +106,8 @@ def _poses(value, what: str) -> Pose:
     if not isinstance(value, Pose):
         raise InvalidInputError(f"{what} must be a manip.Pose (batched: one pose per candidate); got "
                                 f"{type(value).__name__}")
+    if value.is_batch and len(value) == 0:
+        raise InvalidInputError(f"{what} must hold at least one pose; got an empty batch")
     return value if value.is_batch else Pose.stack([value])
 
 

@@ -88,6 +88,8 @@ def plan_linear_links(ctx: PlanContext, validity: Validity, start_q: np.ndarray,
         kinematics, targets, start, step=ctx.options.linear_step,
         valid_batch=validity.configs, motion_valid=validity.motion, carrier=carrier,
     )
+    if path is None and validity.constraints:
+        why = _left_constraint(ctx, validity, targets, start, carrier) or why
     ctx.add_time("ik", t)
     if path is None:
         return ctx.fail(PlanStatus.LINEAR_PATH_FAIL, why)
@@ -100,3 +102,20 @@ def plan_linear_links(ctx: PlanContext, validity: Validity, start_q: np.ndarray,
     errors = np.array([kinematics.fk(goal_q, link).distance(goal) for link, goal, _, _ in targets])
     result = ctx.succeed(traj, path, goal_q, 1, "linear")
     return replace(result, position_error=float(errors[:, 0].max()), rotation_error=float(errors[:, 1].max()))
+
+
+def _left_constraint(ctx: PlanContext, validity: Validity, targets: list, start: np.ndarray,
+                     carrier: tuple[Pose, Pose] | None) -> str:
+    """Why a line refused by a constrained validity failed, when the line is free of
+    collisions (the same line on the unconstrained validity): where it first leaves a
+    constraint and by how much; "" otherwise (it collides, or leaves one only between points)."""
+    free = validity.unconstrained()
+    path, _ = linear_paths(validity.kinematics, targets, start, step=ctx.options.linear_step,
+                           valid_batch=free.configs, motion_valid=free.motion, carrier=carrier)
+    if path is None:
+        return ""
+    for i, q in enumerate(path):
+        problem = validity.constraint_problem(q)
+        if problem:
+            return f"the straight line leaves a constraint at {100 * i / (len(path) - 1):.0f}% of the line: {problem}"
+    return ""

@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from manip import curobo_names
 from manip.status import Status
 from manip.trajectory import Trajectory
 
@@ -118,3 +119,9 @@ class PlanResult:
     def motion_time(self) -> float:
         """Duration of the trajectory [s] (nan on failure)."""
         return self.trajectory.duration if self.trajectory is not None else float("nan")
+
+    def __getattr__(self, name: str):
+        # only for missing names: cuRobo's (get_interpolated_plan, ...) say where manip has them
+        if name.startswith("__"):
+            raise AttributeError(name)
+        raise curobo_names.missing(type(self).__name__, curobo_names.RESULT, name)

@@ -120,6 +120,9 @@ ISAAC_API: dict[str, tuple[str, tuple[str, ...]]] = {
         "joint_closed_positions", "joint_dof_indicies", "get_action_deltas", "set_action_deltas", "is_closed")),
     "PickPlaceController": ("omni.isaac.franka.controllers.PickPlaceController", (
         "forward", "get_current_event", "is_done", "is_paused", "pause", "reset", "resume")),
+    "RMPFlowController": ("omni.isaac.franka.controllers.RMPFlowController", (
+        "add_obstacle", "forward", "get_articulation_motion_policy", "get_motion_policy", "name", "remove_obstacle",
+        "reset")),
     "BaseTask": ("omni.isaac.core.tasks.BaseTask", (
         "calculate_metrics", "cleanup", "get_description", "get_observations", "get_params", "get_task_objects",
         "is_done", "name", "post_reset", "pre_step", "scene", "set_params", "set_up_scene")),
@@ -233,6 +236,12 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
         "is_closed": "compare get_joint_positions() with joint_closed_positions",
     },
     "PickPlaceController": {},
+    "RMPFlowController": {
+        "get_motion_policy": "there is no RmpFlow object (a QP controller on manip.control): the controller reads "
+                             "the robot's base pose itself each step; obstacles via controller.add_obstacle",
+        "get_articulation_motion_policy": "there is no ArticulationMotionPolicy (a QP controller on manip.control: "
+                                          "controller.controller is its ReactiveController)",
+    },
 }
 
 #: Members implemented with a difference a script may notice.

@@ -2,10 +2,19 @@
 
 from __future__ import annotations
 
+import logging
+
 import numpy as np
 
 from manip.errors import InvalidInputError
+from manip.sim.scenes.stage import SimulationError
 from manip.sim_bridge import robot_columns
+
+logger = logging.getLogger(__name__)
+
+#: A robot farther than this from the trajectory's start (any joint) [rad or m] gets a
+#: warning: its drives jump to the first sample instead of following a planned motion.
+START_TOLERANCE = 0.05
 
 
 def play_trajectory(world, robot, trajectory) -> np.ndarray:
@@ -23,8 +32,13 @@ def play_trajectory(world, robot, trajectory) -> np.ndarray:
         (T, dof) the simulated positions [rad] of the trajectory's joints: row 0 before
         the first step, row k after step k (compare with `trajectory.positions[k]`).
 
+    A robot more than `START_TOLERANCE` from the trajectory's start logs a warning (its
+    drives jump to the first sample).
+
     Raises:
         InvalidInputError: the trajectory's dt differs from the world's physics step.
+        SimulationError: the world is not playing (paused or stopped: no step would move
+            the robot, and every row would be the same).
         UnknownNameError: a joint of the trajectory is not a DoF of the robot.
     """
     dt = world.get_physics_dt()
@@ -41,7 +55,17 @@ def play_trajectory(world, robot, trajectory) -> np.ndarray:
             q[cols] = r.get_joint_positions(idx)
         return q
 
+    if not world.is_playing():
+        raise SimulationError("play_trajectory: the World is not playing (paused or stopped), so no step would move "
+                              "the robot; call world.play() (or world.reset()) first")
     out = [read()]
+    gap = np.abs(out[0] - trajectory.positions[0])
+    if np.nanmax(gap) > START_TOLERANCE:
+        j = int(np.nanargmax(gap))
+        logger.warning("play_trajectory: the robot is %.3g from the trajectory's start at %s (%.4g, planned %.4g); "
+                       "its drives jump to the first sample. Plan from robot.get_joint_positions(), or move the robot "
+                       "to trajectory.positions[0] first", gap[j], trajectory.joint_names[j], out[0][j],
+                       trajectory.positions[0][j])
     for step in zip(*actions):
         for r, action in zip(robots, step):
             r.apply_action(action)

@@ -249,6 +249,17 @@ def test_attach_and_detach(franka_config, franka_kinematics):
     assert cc.in_collision(q_side)  # back in the world, overlapping the fingers again
 
 
+def test_attaching_an_attached_object_again_says_it_is_attached(franka_config, franka_kinematics):
+    q = franka_config.default_joint_positions
+    held = Cuboid("held", [0.04, 0.04, 0.04], franka_kinematics.fk(q, "panda_hand") @ Pose([0.0, 0.0, 0.1]))
+    cc = CollisionChecker(franka_config, franka_kinematics, WorldConfig([held]))
+    cc.attach_object("held", q=q)
+    # not "obstacle 'held' not found": it left the world because it is held
+    with pytest.raises(InvalidInputError, match="'held' is already attached .*panda_hand.*detach"):
+        cc.attach_object("held", q=q)
+    assert list(cc.attached_objects) == ["held"] and "held" not in cc.world
+
+
 def test_attached_object_hits_the_arm(franka_config, franka_kinematics):
     kin = franka_kinematics
     q = franka_config.default_joint_positions

@@ -117,3 +117,20 @@ def test_an_upright_motion_is_not_slower_than_needed():
     assert c.tilt(kin, _dense(upright.trajectory)).max() <= 0.1
     assert c.tilt(kin, free.trajectory.positions).max() > 0.5  # the constraint changes the problem
     assert upright.trajectory.duration <= 1.15 * free.trajectory.duration
+
+
+def test_a_straight_line_leaving_a_constraint_says_so_not_that_it_collides():
+    free = MotionGenerator("franka")  # nothing to collide with
+    q0 = free.default_joint_positions
+    box = PositionConstraint(lower=(0.2, -0.5, 0.3), upper=(0.8, 0.5, 0.8), link="panda_hand_tcp")
+    start = free.fk(q0, "panda_hand_tcp")
+    down = Pose(start.position - [0.0, 0.0, 0.3], start.quaternion)  # the line leaves the box at z = 0.3
+    r = free.plan_pose(q0, down, link="panda_hand_tcp", linear=True, constraints=(box,))
+    assert r.status is PlanStatus.LINEAR_PATH_FAIL
+    # it said "the straight line collides"
+    assert "leaves a constraint at 6" in r.message and "outside the box" in r.message, r.message
+    assert free.plan_pose(q0, down, link="panda_hand_tcp", linear=True).success  # the line itself is free
+    # in a cluttered world a colliding line still says it collides
+    wall = MotionGenerator("franka", {"cuboid": {"wall": {"dims": [0.3, 0.3, 0.02], "pose": [0.3, 0.0, 0.35, 1, 0, 0, 0]}}})
+    r = wall.plan_pose(q0, down, link="panda_hand_tcp", linear=True, constraints=(box,))
+    assert r.status is PlanStatus.LINEAR_PATH_FAIL and "collides" in r.message, r.message

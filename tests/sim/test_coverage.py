@@ -60,6 +60,7 @@ def _objects() -> dict:
         "PickPlaceController": sim.PickPlaceController(name="ppc", gripper=franka.gripper,
                                                        robot_articulation=franka),
         "BaseTask": task, "PickPlace": task,
+        "RMPFlowController": sim.RMPFlowController(name="rmp", robot_articulation=franka),
     })
     return objs
 
@@ -91,3 +92,18 @@ def test_the_utilities_work_or_say_why():
         if row.status == "raises":
             with pytest.raises(NotImplementedError, match=row.member):
                 getattr(sim, row.member)("x")
+
+
+def test_a_robots_links_are_valid_prim_paths_as_in_isaac():
+    world = sim.World()
+    franka = world.scene.add(sim.Franka("/World/Franka", name="franka"))
+    # before and after the first reset (it said False for every link: only scene objects counted)
+    for _ in range(2):
+        assert sim.is_prim_path_valid("/World/Franka") and sim.is_prim_path_valid("/World/Franka/panda_hand")
+        assert sim.is_prim_path_valid("/World/Franka/panda_link0")
+        assert not sim.is_prim_path_valid("/World/Franka/no_such_link")
+        assert not sim.is_prim_path_valid("/World/Frankaa/panda_hand")
+        world.reset()
+    assert sim.RigidPrim("/World/Franka/panda_hand").get_mass() > 0
+    world.scene.remove_object("franka")
+    assert not sim.is_prim_path_valid("/World/Franka/panda_hand") and franka.prim_path == "/World/Franka"

@@ -167,13 +167,28 @@ class Articulation(DefaultPoseMixin):
     def is_valid(self) -> bool:
         return self._core is not None
 
+    def _removed(self, what: str) -> str | None:
+        """Why this articulation has no model (its model is no longer on the stage), or None."""
+        if get_current_stage().get_prim(self.prim_path) is self._ref:
+            return None
+        return (f"{self._name}.{what}: the model at {self.prim_path!r} is no longer on the stage (removed by "
+                "scene.remove_object / scene.clear / world.clear, or made for an earlier World); wrap the model "
+                "referenced now in a new Robot")
+
     def _c(self, what: str) -> ArticulationCore | None:
         if self._core is None:
+            removed = self._removed(what)
+            if removed:
+                logger.warning("%s; returning None", removed)
+                return None
             logger.warning("%s.%s used before the first World.reset(); returning None", self._name, what)
         return self._core
 
     def _cs(self, what: str) -> ArticulationCore:
         if self._core is None:
+            removed = self._removed(what)
+            if removed:
+                raise SimulationError(removed)
             raise SimulationError(f"{self._name}.{what}: the world is not compiled yet; call world.reset() first")
         return self._core
 

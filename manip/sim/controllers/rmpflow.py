@@ -58,6 +58,7 @@ from manip.sim.objects import (
     VisualSphere,
 )
 from manip.sim.scenes.stage import SimulationError
+from manip.sim.utils.not_supported import declare as declare_not_supported
 from manip.validation import positive, unit_quat, vec
 
 logger = logging.getLogger(__name__)
@@ -252,5 +253,7 @@ class RMPFlowController(BaseController):
         self._q_cmd = r.q
         return ArticulationAction(joint_positions=r.q.copy(), joint_velocities=r.velocities.copy(), joint_indices=idx)
 
+
+declare_not_supported(RMPFlowController)
 
 __all__ = ["RMPFlowController", "obstacle_from_prim"]

@@ -18,10 +18,13 @@ imports the app.
 from __future__ import annotations
 
 import atexit
+import difflib
 import logging
 import threading
 import time
 from typing import Any
+
+import numpy as np
 
 from manip.errors import InvalidInputError
 from manip.sim.core.event_loop import run_pending_coroutines
@@ -70,8 +73,9 @@ class SimulationApp:
             keys (width, height, renderer, ...) are accepted and ignored.
 
     Raises:
-        InvalidInputError: launch_config is not a dict, "viewer" is not one of VIEWERS, or
-            it is "web" with "headless" True.
+        InvalidInputError: launch_config is not a dict, "headless" or "realtime" is not a
+            bool, "viewer" is not one of VIEWERS, or it is "web" with "headless" True. A key
+            close to one manip reads ("headles") logs a warning.
         experience: ignored (Isaac's .kit file).
     """
 
@@ -81,7 +85,15 @@ class SimulationApp:
         if launch_config is not None:
             if not isinstance(launch_config, dict):
                 raise InvalidInputError(f"launch_config must be a dict; got {type(launch_config).__name__}")
+            for key in launch_config:
+                near = difflib.get_close_matches(str(key), [k for k in DEFAULT_CONFIG if k != key], n=1, cutoff=0.8)
+                if key not in DEFAULT_CONFIG and near:
+                    logger.warning("launch_config key %r is not one manip.sim reads; did you mean %r? (ignored, "
+                                   "as Isaac ignores keys it does not know)", key, near[0])
             cfg.update(launch_config)
+        for key in ("headless", "realtime"):
+            if not isinstance(cfg[key], (bool, np.bool_)):
+                raise InvalidInputError(f"launch_config[{key!r}] must be True or False; got {cfg[key]!r}")
         if cfg["viewer"] not in VIEWERS:
             raise InvalidInputError(f"launch_config['viewer'] must be one of {', '.join(VIEWERS)}; got {cfg['viewer']!r}")
         self.config = cfg

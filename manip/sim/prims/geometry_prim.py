@@ -102,6 +102,8 @@ class PhysicsMaterial:
 class GeometryPrim(XFormPrim):
     """A prim with one geometry (base of the shape classes)."""
 
+    _mounts_on_links = False  # a body (a robot's link) or a shape of its own, never a frame on a link
+
     _family = "visual"
     shape_kind = "cuboid"  # the geometry type, as the planner names it
 

@@ -22,6 +22,8 @@ class RigidPrim(XFormPrim):
     a prim path inside a referenced model (e.g. "/World/Franka/panda_hand"), a link of it
     (velocities and mass readable, not settable: the joints move it)."""
 
+    _mounts_on_links = False  # a body (a robot's link) or a shape of its own, never a frame on a link
+
     def _make_default_state(self) -> DynamicState:
         return DynamicState(self._pose[0].copy(), self._pose[1].copy(), np.zeros(3), np.zeros(3))
 
@@ -65,6 +67,8 @@ class RigidPrim(XFormPrim):
         is authored at rest)."""
         if self._wrapped_reference is not None:
             return np.zeros(3)
+        if self._removed(f"get_{which}"):
+            return None
         return getattr(self._default_state, which).copy()
 
     def set_linear_velocity(self, velocity) -> None:
@@ -72,6 +76,7 @@ class RigidPrim(XFormPrim):
         `manip.sim.utils.bounds.MAX_LINEAR_SPEED` (1e3 m/s) raises InvalidInputError."""
         v = bounded_vec(velocity, "linear", "linear velocity")
         if self._sim is None:
+            self._require_on_stage("set_linear_velocity")
             self._default_state.linear_velocity = v
             return
         self._require_dynamic()
@@ -83,6 +88,7 @@ class RigidPrim(XFormPrim):
         `manip.sim.utils.bounds.MAX_ANGULAR_SPEED` (1e3 rad/s) raises InvalidInputError."""
         w = bounded_vec(velocity, "angular", "angular velocity")
         if self._sim is None:
+            self._require_on_stage("set_angular_velocity")
             self._default_state.angular_velocity = w
             return
         self._require_dynamic()

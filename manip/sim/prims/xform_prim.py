@@ -13,6 +13,7 @@ import numpy as np
 
 from manip import quaternion as quat
 from manip.errors import InvalidInputError
+from manip.pose import Pose
 from manip.sim.scenes.stage import ReferencePrim, SimHandle, SimulationError, get_current_stage, validate_prim_path
 from manip.sim.utils.types import DefaultPoseMixin, XFormPrimState, position_or_translation
 from manip.validation import scale3, unit_quat
@@ -47,6 +48,7 @@ class XFormPrim(DefaultPoseMixin):
     _default_name = "xform_prim"
     prim_path: str  # where the prim lives on the stage
     _wraps_existing = True  # the shape classes and the ground plane always create their prim
+    _mounts_on_links = True  # below a robot's link (no body or site of that name): a frame fixed to the link
 
     def __init__(
         self,
@@ -90,13 +92,72 @@ class XFormPrim(DefaultPoseMixin):
         self._qadr = -1
         self._dadr = -1
         self._wrapped_reference: ReferencePrim | None = None
+        self._mount_link: str | None = None  # the link of a referenced model this prim is fixed to
+        self._mount_ref: ReferencePrim | None = None
+        self._link_id = -1
         for path in stage.prim_paths():
             if prim_path.startswith(path + "/") and stage.find_reference(path) is not None:
                 self._wrapped_reference = stage.find_reference(path)
-        if self._wrapped_reference is not None or self._wrapped_object is not None:
+        if self._wrapped_reference is not None and self._mount(self._wrapped_reference):
+            self._wrapped_reference = None  # a prim of its own, fixed to a link of the model
+            stage.add_prim(self, inside_reference=True)
+            if translation is None:  # a world pose (the robot at its authored pose): kept in the link's frame
+                self._pose = relative_pose(self._link_pose(), self._pose)
+                self._default_state = self._make_default_state()
+        elif self._wrapped_reference is not None or self._wrapped_object is not None:
+            ref = self._wrapped_reference
+            if ref is not None and not ref.has_element(prim_path):  # else every world.reset() fails
+                raise InvalidInputError(f"{type(self).__name__} {prim_path!r}: the model at {ref.prim_path!r} has no "
+                                        f"body or site of that name (a {type(self).__name__} wraps one of its links)")
             stage.register_wrapper(self)
         else:
             stage.add_prim(self)
+
+    def _mount(self, reference: ReferencePrim) -> bool:
+        """Whether this prim, at a path inside `reference`'s model that is none of its bodies
+        or sites, is a new prim fixed to the nearest link above it (a tool frame, a wrist
+        camera), as Isaac makes an Xform there; else it wraps the model's body or site."""
+        if not self._mounts_on_links or reference.has_element(self.prim_path):
+            return False
+        link = self.prim_path.rsplit("/", 1)[0]
+        while link.startswith(reference.prefix) and not reference.has_body(link):
+            link = link.rsplit("/", 1)[0]
+        if not link.startswith(reference.prefix):
+            raise InvalidInputError(f"{type(self).__name__} {self.prim_path!r} lies inside the model at "
+                                    f"{reference.prim_path!r} but below none of its links: place it under one, e.g. "
+                                    f"'{reference.prim_path}/<link>/{self.prim_path.rsplit('/', 1)[1]}'")
+        self._mount_link, self._mount_ref = link, reference
+        return True
+
+    @property
+    def mount_link(self) -> str | None:
+        """The prim path of the robot link this prim is fixed to (None: not fixed to a link)."""
+        return self._mount_link
+
+    def _link_pose(self) -> tuple[np.ndarray, np.ndarray]:
+        """World pose of the link a mounted prim is fixed to (authored before the first reset)."""
+        sim = self._sim
+        if sim is None:
+            return self._mount_ref.authored_pose(self._mount_link)
+        sim.ensure_kinematics()
+        return sim.data.xpos[self._link_id].copy(), sim.data.xquat[self._link_id].copy()
+
+    def _set_local(self, position: np.ndarray, orientation: np.ndarray) -> None:
+        """A mounted prim's pose in its link's frame, (3,) [m] and (4,) (w, x, y, z)."""
+        self._pose = (position, orientation)
+        if self._sim is not None:
+            self._write_local(self._sim.model, position, orientation)
+
+    def _write_local(self, model: mujoco.MjModel, position: np.ndarray, orientation: np.ndarray) -> None:
+        """Into the compiled model: the mounted prim's site (a Camera: its camera)."""
+        model.site_pos[self._site_id] = position
+        model.site_quat[self._site_id] = orientation
+        self._sim.mark_stale()
+
+    def _add_mounted(self, body: mujoco.MjsBody) -> None:
+        """The mounted prim's element on its link's body: an invisible site (a Camera: a camera)."""
+        body.add_site(name=self.prim_path, pos=self._pose[0].tolist(), quat=self._pose[1].tolist(),
+                      size=[0.005, 0.005, 0.005], rgba=[0.0, 0.0, 0.0, 0.0], group=5)
 
     def _make_default_state(self) -> XFormPrimState:
         return XFormPrimState(self._pose[0].copy(), self._pose[1].copy())
@@ -116,6 +177,12 @@ class XFormPrim(DefaultPoseMixin):
 
     # ------------------------------------------------------------------ building
     def add_to_spec(self, spec: mujoco.MjSpec) -> mujoco.MjsBody:
+        if self._mount_link is not None:
+            link = spec.body(self._mount_link)
+            if link is None:
+                raise SimulationError(f"{self.prim_path!r}: its link {self._mount_link!r} is not in the model")
+            self._add_mounted(link)
+            return link
         body = spec.worldbody.add_body(
             name=self.prim_path, pos=self._pose[0].tolist(), quat=self._pose[1].tolist(), mocap=True
         )
@@ -131,6 +198,10 @@ class XFormPrim(DefaultPoseMixin):
     def bind_simulation(self, sim: SimHandle) -> None:
         m = sim.model
         self._sim = sim
+        if self._mount_link is not None:
+            self._link_id = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, self._mount_link)
+            self._site_id = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, self.prim_path)  # -1 for a camera
+            return
         if self._wrapped_reference is not None:
             self._body_id = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, self.prim_path)
             self._site_id = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, self.prim_path)
@@ -152,6 +223,28 @@ class XFormPrim(DefaultPoseMixin):
     def unbind_simulation(self) -> None:
         self._sim = None
 
+    def _removed_message(self, what: str) -> str | None:
+        """Why this prim (not bound to a compiled world) has no state: it is no longer on the
+        stage, so its stored values are stale (Isaac's deleted prim is invalid too); or None."""
+        if self._wrapped_reference is not None or self._wrapped_object is not None \
+                or get_current_stage().get_prim(self.prim_path) is self:
+            return None
+        return (f"{self.name}.{what}: {self.prim_path!r} is no longer on the stage (removed by scene.remove_object / "
+                "scene.clear / world.clear, or made for an earlier World); add a new object")
+
+    def _removed(self, what: str) -> bool:
+        """Getters: True (after a warning, as for a robot's removed link) when the prim was removed."""
+        message = self._removed_message(what)
+        if message:
+            logger.warning("%s; returning None", message)
+        return message is not None
+
+    def _require_on_stage(self, what: str) -> None:
+        """Setters: raise SimulationError when the prim was removed (nothing to set)."""
+        message = self._removed_message(what)
+        if message:
+            raise SimulationError(message)
+
     # ------------------------------------------------------------------ pose
     def get_world_pose(self) -> tuple[np.ndarray, np.ndarray]:
         """World pose: position (3,) [m] and orientation (4,) (w, x, y, z).
@@ -160,6 +253,10 @@ class XFormPrim(DefaultPoseMixin):
         set to); a body of a referenced model (a robot's link) is at the model's authored
         pose (its 'home' keyframe at the robot's pose on the stage).
         """
+        if self._mount_link is not None:
+            if self._sim is None and self._removed("get_world_pose"):
+                return None  # type: ignore[return-value]
+            return compose_poses(self._link_pose(), self._pose)
         sim = self._sim
         if sim is None:
             if self._wrapped_reference is not None:
@@ -174,6 +271,8 @@ class XFormPrim(DefaultPoseMixin):
                 return pose
             if self._wrapped_object is not None:
                 return self._wrapped_object.get_world_pose()
+            if self._removed("get_world_pose"):
+                return None  # type: ignore[return-value]
             return self._pose[0].copy(), self._pose[1].copy()
         d = sim.data
         if self._qadr >= 0:
@@ -195,6 +294,11 @@ class XFormPrim(DefaultPoseMixin):
         """
         p = bounded_vec(position, "position", "position") if position is not None else None
         q = unit_quat(orientation) if orientation is not None else None
+        if self._mount_link is not None:  # stays fixed to its link, at the pose this gives in the link's frame
+            self._require_on_stage("set_world_pose")
+            now = compose_poses(self._link_pose(), self._pose)
+            self._set_local(*relative_pose(self._link_pose(), (now[0] if p is None else p, now[1] if q is None else q)))
+            return
         if self._wrapped_reference is not None:
             raise SimulationError(
                 f"{self.prim_path!r} is part of the model at {self._wrapped_reference.prim_path!r}; "
@@ -205,6 +309,7 @@ class XFormPrim(DefaultPoseMixin):
             if self._wrapped_object is not None:
                 self._wrapped_object.set_world_pose(p, q)
                 return
+            self._require_on_stage("set_world_pose")
             self._pose = (p if p is not None else self._pose[0], q if q is not None else self._pose[1])
             return
         d = sim.data
@@ -221,12 +326,21 @@ class XFormPrim(DefaultPoseMixin):
         sim.mark_stale()
 
     def get_local_pose(self) -> tuple[np.ndarray, np.ndarray]:
-        """Same as `get_world_pose` (prims have no parent transform here)."""
+        """The pose in the link's frame for a prim fixed to a robot's link, else the same as
+        `get_world_pose` (no other parent transform here)."""
+        if self._mount_link is not None:
+            return self._pose[0].copy(), self._pose[1].copy()
         return self.get_world_pose()
 
     def set_local_pose(self, translation=None, orientation=None) -> None:
-        """Same as `set_world_pose` (prims have no parent transform here)."""
-        self.set_world_pose(translation, orientation)
+        """The pose in the link's frame for a prim fixed to a robot's link, else the same as
+        `set_world_pose`."""
+        if self._mount_link is None:
+            self.set_world_pose(translation, orientation)
+            return
+        self._require_on_stage("set_local_pose")
+        t = bounded_vec(translation, "position", "translation") if translation is not None else self._pose[0]
+        self._set_local(t, unit_quat(orientation) if orientation is not None else self._pose[1])
 
     def get_local_scale(self) -> np.ndarray:
         """Scale (3,)."""
@@ -261,7 +375,9 @@ class XFormPrim(DefaultPoseMixin):
     # ------------------------------------------------------------------ default state
     def post_reset(self) -> None:
         """Restore the default state (called by `World.reset()` for objects in the scene)."""
-        if self._wrapped_reference is None:
+        if self._mount_link is not None:
+            self._set_local(self._default_state.position.copy(), self._default_state.orientation.copy())
+        elif self._wrapped_reference is None:
             self.set_world_pose(self._default_state.position, self._default_state.orientation)
 
     def __repr__(self) -> str:
@@ -269,3 +385,15 @@ class XFormPrim(DefaultPoseMixin):
 
 
 declare_not_supported(XFormPrim)
+
+
+def compose_poses(a, b) -> tuple[np.ndarray, np.ndarray]:
+    """(position, wxyz) of frame b given in frame a, in a's parent frame (a @ b)."""
+    c = Pose(*a) @ Pose(*b)
+    return c.position.copy(), c.quaternion.copy()
+
+
+def relative_pose(a, b) -> tuple[np.ndarray, np.ndarray]:
+    """(position, wxyz) of frame b in frame a, both given in one parent frame (a^-1 @ b)."""
+    inv = Pose(*a).inverse()
+    return compose_poses((inv.position, inv.quaternion), b)

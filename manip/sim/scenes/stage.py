@@ -125,6 +125,7 @@ class ReferencePrim:
         # The model's ArticulationCore, set by the World while a compiled model exists.
         self.core: Any = None
         self._probe: tuple[mujoco.MjModel, mujoco.MjData] | None = None  # the file alone, for authored poses
+        self._names: tuple[frozenset, frozenset] | None = None  # the file's (body, site) names
 
     def unbind_simulation(self) -> None:
         """Forget the compiled model's core (the prim was removed from the stage)."""
@@ -154,6 +155,23 @@ class ReferencePrim:
         q = data.xquat[b] if b >= 0 else quat.from_matrix(data.site_xmat[s].reshape(3, 3))
         R = quat.to_matrix(self.orientation)
         return self.position + R @ p, quat.multiply(self.orientation, q)
+
+    def _element_names(self) -> tuple[frozenset, frozenset]:
+        """The file's body and site names, read once from its parsed spec (nothing compiled or
+        kept but the names)."""
+        if self._names is None:
+            spec = self._load_spec()
+            self._names = (frozenset(b.name for b in spec.bodies), frozenset(x.name for x in spec.sites))
+        return self._names
+
+    def has_body(self, prim_path: str) -> bool:
+        """Whether the model has a body (a link) at `prim_path` (its name after the prefix)."""
+        return prim_path.startswith(self.prefix) and prim_path[len(self.prefix):] in self._element_names()[0]
+
+    def has_element(self, prim_path: str) -> bool:
+        """Whether the model has a body or a site at `prim_path`."""
+        bodies, sites = self._element_names()
+        return prim_path.startswith(self.prefix) and prim_path[len(self.prefix):] in bodies | sites
 
     def _load_spec(self) -> mujoco.MjSpec:
         try:
@@ -276,7 +294,9 @@ class Stage:
         self.callbacks = CallbackTable("stage")
         self.sim: SimHandle | None = None  # set by the World while a compiled model exists
 
-    def add_prim(self, prim: Any) -> None:
+    def add_prim(self, prim: Any, inside_reference: bool = False) -> None:
+        """Put `prim` on the stage; `inside_reference`: a prim fixed to a link of a referenced
+        model (a wrist camera), below the model's path."""
         path = validate_prim_path(prim.prim_path)
         if path in self._prims:
             raise InvalidInputError(
@@ -284,7 +304,8 @@ class Stage:
                 f"or remove it first"
             )
         for existing in self._prims:
-            if path.startswith(existing + "/") and isinstance(self._prims[existing], ReferencePrim):
+            if path.startswith(existing + "/") and isinstance(self._prims[existing], ReferencePrim) \
+                    and not inside_reference:
                 raise InvalidInputError(
                     f"{path!r} lies inside the referenced model at {existing!r}; objects must be created outside it"
                 )
@@ -378,8 +399,15 @@ def create_new_stage() -> Stage:
 
 
 def is_prim_path_valid(prim_path: str) -> bool:
-    """Whether a prim exists at `prim_path` on the current stage."""
-    return prim_path in _STAGE._prims
+    """Whether a prim exists at `prim_path` on the current stage: an object, a referenced
+    model, or a body or site of a referenced model ("/World/Franka/panda_hand", as in Isaac,
+    where a robot's links are prims below it)."""
+    if prim_path in _STAGE._prims:
+        return True
+    for path, prim in _STAGE._prims.items():
+        if isinstance(prim, ReferencePrim) and prim_path.startswith(path + "/"):
+            return prim.has_element(prim_path)
+    return False
 
 
 def add_reference_to_stage(usd_path: str | Path, prim_path: str, prim_type: str = "Xform") -> ReferencePrim:

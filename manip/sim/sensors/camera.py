@@ -85,7 +85,14 @@ class Camera(XFormPrim):
         frequency: frames per second Isaac would update the data at; kept for scripts
             (`get_frequency`): here every getter renders the current state.
         dt: 1 / frequency (give one of them).
-        translation: the same as `position` (no parent transform).
+        translation: the same as `position` (no parent transform), except for a camera
+            mounted on a robot's link (below): there, its position in the link's frame.
+
+    A camera whose prim path lies inside a referenced robot ("/World/Franka/panda_hand/wrist_cam")
+    is fixed to the nearest link above it (panda_hand) and moves with it, as in Isaac:
+    `translation` / `orientation` (with translation) are its pose in the link's frame
+    (`get_local_pose` / `set_local_pose`), `position` / `orientation` (without translation)
+    its world pose when the robot stands at its authored pose, kept fixed to the link.
     """
 
     _default_name = "camera"
@@ -117,8 +124,17 @@ class Camera(XFormPrim):
     # ------------------------------------------------------------------ building
     def add_to_spec(self, spec: mujoco.MjSpec):
         body = super().add_to_spec(spec)
-        body.add_camera(name=self.prim_path, fovy=self._fovy())
+        if self._mount_link is None:
+            body.add_camera(name=self.prim_path, fovy=self._fovy())
         return body
+
+    def _add_mounted(self, body: mujoco.MjsBody) -> None:
+        body.add_camera(name=self.prim_path, pos=self._pose[0].tolist(), quat=self._pose[1].tolist(),
+                        fovy=self._fovy())
+
+    def _write_local(self, model: mujoco.MjModel, position: np.ndarray, orientation: np.ndarray) -> None:
+        model.cam_pos[self._cam_id] = position
+        model.cam_quat[self._cam_id] = orientation
 
     def bind_simulation(self, sim) -> None:
         super().bind_simulation(sim)
@@ -142,25 +158,40 @@ class Camera(XFormPrim):
     def get_world_pose(self, camera_axes: str = "world") -> tuple[np.ndarray, np.ndarray]:
         """Position (3,) [m] and orientation (4,) (w, x, y, z) in the given camera axes."""
         M = _axes(camera_axes)
-        p, q_usd = super().get_world_pose()
+        pose = super().get_world_pose()
+        if pose is None:
+            return None  # type: ignore[return-value]
+        p, q_usd = pose
         return p, quat.from_matrix(quat.to_matrix(q_usd) @ M.T)
 
     def set_world_pose(self, position=None, orientation=None, camera_axes: str = "world") -> None:
-        """Move the camera; `orientation` (w, x, y, z) in the given camera axes (None keeps it)."""
+        """Move the camera; `orientation` (w, x, y, z) in the given camera axes (None keeps it).
+        A camera on a robot's link stays fixed to it, at the pose this gives in the link's frame."""
         _axes(camera_axes)
         q_usd = None if orientation is None else quat.from_matrix(self._to_usd(orientation, camera_axes))
         super().set_world_pose(position, q_usd)
 
     def get_local_pose(self, camera_axes: str = "world") -> tuple[np.ndarray, np.ndarray]:
-        """The same as `get_world_pose` (no parent transform)."""
-        return self.get_world_pose(camera_axes)
+        """The pose in the link's frame for a camera on a robot's link, else the world pose."""
+        if self._mount_link is None:
+            return self.get_world_pose(camera_axes)
+        p, q_usd = super().get_local_pose()
+        return p, quat.from_matrix(quat.to_matrix(q_usd) @ _axes(camera_axes).T)
 
     def set_local_pose(self, translation=None, orientation=None, camera_axes: str = "world") -> None:
-        """The same as `set_world_pose` (no parent transform)."""
-        self.set_world_pose(translation, orientation, camera_axes)
+        """The pose in the link's frame for a camera on a robot's link, else the world pose."""
+        if self._mount_link is None:
+            self.set_world_pose(translation, orientation, camera_axes)
+            return
+        _axes(camera_axes)
+        q_usd = None if orientation is None else quat.from_matrix(self._to_usd(orientation, camera_axes))
+        super().set_local_pose(translation, q_usd)
 
     def post_reset(self) -> None:
         """Back to the default pose (kept in USD's axes)."""
+        if self._mount_link is not None:
+            super().post_reset()
+            return
         self.set_world_pose(self._default_state.position, self._default_state.orientation, camera_axes="usd")
 
     # ------------------------------------------------------------------ lens

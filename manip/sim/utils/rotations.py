@@ -155,7 +155,7 @@ def rotvecs_to_quats(rotation_vectors, degrees: bool = False, device=None) -> np
     v, single = _batch(rotation_vectors, (3,), "rotation_vectors")
     v = np.radians(v) if degrees else v
     angle = np.linalg.norm(v, axis=-1)
-    axis = np.divide(v, angle[:, None], out=np.zeros_like(v), where=angle[:, None] > 0)
+    axis = np.divide(v, angle[:, None], out=np.tile([0.0, 0.0, 1.0], (len(v), 1)), where=angle[:, None] > 0)  # any axis at 0
     q = quat.from_axis_angle(axis, angle)
     return q[0] if single else q
 

@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import logging
 import os
 
 import pytest
 
+from manip.errors import InvalidInputError
 from manip.sim import DynamicCuboid, SimulationApp, SimulationError, World
 
 
@@ -31,3 +33,16 @@ def test_viewer_without_display_says_so():
             world.reset()
     finally:
         app.close()
+
+
+def test_launch_config_refuses_a_non_bool_headless_and_warns_on_a_misspelt_key(caplog):
+    # "false" is a true string: the app ran headless where the script asked for a window
+    for bad in ({"headless": "false"}, {"headless": 0}, {"realtime": "no"}):
+        with pytest.raises(InvalidInputError, match="must be True or False"):
+            SimulationApp(bad)
+    with caplog.at_level(logging.WARNING, logger="manip.sim.core.app"):
+        app = SimulationApp({"headles": False, "renderer": "RayTracedLighting", "width": 640})
+    assert app.headless  # the misspelt key is ignored, as Isaac ignores unknown keys, but said
+    assert "'headles' is not one manip.sim reads; did you mean 'headless'?" in caplog.text
+    assert "renderer" not in caplog.text and "width" not in caplog.text  # Isaac's own keys pass quietly
+    app.close()

@@ -177,6 +177,39 @@ def test_adding_after_a_reset_then_resetting_again():
     assert not world.scene.object_exists("b") and world.scene.get_object("b") is None
 
 
+def test_a_removed_object_or_robot_says_so_instead_of_returning_stale_values(caplog):
+    world = World()
+    world.scene.add_default_ground_plane()
+    franka = world.scene.add(Franka("/World/Franka", name="franka"))
+    cube = world.scene.add(DynamicCuboid("/World/cube", name="cube", position=[0.5, 0.0, 0.5], size=0.05))
+    cube.set_world_pose([0.5, 0.1, 0.5])  # before the first reset: the pending pose
+    world.reset()
+    for _ in range(60):
+        world.step(render=False)
+    assert cube.get_world_pose()[0][2] == pytest.approx(0.025, abs=2e-3)
+    world.scene.remove_object("cube")
+    world.scene.remove_object("franka")
+    # the cube answered the pose set before the reset ([0.5, 0.1, 0.5]) and the robot warned
+    # that it was used "before the first World.reset()": getters now return None (as a removed
+    # robot's do) saying why, setters raise
+    for get in (cube.get_world_pose, cube.get_linear_velocity, franka.get_joint_positions):
+        with caplog.at_level(logging.WARNING):
+            caplog.clear()
+            assert get() is None
+        assert "is no longer on the stage (removed by scene.remove_object" in caplog.text
+        assert "before the first" not in caplog.text
+    for call in (lambda: cube.set_world_pose([0, 0, 1.0]), lambda: cube.set_linear_velocity([0, 0, 1.0]),
+                 lambda: franka.set_joint_positions(np.zeros(9))):
+        with pytest.raises(SimulationError, match="'/World/(cube|Franka)' is no longer on the stage"):
+            call()
+    # a new robot at the same path works; the old wrapper still has no model
+    again = world.scene.add(Franka("/World/Franka", name="franka", position=[0.0, 0.5, 0.0]))
+    world.reset()
+    assert again.get_joint_positions().shape == (9,)
+    np.testing.assert_allclose(again.get_world_pose()[0], [0.0, 0.5, 0.0])
+    assert franka.get_joint_positions() is None
+
+
 def test_name_and_prim_path_errors():
     world = World()
     world.scene.add(DynamicCuboid("/World/c", name="c"))

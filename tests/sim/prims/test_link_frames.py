@@ -1,0 +1,52 @@
+"""An XFormPrim made below a robot's link ("/World/Franka/panda_hand/tool_frame") is a frame
+fixed to that link, as the Xform Isaac creates there: before, it was taken for a body of the
+model that does not exist, and every `world.reset()` raised."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from manip import quaternion as quat
+from manip.errors import InvalidInputError
+from manip.sim import Franka, RigidPrim, World, XFormPrim
+
+
+def test_a_frame_below_a_link_rides_on_it():
+    world = World()
+    franka = world.scene.add(Franka("/World/Franka", name="franka"))
+    tool = world.scene.add(XFormPrim("/World/Franka/panda_hand/tool_frame", name="tool", translation=[0.0, 0.0, 0.2]))
+    assert tool.mount_link == "/World/Franka/panda_hand"
+    hand = XFormPrim("/World/Franka/panda_hand")   # the model's own body: wrapped, as before
+    assert hand.mount_link is None
+
+    def expected():
+        p, q = hand.get_world_pose()
+        return p + quat.to_matrix(q) @ [0.0, 0.0, 0.2]
+
+    np.testing.assert_allclose(tool.get_world_pose()[0], expected(), atol=1e-9)  # before the first reset
+    world.reset()
+    np.testing.assert_allclose(tool.get_world_pose()[0], expected(), atol=1e-9)
+    franka.set_joint_positions(np.array([0.7, -0.3]), joint_indices=[0, 1])
+    world.step(render=False)
+    np.testing.assert_allclose(tool.get_world_pose()[0], expected(), atol=1e-9)
+    np.testing.assert_allclose(tool.get_world_pose()[1], hand.get_world_pose()[1], atol=1e-9)
+    np.testing.assert_allclose(tool.get_local_pose()[0], [0.0, 0.0, 0.2])
+    tool.set_local_pose(translation=[0.0, 0.05, 0.1])
+    np.testing.assert_allclose(tool.get_world_pose()[0], hand.get_world_pose()[0]
+                               + quat.to_matrix(hand.get_world_pose()[1]) @ [0.0, 0.05, 0.1], atol=1e-9)
+    world.reset()  # a scene object: back to its default pose in the link's frame
+    np.testing.assert_allclose(tool.get_local_pose()[0], [0.0, 0.0, 0.2])
+
+
+def test_what_cannot_ride_on_a_link_says_so():
+    world = World()
+    world.scene.add(Franka("/World/Franka", name="franka"))
+    with pytest.raises(InvalidInputError, match="below none of its links"):
+        XFormPrim("/World/Franka/frame")
+    # a rigid body is a link of the model, never a new frame: a wrong name fails here (it made
+    # every later world.reset() raise)
+    with pytest.raises(InvalidInputError, match="has no body or site of that name"):
+        RigidPrim("/World/Franka/panda_hand/not_a_link")
+    world.reset()
+    assert RigidPrim("/World/Franka/panda_hand").get_mass() > 0
