@@ -42,6 +42,7 @@ from manip.collision.occupancy_exact import part_boxes, part_hull
 from manip.collision.occupancy_kernels import cells_contain, map_candidates, point_lower_bounds
 from manip.collision.shapes import Mesh, _check_name, as_pose
 from manip.errors import InvalidInputError
+from manip.jit import kernel_array
 from manip.pose import Pose
 from manip.validation import positive
 
@@ -259,9 +260,21 @@ class OccupancyMap(Mesh):
         return (self.cells + 0.5) * self.resolution
 
     def contains_points(self, X: np.ndarray) -> bool:
-        """True when any point of X (K, 3) (base frame) lies in an occupied cell (faces included)."""
+        """True when any point of X (3,) or (K, 3) [m] (base frame) lies in the box an occupied
+        cell holds (`cell_boxes`, faces included).
+
+        Raises:
+            InvalidInputError: X is not finite points (3,) or (K, 3).
+        """
+        try:
+            P = np.asarray(X, dtype=np.float64)
+        except (TypeError, ValueError):
+            P = None
+        if P is None or P.ndim not in (1, 2) or P.shape[-1] != 3 or not np.all(np.isfinite(P)):
+            raise InvalidInputError(f"occupancy map '{self.name}': contains_points takes finite points (3,) or (K, 3) "
+                                    f"[m]; got {X!r:.80}")
         idx, cb, res, origin = self._grid["tables"][:4]
-        return bool(cells_contain(np.ascontiguousarray(X, dtype=np.float64).reshape(-1, 3), idx, cb, res, origin))
+        return bool(cells_contain(kernel_array(P.reshape(-1, 3)), idx, cb, res, origin))
 
     def lower_bounds(self, X: np.ndarray, exact_within: float = 0.0) -> np.ndarray:
         """(M,) lower bounds [m] of the distances of points X (M, 3) to the occupied cells

@@ -357,3 +357,13 @@ def test_with_unknown_occupied_what_a_seen_surface_hides_in_its_own_cell_is_an_o
     assert not m.contains_points(at(0.003))    # in front of the surface, in its cell: seen free
     assert not m.contains_points(at(0.1))      # seen free
     assert not m.contains_points(at(-0.05))    # below the bounds: unknown = free there
+
+
+def test_contains_points_takes_points_and_refuses_anything_else(mg):
+    m = _plane_under(mg, mg.default_joint_positions, 0.3)
+    on = m.cell_boxes()[0, :3]
+    ro = np.array([on]); ro.setflags(write=False)   # a caller's read-only array (no second kernel compiled)
+    assert m.contains_points(on) and m.contains_points(ro) and m.contains_points(on.tolist())
+    for bad in (np.zeros(6), np.zeros((2, 2)), [[np.nan, 0.0, 0.0]], "abc", np.zeros((1, 1, 3))):
+        with pytest.raises(InvalidInputError, match="contains_points"):
+            m.contains_points(bad)
