@@ -2,7 +2,10 @@
 
 The planner only sees two callables: a straight-segment validity check and a time source,
 so it works with any collision checker. Trees grow towards uniform samples; each extension
-is checked as a straight segment (the checker decides the resolution).
+is checked as a straight segment (the checker decides the resolution). The tree that has
+grown fewer nodes is the one extended towards the next sample, the other connecting to it
+(balanced bidirectional search, LaValle 2006, "Planning Algorithms" 5.5.3): a tree in a tight
+place (a hand deep in a cage or a shelf) gets the extensions it needs to leave it.
 """
 
 from __future__ import annotations
@@ -32,6 +35,7 @@ class _Tree:
         self.nodes = np.empty((cap, roots.shape[1]))
         self.parents = np.empty(cap, dtype=int)
         self.n = len(roots)
+        self.roots = len(roots)
         self.nodes[: self.n] = roots
         self.parents[: self.n] = -1
 
@@ -113,7 +117,6 @@ def rrt_connect(
         (path (K, dof) from start to a goal, or None; iterations used).
     """
     trees = [_Tree(start[None, :]), _Tree(goals)]
-    a, b = 0, 1  # tree `a` extends towards the sample, `b` connects to it
 
     def extend(tree: _Tree, i: int, target: np.ndarray, limit: float | None) -> int | None:
         """Grow `tree` from node i towards target (at most `limit` far); new node index or None."""
@@ -141,6 +144,10 @@ def rrt_connect(
     for it in range(1, max_iterations + 1):
         if time.perf_counter() > deadline:
             return None, it
+        # tree `a`, the one that has grown fewer nodes (the start tree on a tie), extends
+        # towards the sample, `b` connects to it
+        a = 0 if trees[0].n - trees[0].roots <= trees[1].n - trees[1].roots else 1
+        b = 1 - a
         ta, tb = trees[a], trees[b]
         if rng.random() < local_fraction:
             q_rand = np.clip(ta.nodes[rng.integers(ta.n)] + rng.normal(0.0, local_sigma, len(lower)), lower, upper)
@@ -159,7 +166,6 @@ def rrt_connect(
                 if a == 1:
                     path = path[::-1]
                 return np.asarray(path), it
-        a, b = b, a
     return None, max_iterations
 
 
