@@ -6,7 +6,9 @@ is checked as a straight segment (the checker decides the resolution). The tree 
 grown fewer nodes is the one extended towards the next sample, the other connecting to it
 (balanced bidirectional search, LaValle 2006, "Planning Algorithms" 5.5.3): a tree in a tight
 place (a hand deep in a cage) is extended more often, the free tree's long extensions less
-(about as many iterations, fewer checks: BENCHMARKS.md, "The tail").
+(about as many iterations, fewer checks: BENCHMARKS.md, "The tail"). A search that steers along
+a constraint set (`steer`) extends the trees in turn (balanced, one of 53 upright problems of
+`benchmarks/constrained.py` failed).
 """
 
 from __future__ import annotations
@@ -145,9 +147,12 @@ def rrt_connect(
     for it in range(1, max_iterations + 1):
         if time.perf_counter() > deadline:
             return None, it
-        # tree `a`, the one that has grown fewer nodes (the start tree on a tie), extends
-        # towards the sample, `b` connects to it
-        a = 0 if trees[0].n - trees[0].roots <= trees[1].n - trees[1].roots else 1
+        # tree `a` extends towards the sample, `b` connects to it: `a` is the one that has grown
+        # fewer nodes (the start tree on a tie); with `steer`, the trees in turn
+        if steer is None:
+            a = 0 if trees[0].n - trees[0].roots <= trees[1].n - trees[1].roots else 1
+        else:
+            a = (it - 1) % 2
         b = 1 - a
         ta, tb = trees[a], trees[b]
         if rng.random() < local_fraction:
