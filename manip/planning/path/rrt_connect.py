@@ -2,13 +2,7 @@
 
 The planner only sees two callables: a straight-segment validity check and a time source,
 so it works with any collision checker. Trees grow towards uniform samples; each extension
-is checked as a straight segment (the checker decides the resolution). The tree that has
-grown fewer nodes is the one extended towards the next sample, the other connecting to it
-(balanced bidirectional search, LaValle 2006, "Planning Algorithms" 5.5.3): a tree in a tight
-place (a hand deep in a cage) is extended more often, the free tree's long extensions less
-(about as many iterations, fewer checks: BENCHMARKS.md, "The tail"). A search that steers along
-a constraint set (`steer`) extends the trees in turn (balanced, one of 53 upright problems of
-`benchmarks/constrained.py` failed).
+is checked as a straight segment (the checker decides the resolution).
 """
 
 from __future__ import annotations
@@ -38,7 +32,6 @@ class _Tree:
         self.nodes = np.empty((cap, roots.shape[1]))
         self.parents = np.empty(cap, dtype=int)
         self.n = len(roots)
-        self.roots = len(roots)
         self.nodes[: self.n] = roots
         self.parents[: self.n] = -1
 
@@ -120,6 +113,7 @@ def rrt_connect(
         (path (K, dof) from start to a goal, or None; iterations used).
     """
     trees = [_Tree(start[None, :]), _Tree(goals)]
+    a, b = 0, 1  # tree `a` extends towards the sample, `b` connects to it
 
     def extend(tree: _Tree, i: int, target: np.ndarray, limit: float | None) -> int | None:
         """Grow `tree` from node i towards target (at most `limit` far); new node index or None."""
@@ -147,13 +141,6 @@ def rrt_connect(
     for it in range(1, max_iterations + 1):
         if time.perf_counter() > deadline:
             return None, it
-        # tree `a` extends towards the sample, `b` connects to it: `a` is the one that has grown
-        # fewer nodes (the start tree on a tie); with `steer`, the trees in turn
-        if steer is None:
-            a = 0 if trees[0].n - trees[0].roots <= trees[1].n - trees[1].roots else 1
-        else:
-            a = (it - 1) % 2
-        b = 1 - a
         ta, tb = trees[a], trees[b]
         if rng.random() < local_fraction:
             q_rand = np.clip(ta.nodes[rng.integers(ta.n)] + rng.normal(0.0, local_sigma, len(lower)), lower, upper)
@@ -172,6 +159,7 @@ def rrt_connect(
                 if a == 1:
                     path = path[::-1]
                 return np.asarray(path), it
+        a, b = b, a
     return None, max_iterations
 
 
