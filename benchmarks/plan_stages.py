@@ -4,6 +4,7 @@ A/B of trajectory-optimiser settings in one run.
 
     python benchmarks/plan_stages.py [--limit-per-scene 10] [--scenes cage_panda ...] [--goal both]
         [--set KEY=VALUE ... | --tree OTHER_CHECKOUT] [--json OUT] [--cprofile OUT] [--trajopt-table]
+        [--search-table]
 
 Plans the first N valid problems of each scene (the verifier's problem check, as
 `benchmarks/mbm.py`; goal kinds joint and pose, seed 0) and reports, per plan, the main thread's
@@ -27,6 +28,11 @@ only: plans are unchanged).
 certified validation): each part's exclusive main-thread CPU time (PIQP's setup and solve, the
 QP's assembly, the clearance terms' FK and nearest balls, the merit, the fit, ..., and the
 Python glue of the SCO loops as the rest), and what each optimiser call of a plan came to.
+
+`--search-table` gives the search's machine-independent counts per scene (RRT-Connect iterations of
+the plan's searches and of its detour restarts, coarse and fine-repair, the restart searches that
+found a path and the plans whose path they replaced, the checker's calls and configurations) and
+the same per plan for the plans of the CPU p98 (the tail).
 """
 
 from __future__ import annotations
@@ -61,6 +67,8 @@ from manip.collision.clearance import ClearanceModel
 from manip.collision.state import CollisionState
 from manip.errors import InvalidInputError
 from manip.planning import pipeline as pipeline_module
+from manip.planning.path import restarts as restarts_module
+from manip.planning.path import search as search_module
 from manip.planning.trajopt import bspline as bspline_module
 from manip.planning.trajopt import optimizer as optimizer_module
 from manip.planning.trajopt import qp as qp_module
@@ -73,8 +81,9 @@ from manip.trajectory import Trajectory
 _COUNTERS: dict[str, list] = collections.defaultdict(lambda: [0, 0.0])
 
 
-def _counted(fn, name: str):
-    """fn wrapped so that its calls and CPU time add to _COUNTERS[name] (outermost call only)."""
+def _counted(fn, name: str, amount=None):
+    """fn wrapped so that its calls and CPU time add to _COUNTERS[name] (outermost call only);
+    with `amount(args, kwargs, result) -> {counter: number}`, those numbers add to the counters too."""
     depth = [0]
 
     def wrapper(*args, **kwargs):
@@ -82,29 +91,81 @@ def _counted(fn, name: str):
             return fn(*args, **kwargs)
         depth[0] += 1
         t = time.thread_time()
+        result = None
         try:
-            return fn(*args, **kwargs)
+            result = fn(*args, **kwargs)
+            return result
         finally:
             depth[0] -= 1
             c = _COUNTERS[name]
             c[0] += 1
             c[1] += time.thread_time() - t
+            if amount is not None:
+                for k, v in amount(args, kwargs, result).items():
+                    _COUNTERS[k][0] += v
 
     return wrapper
 
 
-#: What is counted: (owner, attribute, counter name).
-_COUNTED = ((qp_module, "solve", "qp"), (refine_module, "optimize_trajectory", "trajopt"),
-            (ClearanceModel, "terms", "terms"), (CollisionChecker, "_check", "check"))
+def _rrt_phase(args, kwargs, result) -> dict:
+    """RRT-Connect's iterations, by phase: the coarse search (its `motion_valid` is the search
+    resolution's) or a fine repair; inside a detour restart's search, the restart's."""
+    phase = "coarse" if getattr(args[4], "__name__", "") == "coarse_motion" else "repair"
+    where = "restart" if _IN_RESTART[0] else "search"
+    return {f"rrt_{where}_{phase}": result[1], f"rrt_{where}_{phase}_calls": 1}
+
+
+_IN_RESTART = [False]  # True while a detour restart's search runs
+_RESTARTS: list[str] = []  # the outcomes of the plan's restart searches, in order
+
+
+def _restart_search(fn):
+    """`restarts.search_path` counted ("restart_searches", "restart_found": those that found a
+    path) and flagged (the RRT iterations inside count as the restarts')."""
+
+    def wrapper(*args, **kwargs):
+        _COUNTERS["restart_searches"][0] += 1
+        _IN_RESTART[0] = True
+        try:
+            result = fn(*args, **kwargs)
+        finally:
+            _IN_RESTART[0] = False
+        _COUNTERS["restart_found"][0] += result[0] is not None
+        _RESTARTS.append("found" if result[0] is not None else "none")
+        return result
+
+    return wrapper
+
+
+#: What is counted: (owner, attribute, counter name, amount or None).
+_COUNTED = ((qp_module, "solve", "qp", None), (refine_module, "optimize_trajectory", "trajopt", None),
+            (ClearanceModel, "terms", "terms", None),
+            (CollisionChecker, "_check", "check", lambda a, k, r: {"configs": len(a[1])}),
+            (search_module, "rrt_connect", "rrt", _rrt_phase))
+
+
+def _restarts_kept(fn):
+    """`pipeline.shorter_way_round` counted: "restart_kept" when it returns a new path."""
+
+    def wrapper(path, *args, **kwargs):
+        out = fn(path, *args, **kwargs)
+        _COUNTERS["restart_kept"][0] += out is not path
+        return out
+
+    return wrapper
 
 
 @contextlib.contextmanager
 def _instrumented():
-    """manip's functions of `_COUNTED` counted (restored afterwards)."""
-    originals = [(owner, attr, owner.__dict__[attr]) for owner, attr, _ in _COUNTED]
+    """manip's functions of `_COUNTED` counted, the restarts' searches flagged (restored afterwards)."""
+    originals = [(owner, attr, owner.__dict__[attr]) for owner, attr, _, _ in _COUNTED]
+    originals.append((restarts_module, "search_path", restarts_module.search_path))
+    originals.append((pipeline_module, "shorter_way_round", pipeline_module.shorter_way_round))
     try:
-        for owner, attr, name in _COUNTED:
-            setattr(owner, attr, _counted(getattr(owner, attr), name))
+        for owner, attr, name, amount in _COUNTED:
+            setattr(owner, attr, _counted(getattr(owner, attr), name, amount))
+        restarts_module.search_path = _restart_search(restarts_module.search_path)
+        pipeline_module.shorter_way_round = _restarts_kept(pipeline_module.shorter_way_round)
         yield
     finally:
         for owner, attr, fn in originals:
@@ -280,6 +341,7 @@ def parse_constant(key: str, value) -> tuple[tuple, object]:
 def plan_once(mg: MotionGenerator, problem, kind: str, seed: int) -> dict:
     """One plan's row: CPU, wall, stages, counters and the motion's quality figures."""
     _COUNTERS.clear()
+    _RESTARTS.clear()
     _PARTS_CPU.clear()
     _PARTS_CALLS.clear()
     c0, w0, p0 = time.thread_time(), time.perf_counter(), time.process_time()
@@ -290,7 +352,7 @@ def plan_once(mg: MotionGenerator, problem, kind: str, seed: int) -> dict:
     row = dict(problem=f"{problem.scene}/{problem.index}", kind=kind, success=bool(r.success),
                cpu=time.thread_time() - c0, wall=time.perf_counter() - w0, process=time.process_time() - p0,
                stages=dict(r.timings),
-               counters={k: list(v) for k, v in _COUNTERS.items()},
+               counters={k: list(v) for k, v in _COUNTERS.items()}, restarts=list(_RESTARTS),
                parts={k: [_PARTS_CALLS[k], v] for k, v in _PARTS_CPU.items()})
     if r.success:
         P = np.asarray(r.trajectory.positions)
@@ -331,6 +393,49 @@ def report(rows: list[dict]) -> str:
             f"terms {100 * share['terms']:.1f} %); QPs per plan mean {qps.mean():.1f}, median {np.median(qps):.0f}, "
             f"p98 {_pct(qps, 98):.0f}; {qp_cpu / max(qps.sum(), 1) * 1e3:.2f} ms CPU per QP; collision checks "
             f"(`CollisionChecker._check`) {100 * share['check']:.1f} % of the CPU time"]
+    return "\n".join(out)
+
+
+def _count(row: dict, *names: str) -> int:
+    return sum(row["counters"].get(k, [0, 0])[0] for k in names)
+
+
+_SEARCH = ("rrt_search_coarse", "rrt_search_repair")
+_RESTART = ("rrt_restart_coarse", "rrt_restart_repair")
+
+
+def search_table(rows: list[dict], tail: float = 98.0) -> str:
+    """Per scene: CPU median / p98, the search's machine-independent counts per plan (RRT
+    iterations of the searches and of the detour restarts, restart searches, checker calls and
+    configurations checked, QPs), and the plans at or above the `tail` percentile of CPU."""
+    out = ["| scene | plans | CPU median / p98 [ms] | RRT its search (coarse + repair) mean / p98 | restart searches "
+           "(found, path kept) | restart its mean / p98 | checker calls mean | configs checked mean | QPs mean |",
+           "|---|---|---|---|---|---|---|---|---|"]
+    by_scene = collections.defaultdict(list)
+    for r in rows:
+        by_scene[r["problem"].split("/")[0]].append(r)
+    for scene, rs in sorted(by_scene.items()):
+        cpu = np.array([r["cpu"] for r in rs]) * 1e3
+        its = np.array([_count(r, *_SEARCH) for r in rs])
+        rit = np.array([_count(r, *_RESTART) for r in rs])
+        out.append(f"| {scene} | {len(rs)} | {np.median(cpu):.0f} / {_pct(cpu, 98):.0f} | {its.mean():.0f} / "
+                   f"{_pct(its, 98):.0f} | {sum(_count(r, 'restart_searches') for r in rs)} ({sum(_count(r, 'restart_found') for r in rs)}, "
+                   f"{sum(_count(r, 'restart_kept') for r in rs)}) | {rit.mean():.0f} / "
+                   f"{_pct(rit, 98):.0f} | {np.mean([_count(r, 'check') for r in rs]):.0f} | "
+                   f"{np.mean([_count(r, 'configs') for r in rs]):.0f} | {np.mean([_count(r, 'qp') for r in rs]):.1f} |")
+    cut = _pct([r["cpu"] for r in rows], tail)
+    top = sorted((r for r in rows if r["cpu"] >= cut), key=lambda r: -r["cpu"])
+    out += ["", f"plans at or above the CPU p{tail:g} ({cut * 1e3:.0f} ms): {len(top)}", "",
+            "| plan | goal | CPU [ms] | search / restarts / trajopt [ms] | RRT its search coarse + repair | restart "
+            "searches (found, kept): its coarse + repair | QPs | configs checked |", "|---|---|---|---|---|---|---|---|"]
+    for r in top:
+        st = r["stages"]
+        out.append(f"| {r['problem']} | {r['kind']} | {r['cpu'] * 1e3:.0f} | {st.get('plan', 0) * 1e3:.0f} / "
+                   f"{st.get('restarts', 0) * 1e3:.0f} / {st.get('trajopt', 0) * 1e3:.0f} | "
+                   f"{_count(r, 'rrt_search_coarse')} + {_count(r, 'rrt_search_repair')} | "
+                   f"{_count(r, 'restart_searches')} ({_count(r, 'restart_found')}, {_count(r, 'restart_kept')}): "
+                   f"{_count(r, 'rrt_restart_coarse')} + "
+                   f"{_count(r, 'rrt_restart_repair')} | {_count(r, 'qp')} | {_count(r, 'configs')} |")
     return "\n".join(out)
 
 
@@ -442,6 +547,9 @@ def parse_args(argv=None) -> argparse.Namespace:
     ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)  # `--tree`'s worker process
     ap.add_argument("--trajopt-table", action="store_true",
                     help="account for the optimiser stage's CPU by part (PIQP, assembly, clearance terms, ...)")
+    ap.add_argument("--search-table", action="store_true",
+                    help="per scene: the search's counts (RRT iterations, restarts, checker calls, configurations) "
+                         "and the plans of the CPU p98")
     return ap.parse_args(argv)
 
 
@@ -491,6 +599,8 @@ def main(argv=None) -> int:
     print(f"load average at start {load[0]:.2f}, at end {os.getloadavg()[0]:.2f}; {len(problems)} valid problems, "
           f"goals {', '.join(kinds)}")
     print(report(rows["A"]))
+    if args.search_table:
+        print("\n" + search_table(rows["A"]))
     if args.trajopt_table:
         print("\n" + trajopt_table(rows["A"]))
     if overrides or constants or worker:
@@ -498,6 +608,8 @@ def main(argv=None) -> int:
               f"\nB = TrajOptSettings({', '.join(f'{k}={v!r}' for k, v in overrides.items())})"
               + "".join(f", {m.__name__}.{k} = {v!r}" for (m, k), v in constants.items()))
         print(report(rows["B"]))
+        if args.search_table:
+            print("\n" + search_table(rows["B"]))
         if args.trajopt_table:
             print("\n" + trajopt_table(rows["B"]))
         print()
