@@ -24,3 +24,15 @@ class Status(Enum):
 
     def __str__(self) -> str:
         return self.name
+
+
+def no_truth_value(result) -> bool:
+    """`bool()` of a result: refused, naming `success` (a result object would always be true,
+    so `if result:` would let a failed plan through).
+
+    Raises:
+        TypeError: always.
+    """
+    status = getattr(result, "status", None)
+    raise TypeError(f"a {type(result).__name__} has no truth value: test `.success` "
+                    f"(this one: success={getattr(result, 'success', None)}, status={status})")

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from manip.status import Status
+from manip.status import Status, no_truth_value
 
 
 #: A validity check for candidate solutions: Q (K, dof) -> (K,) bool (True = acceptable).
@@ -67,6 +67,8 @@ class IKResult:
         message: a one-line detail of this call's failure ("" on success).
     """
 
+    __bool__ = no_truth_value   # `if result:` would let a failure through: test `.success`
+
     success: bool
     q: np.ndarray
     position_error: float
@@ -93,6 +95,8 @@ class BatchIKResult:
         solve_time: wall time [s] of the whole batch.
         message: N one-line details of the failures ("" where solved).
     """
+
+    __bool__ = no_truth_value   # `if result:` would let a failure through: test `.success`
 
     success: np.ndarray
     q: np.ndarray
@@ -139,6 +143,8 @@ class IKSolutions:
         message: a one-line detail of the failure ("" when K >= 1).
         attempts: attempts made (the first from `seed_q`, the others from random starts).
     """
+
+    __bool__ = no_truth_value   # `if result:` would let a failure through: test `.success`
 
     q: np.ndarray
     status: IKStatus

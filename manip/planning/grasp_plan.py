@@ -9,6 +9,7 @@ import numpy as np
 
 from manip.planning.result import PlanResult, PlanStatus
 from manip.trajectory import Trajectory
+from manip.status import no_truth_value
 
 
 @dataclass(frozen=True)
@@ -29,6 +30,8 @@ class GraspPlan:
         trajectory: all stages as one trajectory (None on failure).
         timings: seconds spent per stage name, and "total".
     """
+
+    __bool__ = no_truth_value   # `if result:` would let a failure through: test `.success`
 
     success: bool
     status: PlanStatus

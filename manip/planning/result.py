@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from manip import curobo_names
-from manip.status import Status
+from manip.status import Status, no_truth_value
 from manip.trajectory import Trajectory
 
 
@@ -96,6 +96,8 @@ class PlanResult:
             line), "shortcut" (search + shortcutting + ruckig timing), "trajopt" (the
             trajectory optimiser) or "linear" (a Cartesian line); "" on failure.
     """
+
+    __bool__ = no_truth_value   # `if result:` would let a failure through: test `.success`
 
     success: bool
     status: PlanStatus

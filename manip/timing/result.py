@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from manip.status import Status
+from manip.status import Status, no_truth_value
 from manip.trajectory import Trajectory
 
 
@@ -68,6 +68,8 @@ class TimingResult:
         compute_time: wall-clock time spent [s].
         message: human-readable detail.
     """
+
+    __bool__ = no_truth_value   # `if result:` would let a failure through: test `.success`
 
     success: bool
     status: TimingStatus
