@@ -26,13 +26,18 @@ class Status(Enum):
         return self.name
 
 
+
+def truth_is_success(result) -> bool:
+    """`bool(result)` is `result.success`: `if result:` and `assert result` test the outcome
+    (an object's default truth, always true, would let a failed plan through)."""
+    return bool(result.success)
+
+
 def no_truth_value(result) -> bool:
-    """`bool()` of a result: refused, naming `success` (a result object would always be true,
-    so `if result:` would let a failed plan through).
+    """`bool()` of a batch result (one success per item): refused, naming `success`.
 
     Raises:
         TypeError: always.
     """
-    status = getattr(result, "status", None)
-    raise TypeError(f"a {type(result).__name__} has no truth value: test `.success` "
-                    f"(this one: success={getattr(result, 'success', None)}, status={status})")
+    raise TypeError(f"a {type(result).__name__} has no truth value: test `.success` (one per item: "
+                    f"`.success.all()`, `.success.any()`)")

@@ -419,15 +419,18 @@ def test_an_empty_batch_of_goal_poses_is_refused(mg):
     assert len(mg.batch_ik(empty).success) == 0 and mg.plan_batch(np.zeros((0, 7)), empty) == []  # batches of 0
 
 
-def test_a_result_has_no_truth_value_so_if_result_cannot_let_a_failure_through(mg):
-    """`if result:` on a result object would always pass (a failed one included): bool()
-    raises, naming `success`; `.success` is the test."""
+def test_a_results_truth_is_its_success_so_if_result_cannot_let_a_failure_through(mg):
+    """`if result:` tests `.success` (an object's default truth, always true, let a failed plan
+    through); a batch of IK results (one success per goal) has no truth value."""
     from manip.timing import time_path
 
     q0 = mg.default_joint_positions
     ok = [mg.plan_joints(q0, q0 + 0.1), mg.ik(mg.fk(q0)), time_path(np.array([q0, q0 + 0.1]), mg.config.limits)]
-    failed = [mg.ik(Pose([3.0, 0.0, 0.5], [0, 1, 0, 0]))]   # out of reach
-    assert [r.success for r in ok + failed] == [True, True, True, False]
-    for r in ok + failed:
-        with pytest.raises(TypeError, match=r"success"):
-            bool(r)
+    failed = [mg.ik(Pose([3.0, 0.0, 0.5], [0, 1, 0, 0])),   # out of reach
+              mg.plan_pose(q0, Pose([3.0, 0.0, 0.5], [0, 1, 0, 0]))]
+    assert [r.success for r in ok + failed] == [True, True, True, False, False]
+    assert [bool(r) for r in ok + failed] == [True, True, True, False, False]
+    batch = mg.batch_ik(Pose(np.array([mg.fk(q0).position, [3.0, 0.0, 0.5]]), np.array([[0, 1, 0, 0]] * 2)))
+    assert batch.success.tolist() == [True, False]
+    with pytest.raises(TypeError, match=r"success"):
+        bool(batch)

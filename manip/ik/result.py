@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from manip.status import Status, no_truth_value
+from manip.status import Status, no_truth_value, truth_is_success
 
 
 #: A validity check for candidate solutions: Q (K, dof) -> (K,) bool (True = acceptable).
@@ -67,7 +67,7 @@ class IKResult:
         message: a one-line detail of this call's failure ("" on success).
     """
 
-    __bool__ = no_truth_value   # `if result:` would let a failure through: test `.success`
+    __bool__ = truth_is_success   # `if result:` tests `.success` (not the object)
 
     success: bool
     q: np.ndarray
@@ -96,7 +96,7 @@ class BatchIKResult:
         message: N one-line details of the failures ("" where solved).
     """
 
-    __bool__ = no_truth_value   # `if result:` would let a failure through: test `.success`
+    __bool__ = no_truth_value   # one success per item: `.success.all()` / `.any()`
 
     success: np.ndarray
     q: np.ndarray
@@ -144,7 +144,7 @@ class IKSolutions:
         attempts: attempts made (the first from `seed_q`, the others from random starts).
     """
 
-    __bool__ = no_truth_value   # `if result:` would let a failure through: test `.success`
+    __bool__ = truth_is_success   # `if result:` tests `.success` (not the object)
 
     q: np.ndarray
     status: IKStatus

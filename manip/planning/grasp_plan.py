@@ -9,7 +9,7 @@ import numpy as np
 
 from manip.planning.result import PlanResult, PlanStatus
 from manip.trajectory import Trajectory
-from manip.status import no_truth_value
+from manip.status import truth_is_success
 
 
 @dataclass(frozen=True)
@@ -31,7 +31,7 @@ class GraspPlan:
         timings: seconds spent per stage name, and "total".
     """
 
-    __bool__ = no_truth_value   # `if result:` would let a failure through: test `.success`
+    __bool__ = truth_is_success   # `if result:` tests `.success` (not the object)
 
     success: bool
     status: PlanStatus

@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from manip import curobo_names
-from manip.status import Status, no_truth_value
+from manip.status import Status, truth_is_success
 from manip.trajectory import Trajectory
 
 
@@ -97,7 +97,7 @@ class PlanResult:
             trajectory optimiser) or "linear" (a Cartesian line); "" on failure.
     """
 
-    __bool__ = no_truth_value   # `if result:` would let a failure through: test `.success`
+    __bool__ = truth_is_success   # `if result:` tests `.success` (not the object)
 
     success: bool
     status: PlanStatus

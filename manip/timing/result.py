@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from manip.status import Status, no_truth_value
+from manip.status import Status, truth_is_success
 from manip.trajectory import Trajectory
 
 
@@ -69,7 +69,7 @@ class TimingResult:
         message: human-readable detail.
     """
 
-    __bool__ = no_truth_value   # `if result:` would let a failure through: test `.success`
+    __bool__ = truth_is_success   # `if result:` tests `.success` (not the object)
 
     success: bool
     status: TimingStatus
