@@ -196,7 +196,8 @@ def run(kinds: list[str], per_kind: int, seed: int, resolution: float = RESOLUTI
                     m = mg_map.update_world_from_depth(depth, K, pose, q=pb.start, resolution=resolution, fill=fill)
                     o["integrate"].append(time.thread_time() - c0)
                 c0 = time.thread_time()   # the map's collision tables alone: built again from its cells
-                again = OccupancyMap.from_cells("camera", resolution, m.cells, m.bounds, _sorted=True)   # as an update
+                points = None if m.points is None else (m.point_start, m.points)
+                again = OccupancyMap.from_cells("camera", resolution, m.cells, m.bounds, points, _sorted=True)   # as an update
                 mg_map.checker.replace_obstacle(again)
                 o["rebuild"].append(time.thread_time() - c0)
                 if Q is not None:   # collision checks per configuration, map vs primitives

@@ -142,6 +142,9 @@ def _perception(mg, q0) -> None:
     mg.update_world_from_depth(depth, K, down, name="bounded", unknown="occupied", bounds=[[0.3, -0.3, -0.3], [0.9, 0.3, 0.1]])
     m = mg.update_world_from_pointcloud(np.array([[0.6, 0.0, -0.2], [0.7, 0.1, -0.2]]), origin=[0.6, 0.0, 1.0], q=q0)
     m.contains_points(np.array([[0.6, 0.0, -0.19]]))
+    whole = mg.update_world_from_depth(depth, K, down, name="cells", fill="cells", q=q0)   # boxes, merged
+    whole.contains_points(np.array([[0.6, 0.0, -0.19]]))
+    mg.remove_obstacle("cells")
     mg.distance(q0)
     Q = np.random.default_rng(0).uniform(mg.lower_limits, mg.upper_limits, (64, mg.lower_limits.size))
     if not mg.checker.in_collision_batch(Q).any():   # parts against the maps' boxes (`occupancy_exact`)

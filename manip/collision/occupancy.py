@@ -2,11 +2,15 @@
 
 The cells of edge `resolution` [m] lie on a lattice fixed to the robot base frame: cell
 (i, j, k) is [i r, (i + 1) r] x [j r, (j + 1) r] x [k r, (k + 1) r]. Each occupied cell holds
-a solid box within it: `bounds` (what was measured in it, e.g. the bounding box of the points
+a box within it: `bounds` (what was measured in it, e.g. the bounding box of the points
 that fell in it: a surface becomes a thin slab) or, without bounds, the whole cell; the box is
 extended to each face the cell shares with an occupied cell, so the boxes of a surface seen
-as face-adjacent cells meet. The map is the union of these boxes, in every check of the
-planner and in its continuous certificate:
+as face-adjacent cells meet. A cell given its measured `points` is their convex hull (with
+the points near a face its box is extended to copied onto it, so that hulls meet there as
+the boxes do; `manip.collision.occupancy_hulls`), which its box bounds; any other cell is
+its box. The map is the union of these solids, in every check of
+the planner and in its continuous certificate (the broadphase and the optimiser's clearance
+terms use the boxes: bounds of the hulls):
 
 - broadphase: the robot's sphere covers against a distance bound of the boxes (the box
   holding them, blocks of `BLOCK` cells with an exact distance transform between blocks,
@@ -14,12 +18,13 @@ planner and in its continuous certificate:
   `manip.collision.occupancy_kernels`), so a configuration far from every cell costs a few
   lookups whatever the number of cells;
 - exact: a part against the boxes (the cells' boxes merged into fewer disjoint ones that
-  tile the same union, `MapGeometry`) in the cells its vertices' box spans, decided by cheap
-  conclusive tests where they can (`manip.collision.occupancy_exact`) and by coal on the rest,
-  each a `coal.Box` made on first use, so installing a new map builds no coal geometry; a
-  part inside a box (not touching its faces) is found by the grid (`contains_points`), as for
-  solid meshes (`manip.collision.solids`); the certificate keeps every part off every face,
-  so the path's first configuration decides the inside question for the whole path.
+  tile the same union; a map with points: each cell's own box, `MapGeometry`) in the cells
+  its vertices' box spans, decided by cheap conclusive tests where they can
+  (`manip.collision.occupancy_exact`) and by coal on the rest, each a `coal.Box` or a cell's
+  hull made on first use, so installing a new map builds no coal geometry; a part inside a
+  solid (not touching its faces) is found by the grid (`contains_points`), as for solid
+  meshes (`manip.collision.solids`); the certificate keeps every part off every face, so the
+  path's first configuration decides the inside question for the whole path.
 
 A map is immutable (like every shape): `manip.perception` builds a new one for each update.
 It lies in the base frame (its pose is the identity) and is never checked against the
@@ -39,6 +44,9 @@ from scipy import ndimage
 
 from manip.collision.occupancy_boxes import boxes_near_balls, cell_range, grid_tables, merge_boxes, near_boxes
 from manip.collision.occupancy_exact import part_boxes, part_hull
+from manip.collision.occupancy_hulls import BAND as HULL_BAND
+from manip.collision.occupancy_hulls import GROW as HULL_GROW
+from manip.collision.occupancy_hulls import cell_hull
 from manip.collision.occupancy_kernels import cells_contain, map_candidates, point_lower_bounds
 from manip.collision.shapes import Mesh, _check_name, as_pose
 from manip.errors import InvalidInputError
@@ -50,6 +58,9 @@ from manip.validation import positive
 BLOCK = 4
 #: Largest dense grid an occupancy map holds (cells).
 MAX_CELLS = 64_000_000
+#: A cell whose points lie within this of a plane normal to an axis is its box, not their
+#: hull [m] (an axis-aligned face: its box is as thin; boxes merge, hulls do not).
+FLAT = 1e-3
 
 # the 12 triangles of a unit box (corners numbered x * 4 + y * 2 + z), counter-clockwise outside
 _BOX_FACES = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],
@@ -70,6 +81,10 @@ class OccupancyMap(Mesh):
         cells: (C, 3) int64 lattice indices of the occupied cells, sorted, read-only.
         bounds: (C, 6) [m] (lo, hi) what each cell holds (before the extension to occupied
             neighbours), read-only; None: whole cells.
+        points: (N, 3) [m] the measured points of the cells, cell c's being
+            points[point_start[c]:point_start[c + 1]] (clamped to the cell; an empty range: the
+            cell is its box), read-only; None: every cell is its box.
+        point_start: (C + 1,) int64 (with `points`), read-only.
     """
 
     kind: ClassVar[str] = "occupancy"
@@ -77,13 +92,16 @@ class OccupancyMap(Mesh):
     resolution: float = 0.02
     cells: np.ndarray = dataclasses.field(default=None, repr=False)  # type: ignore[assignment]
     bounds: np.ndarray | None = dataclasses.field(default=None, repr=False)
+    points: np.ndarray | None = dataclasses.field(default=None, repr=False)
+    point_start: np.ndarray | None = dataclasses.field(default=None, repr=False)
 
     def __init__(self, *args, **kwargs):
         raise InvalidInputError("build an OccupancyMap with OccupancyMap.from_cells(name, resolution, cells) "
                                 "or MotionGenerator.update_world_from_depth / update_world_from_pointcloud")
 
     @classmethod
-    def from_cells(cls, name: str, resolution: float, cells, bounds=None, _sorted: bool = False) -> OccupancyMap:
+    def from_cells(cls, name: str, resolution: float, cells, bounds=None, points=None,
+                   _sorted: bool = False) -> OccupancyMap:
         """A map of the given occupied cells.
 
         Args:
@@ -92,10 +110,17 @@ class OccupancyMap(Mesh):
             cells: (C, 3) integer lattice indices (C may be 0: an empty map).
             bounds: (C, 6) [m] (x0, y0, z0, x1, y1, z1) per cell: the box the cell holds
                 (clamped to the cell; e.g. the bounds of the points measured in it); None:
-                whole cells. Repeated cells take the union of their bounds.
+                whole cells (or, with `points`, the bounds of each cell's points). Repeated
+                cells take the union of their bounds.
+            points: None, or (start (C + 1,) int, points (N, 3) [m]): cell c's measured points
+                are points[start[c]:start[c + 1]], in the order of `cells` (distinct cells;
+                a cell's bounds grow to hold its points, and its hull is clamped to the
+                cell); the cell is then their convex hull (with the points near a face its
+                box is extended to copied onto it), unless they lie within `FLAT` of a plane
+                normal to an axis or the range is empty: then the cell is its box.
 
         Raises:
-            InvalidInputError: a bad name, resolution, cells or bounds array.
+            InvalidInputError: a bad name, resolution, cells, bounds or points array.
         """
         _check_name(name, "occupancy map")
         res = positive(resolution, f"occupancy map '{name}': resolution", "m")
@@ -115,6 +140,27 @@ class OccupancyMap(Mesh):
                                         f"[x0, y0, z0, x1, y1, z1] [m] with x0 <= x1, y0 <= y1, z0 <= z1 per cell; "
                                         f"got shape {b.shape}")
         c = c.astype(np.int64)
+        start, P = (None, None) if points is None else _point_lists(name, points, c, _sorted)
+        if P is not None and not _sorted:   # the bounds hold each cell's points (whole cells without bounds or points)
+            some = np.diff(start) > 0
+            lo, hi = np.full((c.shape[0], 3), np.inf), np.full((c.shape[0], 3), -np.inf)
+            if some.any():
+                lo[some] = np.minimum.reduceat(P, start[:-1][some], axis=0)
+                hi[some] = np.maximum.reduceat(P, start[:-1][some], axis=0)
+            if b is None:
+                b = np.hstack([np.where(some[:, None], lo, c * res), np.where(some[:, None], hi, (c + 1) * res)])
+            else:
+                b = np.hstack([np.minimum(b[:, :3], lo), np.maximum(b[:, 3:], hi)])
+        if P is not None and not _sorted:   # in the order of the sorted cells
+            order = np.lexsort(c.T[::-1])
+            if c.shape[0] > 1 and np.any(np.all(np.diff(c[order], axis=0) == 0, axis=1)):
+                raise InvalidInputError(f"occupancy map '{name}': cells must be distinct when points are given")
+            counts = np.diff(start)[order]
+            rows = np.repeat(start[:-1][order], counts) + (np.arange(int(counts.sum())) -
+                                                            np.repeat(np.cumsum(counts) - counts, counts))
+            c, b, P = c[order], b[order], P[rows]
+            start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+            _sorted = True
         if not _sorted:   # _sorted: distinct, sorted
             c, inv = np.unique(c, axis=0, return_inverse=True)
             inv = inv.reshape(-1)
@@ -128,9 +174,13 @@ class OccupancyMap(Mesh):
         if b is not None:
             b = np.ascontiguousarray(b)
             b.setflags(write=False)
+        if P is not None:
+            for arr in (start, P):
+                arr.setflags(write=False)
         out = object.__new__(cls)
         for key, value in (("name", name), ("pose", Pose(np.zeros(3))), ("file_path", None), ("solid", True),
-                           ("resolution", float(res)), ("cells", c), ("bounds", b)):
+                           ("resolution", float(res)), ("cells", c), ("bounds", b), ("points", P),
+                           ("point_start", start)):
             object.__setattr__(out, key, value)
         out._tables_of(c)
         return out
@@ -139,6 +189,7 @@ class OccupancyMap(Mesh):
         """The grid, the cells' boxes, the broadphase bounds and the merged boxes of cells c (C, 3)."""
         res = self.resolution
         shared: dict = {}
+        hulls = None
         if c.shape[0] == 0:   # an empty map: one tiny box far away stands for the geometry
             boxes = np.concatenate([np.full(3, 1e6), np.full(3, 1e6 + 1e-3)])[None]
             of_cell = np.zeros(0, dtype=np.int64)
@@ -160,13 +211,33 @@ class OccupancyMap(Mesh):
             # blocks: the box holding each block's cells' boxes
             idx, cb, lo, hi, blocks, grown = grid_tables(c, bounds, whole, origin, shape, float(res), BLOCK)
             blb = ndimage.distance_transform_edt(~grown) * (BLOCK * res) if not grown.all() else np.zeros(grown.shape)
-            boxes, of_cell = merge_boxes(idx, cb, origin, float(res))
-        shared["geometry"] = MapGeometry(boxes, idx, of_cell, np.ascontiguousarray(origin, dtype=np.int64), float(res))
+            hull_cells = self._hull_cells()
+            if hull_cells.size == 0:
+                boxes, of_cell = merge_boxes(idx, cb, origin, float(res))
+            else:   # the boxes merged, each hull on its own (its cell's box bounds it)
+                masked = idx.copy()
+                masked[tuple((c[hull_cells] - origin).T)] = -1
+                boxes, of_cell = merge_boxes(masked, cb, origin, float(res))
+                of_cell[hull_cells] = boxes.shape[0] + np.arange(hull_cells.size)
+                box_cell = np.concatenate([np.full(boxes.shape[0], -1), hull_cells])
+                boxes = np.vstack([boxes, cb[hull_cells]])
+                hulls = (self.point_start, self.points, box_cell)
+        shared["geometry"] = MapGeometry(boxes, idx, of_cell, np.ascontiguousarray(origin, dtype=np.int64), float(res),
+                                         hulls)
         shared["tables"] = (idx, np.ascontiguousarray(cb), float(res), np.ascontiguousarray(origin, dtype=np.int64),
                             np.ascontiguousarray(blb, dtype=np.float64), np.ascontiguousarray(blocks), BLOCK,
                             np.asarray(lo, dtype=float), np.asarray(hi, dtype=float))
         object.__setattr__(self, "_grid", shared)
         object.__setattr__(self, "scale", np.ones(3))
+
+    def _hull_cells(self) -> np.ndarray:
+        """(H,) int64 the cells that are the hulls of their points: those with points whose
+        bounds are thicker than `FLAT` along every axis (a flatter cell is its box, within FLAT
+        of its hull)."""
+        if self.points is None:
+            return np.zeros(0, dtype=np.int64)
+        thick = np.all(self.bounds[:, 3:] - self.bounds[:, :3] > FLAT, axis=1)
+        return np.flatnonzero(thick & (np.diff(self.point_start) > 0))
 
     @property
     def vertices(self) -> np.ndarray:   # type: ignore[override]
@@ -232,6 +303,9 @@ class OccupancyMap(Mesh):
         out = {"resolution": self.resolution, "cells": self.cells.tolist()}
         if self.bounds is not None:
             out["bounds"] = self.bounds.tolist()
+        if self.points is not None:
+            out["point_start"] = self.point_start.tolist()
+            out["points"] = self.points.tolist()
         return out
 
     # ------------------------------------------------------------------ queries
@@ -242,8 +316,14 @@ class OccupancyMap(Mesh):
 
     @property
     def num_boxes(self) -> int:
-        """Number of disjoint boxes the cells' boxes are merged into (the exact geometry)."""
+        """Number of disjoint boxes the cells' boxes are merged into, and of hulls (the exact
+        geometry)."""
         return 0 if self.num_cells == 0 else int(self._grid["geometry"].boxes.shape[0])
+
+    @property
+    def num_hulls(self) -> int:
+        """Number of cells that are the convex hull of their points (the others are boxes)."""
+        return int(self._hull_cells().size)
 
     @property
     def broadphase_tables(self) -> tuple:
@@ -260,8 +340,8 @@ class OccupancyMap(Mesh):
         return (self.cells + 0.5) * self.resolution
 
     def contains_points(self, X: np.ndarray) -> bool:
-        """True when any point of X (3,) or (K, 3) [m] (base frame) lies in the box an occupied
-        cell holds (`cell_boxes`, faces included).
+        """True when any point of X (3,) or (K, 3) [m] (base frame) lies in the solid an
+        occupied cell holds (its box, `cell_boxes`, or its hull; faces included).
 
         Raises:
             InvalidInputError: X is not finite points (3,) or (K, 3).
@@ -274,7 +354,10 @@ class OccupancyMap(Mesh):
             raise InvalidInputError(f"occupancy map '{self.name}': contains_points takes finite points (3,) or (K, 3) "
                                     f"[m]; got {X!r:.80}")
         idx, cb, res, origin = self._grid["tables"][:4]
-        return bool(cells_contain(kernel_array(P.reshape(-1, 3)), idx, cb, res, origin))
+        P = kernel_array(P.reshape(-1, 3))
+        if self.points is None or self.num_cells == 0:
+            return bool(cells_contain(P, idx, cb, res, origin))
+        return self._grid["geometry"].contains(P)
 
     def lower_bounds(self, X: np.ndarray, exact_within: float = 0.0) -> np.ndarray:
         """(M,) lower bounds [m] of the distances of points X (M, 3) to the occupied cells
@@ -289,27 +372,97 @@ class OccupancyMap(Mesh):
         return self._grid["geometry"]
 
 
-class MapGeometry:
-    """The exact geometry of a map: disjoint boxes (M, 6) [m] (lo, hi), base frame, each a
-    `coal.Box` made on first use. Its `collide` / `distance` stand for coal's calls against
-    one geometry: a part is tested against the boxes its (placed) bounding box comes near
-    (`collide`: those `occupancy_exact.part_boxes` leaves undecided)."""
+def _point_lists(name: str, points, c: np.ndarray, trusted: bool) -> tuple[np.ndarray, np.ndarray]:
+    """(start (C + 1,) int64, points (N, 3) [m]) of `from_cells`' points argument for cells c
+    (C, 3), validated unless `trusted` (the map's own, `manip.perception`'s)."""
+    if trusted:
+        return points
+    try:
+        start, P = points
+        start = np.asarray(start)
+        P = np.asarray(P, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise InvalidInputError(f"occupancy map '{name}': points must be (start (C + 1,) int, points (N, 3) [m]) "
+                                f"or None; got {type(points).__name__}") from None
+    if P.size == 0:
+        P = P.reshape(0, 3)
+    C = c.shape[0]
+    if (start.shape != (C + 1,) or start.dtype.kind not in "iu" or (C >= 0 and start[0] != 0)
+            or np.any(np.diff(start) < 0) or start[-1] != P.shape[0]):
+        raise InvalidInputError(f"occupancy map '{name}': points' start must be a non-decreasing integer ({C + 1},) "
+                                f"array from 0 to the number of points; got {start.dtype.name} {start.shape}")
+    if P.ndim != 2 or P.shape[1] != 3 or not np.all(np.isfinite(P)):
+        raise InvalidInputError(f"occupancy map '{name}': points must be finite (N, 3) [m]; got shape {P.shape}")
+    return start.astype(np.int64), np.ascontiguousarray(P)
 
-    def __init__(self, boxes: np.ndarray, idx: np.ndarray, of_cell: np.ndarray, origin: np.ndarray, res: float):
+
+class MapGeometry:
+    """The exact geometry of a map: boxes (M, 6) [m] (lo, hi), base frame: disjoint merged
+    boxes, each a solid, or (a map with points, `hulls`) one per cell, a solid or the bound of
+    the cell's convex hull (`solid` (M,) bool says which). Each `coal.Box` or hull is made on
+    first use. Its `collide` / `distance` stand for coal's calls against one geometry: a part
+    is tested against the solids its (placed) bounding box comes near (`collide`: those
+    `occupancy_exact.part_boxes` leaves undecided)."""
+
+    def __init__(self, boxes: np.ndarray, idx: np.ndarray, of_cell: np.ndarray, origin: np.ndarray, res: float,
+                 hulls: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None):
+        """hulls: (start (C + 1,), points (N, 3) [m], box_cell (M,)): box m bounds the hull of
+        cell box_cell[m]'s points (points[start[c]:start[c + 1]]; -1: the box is a solid)."""
         self.boxes = np.ascontiguousarray(boxes, dtype=np.float64)
         self.boxes.setflags(write=False)
         self._grid = (self.boxes, idx, np.ascontiguousarray(of_cell, dtype=np.int64), origin, float(res))
+        self._hulls = hulls
+        self.solid = np.ones(self.boxes.shape[0], dtype=bool) if hulls is None else hulls[2] < 0
+        empty = (np.zeros(1, dtype=np.int64), np.zeros((0, 3)), np.full(self.boxes.shape[0], -1, dtype=np.int64))
+        # `part_boxes`' hull arguments: start, points, box_cell, band, grow
+        self._points = (*(empty if hulls is None else hulls), HULL_BAND * float(res), HULL_GROW)
+        self.solid.setflags(write=False)
         self._coal: list = [None] * self.boxes.shape[0]
+        self._hull: list = [None] * self.boxes.shape[0]
         self._local: dict = {}
 
     def _box(self, m: int) -> tuple:
+        """(coal.Box, its transform, its planes (6, 4) (n, d): n . x + d <= 0 inside) of box m."""
         got = self._coal[m]
-        if got is None:
+        if got is None:   # a flat box (a surface measured in one plane) gets a nanometre of thickness for coal
             lo, hi = self.boxes[m, :3], self.boxes[m, 3:]
-            # a flat box (a surface measured in one plane) is given a nanometre of thickness for coal
-            got = self._coal[m] = (coal.Box(*np.maximum(hi - lo, 1e-9)),
-                                   coal.Transform3s(np.eye(3), (lo + hi) / 2.0))
+            planes = np.hstack([np.vstack([-np.eye(3), np.eye(3)]), np.concatenate([lo, -hi])[:, None]])
+            got = self._coal[m] = (coal.Box(*np.maximum(hi - lo, 1e-9)), coal.Transform3s(np.eye(3), (lo + hi) / 2.0),
+                                   planes)
         return got
+
+    def _solid(self, m: int) -> tuple:
+        """(coal geometry, its transform, its planes (F, 4) (n, d): n . x + d <= 0 inside, base
+        frame) of solid m: its box, or the hull it bounds."""
+        if self.solid[m]:
+            return self._box(m)
+        got = self._hull[m]
+        if got is None:
+            start, P, box_cell = self._hulls
+            c = box_cell[m]
+            convex, planes = cell_hull(P[start[c]:start[c + 1]], self.boxes[m], self._grid[4])
+            got = self._hull[m] = (convex, coal.Transform3s(), planes)
+        return got
+
+    def contains(self, X: np.ndarray) -> bool:
+        """True when a point of X (K, 3) [m] lies in a solid (faces included, to 1e-9 m; a
+        hull's to `occupancy_hulls.GROW`)."""
+        boxes, idx, of_cell, origin, res = self._grid
+        for x in X:
+            lo = np.floor((x - 1e-9) / res).astype(np.int64) - origin
+            hi = np.floor((x + 1e-9) / res).astype(np.int64) - origin
+            for i in range(max(lo[0], 0), min(hi[0], idx.shape[0] - 1) + 1):
+                for j in range(max(lo[1], 0), min(hi[1], idx.shape[1] - 1) + 1):
+                    for k in range(max(lo[2], 0), min(hi[2], idx.shape[2] - 1) + 1):
+                        cell = idx[i, j, k]
+                        if cell < 0:
+                            continue
+                        m = of_cell[cell]
+                        if not (np.all(boxes[m, :3] <= x + 1e-9) and np.all(x <= boxes[m, 3:] + 1e-9)):
+                            continue
+                        if self.solid[m] or np.all(self._solid(m)[2] @ np.append(x, 1.0) <= HULL_GROW):
+                            return True
+        return False
 
     def _obb(self, geometry, tf) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The oriented box (axes R (3, 3), centre (3,), half extents (3,)) [m] holding
@@ -332,20 +485,25 @@ class MapGeometry:
         return cw - hw, cw + hw
 
     def collide(self, geometry, tf, request, result, balls=None) -> bool:
-        """coal.collide of `geometry` at `tf` against the boxes (within the request's security
-        margin): a mesh, convex or box by `occupancy_exact.part_boxes` and coal on the boxes it
-        leaves; another shape by coal on the boxes `balls` ((K, 3) centres, (K,) radii [m],
-        base frame, holding the geometry, or a callable giving them), if known, come near
-        (else its bounding box)."""
+        """coal.collide of `geometry` at `tf` against the solids (within the request's security
+        margin): a mesh, convex or box by `occupancy_exact.part_boxes` and coal on the solids
+        it leaves; another shape by coal on the solids whose boxes the balls `balls` ((K, 3)
+        centres, (K,) radii [m], base frame, holding the geometry, or a callable giving them),
+        if known, come near (else its bounding box)."""
         margin = float(request.security_margin) + 1e-9
         hull = part_hull(geometry)
         if hull is not None:   # the boxes a cheap test decides are not given to coal
-            hit, ids = part_boxes(*self._grid, tf.getRotation(), tf.getTranslation(), *hull,
-                                  float(request.security_margin))
+            hit, ids = part_boxes(*self._grid, self.solid, *self._points, tf.getRotation(), tf.getTranslation(),
+                                  *hull, float(request.security_margin))
             if hit:
                 return True
             for m in ids.tolist():
-                box, btf = self._box(m)
+                if not self.solid[m]:   # a hull: only if its box is hit (the box is cheaper, and often clear)
+                    box, btf, _ = self._box(m)
+                    result.clear()
+                    if not coal.collide(geometry, tf, box, btf, request, result):
+                        continue
+                box, btf, _ = self._solid(m)
                 result.clear()
                 if coal.collide(geometry, tf, box, btf, request, result):
                     return True
@@ -359,15 +517,20 @@ class MapGeometry:
         if ids.size == 0:
             return False
         for m in (ids.tolist() if ids.size == 1 else ids[np.argsort(d)].tolist()):
-            box, btf = self._box(m)
+            if not self.solid[m]:   # a hull: only if its box is hit
+                box, btf, _ = self._box(m)
+                result.clear()
+                if not coal.collide(geometry, tf, box, btf, request, result):
+                    continue
+            box, btf, _ = self._solid(m)
             result.clear()
             if coal.collide(geometry, tf, box, btf, request, result):
                 return True
         return False
 
     def distance(self, geometry, tf, request, result) -> tuple[float, np.ndarray | None]:
-        """(coal's distance [m] of `geometry` at `tf` to the nearest box, the unit direction
-        from the geometry to that box between their closest points (None when touching))."""
+        """(coal's distance [m] of `geometry` at `tf` to the nearest solid, the unit direction
+        from the geometry to that solid between their closest points (None when touching))."""
         lo, hi = self._aabb(geometry, tf)
         ids, d = near_boxes(self.boxes, lo, hi, np.inf)
         order = np.argsort(d)
@@ -375,7 +538,7 @@ class MapGeometry:
         for m, bound in zip(ids[order].tolist(), d[order].tolist()):
             if bound >= best:
                 break
-            box, btf = self._box(m)
+            box, btf, _ = self._solid(m)
             result.clear()
             dist = float(coal.distance(geometry, tf, box, btf, request, result))
             if dist < best:

@@ -1,7 +1,8 @@
 """Exact part-against-map tests decided without coal where a cheap test is conclusive.
 
 A moving part (a triangle mesh, a convex or a box) against the boxes of an occupancy map
-(`manip.collision.occupancy.MapGeometry`): of the boxes in the cells its vertices' box spans,
+(`manip.collision.occupancy.MapGeometry`; a box is a solid, or bounds one: a cell's convex
+hull, which these tests only clear): of the boxes in the cells its vertices' box spans,
 
 - a box that a vertex of the part lies in (within coal's security margin) collides: the vertex
   is a point of the part, the box a solid;
@@ -160,13 +161,63 @@ def _planes_separate(Pl, boxes, b, sep):
     return False
 
 
+@kernel(inline="always")
+def _points_beyond(Pl, f, X, s0, s1, lo, hi, band, grow, sep):
+    """True when every hull point of a cell (its points X[s0:s1] clamped to its box lo-hi, and
+    their copies on the box's faces within `band` of them, grown by `grow` [m] along each
+    axis) lies beyond placed plane f of Pl (F, 4) (n, h) by more than sep [m]: the plane
+    keeps the cell's hull more than sep from the part."""
+    n0, n1, n2, hh = Pl[f, 0], Pl[f, 1], Pl[f, 2], Pl[f, 3]
+    g = grow * (abs(n0) + abs(n1) + abs(n2)) + sep
+    for i in range(s0, s1):
+        val = -hh
+        for a in range(3):
+            x = min(max(X[i, a], lo[a]), hi[a])
+            n = n0 if a == 0 else (n1 if a == 1 else n2)
+            val += n * x
+            d = 0.0   # the lowest a copy on this axis's faces takes n . x
+            if x - lo[a] <= band:
+                d = min(d, n * (lo[a] - x))
+            if hi[a] - x <= band:
+                d = min(d, n * (hi[a] - x))
+            val += d
+        if not (val > g):
+            return False
+    return True
+
+
+@kernel(inline="always")
+def _point_inside(Pl, X, s0, s1, lo, hi, depth):
+    """True when a point X[s0:s1] (clamped to the box lo-hi: a point of the cell's hull) lies
+    deeper than `depth` + TOLERANCE [m] inside the placed planes Pl (F, 4) (n, h): inside a
+    closed part whose surface lies within `depth` of them."""
+    for i in range(s0, s1):
+        x0 = min(max(X[i, 0], lo[0]), hi[0])
+        x1 = min(max(X[i, 1], lo[1]), hi[1])
+        x2 = min(max(X[i, 2], lo[2]), hi[2])
+        worst = -np.inf
+        for f in range(Pl.shape[0]):
+            worst = max(worst, Pl[f, 0] * x0 + Pl[f, 1] * x1 + Pl[f, 2] * x2 - Pl[f, 3])
+            if worst >= -depth - TOLERANCE:
+                break
+        if worst < -depth - TOLERANCE:
+            return True
+    return False
+
+
 @kernel
-def part_boxes(boxes, idx, of_cell, origin, res, R, t, V, Nk, hk, N, h, depth, margin):
+def part_boxes(boxes, idx, of_cell, origin, res, solid, start, X, box_cell, band, grow, R, t, V, Nk, hk, N, h,
+               depth, margin):
     """The boxes (M, 6) [m] of a map a part may touch, and whether one surely does.
 
     Args:
-        boxes, idx, of_cell, origin, res: the map's merged boxes, grid, box of each cell, grid
-            origin, cell edge (`MapGeometry`).
+        boxes, idx, of_cell, origin, res: the map's (merged or cell) boxes, grid, box of each
+            cell, grid origin, cell edge (`MapGeometry`).
+        solid: (M,) bool: the box is the solid itself; False: it bounds the convex hull of
+            cell box_cell[b]'s points X[start[c]:start[c + 1]] (N, 3) [m] (clamped to the box,
+            with their copies on its faces within `band` [m], grown by `grow` [m]:
+            `occupancy_hulls`), which a plane of the part's 26-DOP or hull clears, or a point
+            inside the part decides; a vertex or a surface in the box decides nothing.
         R, t: (3, 3), (3,) the part's placement; V (P, 3): its vertices, (Nk (D, 3), hk (D,))
             and (N (F, 3), h (F,)): planes n . x <= h holding it (its 26-DOP, its convex hull),
             in its frame (`part_hull`); depth: how far the part's closed surface may lie inside
@@ -175,9 +226,9 @@ def part_boxes(boxes, idx, of_cell, origin, res, R, t, V, Nk, hk, N, h, depth, m
         margin: coal's security margin [m].
 
     Returns:
-        (hit: a vertex of the part lies in a box (within the margin) or a box crosses its
-        closed surface, ids (T,) int64 of the boxes left to coal, nearest by the 26-DOP
-        first).
+        (hit: a vertex of the part lies in a solid box (within the margin), a solid box
+        crosses its closed surface or a hull's point lies inside it, ids (T,) int64 of the
+        boxes left to coal (or to the hulls they bound), nearest by the 26-DOP first).
     """
     P = V.shape[0]
     W = np.empty((P, 3))
@@ -227,10 +278,12 @@ def part_boxes(boxes, idx, of_cell, origin, res, R, t, V, Nk, hk, N, h, depth, m
                 nc += 1
     order = np.argsort(dist[:nc])
     keep = np.empty(nc, dtype=np.int64)
+    blo = np.empty(3)
+    bhi = np.empty(3)
     T = 0
     for n in range(nc):   # nearest first: a vertex inside decides; the hull's planes clear
         b = cand[order[n]]
-        for v in range(P):
+        for v in range(P if solid[b] else 0):
             e0 = max(boxes[b, 0] - W[v, 0], W[v, 0] - boxes[b, 3])
             e1 = max(boxes[b, 1] - W[v, 1], W[v, 1] - boxes[b, 4])
             e2 = max(boxes[b, 2] - W[v, 2], W[v, 2] - boxes[b, 5])
@@ -242,9 +295,31 @@ def part_boxes(boxes, idx, of_cell, origin, res, R, t, V, Nk, hk, N, h, depth, m
                     return True, np.zeros(0, dtype=np.int64)
         if Ph.shape[0] == 0 and N.shape[0] > 0:
             Ph = _placed_planes(N, h, R, t)
-        if not _planes_separate(Ph, boxes, b, sep):
+        if _planes_separate(Ph, boxes, b, sep):
+            continue
+        if solid[b]:
             if depth < np.inf and _crosses(Ph, boxes, b, depth):
                 return True, np.zeros(0, dtype=np.int64)
-            keep[T] = b
-            T += 1
+        else:   # the hull's points: a plane of the part that clears them all, or one inside it
+            c = box_cell[b]
+            s0, s1 = start[c], start[c + 1]
+            for a in range(3):
+                blo[a] = boxes[b, a]
+                bhi[a] = boxes[b, 3 + a]
+            clear = False
+            for f in range(Pk.shape[0]):
+                if _points_beyond(Pk, f, X, s0, s1, blo, bhi, band, grow, sep):
+                    clear = True
+                    break
+            if not clear:
+                for f in range(Ph.shape[0]):
+                    if _points_beyond(Ph, f, X, s0, s1, blo, bhi, band, grow, sep):
+                        clear = True
+                        break
+            if clear:
+                continue
+            if depth < np.inf and Ph.shape[0] > 0 and _point_inside(Ph, X, s0, s1, blo, bhi, depth):
+                return True, np.zeros(0, dtype=np.int64)
+        keep[T] = b
+        T += 1
     return False, keep[:T].copy()

@@ -59,7 +59,7 @@ import numpy as np
 from manip.collision.occupancy import OccupancyMap
 from manip.errors import InvalidInputError
 from manip.perception.kernels import (SNAP, cells_seen_free, depth_cells, difference, merge_observation, on_robot,
-                                      pack_all, reduce_bounds, sphere_index, unpack)
+                                      pack_all, reduce_points, sphere_index, unpack)
 from manip.pose import Pose
 from manip.validation import as_real_array, non_negative, positive
 
@@ -76,6 +76,8 @@ NEAR = 1e-3
 CLOUD_PIXELS = 256
 #: Largest bounds grid of `unknown="occupied"` (cells).
 MAX_BOUNDS_CELLS = 8_000_000
+#: A cell keeps at most this many measured points (its convex hull); beyond, it is its box.
+MAX_CELL_POINTS = 256
 _UNKNOWN = ("free", "occupied")
 _FILL = ("points", "cells")
 
@@ -90,6 +92,8 @@ class _MapState:
     unknown: str
     bounds_lo: np.ndarray | None = None   # (3,) int64 first cell of the bounds grid
     observed: np.ndarray | None = None    # bool grid over the bounds: seen (free or occupied)
+    seen_start: np.ndarray | None = None  # (C + 1,) the points of cell c: seen_points[seen_start[c]:seen_start[c + 1]]
+    seen_points: np.ndarray | None = None  # (N, 3) [m] the points measured in the cells (none: the cell is its box)
 
 
 _STATES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
@@ -303,11 +307,13 @@ def reach(checker) -> float:
 
 class _Frame:
     """One observation: `keys` (occupied cells, sorted), `bounds` (the bounds (C, 6) [m] of
-    the points in each) and `seen_free(cells)`."""
+    the points in each), the points measured in each (`start` (C + 1,), `points` (N, 3) [m];
+    a cell without points is its box) and `seen_free(cells)`."""
 
-    def __init__(self, keys: np.ndarray, bounds: np.ndarray, seen_free):
-        self.keys, self.bounds = reduce_bounds(np.ascontiguousarray(keys, dtype=np.int64),
-                                               np.ascontiguousarray(bounds, dtype=np.float64))
+    def __init__(self, keys: np.ndarray, bounds: np.ndarray, points: np.ndarray, rows: np.ndarray, seen_free):
+        self.keys, self.bounds, self.start, self.points = reduce_points(
+            np.ascontiguousarray(keys, dtype=np.int64), np.ascontiguousarray(bounds, dtype=np.float64),
+            np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 3), np.ascontiguousarray(rows, dtype=np.int64))
         self.seen_free = seen_free
 
 
@@ -350,10 +356,13 @@ def _update_locked(checker, name: str, resolution: float, unknown: str, bounds, 
                                 "to start a new map")
     if state is None:
         seen, sb = np.zeros(0, dtype=np.int64), np.zeros((0, 6))
+        ss, sp = np.zeros(1, dtype=np.int64), np.zeros((0, 3))
         if prev is not None:   # a map given as cells: its bounds, or whole cells (the cells are sorted, so the keys)
             seen = pack_all(np.array(prev.cells))   # a writable copy: the compiled signature
             sb = prev.bounds if prev.bounds is not None else _full_cells(prev.cells, prev.resolution)
-        state = _MapState(resolution, seen, np.asarray(sb, dtype=np.float64), unknown)
+            ss = np.zeros(seen.size + 1, dtype=np.int64) if prev.points is None else np.array(prev.point_start)
+            sp = np.zeros((0, 3)) if prev.points is None else np.array(prev.points)
+        state = _MapState(resolution, seen, np.asarray(sb, dtype=np.float64), unknown, seen_start=ss, seen_points=sp)
         if unknown == "occupied":
             lo = np.floor(bounds[0] / resolution).astype(np.int64)
             hi = np.ceil(bounds[1] / resolution).astype(np.int64)
@@ -365,9 +374,12 @@ def _update_locked(checker, name: str, resolution: float, unknown: str, bounds, 
     # cells occupied before and not seen occupied now: freed where the image sees through them
     old = difference(state.seen, frame.keys)
     freed = np.ascontiguousarray(old[frame.seen_free(unpack(old))]) if old.size else old
-    seen, seen_bounds = merge_observation(state.seen, state.seen_bounds, freed, frame.keys, frame.bounds)
+    seen, seen_bounds, seen_start, seen_points = merge_observation(
+        state.seen, state.seen_bounds, state.seen_start, state.seen_points, freed, frame.keys, frame.bounds,
+        frame.start, frame.points, MAX_CELL_POINTS)
     cells = unpack(seen)
     cb = seen_bounds
+    start = seen_start
     if state.observed is not None:
         obs = state.observed
         rel = cells - state.bounds_lo
@@ -379,14 +391,16 @@ def _update_locked(checker, name: str, resolution: float, unknown: str, bounds, 
             free = frame.seen_free(np.ascontiguousarray(hidden + state.bounds_lo))
             obs[tuple(hidden[free].T)] = True
             hidden = hidden[~free]
-        state = _MapState(resolution, seen, seen_bounds, unknown, state.bounds_lo, obs)
+        state = _MapState(resolution, seen, seen_bounds, unknown, state.bounds_lo, obs, seen_start, seen_points)
         hidden = hidden + state.bounds_lo
         cells = np.vstack([cells, hidden])
         cb = np.vstack([cb, _full_cells(hidden, resolution)])
+        start = np.concatenate([start, np.full(hidden.shape[0], start[-1])])   # whole cells: no points
     else:
-        state = _MapState(resolution, seen, seen_bounds, unknown)
+        state = _MapState(resolution, seen, seen_bounds, unknown, seen_start=seen_start, seen_points=seen_points)
+    hulls = fill == "points" and seen_points.shape[0] > 0
     new = OccupancyMap.from_cells(name, resolution, cells, cb if fill == "points" else None,
-                                  _sorted=state.observed is None)
+                                  (start, seen_points) if hulls else None, _sorted=state.observed is None)
     if prev is None:
         checker.add_obstacle(new)
     else:
@@ -436,7 +450,7 @@ def integrate_depth(checker, depth, intrinsics, camera_pose: Pose, *, name: str 
     t = np.array(pose.position, dtype=np.float64)   # a writable copy: the compiled signature
     sf = _self_filter(checker, q, margin)
     rob = sf.robot
-    keys, kb, on_robot, negative = depth_cells(d, fx, fy, cx, cy, R, t, rng, res, fill == "points",
+    keys, kb, pts, rows, on_robot, negative = depth_cells(d, fx, fy, cx, cy, R, t, rng, res, fill == "points",
                                                _hidden_depth(unknown, res), np.zeros(3), sf.reach + 0.1,
                                                rob.centres, rob.radii, rob.part, rob.dop, rob.margin, SELF_CELL,
                                                *sf.index)
@@ -448,7 +462,7 @@ def integrate_depth(checker, depth, intrinsics, camera_pose: Pose, *, name: str 
     def seen_free(cells: np.ndarray) -> np.ndarray:
         return cells_seen_free(np.ascontiguousarray(cells, dtype=np.int64), d, fx, fy, cx, cy, R, t, res, NEAR)
 
-    return _update(checker, name, res, unknown, b, _Frame(keys, kb, seen_free), fill)
+    return _update(checker, name, res, unknown, b, _Frame(keys, kb, pts, rows, seen_free), fill)
 
 
 def _cube_faces() -> list[np.ndarray]:
@@ -510,7 +524,7 @@ def integrate_pointcloud(checker, points, origin=None, *, name: str = "camera", 
             faces.append((np.ascontiguousarray(Rf), img))
     dist = np.linalg.norm(P - o, axis=1) if origin is not None else np.zeros(P.shape[0])
     keep = (dist <= rng) & (np.linalg.norm(P, axis=1) <= sf.reach + 0.1)
-    keys, kb = _cloud_cells(P[keep], None if origin is None else o, res, sf, _hidden_depth(unknown, res))
+    keys, kb, pts, rows = _cloud_cells(P[keep], None if origin is None else o, res, sf, _hidden_depth(unknown, res))
 
     def seen_free(cells: np.ndarray) -> np.ndarray:
         out = np.zeros(cells.shape[0], dtype=bool)
@@ -519,33 +533,38 @@ def integrate_pointcloud(checker, points, origin=None, *, name: str = "camera", 
             out |= cells_seen_free(c, img, f, f, (n - 1) / 2.0, (n - 1) / 2.0, Rf, o, res, NEAR)
         return out
 
-    return _update(checker, name, res, unknown, b, _Frame(keys, kb, seen_free), fill)
+    return _update(checker, name, res, unknown, b, _Frame(keys, kb, pts, rows, seen_free), fill)
 
 
 def _cloud_cells(P: np.ndarray, origin: np.ndarray | None, res: float, sf: _SelfFilter,
-                 behind: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
-    """Keys (N,) of the cells of points P (N, 3) [m] off the robot (`_SelfFilter`), and the
-    points as bounds (N, 6) [m]; with an origin, a point within SNAP before a cell face along
-    its ray counts in the cell behind, and the bounds hold its ray `behind` [m] further
-    (`_hidden_depth`; without an origin, `behind` > 0 gives the whole cell)."""
+                 behind: float = 0.0) -> tuple[np.ndarray, ...]:
+    """Keys (N,) of the cells of points P (N, 3) [m] off the robot (`_SelfFilter`), the
+    points as bounds (N, 6) [m] and as points (M, 3) with the row of each (M,); with an
+    origin, a point within SNAP before a cell face along its ray counts in the cell behind,
+    and the bounds (and points) hold its ray `behind` [m] further (`_hidden_depth`; without an
+    origin, `behind` > 0 gives the whole cell, and no points)."""
     if P.shape[0] == 0:
-        return np.zeros(0, dtype=np.int64), np.zeros((0, 6))
+        return np.zeros(0, dtype=np.int64), np.zeros((0, 6)), np.zeros((0, 3)), np.zeros(0, dtype=np.int64)
     rob = sf.robot
     if rob.dop.shape[0]:
         P = np.ascontiguousarray(P, dtype=np.float64)
         P = P[~on_robot(P, rob.centres, rob.radii, rob.part, rob.dop, rob.margin, SELF_CELL, *sf.index)]
     at = P
     lo = hi = P
+    rows = np.arange(P.shape[0])
+    pts, prow = P, rows
     if origin is not None:
         ray = P - origin
         ray = ray / np.maximum(np.linalg.norm(ray, axis=1, keepdims=True), 1e-12)
         at = P + SNAP * ray
         if behind > 0.0:
             lo, hi = np.minimum(P, P + behind * ray), np.maximum(P, P + behind * ray)
+            pts, prow = np.vstack([P, P + behind * ray]), np.concatenate([rows, rows])
     elif behind > 0.0:   # no ray: which side a point hides is not known; its whole cell
         lo = np.floor(at / res) * res
         hi = lo + res
-    return pack_all(np.ascontiguousarray(np.floor(at / res).astype(np.int64))), np.hstack([lo, hi])
+        pts, prow = np.zeros((0, 3)), np.zeros(0, dtype=np.int64)
+    return pack_all(np.ascontiguousarray(np.floor(at / res).astype(np.int64))), np.hstack([lo, hi]), pts, prow
 
 
 def _hidden_depth(unknown: str, res: float) -> float:

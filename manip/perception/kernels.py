@@ -15,7 +15,8 @@ Cells are those of `manip.collision.occupancy`: cell (i, j, k) is the box [i r, 
   a point hides behind it is unknown (not in the box; with `behind` > 0, for
   `unknown="occupied"`, the ray that far behind the point too); at a silhouette (the next pixel sees
   far beyond, or nothing) the bounds reach that pixel's ray at the point's depth, so a
-  surface's edge between two rays is held; `reduce_bounds` merges the rows of a repeated key;
+  surface's edge between two rays is held; `reduce_points` merges the rows of a repeated key
+  (and groups the points: a cell of a points map is the convex hull of its points);
 - `cells_seen_free`: which cells every pixel ray through them passes without a hit: the
   ray through a pixel's centre hits its surface at depth d (inf: nothing within range);
   within a cell it is free when d + SNAP exceeds the depth where it leaves the cell's box.
@@ -243,12 +244,23 @@ def _widen(bounds, row, m0, m1, m2, m3, m4, m5):
     bounds[row, 5] = max(bounds[row, 5], m5)
 
 
+@kernel(inline="always")
+def _emit(pts, prow, n, row, x0, x1, x2):
+    """Point n (x0, x1, x2) [m] of row `row` into pts (cap, 3) / prow (cap,)."""
+    pts[n, 0] = x0
+    pts[n, 1] = x1
+    pts[n, 2] = x2
+    prow[n] = row
+
+
 @kernel
 def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, behind, reach_c, reach_r,
                 centres, radii, ball_part, dop, margin, cell, lo, shape, near, box, start, balls):
     """Keys (P,) of the cells of the depth image's points (repeats mostly removed), the bounds
-    (P, 6) [m] (lo, hi) of the points of each row, the number of points dropped on the robot
-    and the number of negative depths (invalid input: the caller raises).
+    (P, 6) [m] (lo, hi) of the points of each row, the points (N, 3) [m] and the row (N,) of
+    each (with `exact`: the measured points, the silhouettes' reach and the rays `behind`;
+    else none), the number of points dropped on the robot and the number of negative depths
+    (invalid input: the caller raises).
 
     Args:
         depth: (H, W) distances to the image plane [m] (inf / NaN: no point).
@@ -272,6 +284,10 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, behind, reac
     first, last, cap = _row_spans(depth)
     out = np.empty(cap, dtype=np.int64)   # a row per pixel at most
     bounds = np.empty((cap, 6))
+    npts = cap * (6 if behind > 0.0 else 5) if exact else 0   # a point, its ray behind, 4 silhouette reaches
+    pts = np.empty((npts, 3))
+    prow = np.empty(npts, dtype=np.int64)
+    N = 0
     recent = np.full(RECENT, -1, dtype=np.int64)   # keys written lately (neighbouring pixels share cells)
     row = np.empty(RECENT, dtype=np.int64)          # their rows
     P = 0
@@ -343,6 +359,8 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, behind, reac
                         bounds[P, 0] = bounds[P, 3] = x0
                         bounds[P, 1] = bounds[P, 4] = x1
                         bounds[P, 2] = bounds[P, 5] = x2
+                        _emit(pts, prow, N, P, x0, x1, x2)
+                        N += 1
                     else:
                         bounds[P, 0], bounds[P, 3] = ci * res, (ci + 1) * res
                         bounds[P, 1], bounds[P, 4] = cj * res, (cj + 1) * res
@@ -389,6 +407,11 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, behind, reac
             else:
                 m0, m1, m2 = min(m0, x0, y0), min(m1, x1, y1), min(m2, x2, y2)
                 m3, m4, m5 = max(m3, x0, y0), max(m4, x1, y1), max(m5, x2, y2)
+            _emit(pts, prow, N, cr, x0, x1, x2)
+            N += 1
+            if behind > 0.0:
+                _emit(pts, prow, N, cr, y0, y1, y2)
+                N += 1
             # a silhouette: the surface goes on up to the next pixel's ray (whose depth is far
             # beyond, or unmeasured): the bounds take that ray's point at this depth
             far = z + max(SILHOUETTE, SILHOUETTE_PX * z / fx)
@@ -417,18 +440,22 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, behind, reac
                 g2 = t[2] + z * (R[2, 0] * A[uu] + R[2, 1] * bb + R[2, 2])
                 m0, m1, m2 = min(m0, g0), min(m1, g1), min(m2, g2)
                 m3, m4, m5 = max(m3, g0), max(m4, g1), max(m5, g2)
+                _emit(pts, prow, N, cr, g0, g1, g2)
+                N += 1
     if cr >= 0:
         _widen(bounds, cr, m0, m1, m2, m3, m4, m5)
-    return out[:P].copy(), bounds[:P].copy(), on_robot, negative
+    return out[:P].copy(), bounds[:P].copy(), pts[:N], prow[:N], on_robot, negative
 
 
 @kernel
-def reduce_bounds(keys, bounds):
-    """The sorted distinct keys of keys (P,) and the union of the bounds (P, 6) [m] (lo, hi)
-    of the rows of each."""
+def reduce_points(keys, bounds, pts, prow):
+    """The rows of keys (P,) merged per key: (sorted distinct keys (C,), the union of their
+    bounds (P, 6) [m] (lo, hi) (C, 6), start (C + 1,) int64, points (N, 3) [m]: the points of
+    key c are points[start[c]:start[c + 1]], those pts (N, 3) of its rows (prow (N,)))."""
     order = np.argsort(keys)
     out = np.empty(keys.shape[0], dtype=np.int64)
     ob = np.empty((keys.shape[0], 6))
+    of_row = np.empty(keys.shape[0], dtype=np.int64)
     n = -1
     for m in range(order.shape[0]):
         r = order[m]
@@ -441,7 +468,21 @@ def reduce_bounds(keys, bounds):
             for a in range(3):
                 ob[n, a] = min(ob[n, a], bounds[r, a])
                 ob[n, 3 + a] = max(ob[n, 3 + a], bounds[r, 3 + a])
-    return out[:n + 1].copy(), ob[:n + 1].copy()
+        of_row[r] = n
+    C = n + 1
+    start = np.zeros(C + 1, dtype=np.int64)
+    for i in range(prow.shape[0]):
+        start[of_row[prow[i]] + 1] += 1
+    for c in range(C):
+        start[c + 1] += start[c]
+    fill = start[:C].copy()
+    P = np.empty((prow.shape[0], 3))
+    for i in range(prow.shape[0]):
+        c = of_row[prow[i]]
+        for a in range(3):
+            P[fill[c], a] = pts[i, a]
+        fill[c] += 1
+    return out[:C].copy(), ob[:C].copy(), start, P
 
 
 @kernel
@@ -534,17 +575,37 @@ def difference(a, b):
     return out[:n].copy()
 
 
+@kernel(inline="always")
+def _copy_points(dst, n, src, s0, s1):
+    """src[s0:s1] (K, 3) into dst (cap, 3) from row n, grown when full: (dst, n + K)."""
+    need = n + s1 - s0
+    if need > dst.shape[0]:
+        grown = np.empty((max(2 * dst.shape[0], need), 3))
+        grown[:n] = dst[:n]
+        dst = grown
+    for i in range(s0, s1):
+        for a in range(3):
+            dst[n + i - s0, a] = src[i, a]
+    return dst, need
+
+
 @kernel
-def merge_observation(seen, seen_bounds, freed, keys, bounds):
-    """The cells seen occupied after an observation: (sorted keys (C,), bounds (C, 6) [m]) of
-    the cells of seen (S,) (sorted, bounds (S, 6)) not in freed (sorted, a subset of seen) and
-    of keys (K,) (sorted, distinct; bounds (K, 6)); a cell in both takes the union of its bounds."""
+def merge_observation(seen, seen_bounds, seen_start, seen_pts, freed, keys, bounds, start, pts, max_points):
+    """The cells seen occupied after an observation: (sorted keys (C,), bounds (C, 6) [m],
+    start (C + 1,), points (N, 3) [m]) of the cells of seen (S,) (sorted; bounds (S, 6), points
+    seen_pts[seen_start[s]:seen_start[s + 1]]) not in freed (sorted, a subset of seen) and of
+    keys (K,) (sorted, distinct; bounds (K, 6), points pts[start[k]:start[k + 1]]); a cell in
+    both takes the union of its bounds and of its points. A cell without points (a box) stays
+    one, and so does a cell whose points would exceed max_points."""
     out = np.empty(seen.shape[0] + keys.shape[0], dtype=np.int64)
     ob = np.empty((out.shape[0], 6))
+    ostart = np.zeros(out.shape[0] + 1, dtype=np.int64)
+    op = np.empty((seen_pts.shape[0] + pts.shape[0], 3))
     i = 0
     j = 0
     f = 0
     n = 0
+    N = 0
     while i < seen.shape[0] or j < keys.shape[0]:
         if i < seen.shape[0]:
             while f < freed.shape[0] and freed[f] < seen[i]:
@@ -556,18 +617,26 @@ def merge_observation(seen, seen_bounds, freed, keys, bounds):
             out[n] = seen[i]
             for a in range(6):
                 ob[n, a] = seen_bounds[i, a]
+            op, N = _copy_points(op, N, seen_pts, seen_start[i], seen_start[i + 1])
             i += 1
         elif i == seen.shape[0] or keys[j] < seen[i]:
             out[n] = keys[j]
             for a in range(6):
                 ob[n, a] = bounds[j, a]
+            op, N = _copy_points(op, N, pts, start[j], start[j + 1])
             j += 1
         else:
             out[n] = seen[i]
             for a in range(3):
                 ob[n, a] = min(seen_bounds[i, a], bounds[j, a])
                 ob[n, 3 + a] = max(seen_bounds[i, 3 + a], bounds[j, 3 + a])
+            old = seen_start[i + 1] - seen_start[i]
+            new = start[j + 1] - start[j]
+            if old > 0 and new > 0 and old + new <= max_points:
+                op, N = _copy_points(op, N, seen_pts, seen_start[i], seen_start[i + 1])
+                op, N = _copy_points(op, N, pts, start[j], start[j + 1])
             i += 1
             j += 1
         n += 1
-    return out[:n].copy(), ob[:n].copy()
+        ostart[n] = N
+    return out[:n].copy(), ob[:n].copy(), ostart[:n + 1].copy(), op[:N].copy()

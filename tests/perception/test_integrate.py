@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import coal
 import numpy as np
 import pytest
 
@@ -55,20 +56,37 @@ def test_a_box_seen_gives_occupied_cells_on_its_visible_faces(mg):
     world, box, cam = _box_scene()
     m = integrate(mg, cam)
     assert isinstance(m, OccupancyMap) and "camera" in mg.world
-    # the faces the camera sees: +x (towards it) and -y; every point of them lies in an occupied cell
+    assert m.num_hulls > 0   # fill="points": cells are the hulls of their points (flat ones their boxes)
+    # the faces the camera sees: +x (towards it) and -y; every point of them between the measured
+    # points lies in the map, and every point of them within one point spacing of it (at the edges
+    # the surface beyond the last measured point is held only where the next pixel sees far beyond)
+    eye = cam.get_world_pose()[0]
+    fx = cam.get_intrinsics_matrix()[0, 0]
+    geometry = m.coal_geometry()
     c = np.array([0.6, 0.1, 0.1])
     h = np.array([0.05, 0.06, 0.1])
     s = np.linspace(-0.97, 0.97, 9)
     A, B = np.meshgrid(s, s)
+    edge_points = 0
     for axis, sign in ((0, 1.0), (1, -1.0)):
         u, v = [k for k in range(3) if k != axis]
         P = np.zeros((A.size, 3))
         P[:, axis] = c[axis] + sign * h[axis]
         P[:, u] = c[u] + A.ravel() * h[u]
         P[:, v] = c[v] + B.ravel() * h[v]
-        P = P[P[:, 2] > 0.005]   # the bottom edge touches the ground
-        for x in P:
-            assert m.contains_points(x[None]), f"face point {x} not in an occupied cell"
+        keep = P[:, 2] > 0.005   # the bottom edge touches the ground
+        inner = (np.abs(A.ravel()) < 0.9) & (np.abs(B.ravel()) < 0.9)
+        for x, interior in zip(P[keep], inner[keep]):
+            if interior:
+                assert m.contains_points(x[None]), f"face point {x} not in an occupied cell"
+                continue
+            to_eye = eye - x
+            spacing = np.linalg.norm(to_eye) / fx / (abs(to_eye[axis]) / np.linalg.norm(to_eye))
+            d, _ = geometry.distance(coal.Sphere(1e-6), coal.Transform3s(np.eye(3), x), coal.DistanceRequest(),
+                                     coal.DistanceResult())
+            assert d < spacing, f"face point {x} {d * 1e3:.1f} mm from the map (point spacing {spacing * 1e3:.1f} mm)"
+            edge_points += 1
+    assert edge_points > 20
     # and no cell farther than one cell from the box or the ground
     C = m.cell_centres()
     off_ground = C[C[:, 2] > 0.0]
@@ -361,7 +379,7 @@ def test_with_unknown_occupied_what_a_seen_surface_hides_in_its_own_cell_is_an_o
 
 def test_contains_points_takes_points_and_refuses_anything_else(mg):
     m = _plane_under(mg, mg.default_joint_positions, 0.3)
-    on = m.cell_boxes()[0, :3]
+    on = m.points[0].copy()   # a measured point
     ro = np.array([on]); ro.setflags(write=False)   # a caller's read-only array (no second kernel compiled)
     assert m.contains_points(on) and m.contains_points(ro) and m.contains_points(on.tolist())
     for bad in (np.zeros(6), np.zeros((2, 2)), [[np.nan, 0.0, 0.0]], "abc", np.zeros((1, 1, 3))):
