@@ -39,15 +39,14 @@ class JointCommand:
 
     def start(self, measured_positions: np.ndarray, measured_velocities: np.ndarray
               ) -> tuple[np.ndarray, np.ndarray | None]:
-        """(positions to step from, velocities for the controller's acceleration limit, or None
-        to keep the controller's own) for this step."""
+        """(positions to step from, velocities for the controller's acceleration limit) for this
+        step: the measured state, or the last command."""
         q = np.asarray(measured_positions, dtype=float)
         tol = self.resync_tolerance
         if self.positions is None or (tol is not None and np.max(np.abs(q - self.positions), initial=0.0) > tol):
             self.positions = q.copy()
             self.velocities = np.asarray(measured_velocities, dtype=float).copy()
-            return self.positions, self.velocities
-        return self.positions, None
+        return self.positions, self.velocities
 
     def update(self, positions: np.ndarray, velocities: np.ndarray) -> None:
         """Record the step's command."""

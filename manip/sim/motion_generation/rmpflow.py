@@ -28,7 +28,7 @@ argument order. What differs, so that a script's expectations can be checked:
   controller is first order (positions and velocities), there is nothing to integrate.
 - Collision geometry is the robot's MuJoCo model (`manip.control.model`), not the
   description's collision spheres: `visualize_collision_spheres` and the other debug
-  drawings do nothing (logged once).
+  drawings do nothing (logged once per RmpFlow).
 - The robot: the URDF and robot description give the joints, frames and FK
   (`LulaKinematicsSolver`); the controller runs on the manip robot configuration the
   RMPflow YAML names (`manip.sim.motion_generation.rmpflow_config`). The end-effector frame
@@ -73,15 +73,6 @@ logger = logging.getLogger(__name__)
 
 #: [rad] the given joints restart the command when this far from it (ignore_robot_state_updates False).
 RESYNC_TOLERANCE = 0.1
-
-_logged_once: set[str] = set()
-
-
-def _log_once(what: str, why: str) -> None:
-    if what not in _logged_once:
-        _logged_once.add(what)
-        logger.warning("RmpFlow.%s does nothing in manip: %s", what, why)
-
 
 _NO_SPHERES = "manip's controller has no collision spheres (it uses the robot's MuJoCo collision geoms)"
 _NO_PRIMS = "manip draws no debug prims for RmpFlow"
@@ -151,6 +142,7 @@ class RmpFlow:
                                   self._fk_root)
         self._weights = self._ctrl.weights
         self._obstacles = TrackedObstacles(self._ctrl)
+        self._said: set[str] = set()
         self._command = JointCommand(None if self.ignore_robot_state_updates else RESYNC_TOLERANCE)
         self.reset()
 
@@ -402,28 +394,33 @@ class RmpFlow:
         self._base_moved = False
 
     # ------------------------------------------------------------------ debug drawing (none)
+    def _log_once(self, what: str, why: str) -> None:
+        if what not in self._said:
+            self._said.add(what)
+            logger.warning("RmpFlow.%s does nothing in manip: %s", what, why)
+
     def visualize_collision_spheres(self) -> None:
-        _log_once("visualize_collision_spheres", _NO_SPHERES)
+        self._log_once("visualize_collision_spheres", _NO_SPHERES)
 
     def stop_visualizing_collision_spheres(self) -> None:
-        _log_once("stop_visualizing_collision_spheres", _NO_SPHERES)
+        self._log_once("stop_visualizing_collision_spheres", _NO_SPHERES)
 
     def delete_collision_sphere_prims(self) -> None:
-        _log_once("delete_collision_sphere_prims", _NO_SPHERES)
+        self._log_once("delete_collision_sphere_prims", _NO_SPHERES)
 
     def get_collision_spheres_as_prims(self) -> list:
         """Empty: no collision spheres (logged once)."""
-        _log_once("get_collision_spheres_as_prims", _NO_SPHERES)
+        self._log_once("get_collision_spheres_as_prims", _NO_SPHERES)
         return []
 
     def visualize_end_effector_position(self) -> None:
-        _log_once("visualize_end_effector_position", _NO_PRIMS)
+        self._log_once("visualize_end_effector_position", _NO_PRIMS)
 
     def stop_visualizing_end_effector(self) -> None:
-        _log_once("stop_visualizing_end_effector", _NO_PRIMS)
+        self._log_once("stop_visualizing_end_effector", _NO_PRIMS)
 
     def delete_end_effector_prim(self) -> None:
-        _log_once("delete_end_effector_prim", _NO_PRIMS)
+        self._log_once("delete_end_effector_prim", _NO_PRIMS)
 
     def __repr__(self) -> str:
         return (f"RmpFlow(end_effector={self.end_effector_frame_name!r} as {self._ee.frame!r}, "
