@@ -49,8 +49,9 @@ capsules, cylinders, cones as bounding cylinders); their poses are read when add
 from __future__ import annotations
 
 import logging
+from collections.abc import Iterable
 from pathlib import Path
-from typing import Any, Iterable
+from typing import Any
 
 import numpy as np
 
@@ -63,8 +64,8 @@ from manip.sim.motion_generation.end_effector_map import EndEffectorMap
 from manip.sim.motion_generation.joint_command import JointCommand
 from manip.sim.motion_generation.kinematics_solver import LulaKinematicsSolver
 from manip.sim.motion_generation.rmpflow_config import SECTION, load_rmpflow_config
-from manip.sim.motion_generation.sim_obstacles import CAPSULES, CONES, CUBOIDS, CYLINDERS, SPHERES, TrackedObstacles
-from manip.sim.motion_generation.sim_obstacles import check_shape, label
+from manip.sim.motion_generation.sim_obstacles import (CAPSULES, CONES, CUBOIDS, CYLINDERS, SPHERES,
+                                                      TrackedObstacles, check_shape, label)
 from manip.sim.motion_generation.urdf_aliases import URDF_ALIASES, resolve_urdf
 from manip.urdf import UrdfTree
 from manip.validation import as_real_array, positive, unit_quat, vec

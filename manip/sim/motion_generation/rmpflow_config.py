@@ -97,4 +97,4 @@ def load_rmpflow_config(path: str | Path) -> RmpFlowConfig:
     return RmpFlowConfig(path=resolved, robot=robot, controller_options=options, ignored_keys=ignored)
 
 
-__all__ = ["CONTROLLER_KEYS", "READ_KEYS", "RmpFlowConfig", "SECTION", "load_rmpflow_config"]
+__all__ = ["CONTROLLER_KEYS", "READ_KEYS", "SECTION", "RmpFlowConfig", "load_rmpflow_config"]

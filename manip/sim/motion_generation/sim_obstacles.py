@@ -11,8 +11,9 @@ world, in the robot base frame, and re-read their poses when told to.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import Any, Iterable
+from typing import Any
 
 import numpy as np
 

@@ -15,6 +15,7 @@ import pytest
 from manip import quaternion as quat
 from manip.errors import InvalidInputError, UnknownNameError
 from manip.robot_config import load_robot_config
+
 # The tutorial's imports, changed (README "Porting a tutorial"):
 #   from omni.isaac.motion_generation import RmpFlow, ArticulationMotionPolicy, interface_config_loader
 from manip.sim import (
