@@ -42,7 +42,7 @@ argument order. What differs, so that a script's expectations can be checked:
   returns False with a warning, as Isaac.
 
 Obstacles are manip.sim shape objects (`sim_obstacles.SHAPE_TYPES`: cuboids, spheres,
-capsules, cylinders, cones as bounding cylinders); their poses are read when added and by
+capsules, cylinders, cones as bounding cylinders, ground planes as Lula's thin slab); their poses are read when added and by
 `update_world()` (the non-static ones; every one after the base moved), as Lula's world.
 """
 
@@ -64,9 +64,10 @@ from manip.sim.motion_generation.end_effector_map import EndEffectorMap
 from manip.sim.motion_generation.joint_command import JointCommand
 from manip.sim.motion_generation.kinematics_solver import LulaKinematicsSolver
 from manip.sim.motion_generation.rmpflow_config import SECTION, load_rmpflow_config
-from manip.sim.motion_generation.sim_obstacles import (CAPSULES, CONES, CUBOIDS, CYLINDERS, SPHERES,
+from manip.sim.motion_generation.sim_obstacles import (CAPSULES, CONES, CUBOIDS, CYLINDERS, GROUND_WIDTH, SPHERES,
                                                       TrackedObstacles, check_shape, label)
 from manip.sim.motion_generation.urdf_aliases import URDF_ALIASES, resolve_urdf
+from manip.sim.objects import GroundPlane
 from manip.urdf import UrdfTree
 from manip.validation import as_real_array, positive, unit_quat, vec
 
@@ -144,6 +145,7 @@ class RmpFlow:
         self._weights = self._ctrl.weights
         self._obstacles = TrackedObstacles(self._ctrl)
         self._said: set[str] = set()
+        self._resync = RESYNC_TOLERANCE
         self._command = JointCommand(None if self.ignore_robot_state_updates else RESYNC_TOLERANCE)
         self.reset()
 
@@ -186,7 +188,19 @@ class RmpFlow:
     def set_ignore_state_updates(self, ignore_robot_state_updates: bool) -> None:
         """See the class's `ignore_robot_state_updates`."""
         self.ignore_robot_state_updates = _flag(ignore_robot_state_updates, "ignore_robot_state_updates")
-        self._command.resync_tolerance = None if self.ignore_robot_state_updates else RESYNC_TOLERANCE
+        self._command.resync_tolerance = None if self.ignore_robot_state_updates else self._resync
+
+    @property
+    def resync_tolerance(self) -> float:
+        """[rad] how far the given joints may be from the command before a step restarts from
+        them (default `RESYNC_TOLERANCE`; not used with `ignore_robot_state_updates`). A tiny
+        value restarts every frame, as Isaac's RMPflow (see the module docstring)."""
+        return self._resync
+
+    @resync_tolerance.setter
+    def resync_tolerance(self, value: float) -> None:
+        self._resync = positive(value, "resync_tolerance", "rad")
+        self.set_ignore_state_updates(self.ignore_robot_state_updates)
 
     def set_robot_base_pose(self, robot_position, robot_orientation) -> None:
         """Place the robot description's root link in the world: position (3,) [m],
@@ -331,6 +345,8 @@ class RmpFlow:
             InvalidInputError: not a shape object (the message lists the accepted types).
         """
         check_shape(obstacle)
+        if isinstance(obstacle, GroundPlane):
+            return self.add_ground_plane(obstacle)
         if obstacle in self._obstacles:
             logger.warning("RmpFlow.add_obstacle: %r was already added; it is kept once", label(obstacle))
             return False
@@ -359,6 +375,18 @@ class RmpFlow:
     def add_cone(self, cone: Any, static: bool = False) -> bool:
         """A cone, avoided as its bounding cylinder (Lula has none)."""
         return self._add_typed(cone, CONES, "add_cone", static)
+
+    def add_ground_plane(self, ground_plane: Any, plane_width: float = GROUND_WIDTH) -> bool:
+        """A `GroundPlane`, avoided as Lula does: a static slab `plane_width` [m] wide, 1 mm thick,
+        its top face on the plane (the robot's base link is not checked against obstacles)."""
+        if not isinstance(ground_plane, GroundPlane):
+            raise InvalidInputError(f"add_ground_plane: expected a GroundPlane; got {type(ground_plane).__name__}")
+        width = positive(plane_width, "plane_width", "m")
+        if ground_plane in self._obstacles:
+            logger.warning("RmpFlow.add_ground_plane: %r was already added; it is kept once", label(ground_plane))
+            return False
+        self._obstacles.add(ground_plane, self._base_from_world(), static=True, ground_width=width)
+        return True
 
     def remove_obstacle(self, obstacle: Any) -> bool:
         """Stop avoiding an added obstacle; True. Raises UnknownNameError if it was not added."""
@@ -422,6 +450,12 @@ class RmpFlow:
 
     def delete_end_effector_prim(self) -> None:
         self._log_once("delete_end_effector_prim", _NO_PRIMS)
+
+    def get_end_effector_as_prim(self) -> Any:
+        """Not available (raises NotImplementedError): manip draws no debug prims; the end
+        effector's pose is `get_end_effector_pose(q)`."""
+        raise NotImplementedError("RmpFlow.get_end_effector_as_prim is not available in manip: it draws no debug "
+                                  "prims; use get_end_effector_pose(active_joint_positions)")
 
     def __repr__(self) -> str:
         return (f"RmpFlow(end_effector={self.end_effector_frame_name!r} as {self._ee.frame!r}, "

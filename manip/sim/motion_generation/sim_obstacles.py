@@ -4,7 +4,8 @@ Shared by `RmpFlow` (Isaac's motion policy names) and `manip.sim.RMPFlowControll
 keep the simulated objects a script gives them (`add_obstacle(cube)`) in the controller's
 world, in the robot base frame, and re-read their poses when told to.
 
-- `obstacle_from_prim(obj, name, pose)`: the planner shape of one object.
+- `obstacle_from_prim(obj, name, pose)`: the planner shape of one object (a ground plane:
+  a slab `GROUND_WIDTH` wide and `GROUND_THICKNESS` thick below the plane, as Lula makes it).
 - `TrackedObstacles`: the objects added to one controller, by identity, with Isaac's
   `static` flag and enabled state; `sync` re-reads their world poses.
 """
@@ -22,6 +23,7 @@ from manip.control import ReactiveController
 from manip.errors import InvalidInputError, UnknownNameError
 from manip.pose import Pose
 from manip.sim.objects import (
+    GroundPlane,
     DynamicCapsule,
     DynamicCone,
     DynamicCuboid,
@@ -46,7 +48,10 @@ CYLINDERS = (VisualCylinder, FixedCylinder, DynamicCylinder)
 CAPSULES = (VisualCapsule, FixedCapsule, DynamicCapsule)
 CONES = (VisualCone, FixedCone, DynamicCone)
 #: Every object type accepted as an obstacle.
-SHAPE_TYPES = CUBOIDS + SPHERES + CYLINDERS + CAPSULES + CONES
+SHAPE_TYPES = CUBOIDS + SPHERES + CYLINDERS + CAPSULES + CONES + (GroundPlane,)
+#: A ground plane's slab: width [m] (Lula's default) and thickness [m] (Lula's), top face on the plane.
+GROUND_WIDTH = 50.0
+GROUND_THICKNESS = 0.001
 
 
 def check_shape(obj: Any, what: str = "add_obstacle") -> None:
@@ -54,11 +59,11 @@ def check_shape(obj: Any, what: str = "add_obstacle") -> None:
     if not isinstance(obj, SHAPE_TYPES):
         raise InvalidInputError(
             f"{what}: expected a manip.sim shape object (Visual/Fixed/Dynamic Cuboid, Sphere, Cylinder, Capsule, "
-            f"Cone); got {type(obj).__name__}"
+            f"Cone, or a GroundPlane); got {type(obj).__name__}"
         )
 
 
-def obstacle_from_prim(obj: Any, name: str, pose: Pose) -> Obstacle:
+def obstacle_from_prim(obj: Any, name: str, pose: Pose, ground_width: float = GROUND_WIDTH) -> Obstacle:
     """A planner shape for a manip.sim shape object at `pose` (robot base frame).
 
     Cuboids, spheres, cylinders and capsules are exact (scale included); a non-uniformly
@@ -68,6 +73,9 @@ def obstacle_from_prim(obj: Any, name: str, pose: Pose) -> Obstacle:
         InvalidInputError: not one of manip.sim's shape objects.
     """
     check_shape(obj)
+    if isinstance(obj, GroundPlane):
+        below = pose @ Pose(np.array([0.0, 0.0, -GROUND_THICKNESS / 2]))
+        return Cuboid(name, [ground_width, ground_width, GROUND_THICKNESS], below)
     s = np.asarray(obj.get_local_scale(), dtype=float)
     if isinstance(obj, CUBOIDS):
         return Cuboid(name, obj.get_size() * s, pose)
@@ -88,6 +96,7 @@ class _Entry:
     obj: Any
     name: str
     static: bool
+    ground_width: float = GROUND_WIDTH
     enabled: bool = True
 
 
@@ -127,8 +136,9 @@ class TrackedObstacles:
                                   "remove_obstacle it before stepping on")
         return T_base_world @ Pose(np.asarray(pose[0], dtype=float), np.asarray(pose[1], dtype=float))
 
-    def add(self, obj: Any, T_base_world: Pose, static: bool = False) -> None:
-        """Avoid `obj` from now on, at its current pose (the caller checks `obj in self` first).
+    def add(self, obj: Any, T_base_world: Pose, static: bool = False, ground_width: float = GROUND_WIDTH) -> None:
+        """Avoid `obj` from now on, at its current pose (the caller checks `obj in self` first);
+        `ground_width` [m]: a ground plane's slab.
 
         Raises:
             InvalidInputError: not a shape object (`SHAPE_TYPES`), or `static` not a bool.
@@ -137,8 +147,8 @@ class TrackedObstacles:
             raise InvalidInputError(f"static must be a bool; got {static!r}")
         check_shape(obj)
         name = label(obj)
-        self._ctrl.add_obstacle(obstacle_from_prim(obj, name, self._pose(obj, T_base_world)))
-        self._entries[id(obj)] = _Entry(obj, name, bool(static))
+        self._ctrl.add_obstacle(obstacle_from_prim(obj, name, self._pose(obj, T_base_world), ground_width))
+        self._entries[id(obj)] = _Entry(obj, name, bool(static), ground_width)
 
     def remove(self, obj: Any, what: str = "remove_obstacle") -> None:
         """Stop avoiding `obj`.
@@ -159,7 +169,8 @@ class TrackedObstacles:
         """
         entry = self._entry(obj, "enable_obstacle" if enabled else "disable_obstacle")
         if enabled and not entry.enabled:
-            self._ctrl.add_obstacle(obstacle_from_prim(obj, entry.name, self._pose(obj, T_base_world)))
+            self._ctrl.add_obstacle(obstacle_from_prim(obj, entry.name, self._pose(obj, T_base_world),
+                                                       entry.ground_width))
         elif not enabled and entry.enabled:
             self._ctrl.remove_obstacle(entry.name)
         entry.enabled = bool(enabled)
@@ -189,4 +200,4 @@ class TrackedObstacles:
             self.remove(obj)
 
 
-__all__ = ["SHAPE_TYPES", "TrackedObstacles", "check_shape", "label", "obstacle_from_prim"]
+__all__ = ["GROUND_THICKNESS", "GROUND_WIDTH", "SHAPE_TYPES", "TrackedObstacles", "check_shape", "label", "obstacle_from_prim"]

@@ -216,13 +216,17 @@ def test_a_simulated_franka_follows_the_target(gravity, tolerance):
     assert np.allclose(q[7:], fingers, atol=1e-3)
 
 
-@pytest.mark.parametrize("given", [True, False], ids=["obstacle_given", "obstacle_not_given"])
-def test_the_arm_keeps_clear_of_an_obstacle_it_was_given(given):
-    # The cube stands on the straight way from the ready pose to the target below it.
+@pytest.mark.parametrize("given, restart_every_frame", [(True, False), (False, False), (True, True)],
+                         ids=["obstacle_given", "obstacle_not_given", "given_but_restarting_every_frame"])
+def test_the_arm_keeps_clear_of_an_obstacle_it_was_given(given, restart_every_frame):
+    # The cube stands on the straight way from the ready pose to the first target, below the arm
+    # between the second and the third.
     obstacle = _in_world(np.array([0.4, 0.0, 0.37]))
     world, franka, cube = _world_with_franka(obstacle_position=obstacle)
     rmpflow = RmpFlow(**_config())
     rmpflow.set_robot_base_pose(*franka.get_world_pose())
+    if restart_every_frame:  # from the measured joints every frame, as Isaac's RMPflow
+        rmpflow.resync_tolerance = 1e-9
     controller = MotionPolicyController("follow", ArticulationMotionPolicy(franka, rmpflow))
     if given:
         controller.add_obstacle(cube)
@@ -234,11 +238,25 @@ def test_the_arm_keeps_clear_of_an_obstacle_it_was_given(given):
             world.step(render=False)
             contacts += _contacts(world, franka, cube.geom_id)
             clearance.append(rmpflow.last_result.obstacle_clearance)
-    if given:
+    if given and not restart_every_frame:
         assert contacts == 0
         assert min(clearance) > 0.01  # the 2 cm margin of manip's rmpflow YAML, less the linearisation's creep
-    else:  # the same motions hit the cube: the test can fail
+    else:  # the same motions hit the cube: without it, or when the command follows the drives' sag onto it
         assert contacts > 0
+
+
+def test_a_ground_plane_is_a_slab_below_it():
+    world, franka, _ = _world_with_franka()
+    ground = world.scene.get_object("default_ground_plane")
+    rmpflow = RmpFlow(**_config())
+    rmpflow.set_robot_base_pose(*franka.get_world_pose())
+    assert rmpflow.add_obstacle(ground) and rmpflow.add_ground_plane(ground) is False
+    slab = rmpflow.controller.world.get(ground.prim_path)
+    assert np.allclose(slab.dims, [50.0, 50.0, 0.001]) and np.isclose(slab.pose.position[2], -0.0005 - BASE_POSITION[2])
+    rmpflow.set_end_effector_target(_in_world(np.array([0.5, 0.0, -0.2])), DOWN_TURNED)  # 0.1 m below the ground
+    q, _ = _run(rmpflow, rmpflow.get_default_cspace_position_target(), STEPS)
+    assert rmpflow.last_result.obstacle_clearance > 0.015  # the 2 cm margin, less the creep
+    assert rmpflow.get_end_effector_pose(q)[0][2] > 0.0  # the ground is z = 0 (the base stands 0.1 m above it)
 
 
 def test_obstacles_are_tracked_as_in_lulas_world():
