@@ -112,7 +112,9 @@ class RmpFlow:
     def __init__(self, robot_description_path: str, urdf_path: str, rmpflow_config_path: str,
                  end_effector_frame_name: str, maximum_substep_size: float, ignore_robot_state_updates: bool = False):
         self.maximum_substep_size = positive(maximum_substep_size, "maximum_substep_size", "s")
-        self.ignore_robot_state_updates = _flag(ignore_robot_state_updates, "ignore_robot_state_updates")
+        self._resync = RESYNC_TOLERANCE
+        self._command = JointCommand(RESYNC_TOLERANCE)
+        self.ignore_robot_state_updates = ignore_robot_state_updates
         self._paths = (robot_description_path, urdf_path)
         self._kinematics = LulaKinematicsSolver(robot_description_path, urdf_path)
         frames = self._kinematics.get_all_frame_names()
@@ -145,8 +147,6 @@ class RmpFlow:
         self._weights = self._ctrl.weights
         self._obstacles = TrackedObstacles(self._ctrl)
         self._said: set[str] = set()
-        self._resync = RESYNC_TOLERANCE
-        self._command = JointCommand(None if self.ignore_robot_state_updates else RESYNC_TOLERANCE)
         self.reset()
 
     def _fk_root(self, frame: str, q_ctrl: np.ndarray) -> Pose:
@@ -185,10 +185,19 @@ class RmpFlow:
         self._ctrl.rest_configuration = self._default[self._to_ctrl]
         self._set_position_free(False)
 
+    @property
+    def ignore_robot_state_updates(self) -> bool:
+        """See the class's argument (Isaac's attribute; may be set)."""
+        return self._ignore
+
+    @ignore_robot_state_updates.setter
+    def ignore_robot_state_updates(self, value: bool) -> None:
+        self._ignore = _flag(value, "ignore_robot_state_updates")
+        self._command.resync_tolerance = None if self._ignore else self._resync
+
     def set_ignore_state_updates(self, ignore_robot_state_updates: bool) -> None:
         """See the class's `ignore_robot_state_updates`."""
-        self.ignore_robot_state_updates = _flag(ignore_robot_state_updates, "ignore_robot_state_updates")
-        self._command.resync_tolerance = None if self.ignore_robot_state_updates else self._resync
+        self.ignore_robot_state_updates = ignore_robot_state_updates
 
     @property
     def resync_tolerance(self) -> float:
@@ -200,7 +209,7 @@ class RmpFlow:
     @resync_tolerance.setter
     def resync_tolerance(self, value: float) -> None:
         self._resync = positive(value, "resync_tolerance", "rad")
-        self.set_ignore_state_updates(self.ignore_robot_state_updates)
+        self.ignore_robot_state_updates = self._ignore
 
     def set_robot_base_pose(self, robot_position, robot_orientation) -> None:
         """Place the robot description's root link in the world: position (3,) [m],
@@ -278,9 +287,9 @@ class RmpFlow:
     def set_end_effector_target(self, target_position=None, target_orientation=None) -> None:
         """The end effector's target in the world: position (3,) [m] and/or orientation (4,)
         (w, x, y, z); None leaves that part free (both None: go to the cspace target)."""
-        self._target_position = None if target_position is None else vec(target_position, 3, "target_position")
-        self._target_orientation = (None if target_orientation is None
-                                    else unit_quat(target_orientation, "target_orientation"))
+        position = None if target_position is None else vec(target_position, 3, "target_position")
+        orientation = None if target_orientation is None else unit_quat(target_orientation, "target_orientation")
+        self._target_position, self._target_orientation = position, orientation
 
     def _set_position_free(self, free: bool) -> None:
         weights = self._ctrl.weights

@@ -155,7 +155,7 @@ def test_internal_state_and_restarts(rmpflow):
     q3, _ = policy.compute_joint_targets(far, np.zeros(7), [], [], 1 / 60)
     assert np.max(np.abs(q3 - far)) < 0.1
     # ignore_robot_state_updates: the given state is used once only.
-    policy.set_ignore_state_updates(True)
+    policy.ignore_robot_state_updates = True  # Isaac's attribute, or set_ignore_state_updates(True)
     policy.reset()
     a, _ = policy.compute_joint_targets(q0, np.zeros(7), [], [], 1 / 60)
     b, _ = policy.compute_joint_targets(q0 + 0.5, np.zeros(7), [], [], 1 / 60)
