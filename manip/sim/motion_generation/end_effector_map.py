@@ -55,16 +55,12 @@ class EndEffectorMap:
         InvalidInputError: a movable joint between the end effector and every link the
             controller's model has.
         RobotConfigError: the URDF and the model disagree (frame or root link), or the model
-            has no link above the end effector, or not the root link.
+            has no link above the end effector, or neither the root link nor a link fixed to it.
     """
 
     def __init__(self, controller: ReactiveController, urdf: UrdfTree, root_link: str, ee_frame: str, fk_root):
         q0 = controller.rest_configuration
-        T_base_root = _has_frame(controller, q0, root_link)
-        if T_base_root is None:
-            raise RobotConfigError(f"root_link {root_link!r} is not a body of the controller's model "
-                                   f"({controller.config.name})")
-        self.T_base_root = T_base_root
+        self.T_base_root = self._root(controller, urdf, root_link, q0, fk_root)
         chain = urdf.ancestors(ee_frame)
         for k, link in enumerate(chain):
             T_base_link = _has_frame(controller, q0, link)
@@ -75,7 +71,7 @@ class EndEffectorMap:
                 raise InvalidInputError(f"end_effector_frame_name {ee_frame!r}: joint {moving[0]!r} moves it relative "
                                         f"to {link!r}, the nearest link of the controller's model above it")
             T_root_link = fk_root(link, q0)
-            dp, dr = (T_base_root @ T_root_link).distance(T_base_link)
+            dp, dr = (self.T_base_root @ T_root_link).distance(T_base_link)
             if float(dp) > POSITION_AGREEMENT or float(dr) > ROTATION_AGREEMENT:
                 raise RobotConfigError(f"the URDF and the controller's model ({controller.config.name}) disagree at "
                                        f"{link!r} by {float(dp):.2e} m, {float(dr):.2e} rad")
@@ -86,6 +82,22 @@ class EndEffectorMap:
             return
         raise RobotConfigError(f"end_effector_frame_name {ee_frame!r}: none of its links {chain} is a body of the "
                                f"controller's model ({controller.config.name})")
+
+    @staticmethod
+    def _root(controller: ReactiveController, urdf: UrdfTree, root_link: str, q0: np.ndarray, fk_root) -> Pose:
+        """The root link in the controller's base frame: itself if the model has it, else through
+        the configuration's base link when only fixed joints join the two (a URDF `world` link)."""
+        T = _has_frame(controller, q0, root_link)
+        if T is not None:
+            return T
+        base = controller.config.base_link
+        chain = urdf.ancestors(base) if base in urdf.links else []
+        T_base_link = _has_frame(controller, q0, base)
+        if root_link in chain and T_base_link is not None and all(
+                urdf.parent_joint[c].type == "fixed" for c in chain[: chain.index(root_link)]):
+            return T_base_link @ fk_root(base, q0).inverse()
+        raise RobotConfigError(f"root_link {root_link!r} is neither a body of the controller's model "
+                               f"({controller.config.name}) nor fixed to its base link {base!r}")
 
     def pose_target(self, T_base_ee: Pose) -> Pose:
         """The controlled frame's target for an end-effector pose target (base frame)."""

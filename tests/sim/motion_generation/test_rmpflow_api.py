@@ -6,6 +6,7 @@ it); obstacle bookkeeping as Lula's world; bad input raises naming what is valid
 
 from __future__ import annotations
 
+import json
 import logging
 from pathlib import Path
 
@@ -93,6 +94,30 @@ def test_unknown_robot_or_policy_names_the_supported_ones():
         interface_config_loader.load_supported_motion_policy_config("UR10", "RMPflow")
     with pytest.raises(UnknownNameError, match="RMPflow"):
         interface_config_loader.load_supported_motion_policy_config("Franka", "RRT")
+
+
+def test_a_policy_folder_of_ones_own_for_another_robot(tmp_path):
+    """The UR5 (its URDF's root is a `world` link fixed to base_link; the end effector tool0 is a
+    body of manip's model), loaded as Isaac loads a policy folder."""
+    ur5 = load_robot_config("ur5")
+    (tmp_path / "ur5").mkdir()
+    (tmp_path / "ur5" / "ur5.yaml").write_text(
+        "cspace: [shoulder_pan_joint, shoulder_lift_joint, elbow_joint, wrist_1_joint, wrist_2_joint, wrist_3_joint]\n"
+        "default_q: [0.0, -1.2, 1.5, -1.9, -1.57, 0.0]\n")
+    (tmp_path / "ur5" / "rmpflow.yaml").write_text("manip:\n    robot: ur5\n    safety_margin: 0.03\n")
+    (tmp_path / "ur5" / "config.json").write_text(json.dumps({
+        "relative_asset_paths": {"robot_description_path": "ur5.yaml", "urdf_path": str(ur5.urdf_path),
+                                 "rmpflow_config_path": "rmpflow.yaml"},
+        "end_effector_frame_name": "tool0", "maximum_substep_size": 1 / 300}))
+    (tmp_path / "policy_map.json").write_text(json.dumps({"UR5": {"RMPflow": "./ur5/config.json"}}))
+    assert interface_config_loader.get_supported_robot_policy_pairs(tmp_path) == {"UR5": ["RMPflow"]}
+    policy = RmpFlow(**interface_config_loader.load_supported_motion_policy_config("UR5", "RMPflow", str(tmp_path)))
+    assert policy.controlled_frame == "tool0" and policy.controller.safety_margin == 0.03
+    q = policy.get_default_cspace_position_target()
+    target = policy.get_end_effector_pose(q)[0] + np.array([0.1, 0.1, -0.1])
+    policy.set_end_effector_target(target)
+    q, _ = _run(policy, q, STEPS)
+    assert np.linalg.norm(policy.get_end_effector_pose(q)[0] - target) < REACH_TOLERANCE
 
 
 # ------------------------------------------------------------------ without the simulator
