@@ -26,7 +26,7 @@ callbacks, carb, rendering), `scenes/` (Scene, the stage and the MJCF it compile
 plane), `articulations/` (Articulation and its view, the compiled core), `robots/` (Robot
 wrappers, Franka, WheeledRobot, SingleManipulator), `controllers/`, `tasks/`, `samples/`
 (BaseSample, its extension, HelloWorld), `utils/` (types, rotations), `motion_generation/`
-(LulaKinematicsSolver, ArticulationKinematicsSolver); beside them
+(LulaKinematicsSolver, ArticulationKinematicsSolver, RmpFlow, ArticulationMotionPolicy); beside them
 `assets` (Isaac's asset paths) and `playback` (a planned trajectory played in the World).
 See `manip.sim.core.simulation_context` for time stepping, `manip.sim.articulations.articulation`
 for the drives, `manip.sim.core.recording` for offscreen video.
@@ -136,8 +136,11 @@ from manip.sim.tasks.follow_target import FollowTarget
 from manip.sim.controllers.rmpflow import RMPFlowController
 from manip.sim.motion_generation import (
     ArticulationKinematicsSolver,
+    ArticulationMotionPolicy,
     ArticulationSubset,
     LulaKinematicsSolver,
+    MotionPolicyController,
+    RmpFlow,
     get_extension_path_from_name,
     interface_config_loader,
 )
@@ -145,15 +148,15 @@ from manip.sim.motion_generation import (
 #: Every name a ported Isaac script imports (no submodules: `from manip.sim import *` binds names only).
 __all__ = [
     "Articulation", "ArticulationAction", "ArticulationController", "ArticulationKinematicsSolver",
-    "ArticulationSubset", "ArticulationView", "BaseController",
+    "ArticulationMotionPolicy", "ArticulationSubset", "ArticulationView", "BaseController",
     "BaseSample", "BaseSampleExtension", "BaseTask", "Camera", "CameraView", "CollisionObject", "DOF_PROPERTIES_DTYPE",
     "DifferentialController", "DynamicCapsule", "DynamicCone", "DynamicCuboid", "DynamicCylinder", "DynamicSphere",
     "DynamicState", "DynamicsViewState", "FixedCapsule", "FixedCone", "FixedCuboid", "FixedCylinder",
     "FixedSphere", "FollowTarget", "Franka", "GeometryPrim", "GroundPlane", "HelloWorld", "HelloWorldExtension",
-    "ISAAC_ASSETS", "JointsState", "LulaKinematicsSolver", "OffscreenRenderingError", "OmniGlass", "OmniPBR",
+    "ISAAC_ASSETS", "JointsState", "LulaKinematicsSolver", "MotionPolicyController", "OffscreenRenderingError", "OmniGlass", "OmniPBR",
     "ParallelGripper",
     "PhysicsMaterial", "PickPlace", "PickPlaceController", "PreviewSurface", "RMPFlowController", "RigidPrim",
-    "RigidPrimView", "Robot", "Scene", "SimulationApp", "SimulationContext", "SimulationError",
+    "RigidPrimView", "RmpFlow", "Robot", "Scene", "SimulationApp", "SimulationContext", "SimulationError",
     "SimulationInstabilityError", "SimulationWarning", "SingleArticulation", "SingleGeometryPrim",
     "SingleManipulator", "SingleRigidPrim", "SingleXFormPrim", "VisualCapsule", "VisualCone", "VisualCuboid",
     "VisualCylinder", "VisualMaterial", "VisualSphere", "WheelBasePoseController", "WheeledRobot", "World",

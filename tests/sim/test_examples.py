@@ -22,6 +22,7 @@ CASES = {
     "bimanual_handover.py": ["--episodes", "1", "--quiet"],
     "bimanual_carry.py": ["--episodes", "1", "--quiet"],
     "lula_kinematics.py": ["--steps", "240"],
+    "rmpflow_follow_target.py": ["--steps", "1200"],
 }
 
 

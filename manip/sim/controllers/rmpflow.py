@@ -23,7 +23,8 @@ Targets are world poses of the robot's end effector (`robot_articulation.end_eff
 the Franka's `panda_hand_tcp`, if the controller's model has that frame). The controller
 integrates its own joint command from step to step (as Isaac's RMPflow does) and starts
 again from the measured joints after `reset()` or when the robot is more than
-`resync_tolerance` away from the command (blocked, or moved by hand).
+`resync_tolerance` away from the command (blocked, or moved by hand):
+`manip.sim.motion_generation.joint_command`, shared with `RmpFlow`.
 """
 
 from __future__ import annotations
@@ -34,64 +35,18 @@ from typing import Any
 import numpy as np
 
 from manip.articulation_action import ArticulationAction
-from manip.collision.shapes import Capsule, Cuboid, Cylinder, Obstacle, Sphere
 from manip.control import ReactiveController, StepResult, UnknownFrameError
 from manip.errors import InvalidInputError
 from manip.pose import Pose
 from manip.robot_config import RobotConfig, load_robot_config
 from manip.sim.controllers.base_controller import BaseController
-from manip.sim.objects import (
-    DynamicCapsule,
-    DynamicCone,
-    DynamicCuboid,
-    DynamicCylinder,
-    DynamicSphere,
-    FixedCapsule,
-    FixedCone,
-    FixedCuboid,
-    FixedCylinder,
-    FixedSphere,
-    VisualCapsule,
-    VisualCone,
-    VisualCuboid,
-    VisualCylinder,
-    VisualSphere,
-)
+from manip.sim.motion_generation.joint_command import JointCommand
+from manip.sim.motion_generation.sim_obstacles import TrackedObstacles, label, obstacle_from_prim
 from manip.sim.scenes.stage import SimulationError
 from manip.sim.utils.not_supported import declare as declare_not_supported
 from manip.validation import positive, unit_quat, vec
 
 logger = logging.getLogger(__name__)
-
-_CUBOIDS = (VisualCuboid, FixedCuboid, DynamicCuboid)
-_SPHERES = (VisualSphere, FixedSphere, DynamicSphere)
-_CYLINDERS = (VisualCylinder, FixedCylinder, DynamicCylinder)
-_CAPSULES = (VisualCapsule, FixedCapsule, DynamicCapsule)
-_CONES = (VisualCone, FixedCone, DynamicCone)
-
-
-def obstacle_from_prim(obj: Any, name: str, pose: Pose) -> Obstacle:
-    """A planner shape for a manip.sim shape object at `pose` (robot base frame).
-
-    Cuboids, spheres, cylinders and capsules are exact (scale included); a non-uniformly
-    scaled sphere becomes its bounding sphere and a cone its bounding cylinder.
-
-    Raises:
-        InvalidInputError: not one of manip.sim's shape objects.
-    """
-    if not isinstance(obj, _CUBOIDS + _SPHERES + _CYLINDERS + _CAPSULES + _CONES):
-        raise InvalidInputError(
-            f"add_obstacle: expected a manip.sim shape object (Visual/Fixed/Dynamic Cuboid, Sphere, Cylinder, Capsule, "
-            f"Cone); got {type(obj).__name__}"
-        )
-    s = np.asarray(obj.get_local_scale(), dtype=float)
-    if isinstance(obj, _CUBOIDS):
-        return Cuboid(name, obj.get_size() * s, pose)
-    if isinstance(obj, _SPHERES):
-        return Sphere(name, obj.get_radius() * float(np.max(s)), pose)
-    if isinstance(obj, _CYLINDERS + _CONES):
-        return Cylinder(name, obj.get_radius() * float(max(s[0], s[1])), obj.get_height() * s[2], pose)
-    return Capsule(name, obj.get_radius() * float(max(s[0], s[1])), obj.get_height() * s[2], pose)
 
 
 class RMPFlowController(BaseController):
@@ -120,7 +75,7 @@ class RMPFlowController(BaseController):
         super().__init__(name)
         self._robot = robot_articulation
         self._dt = positive(physics_dt, "physics_dt", "s")
-        self._resync = positive(resync_tolerance, "resync_tolerance", "rad")
+        self._command = JointCommand(resync_tolerance)
         config = robot if isinstance(robot, RobotConfig) else load_robot_config(robot)
         controller_options["safety_margin"] = safety_margin
         self._ctrl: ReactiveController | None = None
@@ -135,9 +90,8 @@ class RMPFlowController(BaseController):
                                 name, leaf, config.tcp_link or config.ee_link)
         if self._ctrl is None:
             self._ctrl = ReactiveController(config, **controller_options)
-        self._obstacles: dict[int, tuple[Any, str]] = {}
+        self._obstacles = TrackedObstacles(self._ctrl)
         self._arm_idx: np.ndarray | None = None
-        self._q_cmd: np.ndarray | None = None
         self._last: StepResult | None = None
 
     # ------------------------------------------------------------------ accessors
@@ -165,7 +119,7 @@ class RMPFlowController(BaseController):
     def reset(self) -> None:
         """Forget the joint command (the next `forward` starts from the measured joints).
         Obstacles are kept."""
-        self._q_cmd = None
+        self._command.reset()
         self._last = None
         self._ctrl.reset()
 
@@ -191,13 +145,9 @@ class RMPFlowController(BaseController):
         Raises:
             InvalidInputError: not a shape object, or already added.
         """
-        if id(obstacle) in self._obstacles:
-            raise InvalidInputError(f"add_obstacle: {getattr(obstacle, 'name', obstacle)!r} was already added")
-        name = str(getattr(obstacle, "prim_path", None) or getattr(obstacle, "name", f"obstacle{len(self._obstacles)}"))
-        p, q = obstacle.get_world_pose()
-        shape = obstacle_from_prim(obstacle, name, self._base_from_world() @ Pose(np.asarray(p), np.asarray(q)))
-        self._ctrl.add_obstacle(shape)
-        self._obstacles[id(obstacle)] = (obstacle, name)
+        if obstacle in self._obstacles:
+            raise InvalidInputError(f"add_obstacle: {label(obstacle)!r} was already added")
+        self._obstacles.add(obstacle, self._base_from_world(), static=static)
 
     def remove_obstacle(self, obstacle: Any) -> None:
         """Stop avoiding `obstacle`.
@@ -205,15 +155,9 @@ class RMPFlowController(BaseController):
         Raises:
             InvalidInputError: it was not added.
         """
-        entry = self._obstacles.pop(id(obstacle), None)
-        if entry is None:
-            raise InvalidInputError(f"remove_obstacle: {getattr(obstacle, 'name', obstacle)!r} was not added")
-        self._ctrl.remove_obstacle(entry[1])
-
-    def _sync_obstacles(self, base_T_world: Pose) -> None:
-        for obj, name in self._obstacles.values():
-            p, q = obj.get_world_pose()
-            self._ctrl.set_obstacle_pose(name, base_T_world @ Pose(np.asarray(p, dtype=float), np.asarray(q, dtype=float)))
+        if obstacle not in self._obstacles:
+            raise InvalidInputError(f"remove_obstacle: {label(obstacle)!r} was not added")
+        self._obstacles.remove(obstacle)
 
     # ------------------------------------------------------------------ control
     def forward(self, target_end_effector_position, target_end_effector_orientation=None) -> ArticulationAction:
@@ -238,19 +182,16 @@ class RMPFlowController(BaseController):
             orientation = unit_quat(target_end_effector_orientation, "target_end_effector_orientation")
         idx = self._bind()
         base_T_world = self._base_from_world()
-        self._sync_obstacles(base_T_world)
-        q_meas = np.asarray(self._robot.get_joint_positions(), dtype=float)[idx]
-        velocity = None
-        if self._q_cmd is None or np.max(np.abs(q_meas - self._q_cmd)) > self._resync:
-            self._q_cmd = q_meas
-            velocity = np.asarray(self._robot.get_joint_velocities(), dtype=float)[idx]
+        self._obstacles.sync(base_T_world)
+        q_start, velocity = self._command.start(np.asarray(self._robot.get_joint_positions(), dtype=float)[idx],
+                                                np.asarray(self._robot.get_joint_velocities(), dtype=float)[idx])
         if orientation is None:
             target: Any = (base_T_world @ Pose(position)).position
         else:
             target = base_T_world @ Pose(position, orientation)
-        r = self._ctrl.step(self._q_cmd, target, self._dt, velocity=velocity)
+        r = self._ctrl.step(q_start, target, self._dt, velocity=velocity)
         self._last = r
-        self._q_cmd = r.q
+        self._command.update(r.q, r.velocities)
         return ArticulationAction(joint_positions=r.q.copy(), joint_velocities=r.velocities.copy(), joint_indices=idx)
 
 

@@ -6,19 +6,29 @@
   `lula_franka_gen.urdf` to manip's Franka with its `right_gripper` frame).
 - `ArticulationKinematicsSolver`, `ArticulationSubset` (`articulation_kinematics_solver`): the
   solver applied to a simulated robot, its answers as ArticulationActions.
+- `RmpFlow` (`rmpflow`): RMPflow's motion-policy interface on manip's QP controller
+  (`manip.control.ReactiveController`; not RMPflow: the module docstring says what differs),
+  with `rmpflow_config` (the RMPflow YAML), `end_effector_map` (the URDF end effector as a
+  frame of the controller's model) and `sim_obstacles` (manip.sim objects as obstacles,
+  shared with `manip.sim.RMPFlowController`).
+- `ArticulationMotionPolicy` (`articulation_motion_policy`): a motion policy on a simulated
+  robot, its targets as ArticulationActions; `MotionPolicyController`
+  (`motion_policy_controller`): Isaac's controller stepping one.
 - `interface_config_loader`: the supported robots' configuration files.
 - `get_extension_path_from_name` (`extension`): the extension's folder (manip's files).
 
-Not here: RMPflow (`RmpFlow`, `ArticulationMotionPolicy`; `manip.sim.RMPFlowController` is a
-different, reactive controller) and Lula's path planners.
+Not here: Lula's path planners (RRT) and trajectory generators.
 """
 
 from __future__ import annotations
 
 from manip.sim.motion_generation import interface_config_loader
 from manip.sim.motion_generation.articulation_kinematics_solver import ArticulationKinematicsSolver, ArticulationSubset
+from manip.sim.motion_generation.articulation_motion_policy import ArticulationMotionPolicy
 from manip.sim.motion_generation.extension import get_extension_path_from_name
 from manip.sim.motion_generation.kinematics_solver import LulaKinematicsSolver
+from manip.sim.motion_generation.motion_policy_controller import MotionPolicyController
+from manip.sim.motion_generation.rmpflow import RmpFlow
 
-__all__ = ["ArticulationKinematicsSolver", "ArticulationSubset", "LulaKinematicsSolver",
-           "get_extension_path_from_name", "interface_config_loader"]
+__all__ = ["ArticulationKinematicsSolver", "ArticulationMotionPolicy", "ArticulationSubset", "LulaKinematicsSolver",
+           "MotionPolicyController", "RmpFlow", "get_extension_path_from_name", "interface_config_loader"]

@@ -34,15 +34,16 @@ class ArticulationSubset:
 
     Args:
         articulation: the robot (`Articulation`, `Robot`, `Franka`, ...).
-        joint_names: its joints, in the order of the vectors this subset reads and writes.
+        joint_names: its joints, in the order of the vectors this subset reads and writes
+            (may be empty: a motion policy's watched joints).
     """
 
     def __init__(self, articulation, joint_names: list[str]):
         if not hasattr(articulation, "get_dof_index") or not hasattr(articulation, "apply_action"):
             raise InvalidInputError(f"articulation must be a manip.sim Articulation; got {type(articulation).__name__}")
         names = list(joint_names)
-        if not names or not all(isinstance(n, str) for n in names):
-            raise InvalidInputError(f"joint_names must be a non-empty list of str; got {joint_names!r}")
+        if not all(isinstance(n, str) for n in names):
+            raise InvalidInputError(f"joint_names must be a list of str; got {joint_names!r}")
         self._articulation = articulation
         self._names = names
         self._indices: np.ndarray | None = None
@@ -72,11 +73,13 @@ class ArticulationSubset:
 
     def get_joint_positions(self) -> np.ndarray:
         """(K,) positions of the joints [rad or m]."""
-        return self._articulation.get_joint_positions(joint_indices=self.joint_indices)
+        idx = self.joint_indices
+        return self._articulation.get_joint_positions(joint_indices=idx) if idx.size else np.empty(0)
 
     def get_joint_velocities(self) -> np.ndarray:
         """(K,) velocities of the joints [rad/s or m/s]."""
-        return self._articulation.get_joint_velocities(joint_indices=self.joint_indices)
+        idx = self.joint_indices
+        return self._articulation.get_joint_velocities(joint_indices=idx) if idx.size else np.empty(0)
 
     def make_articulation_action(self, joint_positions, joint_velocities=None) -> ArticulationAction:
         """An ArticulationAction setting these joints' targets ((K,) each, or None)."""

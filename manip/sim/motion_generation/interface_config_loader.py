@@ -1,8 +1,9 @@
 """Isaac's `interface_config_loader`: the configuration files of the supported robots.
 
-    from manip.sim import interface_config_loader, LulaKinematicsSolver
+    from manip.sim import interface_config_loader, LulaKinematicsSolver, RmpFlow
     config = interface_config_loader.load_supported_lula_kinematics_solver_config("Franka")
     solver = LulaKinematicsSolver(**config)
+    rmpflow = RmpFlow(**interface_config_loader.load_supported_motion_policy_config("Franka", "RMPflow"))
 
 As Isaac's loader, it reads `policy_map.json` in a policy configuration folder (default
 `<extension>/motion_policy_configs`, `manip.sim.motion_generation.extension`): robot name ->
@@ -10,8 +11,11 @@ As Isaac's loader, it reads `policy_map.json` in a policy configuration folder (
 its own folder. Kinematics configurations are the `RMPflow` entries' robot description and
 URDF. manip's folder supports the Franka only; a folder of one's own may list any robot.
 
-Difference from Isaac: an unknown robot raises UnknownNameError listing the supported
-robots (Isaac logs an error and returns None, which fails later as `**None`).
+A motion-policy configuration is the whole JSON (its other keys, such as
+`end_effector_frame_name` and `maximum_substep_size`, are keyword arguments too).
+
+Difference from Isaac: an unknown robot or policy raises UnknownNameError listing the
+supported ones (Isaac logs an error and returns None, which fails later as `**None`).
 """
 
 from __future__ import annotations
@@ -58,6 +62,39 @@ def _process_policy_config(config_file: Path) -> dict:
 def get_supported_robot_policy_pairs(policy_config_dir: str | Path | None = None) -> dict[str, list[str]]:
     """Robot name -> the policy names `policy_map.json` lists for it."""
     return {robot: list(policies) for robot, policies in _policy_map(_config_dir(policy_config_dir)).items()}
+
+
+def load_supported_motion_policy_config(robot_name: str, policy_name: str,
+                                        policy_config_dir: str | Path | None = None) -> dict:
+    """The keyword arguments of a supported robot's motion policy (`RmpFlow(**config)`).
+
+    Args:
+        robot_name: a robot of `get_supported_robot_policy_pairs()` ("Franka").
+        policy_name: one of that robot's policies ("RMPflow").
+        policy_config_dir: the folder holding `policy_map.json` (default manip's).
+
+    Returns:
+        The configuration JSON with its `relative_asset_paths` joined to the file's folder;
+        for the Franka's RMPflow: robot_description_path, urdf_path, rmpflow_config_path,
+        end_effector_frame_name ("right_gripper"), maximum_substep_size [s],
+        ignore_robot_state_updates.
+
+    Raises:
+        UnknownNameError: an unknown robot, or a policy the robot does not have (the message
+            lists the supported ones).
+        FileNotFoundError: a configuration file is missing.
+    """
+    folder = _config_dir(policy_config_dir)
+    policy_map = _policy_map(folder)
+    if not isinstance(robot_name, str) or robot_name not in policy_map:
+        raise UnknownNameError("robot_name: robot", str(robot_name), policy_map)
+    if not isinstance(policy_name, str) or policy_name not in policy_map[robot_name]:
+        raise UnknownNameError(f"policy_name: policy of {robot_name}", str(policy_name), policy_map[robot_name])
+    config_file = folder / policy_map[robot_name][policy_name]
+    if not config_file.is_file():
+        raise FileNotFoundError(f"{folder / 'policy_map.json'}: {robot_name}'s {policy_name} configuration "
+                                f"{config_file} does not exist")
+    return _process_policy_config(config_file)
 
 
 def get_supported_robots_with_lula_kinematics(policy_config_dir: str | Path | None = None) -> list[str]:
