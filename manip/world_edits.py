@@ -124,8 +124,8 @@ class WorldEdits:
             unknown: "free" (cells never seen are free) or "occupied" (within `bounds`,
                 ((3,), (3,)) [m] in the base frame, unseen cells are obstacles).
             self_margin: points within this of the robot's geometry are dropped [m].
-            fill: what an occupied cell holds: "points" (the default: the box of the points
-                measured in it: surfaces as the camera saw them, what they hide unknown)
+            fill: what an occupied cell holds: "points" (the default: the convex hull of the
+                points measured in it: surfaces as the camera saw them, what they hide unknown)
                 or "cells" (the whole cell: surfaces inflated by up to a cell).
 
         Rays mark their end cells occupied and the cells they cross free; details and what the

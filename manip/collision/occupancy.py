@@ -46,6 +46,7 @@ from manip.collision.occupancy_boxes import boxes_near_balls, cell_range, grid_t
 from manip.collision.occupancy_exact import part_boxes, part_hull
 from manip.collision.occupancy_hulls import BAND as HULL_BAND
 from manip.collision.occupancy_hulls import GROW as HULL_GROW
+from manip.collision.occupancy_hulls import SWEEP as HULL_SWEEP
 from manip.collision.occupancy_hulls import cell_hull
 from manip.collision.occupancy_kernels import cells_contain, map_candidates, point_lower_bounds
 from manip.collision.shapes import Mesh, _check_name, as_pose
@@ -414,8 +415,8 @@ class MapGeometry:
         self._hulls = hulls
         self.solid = np.ones(self.boxes.shape[0], dtype=bool) if hulls is None else hulls[2] < 0
         empty = (np.zeros(1, dtype=np.int64), np.zeros((0, 3)), np.full(self.boxes.shape[0], -1, dtype=np.int64))
-        # `part_boxes`' hull arguments: start, points, box_cell, band, grow
-        self._points = (*(empty if hulls is None else hulls), HULL_BAND * float(res), HULL_GROW)
+        # `part_boxes`' hull arguments: start, points, box_cell, band, sweep, grow
+        self._points = (*(empty if hulls is None else hulls), HULL_BAND * float(res), HULL_SWEEP, HULL_GROW)
         self.solid.setflags(write=False)
         self._coal: list = [None] * self.boxes.shape[0]
         self._hull: list = [None] * self.boxes.shape[0]

@@ -10,6 +10,9 @@ hull, which these tests only clear): of the boxes in the cells its vertices' box
   hull's boundary) and a corner outside the hull collides: the box crosses the surface;
 - a box beyond the margin from the part's vertices' box, or beyond a plane of its 26-DOP or
   of its convex hull, is free: each holds the part;
+- a cell's hull (bounded by its box) is free when a plane of the part's 26-DOP or hull, or a
+  direction found by Frank-Wolfe iterations, keeps all its points (and their copies) beyond
+  the margin from the part's vertices; a point of it inside the closed part collides;
 - the others (neither decided) go to coal, the nearest (by the 26-DOP) first.
 
 Each answer is coal's, up to `TOLERANCE` [m] at the boundary (a vertex or corner must be
@@ -18,6 +21,8 @@ to coal).
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -29,6 +34,8 @@ from manip.jit import kernel
 #: A vertex closer than this to a box's faces, or a separation closer than this to the
 #: margin, is left to coal [m].
 TOLERANCE = 1e-9
+#: Directions tried between a part and a cell's hull before coal decides (`_hull_apart`).
+HULL_ITERATIONS = 32
 
 _LOCAL: dict[int, tuple] = {}
 
@@ -162,11 +169,11 @@ def _planes_separate(Pl, boxes, b, sep):
 
 
 @kernel(inline="always")
-def _points_beyond(Pl, f, X, s0, s1, lo, hi, band, grow, sep):
+def _points_beyond(Pl, f, X, s0, s1, lo, hi, ext, band, grow, sep):
     """True when every hull point of a cell (its points X[s0:s1] clamped to its box lo-hi, and
-    their copies on the box's faces within `band` of them, grown by `grow` [m] along each
-    axis) lies beyond placed plane f of Pl (F, 4) (n, h) by more than sep [m]: the plane
-    keeps the cell's hull more than sep from the part."""
+    their copies on the box's faces ext (6,) (lo, hi: extended) within `band` of them, grown
+    by `grow` [m] along each axis) lies beyond placed plane f of Pl (F, 4) (n, h) by more
+    than sep [m]: the plane keeps the cell's hull more than sep from the part."""
     n0, n1, n2, hh = Pl[f, 0], Pl[f, 1], Pl[f, 2], Pl[f, 3]
     g = grow * (abs(n0) + abs(n1) + abs(n2)) + sep
     for i in range(s0, s1):
@@ -176,14 +183,74 @@ def _points_beyond(Pl, f, X, s0, s1, lo, hi, band, grow, sep):
             n = n0 if a == 0 else (n1 if a == 1 else n2)
             val += n * x
             d = 0.0   # the lowest a copy on this axis's faces takes n . x
-            if x - lo[a] <= band:
+            if ext[a] and x - lo[a] <= band:
                 d = min(d, n * (lo[a] - x))
-            if hi[a] - x <= band:
+            if ext[3 + a] and hi[a] - x <= band:
                 d = min(d, n * (hi[a] - x))
             val += d
         if not (val > g):
             return False
     return True
+
+
+@kernel(inline="always")
+def _hull_top(u0, u1, u2, X, s0, s1, lo, hi, ext, band, grow):
+    """(the largest u . x over a cell's hull (its points X[s0:s1] clamped to the box lo-hi, their
+    copies on the box's faces ext (6,) within `band`, grown by `grow` along each axis: a
+    bound), the point of X (clamped) reaching it first) for the direction u (unnormalised)."""
+    top = -np.inf
+    b0 = b1 = b2 = 0.0
+    for i in range(s0, s1):
+        x0 = min(max(X[i, 0], lo[0]), hi[0])
+        x1 = min(max(X[i, 1], lo[1]), hi[1])
+        x2 = min(max(X[i, 2], lo[2]), hi[2])
+        v = u0 * x0 + u1 * x1 + u2 * x2
+        if v > top:
+            top, b0, b1, b2 = v, x0, x1, x2
+        for a in range(3):   # the copies: a coordinate moved onto a face within the band
+            x = x0 if a == 0 else (x1 if a == 1 else x2)
+            n = u0 if a == 0 else (u1 if a == 1 else u2)
+            d = 0.0
+            if ext[a] and x - lo[a] <= band:
+                d = max(d, n * (lo[a] - x))
+            if ext[3 + a] and hi[a] - x <= band:
+                d = max(d, n * (hi[a] - x))
+            v += d
+        top = max(top, v)
+    return top + grow * (abs(u0) + abs(u1) + abs(u2)), b0, b1, b2
+
+
+@kernel(inline="always")
+def _hull_apart(W, X, s0, s1, lo, hi, ext, band, grow, sep):
+    """True when a direction is found along which the part's vertices W (P, 3) [m] lie more
+    than sep [m] beyond a cell's hull (`_hull_top`): they are apart. The directions are the
+    iterates of Frank-Wolfe towards the nearest point of their difference; each is checked on
+    its own, so an iteration that goes astray only leaves the pair to coal."""
+    x0 = W[0, 0] - min(max(X[s0, 0], lo[0]), hi[0])
+    x1 = W[0, 1] - min(max(X[s0, 1], lo[1]), hi[1])
+    x2 = W[0, 2] - min(max(X[s0, 2], lo[2]), hi[2])
+    for it in range(HULL_ITERATIONS):
+        nx = math.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
+        if nx < 1e-12:
+            return False
+        low = np.inf   # the part's lowest point along x
+        a0 = a1 = a2 = 0.0
+        for v in range(W.shape[0]):
+            val = x0 * W[v, 0] + x1 * W[v, 1] + x2 * W[v, 2]
+            if val < low:
+                low, a0, a1, a2 = val, W[v, 0], W[v, 1], W[v, 2]
+        top, b0, b1, b2 = _hull_top(x0, x1, x2, X, s0, s1, lo, hi, ext, band, grow)
+        if (low - top) / nx > sep:
+            return True
+        # s = a - b: the support of the difference towards -x; the nearest point of [x, s] to 0
+        d0, d1, d2 = a0 - b0 - x0, a1 - b1 - x1, a2 - b2 - x2
+        dd = d0 * d0 + d1 * d1 + d2 * d2
+        gain = -(x0 * d0 + x1 * d1 + x2 * d2)
+        if dd < 1e-24 or gain <= 1e-9 * nx * nx:   # x is (nearly) the nearest: not apart by more than sep
+            return False
+        g = min(gain / dd, 1.0)
+        x0, x1, x2 = x0 + g * d0, x1 + g * d1, x2 + g * d2
+    return False
 
 
 @kernel(inline="always")
@@ -206,7 +273,7 @@ def _point_inside(Pl, X, s0, s1, lo, hi, depth):
 
 
 @kernel
-def part_boxes(boxes, idx, of_cell, origin, res, solid, start, X, box_cell, band, grow, R, t, V, Nk, hk, N, h,
+def part_boxes(boxes, idx, of_cell, origin, res, solid, start, X, box_cell, band, sweep, grow, R, t, V, Nk, hk, N, h,
                depth, margin):
     """The boxes (M, 6) [m] of a map a part may touch, and whether one surely does.
 
@@ -215,8 +282,8 @@ def part_boxes(boxes, idx, of_cell, origin, res, solid, start, X, box_cell, band
             cell, grid origin, cell edge (`MapGeometry`).
         solid: (M,) bool: the box is the solid itself; False: it bounds the convex hull of
             cell box_cell[b]'s points X[start[c]:start[c + 1]] (N, 3) [m] (clamped to the box,
-            with their copies on its faces within `band` [m], grown by `grow` [m]:
-            `occupancy_hulls`), which a plane of the part's 26-DOP or hull clears, or a point
+            with their copies within `band` [m] on its faces more than `sweep` [m] beyond
+            them, grown by `grow` [m]: `occupancy_hulls`), which a plane of the part's 26-DOP or hull clears, or a point
             inside the part decides; a vertex or a surface in the box decides nothing.
         R, t: (3, 3), (3,) the part's placement; V (P, 3): its vertices, (Nk (D, 3), hk (D,))
             and (N (F, 3), h (F,)): planes n . x <= h holding it (its 26-DOP, its convex hull),
@@ -280,6 +347,9 @@ def part_boxes(boxes, idx, of_cell, origin, res, solid, start, X, box_cell, band
     keep = np.empty(nc, dtype=np.int64)
     blo = np.empty(3)
     bhi = np.empty(3)
+    pmin = np.empty(3)
+    pmax = np.empty(3)
+    ext = np.zeros(6, dtype=np.bool_)
     T = 0
     for n in range(nc):   # nearest first: a vertex inside decides; the hull's planes clear
         b = cand[order[n]]
@@ -306,20 +376,32 @@ def part_boxes(boxes, idx, of_cell, origin, res, solid, start, X, box_cell, band
             for a in range(3):
                 blo[a] = boxes[b, a]
                 bhi[a] = boxes[b, 3 + a]
+                pmin[a] = np.inf
+                pmax[a] = -np.inf
+            for i in range(s0, s1):   # the faces the hull's copies lie on (`occupancy_hulls.hull_points`)
+                for a in range(3):
+                    x = min(max(X[i, a], blo[a]), bhi[a])
+                    pmin[a] = min(pmin[a], x)
+                    pmax[a] = max(pmax[a], x)
+            for a in range(3):
+                ext[a] = pmin[a] - blo[a] > sweep
+                ext[3 + a] = bhi[a] - pmax[a] > sweep
             clear = False
             for f in range(Pk.shape[0]):
-                if _points_beyond(Pk, f, X, s0, s1, blo, bhi, band, grow, sep):
+                if _points_beyond(Pk, f, X, s0, s1, blo, bhi, ext, band, grow, sep):
                     clear = True
                     break
             if not clear:
                 for f in range(Ph.shape[0]):
-                    if _points_beyond(Ph, f, X, s0, s1, blo, bhi, band, grow, sep):
+                    if _points_beyond(Ph, f, X, s0, s1, blo, bhi, ext, band, grow, sep):
                         clear = True
                         break
             if clear:
                 continue
             if depth < np.inf and Ph.shape[0] > 0 and _point_inside(Ph, X, s0, s1, blo, bhi, depth):
                 return True, np.zeros(0, dtype=np.int64)
+            if _hull_apart(W, X, s0, s1, blo, bhi, ext, band, grow, sep):
+                continue
         keep[T] = b
         T += 1
     return False, keep[:T].copy()

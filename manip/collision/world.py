@@ -8,7 +8,8 @@ Reads and writes cuRobo's world format::
      "capsule":  {name: {"radius": r, "height": h, "pose": [...]}}   # or "base"/"tip" points
      "mesh":     {name: {"file_path": path, "pose": [...], "scale": [sx, sy, sz], "solid": false}},
      "occupancy": {name: {"resolution": r, "cells": [[i, j, k], ...],          # manip's: an OccupancyMap
-                          "bounds": [[x0, y0, z0, x1, y1, z1], ...]}}}        # (optional: whole cells)
+                          "bounds": [[x0, y0, z0, x1, y1, z1], ...],          # (optional: whole cells)
+                          "point_start": [0, ...], "points": [[x, y, z], ...]}}}   # (optional: hulls)
 
 A mesh is a surface unless `"solid": true` (a closed mesh as the volume it bounds; see `Mesh`).
 """
@@ -33,7 +34,7 @@ _FIELDS = {
     "cylinder": ({"radius", "height"}, {"pose"}),
     "capsule": ({"radius"}, {"height", "base", "tip", "pose"}),
     "mesh": (set(), {"file_path", "pose", "scale", "vertices", "faces", "solid"}),
-    "occupancy": ({"resolution", "cells"}, {"pose", "bounds"}),
+    "occupancy": ({"resolution", "cells"}, {"pose", "bounds", "point_start", "points"}),
 }
 # Keys of cuRobo's entries that carry no geometry (colours, textures): accepted and ignored.
 _IGNORED = {"color", "texture", "tensor_args"}
@@ -246,7 +247,10 @@ def _from_entry(kind: str, name: str, entry: Any, base_dir: str | Path | None) -
     if kind == "occupancy":
         if pose is not None and not np.allclose(np.asarray(pose, dtype=float), [0, 0, 0, 1, 0, 0, 0]):
             raise InvalidInputError(f"occupancy '{name}': an occupancy map lies in the base frame (pose identity)")
-        return OccupancyMap.from_cells(name, entry["resolution"], entry["cells"], entry.get("bounds"))
+        if ("points" in entry) != ("point_start" in entry):
+            raise InvalidInputError(f"occupancy '{name}': give both 'points' and 'point_start', or neither")
+        points = (entry["point_start"], entry["points"]) if "points" in entry else None
+        return OccupancyMap.from_cells(name, entry["resolution"], entry["cells"], entry.get("bounds"), points)
     # mesh
     fp = entry.get("file_path")
     if fp is not None:

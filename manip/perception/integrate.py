@@ -13,21 +13,22 @@ depth image; `integrate_pointcloud` does the same with a cloud. `MotionGenerator
    collision geometry; links and attached objects), looked up through the sphere cover
    (built once per q: the images of several cameras taken at the same q share it);
 3. occupied: the cell of every remaining point (`manip.perception.kernels`), holding the
-   bounding box of the points measured in it (`OccupancyMap.bounds`: the surface as the
-   camera saw it; what a point hides behind it is unknown: not in the box, or with
-   `unknown="occupied"` in it, the ray a cell diagonal behind the point clamped to the cell;
-   over every update until the cell is freed, so two cameras' views add up);
+   points measured in it (`OccupancyMap.points`, with their bounding box `bounds`: the
+   surface as the camera saw it, each cell the convex hull of its points; what a point hides
+   behind it is unknown: not in the cell, or with `unknown="occupied"` in it, the ray a cell
+   diagonal behind the point clamped to the cell; over every update until the cell is freed,
+   so two cameras' views add up; a cell over `MAX_CELL_POINTS` keeps its box instead);
 4. free: a cell occupied before (or, with `unknown="occupied"`, never observed) is freed
    when the image sees through it: every pixel ray crossing it measures a surface beyond the
    point where it leaves the cell (`cells_seen_free`), so an object that moved away
    disappears from where it was, while a cell next to a surface, or hidden behind one,
    keeps what it held. Cells seen occupied in this image stay occupied.
 
-What the map guarantees: every point a camera measured (and kept) lies in its cell's box
-(to `SNAP`) until an image sees through that cell; the boxes of face-adjacent occupied cells
-meet (`OccupancyMap`), so a surface seen as face-adjacent cells is a closed sheet, and
-between cells that only share an edge or a corner the gap is at most the spacing of the
-measured points there (about depth / focal length [px]: 2-3 mm at 1.5 m for the cameras of
+What the map guarantees: every point a camera measured (and kept) lies in its cell's solid
+(to `SNAP`) until an image sees through that cell; the solids of face-adjacent occupied cells
+meet where a measured surface goes on from one to the other (`OccupancyMap`,
+`manip.collision.occupancy_hulls`), so a surface seen as face-adjacent cells is a closed
+sheet, and elsewhere the gap is at most the spacing of the measured points there (about depth / focal length [px]: 2-3 mm at 1.5 m for the cameras of
 `benchmarks/perception.py`). The volume behind a seen surface is not in the map (with
 `unknown="free"`): a part can only get there through the seen surface (which the checks and
 the continuous certificate refuse) or through a face no camera saw. With
@@ -431,9 +432,10 @@ def integrate_depth(checker, depth, intrinsics, camera_pose: Pose, *, name: str 
         unknown: "free" (never observed = free) or "occupied" (within `bounds`).
         bounds: [[x0, y0, z0], [x1, y1, z1]] [m], base frame (needed with unknown="occupied").
         self_margin: points within this of the robot [m] are dropped.
-        fill: "points" (the default): an occupied cell holds the box of the points measured in
-            it (`OccupancyMap.bounds`: the surface as the camera saw it); "cells": the whole
-            cell (surfaces inflated by up to a cell).
+        fill: "points" (the default): an occupied cell is the convex hull of the points
+            measured in it (`OccupancyMap.points`: the surface as the camera saw it; a flat,
+            axis-aligned one their box); "cells": the whole cell (surfaces inflated by up to a
+            cell).
 
     Returns:
         The new `OccupancyMap` (also in the checker's world).

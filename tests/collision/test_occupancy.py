@@ -121,6 +121,46 @@ def test_bad_input_names_the_argument():
         OccupancyMap("camera")
 
 
+def _slanted_points():
+    """(cells, (start, points)): a plane rising 30 deg along x measured every 2 mm."""
+    g = np.arange(0.40, 0.48, 0.002)
+    X, Y = np.meshgrid(g, np.arange(-0.04, 0.04, 0.002))
+    P = np.stack([X.ravel(), Y.ravel(), 0.2 + math.tan(math.radians(30)) * (X.ravel() - 0.4)], axis=1)
+    cells, of_point = np.unique(np.floor(P / RES).astype(np.int64), axis=0, return_inverse=True)
+    of_point = of_point.ravel()
+    start = np.concatenate([[0], np.cumsum(np.bincount(of_point, minlength=len(cells)))])
+    return cells, (start, P[np.argsort(of_point, kind="stable")])
+
+
+def test_a_map_of_points_is_the_hulls_of_its_cells_and_round_trips():
+    cells, points = _slanted_points()
+    m = OccupancyMap.from_cells("camera", RES, cells, None, points)
+    boxes = OccupancyMap.from_cells("boxes", RES, cells, m.bounds)
+    assert m.num_hulls == m.num_cells > 10
+    assert m.contains_points(points[1])   # every measured point
+    above = np.array([[0.442, 0.005, 0.2 + math.tan(math.radians(30)) * 0.042 + 0.003]])   # 3 mm above the plane
+    assert boxes.contains_points(above) and not m.contains_points(above)
+    w = WorldConfig.from_dict(WorldConfig([m]).to_dict())
+    back = w.get("camera")
+    assert back.num_hulls == m.num_hulls and not back.contains_points(above) and back.contains_points(points[1])
+    again = pickle.loads(pickle.dumps(m))
+    assert again.num_hulls == m.num_hulls and not again.contains_points(above)
+
+
+def test_bad_points_name_the_argument():
+    cells, (start, P) = _slanted_points()
+    for bad in ((start[:-1], P), (start, P[:-1]), (start[::-1], P), (start.astype(float), P), "abc", (start, P[:, :2])):
+        with pytest.raises(InvalidInputError, match="points"):
+            OccupancyMap.from_cells("camera", RES, cells, None, bad)
+    Q = P.copy()
+    Q[3, 1] = np.nan
+    with pytest.raises(InvalidInputError, match="points"):
+        OccupancyMap.from_cells("camera", RES, cells, None, (start, Q))
+    with pytest.raises(InvalidInputError, match="distinct"):
+        OccupancyMap.from_cells("camera", RES, np.vstack([cells, cells[:1]]), None,
+                                (np.append(start, start[-1]), P))
+
+
 def test_bad_bounds_name_the_argument():
     with pytest.raises(InvalidInputError, match="bounds"):
         OccupancyMap.from_cells("camera", RES, CELLS, np.zeros((3, 6)))
