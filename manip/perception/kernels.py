@@ -589,14 +589,31 @@ def _copy_points(dst, n, src, s0, s1):
     return dst, need
 
 
+@kernel(inline="always")
+def _holds_run(A, a0, a1, B, b0, b1):
+    """True when the points B[b0:b1] appear, in order and bit for bit, as a run of A[a0:a1]
+    (an unchanged view integrated again)."""
+    n = b1 - b0
+    for k in range(a0, a1 - n + 1):
+        same = True
+        for i in range(n):
+            if A[k + i, 0] != B[b0 + i, 0] or A[k + i, 1] != B[b0 + i, 1] or A[k + i, 2] != B[b0 + i, 2]:
+                same = False
+                break
+        if same:
+            return True
+    return False
+
+
 @kernel
 def merge_observation(seen, seen_bounds, seen_start, seen_pts, freed, keys, bounds, start, pts, max_points):
     """The cells seen occupied after an observation: (sorted keys (C,), bounds (C, 6) [m],
     start (C + 1,), points (N, 3) [m]) of the cells of seen (S,) (sorted; bounds (S, 6), points
     seen_pts[seen_start[s]:seen_start[s + 1]]) not in freed (sorted, a subset of seen) and of
     keys (K,) (sorted, distinct; bounds (K, 6), points pts[start[k]:start[k + 1]]); a cell in
-    both takes the union of its bounds and of its points. A cell without points (a box) stays
-    one, and so does a cell whose points would exceed max_points."""
+    both takes the union of its bounds and of its points (its new points are not added again
+    when they already are a run of its points: the same view integrated again). A cell
+    without points (a box) stays one, and so does a cell whose points would exceed max_points."""
     out = np.empty(seen.shape[0] + keys.shape[0], dtype=np.int64)
     ob = np.empty((out.shape[0], 6))
     ostart = np.zeros(out.shape[0] + 1, dtype=np.int64)
@@ -632,9 +649,12 @@ def merge_observation(seen, seen_bounds, seen_start, seen_pts, freed, keys, boun
                 ob[n, 3 + a] = max(seen_bounds[i, 3 + a], bounds[j, 3 + a])
             old = seen_start[i + 1] - seen_start[i]
             new = start[j + 1] - start[j]
-            if old > 0 and new > 0 and old + new <= max_points:
-                op, N = _copy_points(op, N, seen_pts, seen_start[i], seen_start[i + 1])
-                op, N = _copy_points(op, N, pts, start[j], start[j + 1])
+            if old > 0 and new > 0:
+                if _holds_run(seen_pts, seen_start[i], seen_start[i + 1], pts, start[j], start[j + 1]):
+                    op, N = _copy_points(op, N, seen_pts, seen_start[i], seen_start[i + 1])
+                elif old + new <= max_points:
+                    op, N = _copy_points(op, N, seen_pts, seen_start[i], seen_start[i + 1])
+                    op, N = _copy_points(op, N, pts, start[j], start[j + 1])
             i += 1
             j += 1
         n += 1

@@ -95,6 +95,18 @@ def test_a_box_seen_gives_occupied_cells_on_its_visible_faces(mg):
     assert np.all(outside.max(axis=1) < 0.02 + 1e-9)
 
 
+def test_an_unchanged_view_integrated_again_adds_no_points_and_a_second_camera_adds_its_own(mg):
+    world, box, cam, other = _box_scene(second_camera=True)
+    first = integrate(mg, cam)
+    n, hulls = first.points.shape[0], first.num_hulls
+    again = integrate(mg, cam)   # the same image: its points are already there
+    assert again.points.shape[0] == n and again.num_hulls == hulls
+    both = integrate(mg, other)
+    assert both.points.shape[0] > n
+    kept = set(map(tuple, both.points)) & set(map(tuple, first.points))
+    assert len(kept) > 0.95 * len(set(map(tuple, first.points)))   # the first view's points are kept (but freed cells')
+
+
 def test_moving_the_box_away_and_integrating_again_frees_its_cells(mg):
     world, box, cam = _box_scene()
     integrate(mg, cam)
