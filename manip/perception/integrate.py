@@ -59,8 +59,8 @@ import numpy as np
 
 from manip.collision.occupancy import OccupancyMap
 from manip.errors import InvalidInputError
-from manip.perception.kernels import (SNAP, cells_seen_free, depth_cells, difference, merge_observation, on_robot,
-                                      pack_all, reduce_points, sphere_index, unpack)
+from manip.perception.kernels import SNAP, cells_seen_free, depth_cells, on_robot, pack_all, sphere_index, unpack
+from manip.perception.observations import difference, merge_observation, reduce_points
 from manip.pose import Pose
 from manip.validation import as_real_array, non_negative, positive
 
