@@ -42,6 +42,12 @@ SILHOUETTE = 0.02
 SILHOUETTE_PX = 10.0
 #: Slots of `depth_cells`' table of the cells written lately (a power of two).
 RECENT = 1 << 12
+#: Of a run of pixels in one cell, a point within this of the segment between the run's first
+#: and last points is not kept [m] (it lies within this of the cell's hull; a plane's interior
+#: points, up to a depth image's float32 round-off): `depth_cells`.
+RUN_TOLERANCE = 5e-7
+#: Points buffered per run before they are written (`depth_cells`).
+RUN = 64
 _BIAS = 1 << 20
 _MASK = (1 << 21) - 1
 
@@ -245,6 +251,28 @@ def _widen(bounds, row, m0, m1, m2, m3, m4, m5):
 
 
 @kernel(inline="always")
+def _flush(rb, rn, pts, prow, n, row):
+    """Write the run rb[:rn] (rn >= 1, points (RUN, 3) [m]) of row `row` into pts / prow from n:
+    its first and last points and those farther than RUN_TOLERANCE from the segment between
+    them. Returns the new n."""
+    a0, a1, a2 = rb[0, 0], rb[0, 1], rb[0, 2]
+    e0, e1, e2 = rb[rn - 1, 0] - a0, rb[rn - 1, 1] - a1, rb[rn - 1, 2] - a2
+    ee = e0 * e0 + e1 * e1 + e2 * e2
+    for i in range(rn):
+        if 0 < i < rn - 1:
+            g0, g1, g2 = rb[i, 0] - a0, rb[i, 1] - a1, rb[i, 2] - a2
+            s = 0.0 if ee == 0.0 else min(max((g0 * e0 + g1 * e1 + g2 * e2) / ee, 0.0), 1.0)
+            h0, h1, h2 = g0 - s * e0, g1 - s * e1, g2 - s * e2
+            if h0 * h0 + h1 * h1 + h2 * h2 <= RUN_TOLERANCE * RUN_TOLERANCE:
+                continue
+        elif i == rn - 1 and rn > 1 and ee == 0.0:
+            continue   # the same point again
+        _emit(pts, prow, n, row, rb[i, 0], rb[i, 1], rb[i, 2])
+        n += 1
+    return n
+
+
+@kernel(inline="always")
 def _emit(pts, prow, n, row, x0, x1, x2):
     """Point n (x0, x1, x2) [m] of row `row` into pts (cap, 3) / prow (cap,)."""
     pts[n, 0] = x0
@@ -258,9 +286,10 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, behind, reac
                 centres, radii, ball_part, dop, margin, cell, lo, shape, near, box, start, balls):
     """Keys (P,) of the cells of the depth image's points (repeats mostly removed), the bounds
     (P, 6) [m] (lo, hi) of the points of each row, the points (N, 3) [m] and the row (N,) of
-    each (with `exact`: the measured points, the silhouettes' reach and the rays `behind`;
-    else none), the number of points dropped on the robot and the number of negative depths
-    (invalid input: the caller raises).
+    each (with `exact`: the measured points but those within RUN_TOLERANCE of the segment
+    between the first and last points of their run of pixels in one cell, the silhouettes'
+    reach and the rays `behind`; else none), the number of points dropped on the robot and the
+    number of negative depths (invalid input: the caller raises).
 
     Args:
         depth: (H, W) distances to the image plane [m] (inf / NaN: no point).
@@ -288,6 +317,8 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, behind, reac
     pts = np.empty((npts, 3))
     prow = np.empty(npts, dtype=np.int64)
     N = 0
+    rb = np.empty((RUN, 3))   # the measured points of the current run (`_flush`)
+    rn = 0
     recent = np.full(RECENT, -1, dtype=np.int64)   # keys written lately (neighbouring pixels share cells)
     row = np.empty(RECENT, dtype=np.int64)          # their rows
     P = 0
@@ -389,9 +420,12 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, behind, reac
             y0 = t[0] + zb * d0
             y1 = t[1] + zb * d1
             y2 = t[2] + zb * d2
-            if key != cur:   # a new run: the last one's bounds into its row; this cell's row
+            if key != cur:   # a new run: the last one's bounds and points into its row; this cell's row
                 if cr >= 0:
                     _widen(bounds, cr, m0, m1, m2, m3, m4, m5)
+                if rn > 0:
+                    N = _flush(rb, rn, pts, prow, N, cr)
+                    rn = 0
                 cur = key
                 slot = (key ^ (key >> 19) ^ (key >> 37)) & (RECENT - 1)
                 if recent[slot] != key:
@@ -407,8 +441,12 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, behind, reac
             else:
                 m0, m1, m2 = min(m0, x0, y0), min(m1, x1, y1), min(m2, x2, y2)
                 m3, m4, m5 = max(m3, x0, y0), max(m4, x1, y1), max(m5, x2, y2)
-            _emit(pts, prow, N, cr, x0, x1, x2)
-            N += 1
+            if rn == RUN:   # a long run: written, and the next one starts where it ended
+                N = _flush(rb, rn, pts, prow, N, cr)
+                rb[0, 0], rb[0, 1], rb[0, 2] = rb[RUN - 1, 0], rb[RUN - 1, 1], rb[RUN - 1, 2]
+                rn = 1
+            rb[rn, 0], rb[rn, 1], rb[rn, 2] = x0, x1, x2
+            rn += 1
             if behind > 0.0:
                 _emit(pts, prow, N, cr, y0, y1, y2)
                 N += 1
@@ -444,6 +482,8 @@ def depth_cells(depth, fx, fy, cx, cy, R, t, max_range, res, exact, behind, reac
                 N += 1
     if cr >= 0:
         _widen(bounds, cr, m0, m1, m2, m3, m4, m5)
+    if rn > 0:
+        N = _flush(rb, rn, pts, prow, N, cr)
     return out[:P].copy(), bounds[:P].copy(), pts[:N], prow[:N], on_robot, negative
 
 

@@ -69,16 +69,10 @@ def difference(a, b):
 
 @kernel(inline="always")
 def _copy_points(dst, n, src, s0, s1):
-    """src[s0:s1] (K, 3) into dst (cap, 3) from row n, grown when full: (dst, n + K)."""
-    need = n + s1 - s0
-    if need > dst.shape[0]:
-        grown = np.empty((max(2 * dst.shape[0], need), 3))
-        grown[:n] = dst[:n]
-        dst = grown
+    """src[s0:s1] (K, 3) into dst (cap, 3) from row n (room for them)."""
     for i in range(s0, s1):
         for a in range(3):
             dst[n + i - s0, a] = src[i, a]
-    return dst, need
 
 
 @kernel(inline="always")
@@ -126,13 +120,15 @@ def merge_observation(seen, seen_bounds, seen_start, seen_pts, freed, keys, boun
             out[n] = seen[i]
             for a in range(6):
                 ob[n, a] = seen_bounds[i, a]
-            op, N = _copy_points(op, N, seen_pts, seen_start[i], seen_start[i + 1])
+            _copy_points(op, N, seen_pts, seen_start[i], seen_start[i + 1])
+            N += seen_start[i + 1] - seen_start[i]
             i += 1
         elif i == seen.shape[0] or keys[j] < seen[i]:
             out[n] = keys[j]
             for a in range(6):
                 ob[n, a] = bounds[j, a]
-            op, N = _copy_points(op, N, pts, start[j], start[j + 1])
+            _copy_points(op, N, pts, start[j], start[j + 1])
+            N += start[j + 1] - start[j]
             j += 1
         else:
             out[n] = seen[i]
@@ -143,10 +139,12 @@ def merge_observation(seen, seen_bounds, seen_start, seen_pts, freed, keys, boun
             new = start[j + 1] - start[j]
             if old > 0 and new > 0:
                 if _holds_run(seen_pts, seen_start[i], seen_start[i + 1], pts, start[j], start[j + 1]):
-                    op, N = _copy_points(op, N, seen_pts, seen_start[i], seen_start[i + 1])
+                    _copy_points(op, N, seen_pts, seen_start[i], seen_start[i + 1])
+                    N += old
                 elif old + new <= max_points:
-                    op, N = _copy_points(op, N, seen_pts, seen_start[i], seen_start[i + 1])
-                    op, N = _copy_points(op, N, pts, start[j], start[j + 1])
+                    _copy_points(op, N, seen_pts, seen_start[i], seen_start[i + 1])
+                    _copy_points(op, N + old, pts, start[j], start[j + 1])
+                    N += old + new
             i += 1
             j += 1
         n += 1
