@@ -394,7 +394,7 @@ def _point_lists(name: str, points, c: np.ndarray, trusted: bool) -> tuple[np.nd
                                 f"array from 0 to the number of points; got {start.dtype.name} {start.shape}")
     if P.ndim != 2 or P.shape[1] != 3 or not np.all(np.isfinite(P)):
         raise InvalidInputError(f"occupancy map '{name}': points must be finite (N, 3) [m]; got shape {P.shape}")
-    return start.astype(np.int64), np.ascontiguousarray(P)
+    return start.astype(np.int64), np.array(P, dtype=np.float64, order="C")   # copies: the map's are read-only
 
 
 class MapGeometry:
@@ -485,6 +485,18 @@ class MapGeometry:
         hw = np.abs(R) @ h
         return cw - hw, cw + hw
 
+    def _hit(self, m: int, geometry, tf, request, result) -> bool:
+        """coal.collide of `geometry` at `tf` with solid m (a hull only when its box is hit:
+        the box is cheaper, and often clear)."""
+        if not self.solid[m]:
+            box, btf, _ = self._box(m)
+            result.clear()
+            if not coal.collide(geometry, tf, box, btf, request, result):
+                return False
+        solid, stf, _ = self._solid(m)
+        result.clear()
+        return bool(coal.collide(geometry, tf, solid, stf, request, result))
+
     def collide(self, geometry, tf, request, result, balls=None) -> bool:
         """coal.collide of `geometry` at `tf` against the solids (within the request's security
         margin): a mesh, convex or box by `occupancy_exact.part_boxes` and coal on the solids
@@ -499,14 +511,7 @@ class MapGeometry:
             if hit:
                 return True
             for m in ids.tolist():
-                if not self.solid[m]:   # a hull: only if its box is hit (the box is cheaper, and often clear)
-                    box, btf, _ = self._box(m)
-                    result.clear()
-                    if not coal.collide(geometry, tf, box, btf, request, result):
-                        continue
-                box, btf, _ = self._solid(m)
-                result.clear()
-                if coal.collide(geometry, tf, box, btf, request, result):
+                if self._hit(m, geometry, tf, request, result):
                     return True
             return False
         if callable(balls):
@@ -518,14 +523,7 @@ class MapGeometry:
         if ids.size == 0:
             return False
         for m in (ids.tolist() if ids.size == 1 else ids[np.argsort(d)].tolist()):
-            if not self.solid[m]:   # a hull: only if its box is hit
-                box, btf, _ = self._box(m)
-                result.clear()
-                if not coal.collide(geometry, tf, box, btf, request, result):
-                    continue
-            box, btf, _ = self._solid(m)
-            result.clear()
-            if coal.collide(geometry, tf, box, btf, request, result):
+            if self._hit(m, geometry, tf, request, result):
                 return True
         return False
 
