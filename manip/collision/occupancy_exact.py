@@ -273,8 +273,8 @@ def _point_inside(Pl, X, s0, s1, lo, hi, depth):
 
 
 @kernel
-def part_boxes(boxes, idx, of_cell, origin, res, solid, start, X, box_cell, band, sweep, grow, R, t, V, Nk, hk, N, h,
-               depth, margin):
+def part_boxes(boxes, idx, of_cell, origin, res, solid, start, X, box_cell, band, sweep, grow, R, t, V, Nk, hk,
+               N, h, depth, margin):
     """The boxes (M, 6) [m] of a map a part may touch, and whether one surely does.
 
     Args:

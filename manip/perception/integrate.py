@@ -28,8 +28,8 @@ What the map guarantees: every point a camera measured (and kept) lies in its ce
 (to `SNAP`) until an image sees through that cell; the solids of face-adjacent occupied cells
 meet where a measured surface goes on from one to the other (`OccupancyMap`,
 `manip.collision.occupancy_hulls`), so a surface seen as face-adjacent cells is a closed
-sheet, and elsewhere the gap is at most the spacing of the measured points there (about depth / focal length [px]: 2-3 mm at 1.5 m for the cameras of
-`benchmarks/perception.py`). The volume behind a seen surface is not in the map (with
+sheet, and elsewhere the gap is at most the spacing of the measured points there (about
+depth / focal length [px]: 2-3 mm at 1.5 m for the cameras of `benchmarks/perception.py`). The volume behind a seen surface is not in the map (with
 `unknown="free"`): a part can only get there through the seen surface (which the checks and
 the continuous certificate refuse) or through a face no camera saw. With
 `fill="cells"` every occupied cell is whole (surfaces inflated by up to a cell). With
@@ -93,8 +93,8 @@ class _MapState:
     unknown: str
     bounds_lo: np.ndarray | None = None   # (3,) int64 first cell of the bounds grid
     observed: np.ndarray | None = None    # bool grid over the bounds: seen (free or occupied)
-    seen_start: np.ndarray | None = None  # (C + 1,) the points of cell c: seen_points[seen_start[c]:seen_start[c + 1]]
-    seen_points: np.ndarray | None = None  # (N, 3) [m] the points measured in the cells (none: the cell is its box)
+    seen_start: np.ndarray | None = None   # (C + 1,) cell c's points: seen_points[seen_start[c]:seen_start[c + 1]]
+    seen_points: np.ndarray | None = None  # (N, 3) [m] the points measured in the cells (none: a box)
 
 
 _STATES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()

@@ -104,7 +104,7 @@ def test_an_unchanged_view_integrated_again_adds_no_points_and_a_second_camera_a
     both = integrate(mg, other)
     assert both.points.shape[0] > n
     kept = set(map(tuple, both.points)) & set(map(tuple, first.points))
-    assert len(kept) > 0.95 * len(set(map(tuple, first.points)))   # the first view's points are kept (but freed cells')
+    assert len(kept) > 0.95 * len(set(map(tuple, first.points)))   # the first view's points are kept
 
 
 def test_moving_the_box_away_and_integrating_again_frees_its_cells(mg):
