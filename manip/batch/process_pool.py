@@ -170,6 +170,12 @@ def _stop(pool: ProcessPoolExecutor, known: set | None = None) -> None:
     # moment later (until then the process looks alive to `multiprocessing.active_children`)
     while any(p.exitcode is None for p in processes) and time.monotonic() < deadline:
         time.sleep(0.005)
+    # a worker killed while it sent a result leaves the pool's manager thread reading the rest
+    # of that message for ever (and the interpreter's exit joining that thread): with every
+    # worker gone, closing the caller's end of the result pipe gives the reader EOF.
+    writer = getattr(getattr(pool, "_result_queue", None), "_writer", None)
+    if writer is not None and all(p.exitcode is not None for p in processes):
+        writer.close()
 
 
 #: What a worker runs on a task: `worker.solve` (or a module-level function of the same shape).
