@@ -83,8 +83,8 @@ class OccupancyMap(Mesh):
         bounds: (C, 6) [m] (lo, hi) what each cell holds (before the extension to occupied
             neighbours), read-only; None: whole cells.
         points: (N, 3) [m] the measured points of the cells, cell c's being
-            points[point_start[c]:point_start[c + 1]] (clamped to the cell; an empty range: the
-            cell is its box), read-only; None: every cell is its box.
+            points[point_start[c]:point_start[c + 1]] (as measured: the hull clamps them to the
+            cell; an empty range: the cell is its box), read-only; None: every cell is its box.
         point_start: (C + 1,) int64 (with `points`), read-only.
     """
 
@@ -152,7 +152,7 @@ class OccupancyMap(Mesh):
                 b = np.hstack([np.where(some[:, None], lo, c * res), np.where(some[:, None], hi, (c + 1) * res)])
             else:
                 b = np.hstack([np.minimum(b[:, :3], lo), np.maximum(b[:, 3:], hi)])
-        if P is not None and not _sorted:   # in the order of the sorted cells
+            # in the order of the sorted cells
             order = np.lexsort(c.T[::-1])
             if c.shape[0] > 1 and np.any(np.all(np.diff(c[order], axis=0) == 0, axis=1)):
                 raise InvalidInputError(f"occupancy map '{name}': cells must be distinct when points are given")
@@ -388,7 +388,7 @@ def _point_lists(name: str, points, c: np.ndarray, trusted: bool) -> tuple[np.nd
     if P.size == 0:
         P = P.reshape(0, 3)
     C = c.shape[0]
-    if (start.shape != (C + 1,) or start.dtype.kind not in "iu" or (C >= 0 and start[0] != 0)
+    if (start.shape != (C + 1,) or start.dtype.kind not in "iu" or start[0] != 0
             or np.any(np.diff(start) < 0) or start[-1] != P.shape[0]):
         raise InvalidInputError(f"occupancy map '{name}': points' start must be a non-decreasing integer ({C + 1},) "
                                 f"array from 0 to the number of points; got {start.dtype.name} {start.shape}")

@@ -23,9 +23,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import yaml
-
 from manip.errors import InvalidInputError
+from manip.sim.motion_generation.robot_description import read_yaml_file
 
 logger = logging.getLogger(__name__)
 
@@ -65,15 +64,7 @@ def load_rmpflow_config(path: str | Path) -> RmpFlowConfig:
         InvalidInputError: not a YAML mapping, or a malformed `manip` section (an unknown key:
             the message lists `READ_KEYS`).
     """
-    if not isinstance(path, (str, Path)):
-        raise InvalidInputError(f"rmpflow_config_path must be a path (str); got {type(path).__name__}")
-    p = Path(path).expanduser()
-    if not p.is_file():
-        raise FileNotFoundError(f"rmpflow_config_path: no file at {p}")
-    try:
-        d = yaml.safe_load(p.read_text())
-    except yaml.YAMLError as exc:
-        raise InvalidInputError(f"{p}: not valid YAML: {exc}") from exc
+    p, d = read_yaml_file(path, "rmpflow_config_path")
     if d is None:
         d = {}
     if not isinstance(d, dict):

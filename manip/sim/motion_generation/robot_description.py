@@ -21,6 +21,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import yaml
@@ -98,6 +99,24 @@ def _rules(d: dict, cspace: tuple[str, ...], path: Path) -> dict[str, float]:
     return out
 
 
+def read_yaml_file(path, argument: str) -> tuple[Path, Any]:
+    """(the path, the parsed YAML) of one of Isaac's configuration files, given as `argument`.
+
+    Raises:
+        FileNotFoundError: no such file.
+        InvalidInputError: `path` is not a path, or the file is not valid YAML.
+    """
+    if not isinstance(path, (str, Path)):
+        raise InvalidInputError(f"{argument} must be a path (str); got {type(path).__name__}")
+    p = Path(path).expanduser()
+    if not p.is_file():
+        raise FileNotFoundError(f"{argument}: no file at {p}")
+    try:
+        return p, yaml.safe_load(p.read_text())
+    except yaml.YAMLError as exc:
+        raise InvalidInputError(f"{p}: not valid YAML: {exc}") from exc
+
+
 def load_robot_description(path: str | Path) -> LulaRobotDescription:
     """Read a Lula robot description YAML (see the module docstring for the keys read).
 
@@ -106,15 +125,7 @@ def load_robot_description(path: str | Path) -> LulaRobotDescription:
         InvalidInputError: not a YAML mapping, or a read key is malformed (the message names
             the file and the key).
     """
-    if not isinstance(path, (str, Path)):
-        raise InvalidInputError(f"robot_description_path must be a path (str); got {type(path).__name__}")
-    p = Path(path).expanduser()
-    if not p.is_file():
-        raise FileNotFoundError(f"robot_description_path: no file at {p}")
-    try:
-        d = yaml.safe_load(p.read_text())
-    except yaml.YAMLError as exc:
-        raise InvalidInputError(f"{p}: not valid YAML: {exc}") from exc
+    p, d = read_yaml_file(path, "robot_description_path")
     if not isinstance(d, dict):
         raise InvalidInputError(f"{p}: a robot description must be a YAML mapping with a `cspace` list")
     cspace = _cspace(d, p)
