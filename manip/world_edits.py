@@ -117,7 +117,7 @@ class WorldEdits:
             camera_pose: `Pose` of the camera in the robot base frame (Isaac's camera axes:
                 +X forward, +Z up).
             name: the map's obstacle name; `remove_obstacle(name)` clears it.
-            resolution: cell edge [m]. max_range: farther returns are ignored [m].
+            resolution: cell edge [m] (at most 0.5 m). max_range: farther returns are ignored [m].
             q: the robot's configuration (dof,), whose points are filtered out, or its full
                 state (arm, then gripper joints: `franka.get_joint_positions()`), which places
                 the fingers where they are; None: no self-filtering.

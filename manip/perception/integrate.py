@@ -77,6 +77,8 @@ NEAR = 1e-3
 CLOUD_PIXELS = 256
 #: Largest bounds grid of `unknown="occupied"` (cells).
 MAX_BOUNDS_CELLS = 8_000_000
+#: Largest cell edge [m]: a coarser cell would fill much of a manipulator's workspace.
+MAX_RESOLUTION = 0.5
 #: A cell keeps at most this many measured points (its convex hull); beyond, it is its box.
 MAX_CELL_POINTS = 256
 _UNKNOWN = ("free", "occupied")
@@ -111,6 +113,14 @@ def _depth(depth) -> np.ndarray:
     if not d.flags.c_contiguous or not d.flags.writeable:   # the kernels' signature: a writable C array
         d = np.array(d, order="C")
     return d   # float32 or float64 as given (negative values: `depth_cells` counts them)
+
+
+def _resolution(resolution) -> float:
+    res = positive(resolution, "resolution", "m")
+    if res > MAX_RESOLUTION:
+        raise InvalidInputError(f"resolution must be at most {MAX_RESOLUTION} m (a cell edge; a coarser cell fills much "
+                                f"of the workspace); got {resolution} m")
+    return res
 
 
 def _intrinsics(K) -> tuple[float, float, float, float]:
@@ -443,7 +453,7 @@ def integrate_depth(checker, depth, intrinsics, camera_pose: Pose, *, name: str 
     d = _depth(depth)
     fx, fy, cx, cy = _intrinsics(intrinsics)
     pose = _pose(camera_pose)
-    res = positive(resolution, "resolution", "m")
+    res = _resolution(resolution)
     rng = positive(max_range, "max_range", "m")
     margin = non_negative(self_margin, "self_margin", "m")
     b = _bounds(bounds, unknown)
@@ -500,7 +510,7 @@ def integrate_pointcloud(checker, points, origin=None, *, name: str = "camera", 
     if np.any(np.isinf(P)):
         raise InvalidInputError("points must be finite (NaN rows are skipped); got inf")
     P = P[~np.isnan(P).any(axis=1)]
-    res = positive(resolution, "resolution", "m")
+    res = _resolution(resolution)
     rng = positive(max_range, "max_range", "m")
     margin = non_negative(self_margin, "self_margin", "m")
     b = _bounds(bounds, unknown)

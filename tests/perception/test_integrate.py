@@ -276,6 +276,10 @@ def test_bad_input_names_the_argument(mg):
         mg.update_world_from_depth(d, K, [0.0, 0.0, 1.0, 1, 0, 0, 0])
     with pytest.raises(InvalidInputError, match="resolution"):
         mg.update_world_from_depth(d, K, pose, resolution=-0.02)
+    with pytest.raises(InvalidInputError, match="resolution must be at most 0.5 m"):
+        mg.update_world_from_depth(d, K, pose, resolution=50.0)
+    with pytest.raises(InvalidInputError, match="resolution must be at most 0.5 m"):
+        mg.update_world_from_pointcloud(np.zeros((1, 3)), resolution=1.0)
     with pytest.raises(InvalidInputError, match="max_range"):
         mg.update_world_from_depth(d, K, pose, max_range=0.0)
     with pytest.raises(InvalidInputError, match="unknown"):
