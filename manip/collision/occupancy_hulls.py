@@ -44,18 +44,59 @@ def hull_points(points: np.ndarray, box: np.ndarray, res: float) -> np.ndarray:
     return X
 
 
-def cell_hull(points: np.ndarray, box: np.ndarray, res: float) -> tuple[coal.ConvexBase, np.ndarray]:
-    """(the coal convex, its planes (F, 4) (n, d): n . x + d <= 0 inside) of the hull of
-    `hull_points(points, box, res)` and of three points `GROW` [m] from the first along the
-    axes, into the box (so that it always spans a volume: coal's hull of flat input crashes)."""
+def _hull_input(points: np.ndarray, box: np.ndarray, res: float) -> tuple[np.ndarray, ConvexHull]:
+    """`hull_points` and three points `GROW` [m] from the first along the axes, into the box
+    (so that they always span a volume: coal's hull of flat input crashes), with scipy's hull
+    of them (qhull: a QhullError, never a crash)."""
     X = hull_points(points, box, res)
     inward = np.where(X[0] + GROW <= box[3:], 1.0, -1.0)   # a hull cell's box is thicker than GROW
     X = np.vstack([X, X[0] + GROW * np.diag(inward)])
-    hull = ConvexHull(X)   # qhull through scipy: a QhullError, never a crash
+    return X, ConvexHull(X)
+
+
+def cell_hull(points: np.ndarray, box: np.ndarray, res: float) -> tuple[coal.ConvexBase, np.ndarray]:
+    """(the coal convex, its planes (F, 4) (n, d): n . x + d <= 0 inside) of the hull of
+    `hull_points(points, box, res)` (and of `_hull_input`'s three points that keep it a volume)."""
+    X, hull = _hull_input(points, box, res)
     pts = coal.StdVec_Vec3s()
     for x in X[hull.vertices]:
         pts.append(x)
     return coal.ConvexBase.convexHull(pts, False, "Qt"), np.ascontiguousarray(hull.equations)
 
 
-__all__ = ["cell_hull", "hull_points", "BAND", "GROW", "SWEEP"]
+def box_triangles(boxes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(V (8 M, 3), F (12 M, 3)): the corners [m] and outward (counter-clockwise) triangles of
+    the boxes (M, 6) (lo, hi)."""
+    b = np.asarray(boxes, dtype=np.float64).reshape(-1, 6)
+    V = (b[:, None, :3] + _CORNERS[None] * (b[:, None, 3:] - b[:, None, :3])).reshape(-1, 3)
+    F = (_BOX_FACES[None] + 8 * np.arange(b.shape[0])[:, None, None]).reshape(-1, 3)
+    return V, F
+
+
+def solids_mesh(boxes: np.ndarray, solid: np.ndarray, hulls, res: float) -> tuple[np.ndarray, np.ndarray]:
+    """(V (K, 3) [m], F (T, 3)): triangles of a map's solids as the checks see them (see
+    `occupancy.MapGeometry`): box m where `solid[m]`, else the hull of cell `box_cell[m]`'s
+    points, hulls = (start, points, box_cell), each face outward."""
+    V, F = box_triangles(boxes[solid])
+    Vs, Fs, n = [V], [F], V.shape[0]
+    for m in np.flatnonzero(~solid):
+        start, P, box_cell = hulls
+        c = box_cell[m]
+        X, hull = _hull_input(P[start[c]:start[c + 1]], boxes[m], res)
+        T = hull.simplices.copy()
+        normal = np.cross(X[T[:, 1]] - X[T[:, 0]], X[T[:, 2]] - X[T[:, 0]])
+        inward = np.einsum("ij,ij->i", normal, hull.equations[:, :3]) < 0
+        T[inward] = T[inward][:, ::-1]
+        Vs.append(X)
+        Fs.append(T + n)
+        n += X.shape[0]
+    return np.vstack(Vs), np.vstack(Fs).astype(np.int64)
+
+
+# the 12 triangles of a unit box (corners numbered x * 4 + y * 2 + z), counter-clockwise outside
+_BOX_FACES = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1],
+                       [2, 3, 7], [2, 7, 6], [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]], dtype=np.int64)
+_CORNERS = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], dtype=np.int64)
+
+
+__all__ = ["box_triangles", "cell_hull", "hull_points", "solids_mesh", "BAND", "GROW", "SWEEP"]

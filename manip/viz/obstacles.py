@@ -2,8 +2,9 @@
 
 Every obstacle type of `manip.collision` is drawn as what it is: a `Cuboid` as a box, a
 `Sphere` as an icosphere, a `Cylinder` as a cylinder, a `Capsule` as a capsule mesh, a
-`Mesh` as its (scaled) triangles, an `OccupancyMap` (what cameras saw) as its occupied cells
-(merged into boxes) in `MAP_COLOR`. Obstacles are nodes `<root>/<name>` in the base frame;
+`Mesh` as its (scaled) triangles, an `OccupancyMap` (what cameras saw) as the solids the
+checks see (merged boxes, and the convex hulls of the cells that keep measured points) in
+`MAP_COLOR`. Obstacles are nodes `<root>/<name>` in the base frame;
 objects attached to the robot (`MotionGenerator.attach_object`) are drawn in their own
 colour under `<attached_root>/<name>` and follow their link (`AttachedDrawing.update`).
 """
@@ -65,7 +66,8 @@ def add_obstacle(scene: Any, name: str, obstacle: Obstacle, color: tuple[int, in
         return scene.add_mesh_simple(name, m.vertices, m.faces, **kw)
     if isinstance(obstacle, OccupancyMap):
         kw["color"] = MAP_COLOR if color == OBSTACLE_COLOR else color
-        return scene.add_mesh_simple(name, obstacle.vertices, obstacle.faces, **kw)
+        V, F = obstacle.solids_mesh()   # the merged boxes and the hulls of the cells with points
+        return scene.add_mesh_simple(name, V, F, **kw)
     if isinstance(obstacle, Mesh):
         return scene.add_mesh_simple(name, obstacle.scaled_vertices, obstacle.faces, side="double", **kw)
     raise InvalidInputError(

@@ -147,6 +147,37 @@ def test_a_map_of_points_is_the_hulls_of_its_cells_and_round_trips():
     assert again.num_hulls == m.num_hulls and not again.contains_points(above)
 
 
+def _signed_volume(V: np.ndarray, F: np.ndarray) -> float:
+    """The volume [m^3] a closed triangle mesh encloses (> 0 when its faces point outward)."""
+    return float(np.einsum("ij,ij->i", V[F[:, 0]], np.cross(V[F[:, 1]], V[F[:, 2]])).sum() / 6.0)
+
+
+def test_the_solids_mesh_is_the_boxes_and_hulls_the_checks_use():
+    from scipy.spatial import ConvexHull
+
+    from manip.collision.occupancy_hulls import GROW, hull_points
+
+    cells, points = _slanted_points()
+    m = OccupancyMap.from_cells("camera", RES, cells, None, points)
+    V, F = m.solids_mesh()
+    g = m.coal_geometry()
+    start, P, box_cell = g.hulls
+    hulls = np.flatnonzero(~g.solid)
+    assert hulls.size == m.num_hulls > 10
+    # each hull cell's convex hull, faces outward: the mesh encloses the sum of their volumes (each
+    # hull also holds three points GROW from one of its points, a volume of at most a cell's face times GROW)
+    volume = sum(ConvexHull(hull_points(P[start[box_cell[k]]:start[box_cell[k] + 1]], g.boxes[k], RES)).volume
+                 for k in hulls)
+    assert _signed_volume(V, F) == pytest.approx(volume, abs=hulls.size * 6 * RES ** 2 * GROW)
+    assert volume < 0.5 * np.prod(g.boxes[hulls, 3:] - g.boxes[hulls, :3], axis=1).sum()   # much less than the boxes
+    # a map of cells alone: the mesh is its merged boxes
+    boxes = OccupancyMap.from_cells("boxes", RES, cells)
+    Vb, Fb = boxes.solids_mesh()
+    np.testing.assert_array_equal(Vb, boxes.vertices)
+    np.testing.assert_array_equal(Fb, boxes.faces)
+    assert _signed_volume(Vb, Fb) == pytest.approx(len(cells) * RES ** 3, rel=1e-9)
+
+
 def test_bad_points_name_the_argument():
     cells, (start, P) = _slanted_points()
     for bad in ((start[:-1], P), (start, P[:-1]), (start[::-1], P), (start.astype(float), P), "abc", (start, P[:, :2])):

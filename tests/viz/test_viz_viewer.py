@@ -171,3 +171,25 @@ def test_an_occupancy_map_is_drawn_as_its_cells(port):
         np.testing.assert_allclose(V.max(axis=0), [0.62, 0.04, 0.22], atol=1e-9)
     finally:
         v.close()
+
+
+def test_a_map_of_measured_points_is_drawn_as_the_hulls_the_checks_use(port):
+    from manip.collision import OccupancyMap
+
+    P = np.array([[0.40 + 0.002 * i, 0.002 * j, 0.21 + 0.001 * i] for i in range(10) for j in range(10)])   # a slope
+    cells, of_point = np.unique(np.floor(P / 0.02).astype(np.int64), axis=0, return_inverse=True)
+    order = np.argsort(of_point.ravel(), kind="stable")
+    start = np.concatenate([[0], np.cumsum(np.bincount(of_point.ravel(), minlength=len(cells)))])
+    m = OccupancyMap.from_cells("camera", 0.02, cells, None, (start, P[order]))
+    assert m.num_hulls == 1
+    v = Viewer(MotionGenerator("franka", WorldConfig([m])), port=port, verbose=False)
+    try:
+        h = node(v, "/world/camera")
+        V, F = m.solids_mesh()
+        np.testing.assert_allclose(np.asarray(h.vertices), V, atol=1e-6)   # viser keeps float32
+        np.testing.assert_array_equal(np.asarray(h.faces), F)
+        drawn = np.asarray(h.vertices)
+        low_end = drawn[drawn[:, 0] < 0.401]   # where the slope starts: its hull is 1 cm lower than its box's top
+        assert low_end.size and low_end[:, 2].max() < 0.2105 and drawn[:, 2].max() > 0.2185
+    finally:
+        v.close()
