@@ -13,6 +13,8 @@ measured, where the box would stick out by up to a cell. Hulls are built on firs
 
 from __future__ import annotations
 
+import threading
+
 import coal
 import numpy as np
 from scipy.spatial import ConvexHull
@@ -73,24 +75,46 @@ def box_triangles(boxes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return V, F
 
 
+def hull_triangles(points: np.ndarray, box: np.ndarray, res: float) -> tuple[np.ndarray, np.ndarray]:
+    """(V (K, 3) [m], F (T, 3)): the outward triangles of `cell_hull`'s hull (remembered for the
+    last `MESH_CACHE` cells by their points and box: a map updated where little changed is
+    drawn again at the cost of the new cells)."""
+    key = (np.ascontiguousarray(points, dtype=np.float64).tobytes(), np.asarray(box, dtype=np.float64).tobytes(), res)
+    got = _MESHES.get(key)
+    if got is None:
+        X, hull = _hull_input(points, box, res)
+        T = hull.simplices.astype(np.int64)
+        normal = np.cross(X[T[:, 1]] - X[T[:, 0]], X[T[:, 2]] - X[T[:, 0]])
+        inward = np.einsum("ij,ij->i", normal, hull.equations[:, :3]) < 0
+        T[inward] = T[inward][:, ::-1]
+        got = (X, T)
+        with _MESHES_LOCK:   # viewers of several threads
+            _MESHES[key] = got
+            while len(_MESHES) > MESH_CACHE:
+                del _MESHES[next(iter(_MESHES))]   # the oldest (dicts keep insertion order)
+    return got
+
+
 def solids_mesh(boxes: np.ndarray, solid: np.ndarray, hulls, res: float) -> tuple[np.ndarray, np.ndarray]:
     """(V (K, 3) [m], F (T, 3)): triangles of a map's solids as the checks see them (see
     `occupancy.MapGeometry`): box m where `solid[m]`, else the hull of cell `box_cell[m]`'s
-    points, hulls = (start, points, box_cell), each face outward."""
+    points (`hull_triangles`), hulls = (start, points, box_cell), each face outward."""
     V, F = box_triangles(boxes[solid])
     Vs, Fs, n = [V], [F], V.shape[0]
     for m in np.flatnonzero(~solid):
         start, P, box_cell = hulls
         c = box_cell[m]
-        X, hull = _hull_input(P[start[c]:start[c + 1]], boxes[m], res)
-        T = hull.simplices.copy()
-        normal = np.cross(X[T[:, 1]] - X[T[:, 0]], X[T[:, 2]] - X[T[:, 0]])
-        inward = np.einsum("ij,ij->i", normal, hull.equations[:, :3]) < 0
-        T[inward] = T[inward][:, ::-1]
+        X, T = hull_triangles(P[start[c]:start[c + 1]], boxes[m], res)
         Vs.append(X)
         Fs.append(T + n)
         n += X.shape[0]
-    return np.vstack(Vs), np.vstack(Fs).astype(np.int64)
+    return np.vstack(Vs), np.vstack(Fs)
+
+
+#: Cells whose hull triangles `hull_triangles` remembers (about 2 kB each).
+MESH_CACHE = 8192
+_MESHES: dict = {}
+_MESHES_LOCK = threading.Lock()
 
 
 # the 12 triangles of a unit box (corners numbered x * 4 + y * 2 + z), counter-clockwise outside
@@ -99,4 +123,4 @@ _BOX_FACES = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0
 _CORNERS = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], dtype=np.int64)
 
 
-__all__ = ["box_triangles", "cell_hull", "hull_points", "solids_mesh", "BAND", "GROW", "SWEEP"]
+__all__ = ["box_triangles", "cell_hull", "hull_points", "hull_triangles", "solids_mesh", "MESH_CACHE", "BAND", "GROW", "SWEEP"]
