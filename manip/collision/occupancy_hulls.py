@@ -8,7 +8,8 @@ as the boxes meet. The hull lies in the cell's box and holds every point it is g
 (`manip.perception` gives a run of pixels' points less those within 0.5 um of the segment
 between the run's ends): a slanted face or an edge seen in a cell is as thin as it was
 measured, where the box would stick out by up to a cell. Hulls are built on first use
-(`MapGeometry`), about 0.2 ms each.
+(`MapGeometry`), about 0.2-0.4 ms each, and remembered by their cell's points and box (a map
+updated where little changed builds the hulls of its new cells only).
 """
 
 from __future__ import annotations
@@ -46,24 +47,55 @@ def hull_points(points: np.ndarray, box: np.ndarray, res: float) -> np.ndarray:
     return X
 
 
-def _hull_input(points: np.ndarray, box: np.ndarray, res: float) -> tuple[np.ndarray, ConvexHull]:
-    """`hull_points` and three points `GROW` [m] from the first along the axes, into the box
-    (so that they always span a volume: coal's hull of flat input crashes), with scipy's hull
-    of them (qhull: a QhullError, never a crash)."""
-    X = hull_points(points, box, res)
-    inward = np.where(X[0] + GROW <= box[3:], 1.0, -1.0)   # a hull cell's box is thicker than GROW
-    X = np.vstack([X, X[0] + GROW * np.diag(inward)])
-    return X, ConvexHull(X)
+def _hull(points: np.ndarray, box: np.ndarray, res: float) -> list:
+    """[V (K, 3) [m] the hull's vertices, F (T, 3) its outward triangles (indices into V),
+    planes (P, 4) (n, d): n . x + d <= 0 inside, the coal convex or None until asked for] of
+    `hull_points(points, box, res)` and three points `GROW` [m] from the first along the axes,
+    into the box (so that they always span a volume: coal's hull of flat input crashes; qhull
+    through scipy raises a QhullError instead). Remembered for the last `HULL_CACHE` cells by
+    their points and box: an updated map builds the hulls of its new cells only."""
+    key = (np.ascontiguousarray(points, dtype=np.float64).tobytes(), np.asarray(box, dtype=np.float64).tobytes(), res)
+    got = _HULLS.get(key)
+    if got is None:
+        X = hull_points(points, box, res)
+        inward = np.where(X[0] + GROW <= box[3:], 1.0, -1.0)   # a hull cell's box is thicker than GROW
+        X = np.vstack([X, X[0] + GROW * np.diag(inward)])
+        hull = ConvexHull(X)
+        index = np.full(X.shape[0], -1, dtype=np.int64)
+        index[hull.vertices] = np.arange(hull.vertices.size)
+        V, F = X[hull.vertices], index[hull.simplices]
+        normal = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+        inward = np.einsum("ij,ij->i", normal, hull.equations[:, :3]) < 0
+        F[inward] = F[inward][:, ::-1]
+        got = [V, F, np.ascontiguousarray(hull.equations), None]
+        with _HULLS_LOCK:   # maps of several threads
+            _HULLS[key] = got
+            while len(_HULLS) > HULL_CACHE:
+                del _HULLS[next(iter(_HULLS))]   # the oldest (dicts keep insertion order)
+    return got
 
 
 def cell_hull(points: np.ndarray, box: np.ndarray, res: float) -> tuple[coal.ConvexBase, np.ndarray]:
     """(the coal convex, its planes (F, 4) (n, d): n . x + d <= 0 inside) of the hull of
-    `hull_points(points, box, res)` (and of `_hull_input`'s three points that keep it a volume)."""
-    X, hull = _hull_input(points, box, res)
-    pts = coal.StdVec_Vec3s()
-    for x in X[hull.vertices]:
-        pts.append(x)
-    return coal.ConvexBase.convexHull(pts, False, "Qt"), np.ascontiguousarray(hull.equations)
+    `hull_points(points, box, res)` (and of `_hull`'s three points that keep it a volume).
+    The convex is made from qhull's triangles (one hull computation; coal's own hull of the
+    same vertices gives the same distances and collisions, as the tests check)."""
+    got = _hull(points, box, res)
+    if got[3] is None:
+        V, F = got[0], got[1]
+        pts, tris = coal.StdVec_Vec3s(), coal.StdVec_Triangle()
+        for x in V:
+            pts.append(x)
+        for a, b, c in F.tolist():
+            tris.append(coal.Triangle(a, b, c))
+        got[3] = coal.Convex(pts, tris)
+    return got[3], got[2]
+
+
+def hull_triangles(points: np.ndarray, box: np.ndarray, res: float) -> tuple[np.ndarray, np.ndarray]:
+    """(V (K, 3) [m], F (T, 3)): the vertices and outward triangles of `cell_hull`'s hull."""
+    got = _hull(points, box, res)
+    return got[0], got[1]
 
 
 def box_triangles(boxes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -73,26 +105,6 @@ def box_triangles(boxes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     V = (b[:, None, :3] + _CORNERS[None] * (b[:, None, 3:] - b[:, None, :3])).reshape(-1, 3)
     F = (_BOX_FACES[None] + 8 * np.arange(b.shape[0])[:, None, None]).reshape(-1, 3)
     return V, F
-
-
-def hull_triangles(points: np.ndarray, box: np.ndarray, res: float) -> tuple[np.ndarray, np.ndarray]:
-    """(V (K, 3) [m], F (T, 3)): the outward triangles of `cell_hull`'s hull (remembered for the
-    last `MESH_CACHE` cells by their points and box: a map updated where little changed is
-    drawn again at the cost of the new cells)."""
-    key = (np.ascontiguousarray(points, dtype=np.float64).tobytes(), np.asarray(box, dtype=np.float64).tobytes(), res)
-    got = _MESHES.get(key)
-    if got is None:
-        X, hull = _hull_input(points, box, res)
-        T = hull.simplices.astype(np.int64)
-        normal = np.cross(X[T[:, 1]] - X[T[:, 0]], X[T[:, 2]] - X[T[:, 0]])
-        inward = np.einsum("ij,ij->i", normal, hull.equations[:, :3]) < 0
-        T[inward] = T[inward][:, ::-1]
-        got = (X, T)
-        with _MESHES_LOCK:   # viewers of several threads
-            _MESHES[key] = got
-            while len(_MESHES) > MESH_CACHE:
-                del _MESHES[next(iter(_MESHES))]   # the oldest (dicts keep insertion order)
-    return got
 
 
 def solids_mesh(boxes: np.ndarray, solid: np.ndarray, hulls, res: float) -> tuple[np.ndarray, np.ndarray]:
@@ -111,10 +123,10 @@ def solids_mesh(boxes: np.ndarray, solid: np.ndarray, hulls, res: float) -> tupl
     return np.vstack(Vs), np.vstack(Fs)
 
 
-#: Cells whose hull triangles `hull_triangles` remembers (about 2 kB each).
-MESH_CACHE = 8192
-_MESHES: dict = {}
-_MESHES_LOCK = threading.Lock()
+#: Cells whose hulls `_hull` remembers (a few kB each).
+HULL_CACHE = 8192
+_HULLS: dict = {}
+_HULLS_LOCK = threading.Lock()
 
 
 # the 12 triangles of a unit box (corners numbered x * 4 + y * 2 + z), counter-clockwise outside
@@ -123,4 +135,4 @@ _BOX_FACES = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0
 _CORNERS = np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], dtype=np.int64)
 
 
-__all__ = ["box_triangles", "cell_hull", "hull_points", "hull_triangles", "solids_mesh", "MESH_CACHE", "BAND", "GROW", "SWEEP"]
+__all__ = ["box_triangles", "cell_hull", "hull_points", "hull_triangles", "solids_mesh", "HULL_CACHE", "BAND", "GROW", "SWEEP"]

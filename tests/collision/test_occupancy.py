@@ -178,18 +178,19 @@ def test_the_solids_mesh_is_the_boxes_and_hulls_the_checks_use():
     assert _signed_volume(Vb, Fb) == pytest.approx(len(cells) * RES ** 3, rel=1e-9)
 
 
-def test_hull_triangles_are_remembered_for_a_bounded_number_of_cells(monkeypatch):
+def test_hulls_are_remembered_for_a_bounded_number_of_cells(monkeypatch):
     from manip.collision import occupancy_hulls
 
-    monkeypatch.setattr(occupancy_hulls, "MESH_CACHE", 4)
-    monkeypatch.setattr(occupancy_hulls, "_MESHES", {})
+    monkeypatch.setattr(occupancy_hulls, "HULL_CACHE", 4)
+    monkeypatch.setattr(occupancy_hulls, "_HULLS", {})
     cells, points = _slanted_points()
     m = OccupancyMap.from_cells("camera", RES, cells, None, points)
     V, F = m.solids_mesh()
-    assert len(occupancy_hulls._MESHES) == 4   # the last 4 of the map's hull cells
-    again = OccupancyMap.from_cells("camera", RES, cells, None, points).solids_mesh()   # an update: the same mesh
-    np.testing.assert_array_equal(again[0], V)
-    np.testing.assert_array_equal(again[1], F)
+    assert len(occupancy_hulls._HULLS) == 4   # the last 4 of the map's hull cells
+    again = OccupancyMap.from_cells("camera", RES, cells, None, points)   # an update that changed nothing
+    np.testing.assert_array_equal(again.solids_mesh()[0], V)
+    np.testing.assert_array_equal(again.solids_mesh()[1], F)
+    assert again.contains_points(points[1]) and len(occupancy_hulls._HULLS) == 4
 
 
 def test_bad_points_name_the_argument():
