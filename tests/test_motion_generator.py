@@ -6,6 +6,8 @@ Every successful trajectory is checked by the independent verifier of
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -218,6 +220,13 @@ def test_curobo_names_point_to_manips():
         result.get_interpolated_plan()
     with pytest.raises(AttributeError, match="'PlanResult' object has no attribute 'no_such_field'"):
         result.no_such_field
+    # a goal-set plan's index, and the stage timings, under cuRobo's MotionGenResult names
+    with pytest.raises(AttributeError, match=r"goalset_index' \(cuRobo's name\); manip's equivalent: PlanResult.goal_index"):
+        result.goalset_index
+    for name, where in (("ik_time", 'timings["ik"]'), ("trajopt_time", 'timings["trajopt"]'),
+                        ("graph_time", 'timings["plan"]'), ("used_graph", "source")):
+        with pytest.raises(AttributeError, match=re.escape(f"PlanResult.{where}")):
+            getattr(result, name)
     assert not hasattr(mg, "warmup") and hasattr(result, "trajectory")
     # results still pickle and copy (plan_many sends them between processes)
     import copy
