@@ -234,3 +234,16 @@ def test_curobo_names_point_to_manips():
     again = pickle.loads(pickle.dumps(result))
     assert np.array_equal(again.trajectory.positions, result.trajectory.positions)
     assert copy.deepcopy(result).status is result.status
+
+
+def test_a_pose_goal_at_a_tiny_velocity_scale_is_planned_not_raised(mg):
+    """A motion of over an hour (velocity_scale 1e-4): ruckig refuses the lower bound that ranks
+    the goal's IK solutions (a RuckigError, or a ValueError for its code -101); the bound falls
+    back to the joints' own S-curves, and the plan goes on as plan_joints' does."""
+    goal = Pose([0.45, -0.3, 0.3], DOWN)
+    left, _ = _left_right(mg)
+    r = mg.plan_pose(left, goal, seed=0, velocity_scale=1e-4, dt=1.0)
+    assert r.success, r.message
+    assert r.trajectory.duration > 3600.0
+    assert np.all(np.abs(r.trajectory.velocities) <= 1e-4 * mg.velocity_limits * (1 + 1e-6))
+    _verify(mg, r, goal_pose=goal)
