@@ -247,3 +247,35 @@ def test_a_pose_goal_at_a_tiny_velocity_scale_is_planned_not_raised(mg):
     assert r.trajectory.duration > 3600.0
     assert np.all(np.abs(r.trajectory.velocities) <= 1e-4 * mg.velocity_limits * (1 + 1e-6))
     _verify(mg, r, goal_pose=goal)
+
+
+def test_curobo_names_of_the_world_pose_and_ik_point_to_manips(mg):
+    """manip's WorldConfig, Pose, IKSolver and IKResult carry cuRobo's class names; a cuRobo
+    script's calls on them (`world.add_obstacle`, `Pose.from_list`, `ik_solver.solve_single`,
+    `result.solution`) name manip's equivalent instead of a bare "no attribute"."""
+    world = WorldConfig.from_dict(TABLE_WALL)
+    cases = [
+        (world, "add_obstacle", "WorldConfig.add(obstacle)"), (world, "remove_obstacle", "WorldConfig.remove(name)"),
+        (world, "get_obstacle", "WorldConfig.get(name)"), (world, "objects", "WorldConfig.obstacles"),
+        (world, "cuboid", "WorldConfig.obstacles"), (world, "clone", "WorldConfig.copy()"),
+        (Pose([0, 0, 0]), "to_list", "Pose.to_xyz_wxyz()"),
+        (Pose([0, 0, 0]), "get_matrix", "Pose.as_matrix()"), (Pose([0, 0, 0]), "multiply", "@"),
+        (mg.ik_solver, "solve_single", "IKSolver.solve(goal"), (mg.ik_solver, "solve_goalset", "IKSolver."),
+    ]
+    result = mg.ik(Pose([0.45, -0.3, 0.3], DOWN), seed_q=READY)
+    cases += [(result, "solution", "IKResult.q"), (result, "js_solution", "IKResult.q")]
+    for owner, name, where in cases:
+        with pytest.raises(AttributeError, match=rf"no '{name}' \(cuRobo's name\); manip's equivalent: .*{re.escape(where)}"):
+            getattr(owner, name)
+    # cuRobo's goal constructor works as it does there: [x, y, z, qw, qx, qy, qz]
+    assert Pose.from_list([0.45, -0.3, 0.3, 0, 1, 0, 0]).isclose(Pose([0.45, -0.3, 0.3], DOWN))
+    # other missing names, private ones included, stay plain (copy and pickle probe those)
+    for owner in (world, Pose([0, 0, 0]), mg.ik_solver, result):
+        with pytest.raises(AttributeError, match="has no attribute 'no_such_name'"):
+            owner.no_such_name
+        assert not hasattr(owner, "_no_such_private")
+    import copy
+    import pickle
+    assert pickle.loads(pickle.dumps(world)).names == world.names
+    assert copy.deepcopy(Pose([1, 2, 3])).isclose(Pose([1, 2, 3]))
+    assert np.array_equal(pickle.loads(pickle.dumps(result)).q, result.q)

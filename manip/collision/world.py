@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 import yaml
 
+from manip import curobo_names
 from manip.errors import InvalidInputError, UnknownNameError
 from manip.pose import Pose
 from manip.collision.occupancy import OccupancyMap
@@ -126,6 +127,12 @@ class WorldConfig:
 
     def __len__(self) -> int:
         return len(self._obstacles)
+
+    def __getattr__(self, name: str):
+        # only for missing names: cuRobo's (add_obstacle, ...) say where manip has them
+        if name.startswith("_"):
+            raise AttributeError(name)
+        raise curobo_names.missing(type(self).__name__, curobo_names.WORLD_CONFIG, name)
 
     def __contains__(self, name: object) -> bool:
         return name in self._obstacles
