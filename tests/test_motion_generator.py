@@ -279,3 +279,25 @@ def test_curobo_names_of_the_world_pose_and_ik_point_to_manips(mg):
     assert pickle.loads(pickle.dumps(world)).names == world.names
     assert copy.deepcopy(Pose([1, 2, 3])).isclose(Pose([1, 2, 3]))
     assert np.array_equal(pickle.loads(pickle.dumps(result)).q, result.q)
+
+
+def test_a_start_a_hair_outside_a_limit_never_leaves_the_limits_again():
+    """A start 5e-5 rad above panda_joint7's upper limit is accepted as given, and the timing may
+    reach that far out; but once a joint is inside its limits it stays inside (1e-6 rad): the
+    linear motion's spline through IK points lying on the limit went 2 urad past it mid-motion."""
+    mg = MotionGenerator("franka")
+    base = mg.ik(Pose([0.4, -0.2, 0.3], DOWN), seed_q=READY).q
+    start = base.copy()
+    start[6] = mg.upper_limits[6] + 5e-5
+    here = mg.fk(start)
+    goal = Pose(here.position + [0.0, 0.0, 0.05], here.quaternion)
+    r = mg.plan_pose(start, goal, linear=True)
+    assert r.success, r.message
+    t = np.union1d(r.trajectory.times, np.linspace(0.0, r.trajectory.duration, 5001))
+    q = r.trajectory.at_time(t)[0]
+    out = np.maximum(mg.lower_limits - q, q - mg.upper_limits)
+    assert np.array_equal(q[0], start) and out.max() <= 5e-5 + 1e-12
+    inside = out <= 1e-6
+    assert not np.any(np.maximum.accumulate(inside, axis=0) & ~inside)
+    dp, dr = mg.fk(r.trajectory.positions[-1]).distance(goal)
+    assert dp <= 1e-3 and dr <= 0.01
