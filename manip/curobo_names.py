@@ -36,6 +36,54 @@ RESULT = {
     "total_time": "plan_time",
     "valid_query": "status (INVALID_* members say what was wrong with the query)",
     "path_buffer_last_tstep": "trajectory.num_samples",
+    "goalset_index": "goal_index (which pose of plan_goalset's batch was reached)",
+    "ik_time": 'timings["ik"] [s]',
+    "trajopt_time": 'timings["trajopt"] [s]',
+    "graph_time": 'timings["plan"] [s] (the path search)',
+    "used_graph": 'source ("straight_line" when no search was needed)',
+}
+
+
+#: cuRobo `WorldConfig` member -> manip's `WorldConfig` equivalent.
+WORLD_CONFIG = {
+    "add_obstacle": "add(obstacle)",
+    "remove_obstacle": "remove(name)",
+    "get_obstacle": "get(name)",
+    "objects": "obstacles (a list of every shape)",
+    "cuboid": 'obstacles (filter by kind: [o for o in world if o.kind == "cuboid"])',
+    "sphere": 'obstacles (filter by kind: [o for o in world if o.kind == "sphere"])',
+    "cylinder": 'obstacles (filter by kind: [o for o in world if o.kind == "cylinder"])',
+    "capsule": 'obstacles (filter by kind: [o for o in world if o.kind == "capsule"])',
+    "mesh": 'obstacles (filter by kind: [o for o in world if o.kind == "mesh"])',
+    "clone": "copy()",
+    "create_obb_world": "the world itself (primitives are checked exactly; no bounding boxes needed)",
+    "create_collision_support_world": "the world itself (meshes and every primitive are checked as they are)",
+}
+
+#: cuRobo `Pose` member -> manip's `Pose` equivalent (`Pose.from_list` is the same on both).
+POSE = {
+    "to_list": "to_xyz_wxyz() (cuRobo's order; to_xyz_xyzw() for ROS's)",
+    "tolist": "to_xyz_wxyz() (cuRobo's order; to_xyz_xyzw() for ROS's)",
+    "get_matrix": "as_matrix()",
+    "multiply": "@ (a @ b: b's pose expressed in a's frame composed with a)",
+    "clone": "the Pose itself (immutable)",
+    "batch": "len(pose) (is_batch says whether it is a batch)",
+}
+
+#: cuRobo `IKSolver` member -> manip's `IKSolver` equivalent.
+IK_SOLVER = {
+    "solve_single": "solve(goal, link, seed_q)",
+    "solve_goalset": "solve_batch(goals, link, seed_q) (each goal solved; MotionGenerator.plan_goalset picks the best)",
+    "solve_batch_goalset": "solve_batch(goals, link, seed_q)",
+    "sample_configs": "kinematics.limits (sample uniformly between lower and upper)",
+}
+
+#: cuRobo `IKResult` member -> manip's `IKResult` equivalent.
+IK_RESULT = {
+    "solution": "q ((dof,) joints in joint_names order)",
+    "js_solution": "q ((dof,) joints in joint_names order)",
+    "goalset_index": "nothing: IK takes one goal (MotionGenerator.batch_ik for several)",
+    "error": "position_error [m] and rotation_error [rad]",
 }
 
 

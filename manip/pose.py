@@ -11,6 +11,7 @@ from typing import Sequence
 
 import numpy as np
 
+from manip import curobo_names
 from manip import quaternion as quat
 from manip.errors import InvalidInputError
 from manip.validation import as_real_array
@@ -106,6 +107,11 @@ class Pose:
         return cls(v[..., :3], v[..., 3:])
 
     @classmethod
+    def from_list(cls, v: Sequence[float] | np.ndarray) -> Pose:
+        """cuRobo's `Pose.from_list`: the same as `from_xyz_wxyz` ([x, y, z, qw, qx, qy, qz])."""
+        return cls.from_xyz_wxyz(v)
+
+    @classmethod
     def stack(cls, poses: Sequence[Pose]) -> Pose:
         """Batch single poses (or concatenate batches) into one batched Pose."""
         if len(poses) == 0:
@@ -199,6 +205,12 @@ class Pose:
         """True when every pose is within the tolerances [m], [rad] of `other`."""
         dp, dr = self.distance(other)
         return bool(np.all(dp <= position_tol) and np.all(dr <= rotation_tol))
+
+    def __getattr__(self, name: str):
+        # only for missing names: cuRobo's (to_list, get_matrix, ...) say where manip has them
+        if name.startswith("_"):
+            raise AttributeError(name)
+        raise curobo_names.missing(type(self).__name__, curobo_names.POSE, name)
 
     def __repr__(self) -> str:
         if self.is_batch:

@@ -62,7 +62,11 @@ class WorldEdits:
         return bool(self.checker.in_collision(self._one_q(q, "q")))
 
     def distance(self, q: np.ndarray | Sequence[float]) -> float:
-        """Signed distance [m] of `q` (dof,) to the world and to itself (< 0: penetration)."""
+        """Signed distance [m] of `q` (dof,) to the world and to itself (< 0: penetration).
+
+        The robot's link meshes enter through their convex hulls: exact for convex links (the
+        Panda's), a lower bound for others (a UR5 forearm's hull may overlap its wrist by
+        centimetres where the meshes are clear); `check_collision` is the exact answer."""
         return float(self.checker.distance(self._one_q(q, "q")))
 
     def attach_object(self, name_or_shape, q: np.ndarray | Sequence[float] | None = None, link: str | None = None,

@@ -6,6 +6,8 @@ Every successful trajectory is checked by the independent verifier of
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -218,6 +220,13 @@ def test_curobo_names_point_to_manips():
         result.get_interpolated_plan()
     with pytest.raises(AttributeError, match="'PlanResult' object has no attribute 'no_such_field'"):
         result.no_such_field
+    # a goal-set plan's index, and the stage timings, under cuRobo's MotionGenResult names
+    with pytest.raises(AttributeError, match=r"goalset_index' \(cuRobo's name\); manip's equivalent: PlanResult.goal_index"):
+        result.goalset_index
+    for name, where in (("ik_time", 'timings["ik"]'), ("trajopt_time", 'timings["trajopt"]'),
+                        ("graph_time", 'timings["plan"]'), ("used_graph", "source")):
+        with pytest.raises(AttributeError, match=re.escape(f"PlanResult.{where}")):
+            getattr(result, name)
     assert not hasattr(mg, "warmup") and hasattr(result, "trajectory")
     # results still pickle and copy (plan_many sends them between processes)
     import copy
@@ -225,3 +234,70 @@ def test_curobo_names_point_to_manips():
     again = pickle.loads(pickle.dumps(result))
     assert np.array_equal(again.trajectory.positions, result.trajectory.positions)
     assert copy.deepcopy(result).status is result.status
+
+
+def test_a_pose_goal_at_a_tiny_velocity_scale_is_planned_not_raised(mg):
+    """A motion of over an hour (velocity_scale 1e-4): ruckig refuses the lower bound that ranks
+    the goal's IK solutions (a RuckigError, or a ValueError for its code -101); the bound falls
+    back to the joints' own S-curves, and the plan goes on as plan_joints' does."""
+    goal = Pose([0.45, -0.3, 0.3], DOWN)
+    left, _ = _left_right(mg)
+    r = mg.plan_pose(left, goal, seed=0, velocity_scale=1e-4, dt=1.0)
+    assert r.success, r.message
+    assert r.trajectory.duration > 3600.0
+    assert np.all(np.abs(r.trajectory.velocities) <= 1e-4 * mg.velocity_limits * (1 + 1e-6))
+    _verify(mg, r, goal_pose=goal)
+
+
+def test_curobo_names_of_the_world_pose_and_ik_point_to_manips(mg):
+    """manip's WorldConfig, Pose, IKSolver and IKResult carry cuRobo's class names; a cuRobo
+    script's calls on them (`world.add_obstacle`, `Pose.from_list`, `ik_solver.solve_single`,
+    `result.solution`) name manip's equivalent instead of a bare "no attribute"."""
+    world = WorldConfig.from_dict(TABLE_WALL)
+    cases = [
+        (world, "add_obstacle", "WorldConfig.add(obstacle)"), (world, "remove_obstacle", "WorldConfig.remove(name)"),
+        (world, "get_obstacle", "WorldConfig.get(name)"), (world, "objects", "WorldConfig.obstacles"),
+        (world, "cuboid", "WorldConfig.obstacles"), (world, "clone", "WorldConfig.copy()"),
+        (Pose([0, 0, 0]), "to_list", "Pose.to_xyz_wxyz()"),
+        (Pose([0, 0, 0]), "get_matrix", "Pose.as_matrix()"), (Pose([0, 0, 0]), "multiply", "@"),
+        (mg.ik_solver, "solve_single", "IKSolver.solve(goal"), (mg.ik_solver, "solve_goalset", "IKSolver."),
+    ]
+    result = mg.ik(Pose([0.45, -0.3, 0.3], DOWN), seed_q=READY)
+    cases += [(result, "solution", "IKResult.q"), (result, "js_solution", "IKResult.q")]
+    for owner, name, where in cases:
+        with pytest.raises(AttributeError, match=rf"no '{name}' \(cuRobo's name\); manip's equivalent: .*{re.escape(where)}"):
+            getattr(owner, name)
+    # cuRobo's goal constructor works as it does there: [x, y, z, qw, qx, qy, qz]
+    assert Pose.from_list([0.45, -0.3, 0.3, 0, 1, 0, 0]).isclose(Pose([0.45, -0.3, 0.3], DOWN))
+    # other missing names, private ones included, stay plain (copy and pickle probe those)
+    for owner in (world, Pose([0, 0, 0]), mg.ik_solver, result):
+        with pytest.raises(AttributeError, match="has no attribute 'no_such_name'"):
+            owner.no_such_name
+        assert not hasattr(owner, "_no_such_private")
+    import copy
+    import pickle
+    assert pickle.loads(pickle.dumps(world)).names == world.names
+    assert copy.deepcopy(Pose([1, 2, 3])).isclose(Pose([1, 2, 3]))
+    assert np.array_equal(pickle.loads(pickle.dumps(result)).q, result.q)
+
+
+def test_a_start_a_hair_outside_a_limit_never_leaves_the_limits_again():
+    """A start 5e-5 rad above panda_joint7's upper limit is accepted as given, and the timing may
+    reach that far out; but once a joint is inside its limits it stays inside (1e-6 rad): the
+    linear motion's spline through IK points lying on the limit went 2 urad past it mid-motion."""
+    mg = MotionGenerator("franka")
+    base = mg.ik(Pose([0.4, -0.2, 0.3], DOWN), seed_q=READY).q
+    start = base.copy()
+    start[6] = mg.upper_limits[6] + 5e-5
+    here = mg.fk(start)
+    goal = Pose(here.position + [0.0, 0.0, 0.05], here.quaternion)
+    r = mg.plan_pose(start, goal, linear=True)
+    assert r.success, r.message
+    t = np.union1d(r.trajectory.times, np.linspace(0.0, r.trajectory.duration, 5001))
+    q = r.trajectory.at_time(t)[0]
+    out = np.maximum(mg.lower_limits - q, q - mg.upper_limits)
+    assert np.array_equal(q[0], start) and out.max() <= 5e-5 + 1e-12
+    inside = out <= 1e-6
+    assert not np.any(np.maximum.accumulate(inside, axis=0) & ~inside)
+    dp, dr = mg.fk(r.trajectory.positions[-1]).distance(goal)
+    assert dp <= 1e-3 and dr <= 0.01

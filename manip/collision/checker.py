@@ -347,12 +347,21 @@ class CollisionChecker(WorldEdits, SegmentChecks):
 
     @consistent
     def in_collision_exact(self, q: np.ndarray) -> bool:
-        """`in_collision` without any broadphase: coal on every pair (slow; a reference)."""
+        """`in_collision` without any broadphase: coal on every pair (slow; a reference).
+
+        The same pairs as `in_collision`: the surface the base stands on (`below_base`) is not
+        checked against the links fixed to the base, nor are contacts `allowing` allows."""
         R, p = self._fk(self._one_q(q)[None])
         tfs: dict = {}
+        skip = np.zeros((len(self._parts), len(self._obs)), dtype=bool)
+        if len(self._obs):
+            skip[np.ix_(self._pj == 0, self._world_tables.below_base())] = True
+            allowed = self.__dict__.get("_allowed_world")
+            if allowed is not None:
+                skip |= allowed
         for g in range(len(self._parts)):
             for o in range(len(self._obs)):
-                if self._exact(R, p, 0, 0, g, o, tfs):
+                if not skip[g, o] and self._exact(R, p, 0, 0, g, o, tfs):
                     return True
         for a, b in self._pairs:
             if self._exact(R, p, 0, 1, int(a), int(b), tfs):

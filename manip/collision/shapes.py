@@ -6,7 +6,9 @@ local frame in the robot base frame). Sizes are in metres. The local frames foll
 cylinder and a capsule are centred on their frame with their axis along local z.
 
 A pose may be given as a `Pose`, as a position [x, y, z] (identity rotation) or as
-cuRobo's 7-vector [x, y, z, qw, qx, qy, qz].
+cuRobo's 7-vector [x, y, z, qw, qx, qy, qz]. cuRobo's keyword forms work as written for it:
+`Cuboid(name=..., pose=..., dims=..., color=...)` (`color`, RGB or RGBA, is for a viewer and
+not used here), `Sphere(..., position=...)`, `Capsule(..., base=..., tip=...)`.
 """
 
 from __future__ import annotations
@@ -48,6 +50,18 @@ def as_pose(value: Pose | Sequence[float] | np.ndarray | None, what: str) -> Pos
             raise InvalidInputError(f"{what}: pose has non-finite values: {v.tolist()}")
         return Pose.from_xyz_wxyz(v)
     raise InvalidInputError(f"{what}: a pose must be a Pose, [x, y, z] or [x, y, z, qw, qx, qy, qz]; got shape {v.shape}")
+
+
+def _check_color(color: object, what: str) -> None:
+    """cuRobo's `color` (for its viewer; not used here): None or 3-4 finite numbers."""
+    if color is None:
+        return
+    try:
+        c = as_real_array(color, f"{what}: color")
+    except InvalidInputError:
+        c = np.zeros(0)
+    if c.shape not in ((3,), (4,)) or not np.all(np.isfinite(c)):
+        raise InvalidInputError(f"{what}: color must be None or [r, g, b] / [r, g, b, a] numbers; got {color!r}")
 
 
 def _check_name(name: object, kind: str) -> str:
@@ -93,14 +107,17 @@ class Cuboid(Obstacle):
         name: unique name in the world.
         dims: (3,) full edge lengths along the local x, y, z axes [m].
         pose: the box centre's pose in the base frame.
+        color: cuRobo's viewer colour (not used).
     """
 
     kind: ClassVar[str] = "cuboid"
 
     dims: np.ndarray = field(default=None)  # type: ignore[assignment]
 
-    def __init__(self, name: str, dims: Sequence[float] | np.ndarray, pose: Pose | Sequence[float] | None = None):
+    def __init__(self, name: str, dims: Sequence[float] | np.ndarray, pose: Pose | Sequence[float] | None = None, *,
+                 color: Sequence[float] | None = None):
         object.__setattr__(self, "name", _check_name(name, "cuboid"))
+        _check_color(color, f"cuboid '{name}'")
         try:
             d = as_real_array(dims, f"cuboid '{name}': dims") if dims is not None else np.zeros(0)
         except InvalidInputError:
@@ -126,15 +143,25 @@ class Sphere(Obstacle):
         name: unique name in the world.
         radius: [m] > 0.
         pose: the centre as a Pose or a position [x, y, z] in the base frame.
+        position: cuRobo's name for the centre [x, y, z] (instead of `pose`).
+        color: cuRobo's viewer colour (not used).
     """
 
     kind: ClassVar[str] = "sphere"
 
     radius: float = 0.0
 
-    def __init__(self, name: str, radius: float, pose: Pose | Sequence[float] | None = None):
+    def __init__(self, name: str, radius: float, pose: Pose | Sequence[float] | None = None, *,
+                 position: Sequence[float] | None = None, color: Sequence[float] | None = None):
         object.__setattr__(self, "name", _check_name(name, "sphere"))
         object.__setattr__(self, "radius", positive(radius, f"sphere '{name}': radius", "m"))
+        _check_color(color, f"sphere '{name}'")
+        if position is not None:
+            if pose is not None:
+                raise InvalidInputError(f"sphere '{name}': give its centre as position or as pose, not both")
+            pose = as_real_array(position, f"sphere '{name}': position")
+            if pose.shape != (3,):
+                raise InvalidInputError(f"sphere '{name}': position must be [x, y, z]; got {position!r}")
         object.__setattr__(self, "pose", as_pose(pose, f"sphere '{name}'"))
 
     @property
@@ -158,6 +185,7 @@ class Cylinder(Obstacle):
         radius: [m] > 0.
         height: full length along the axis [m] > 0.
         pose: the centre's pose in the base frame.
+        color: cuRobo's viewer colour (not used).
     """
 
     kind: ClassVar[str] = "cylinder"
@@ -165,8 +193,10 @@ class Cylinder(Obstacle):
     radius: float = 0.0
     height: float = 0.0
 
-    def __init__(self, name: str, radius: float, height: float, pose: Pose | Sequence[float] | None = None):
+    def __init__(self, name: str, radius: float, height: float, pose: Pose | Sequence[float] | None = None, *,
+                 color: Sequence[float] | None = None):
         object.__setattr__(self, "name", _check_name(name, "cylinder"))
+        _check_color(color, f"cylinder '{name}'")
         object.__setattr__(self, "radius", positive(radius, f"cylinder '{name}': radius", "m"))
         object.__setattr__(self, "height", positive(height, f"cylinder '{name}': height", "m"))
         object.__setattr__(self, "pose", as_pose(pose, f"cylinder '{name}'"))
@@ -188,9 +218,9 @@ class Capsule(Obstacle):
         height: length of the segment between the two sphere centres [m] >= 0 (the total
             length is `height + 2 * radius`; coal's convention).
         pose: the segment midpoint's pose in the base frame.
-
-    cuRobo's form (`radius`, `base`, `tip` points in a frame at `pose`) is accepted by
-    `Capsule.from_base_tip`.
+        base, tip: cuRobo's form, instead of `height`: the two sphere centres (3,) [m] in the
+            frame `pose` (as `Capsule.from_base_tip`).
+        color: cuRobo's viewer colour (not used).
     """
 
     kind: ClassVar[str] = "capsule"
@@ -198,8 +228,15 @@ class Capsule(Obstacle):
     radius: float = 0.0
     height: float = 0.0
 
-    def __init__(self, name: str, radius: float, height: float, pose: Pose | Sequence[float] | None = None):
+    def __init__(self, name: str, radius: float, height: float | None = None, pose: Pose | Sequence[float] | None = None,
+                 *, base: Sequence[float] | None = None, tip: Sequence[float] | None = None,
+                 color: Sequence[float] | None = None):
         object.__setattr__(self, "name", _check_name(name, "capsule"))
+        _check_color(color, f"capsule '{name}'")
+        if base is not None or tip is not None or height is None:
+            if height is not None or base is None or tip is None:
+                raise InvalidInputError(f"capsule '{name}': give either height (and pose) or both base and tip points")
+            height, pose = _base_tip(name, base, tip, pose)
         object.__setattr__(self, "radius", positive(radius, f"capsule '{name}': radius", "m"))
         object.__setattr__(self, "height", non_negative(height, f"capsule '{name}': height (segment length)", "m"))
         object.__setattr__(self, "pose", as_pose(pose, f"capsule '{name}'"))
@@ -214,32 +251,37 @@ class Capsule(Obstacle):
         pose: Pose | Sequence[float] | None = None,
     ) -> Capsule:
         """cuRobo's capsule: sphere centres `base` and `tip` (3,) given in the frame `pose`."""
-        a = as_real_array(base, f"capsule '{name}': base")
-        b = as_real_array(tip, f"capsule '{name}': tip")
-        if a.shape != (3,) or b.shape != (3,) or not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
-            raise InvalidInputError(f"capsule '{name}': base and tip must be finite points [x, y, z]; got {base!r}, {tip!r}")
-        frame = as_pose(pose, f"capsule '{name}'")
-        axis = b - a
-        length = float(np.linalg.norm(axis))
-        if length < 1e-12:
-            q = np.array([1.0, 0.0, 0.0, 0.0])
-        else:
-            z = np.array([0.0, 0.0, 1.0])
-            u = axis / length
-            c = float(np.dot(z, u))
-            if c < -1.0 + 1e-12:
-                q = np.array([0.0, 1.0, 0.0, 0.0])
-            else:
-                q = np.concatenate([[1.0 + c], np.cross(z, u)])  # half-way quaternion z -> u
-                q = q / np.linalg.norm(q)
-        local = Pose((a + b) / 2.0, q)
-        return cls(name, radius, length, frame @ local)
+        return cls(name, radius, pose=pose, base=base, tip=tip)
 
     def local_aabb(self) -> tuple[np.ndarray, np.ndarray]:
         return np.zeros(3), np.array([self.radius, self.radius, self.height / 2.0 + self.radius])
 
     def to_dict(self) -> dict:
         return {"radius": self.radius, "height": self.height, "pose": self._pose_list()}
+
+
+def _base_tip(name: str, base, tip, pose) -> tuple[float, Pose]:
+    """(segment length [m], midpoint pose) of a capsule given by its sphere centres `base` and
+    `tip` (3,) in the frame `pose`."""
+    a = as_real_array(base, f"capsule '{name}': base")
+    b = as_real_array(tip, f"capsule '{name}': tip")
+    if a.shape != (3,) or b.shape != (3,) or not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
+        raise InvalidInputError(f"capsule '{name}': base and tip must be finite points [x, y, z]; got {base!r}, {tip!r}")
+    frame = as_pose(pose, f"capsule '{name}'")
+    axis = b - a
+    length = float(np.linalg.norm(axis))
+    if length < 1e-12:
+        q = np.array([1.0, 0.0, 0.0, 0.0])
+    else:
+        z = np.array([0.0, 0.0, 1.0])
+        u = axis / length
+        c = float(np.dot(z, u))
+        if c < -1.0 + 1e-12:
+            q = np.array([0.0, 1.0, 0.0, 0.0])
+        else:
+            q = np.concatenate([[1.0 + c], np.cross(z, u)])  # half-way quaternion z -> u
+            q = q / np.linalg.norm(q)
+    return length, frame @ Pose((a + b) / 2.0, q)
 
 
 @dataclass(frozen=True, eq=False)
@@ -268,6 +310,7 @@ class Mesh(Obstacle):
         faces: (F, 3) vertex indices of the triangles.
         solid: True: the closed mesh is a solid (InvalidInputError if it is not closed);
             False (default): a surface.
+        color: cuRobo's viewer colour (not used).
     """
 
     kind: ClassVar[str] = "mesh"
@@ -287,8 +330,11 @@ class Mesh(Obstacle):
         vertices: np.ndarray | None = None,
         faces: np.ndarray | None = None,
         solid: bool = False,
+        *,
+        color: Sequence[float] | None = None,
     ):
         object.__setattr__(self, "name", _check_name(name, "mesh"))
+        _check_color(color, f"mesh '{name}'")
         if not isinstance(solid, (bool, np.bool_)):
             raise InvalidInputError(f"mesh '{name}': solid must be True or False; got {solid!r}")
         object.__setattr__(self, "pose", as_pose(pose, f"mesh '{name}'"))

@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 import yaml
 
+from manip import curobo_names
 from manip.errors import InvalidInputError, UnknownNameError
 from manip.pose import Pose
 from manip.collision.occupancy import OccupancyMap
@@ -46,15 +47,26 @@ class WorldConfig:
     Args:
         obstacles: shapes (`Cuboid`, `Sphere`, `Cylinder`, `Capsule`, `Mesh`) with poses in
             the robot base frame.
+        cuboid, sphere, cylinder, capsule, mesh: cuRobo's form, `WorldConfig(cuboid=[...],
+            mesh=[...])`: shapes of that kind each (added after `obstacles`, in this order).
 
     Raises:
-        InvalidInputError: two obstacles share a name, or an entry is not a shape.
+        InvalidInputError: two obstacles share a name, an entry is not a shape, or a keyword's
+            list holds a shape of another kind.
     """
 
-    def __init__(self, obstacles: Iterable[Obstacle] = ()):
+    def __init__(self, obstacles: Iterable[Obstacle] = (), *, cuboid: Iterable[Cuboid] = (),
+                 sphere: Iterable[Sphere] = (), cylinder: Iterable[Cylinder] = (), capsule: Iterable[Capsule] = (),
+                 mesh: Iterable[Mesh] = ()):
         self._obstacles: dict[str, Obstacle] = {}
         for ob in obstacles:
             self.add(ob)
+        for kind, shapes in (("cuboid", cuboid), ("sphere", sphere), ("cylinder", cylinder), ("capsule", capsule),
+                             ("mesh", mesh)):
+            for ob in shapes or ():
+                if getattr(ob, "kind", None) != kind:
+                    raise InvalidInputError(f"WorldConfig({kind}=[...]) holds {kind} shapes only; got {ob!r}")
+                self.add(ob)
 
     # ------------------------------------------------------------------ container
     def add(self, obstacle: Obstacle) -> None:
@@ -115,6 +127,12 @@ class WorldConfig:
 
     def __len__(self) -> int:
         return len(self._obstacles)
+
+    def __getattr__(self, name: str):
+        # only for missing names: cuRobo's (add_obstacle, ...) say where manip has them
+        if name.startswith("_"):
+            raise AttributeError(name)
+        raise curobo_names.missing(type(self).__name__, curobo_names.WORLD_CONFIG, name)
 
     def __contains__(self, name: object) -> bool:
         return name in self._obstacles

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from manip import curobo_names
 from manip.status import Status, no_truth_value, truth_is_success
 
 
@@ -78,6 +79,12 @@ class IKResult:
     solve_time: float
     attempts: int
     message: str = ""
+
+    def __getattr__(self, name: str):
+        # only for missing names: cuRobo's (solution, js_solution, ...) say where manip has them
+        if name.startswith("_"):
+            raise AttributeError(name)
+        raise curobo_names.missing(type(self).__name__, curobo_names.IK_RESULT, name)
 
 
 @dataclass(frozen=True)

@@ -28,6 +28,7 @@ from typing import NamedTuple
 import numpy as np
 import pinocchio as pin
 
+from manip import curobo_names
 from manip.errors import InvalidInputError
 from manip.ik.batch import run_lanes
 from manip.ik.kernels import _INTERNAL_TOLERANCE, _MIN_DAMPING, _STALL_ITERATIONS, _lm_lanes, _slide_lanes
@@ -350,6 +351,12 @@ class IKSolver:
         status = IKStatus.REJECTED_BY_VALIDITY if verified else IKStatus.NOT_CONVERGED
         best = int(np.argmin(ep / self.position_tolerance + er / self.rotation_tolerance))
         return IKSolutions(sols, status, self._failure_message(status, m, ep[best], er[best], fid, p_goal, None), m)
+
+    def __getattr__(self, name: str):
+        # only for missing names: cuRobo's (solve_single, ...) say where manip has them
+        if name.startswith("_"):
+            raise AttributeError(name)
+        raise curobo_names.missing(type(self).__name__, curobo_names.IK_SOLVER, name)
 
     @property
     def _check_data(self):

@@ -40,8 +40,8 @@ class PlanOptions:
         dt: sample period of the returned trajectory [s].
         velocity_scale: factor in (0, 1] on the velocity limits.
         acceleration_scale: factor in (0, 1] on the acceleration and jerk limits.
-        duration: stretch the motion to this length [s] (TRAJOPT_FAIL if shorter than
-            feasible); None = as fast as the limits allow. duration / dt may not exceed
+        duration: stretch the motion to this length [s], rounded up to a multiple of `dt`
+            (TRAJOPT_FAIL if shorter than feasible); None = as fast as the limits allow. duration / dt may not exceed
             `manip.validation.MAX_SAMPLES` (and neither may the fastest motion's length / dt).
         ik_solutions: collision-free IK solutions sought per goal pose (the goals reached
             fastest are planned to first; BENCHMARKS.md, "Constants").

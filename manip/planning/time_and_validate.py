@@ -25,6 +25,8 @@ from manip.validation import MAX_SAMPLES
 
 #: Position-limit tolerance [rad] of trajectories whose start is inside the limits.
 LIMIT_TOLERANCE = 1e-6
+#: Time step [s] of the check that a motion from a start outside the limits stays in once in.
+REENTRY_STEP = 1e-3
 #: How far [rad] the blended timing of a path may cut its corners (`timing.time_path`).
 BLEND_DEVIATION = 0.05
 #: Smaller corner cuts [rad] tried in turn for a path that must keep constraints.
@@ -38,6 +40,8 @@ def validate_trajectory(traj: Trajectory, start: np.ndarray, goal: np.ndarray, v
         return "trajectory does not start at the start or end at the goal"
     if traj.num_samples > MAX_SAMPLES:
         return f"trajectory has {traj.num_samples} samples (more than MAX_SAMPLES = {MAX_SAMPLES})"
+    if why := limits_reentered(traj, start, validity):
+        return why
     certify = getattr(validity, "certify_trajectory", None)  # (tests hand in stand-in validities)
     cert = certify(traj) if certify is not None else validity.certify(traj.positions)
     if not cert.certified:
@@ -48,6 +52,30 @@ def validate_trajectory(traj: Trajectory, start: np.ndarray, goal: np.ndarray, v
         what = "collides" if cert.reason == "collision" else "could not be certified collision-free"
         return f"timed trajectory {what} near t = {t:.3f} s ({cert.pair[0]} / {cert.pair[1]})"
     return ""
+
+
+def limits_reentered(traj: Trajectory, start: np.ndarray, validity: Validity) -> str:
+    """Why the motion of a start outside the position limits is not acceptable ("" when it is).
+
+    Such a start (up to `context.START_LIMIT_TOLERANCE` out) is timed against limits widened by
+    its excess (`time_once`); every joint must still stay within LIMIT_TOLERANCE of its limits
+    from the first time it is inside them (a spline through IK points on a limit overshot it by
+    2 urad mid-motion). Checked at the samples and every REENTRY_STEP [s] of the exact motion."""
+    k = validity.kinematics
+    excess = np.maximum(k.lower - start, start - k.upper)
+    if not np.any(excess > LIMIT_TOLERANCE):
+        return ""
+    n = min(int(np.ceil(traj.duration / REENTRY_STEP)) + 1, MAX_SAMPLES)
+    t = np.union1d(traj.times, np.linspace(0.0, traj.duration, max(n, 2)))
+    q = traj.at_time(t)[0]
+    out = np.maximum(k.lower - q, q - k.upper)
+    inside = out <= LIMIT_TOLERANCE
+    bad = np.maximum.accumulate(inside, axis=0) & ~inside
+    if not bad.any():
+        return ""
+    i, j = np.argwhere(bad)[0]
+    return (f"joint {k.joint_names[j]} leaves its limits again by {out[i, j]:.2g} rad near t = {t[i]:.3f} s "
+            f"(the start is {float(np.max(excess)):.2g} rad outside)")
 
 
 def time_once(ctx: PlanContext, path: np.ndarray, *, limits: JointLimits, validity: Validity, mode: str,

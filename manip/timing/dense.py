@@ -22,6 +22,7 @@ from manip.timing.checks import check_deviation_tolerance, check_inputs
 from manip.timing.result import TimingResult, TimingStatus
 from manip.timing.shared import (
     LIMIT_MARGIN,
+    RUCKIG_ERRORS,
     RestToRest,
     RuckigFailure,
     endpoint_problems,
@@ -59,7 +60,7 @@ class _Rest1D(RestToRest):
         """Duration [s] with limits (v, a, j) on s-dot, s-ddot, s-dddot (shrunk by the margin), or None."""
         try:
             res = self.calculate(self.length, v * (1 - LIMIT_MARGIN), a * (1 - LIMIT_MARGIN), j * (1 - LIMIT_MARGIN))
-        except ruckig.RuckigError:
+        except RUCKIG_ERRORS:
             return None
         if res != ruckig.Result.Working:
             return None

@@ -14,7 +14,7 @@ import ruckig
 
 from manip.jit import kernel
 from manip.limits import JointLimits
-from manip.timing.shared import LIMIT_MARGIN, RestToRest, RuckigFailure
+from manip.timing.shared import LIMIT_MARGIN, RUCKIG_ERRORS, RestToRest, RuckigFailure
 from manip.trajectory import PiecewiseJerkProfile
 
 # Deviation is measured on each segment every this many seconds (at most).
@@ -85,7 +85,7 @@ class SegmentSolver:
                 float(np.min(self.used.acceleration[nz] / mag[nz])),
                 float(np.min(self.used.jerk[nz] / mag[nz])),
             )
-        except ruckig.RuckigError as e:
+        except RUCKIG_ERRORS as e:
             raise RuckigFailure(f"ruckig rejected a straight segment of length {length} rad: {e}") from e
         if res != ruckig.Result.Working:
             raise RuckigFailure(f"ruckig returned {res} on a straight segment of length {length} rad")
@@ -118,7 +118,7 @@ class SegmentSolver:
         inp.target_velocity = v1.tolist()
         try:
             res = self.otg.calculate(inp, self.traj)
-        except ruckig.RuckigError as e:
+        except RUCKIG_ERRORS as e:
             raise RuckigFailure(f"ruckig rejected the segment from {p0} / {v0} to {p1} / {v1}: {e}") from e
         if res != ruckig.Result.Working:
             raise RuckigFailure(f"ruckig returned {res} from {p0} / {v0} to {p1} / {v1}")

@@ -21,6 +21,10 @@ logger = logging.getLogger(__name__)
 # crosses the caller's limits, which are then checked exactly (no tolerance).
 LIMIT_MARGIN = 1e-9
 
+#: What ruckig's Python binding raises when it fails: RuckigError, or a ValueError for a result code
+#: its `Result` enum lacks (-101, ErrorTrajectoryDuration: a motion beyond its numerical range, hours).
+RUCKIG_ERRORS = (ruckig.RuckigError, ValueError)
+
 
 class RuckigFailure(RuntimeError):
     """Ruckig failed or returned an unusable profile (reported as `TimingStatus.RUCKIG_FAIL`)."""
@@ -38,7 +42,7 @@ class RestToRest:
         self.traj = ruckig.Trajectory(1)
 
     def calculate(self, length: float, v: float, a: float, j: float) -> ruckig.Result:
-        """Solve to `length` with limits (v, a, j) used as given; raises `ruckig.RuckigError`."""
+        """Solve to `length` with limits (v, a, j) used as given; raises one of `RUCKIG_ERRORS`."""
         self.inp.target_position = [length]
         self.inp.max_velocity = [v]
         self.inp.max_acceleration = [a]

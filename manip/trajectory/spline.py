@@ -15,6 +15,9 @@ from manip.trajectory.profiles import PiecewiseJerkProfile, quadratic_roots, rea
 
 # PathProfile.extrema evaluates the motion at least this often [s].
 _EXTREMA_STEP = 2.5e-4
+#: At most this many times in `PathProfile.dense_times` (~11 MB per array of a 7-joint arm): a motion
+#: longer than 50 s (a slow velocity_scale, a long `duration`) is sampled every duration / this.
+MAX_DENSE_TIMES = 200_000
 
 @dataclass(frozen=True, eq=False)
 class CubicSplinePath:
@@ -223,8 +226,9 @@ class PathProfile:
         return PathProfile(self.path, self.timing.time_scaled(factor))
 
     def dense_times(self, step: float = _EXTREMA_STEP) -> np.ndarray:
-        """(N,) times [s] every <= `step` [s] plus every knot of the timing profile."""
-        n = max(2, int(np.ceil(self.duration / step)) + 1)
+        """(N,) times [s] every <= max(`step`, duration / MAX_DENSE_TIMES) [s] plus every knot of the
+        timing profile (a motion of hours took gigabytes at 0.25 ms)."""
+        n = max(2, min(int(np.ceil(self.duration / step)), MAX_DENSE_TIMES) + 1)
         return np.union1d(np.linspace(0.0, self.duration, n), self.timing.knots[0])
 
     @cached_property
@@ -244,9 +248,10 @@ class PathProfile:
 
         Positions are exact (the range of the curve, which `s` covers entirely);
         velocity, acceleration and jerk maxima are the largest values at times every
-        <= h = 0.25 ms and at every knot of the timing profile, not analytic: with `J` the
-        largest jerk, the velocity maximum is within `J h^2 / 8` (about 4e-6 rad/s for
-        J = 500 rad/s^3) and the acceleration maximum within `J h / 2` of the true one.
+        <= h = 0.25 ms (duration / MAX_DENSE_TIMES beyond 50 s) and at every knot of the timing
+        profile, not analytic: with `J` the largest jerk, the velocity maximum is within
+        `J h^2 / 8` (about 4e-6 rad/s for J = 500 rad/s^3 and 0.25 ms) and the acceleration
+        maximum within `J h / 2` of the true one.
         (The timing guarantees the limits by construction, not by these values.)
         """
         return {k: v.copy() for k, v in self._extrema.items()}

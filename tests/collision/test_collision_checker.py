@@ -453,3 +453,24 @@ def test_edits_keep_snapshots_unchanged(franka_config, franka_kinematics, world,
     assert np.array_equal(snap.in_collision_batch(random_q[:100]), before)
     assert snap.world.names == world.names
     assert not np.array_equal(ck.in_collision_batch(random_q[:100]), before)
+
+
+def test_exact_reference_leaves_the_base_on_its_floor_as_in_collision_does():
+    """`in_collision_exact` is `in_collision` without the broadphase: a floor the base stands on
+    (its top within 1 mm below z = 0) is not checked against the links fixed to the base in
+    either (the UR5's base_link mesh reaches below z = 0), and a moving link in it collides in both."""
+    from manip.kinematics import Kinematics
+    from manip.robot_config import load_robot_config
+
+    ur5 = load_robot_config("ur5")
+    kin = Kinematics(ur5)
+    floor = Cuboid("floor", [3.0, 3.0, 0.02], [0.0, 0.0, -0.011])
+    cc = CollisionChecker(ur5, kin, WorldConfig([floor]))
+    q = ur5.default_joint_positions
+    assert not cc.in_collision(q)
+    assert not cc.in_collision_exact(q)
+    rng = np.random.default_rng(0)
+    Q = rng.uniform(kin.lower, kin.upper, (60, kin.dof))
+    fast = cc.in_collision_batch(Q)
+    assert fast.any() and not fast.all()
+    assert [cc.in_collision_exact(x) for x in Q] == fast.tolist()

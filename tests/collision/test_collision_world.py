@@ -144,3 +144,42 @@ def test_moveit_scene_uses_xyzw_and_height_radius():
     assert (can.height, can.radius) == (0.14, 0.03)
     np.testing.assert_allclose(can.pose.quaternion, [0.7071068, 0, 0, 0.7071068], atol=1e-6)
     np.testing.assert_allclose(w.get("shelf_1").dims, [1.2, 0.04, 0.5])
+
+
+def test_curobo_keyword_construction_as_its_tutorial_writes_it():
+    """cuRobo's "Collision World Representation" page builds its world this way: each shape by
+    keywords (a `color` for its viewer, a capsule by `base` / `tip`, a sphere by `position` or
+    `pose`) and `WorldConfig(cuboid=[...], mesh=[...], ...)`; the same world as its dict."""
+    link3 = Path(__file__).resolve().parents[2] / "robots" / "franka"
+    mesh_file = next(link3.rglob("link3.stl"))
+    pose = [0.0, 0.0, 0.0, 0.043, -0.471, 0.284, 0.834]
+    pose = list(np.r_[pose[:3], np.array(pose[3:]) / np.linalg.norm(pose[3:])])
+    cube = Cuboid(name="cube_1", pose=pose, dims=[0.2, 1.0, 0.2], color=[0.8, 0.0, 0.0, 1.0])
+    mesh = Mesh(name="mesh_1", pose=[0.0, 2, 0.5] + pose[3:], file_path=str(mesh_file), scale=[0.5, 0.5, 0.5])
+    capsule = Capsule(name="capsule", radius=0.2, base=[0, 0, 0], tip=[0, 0, 0.5], pose=[0.0, 5, 0.0] + pose[3:],
+                      color=[0, 1.0, 0, 1.0])
+    cylinder = Cylinder(name="cylinder_1", radius=0.01, height=0.1, pose=[0.0, 6, 0.0] + pose[3:], color=[0, 1.0, 0, 1.0])
+    sphere = Sphere(name="sphere_1", radius=0.01, pose=[0.0, 7, 0.0] + pose[3:], color=[0, 1.0, 0, 1.0])
+    ball = Sphere(name="ball", radius=0.05, position=[0.4, 0.3, 0.2])
+    world = WorldConfig(mesh=[mesh], cuboid=[cube], capsule=[capsule], cylinder=[cylinder], sphere=[sphere, ball])
+    assert sorted(world.names) == ["ball", "capsule", "cube_1", "cylinder_1", "mesh_1", "sphere_1"]
+    same = WorldConfig.from_dict({
+        "capsule": {"capsule": {"radius": 0.2, "base": [0, 0, 0], "tip": [0, 0, 0.5], "pose": [0.0, 5, 0.0] + pose[3:]}},
+        "sphere": {"ball": {"radius": 0.05, "position": [0.4, 0.3, 0.2]}},
+    })
+    for name in ("capsule", "ball"):
+        assert world.get(name).to_dict() == same.get(name).to_dict()
+    np.testing.assert_allclose(world.get("ball").position, [0.4, 0.3, 0.2])
+    # each list holds its own kind; a shape given twice, or a position and a pose, says so
+    with pytest.raises(InvalidInputError, match="cuboid"):
+        WorldConfig(cuboid=[ball])
+    with pytest.raises(InvalidInputError, match="sphere_1"):
+        WorldConfig([sphere], sphere=[sphere])
+    with pytest.raises(InvalidInputError, match="position"):
+        Sphere(name="s", radius=0.1, position=[0, 0, 0], pose=[0, 0, 0, 1, 0, 0, 0])
+    with pytest.raises(InvalidInputError, match="base"):
+        Capsule(name="c", radius=0.1, height=0.2, base=[0, 0, 0], tip=[0, 0, 1])
+    with pytest.raises(InvalidInputError, match="height"):
+        Capsule(name="c", radius=0.1)
+    with pytest.raises(InvalidInputError, match="color"):
+        Cuboid(name="c", dims=[1, 1, 1], color="red")

@@ -506,3 +506,23 @@ def test_segment_deviation_is_the_largest_sampled_distance_from_the_path(cfg):
         expected = float(polyline_distances(q, sub_path).max())
         assert segment_deviation(seg, sub_path) == pytest.approx(expected, rel=1e-12, abs=1e-12)
         assert expected > 0.0
+
+
+def test_dense_timing_of_a_motion_of_hours_checks_a_bounded_grid(cfg, line_path):
+    """A straight-line path at 1e-5 of the velocity limits lasts hours: its verification grid is at
+    most MAX_DENSE_TIMES times plus the timing's knots (every 0.25 ms it was 53 M times, 20 GB of
+    arrays: a linear `plan_pose(..., velocity_scale=1e-5)` was killed for memory), and the
+    returned samples still keep the scaled limits."""
+    from manip.trajectory.spline import MAX_DENSE_TIMES
+
+    path = line_path[0]
+    r = dense(path, cfg, velocity_scale=1e-5, dt=1.0)
+    assert r.success, r.message
+    profile = r.trajectory.profile
+    assert isinstance(profile, PathProfile) and profile.duration > 3600.0
+    grid = profile.dense_times()
+    assert grid.size <= MAX_DENSE_TIMES + 1 + profile.timing.knots[0].size
+    vmax = np.asarray(cfg.velocity_limits) * 1e-5
+    assert np.all(np.abs(r.trajectory.velocities) <= vmax)
+    assert np.all(np.abs(profile.evaluate(grid)[1]) <= vmax)
+    np.testing.assert_allclose(r.trajectory.positions[[0, -1]], path[[0, -1]], atol=1e-9)
