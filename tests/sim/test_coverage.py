@@ -45,6 +45,8 @@ def _objects() -> dict:
     xform_view = world.scene.add(sim.XFormPrimView("/World/mark", name="mark_view"))
     art_view = world.scene.add(sim.ArticulationView(prim_paths_expr="/World/Franka", name="franka_view"))
     world.reset()
+    rmpflow = sim.RmpFlow(**sim.interface_config_loader.load_supported_motion_policy_config("Franka", "RMPflow"))
+    policy = sim.ArticulationMotionPolicy(franka, rmpflow)
     objs.update({
         "SimulationApp": app, "SimulationContext": world, "World": world, "Scene": world.scene,
         "XFormPrim": sim.XFormPrim("/World/target", name="target"),
@@ -61,6 +63,8 @@ def _objects() -> dict:
                                                        robot_articulation=franka),
         "BaseTask": task, "PickPlace": task,
         "RMPFlowController": sim.RMPFlowController(name="rmp", robot_articulation=franka),
+        "RmpFlow": rmpflow, "ArticulationMotionPolicy": policy,
+        "MotionPolicyController": sim.MotionPolicyController("mpc", policy),
     })
     return objs
 
