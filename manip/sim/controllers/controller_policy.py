@@ -19,7 +19,7 @@ for removing, enabling or disabling one that was not added). What differs from a
   a warning when they differ (by more than 1 mm or 1 mrad); the articulation's pose is used.
 - `update_world` re-reads the obstacles' poses, as RmpFlow's; `forward` does it anyway.
 - `reset()` forgets the obstacles, the cspace target and the joint command (RmpFlow's
-  reset); `RMPFlowController.reset()` keeps the obstacles.
+  reset); `RMPFlowController.reset()` is this reset, as Isaac's.
 - Targets and joint targets come from `controller.forward(...)`: there is no
   `set_end_effector_target` or `compute_joint_targets` here.
 - Debug drawings do nothing (logged once), as manip's `RmpFlow`.

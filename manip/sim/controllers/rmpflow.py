@@ -92,7 +92,7 @@ class RMPFlowController(BaseController):
         if self._ctrl is None:
             self._ctrl = ReactiveController(config, **controller_options)
         self._obstacles = TrackedObstacles(self._ctrl)
-        self._policy = ControllerMotionPolicy(self._ctrl, self._obstacles, self._base_from_world, self.reset)
+        self._policy = ControllerMotionPolicy(self._ctrl, self._obstacles, self._base_from_world, self._forget_command)
         self._arm_idx: np.ndarray | None = None
         self._last: StepResult | None = None
 
@@ -125,8 +125,12 @@ class RMPFlowController(BaseController):
 
     # ------------------------------------------------------------------ state
     def reset(self) -> None:
-        """Forget the joint command (the next `forward` starts from the measured joints).
-        Obstacles are kept."""
+        """Forget the obstacles and the joint command (the next `forward` starts from the
+        measured joints), as Isaac's (its RmpFlow's reset empties its world; `World.reset()`
+        removes FollowTarget's obstacles): add obstacles again after a reset."""
+        self._policy.reset()
+
+    def _forget_command(self) -> None:
         self._command.reset()
         self._last = None
         self._ctrl.reset()

@@ -59,9 +59,11 @@ class World(SimulationContext):
 
     # ------------------------------------------------------------------ timeline and stepping
     def reset(self, soft: bool = False) -> None:
-        """Isaac's `World.reset`: build task scenes (once per task), stop, compile the stage
-        if it changed, play and take one warm-up step (see `SimulationContext.reset`), then
-        restore every scene object's default state and call each task's `post_reset()`.
+        """Isaac's `World.reset`: build task scenes (once per task), call each task's
+        `cleanup()` (it removes what the task added during the episode, such as
+        FollowTarget's obstacles), stop, compile the stage if it changed, play and take one
+        warm-up step (see `SimulationContext.reset`), then restore every scene object's
+        default state and call each task's `post_reset()`.
 
         Objects, referenced models and wrappers (Robot, views) may be added at any time;
         the next reset compiles and initialises them. After a reset the world is playing
@@ -70,6 +72,7 @@ class World(SimulationContext):
         default states and calls the tasks' `post_reset()`, without restarting physics.
         """
         self._task_registry.set_up_scenes(self._scene)
+        self._task_registry.cleanup()
         if soft and self._sim is None:
             logger.warning("reset(soft=True) before the first reset: doing a full reset")
         if not (soft and self._sim is not None):
