@@ -125,6 +125,11 @@ ISAAC_API: dict[str, tuple[str, tuple[str, ...]]] = {
     "RMPFlowController": ("omni.isaac.franka.controllers.RMPFlowController", (
         "add_obstacle", "forward", "get_articulation_motion_policy", "get_motion_policy", "name", "remove_obstacle",
         "reset")),
+    "Stacking": ("omni.isaac.franka.tasks.Stacking", (
+        "calculate_metrics", "cleanup", "get_cube_names", "get_observations", "get_params", "get_task_objects",
+        "is_done", "name", "post_reset", "pre_step", "scene", "set_params", "set_robot", "set_up_scene")),
+    "StackingController": ("omni.isaac.franka.controllers.StackingController", (
+        "forward", "is_done", "name", "reset")),
     "RmpFlow": ("omni.isaac.motion_generation.lula.RmpFlow", _WORLD_INTERFACE + (
         "set_robot_base_pose", "compute_joint_targets", "get_active_joints", "get_watched_joints",
         "set_end_effector_target", "set_cspace_target", "set_ignore_state_updates", "set_internal_robot_joint_states",
@@ -251,6 +256,8 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
         "is_closed": "compare get_joint_positions() with joint_closed_positions",
     },
     "PickPlaceController": {},
+    "Stacking": {},
+    "StackingController": {},
     "RmpFlow": {
         "get_end_effector_as_prim": "manip draws no debug prims: the end effector's pose is "
                                     "get_end_effector_pose(active_joint_positions)",

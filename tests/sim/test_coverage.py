@@ -41,6 +41,8 @@ def _objects() -> dict:
         world.scene.add(o)
     task = sim.PickPlace(name="pp", cube_initial_position=[0.4, 0.3, 0.03])
     world.add_task(task)
+    stacking = sim.Stacking(name="stack", offset=[0.0, 2.0, 0.0])
+    world.add_task(stacking)
     rigid_view = world.scene.add(sim.RigidPrimView("/World/cube", name="cube_view"))
     xform_view = world.scene.add(sim.XFormPrimView("/World/mark", name="mark_view"))
     art_view = world.scene.add(sim.ArticulationView(prim_paths_expr="/World/Franka", name="franka_view"))
@@ -63,6 +65,9 @@ def _objects() -> dict:
                                                        robot_articulation=franka),
         "BaseTask": task, "PickPlace": task,
         "RMPFlowController": sim.RMPFlowController(name="rmp", robot_articulation=franka),
+        "Stacking": stacking,
+        "StackingController": sim.StackingController("sc", franka.gripper, franka, stacking.get_cube_names(),
+                                                     franka.name),
         "RmpFlow": rmpflow, "ArticulationMotionPolicy": policy,
         "MotionPolicyController": sim.MotionPolicyController("mpc", policy),
     })
