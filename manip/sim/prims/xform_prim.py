@@ -1,7 +1,10 @@
 """`XFormPrim`: a prim with a pose, new (a mocap body) or wrapping a body of a referenced model.
 
 Prims have no parent transform: `/World` is the identity, so the local pose equals the
-world pose. Quaternions are (w, x, y, z); positions in m.
+world pose, except for two kinds of prim: one fixed to a robot's link (its local pose is in
+the link's frame) and one wrapping a link of a referenced model (its local pose is in the
+model's frame, the parent prim of the links as in Isaac's robot USD files:
+"/World/Franka/panda_hand" under "/World/Franka"). Quaternions are (w, x, y, z); positions in m.
 """
 
 from __future__ import annotations
@@ -326,11 +329,26 @@ class XFormPrim(DefaultPoseMixin):
         sim.mark_stale()
 
     def get_local_pose(self) -> tuple[np.ndarray, np.ndarray]:
-        """The pose in the link's frame for a prim fixed to a robot's link, else the same as
-        `get_world_pose` (no other parent transform here)."""
+        """The pose in the parent prim's frame: the link's for a prim fixed to a robot's link,
+        the model's (where its articulation is now) for a link of a referenced model, else the
+        same as `get_world_pose` (no other parent transform here)."""
         if self._mount_link is not None:
             return self._pose[0].copy(), self._pose[1].copy()
-        return self.get_world_pose()
+        world = self.get_world_pose()
+        if self._wrapped_reference is None or world is None:
+            return world
+        return relative_pose(self._model_frame(), world)
+
+    def _model_frame(self) -> tuple[np.ndarray, np.ndarray]:
+        """World pose of the referenced model's frame: its articulation's pose if one wraps
+        it (teleports included), else the pose authored on the stage."""
+        ref = self._wrapped_reference
+        for wrapper in get_current_stage().wrappers():
+            if wrapper is not self and getattr(wrapper, "reference", None) is ref:
+                pose = wrapper.get_world_pose()
+                if pose is not None:
+                    return pose
+        return ref.position.copy(), ref.orientation.copy()
 
     def set_local_pose(self, translation=None, orientation=None) -> None:
         """The pose in the link's frame for a prim fixed to a robot's link, else the same as

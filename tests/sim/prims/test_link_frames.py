@@ -50,3 +50,31 @@ def test_what_cannot_ride_on_a_link_says_so():
         RigidPrim("/World/Franka/panda_hand/not_a_link")
     world.reset()
     assert RigidPrim("/World/Franka/panda_hand").get_mass() > 0
+
+
+def test_a_links_local_pose_is_in_the_robots_frame_its_parent_prim():
+    # Isaac's robot USDs put the links under the robot's prim ("/World/Franka/panda_hand"):
+    # a link's local pose is in the robot's frame (it was the world pose).
+    world = World()
+    yaw = np.array([np.cos(np.pi / 4), 0.0, 0.0, np.sin(np.pi / 4)])  # 90 deg about z
+    franka = world.scene.add(Franka("/World/Franka", name="franka", position=[0.5, 0.2, 0.1], orientation=yaw))
+    hand = RigidPrim("/World/Franka/panda_hand", name="hand")
+    link0 = XFormPrim("/World/Franka/panda_link0")
+
+    def check():
+        p_r, q_r = franka.get_world_pose()
+        p_h, q_h = hand.get_world_pose()
+        lp, lq = hand.get_local_pose()
+        np.testing.assert_allclose(p_r + quat.to_matrix(q_r) @ lp, p_h, atol=1e-9)
+        assert quat.angle_between(quat.multiply(q_r, lq), q_h) < 1e-6
+        np.testing.assert_allclose(link0.get_local_pose()[0], 0.0, atol=1e-9)
+        return lp
+
+    before_reset = check()
+    world.reset()
+    at_reset = check()
+    np.testing.assert_allclose(at_reset, before_reset, atol=1e-9)
+    franka.set_world_pose(position=[-1.0, 0.0, 0.0])   # teleported: the local pose stays
+    world.step(render=False)
+    np.testing.assert_allclose(check(), at_reset, atol=2e-3)
+    assert np.linalg.norm(hand.get_local_pose()[0] - hand.get_world_pose()[0]) > 0.5
