@@ -20,6 +20,7 @@ import numpy as np
 from manip import quaternion as quat
 from manip.errors import InvalidInputError
 from manip.sim.prims import body_forces
+from manip.sim.prims.xform_prim import model_frame_pose, relative_pose
 from manip.sim.scenes.stage import SimHandle, SimulationError, get_current_stage
 from manip.sim.utils.types import DynamicsViewState, XFormPrimViewState
 from manip.sim.utils.bounds import check_bounded_rows
@@ -260,8 +261,17 @@ class XFormPrimView:
         return self.get_local_scales(indices)
 
     def get_local_poses(self, indices=None):
-        """Same as get_world_poses (no parent transforms)."""
-        return self.get_world_poses(indices)
+        """Positions (K, 3) [m] and orientations (K, 4) in each prim's parent frame: a robot
+        link's in its model's frame (as `XFormPrim.get_local_pose`), any other prim's in the
+        world (no other parent transforms)."""
+        positions, orientations = self.get_world_poses(indices)
+        stage = get_current_stage()
+        refs = [p for p in stage.prim_paths() if stage.find_reference(p) is not None]
+        for k, i in enumerate(self._idx(indices)):
+            ref = next((stage.find_reference(r) for r in refs if self._paths[i].startswith(r + "/")), None)
+            if ref is not None:
+                positions[k], orientations[k] = relative_pose(model_frame_pose(ref), (positions[k], orientations[k]))
+        return positions, orientations
 
     def set_local_poses(self, translations=None, orientations=None, indices=None) -> None:
         self.set_world_poses(translations, orientations, indices)

@@ -340,15 +340,7 @@ class XFormPrim(DefaultPoseMixin):
         return relative_pose(self._model_frame(), world)
 
     def _model_frame(self) -> tuple[np.ndarray, np.ndarray]:
-        """World pose of the referenced model's frame: its articulation's pose if one wraps
-        it (teleports included), else the pose authored on the stage."""
-        ref = self._wrapped_reference
-        for wrapper in get_current_stage().wrappers():
-            if wrapper is not self and getattr(wrapper, "reference", None) is ref:
-                pose = wrapper.get_world_pose()
-                if pose is not None:
-                    return pose
-        return ref.position.copy(), ref.orientation.copy()
+        return model_frame_pose(self._wrapped_reference)
 
     def set_local_pose(self, translation=None, orientation=None) -> None:
         """The pose in the link's frame for a prim fixed to a robot's link, else the same as
@@ -403,6 +395,17 @@ class XFormPrim(DefaultPoseMixin):
 
 
 declare_not_supported(XFormPrim)
+
+
+def model_frame_pose(reference: ReferencePrim) -> tuple[np.ndarray, np.ndarray]:
+    """World pose of a referenced model's frame (its links' parent prim): its articulation's
+    pose if one wraps it (teleports included), else the pose authored on the stage."""
+    for wrapper in get_current_stage().wrappers():
+        if getattr(wrapper, "reference", None) is reference:
+            pose = wrapper.get_world_pose()
+            if pose is not None:
+                return pose
+    return reference.position.copy(), reference.orientation.copy()
 
 
 def compose_poses(a, b) -> tuple[np.ndarray, np.ndarray]:

@@ -9,7 +9,7 @@ import pytest
 
 from manip import quaternion as quat
 from manip.errors import InvalidInputError
-from manip.sim import Franka, RigidPrim, World, XFormPrim
+from manip.sim import Franka, RigidPrim, RigidPrimView, World, XFormPrim
 
 
 def test_a_frame_below_a_link_rides_on_it():
@@ -60,6 +60,7 @@ def test_a_links_local_pose_is_in_the_robots_frame_its_parent_prim():
     franka = world.scene.add(Franka("/World/Franka", name="franka", position=[0.5, 0.2, 0.1], orientation=yaw))
     hand = RigidPrim("/World/Franka/panda_hand", name="hand")
     link0 = XFormPrim("/World/Franka/panda_link0")
+    view = world.scene.add(RigidPrimView("/World/Franka/panda_(hand|link0)", name="links"))
 
     def check():
         p_r, q_r = franka.get_world_pose()
@@ -78,3 +79,7 @@ def test_a_links_local_pose_is_in_the_robots_frame_its_parent_prim():
     world.step(render=False)
     np.testing.assert_allclose(check(), at_reset, atol=2e-3)
     assert np.linalg.norm(hand.get_local_pose()[0] - hand.get_world_pose()[0]) > 0.5
+    positions, orientations = view.get_local_poses()   # the view agrees, link by link
+    assert view.prim_paths == ["/World/Franka/panda_link0", "/World/Franka/panda_hand"]
+    np.testing.assert_allclose(positions, [link0.get_local_pose()[0], hand.get_local_pose()[0]], atol=1e-9)
+    np.testing.assert_allclose(orientations[1], hand.get_local_pose()[1], atol=1e-9)
