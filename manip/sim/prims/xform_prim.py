@@ -17,7 +17,8 @@ import numpy as np
 from manip import quaternion as quat
 from manip.errors import InvalidInputError
 from manip.pose import Pose
-from manip.sim.scenes.stage import ReferencePrim, SimHandle, SimulationError, get_current_stage, validate_prim_path
+from manip.sim.scenes.stage import (ReferencePrim, SimHandle, SimulationError, get_current_stage, is_prim_path_valid,
+                                    validate_prim_path)
 from manip.sim.utils.types import DefaultPoseMixin, XFormPrimState, position_or_translation
 from manip.validation import scale3, unit_quat
 from manip.sim.utils.bounds import bounded_vec
@@ -171,8 +172,15 @@ class XFormPrim(DefaultPoseMixin):
         """Unique name in the scene."""
         return self._name
 
-    @property
     def is_valid(self) -> bool:
+        """Whether a prim is at this prim's path on the stage (Isaac's method; it was a
+        property here, and Isaac's call `is_valid()` raised TypeError)."""
+        return is_prim_path_valid(self.prim_path)
+
+    @property
+    def simulated(self) -> bool:
+        """Whether the prim is bound to the compiled World (after the `World.reset()` that
+        compiled it)."""
         return self._sim is not None
 
     def initialize(self, physics_sim_view=None) -> None:
@@ -195,7 +203,7 @@ class XFormPrim(DefaultPoseMixin):
         """Whether the compiled model holds this prim (a prim of a referenced model compiled
         already; a wrapped object compiled already)."""
         if self._wrapped_object is not None:
-            return self._wrapped_object.is_valid
+            return self._wrapped_object.simulated
         return self._wrapped_reference is None or self._wrapped_reference.core is not None
 
     def bind_simulation(self, sim: SimHandle) -> None:
