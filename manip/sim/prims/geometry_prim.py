@@ -263,6 +263,8 @@ class GeometryPrim(XFormPrim):
         return self._visual_material is not None
 
     def get_applied_physics_material(self) -> PhysicsMaterial | None:
+        if self._wrapped_object is not None and hasattr(self._wrapped_object, "get_applied_physics_material"):
+            return self._wrapped_object.get_applied_physics_material()
         return self._physics_material
 
     def apply_physics_material(self, physics_material: PhysicsMaterial, weaker_than_descendants: bool = False) -> None:
@@ -273,9 +275,14 @@ class GeometryPrim(XFormPrim):
         if not isinstance(physics_material, PhysicsMaterial):
             raise InvalidInputError(f"apply_physics_material needs a PhysicsMaterial; got "
                                     f"{type(physics_material).__name__}")
+        if self._wrapped_object is not None and hasattr(self._wrapped_object, "apply_physics_material"):
+            self._wrapped_object.apply_physics_material(physics_material, weaker_than_descendants)
+            self._physics_material = physics_material
+            return
+        self._own_geometry("apply_physics_material")
         self._physics_material = physics_material
         f = physics_material.mujoco_friction()
-        if self._sim is not None and f is not None:
+        if self._sim is not None and f is not None and self._geom_id >= 0:
             self._sim.model.geom_friction[self._geom_id, 0] = f
         self._mark_changed()
 

@@ -6,7 +6,8 @@ from __future__ import annotations
 import pytest
 
 from manip.errors import InvalidInputError
-from manip.sim import DynamicCuboid, FixedCuboid, Franka, GeometryPrim, SimulationError, VisualCuboid, World
+from manip.sim import (DynamicCuboid, FixedCuboid, Franka, GeometryPrim, PhysicsMaterial, SimulationError,
+                       VisualCuboid, World)
 
 
 def test_collisions_switched_off_before_the_first_reset_stay_off_across_recompiles():
@@ -48,6 +49,17 @@ def test_isaacs_collision_argument_and_a_robot_link_is_refused_not_another_geom_
         hand.set_collision_enabled(False)
     assert (world.model.geom_contype == before[0]).all() and (world.model.geom_conaffinity == before[1]).all()
     assert world.model.geom(last).name in (cube.prim_path + "/geom", mark.prim_path + "/geom")
+    friction = world.model.geom_friction.copy()
+    with pytest.raises(SimulationError, match="link of the model"):  # wrote the last geom's friction too
+        hand.apply_physics_material(PhysicsMaterial("/World/Physics_Materials/rubber", dynamic_friction=1.5))
+    assert (world.model.geom_friction == friction).all()
     with pytest.raises(InvalidInputError, match="True or False"):
         cube.set_collision_enabled("no")
+    # Through a GeometryPrim wrapping a shape, the material is the shape's (kept when the World recompiles).
+    ice = PhysicsMaterial("/World/Physics_Materials/ice", static_friction=0.05, dynamic_friction=0.05)
+    GeometryPrim("/World/cube", name="cube_geom").apply_physics_material(ice)
+    assert cube.get_applied_physics_material() is ice
+    world.scene.add(VisualCuboid("/World/mark2", name="mark2", position=[2.0, 2.0, 2.0], size=0.1))
+    world.reset()
+    assert world.model.geom_friction[cube.geom_id, 0] == pytest.approx(0.05)
     assert franka.num_dof == 9
