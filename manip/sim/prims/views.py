@@ -76,7 +76,8 @@ class XFormPrimView:
     """
 
     def __init__(self, prim_paths_expr: str, name: str = "xform_prim_view", positions=None, translations=None,
-                 orientations=None, scales=None, visibilities=None, reset_xform_properties: bool = True):
+                 orientations=None, scales=None, visibilities=None, reset_xform_properties: bool = True,
+                 usd: bool = True):
         self._segments = compile_path_expression(prim_paths_expr)
         if scales is not None or visibilities is not None:
             raise InvalidInputError(
@@ -152,7 +153,10 @@ class XFormPrimView:
     def post_reset(self) -> None:
         """Nothing to do: the prims restore their own default states."""
 
-    def is_valid(self) -> bool:
+    def is_valid(self, indices=None) -> bool:
+        """Whether the view is bound to the compiled World (`indices` accepted, as Isaac's)."""
+        if indices is not None:
+            self._idx(indices)
         return self._sim is not None
 
     def _need(self) -> SimHandle:
@@ -180,15 +184,16 @@ class XFormPrimView:
             raise InvalidInputError(f"indices {idx.tolist()} out of range for a view of {self.count} prims")
         return idx
 
-    def get_world_poses(self, indices=None) -> tuple[np.ndarray, np.ndarray]:
-        """Positions (K, 3) [m] and orientations (K, 4) (w, x, y, z)."""
+    def get_world_poses(self, indices=None, clone: bool = True, usd: bool = True) -> tuple[np.ndarray, np.ndarray]:
+        """Positions (K, 3) [m] and orientations (K, 4) (w, x, y, z) (copies; `clone` and `usd`
+        are accepted for Isaac's signature: there is one copy of the state, MuJoCo's)."""
         sim = self._need()
         idx = self._idx(indices)
         sim.ensure_kinematics()
         b = self._bodies[idx]
         return sim.data.xpos[b].copy(), sim.data.xquat[b].copy()
 
-    def set_world_poses(self, positions=None, orientations=None, indices=None) -> None:
+    def set_world_poses(self, positions=None, orientations=None, indices=None, usd: bool = True) -> None:
         """Teleport free bodies and mocap prims (Visual/Fixed objects); articulation links raise."""
         sim = self._need()
         idx = self._idx(indices)
@@ -309,7 +314,7 @@ class RigidPrimView(XFormPrimView):
         super().__init__(prim_paths_expr, name, positions, translations, orientations, scales, visibilities,
                          reset_xform_properties)
 
-    def get_velocities(self, indices=None) -> np.ndarray:
+    def get_velocities(self, indices=None, clone: bool = True) -> np.ndarray:
         """(K, 6): linear [m/s] (of the centre of mass, as PhysX) then angular [rad/s]
         velocity of each body, world frame."""
         sim = self._need()
@@ -322,10 +327,10 @@ class RigidPrimView(XFormPrimView):
             out[k, :3], out[k, 3:] = res[3:], res[:3]
         return out
 
-    def get_linear_velocities(self, indices=None) -> np.ndarray:
+    def get_linear_velocities(self, indices=None, clone: bool = True) -> np.ndarray:
         return self.get_velocities(indices)[:, :3]
 
-    def get_angular_velocities(self, indices=None) -> np.ndarray:
+    def get_angular_velocities(self, indices=None, clone: bool = True) -> np.ndarray:
         return self.get_velocities(indices)[:, 3:]
 
     def set_velocities(self, velocities, indices=None) -> None:
