@@ -337,3 +337,21 @@ def test_isaacs_keyword_arguments_are_accepted():
     assert glass.get_ior() == 1.5 and glass.get_thin_walled()
     app.set_setting(setting="/app/window/drawMouse", value=True)
     app.close(wait_for_replicator=False)
+
+
+def test_isaacs_utility_keyword_arguments_are_accepted():
+    import manip.sim as sim
+
+    q = sim.euler_angles_to_quat(np.array([0.0, 0.0, 90.0]), degrees=True)
+    np.testing.assert_allclose(sim.quat_to_euler_angles(quat=q, degrees=True), [0.0, 0.0, 90.0], atol=1e-9)
+    np.testing.assert_allclose(sim.quat_to_rot_matrix(quat=q) @ [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], atol=1e-12)
+    world = World()
+    world.scene.add(DynamicCuboid("/World/cube", name="cube", size=0.1))
+    assert sim.get_current_stage(fabric=False) is sim.get_current_stage()
+    assert sim.is_prim_path_valid("/World/cube", fabric=False)
+    assert sim.get_prim_at_path("/World/cube", fabric=False) is world.scene.get_object("cube")
+    assert sim.find_matching_prim_paths("/World/cu.*", prim_type=None) == ["/World/cube"]
+    with pytest.raises(InvalidInputError, match="no USD prim types"):
+        sim.find_matching_prim_paths("/World/.*", prim_type="Mesh")
+    with pytest.raises(InvalidInputError, match="delete_prim"):
+        sim.clear_stage(predicate=lambda path: True)

@@ -10,6 +10,7 @@ from __future__ import annotations
 import logging
 
 from manip.sim.core.callbacks import TimelineEvent  # noqa: F401 (re-exported)
+from manip.errors import InvalidInputError
 from manip.sim.core.event_loop import run_pending_coroutines
 from manip.sim.scenes.scene import Scene
 from manip.sim.core.simulation_context import (  # noqa: F401 (re-exported)
@@ -167,12 +168,19 @@ class World(SimulationContext):
         self.stop()
 
 
-def clear_stage() -> None:
+def clear_stage(predicate=None) -> None:
     """Delete every prim of the stage (Isaac's `omni.isaac.core.utils.stage.clear_stage`).
 
     With a World, its scene and tasks are emptied too (`World.clear()`): their objects lived
     on the stage. Isaac leaves stale wrappers registered in that case; here they are dropped.
+
+    Raises:
+        InvalidInputError: a `predicate` (Isaac's filter of the prims to delete; delete single
+            prims with `delete_prim` here).
     """
+    if predicate is not None:
+        raise InvalidInputError("clear_stage(predicate=...) is not supported: it clears the whole stage; delete "
+                                "single prims with delete_prim(prim_path)")
     world = World.instance()
     if world is not None:
         world.clear()
