@@ -355,3 +355,14 @@ def test_isaacs_utility_keyword_arguments_are_accepted():
         sim.find_matching_prim_paths("/World/.*", prim_type="Mesh")
     with pytest.raises(InvalidInputError, match="delete_prim"):
         sim.clear_stage(predicate=lambda path: True)
+
+
+def test_a_ground_plane_takes_isaacs_visual_material():
+    from manip.sim import GroundPlane, PreviewSurface
+
+    world = World()
+    grey = PreviewSurface("/World/Looks/grey", color=np.array([0.5, 0.5, 0.5]))
+    ground = world.scene.add(GroundPlane("/World/ground", z_position=0.0, visual_material=grey))  # was TypeError
+    world.reset()
+    assert ground.get_applied_visual_material() is grey
+    np.testing.assert_allclose(ground.get_color(), [0.5, 0.5, 0.5])
