@@ -133,6 +133,8 @@ from manip.sim.samples.hello_world import HelloWorld, HelloWorldExtension
 from manip.sim.tasks.base_task import BaseTask, PickPlace, find_unique_string_name
 from manip.sim.prims.views import RigidPrimView, XFormPrimView
 from manip.sim.tasks.follow_target import FollowTarget
+from manip.sim.tasks.stacking import Stacking
+from manip.sim.controllers.stacking_controller import StackingController
 from manip.sim.controllers.rmpflow import RMPFlowController
 from manip.sim.motion_generation import (
     ArticulationKinematicsSolver,
@@ -158,7 +160,8 @@ __all__ = [
     "PhysicsMaterial", "PickPlace", "PickPlaceController", "PreviewSurface", "RMPFlowController", "RigidPrim",
     "RigidPrimView", "RmpFlow", "Robot", "Scene", "SimulationApp", "SimulationContext", "SimulationError",
     "SimulationInstabilityError", "SimulationWarning", "SingleArticulation", "SingleGeometryPrim",
-    "SingleManipulator", "SingleRigidPrim", "SingleXFormPrim", "VisualCapsule", "VisualCone", "VisualCuboid",
+    "SingleManipulator", "SingleRigidPrim", "SingleXFormPrim", "Stacking", "StackingController", "VisualCapsule",
+    "VisualCone", "VisualCuboid",
     "VisualCylinder", "VisualMaterial", "VisualSphere", "WheelBasePoseController", "WheeledRobot", "World",
     "XFormPrim", "XFormPrimState", "XFormPrimView", "XFormPrimViewState", "add_reference_to_stage",
     "available_assets", "carb", "clear_stage", "create_new_stage", "create_new_stage_async", "create_prim",

@@ -12,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import manip.sim as sim
-from manip.sim.isaac_api import DIFFERS, FUNCTIONS_NOT_SUPPORTED, ISAAC_API, ISAAC_FUNCTIONS
+from manip.sim.isaac_api import DIFFERS, FUNCTIONS_NOT_SUPPORTED, ISAAC_API, ISAAC_FUNCTIONS, ISAAC_MODULES
 
 
 @dataclass(frozen=True)
@@ -52,8 +52,9 @@ def class_rows() -> list[Row]:
 def function_rows() -> list[Row]:
     rows = []
     for module, names in ISAAC_FUNCTIONS.items():
+        namespace = getattr(sim, ISAAC_MODULES[module]) if module in ISAAC_MODULES else sim
         for name in names:
-            fn = getattr(sim, name, None)
+            fn = getattr(namespace, name, None)
             if fn is None:
                 rows.append(Row(module, name, "missing"))
             elif name in FUNCTIONS_NOT_SUPPORTED:

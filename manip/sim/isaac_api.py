@@ -55,6 +55,8 @@ _ARTICULATION = (
     "handles_initialized", "initialize", "num_bodies", "num_dof", "post_reset", "set_angular_velocity",
     "set_linear_velocity", "set_joint_efforts", "set_joint_positions", "set_joint_velocities",
     "set_joints_default_state", "get_default_state", "set_default_state", "name", "prim_path", "is_valid")
+_WORLD_INTERFACE = ("update_world", "add_obstacle", "add_cuboid", "add_sphere", "add_capsule", "add_cylinder",
+                    "add_cone", "add_ground_plane", "disable_obstacle", "enable_obstacle", "remove_obstacle", "reset")
 
 ISAAC_API: dict[str, tuple[str, tuple[str, ...]]] = {
     "SimulationApp": ("omni.isaac.kit.SimulationApp", (
@@ -123,6 +125,24 @@ ISAAC_API: dict[str, tuple[str, tuple[str, ...]]] = {
     "RMPFlowController": ("omni.isaac.franka.controllers.RMPFlowController", (
         "add_obstacle", "forward", "get_articulation_motion_policy", "get_motion_policy", "name", "remove_obstacle",
         "reset")),
+    "Stacking": ("omni.isaac.franka.tasks.Stacking", (
+        "calculate_metrics", "cleanup", "get_cube_names", "get_observations", "get_params", "get_task_objects",
+        "is_done", "name", "post_reset", "pre_step", "scene", "set_params", "set_robot", "set_up_scene")),
+    "StackingController": ("omni.isaac.franka.controllers.StackingController", (
+        "forward", "is_done", "name", "reset")),
+    "RmpFlow": ("omni.isaac.motion_generation.lula.RmpFlow", _WORLD_INTERFACE + (
+        "set_robot_base_pose", "compute_joint_targets", "get_active_joints", "get_watched_joints",
+        "set_end_effector_target", "set_cspace_target", "set_ignore_state_updates", "set_internal_robot_joint_states",
+        "get_internal_robot_joint_states", "get_default_cspace_position_target", "get_end_effector_pose",
+        "get_kinematics_solver", "visualize_collision_spheres", "stop_visualizing_collision_spheres",
+        "get_collision_spheres_as_prims", "delete_collision_sphere_prims", "visualize_end_effector_position",
+        "stop_visualizing_end_effector", "get_end_effector_as_prim", "delete_end_effector_prim")),
+    "ArticulationMotionPolicy": ("omni.isaac.motion_generation.ArticulationMotionPolicy", (
+        "move", "get_next_articulation_action", "get_active_joints_subset", "get_watched_joints_subset",
+        "get_robot_articulation", "get_motion_policy", "get_default_physics_dt", "set_default_physics_dt")),
+    "MotionPolicyController": ("omni.isaac.motion_generation.MotionPolicyController", (
+        "forward", "add_obstacle", "remove_obstacle", "reset", "get_articulation_motion_policy", "get_motion_policy",
+        "name")),
     "BaseTask": ("omni.isaac.core.tasks.BaseTask", (
         "calculate_metrics", "cleanup", "get_description", "get_observations", "get_params", "get_task_objects",
         "is_done", "name", "post_reset", "pre_step", "scene", "set_params", "set_up_scene")),
@@ -236,9 +256,13 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
         "is_closed": "compare get_joint_positions() with joint_closed_positions",
     },
     "PickPlaceController": {},
+    "Stacking": {},
+    "StackingController": {},
+    "RmpFlow": {
+        "get_end_effector_as_prim": "manip draws no debug prims: the end effector's pose is "
+                                    "get_end_effector_pose(active_joint_positions)",
+    },
     "RMPFlowController": {
-        "get_motion_policy": "there is no RmpFlow object (a QP controller on manip.control): the controller reads "
-                             "the robot's base pose itself each step; obstacles via controller.add_obstacle",
         "get_articulation_motion_policy": "there is no ArticulationMotionPolicy (a QP controller on manip.control: "
                                           "controller.controller is its ReactiveController)",
     },
@@ -274,6 +298,15 @@ ISAAC_FUNCTIONS: dict[str, tuple[str, ...]] = {
                                         "gf_quat_to_np_array"),
     "omni.isaac.core.utils.nucleus": ("get_assets_root_path",),
     "omni.isaac.core.utils.string": ("find_unique_string_name",),
+    "omni.isaac.motion_generation.interface_config_loader": (
+        "get_supported_robot_policy_pairs", "load_supported_motion_policy_config",
+        "get_supported_robots_with_lula_kinematics", "load_supported_lula_kinematics_solver_config"),
+}
+
+#: Isaac modules a script imports whole, by the manip.sim module standing for each (its functions
+#: are looked up there; every other module's in manip.sim itself).
+ISAAC_MODULES: dict[str, str] = {
+    "omni.isaac.motion_generation.interface_config_loader": "interface_config_loader",
 }
 
 #: Module-level utilities manip.sim cannot provide (they raise NotImplementedError with the reason).

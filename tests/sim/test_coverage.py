@@ -41,10 +41,14 @@ def _objects() -> dict:
         world.scene.add(o)
     task = sim.PickPlace(name="pp", cube_initial_position=[0.4, 0.3, 0.03])
     world.add_task(task)
+    stacking = sim.Stacking(name="stack", offset=[0.0, 2.0, 0.0])
+    world.add_task(stacking)
     rigid_view = world.scene.add(sim.RigidPrimView("/World/cube", name="cube_view"))
     xform_view = world.scene.add(sim.XFormPrimView("/World/mark", name="mark_view"))
     art_view = world.scene.add(sim.ArticulationView(prim_paths_expr="/World/Franka", name="franka_view"))
     world.reset()
+    rmpflow = sim.RmpFlow(**sim.interface_config_loader.load_supported_motion_policy_config("Franka", "RMPflow"))
+    policy = sim.ArticulationMotionPolicy(franka, rmpflow)
     objs.update({
         "SimulationApp": app, "SimulationContext": world, "World": world, "Scene": world.scene,
         "XFormPrim": sim.XFormPrim("/World/target", name="target"),
@@ -61,6 +65,11 @@ def _objects() -> dict:
                                                        robot_articulation=franka),
         "BaseTask": task, "PickPlace": task,
         "RMPFlowController": sim.RMPFlowController(name="rmp", robot_articulation=franka),
+        "Stacking": stacking,
+        "StackingController": sim.StackingController("sc", franka.gripper, franka, stacking.get_cube_names(),
+                                                     franka.name),
+        "RmpFlow": rmpflow, "ArticulationMotionPolicy": policy,
+        "MotionPolicyController": sim.MotionPolicyController("mpc", policy),
     })
     return objs
 

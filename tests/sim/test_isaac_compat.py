@@ -311,3 +311,59 @@ def test_base_sample_extension_buttons_drive_the_sample():
     ext.clear()
     assert World.instance() is None and ext.get_buttons()["Load World"].enabled
     ext.on_shutdown()
+
+
+def test_isaacs_keyword_arguments_are_accepted():
+    # Keywords of Isaac 4.x signatures that raised TypeError (checked against Isaac's source).
+    from manip.sim import OmniGlass, RigidPrimView, SimulationApp, XFormPrimView
+
+    app = SimulationApp({"headless": True})
+    world = World()
+    for i in range(2):
+        world.scene.add(DynamicCuboid(f"/World/C_{i}", name=f"c{i}", position=[float(i), 0.0, 0.5], size=0.1))
+    rigid = world.scene.add(RigidPrimView("/World/C_.*", name="rigid"))
+    world.scene.add(XFormPrimView("/World/C_.*", name="xform", usd=False))
+    world.reset()
+    positions, _ = rigid.get_world_poses(indices=[1], clone=True, usd=False)
+    np.testing.assert_allclose(positions, [[1.0, 0.0, 0.5]])
+    rigid.set_world_poses(positions=np.array([[0.0, 0.0, 1.0]]), indices=[0], usd=False)
+    assert rigid.get_world_poses()[0][0, 2] == pytest.approx(1.0)
+    assert rigid.get_velocities(clone=False).shape == (2, 6) and rigid.get_linear_velocities(clone=True).shape == (2, 3)
+    assert rigid.is_valid(indices=[0])
+    with pytest.raises(InvalidInputError, match="out of range"):
+        rigid.is_valid(indices=[5])
+    glass = OmniGlass("/World/Looks/glass")
+    glass.set_ior(ior=1.5)
+    glass.set_thin_walled(thin_walled=True)
+    assert glass.get_ior() == 1.5 and glass.get_thin_walled()
+    app.set_setting(setting="/app/window/drawMouse", value=True)
+    app.close(wait_for_replicator=False)
+
+
+def test_isaacs_utility_keyword_arguments_are_accepted():
+    import manip.sim as sim
+
+    q = sim.euler_angles_to_quat(np.array([0.0, 0.0, 90.0]), degrees=True)
+    np.testing.assert_allclose(sim.quat_to_euler_angles(quat=q, degrees=True), [0.0, 0.0, 90.0], atol=1e-9)
+    np.testing.assert_allclose(sim.quat_to_rot_matrix(quat=q) @ [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], atol=1e-12)
+    world = World()
+    world.scene.add(DynamicCuboid("/World/cube", name="cube", size=0.1))
+    assert sim.get_current_stage(fabric=False) is sim.get_current_stage()
+    assert sim.is_prim_path_valid("/World/cube", fabric=False)
+    assert sim.get_prim_at_path("/World/cube", fabric=False) is world.scene.get_object("cube")
+    assert sim.find_matching_prim_paths("/World/cu.*", prim_type=None) == ["/World/cube"]
+    with pytest.raises(InvalidInputError, match="no USD prim types"):
+        sim.find_matching_prim_paths("/World/.*", prim_type="Mesh")
+    with pytest.raises(InvalidInputError, match="delete_prim"):
+        sim.clear_stage(predicate=lambda path: True)
+
+
+def test_a_ground_plane_takes_isaacs_visual_material():
+    from manip.sim import GroundPlane, PreviewSurface
+
+    world = World()
+    grey = PreviewSurface("/World/Looks/grey", color=np.array([0.5, 0.5, 0.5]))
+    ground = world.scene.add(GroundPlane("/World/ground", z_position=0.0, visual_material=grey))  # was TypeError
+    world.reset()
+    assert ground.get_applied_visual_material() is grey
+    np.testing.assert_allclose(ground.get_color(), [0.5, 0.5, 0.5])

@@ -292,7 +292,7 @@ class ArticulationView:
         controller.switch_control_mode(mode, joint_indices)
 
     # ------------------------------------------------------------------ root and dynamics
-    def get_world_poses(self, indices=None, clone: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    def get_world_poses(self, indices=None, clone: bool = True, usd: bool = True) -> tuple[np.ndarray, np.ndarray]:
         """Root poses: positions (1, 3) [m], orientations (1, 4) (w, x, y, z)."""
         self._check_indices(indices)
         c = self._c("get_world_poses")

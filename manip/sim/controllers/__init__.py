@@ -1,1 +1,1 @@
-"""Controllers: the implicit PD drives (`ArticulationController`), `BaseController` and the wheeled robots' (`base_controller`), `PickPlaceController`, `RMPFlowController` (a QP controller)."""
+"""Controllers: the implicit PD drives (`ArticulationController`), `BaseController` and the wheeled robots' (`base_controller`), `PickPlaceController`, `StackingController`, `RMPFlowController` (a QP controller) and what its `get_motion_policy()` returns (`controller_policy`)."""

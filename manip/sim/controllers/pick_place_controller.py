@@ -41,6 +41,13 @@ The default orientation points the hand down as at the Franka's home configurati
 (w, x, y, z) = (0, 1, 0, 0); Isaac's default (0, 0, 1, 0) is the same turned 180 deg about
 z (its end-effector frame differs), which the Franka's wrist reaches only near its limit.
 
+A parallel gripper's grasp is the same turned half a turn about its approach axis: by
+default the controller uses whichever of the two orientations is nearer the hand's at the
+first call (`symmetric_grasp`), so Isaac's (0, 0, 1, 0) works as (0, 1, 0, 0) does. Before
+opening at the place position (phase 7) it checks that the end effector got there (within
+`PLACE_TOLERANCE`): when the IK could not follow (an unreachable place), the sequence stops
+with the gripper closed and `failure` says why, instead of dropping the object elsewhere.
+
 The grasp is physics only: the fingers are driven to their closed positions and hold the
 object by friction. Unlike Isaac's, the controller checks the grasp before carrying (at the
 first call of phase 4, `check_grasp=True`): the object (`picking_position` of that call)
@@ -58,6 +65,7 @@ import math
 
 import numpy as np
 
+from manip import quaternion as quat
 from manip.articulation_action import ArticulationAction
 from manip.errors import InvalidInputError
 from manip.ik import IKSolver
@@ -75,6 +83,10 @@ FRANKA_EVENTS_DT = (0.008, 0.005, 0.1, 0.1, 0.0025, 0.001, 0.0025, 1.0, 0.008, 0
 NUM_EVENTS = 10
 DEFAULT_INITIAL_HEIGHT = 0.3  # [m] h1, Isaac's default
 HAND_DOWN = np.array([0.0, 1.0, 0.0, 0.0])  # (w, x, y, z): hand z axis = world -z, as at home
+#: Half a turn about the end effector's own z axis (its approach axis), (w, x, y, z).
+HALF_TURN_Z = np.array([0.0, 0.0, 0.0, 1.0])
+#: [m] the end effector must be this close to the place position before the gripper opens.
+PLACE_TOLERANCE = 0.02
 
 #: [m] a grasped object's centre lies at most this far from where the end effector was sent.
 GRASP_TOLERANCE = 0.03
@@ -132,6 +144,10 @@ class PickPlaceController(BaseController):
             events_dt the targets move < 0.01 rad per call; raise it for much faster phases.
         check_grasp: check the grasp before carrying (see the module docstring); False
             carries on whatever the fingers hold, as Isaac's controller does.
+        symmetric_grasp: a parallel gripper grasps the same turned half a turn about its
+            approach axis: use whichever of `end_effector_orientation` and that orientation
+            turned is nearer the end effector's at the first call (Isaac's (0, 0, 1, 0) is
+            then reached as (0, 1, 0, 0)); False: the orientation as given.
 
     Raises:
         InvalidInputError: bad events_dt, height or max_joint_step.
@@ -139,7 +155,7 @@ class PickPlaceController(BaseController):
 
     def __init__(self, name: str, gripper, robot_articulation, end_effector_initial_height: float | None = None,
                  events_dt=None, *, end_effector_link: str | None = None, robot: str | RobotConfig = "franka",
-                 max_joint_step: float = 0.2, check_grasp: bool = True):
+                 max_joint_step: float = 0.2, check_grasp: bool = True, symmetric_grasp: bool = True):
         super().__init__(name)
         self._gripper = gripper
         self._robot = robot_articulation
@@ -150,6 +166,9 @@ class PickPlaceController(BaseController):
         if not isinstance(check_grasp, (bool, np.bool_)):
             raise InvalidInputError(f"check_grasp must be True or False; got {check_grasp!r}")
         self._check_grasp = bool(check_grasp)
+        if not isinstance(symmetric_grasp, (bool, np.bool_)):
+            raise InvalidInputError(f"symmetric_grasp must be True or False; got {symmetric_grasp!r}")
+        self._symmetric_grasp = bool(symmetric_grasp)
         config = robot if isinstance(robot, RobotConfig) else load_robot_config(robot)
         self._kin = Kinematics(config)
         # One local solve from the seed: a random restart could land on another branch.
@@ -183,6 +202,7 @@ class PickPlaceController(BaseController):
         self._h0: float | None = None  # pick height (world z) frozen after phase 1
         self._failed_event = -1
         self._failure: str | None = None
+        self._half_turn: bool | None = None  # use the orientation turned half a turn about z (decided once)
 
     def reset(self, end_effector_initial_height: float | None = None, events_dt=None) -> None:
         """Restart at phase 0 (unpaused); optionally change h1 [m] and events_dt (10,)."""
@@ -193,13 +213,14 @@ class PickPlaceController(BaseController):
         self._clear_state()
 
     def is_done(self) -> bool:
-        """True once the last phase (9) has ended, or the sequence stopped on a failed grasp
-        (see `failure`)."""
+        """True once the last phase (9) has ended, or the sequence stopped on a failed grasp or
+        an unreached place position (see `failure`)."""
         return self._event >= len(self._events_dt)
 
     @property
     def failure(self) -> str | None:
-        """Why the sequence stopped before its end (a failed grasp), or None."""
+        """Why the sequence stopped before its end (a failed grasp, a place position the end
+        effector could not reach), or None."""
         return self._failure
 
     def get_current_event(self) -> int:
@@ -259,6 +280,22 @@ class PickPlaceController(BaseController):
             logger.warning("%s: phase %d: no IK target near the previous one for the end effector at %s (%s); "
                            "holding the previous target", self.name, self._event, np.round(position, 4), why)
         return None
+
+    def _nearer_half_turn(self, orientation: np.ndarray, q_now: np.ndarray) -> bool:
+        """Whether `orientation` turned half a turn about the end effector's z axis is nearer
+        the end effector's current world orientation (the same grasp for a parallel gripper)."""
+        current = (self._base_from_world().inverse() @ self._kin.fk(q_now[self._arm_idx], self._link)).quaternion
+        turned = quat.multiply(orientation, HALF_TURN_Z)
+        return float(quat.angle_between(current, turned)) < float(quat.angle_between(current, orientation)) - 1e-9
+
+    def _place_miss(self, target: np.ndarray) -> float | None:
+        """The distance [m] of the end effector's last target from the place position, if
+        more than PLACE_TOLERANCE (the IK could not follow), else None."""
+        if self._q_target is None:
+            return None
+        tcp = self._base_from_world().inverse() @ self._kin.fk(self._q_target, self._link)
+        miss = float(np.linalg.norm(tcp.position - target))
+        return miss if miss > PLACE_TOLERANCE else None
 
     def _grasp_problem(self, obj: np.ndarray, q_now: np.ndarray, offset: np.ndarray) -> str | None:
         """Why the object at world position `obj` (3,) [m] is not held, or None: its centre
@@ -361,8 +398,22 @@ class PickPlaceController(BaseController):
         self._bind(n)
         if self._pause or self.is_done():
             return self._action(n)
+        if self._symmetric_grasp:
+            if self._half_turn is None:
+                self._half_turn = self._nearer_half_turn(orientation, q_now)
+            if self._half_turn:
+                orientation = quat.multiply(orientation, HALF_TURN_Z)
 
         e = self._event
+        if e == 7 and self._t == 0.0:
+            miss = self._place_miss(place + offset)
+            if miss is not None:
+                self._failure = (f"the end effector could not reach the place position "
+                                 f"{np.round(place + offset, 3).tolist()} m ({miss * 100:.1f} cm away; "
+                                 f"{self._ik_failures} IK targets not found): the gripper stays closed")
+                logger.warning("%s: %s; the sequence stops", self.name, self._failure)
+                self._event = len(self._events_dt)
+                return self._action(n)
         if e == 4 and self._t == 0.0 and self._check_grasp:
             problem = self._grasp_problem(pick, q_now, offset)
             if problem is not None:

@@ -40,6 +40,7 @@ from manip.errors import InvalidInputError
 from manip.pose import Pose
 from manip.robot_config import RobotConfig, load_robot_config
 from manip.sim.controllers.base_controller import BaseController
+from manip.sim.controllers.controller_policy import ControllerMotionPolicy
 from manip.sim.motion_generation.joint_command import JointCommand
 from manip.sim.motion_generation.sim_obstacles import TrackedObstacles, label, obstacle_from_prim
 from manip.sim.scenes.stage import SimulationError
@@ -91,6 +92,7 @@ class RMPFlowController(BaseController):
         if self._ctrl is None:
             self._ctrl = ReactiveController(config, **controller_options)
         self._obstacles = TrackedObstacles(self._ctrl)
+        self._policy = ControllerMotionPolicy(self._ctrl, self._obstacles, self._base_from_world, self._forget_command)
         self._arm_idx: np.ndarray | None = None
         self._last: StepResult | None = None
 
@@ -109,6 +111,12 @@ class RMPFlowController(BaseController):
     def physics_dt(self) -> float:
         return self._dt
 
+    def get_motion_policy(self) -> ControllerMotionPolicy:
+        """RmpFlow's world interface on this controller (`add_obstacle`, `add_cuboid`, ...,
+        `update_world`, `set_robot_base_pose`, `reset`; `manip.sim.controllers.controller_policy`
+        says what differs from an RmpFlow)."""
+        return self._policy
+
     def get_default_physics_dt(self) -> float:
         return self._dt
 
@@ -117,8 +125,12 @@ class RMPFlowController(BaseController):
 
     # ------------------------------------------------------------------ state
     def reset(self) -> None:
-        """Forget the joint command (the next `forward` starts from the measured joints).
-        Obstacles are kept."""
+        """Forget the obstacles and the joint command (the next `forward` starts from the
+        measured joints), as Isaac's (its RmpFlow's reset empties its world; `World.reset()`
+        removes FollowTarget's obstacles): add obstacles again after a reset."""
+        self._policy.reset()
+
+    def _forget_command(self) -> None:
         self._command.reset()
         self._last = None
         self._ctrl.reset()

@@ -149,7 +149,7 @@ class SimulationApp:
         if w is not None and w.model is not None:
             SimulationContext.step(w, render=True)
 
-    def close(self) -> None:
+    def close(self, wait_for_replicator: bool = True) -> None:
         """Close the viewer (if any; waits for its thread to end, at most
         VIEWER_JOIN_TIMEOUT) and the World's recording."""
         global _APP
@@ -165,8 +165,8 @@ class SimulationApp:
         if _APP is self:
             _APP = None
 
-    def set_setting(self, name: str, value) -> None:
-        self.config[name] = value
+    def set_setting(self, setting: str, value) -> None:
+        self.config[setting] = value
 
     # ------------------------------------------------------------------ World events (WorldObserver)
     def on_world_compiled(self, world: SimulationContext) -> None:

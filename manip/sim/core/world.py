@@ -10,6 +10,7 @@ from __future__ import annotations
 import logging
 
 from manip.sim.core.callbacks import TimelineEvent  # noqa: F401 (re-exported)
+from manip.errors import InvalidInputError
 from manip.sim.core.event_loop import run_pending_coroutines
 from manip.sim.scenes.scene import Scene
 from manip.sim.core.simulation_context import (  # noqa: F401 (re-exported)
@@ -59,9 +60,11 @@ class World(SimulationContext):
 
     # ------------------------------------------------------------------ timeline and stepping
     def reset(self, soft: bool = False) -> None:
-        """Isaac's `World.reset`: build task scenes (once per task), stop, compile the stage
-        if it changed, play and take one warm-up step (see `SimulationContext.reset`), then
-        restore every scene object's default state and call each task's `post_reset()`.
+        """Isaac's `World.reset`: build task scenes (once per task), call each task's
+        `cleanup()` (it removes what the task added during the episode, such as
+        FollowTarget's obstacles), stop, compile the stage if it changed, play and take one
+        warm-up step (see `SimulationContext.reset`), then restore every scene object's
+        default state and call each task's `post_reset()`.
 
         Objects, referenced models and wrappers (Robot, views) may be added at any time;
         the next reset compiles and initialises them. After a reset the world is playing
@@ -70,6 +73,7 @@ class World(SimulationContext):
         default states and calls the tasks' `post_reset()`, without restarting physics.
         """
         self._task_registry.set_up_scenes(self._scene)
+        self._task_registry.cleanup()
         if soft and self._sim is None:
             logger.warning("reset(soft=True) before the first reset: doing a full reset")
         if not (soft and self._sim is not None):
@@ -164,12 +168,19 @@ class World(SimulationContext):
         self.stop()
 
 
-def clear_stage() -> None:
+def clear_stage(predicate=None) -> None:
     """Delete every prim of the stage (Isaac's `omni.isaac.core.utils.stage.clear_stage`).
 
     With a World, its scene and tasks are emptied too (`World.clear()`): their objects lived
     on the stage. Isaac leaves stale wrappers registered in that case; here they are dropped.
+
+    Raises:
+        InvalidInputError: a `predicate` (Isaac's filter of the prims to delete; delete single
+            prims with `delete_prim` here).
     """
+    if predicate is not None:
+        raise InvalidInputError("clear_stage(predicate=...) is not supported: it clears the whole stage; delete "
+                                "single prims with delete_prim(prim_path)")
     world = World.instance()
     if world is not None:
         world.clear()

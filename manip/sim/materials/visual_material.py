@@ -240,8 +240,8 @@ class OmniGlass(VisualMaterial):
         self._depth = float(depth) if depth is not None else 0.001
         self._thin_walled = bool(thin_walled) if thin_walled is not None else False
 
-    def set_ior(self, value: float) -> None:
-        self._ior = float(value)
+    def set_ior(self, ior: float) -> None:
+        self._ior = float(ior)
 
     def get_ior(self) -> float:
         return self._ior
@@ -252,8 +252,8 @@ class OmniGlass(VisualMaterial):
     def get_depth(self) -> float:
         return self._depth
 
-    def set_thin_walled(self, value: bool) -> None:
-        self._thin_walled = bool(value)
+    def set_thin_walled(self, thin_walled: bool) -> None:
+        self._thin_walled = bool(thin_walled)
 
     def get_thin_walled(self) -> bool:
         return self._thin_walled

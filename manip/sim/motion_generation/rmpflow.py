@@ -68,6 +68,7 @@ from manip.sim.motion_generation.sim_obstacles import (CAPSULES, CONES, CUBOIDS,
                                                       TrackedObstacles, check_shape, label)
 from manip.sim.motion_generation.urdf_aliases import URDF_ALIASES, resolve_urdf
 from manip.sim.objects import GroundPlane
+from manip.sim.utils.not_supported import declare as declare_not_supported
 from manip.urdf import UrdfTree
 from manip.validation import as_real_array, positive, unit_quat, vec
 
@@ -460,15 +461,11 @@ class RmpFlow:
     def delete_end_effector_prim(self) -> None:
         self._log_once("delete_end_effector_prim", _NO_PRIMS)
 
-    def get_end_effector_as_prim(self) -> Any:
-        """Not available (raises NotImplementedError): manip draws no debug prims; the end
-        effector's pose is `get_end_effector_pose(q)`."""
-        raise NotImplementedError("RmpFlow.get_end_effector_as_prim is not available in manip: it draws no debug "
-                                  "prims; use get_end_effector_pose(active_joint_positions)")
-
     def __repr__(self) -> str:
         return (f"RmpFlow(end_effector={self.end_effector_frame_name!r} as {self._ee.frame!r}, "
                 f"{len(self._obstacles)} obstacles, {self._ctrl!r})")
 
+
+declare_not_supported(RmpFlow)
 
 __all__ = ["RmpFlow"]

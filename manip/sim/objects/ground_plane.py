@@ -38,6 +38,7 @@ class GroundPlane(GeometryPrim):
         visible: bool = True,
         color=None,
         physics_material: PhysicsMaterial | None = None,
+        visual_material=None,
         static_friction: float = 0.5,
         dynamic_friction: float = 0.5,
         restitution: float = 0.8,
@@ -51,7 +52,8 @@ class GroundPlane(GeometryPrim):
         if not np.isfinite(z):
             raise InvalidInputError(f"z_position must be finite; got {z_position}")
         super().__init__(prim_path, name, [0.0, 0.0, z], None, None, scale, visible,
-                         color=color if color is not None else [0.2, 0.3, 0.4], physics_material=physics_material)
+                         color=color if color is not None else [0.2, 0.3, 0.4], physics_material=physics_material,
+                         visual_material=visual_material)
 
     def _geom_type_size(self):
         return mujoco.mjtGeom.mjGEOM_PLANE, [self._size, self._size, 0.05]

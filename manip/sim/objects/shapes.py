@@ -264,6 +264,8 @@ class _FixedShape(_ShapePrim):
 class _DynamicShape(RigidPrim, _ShapePrim):
     _family = "dynamic"
 
+    __init__ = _ShapePrim.__init__  # the shapes' constructor, not RigidPrim's (a wrapper's)
+
     def _check_family_args(self, physics_material, body_args: tuple) -> None:
         pass
 

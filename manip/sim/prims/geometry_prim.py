@@ -16,7 +16,7 @@ import numpy as np
 from manip.errors import InvalidInputError
 from manip.sim.materials.visual_material import PreviewSurface, VisualMaterial, rgb, unique_material_path
 from manip.sim.scenes.contact_model import PHYSX_DEFAULT_FRICTION, check_combine_mode
-from manip.sim.scenes.stage import SimHandle
+from manip.sim.scenes.stage import SimHandle, SimulationError
 from manip.sim.prims.xform_prim import XFormPrim
 from manip.sim.utils.not_supported import declare as declare_not_supported
 from manip.validation import non_negative, vec
@@ -117,10 +117,26 @@ class GeometryPrim(XFormPrim):
         scale=None,
         visible: bool | None = None,
         *,
+        collision: bool = False,
+        track_contact_forces: bool = False,
+        prepare_contact_sensor: bool = False,
+        disable_stablization: bool = True,
+        contact_filter_prim_paths_expr=None,
         color=None,
         physics_material: PhysicsMaterial | None = None,
         visual_material=None,
     ):
+        """Isaac's arguments; `collision=True` enables the geometry's contacts (as Isaac applies
+        its collision API; False leaves them as they are). `track_contact_forces`,
+        `prepare_contact_sensor`, `disable_stablization` and `contact_filter_prim_paths_expr`
+        are PhysX settings accepted for Isaac's signature: MuJoCo always computes contacts
+        (read them with `RigidPrimView(..., contact_filter_prim_paths_expr=...)`)."""
+        for flag, value in (("collision", collision), ("track_contact_forces", track_contact_forces),
+                            ("prepare_contact_sensor", prepare_contact_sensor),
+                            ("disable_stablization", disable_stablization)):
+            if not isinstance(value, (bool, np.bool_)):
+                raise InvalidInputError(f"{flag} must be True or False; got {value!r}")
+        self._collision: bool | None = None  # set_collision_enabled's choice (None: the family's default)
         self._color = rgb(color) if color is not None else np.array([0.5, 0.5, 0.5])
         self._physics_material = physics_material
         self._geom_id = -1
@@ -130,6 +146,8 @@ class GeometryPrim(XFormPrim):
             raise InvalidInputError(f"visual_material must be a VisualMaterial (PreviewSurface, OmniPBR, OmniGlass); "
                                     f"got {type(visual_material).__name__}")
         super().__init__(prim_path, name, position, translation, orientation, scale, visible)
+        if collision:
+            self.set_collision_enabled(True)
         if self._wrapped_object is not None and hasattr(self._wrapped_object, "get_color"):
             self._color = self._wrapped_object.get_color()
             self._visual_material = self._wrapped_object.get_applied_visual_material()
@@ -151,7 +169,7 @@ class GeometryPrim(XFormPrim):
         if dynamic:
             body.add_freejoint(name=self.prim_path + "/root_joint")
         gtype, size = self._geom_type_size()
-        collides = _FAMILY_COLLIDES[self._family]
+        collides = self._collides()
         kwargs = dict(
             name=self.prim_path + "/geom",
             type=gtype,
@@ -245,6 +263,8 @@ class GeometryPrim(XFormPrim):
         return self._visual_material is not None
 
     def get_applied_physics_material(self) -> PhysicsMaterial | None:
+        if self._wrapped_object is not None and hasattr(self._wrapped_object, "get_applied_physics_material"):
+            return self._wrapped_object.get_applied_physics_material()
         return self._physics_material
 
     def apply_physics_material(self, physics_material: PhysicsMaterial, weaker_than_descendants: bool = False) -> None:
@@ -255,22 +275,57 @@ class GeometryPrim(XFormPrim):
         if not isinstance(physics_material, PhysicsMaterial):
             raise InvalidInputError(f"apply_physics_material needs a PhysicsMaterial; got "
                                     f"{type(physics_material).__name__}")
+        if self._wrapped_object is not None and hasattr(self._wrapped_object, "apply_physics_material"):
+            self._wrapped_object.apply_physics_material(physics_material, weaker_than_descendants)
+            self._physics_material = physics_material
+            return
+        self._own_geometry("apply_physics_material")
         self._physics_material = physics_material
         f = physics_material.mujoco_friction()
-        if self._sim is not None and f is not None:
+        if self._sim is not None and f is not None and self._geom_id >= 0:
             self._sim.model.geom_friction[self._geom_id, 0] = f
         self._mark_changed()
 
+    def _collides(self) -> bool:
+        return _FAMILY_COLLIDES[self._family] if self._collision is None else self._collision
+
+    def _own_geometry(self, what: str) -> None:
+        """Raise unless this prim is a shape (a robot's link has the model's geoms)."""
+        if self._wrapped_reference is not None:
+            raise SimulationError(f"{what}: {self.prim_path!r} is a link of the model at "
+                                  f"{self._wrapped_reference.prim_path!r}, whose geoms and collision settings are "
+                                  "the model's; collisions can be switched for shapes (Visual/Fixed/Dynamic objects)")
+
     def get_collision_enabled(self) -> bool:
-        """Whether the geometry makes contacts."""
+        """Whether the geometry makes contacts.
+
+        Raises:
+            SimulationError: a robot's link (not a shape).
+        """
+        if self._wrapped_object is not None and hasattr(self._wrapped_object, "get_collision_enabled"):
+            return self._wrapped_object.get_collision_enabled()
+        self._own_geometry("get_collision_enabled")
         if self._sim is not None and self._geom_id >= 0:
             m = self._sim.model
             return bool(m.geom_contype[self._geom_id] or m.geom_conaffinity[self._geom_id])
-        return _FAMILY_COLLIDES[self._family]
+        return self._collides()
 
     def set_collision_enabled(self, enabled: bool) -> None:
-        """Enable/disable contacts of the geometry (immediately if compiled)."""
-        if self._sim is not None:
+        """Enable/disable contacts of the geometry: at once if compiled, and at every later
+        compile (before the first `World.reset()` too).
+
+        Raises:
+            InvalidInputError: `enabled` not a bool.
+            SimulationError: a robot's link (not a shape).
+        """
+        if not isinstance(enabled, (bool, np.bool_)):
+            raise InvalidInputError(f"set_collision_enabled needs True or False; got {enabled!r}")
+        if self._wrapped_object is not None and hasattr(self._wrapped_object, "set_collision_enabled"):
+            self._wrapped_object.set_collision_enabled(enabled)
+            return
+        self._own_geometry("set_collision_enabled")
+        self._collision = bool(enabled)
+        if self._sim is not None and self._geom_id >= 0:
             v = 1 if enabled else 0
             self._sim.model.geom_contype[self._geom_id] = v
             self._sim.model.geom_conaffinity[self._geom_id] = v

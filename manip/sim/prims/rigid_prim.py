@@ -7,6 +7,7 @@ import logging
 import mujoco
 import numpy as np
 
+from manip.errors import InvalidInputError
 from manip.sim.scenes.stage import SimulationError
 from manip.sim.utils.not_supported import declare as declare_not_supported
 from manip.sim.utils.types import DynamicState
@@ -23,6 +24,32 @@ class RigidPrim(XFormPrim):
     (velocities and mass readable, not settable: the joints move it)."""
 
     _mounts_on_links = False  # a body (a robot's link) or a shape of its own, never a frame on a link
+
+    def __init__(self, prim_path: str, name: str | None = None, position=None, translation=None, orientation=None,
+                 scale=None, visible: bool | None = None, mass: float | None = None, density: float | None = None,
+                 linear_velocity=None, angular_velocity=None):
+        """Wrap a rigid body on the stage (a Dynamic* object, a robot's link), with Isaac's
+        arguments: `mass` [kg] or `density` [kg/m^3] (not both), and for a free body its
+        `linear_velocity` [m/s] and `angular_velocity` [rad/s] (set now; before the first
+        `World.reset()` they are its default state).
+
+        Raises:
+            InvalidInputError: both mass and density, or a bad value.
+            SimulationError: velocities for a robot's link (its joints move it).
+        """
+        super().__init__(prim_path, name, position, translation, orientation, scale, visible)
+        if mass is not None and density is not None:
+            raise InvalidInputError("give either mass or density, not both")
+        if mass is not None:
+            self.set_mass(mass)
+        elif density is not None:
+            self.set_density(density)
+        for v, setter in ((linear_velocity, self.set_linear_velocity), (angular_velocity, self.set_angular_velocity)):
+            if v is not None:
+                if self._wrapped_reference is not None:
+                    raise SimulationError(f"{self.prim_path!r} is a link of the model at "
+                                          f"{self._wrapped_reference.prim_path!r}: its velocity follows the joints")
+                setter(v)
 
     def _make_default_state(self) -> DynamicState:
         return DynamicState(self._pose[0].copy(), self._pose[1].copy(), np.zeros(3), np.zeros(3))
@@ -75,6 +102,10 @@ class RigidPrim(XFormPrim):
         """Set the linear velocity (3,) [m/s], world frame; a speed above
         `manip.sim.utils.bounds.MAX_LINEAR_SPEED` (1e3 m/s) raises InvalidInputError."""
         v = bounded_vec(velocity, "linear", "linear velocity")
+        if self._sim is None and self._wrapped_object is not None and hasattr(self._wrapped_object,
+                                                                               "set_linear_velocity"):
+            self._wrapped_object.set_linear_velocity(v)  # the object holds the state the World compiles
+            return
         if self._sim is None:
             self._require_on_stage("set_linear_velocity")
             self._default_state.linear_velocity = v
@@ -87,6 +118,10 @@ class RigidPrim(XFormPrim):
         """Set the angular velocity (3,) [rad/s], world frame; an angular speed above
         `manip.sim.utils.bounds.MAX_ANGULAR_SPEED` (1e3 rad/s) raises InvalidInputError."""
         w = bounded_vec(velocity, "angular", "angular velocity")
+        if self._sim is None and self._wrapped_object is not None and hasattr(self._wrapped_object,
+                                                                               "set_angular_velocity"):
+            self._wrapped_object.set_angular_velocity(w)
+            return
         if self._sim is None:
             self._require_on_stage("set_angular_velocity")
             self._default_state.angular_velocity = w
@@ -110,15 +145,29 @@ class RigidPrim(XFormPrim):
         return float(self._density * self._volume())
 
     def set_mass(self, mass: float) -> None:
-        """Change the mass [kg]; the inertia is scaled with it. Immediate if compiled."""
+        """Change the mass [kg]; the inertia is scaled with it. Immediate if compiled, and kept
+        when the World compiles again (for a robot's link too; through a wrapper, the wrapped
+        object's)."""
         m = positive(mass, "mass", "kg")
+        if self._wrapped_object is not None and hasattr(self._wrapped_object, "set_mass"):
+            self._wrapped_object.set_mass(m)
+            return
         if self._sim is not None:
-            model = self._sim.model
-            old = model.body_mass[self._body_id]
-            model.body_inertia[self._body_id] *= m / old
-            model.body_mass[self._body_id] = m
-            mujoco.mj_setConst(model, self._sim.data)
+            self._apply_mass(m)
         self._mass, self._density = m, None
+
+    def _apply_mass(self, m: float) -> None:
+        model = self._sim.model
+        old = model.body_mass[self._body_id]
+        model.body_inertia[self._body_id] *= m / old
+        model.body_mass[self._body_id] = m
+        mujoco.mj_setConst(model, self._sim.data)
+
+    def bind_simulation(self, sim) -> None:
+        super().bind_simulation(sim)
+        mass = getattr(self, "_mass", None)
+        if self._wrapped_reference is not None and mass is not None and self._body_id >= 0:
+            self._apply_mass(mass)  # a link's mass set by the script, over the model's
 
     def get_density(self) -> float:
         """Density [kg/m^3]: mass over the shape's volume."""
@@ -126,6 +175,9 @@ class RigidPrim(XFormPrim):
 
     def set_density(self, density: float) -> None:
         """Set the mass to `density` [kg/m^3] times the shape's volume (immediate if compiled)."""
+        if self._wrapped_object is not None and hasattr(self._wrapped_object, "set_density"):
+            self._wrapped_object.set_density(density)
+            return
         self.set_mass(positive(density, "density", "kg/m^3") * self._volume())
         self._mass, self._density = None, float(density)
 
@@ -144,7 +196,8 @@ class RigidPrim(XFormPrim):
 
     def _volume(self) -> float:
         """Volume of the shape [m^3] (the shape classes define it)."""
-        raise NotImplementedError
+        raise SimulationError(f"{self.prim_path!r} has no shape of its own here (a robot's link): set its mass, "
+                              "not a density")
 
     def set_default_state(self, position=None, orientation=None, linear_velocity=None, angular_velocity=None) -> None:
         """State restored by `post_reset()`; None keeps a part."""

@@ -20,6 +20,7 @@ import numpy as np
 from manip import quaternion as quat
 from manip.errors import InvalidInputError
 from manip.sim.prims import body_forces
+from manip.sim.prims.xform_prim import model_frame_pose, relative_pose
 from manip.sim.scenes.stage import SimHandle, SimulationError, get_current_stage
 from manip.sim.utils.types import DynamicsViewState, XFormPrimViewState
 from manip.sim.utils.bounds import check_bounded_rows
@@ -75,7 +76,8 @@ class XFormPrimView:
     """
 
     def __init__(self, prim_paths_expr: str, name: str = "xform_prim_view", positions=None, translations=None,
-                 orientations=None, scales=None, visibilities=None, reset_xform_properties: bool = True):
+                 orientations=None, scales=None, visibilities=None, reset_xform_properties: bool = True,
+                 usd: bool = True):
         self._segments = compile_path_expression(prim_paths_expr)
         if scales is not None or visibilities is not None:
             raise InvalidInputError(
@@ -151,7 +153,10 @@ class XFormPrimView:
     def post_reset(self) -> None:
         """Nothing to do: the prims restore their own default states."""
 
-    def is_valid(self) -> bool:
+    def is_valid(self, indices=None) -> bool:
+        """Whether the view is bound to the compiled World (`indices` accepted, as Isaac's)."""
+        if indices is not None:
+            self._idx(indices)
         return self._sim is not None
 
     def _need(self) -> SimHandle:
@@ -179,15 +184,16 @@ class XFormPrimView:
             raise InvalidInputError(f"indices {idx.tolist()} out of range for a view of {self.count} prims")
         return idx
 
-    def get_world_poses(self, indices=None) -> tuple[np.ndarray, np.ndarray]:
-        """Positions (K, 3) [m] and orientations (K, 4) (w, x, y, z)."""
+    def get_world_poses(self, indices=None, clone: bool = True, usd: bool = True) -> tuple[np.ndarray, np.ndarray]:
+        """Positions (K, 3) [m] and orientations (K, 4) (w, x, y, z) (copies; `clone` and `usd`
+        are accepted for Isaac's signature: there is one copy of the state, MuJoCo's)."""
         sim = self._need()
         idx = self._idx(indices)
         sim.ensure_kinematics()
         b = self._bodies[idx]
         return sim.data.xpos[b].copy(), sim.data.xquat[b].copy()
 
-    def set_world_poses(self, positions=None, orientations=None, indices=None) -> None:
+    def set_world_poses(self, positions=None, orientations=None, indices=None, usd: bool = True) -> None:
         """Teleport free bodies and mocap prims (Visual/Fixed objects); articulation links raise."""
         sim = self._need()
         idx = self._idx(indices)
@@ -260,8 +266,17 @@ class XFormPrimView:
         return self.get_local_scales(indices)
 
     def get_local_poses(self, indices=None):
-        """Same as get_world_poses (no parent transforms)."""
-        return self.get_world_poses(indices)
+        """Positions (K, 3) [m] and orientations (K, 4) in each prim's parent frame: a robot
+        link's in its model's frame (as `XFormPrim.get_local_pose`), any other prim's in the
+        world (no other parent transforms)."""
+        positions, orientations = self.get_world_poses(indices)
+        stage = get_current_stage()
+        refs = [p for p in stage.prim_paths() if stage.find_reference(p) is not None]
+        for k, i in enumerate(self._idx(indices)):
+            ref = next((stage.find_reference(r) for r in refs if self._paths[i].startswith(r + "/")), None)
+            if ref is not None:
+                positions[k], orientations[k] = relative_pose(model_frame_pose(ref), (positions[k], orientations[k]))
+        return positions, orientations
 
     def set_local_poses(self, translations=None, orientations=None, indices=None) -> None:
         self.set_world_poses(translations, orientations, indices)
@@ -299,7 +314,7 @@ class RigidPrimView(XFormPrimView):
         super().__init__(prim_paths_expr, name, positions, translations, orientations, scales, visibilities,
                          reset_xform_properties)
 
-    def get_velocities(self, indices=None) -> np.ndarray:
+    def get_velocities(self, indices=None, clone: bool = True) -> np.ndarray:
         """(K, 6): linear [m/s] (of the centre of mass, as PhysX) then angular [rad/s]
         velocity of each body, world frame."""
         sim = self._need()
@@ -312,10 +327,10 @@ class RigidPrimView(XFormPrimView):
             out[k, :3], out[k, 3:] = res[3:], res[:3]
         return out
 
-    def get_linear_velocities(self, indices=None) -> np.ndarray:
+    def get_linear_velocities(self, indices=None, clone: bool = True) -> np.ndarray:
         return self.get_velocities(indices)[:, :3]
 
-    def get_angular_velocities(self, indices=None) -> np.ndarray:
+    def get_angular_velocities(self, indices=None, clone: bool = True) -> np.ndarray:
         return self.get_velocities(indices)[:, 3:]
 
     def set_velocities(self, velocities, indices=None) -> None:

@@ -1,7 +1,10 @@
 """`XFormPrim`: a prim with a pose, new (a mocap body) or wrapping a body of a referenced model.
 
 Prims have no parent transform: `/World` is the identity, so the local pose equals the
-world pose. Quaternions are (w, x, y, z); positions in m.
+world pose, except for two kinds of prim: one fixed to a robot's link (its local pose is in
+the link's frame) and one wrapping a link of a referenced model (its local pose is in the
+model's frame, the parent prim of the links as in Isaac's robot USD files:
+"/World/Franka/panda_hand" under "/World/Franka"). Quaternions are (w, x, y, z); positions in m.
 """
 
 from __future__ import annotations
@@ -14,7 +17,8 @@ import numpy as np
 from manip import quaternion as quat
 from manip.errors import InvalidInputError
 from manip.pose import Pose
-from manip.sim.scenes.stage import ReferencePrim, SimHandle, SimulationError, get_current_stage, validate_prim_path
+from manip.sim.scenes.stage import (ReferencePrim, SimHandle, SimulationError, get_current_stage, is_prim_path_valid,
+                                    validate_prim_path)
 from manip.sim.utils.types import DefaultPoseMixin, XFormPrimState, position_or_translation
 from manip.validation import scale3, unit_quat
 from manip.sim.utils.bounds import bounded_vec
@@ -168,8 +172,15 @@ class XFormPrim(DefaultPoseMixin):
         """Unique name in the scene."""
         return self._name
 
-    @property
     def is_valid(self) -> bool:
+        """Whether a prim is at this prim's path on the stage (Isaac's method; it was a
+        property here, and Isaac's call `is_valid()` raised TypeError)."""
+        return is_prim_path_valid(self.prim_path)
+
+    @property
+    def simulated(self) -> bool:
+        """Whether the prim is bound to the compiled World (after the `World.reset()` that
+        compiled it)."""
         return self._sim is not None
 
     def initialize(self, physics_sim_view=None) -> None:
@@ -192,7 +203,7 @@ class XFormPrim(DefaultPoseMixin):
         """Whether the compiled model holds this prim (a prim of a referenced model compiled
         already; a wrapped object compiled already)."""
         if self._wrapped_object is not None:
-            return self._wrapped_object.is_valid
+            return self._wrapped_object.simulated
         return self._wrapped_reference is None or self._wrapped_reference.core is not None
 
     def bind_simulation(self, sim: SimHandle) -> None:
@@ -326,11 +337,18 @@ class XFormPrim(DefaultPoseMixin):
         sim.mark_stale()
 
     def get_local_pose(self) -> tuple[np.ndarray, np.ndarray]:
-        """The pose in the link's frame for a prim fixed to a robot's link, else the same as
-        `get_world_pose` (no other parent transform here)."""
+        """The pose in the parent prim's frame: the link's for a prim fixed to a robot's link,
+        the model's (where its articulation is now) for a link of a referenced model, else the
+        same as `get_world_pose` (no other parent transform here)."""
         if self._mount_link is not None:
             return self._pose[0].copy(), self._pose[1].copy()
-        return self.get_world_pose()
+        world = self.get_world_pose()
+        if self._wrapped_reference is None or world is None:
+            return world
+        return relative_pose(self._model_frame(), world)
+
+    def _model_frame(self) -> tuple[np.ndarray, np.ndarray]:
+        return model_frame_pose(self._wrapped_reference)
 
     def set_local_pose(self, translation=None, orientation=None) -> None:
         """The pose in the link's frame for a prim fixed to a robot's link, else the same as
@@ -385,6 +403,17 @@ class XFormPrim(DefaultPoseMixin):
 
 
 declare_not_supported(XFormPrim)
+
+
+def model_frame_pose(reference: ReferencePrim) -> tuple[np.ndarray, np.ndarray]:
+    """World pose of a referenced model's frame (its links' parent prim): its articulation's
+    pose if one wraps it (teleports included), else the pose authored on the stage."""
+    for wrapper in get_current_stage().wrappers():
+        if getattr(wrapper, "reference", None) is reference:
+            pose = wrapper.get_world_pose()
+            if pose is not None:
+                return pose
+    return reference.position.copy(), reference.orientation.copy()
 
 
 def compose_poses(a, b) -> tuple[np.ndarray, np.ndarray]:

@@ -137,8 +137,10 @@ class ParallelGripper:
         """Apply an action given for the fingers only (length 2)."""
         self._need()
         if control_actions.get_length() not in (None, len(self._indices)):
-            raise InvalidInputError(f"a gripper action needs {len(self._indices)} entries; got "
-                                    f"{control_actions.get_length()}")
+            hint = (": gripper.forward() returns the whole robot's action, apply that with robot.apply_action(...)"
+                    if control_actions.get_length() == self._num_dof else "")
+            raise InvalidInputError(f"a gripper action needs {len(self._indices)} entries (the fingers' "
+                                    f"{self._joint_names}); got {control_actions.get_length()}{hint}")
         self._apply(ArticulationAction(control_actions.joint_positions, control_actions.joint_velocities,
                                        control_actions.joint_efforts, self._indices))
 

@@ -387,8 +387,9 @@ class StageEvent:
 _STAGE = Stage()
 
 
-def get_current_stage() -> Stage:
-    """The stage that objects and references are created on."""
+def get_current_stage(fabric: bool = False) -> Stage:
+    """The stage that objects and references are created on (`fabric` accepted for Isaac's
+    signature: there is one stage)."""
     return _STAGE
 
 
@@ -398,7 +399,7 @@ def create_new_stage() -> Stage:
     return _STAGE
 
 
-def is_prim_path_valid(prim_path: str) -> bool:
+def is_prim_path_valid(prim_path: str, fabric: bool = False) -> bool:
     """Whether a prim exists at `prim_path` on the current stage: an object, a referenced
     model, or a body or site of a referenced model ("/World/Franka/panda_hand", as in Isaac,
     where a robot's links are prims below it)."""

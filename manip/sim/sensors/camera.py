@@ -283,7 +283,15 @@ class Camera(XFormPrim):
         """Kept for Isaac scripts: depth is always available (`get_depth`)."""
 
     def add_pointcloud_to_frame(self, include_unlabelled: bool = False) -> None:
-        """Kept for Isaac scripts: the point cloud is always available (`get_pointcloud`)."""
+        """`get_current_frame()["pointcloud"]`, Isaac's pointcloud annotator: {"data": (N, 3)
+        float32 world points [m] of the pixels that hit a surface (row-major, as
+        `get_pointcloud`), "info": {"pointRgb": (N, 4) uint8, "pointNormals": (N, 4) float32
+        world normals}}. manip has no semantic labels: every surface is in it, whatever
+        `include_unlabelled` (Isaac's default False keeps only labelled prims' points)."""
+        self._annotators.add("pointcloud")
+
+    def remove_pointcloud_from_frame(self) -> None:
+        self._annotators.discard("pointcloud")
 
     def add_distance_to_camera_to_frame(self) -> None:
         """Kept for Isaac scripts: `get_current_frame()["distance_to_camera"]` is filled."""
@@ -318,7 +326,8 @@ class Camera(XFormPrim):
 
     def get_current_frame(self, clone: bool = False) -> dict:
         """{"rgba", "distance_to_image_plane", "distance_to_camera", "rendering_frame"} of the
-        current state, plus "normals" / "motion_vectors" once added (`add_..._to_frame`)."""
+        current state, plus "normals" / "motion_vectors" / "pointcloud" once added
+        (`add_..._to_frame`)."""
         return self._paused_frame if self._paused_frame is not None else self._current_frame()
 
     def _current_frame(self) -> dict:
@@ -329,8 +338,14 @@ class Camera(XFormPrim):
                  "distance_to_camera": np.linalg.norm(np.nan_to_num(points, nan=np.inf), axis=-1).astype(np.float32)}
         p_cam, q_cam = self.get_world_pose(camera_axes="ros")
         R_cam = quat.to_matrix(q_cam)
-        if "normals" in self._annotators:
-            frame["normals"] = annotators.normals(points, R_cam)
+        if "normals" in self._annotators or "pointcloud" in self._annotators:
+            world_normals = annotators.normals(points, R_cam)
+            if "normals" in self._annotators:
+                frame["normals"] = world_normals
+            if "pointcloud" in self._annotators:
+                hit = np.isfinite(depth)
+                frame["pointcloud"] = {"data": (points[hit] @ R_cam.T + p_cam).astype(np.float32),
+                                       "info": {"pointRgb": frame["rgba"][hit], "pointNormals": world_normals[hit]}}
         if "motion_vectors" in self._annotators:
             sim = self._sim
             period = self.get_dt() if self._frequency > 0 else (sim.physics_dt or float(sim.model.opt.timestep))

@@ -1,1 +1,1 @@
-"""Tasks: `BaseTask` and `PickPlace` (`base_task`), the World's task registry, `FollowTarget`."""
+"""Tasks: `BaseTask` and `PickPlace` (`base_task`), the World's task registry, `FollowTarget`, `Stacking`."""

@@ -110,15 +110,16 @@ class BaseTask:
         raise self._not_implemented("set_params", "None after changing the parameters")
 
     def cleanup(self) -> None:
-        """Called when the World is cleared."""
+        """Called at each `World.reset()` before the stage compiles (as Isaac's: remove here the
+        objects the task added during the episode) and when the World is cleared."""
 
 
 class PickPlace(BaseTask):
     """Franka pick-and-place of a cube (Isaac's `PickPlace` task for the Franka).
 
     Scene: the default ground plane, a Franka at the origin (prim "/World/Franka", name
-    "franka"), a blue DynamicCuboid (prim "/World/Cube", name "cube") of `size=1.0` scaled by
-    `cube_size`, as Isaac builds it.
+    "my_franka"), a blue DynamicCuboid (prim "/World/Cube", name "cube") of `size=1.0`
+    scaled by `cube_size`, as Isaac builds them.
 
     Observations: {cube_name: {"position", "orientation", "target_position"},
     robot_name: {"joint_positions", "end_effector_position"}} (end effector: the Franka's
@@ -183,7 +184,7 @@ class PickPlace(BaseTask):
         """The robot of the task (override to change it)."""
         stage = get_current_stage()
         path = find_unique_string_name("/World/Franka", lambda p: stage.get_prim(p) is None)
-        name = find_unique_string_name("franka", lambda n: not self._scene.object_exists(n))
+        name = find_unique_string_name("my_franka", lambda n: not self._scene.object_exists(n))
         return Franka(path, name=name)
 
     @property

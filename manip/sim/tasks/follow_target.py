@@ -215,7 +215,7 @@ class FollowTarget(BaseTask):
         return len(self._obstacle_cubes) > 0
 
     def cleanup(self) -> None:
-        """Remove every obstacle (called when the World is cleared)."""
+        """Remove every obstacle (called by `World.reset()` and when the World is cleared, as Isaac)."""
         for name in list(self._obstacle_cubes):
             if self._scene is not None and self._scene.object_exists(name):
                 self._scene.remove_object(name)

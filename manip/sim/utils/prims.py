@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from manip.errors import InvalidInputError
 from manip.sim.core.world import World
 from manip.sim.prims.views import compile_path_expression, path_matches
 from manip.sim.scenes.stage import get_current_stage
@@ -22,8 +23,9 @@ def is_stage_loading() -> bool:
     return False
 
 
-def get_prim_at_path(prim_path: str) -> Any | None:
-    """The object (or referenced model) at `prim_path` on the stage, None if there is none."""
+def get_prim_at_path(prim_path: str, fabric: bool = False) -> Any | None:
+    """The object (or referenced model) at `prim_path` on the stage, None if there is none
+    (`fabric` accepted for Isaac's signature)."""
     return get_current_stage().get_prim(prim_path)
 
 
@@ -40,9 +42,16 @@ def delete_prim(prim_path: str) -> None:
     get_current_stage().remove_prim(prim_path)
 
 
-def find_matching_prim_paths(prim_path_regex: str) -> list[str]:
+def find_matching_prim_paths(prim_path_regex: str, prim_type: str | None = None) -> list[str]:
     """Prim paths of the stage (and, once compiled, the bodies of referenced models) whose
-    every path segment fully matches the expression's segment (Isaac's rule, as the views')."""
+    every path segment fully matches the expression's segment (Isaac's rule, as the views').
+
+    Raises:
+        InvalidInputError: a `prim_type` (manip has no USD prim types: match by path).
+    """
+    if prim_type is not None:
+        raise InvalidInputError(f"find_matching_prim_paths(prim_type={prim_type!r}): manip has no USD prim types; "
+                                "match by path only")
     segments = compile_path_expression(prim_path_regex)
     stage = get_current_stage()
     paths = stage.prim_paths()

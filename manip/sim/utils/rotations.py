@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from manip import quaternion as quat
+from manip import quaternion as qmath
 from manip.errors import InvalidInputError
 
 
@@ -44,7 +44,7 @@ def euler_angles_to_rot_matrix(euler_angles, degrees: bool = False, extrinsic: b
 
 def euler_angles_to_quat(euler_angles, degrees: bool = False, extrinsic: bool = True) -> np.ndarray:
     """Quaternion (4,) (w, x, y, z) of angles (x, y, z); see `euler_angles_to_rot_matrix`."""
-    return quat.from_matrix(euler_angles_to_rot_matrix(euler_angles, degrees, extrinsic))
+    return qmath.from_matrix(euler_angles_to_rot_matrix(euler_angles, degrees, extrinsic))
 
 
 def rot_matrix_to_quat(mat) -> np.ndarray:
@@ -52,13 +52,13 @@ def rot_matrix_to_quat(mat) -> np.ndarray:
     R = np.asarray(mat, dtype=float)
     if R.shape != (3, 3) or not np.all(np.isfinite(R)):
         raise InvalidInputError(f"rotation matrix must be a finite (3, 3) array; got shape {R.shape}")
-    q = quat.from_matrix(R)
+    q = qmath.from_matrix(R)
     return q if q[0] >= 0 else -q
 
 
-def quat_to_rot_matrix(quaternion) -> np.ndarray:
-    """Rotation matrix (3, 3) of a (w, x, y, z) quaternion (4,)."""
-    return quat.to_matrix(quat.normalize(np.asarray(quaternion, dtype=float)))
+def quat_to_rot_matrix(quat) -> np.ndarray:
+    """Rotation matrix (3, 3) of a (w, x, y, z) quaternion (4,) (Isaac's argument name `quat`)."""
+    return qmath.to_matrix(qmath.normalize(np.asarray(quat, dtype=float)))
 
 
 def rot_matrix_to_euler_angles(mat, degrees: bool = False, extrinsic: bool = True) -> np.ndarray:
@@ -87,10 +87,10 @@ def rot_matrix_to_euler_angles(mat, degrees: bool = False, extrinsic: bool = Tru
     return np.degrees(out) if degrees else out
 
 
-def quat_to_euler_angles(quaternion, degrees: bool = False, extrinsic: bool = True) -> np.ndarray:
-    """Angles (x, y, z) [rad, or deg] of a (w, x, y, z) quaternion; inverse of
+def quat_to_euler_angles(quat, degrees: bool = False, extrinsic: bool = True) -> np.ndarray:
+    """Angles (x, y, z) [rad, or deg] of a (w, x, y, z) quaternion `quat` (4,); inverse of
     `euler_angles_to_quat`. The last entry is the yaw about world z (extrinsic)."""
-    return rot_matrix_to_euler_angles(quat_to_rot_matrix(quaternion), degrees, extrinsic)
+    return rot_matrix_to_euler_angles(quat_to_rot_matrix(quat), degrees, extrinsic)
 
 
 def gf_quat_to_np_array(quaternion) -> np.ndarray:
@@ -125,21 +125,21 @@ def euler_angles_to_quats(euler_angles, degrees: bool = False, extrinsic: bool =
     a, single = _batch(euler_angles, (3,), "euler_angles")
     a = np.radians(a) if degrees else a
     rx, ry, rz = (_axis_matrices(a[:, k], k) for k in range(3))
-    q = quat.from_matrix(rz @ ry @ rx if extrinsic else rx @ ry @ rz)
+    q = qmath.from_matrix(rz @ ry @ rx if extrinsic else rx @ ry @ rz)
     return q[0] if single else q
 
 
 def quats_to_rot_matrices(quaternions, device=None) -> np.ndarray:
     """Rotation matrices (N, 3, 3) of unit (w, x, y, z) quaternions (N, 4) (one (4,) gives (3, 3))."""
     q, single = _batch(quaternions, (4,), "quaternions")
-    R = quat.to_matrix(quat.normalize(q, what="quaternions"))
+    R = qmath.to_matrix(qmath.normalize(q, what="quaternions"))
     return R[0] if single else R
 
 
 def rot_matrices_to_quats(rotation_matrices, device=None) -> np.ndarray:
     """Quaternions (N, 4) (w, x, y, z), w >= 0, of rotation matrices (N, 3, 3) (one (3, 3) gives (4,))."""
     R, single = _batch(rotation_matrices, (3, 3), "rotation_matrices")
-    q = quat.from_matrix(R)
+    q = qmath.from_matrix(R)
     return q[0] if single else q
 
 
@@ -156,14 +156,14 @@ def rotvecs_to_quats(rotation_vectors, degrees: bool = False, device=None) -> np
     v = np.radians(v) if degrees else v
     angle = np.linalg.norm(v, axis=-1)
     axis = np.divide(v, angle[:, None], out=np.tile([0.0, 0.0, 1.0], (len(v), 1)), where=angle[:, None] > 0)  # any axis at 0
-    q = quat.from_axis_angle(axis, angle)
+    q = qmath.from_axis_angle(axis, angle)
     return q[0] if single else q
 
 
 def quats_to_rotvecs(quaternions, device=None) -> np.ndarray:
     """Rotation vectors (N, 3) (axis times angle [rad], angle in [0, pi]) of quaternions (N, 4)."""
     q, single = _batch(quaternions, (4,), "quaternions")
-    q = quat.normalize(q, what="quaternions")
+    q = qmath.normalize(q, what="quaternions")
     q = q * np.where(q[:, :1] < 0, -1.0, 1.0)
     s = np.linalg.norm(q[:, 1:], axis=-1)
     angle = 2.0 * np.arctan2(s, q[:, 0])
@@ -183,9 +183,9 @@ def rad2deg(radian_value, device=None) -> np.ndarray:
 
 def xyzw2wxyz(q, ret_torch: bool = False) -> np.ndarray:
     """Scalar-last (..., 4) quaternions to scalar-first (Isaac's name for `manip.quaternion.xyzw_to_wxyz`)."""
-    return quat.xyzw_to_wxyz(q)
+    return qmath.xyzw_to_wxyz(q)
 
 
 def wxyz2xyzw(q, ret_torch: bool = False) -> np.ndarray:
     """Scalar-first (..., 4) quaternions to scalar-last (Isaac's name for `manip.quaternion.wxyz_to_xyzw`)."""
-    return quat.wxyz_to_xyzw(q)
+    return qmath.wxyz_to_xyzw(q)

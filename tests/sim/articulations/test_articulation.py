@@ -105,6 +105,14 @@ def test_gripper_forward_is_full_length_and_moves_the_fingers(franka_world):
     assert np.allclose(franka.gripper.get_joint_positions(), 0.04, atol=0.002)
     with pytest.raises(InvalidInputError):
         franka.gripper.forward("squeeze")
+    # Isaac's gripper.apply_action takes the fingers' two entries; the whole robot's action of
+    # forward() is for robot.apply_action, and the message says so.
+    with pytest.raises(InvalidInputError, match=r"needs 2 entries .*got 9: gripper.forward\(\) returns the whole"):
+        franka.gripper.apply_action(franka.gripper.forward("open"))
+    franka.gripper.apply_action(ArticulationAction(joint_positions=[0.02, 0.02]))
+    for _ in range(30):
+        world.step(render=False)
+    assert np.allclose(franka.gripper.get_joint_positions(), 0.02, atol=0.002)
 
 
 def test_bad_actions_raise_and_leave_the_state_unchanged(franka_world):

@@ -223,3 +223,41 @@ def test_the_flagship_reports_a_failed_grasp_and_picks_the_cube_again_where_it_i
     assert len(attached) == 1  # only the real grasp attached the cube
     assert r.placed and r.picks == 2, r.reason
     demo.close()
+
+
+def _run(world, franka, cube, controller, place, **kwargs) -> None:
+    for _ in range(sum(calls_per_phase(FRANKA_EVENTS_DT)) + 10):
+        if controller.is_done():
+            break
+        franka.apply_action(controller.forward(cube.get_world_pose()[0], place, franka.get_joint_positions(), **kwargs))
+        world.step(render=False)
+    for _ in range(60):
+        world.step(render=False)
+
+
+def test_isaacs_end_effector_orientation_is_the_same_grasp_turned_half_a_turn():
+    # Isaac's scripts pass euler_angles_to_quat([0, pi, 0]) = (0, 0, 1, 0): the Franka's wrist
+    # could not carry it round to the place position (the cube was dropped 0.38 m from it).
+    world, franka, cube = make_scene()
+    world.reset()
+    controller = PickPlaceController("pick_place", franka.gripper, franka)
+    place = np.array([-0.3, -0.3, 0.025])
+    _run(world, franka, cube, controller, place, end_effector_orientation=np.array([0.0, 0.0, 1.0, 0.0]))
+    assert controller.failure is None and controller.ik_failures == 0
+    assert np.linalg.norm(cube.get_world_pose()[0] - place) < 0.01
+    # As given, the orientation is the one Isaac's wrist reaches near its limit: it cannot follow.
+    world.reset()
+    strict = PickPlaceController("strict", franka.gripper, franka, symmetric_grasp=False)
+    _run(world, franka, cube, strict, place, end_effector_orientation=np.array([0.0, 0.0, 1.0, 0.0]))
+    assert strict.ik_failures > 0 and "could not reach the place position" in strict.failure
+
+
+def test_an_unreachable_place_stops_with_the_object_held_and_says_why():
+    world, franka, cube = make_scene()
+    world.reset()
+    controller = PickPlaceController("pick_place", franka.gripper, franka)
+    _run(world, franka, cube, controller, np.array([1.5, 0.0, 0.025]))
+    assert controller.is_done() and "could not reach the place position [1.5, 0.0, 0.025]" in controller.failure
+    # Still in the hand, not dropped wherever the arm stopped.
+    assert cube.get_world_pose()[0][2] > 0.2
+    assert np.linalg.norm(cube.get_world_pose()[0] - franka.end_effector.get_world_pose()[0]) < 0.02

@@ -436,6 +436,45 @@ def test_tasks_are_set_up_once_and_stepped():
         world.is_done()
 
 
+class SpawningTask(BaseTask):
+    """Adds cubes during an episode; its cleanup removes them (Isaac: before every reset)."""
+
+    def __init__(self):
+        super().__init__("spawning")
+        self.spawned: list[str] = []
+        self.cleanups = 0
+
+    def spawn(self) -> DynamicCuboid:
+        name = f"tmp_{len(self.spawned)}"
+        self.spawned.append(name)
+        return self.scene.add(DynamicCuboid(f"/World/{name}", name=name, position=[0.3 * len(self.spawned), 0, 0.5],
+                                            size=0.05))
+
+    def cleanup(self):
+        self.cleanups += 1
+        for name in self.spawned:
+            self.scene.remove_object(name)
+        self.spawned = []
+
+
+def test_every_reset_calls_the_tasks_cleanup_first_as_isaac():
+    world = World()
+    task = SpawningTask()
+    world.add_task(task)
+    world.reset()
+    assert task.cleanups == 1
+    cube = task.spawn()
+    world.reset()
+    for _ in range(30):
+        world.step(render=False)
+    # The cube spawned during the episode is gone: not in the scene, not in the compiled model.
+    assert task.cleanups == 2 and not world.scene.object_exists(cube.name)
+    assert all(world.model.body(b).name != cube.prim_path for b in range(world.model.nbody))
+    task.spawn()
+    world.reset(soft=True)
+    assert task.cleanups == 3 and task.spawned == []
+
+
 def test_pick_place_task_scene_and_observations():
     world = World()
     world.add_task(PickPlace(cube_initial_position=[0.45, 0.1, 0.025], target_position=[0.3, -0.3, 0.025]))
@@ -443,6 +482,7 @@ def test_pick_place_task_scene_and_observations():
     obs = world.get_observations()
     params = world.get_task("franka_pick_place").get_params()
     cube_name, robot_name = params["cube_name"]["value"], params["robot_name"]["value"]
+    assert (cube_name, robot_name) == ("cube", "my_franka")  # Isaac's names (the robot was "franka")
     assert set(obs[cube_name]) == {"position", "orientation", "target_position"}
     assert set(obs[robot_name]) == {"joint_positions", "end_effector_position"}
     assert np.allclose(obs[cube_name]["position"], [0.45, 0.1, 0.025])

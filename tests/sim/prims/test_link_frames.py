@@ -9,7 +9,7 @@ import pytest
 
 from manip import quaternion as quat
 from manip.errors import InvalidInputError
-from manip.sim import Franka, RigidPrim, World, XFormPrim
+from manip.sim import Franka, RigidPrim, RigidPrimView, World, XFormPrim
 
 
 def test_a_frame_below_a_link_rides_on_it():
@@ -50,3 +50,36 @@ def test_what_cannot_ride_on_a_link_says_so():
         RigidPrim("/World/Franka/panda_hand/not_a_link")
     world.reset()
     assert RigidPrim("/World/Franka/panda_hand").get_mass() > 0
+
+
+def test_a_links_local_pose_is_in_the_robots_frame_its_parent_prim():
+    # Isaac's robot USDs put the links under the robot's prim ("/World/Franka/panda_hand"):
+    # a link's local pose is in the robot's frame (it was the world pose).
+    world = World()
+    yaw = np.array([np.cos(np.pi / 4), 0.0, 0.0, np.sin(np.pi / 4)])  # 90 deg about z
+    franka = world.scene.add(Franka("/World/Franka", name="franka", position=[0.5, 0.2, 0.1], orientation=yaw))
+    hand = RigidPrim("/World/Franka/panda_hand", name="hand")
+    link0 = XFormPrim("/World/Franka/panda_link0")
+    view = world.scene.add(RigidPrimView("/World/Franka/panda_(hand|link0)", name="links"))
+
+    def check():
+        p_r, q_r = franka.get_world_pose()
+        p_h, q_h = hand.get_world_pose()
+        lp, lq = hand.get_local_pose()
+        np.testing.assert_allclose(p_r + quat.to_matrix(q_r) @ lp, p_h, atol=1e-9)
+        assert quat.angle_between(quat.multiply(q_r, lq), q_h) < 1e-6
+        np.testing.assert_allclose(link0.get_local_pose()[0], 0.0, atol=1e-9)
+        return lp
+
+    before_reset = check()
+    world.reset()
+    at_reset = check()
+    np.testing.assert_allclose(at_reset, before_reset, atol=1e-9)
+    franka.set_world_pose(position=[-1.0, 0.0, 0.0])   # teleported: the local pose stays
+    world.step(render=False)
+    np.testing.assert_allclose(check(), at_reset, atol=2e-3)
+    assert np.linalg.norm(hand.get_local_pose()[0] - hand.get_world_pose()[0]) > 0.5
+    positions, orientations = view.get_local_poses()   # the view agrees, link by link
+    assert view.prim_paths == ["/World/Franka/panda_link0", "/World/Franka/panda_hand"]
+    np.testing.assert_allclose(positions, [link0.get_local_pose()[0], hand.get_local_pose()[0]], atol=1e-9)
+    np.testing.assert_allclose(orientations[1], hand.get_local_pose()[1], atol=1e-9)

@@ -24,6 +24,33 @@ def test_normals_of_a_floor_seen_from_above_point_up():
     assert "normals" not in cam.get_current_frame()
 
 
+def test_the_pointcloud_annotator_gives_world_points_colours_and_normals_as_isaacs():
+    # Isaac: add_pointcloud_to_frame(); get_current_frame()["pointcloud"]["data"] (was a KeyError).
+    world = World()
+    world.scene.add(FixedCuboid("/World/floor", name="floor", position=[0, 0, -0.05], scale=[4, 4, 0.1], size=1.0,
+                                color=[0.0, 1.0, 0.0]))
+    cube = world.scene.add(FixedCuboid("/World/box", name="box", position=[0.1, 0.0, 0.1], size=0.2,
+                                       color=[1.0, 0.0, 0.0]))
+    cam = Camera("/World/camera", position=[0.1, 0.0, 1.0], orientation=DOWN, resolution=(64, 48))
+    world.reset()
+    cam.add_pointcloud_to_frame(include_unlabelled=True)
+    pc = cam.get_current_frame()["pointcloud"]
+    data, info = pc["data"], pc["info"]
+    assert data.dtype == np.float32 and data.shape == (64 * 48, 3)  # every pixel sees the floor or the box
+    np.testing.assert_allclose(data, cam.get_pointcloud(), atol=1e-5)
+    assert info["pointRgb"].shape == (len(data), 4) and info["pointNormals"].shape == (len(data), 4)
+    on_top = np.abs(data[:, 2] - 0.2) < 1e-3  # the box's top face: red, facing up
+    assert on_top.sum() > 50
+    assert np.all(np.abs(data[on_top, :2] - cube.get_world_pose()[0][:2]) <= 0.1 + 1e-3)
+    red = info["pointRgb"][on_top]
+    assert np.all(red[:, 0] > 2 * red[:, 1])
+    # normals from the depth image: away from the face's edges (the neighbours there are on the floor)
+    inner = on_top & np.all(np.abs(data[:, :2] - cube.get_world_pose()[0][:2]) < 0.07, axis=1)
+    assert inner.sum() > 20 and np.allclose(info["pointNormals"][inner, :3], [0.0, 0.0, 1.0], atol=1e-3)
+    cam.remove_pointcloud_from_frame()
+    assert "pointcloud" not in cam.get_current_frame()
+
+
 def test_motion_vectors_match_the_projected_motion_of_a_moving_cube():
     world = World(physics_dt=1.0 / 200.0)
     cube = world.scene.add(DynamicCuboid("/World/cube", name="cube", position=[0.0, 0.0, 0.5], scale=[0.2, 0.2, 0.2],

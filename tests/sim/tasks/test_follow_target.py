@@ -197,3 +197,28 @@ def test_follow_target_example_runs_headless():
                           capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
     assert "tracking error" in proc.stdout and "simulated contacts arm-box: 0" in proc.stdout
+
+
+def test_a_reset_removes_the_tasks_obstacles_and_the_controller_forgets_them_as_isaac():
+    # Isaac: World.reset() calls FollowTarget.cleanup() (its obstacles leave the scene) and
+    # RMPFlowController.reset() empties its RmpFlow's world; the follow-target sample then adds
+    # new obstacles to both.
+    world = World()
+    task = FollowTarget()
+    world.add_task(task)
+    world.reset()
+    controller = RMPFlowController("follow", task.robot)
+    cube = task.add_obstacle()
+    controller.add_obstacle(cube)
+    world.reset()
+    controller.reset()
+    assert not task.obstacles_exist() and not world.scene.object_exists(cube.name)
+    assert controller.controller.world.names == []
+    again = task.add_obstacle()
+    controller.add_obstacle(again)  # raised "already added" when the controller kept its obstacles
+    assert controller.controller.world.names == [again.prim_path]
+    world.reset()
+    target = world.get_observations()["target"]
+    # Without controller.reset(), the removed obstacle is named at the next forward.
+    with pytest.raises(SimulationError, match="remove_obstacle"):
+        controller.forward(target["position"], target["orientation"])
