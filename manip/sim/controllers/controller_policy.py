@@ -37,10 +37,9 @@ from manip import quaternion as quat
 from manip.control import ReactiveController
 from manip.errors import InvalidInputError
 from manip.pose import Pose
-from manip.sim.motion_generation.sim_obstacles import (CAPSULES, CONES, CUBOIDS, CYLINDERS, GROUND_WIDTH, SPHERES,
-                                                      TrackedObstacles, check_shape, label)
-from manip.sim.objects import GroundPlane
-from manip.validation import positive, unit_quat, vec
+from manip.sim.motion_generation.obstacle_interface import ObstacleInterface
+from manip.sim.motion_generation.sim_obstacles import TrackedObstacles
+from manip.validation import unit_quat, vec
 
 logger = logging.getLogger(__name__)
 
@@ -50,7 +49,7 @@ BASE_POSE_TOLERANCE = (1e-3, 1e-3)
 _NO_DRAWING = "manip draws no debug prims (the controller's collision model is the robot's MuJoCo geoms)"
 
 
-class ControllerMotionPolicy:
+class ControllerMotionPolicy(ObstacleInterface):
     """RmpFlow's world interface over an `RMPFlowController` (see the module docstring).
 
     Args:
@@ -64,77 +63,13 @@ class ControllerMotionPolicy:
     def __init__(self, controller: ReactiveController, obstacles: TrackedObstacles,
                  base_from_world: Callable[[], Pose], forget_command: Callable[[], None]):
         self._ctrl = controller
-        self._tracked = obstacles
-        self._world_in_base = base_from_world
+        self._obstacles = obstacles
+        self._base_from_world = base_from_world
         self._forget_command = forget_command
         self._default = controller.rest_configuration
         self._said: set[str] = set()
 
     # ------------------------------------------------------------------ world
-    def add_obstacle(self, obstacle: Any, static: bool = False) -> bool:
-        """Avoid a manip.sim shape object from now on; True, or False (with a warning) if it
-        was already added.
-
-        Raises:
-            InvalidInputError: not a shape object (the message lists the accepted types).
-        """
-        check_shape(obstacle)
-        if isinstance(obstacle, GroundPlane):
-            return self.add_ground_plane(obstacle)
-        if obstacle in self._tracked:
-            logger.warning("add_obstacle: %r was already added; it is kept once", label(obstacle))
-            return False
-        self._tracked.add(obstacle, self._world_in_base(), static=static)
-        return True
-
-    def _add_typed(self, obstacle: Any, types: tuple, what: str, static: bool) -> bool:
-        if not isinstance(obstacle, types):
-            raise InvalidInputError(f"{what}: expected one of {', '.join(t.__name__ for t in types)}; "
-                                    f"got {type(obstacle).__name__}")
-        return self.add_obstacle(obstacle, static)
-
-    def add_cuboid(self, cuboid: Any, static: bool = False) -> bool:
-        return self._add_typed(cuboid, CUBOIDS, "add_cuboid", static)
-
-    def add_sphere(self, sphere: Any, static: bool = False) -> bool:
-        return self._add_typed(sphere, SPHERES, "add_sphere", static)
-
-    def add_capsule(self, capsule: Any, static: bool = False) -> bool:
-        return self._add_typed(capsule, CAPSULES, "add_capsule", static)
-
-    def add_cylinder(self, cylinder: Any, static: bool = False) -> bool:
-        return self._add_typed(cylinder, CYLINDERS, "add_cylinder", static)
-
-    def add_cone(self, cone: Any, static: bool = False) -> bool:
-        """A cone, avoided as its bounding cylinder."""
-        return self._add_typed(cone, CONES, "add_cone", static)
-
-    def add_ground_plane(self, ground_plane: Any, plane_width: float = GROUND_WIDTH) -> bool:
-        """A `GroundPlane` as Lula's static slab `plane_width` [m] wide, its top on the plane."""
-        if not isinstance(ground_plane, GroundPlane):
-            raise InvalidInputError(f"add_ground_plane: expected a GroundPlane; got {type(ground_plane).__name__}")
-        width = positive(plane_width, "plane_width", "m")
-        if ground_plane in self._tracked:
-            logger.warning("add_ground_plane: %r was already added; it is kept once", label(ground_plane))
-            return False
-        self._tracked.add(ground_plane, self._world_in_base(), static=True, ground_width=width)
-        return True
-
-    def remove_obstacle(self, obstacle: Any) -> bool:
-        """Stop avoiding an added obstacle; True (UnknownNameError if it was not added)."""
-        self._tracked.remove(obstacle)
-        return True
-
-    def disable_obstacle(self, obstacle: Any) -> bool:
-        """Ignore an added obstacle until `enable_obstacle`; True (UnknownNameError if not added)."""
-        self._tracked.set_enabled(obstacle, False, self._world_in_base())
-        return True
-
-    def enable_obstacle(self, obstacle: Any) -> bool:
-        """Avoid a disabled obstacle again; True (UnknownNameError if not added)."""
-        self._tracked.set_enabled(obstacle, True, self._world_in_base())
-        return True
-
     def update_world(self, updated_obstacles: Iterable[Any] | None = None) -> None:
         """Re-read the poses of the listed obstacles (None: all of them).
 
@@ -144,7 +79,7 @@ class ControllerMotionPolicy:
         if updated_obstacles is not None and not isinstance(updated_obstacles, (list, tuple)):
             raise InvalidInputError(f"updated_obstacles must be a list of added obstacles or None; "
                                     f"got {type(updated_obstacles).__name__}")
-        self._tracked.sync(self._world_in_base(), objects=updated_obstacles)
+        self._obstacles.sync(self._base_from_world(), objects=updated_obstacles)
 
     def set_robot_base_pose(self, robot_position, robot_orientation) -> None:
         """Check a base pose (position (3,) [m], orientation (4,) w, x, y, z) against the
@@ -155,7 +90,7 @@ class ControllerMotionPolicy:
         """
         p = vec(robot_position, 3, "robot_position")
         q = unit_quat(robot_orientation, "robot_orientation")
-        measured = self._world_in_base().inverse()
+        measured = self._base_from_world().inverse()
         dp = float(np.linalg.norm(p - measured.position))
         dr = float(quat.angle_between(q, measured.quaternion))
         if dp > BASE_POSE_TOLERANCE[0] or dr > BASE_POSE_TOLERANCE[1]:
@@ -165,7 +100,7 @@ class ControllerMotionPolicy:
 
     def reset(self) -> None:
         """Forget the obstacles, the cspace target and the joint command (RmpFlow's reset)."""
-        self._tracked.clear()
+        self._obstacles.clear()
         self._ctrl.rest_configuration = self._default
         self._forget_command()
 
@@ -190,7 +125,7 @@ class ControllerMotionPolicy:
     def get_end_effector_pose(self, active_joint_positions) -> tuple[np.ndarray, np.ndarray]:
         """(position (3,) [m], rotation (3, 3)) of the controlled frame in the world for the
         given (dof,) arm joints [rad], the base where the articulation is now."""
-        pose = self._world_in_base().inverse() @ self._ctrl.forward_kinematics(active_joint_positions)
+        pose = self._base_from_world().inverse() @ self._ctrl.forward_kinematics(active_joint_positions)
         return pose.position.copy(), quat.to_matrix(pose.quaternion)
 
     # ------------------------------------------------------------------ debug drawing (none)
@@ -212,7 +147,7 @@ class ControllerMotionPolicy:
         self._log_once("stop_visualizing_end_effector")
 
     def __repr__(self) -> str:
-        return f"ControllerMotionPolicy({len(self._tracked)} obstacles, {self._ctrl!r})"
+        return f"ControllerMotionPolicy({len(self._obstacles)} obstacles, {self._ctrl!r})"
 
 
 __all__ = ["BASE_POSE_TOLERANCE", "ControllerMotionPolicy"]
