@@ -27,6 +27,15 @@ def find_unique_string_name(initial_name: str, is_unique_fn) -> str:
     return f"{initial_name}_{i}"
 
 
+def new_franka(scene: Scene) -> Franka:
+    """A Franka at a free "/World/Franka..." prim path named a free "my_franka..." (the robot of
+    Isaac's Franka tasks, `set_robot`)."""
+    stage = get_current_stage()
+    path = find_unique_string_name("/World/Franka", lambda p: stage.get_prim(p) is None)
+    name = find_unique_string_name("my_franka", lambda n: not scene.object_exists(n))
+    return Franka(path, name=name)
+
+
 class BaseTask:
     """A task: builds its part of the scene, observes, and is stepped by the World.
 
@@ -182,10 +191,7 @@ class PickPlace(BaseTask):
 
     def set_robot(self) -> Franka:
         """The robot of the task (override to change it)."""
-        stage = get_current_stage()
-        path = find_unique_string_name("/World/Franka", lambda p: stage.get_prim(p) is None)
-        name = find_unique_string_name("my_franka", lambda n: not self._scene.object_exists(n))
-        return Franka(path, name=name)
+        return new_franka(self._scene)
 
     @property
     def cube(self) -> DynamicCuboid | None:

@@ -26,7 +26,7 @@ from manip.sim.objects import DynamicCuboid
 from manip.sim.robots.robot import Franka
 from manip.sim.scenes.scene import Scene
 from manip.sim.scenes.stage import get_current_stage
-from manip.sim.tasks.base_task import BaseTask, find_unique_string_name
+from manip.sim.tasks.base_task import BaseTask, find_unique_string_name, new_franka
 from manip.validation import as_real_array, positive, unit_quat, vec
 
 #: The cubes' colours, in turn (RGB in [0, 1]).
@@ -93,10 +93,7 @@ class Stacking(BaseTask):
 
     def set_robot(self) -> Franka:
         """The robot of the task (override to change it)."""
-        stage = get_current_stage()
-        path = find_unique_string_name("/World/Franka", lambda p: stage.get_prim(p) is None)
-        name = find_unique_string_name("my_franka", lambda n: not self._scene.object_exists(n))
-        return Franka(path, name=name)
+        return new_franka(self._scene)
 
     @property
     def robot(self) -> Franka | None:
