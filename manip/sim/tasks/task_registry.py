@@ -87,7 +87,7 @@ class TaskRegistry:
         return out
 
     def is_done(self, task_name: str | None = None) -> bool:
-        """Whether the task (or, with None, every task; False without tasks) is done."""
+        """Whether the task (or, with None, every task; True without tasks, as Isaac's `all([])`) is done."""
         if task_name is not None:
             return bool(self.get(task_name).is_done())
-        return bool(self._tasks) and all(t.is_done() for t in self._tasks.values())
+        return all(t.is_done() for t in self._tasks.values())

@@ -498,6 +498,12 @@ def test_pick_place_task_scene_and_observations():
     assert world.is_done()
 
 
+def test_a_world_without_tasks_is_done_as_isaacs(fresh_world):
+    world = fresh_world()
+    world.reset()
+    assert world.is_done()   # Isaac: all() of no task's is_done()
+
+
 def _trajectory() -> np.ndarray:
     World.clear_instance()
     from manip.sim import create_new_stage
