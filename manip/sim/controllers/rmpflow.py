@@ -153,12 +153,14 @@ class RMPFlowController(BaseController):
     def add_obstacle(self, obstacle: Any, static: bool = False) -> None:
         """Avoid `obstacle` (a manip.sim shape object) from now on; its pose is read at
         every `forward` (`static` is accepted for Isaac's signature; poses are always read).
+        An obstacle added again is kept once, with a warning (as Isaac's Lula world does).
 
         Raises:
-            InvalidInputError: not a shape object, or already added.
+            InvalidInputError: not a shape object.
         """
         if obstacle in self._obstacles:
-            raise InvalidInputError(f"add_obstacle: {label(obstacle)!r} was already added")
+            logger.warning("RMPFlowController.add_obstacle: %r was already added; it is kept once", label(obstacle))
+            return
         self._obstacles.add(obstacle, self._base_from_world(), static=static)
 
     def remove_obstacle(self, obstacle: Any) -> None:

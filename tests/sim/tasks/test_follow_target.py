@@ -119,7 +119,7 @@ def test_obstacle_in_the_way_is_never_touched_and_the_arm_recovers():
         controller.remove_obstacle(wall)
 
 
-def test_task_obstacles_and_params():
+def test_task_obstacles_and_params(caplog):
     world = World()
     task = FollowTarget()
     world.add_task(task)
@@ -129,8 +129,9 @@ def test_task_obstacles_and_params():
     assert np.allclose(cube.get_world_pose()[0], [0.1, 0.1, 1.0])
     controller = RMPFlowController("follow", task.robot)
     controller.add_obstacle(cube)
-    with pytest.raises(InvalidInputError, match="already added"):
-        controller.add_obstacle(cube)
+    with caplog.at_level("WARNING"):
+        controller.add_obstacle(cube)   # Isaac's Lula world warns and keeps it once
+    assert "already added" in caplog.text
     assert controller.controller.world.names == [cube.prim_path]
     task.remove_obstacle()
     assert not task.obstacles_exist()
