@@ -18,7 +18,7 @@ import numpy as np
 from manip.errors import InvalidInputError, ManipError
 from manip.sim.core.gl_backend import choose_gl_backend, ensure_offscreen_gl, gl_help  # noqa: F401 (re-exported)
 from manip.sim.scenes.stage import SimHandle
-from manip.validation import positive
+from manip.validation import positive, vec
 
 logger = logging.getLogger(__name__)
 
@@ -28,14 +28,21 @@ class OffscreenRenderingError(ManipError):
 
 
 class CameraView:
-    """A free camera: look-at point [m], distance [m], azimuth and elevation [deg]."""
+    """A free camera of the World's viewer and recordings: look-at point (3,) [m], distance [m],
+    azimuth and elevation [deg]. (Not Isaac's `omni.isaac.sensor.CameraView`, a batched view of
+    camera prims: that one raises NotImplementedError here, saying so.)"""
 
     def __init__(self, lookat=(0.2, 0.0, 0.2), *, distance: float = 2.0, azimuth: float = 135.0,
-                 elevation: float = -25.0):
-        self.lookat = np.asarray(lookat, dtype=float)
-        self.distance = float(distance)
-        self.azimuth = float(azimuth)
-        self.elevation = float(elevation)
+                 elevation: float = -25.0, **isaac_arguments):
+        if isinstance(lookat, str) or isaac_arguments:
+            raise NotImplementedError(
+                "Isaac's omni.isaac.sensor.CameraView (a batched view of camera prims) is not implemented in manip: "
+                "use one manip.sim.Camera per camera prim. manip.sim.CameraView is the viewer's and recordings' "
+                "free camera: CameraView(lookat=(x, y, z), distance=..., azimuth=..., elevation=...)")
+        self.lookat = vec(lookat, 3, "CameraView lookat")
+        self.distance = positive(distance, "CameraView distance", "m")
+        self.azimuth = float(vec(azimuth, 1, "CameraView azimuth")[0])       # [deg], finite
+        self.elevation = float(vec(elevation, 1, "CameraView elevation")[0])
 
     @classmethod
     def from_eye_target(cls, eye, target) -> CameraView:
