@@ -165,7 +165,6 @@ class SimulationContext:
         self._camera_view = rec.CameraView()
         self._recorder: rec.Recorder | None = None
         self._warned_dirty = False
-        self._restart_pending = False
         self._init_components()
         self._initialized = True
 
@@ -355,7 +354,6 @@ class SimulationContext:
         self._time = 0.0
         self._time_origin = 0.0
         self._index = 0
-        self._restart_pending = False
         self.play()
         for _ in range(self._steps_per_render()):
             self._advance()
@@ -375,12 +373,9 @@ class SimulationContext:
 
     def play(self) -> None:
         """Start (or resume) the simulation; compiles the stage if never compiled. After a
-        `stop()`, physics restarts from the compiled initial state."""
+        `stop()`, physics starts from the compiled initial state (and what was set while stopped)."""
         if self._sim is None:
             self._compile()
-        elif self._restart_pending:
-            self._reset_physics_state()
-        self._restart_pending = False
         self._playing = True
         self._stopped = False
         self._fire_timeline("PLAY")
@@ -391,14 +386,17 @@ class SimulationContext:
         self._fire_timeline("PAUSE")
 
     def stop(self) -> None:
-        """Stop: time and step index go back to 0; the next `play()` restarts physics."""
+        """Stop: time and step index go back to 0 and, as Isaac's Stop, the objects and robots
+        go back to the compiled initial state (poses read while stopped are those); what is set
+        while stopped is where the next `play()` starts."""
         was = not self._stopped
         self._playing = False
         self._stopped = True
         self._time = 0.0
         self._time_origin = 0.0
         self._index = 0
-        self._restart_pending = self._sim is not None
+        if was and self._sim is not None:
+            self._reset_physics_state()
         if was:
             self._fire_timeline("STOP")
 

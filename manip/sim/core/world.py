@@ -90,7 +90,8 @@ class World(SimulationContext):
         super().initialize_physics()
 
     def stop(self) -> None:
-        """Stop: time and step index go back to 0; the next `play()` restarts physics."""
+        """Stop: time and step index go back to 0, objects and robots to the compiled initial
+        state (Isaac's Stop); the next `play()` starts from there."""
         self._last_pre_step_index = -1
         super().stop()
 

@@ -127,9 +127,15 @@ def test_pause_stop_play_and_timeline_events():
     assert cube.get_world_pose()[0][2] < z
     world.stop()
     assert world.is_stopped() and world.current_time == 0 and world.current_time_step_index == 0
+    assert cube.get_world_pose()[0][2] == pytest.approx(1.0)   # Isaac's Stop: back to the initial state
     world.play()  # physics restarts from the initial state
     assert cube.get_world_pose()[0][2] == pytest.approx(1.0)
-    assert events == ["PLAY", "PAUSE", "PLAY", "STOP", "PLAY"]
+    world.step()
+    world.stop()
+    cube.set_world_pose([0.2, 0.0, 0.5])   # set while stopped: where the next play starts
+    world.play()
+    assert np.allclose(cube.get_world_pose()[0], [0.2, 0.0, 0.5])
+    assert events == ["PLAY", "PAUSE", "PLAY", "STOP", "PLAY", "STOP", "PLAY"]
 
 
 def test_reset_restores_default_states():
