@@ -461,19 +461,27 @@ def _make_interior_point(BS):
                             M[j * bsq + t] = 0.0
                     for i in range(bs):
                         wg[i] = Weff[j] * k_g[j * bs + i]
-                    for r in range(bs):
+                    for r in range(bs):  # the lower triangle
                         f = k_g[j * bs + r]
                         o = gj * bsq + r * bs
-                        for c2 in range(bs):
+                        for c2 in range(r + 1):
                             M[o + c2] += f * wg[c2]
             for j in range(m):
                 if kron[j] and group[j] == j:
+                    for r in range(bs):  # M's upper triangle from its lower
+                        for c2 in range(r):
+                            M[j * bsq + c2 * bs + r] = M[j * bsq + r * bs + c2]
                     p0 = k_p0[j]
                     for a1 in range(nbw):
                         b1 = k_b[j * nbw + a1]
                         if b1 == 0.0:
                             continue
-                        for a2 in range(a1 + 1):
+                        f = b1 * b1  # a diagonal block: its lower triangle only (the Cholesky reads no more)
+                        o = (p0 + a1) * nbw * bsq
+                        for r in range(bs):
+                            for c2 in range(r + 1):
+                                Kb[o + r * bs + c2] += f * M[j * bsq + r * bs + c2]
+                        for a2 in range(a1):
                             f = b1 * k_b[j * nbw + a2]
                             if f == 0.0:
                                 continue
