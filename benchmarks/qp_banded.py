@@ -501,12 +501,20 @@ def _make_interior_point(BS):
                     for kk in range(max(p - BW, 0), qq):
                         oa = (p * nbw + p - kk) * bsq
                         ob = (qq * nbw + qq - kk) * bsq
-                        for r in range(bs):
-                            for c2 in range(bs if d > 0 else r + 1):
-                                acc = 0.0
-                                for t in range(bs):
-                                    acc += Kb[oa + r * bs + t] * Kb[ob + c2 * bs + t]
-                                Kb[o + r * bs + c2] -= acc
+                        if d > 0:  # loops of constant length: unrolled
+                            for r in range(bs):
+                                for c2 in range(bs):
+                                    acc = 0.0
+                                    for t in range(bs):
+                                        acc += Kb[oa + r * bs + t] * Kb[ob + c2 * bs + t]
+                                    Kb[o + r * bs + c2] -= acc
+                        else:  # the lower triangle
+                            for r in range(bs):
+                                for c2 in range(r + 1):
+                                    acc = 0.0
+                                    for t in range(bs):
+                                        acc += Kb[oa + r * bs + t] * Kb[ob + c2 * bs + t]
+                                    Kb[o + r * bs + c2] -= acc
                     od = qq * nbw * bsq
                     if d > 0:  # X L_qq^{-T}, by rows
                         for r in range(bs):
