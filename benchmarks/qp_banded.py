@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""A structured interior-point solver for the optimiser's QPs against PIQP (issue 33, round six;
-not wired into the planner: it measured no faster than PIQP, BENCHMARKS.md, "The optimiser's
-QP, a structured solver (issue 33, round six)").
+"""A structured interior-point solver for the optimiser's QPs against PIQP (issue 33, rounds six
+and seven; not wired into the planner: 1.1-1.3 x PIQP's speed per QP, BENCHMARKS.md, "The
+optimiser's QP, a structured solver (issue 33, round six)" and its "Round seven").
 
     python benchmarks/qp_banded.py [--limit-per-scene 6] [--save QPS.pkl | --load QPS.pkl]
 
@@ -21,7 +21,9 @@ control points are blocked by time (dof x dof blocks; the rows touch 4 consecuti
 touch, the ray parameters) form an arrow solved by a Schur complement. A clearance row is a
 Kronecker product (its gradient (dof,) times its sample's basis weights on 4 points): the rows
 of one sample give one (b b^T) x (sum w g g^T) update. Everything is computed from the CSC
-matrices, so a QP of another shape is solved too (more slowly).
+matrices, so a QP of another shape is solved too (more slowly). The kernel is compiled once per
+dof with the block size a constant (loops of dof unrolled); the structure, the Kronecker update
+and the block Cholesky live in `qp_banded_kernels.py`.
 """
 
 from __future__ import annotations
