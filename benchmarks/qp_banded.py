@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""A structured interior-point solver for the optimiser's QPs against PIQP (issue 33, round six;
-not wired into the planner: it measured no faster than PIQP, BENCHMARKS.md, "The optimiser's
-QP, a structured solver (issue 33, round six)").
+"""A structured interior-point solver for the optimiser's QPs against PIQP (issue 33, rounds six
+and seven; not wired into the planner: 1.1-1.3 x PIQP's speed per QP, BENCHMARKS.md, "The
+optimiser's QP, a structured solver (issue 33, round six)" and its "Round seven").
 
     python benchmarks/qp_banded.py [--limit-per-scene 6] [--save QPS.pkl | --load QPS.pkl]
 
@@ -21,7 +21,9 @@ control points are blocked by time (dof x dof blocks; the rows touch 4 consecuti
 touch, the ray parameters) form an arrow solved by a Schur complement. A clearance row is a
 Kronecker product (its gradient (dof,) times its sample's basis weights on 4 points): the rows
 of one sample give one (b b^T) x (sum w g g^T) update. Everything is computed from the CSC
-matrices, so a QP of another shape is solved too (more slowly).
+matrices, so a QP of another shape is solved too (more slowly). The kernel is compiled once per
+dof with the block size a constant (loops of dof unrolled); the structure, the Kronecker update
+and the block Cholesky live in `qp_banded_kernels.py`.
 """
 
 from __future__ import annotations
@@ -40,6 +42,8 @@ import scipy.sparse as sp
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+from qp_banded_kernels import make_block_kernels, structure
+
 from manip.errors import InvalidInputError
 from manip.jit import kernel_array
 from manip.planning.trajopt import qp
@@ -56,672 +60,386 @@ RHO, DELTA = 1e-9, 1e-7
 _BIG = 1e300  # bounds beyond this are none
 
 
-# no disk cache (the tests load this file as a dynamic module); no "ninf"/"nnan": the bounds may be +-inf
-@numba.njit(nogil=True, fastmath={"reassoc", "contract"})
-def _interior_point(P_data, P_indices, P_indptr, q, G_data, G_indices, G_indptr, h, A_data, A_indices, A_indptr, b,
-                    lb, ub, dof, points, eps_abs, eps_rel, max_iter, rho, delta, z):
-    """Solve the QP (module docstring); P (n, n) both triangles, G (m, n), A (e, n), all CSC;
-    x = the first dof * points variables. Writes the solution into z (n,); returns
-    (status, iterations)."""
-    n = q.shape[0]
-    m = h.shape[0]
-    e = b.shape[0]
-    bs, nb = dof, points
-    nx = bs * nb
-    # --- G and A by rows (CSR), columns ascending
-    g_rptr = np.zeros(m + 1, np.int64)
-    for k in range(G_indptr[n]):
-        g_rptr[G_indices[k] + 1] += 1
-    for j in range(m):
-        g_rptr[j + 1] += g_rptr[j]
-    g_ridx = np.empty(G_indptr[n], np.int64)
-    g_rval = np.empty(G_indptr[n])
-    fill = g_rptr[:m].copy()
-    for c in range(n):
-        for k in range(G_indptr[c], G_indptr[c + 1]):
-            j = G_indices[k]
-            g_ridx[fill[j]] = c
-            g_rval[fill[j]] = G_data[k]
-            fill[j] += 1
-    a_rptr = np.zeros(e + 1, np.int64)
-    for k in range(A_indptr[n]):
-        a_rptr[A_indices[k] + 1] += 1
-    for r in range(e):
-        a_rptr[r + 1] += a_rptr[r]
-    a_ridx = np.empty(A_indptr[n], np.int64)
-    a_rval = np.empty(A_indptr[n])
-    fill_a = a_rptr[:e].copy()
-    for c in range(n):
-        for k in range(A_indptr[c], A_indptr[c + 1]):
-            r = A_indices[k]
-            a_ridx[fill_a[r]] = c
-            a_rval[fill_a[r]] = A_data[k]
-            fill_a[r] += 1
-    # --- kinds: 0 control point (time-major position idx), 1 arrow (idx), 2 eliminated into its
-    # G row (one row, no A row, P diagonal only), 3 isolated (no G or A row, P diagonal only)
-    P_diag = np.zeros(n)
-    diag_only = np.ones(n, np.bool_)
-    for c in range(n):
-        for k in range(P_indptr[c], P_indptr[c + 1]):
-            if P_indices[k] == c:
-                P_diag[c] += P_data[k]
-            else:
-                diag_only[c] = False
-                diag_only[P_indices[k]] = False
-    kind = np.zeros(n, np.int64)
-    idx = np.zeros(n, np.int64)
-    row_elim = np.full(m, -1, np.int64)
-    g_elim = np.zeros(m)
-    na = 0
-    for c in range(n):
-        if c < nx:
-            idx[c] = (c % nb) * bs + c // nb
-            continue
-        ng = G_indptr[c + 1] - G_indptr[c]
-        no_a = A_indptr[c + 1] == A_indptr[c]
-        if diag_only[c] and no_a and ng == 0:
-            kind[c] = 3
-        elif (diag_only[c] and no_a and ng == 1 and row_elim[G_indices[G_indptr[c]]] < 0
-              and G_data[G_indptr[c]] != 0.0):
-            kind[c] = 2
-            j = G_indices[G_indptr[c]]
-            row_elim[j] = c
-            g_elim[j] = G_data[G_indptr[c]]
-            idx[c] = j
-        else:
-            kind[c] = 1
-            idx[c] = na
-            na += 1
-    # --- the band in blocks: the largest distance of two points one row or P couples
-    BW = 0
-    for c in range(nx):
-        for k in range(P_indptr[c], P_indptr[c + 1]):
-            if P_indices[k] < nx:
-                BW = max(BW, abs(P_indices[k] % nb - c % nb))
-    for j in range(m):
-        lo, hi = nb, -1
-        for k in range(g_rptr[j], g_rptr[j + 1]):
-            if g_ridx[k] < nx:
-                lo = min(lo, g_ridx[k] % nb)
-                hi = max(hi, g_ridx[k] % nb)
-        BW = max(BW, hi - lo)
-    for r in range(e):
-        lo, hi = nb, -1
-        for k in range(a_rptr[r], a_rptr[r + 1]):
-            if a_ridx[k] < nx:
-                lo = min(lo, a_ridx[k] % nb)
-                hi = max(hi, a_ridx[k] % nb)
-        BW = max(BW, hi - lo)
-    BW = min(BW, nb - 1)
-    nbw = BW + 1
-    bsq = bs * bs
-    # --- clearance rows as Kronecker products: row = b (points p0..p0+BW) x g (joints); rows of
-    # one group share p0 and b (one sample), so their G^T W G is (b b^T) x (sum w g g^T)
-    kron = np.zeros(m, np.bool_)
-    k_p0 = np.zeros(m, np.int64)
-    k_b = np.zeros(m * nbw)
-    k_g = np.zeros(m * bs)
-    tmp = np.zeros(nbw * bs)
-    for j in range(m):
-        lo, hi, big, kbig, other = nb, -1, 0.0, -1, False
-        for k in range(g_rptr[j], g_rptr[j + 1]):
-            c = g_ridx[k]
-            if c < nx:
-                lo = min(lo, c % nb)
-                hi = max(hi, c % nb)
-                if abs(g_rval[k]) > big:
-                    big, kbig = abs(g_rval[k]), k
-            elif kind[c] != 2:
-                other = True
-        if other or kbig < 0 or hi - lo > BW:
-            continue
-        tmp[:] = 0.0
-        for k in range(g_rptr[j], g_rptr[j + 1]):
-            c = g_ridx[k]
-            if c < nx:
-                tmp[(c % nb - lo) * bs + c // nb] = g_rval[k]
-        ps, js = g_ridx[kbig] % nb - lo, g_ridx[kbig] // nb
-        vs = g_rval[kbig]
-        for i in range(bs):
-            k_g[j * bs + i] = tmp[ps * bs + i]
-        for a in range(nbw):
-            k_b[j * nbw + a] = tmp[a * bs + js] / vs
-        ok = True
-        for a in range(nbw):
-            for i in range(bs):
-                if abs(tmp[a * bs + i] - k_b[j * nbw + a] * k_g[j * bs + i]) > 1e-13 * big:
-                    ok = False
-        kron[j] = ok
-        k_p0[j] = lo
-    group = np.full(m, -1, np.int64)  # each Kronecker row's group (its first row)
-    for j in range(m):
-        if not kron[j]:
-            continue
-        group[j] = j
-        for jj in range(j):
-            if group[jj] == jj and k_p0[jj] == k_p0[j]:
-                same = True
-                for a in range(nbw):
-                    if k_b[jj * nbw + a] != k_b[j * nbw + a]:
-                        same = False
-                if same:
-                    group[j] = jj
-                    break
-    # --- where each entry K[v1, v2] is kept: x-x in blocks (p1, p1 - p2) for p1 >= p2 (the
-    # diagonal blocks full), x-arrow in Kc (x, arrow), arrow-arrow in Kaa (full); the constant
-    # part K0 = P + A^T A / delta, then the pairs of the rows of G that are not Kronecker rows
-    n_const = P_indptr[n]
-    for r in range(e):
-        n_const += (a_rptr[r + 1] - a_rptr[r]) ** 2
-    n_pair = 0
-    for j in range(m):
-        if not kron[j]:
-            c = 0
-            for k in range(g_rptr[j], g_rptr[j + 1]):
-                if kind[g_ridx[k]] < 2:
-                    c += 1
-            n_pair += c * c
-    tv1 = np.empty(n_const + n_pair, np.int64)
-    tv2 = np.empty(n_const + n_pair, np.int64)
-    tval = np.empty(n_const)
-    pair_j = np.empty(n_pair, np.int64)
-    pair_k1 = np.empty(n_pair, np.int64)
-    pair_k2 = np.empty(n_pair, np.int64)
-    t = 0
-    for c in range(n):
-        for k in range(P_indptr[c], P_indptr[c + 1]):
-            tv1[t], tv2[t], tval[t] = P_indices[k], c, P_data[k]
-            t += 1
-    for r in range(e):
-        for k1 in range(a_rptr[r], a_rptr[r + 1]):
-            for k2 in range(a_rptr[r], a_rptr[r + 1]):
-                tv1[t], tv2[t], tval[t] = a_ridx[k1], a_ridx[k2], a_rval[k1] * a_rval[k2] / delta
-                t += 1
-    for j in range(m):
-        if not kron[j]:
-            for k1 in range(g_rptr[j], g_rptr[j + 1]):
-                if kind[g_ridx[k1]] < 2:
-                    for k2 in range(g_rptr[j], g_rptr[j + 1]):
-                        if kind[g_ridx[k2]] < 2:
-                            tv1[t], tv2[t] = g_ridx[k1], g_ridx[k2]
-                            pair_j[t - n_const], pair_k1[t - n_const], pair_k2[t - n_const] = j, k1, k2
-                            t += 1
-    Kb0 = np.zeros(nb * nbw * bsq)
-    Kc0 = np.zeros(nx * na)
-    Kaa0 = np.zeros(na * na)
-    slot_w = np.full(n_pair, -1, np.int64)  # 0: Kb, 1: Kc, 2: Kaa, -1: not kept
-    slot_f = np.zeros(n_pair, np.int64)
-    for t in range(n_const + n_pair):
-        v1, v2 = tv1[t], tv2[t]
-        w, f = -1, 0
-        if kind[v1] == 0 and kind[v2] == 0:
-            p1, p2 = idx[v1] // bs, idx[v2] // bs
-            if p1 >= p2:
-                w, f = 0, ((p1 * nbw + p1 - p2) * bs + idx[v1] % bs) * bs + idx[v2] % bs
-        elif kind[v1] == 0 and kind[v2] == 1:
-            w, f = 1, idx[v1] * na + idx[v2]
-        elif kind[v1] == 1 and kind[v2] == 1:
-            w, f = 2, idx[v1] * na + idx[v2]
-        if t >= n_const:
-            slot_w[t - n_const], slot_f[t - n_const] = w, f
-        elif w == 0:
-            Kb0[f] += tval[t]
-        elif w == 1:
-            Kc0[f] += tval[t]
-        elif w == 2:
-            Kaa0[f] += tval[t]
-    Kb = np.zeros(nb * nbw * bsq)
-    Kc = np.zeros(nx * na)
-    Kaa = np.zeros(na * na)
-    M = np.zeros(m * bsq)  # per group: sum w g g^T
-    inv_x = np.empty(nx)
-    inv_a = np.empty(na)
-    dK = np.empty(nx + na)  # K's diagonal before the factorisation
-    # --- starting point: mid-box, slacks at least 0.03, duals at the scale of q
-    has_lb = np.empty(n, np.bool_)
-    has_ub = np.empty(n, np.bool_)
-    for v in range(n):
-        has_lb[v] = lb[v] > -_BIG
-        has_ub[v] = ub[v] < _BIG
-    q_norm = 0.0
-    for v in range(n):
-        q_norm = max(q_norm, abs(q[v]))
-    dual0 = max(1.0, q_norm)
-    slack0 = 0.03  # 1.0: 10 of 150 recorded QPs stalled, 19 iterations mean; 0.03: 1, 16
-    for v in range(n):
-        if has_lb[v] and has_ub[v]:
-            z[v] = 0.5 * (lb[v] + ub[v])
-        elif has_lb[v]:
-            z[v] = max(0.0, lb[v] + 1.0)
-        elif has_ub[v]:
-            z[v] = min(0.0, ub[v] - 1.0)
-        else:
-            z[v] = 0.0
-    y = np.zeros(e)
-    s = np.empty(m)
-    lam = np.full(m, dual0)
-    for j in range(m):
-        acc = 0.0
-        for k in range(g_rptr[j], g_rptr[j + 1]):
-            acc += g_rval[k] * z[g_ridx[k]]
-        s[j] = max(h[j] - acc, slack0)
-    sl = np.ones(n)
-    nul = np.zeros(n)
-    su = np.ones(n)
-    nuu = np.zeros(n)
-    n_comp = m
-    for v in range(n):
-        if has_lb[v]:
-            sl[v] = max(z[v] - lb[v], slack0)
-            nul[v] = dual0
-            n_comp += 1
-        if has_ub[v]:
-            su[v] = max(ub[v] - z[v], slack0)
-            nuu[v] = dual0
-            n_comp += 1
-    Pz = np.empty(n)
-    Gz = np.empty(m)
-    Glam = np.empty(n)
-    Aty = np.empty(n)
-    rd = np.empty(n)
-    rp = np.empty(e)
-    ri = np.empty(m)
-    rl = np.zeros(n)
-    ru = np.zeros(n)
-    rx = np.empty(nx)
-    ra = np.empty(na)
-    ta = np.empty(na)
-    dz = np.empty(n)
-    dy = np.empty(e)
-    dlam = np.empty(m)
-    ds = np.empty(m)
-    dsl = np.zeros(n)
-    dsu = np.zeros(n)
-    dnul = np.zeros(n)
-    dnuu = np.zeros(n)
-    rc = np.empty(m)
-    rcl = np.zeros(n)
-    rcu = np.zeros(n)
-    W = np.empty(m)
-    Weff = np.empty(m)
-    Htt = np.ones(m)
-    dv = np.empty(n)
-    base = np.empty(n)
-    coef = np.empty(m)
-    r_el = np.zeros(m)
-    wg = np.empty(bs)
-    h_norm = 0.0
-    for j in range(m):
-        h_norm = max(h_norm, abs(h[j]))
-    for r in range(e):
-        h_norm = max(h_norm, abs(b[r]))
-    status = MAX_ITERATIONS
-    it = 0
-    for it in range(max_iter + 1):
-        # --- residuals
+def _make_interior_point(BS):
+    """`_interior_point` compiled for the block size BS (the dof) as a constant: loops of BS unrolled."""
+    add_kronecker, cholesky = make_block_kernels(BS)
+
+    # no disk cache (the tests load this file as a dynamic module); no "ninf"/"nnan": the bounds may be +-inf
+    @numba.njit(nogil=True, fastmath={"reassoc", "contract"})
+    def _interior_point(P_data, P_indices, P_indptr, q, G_data, G_indices, G_indptr, h, A_data, A_indices, A_indptr, b,
+                        lb, ub, dof, points, eps_abs, eps_rel, max_iter, rho, delta, z):
+        """Solve the QP (module docstring); P (n, n) both triangles, G (m, n), A (e, n), all CSC;
+        x = the first dof * points variables. Writes the solution into z (n,); returns
+        (status, iterations)."""
+        n = q.shape[0]
+        m = h.shape[0]
+        e = b.shape[0]
+        bs, nb = BS, points  # BS a compile-time constant
+        nx = bs * nb
+        # --- the structure (qp_banded_kernels.structure)
+        (BW, Kaa0, Kb0, Kc0, P_diag, a_ridx, a_rptr, a_rval, g_elim, g_ridx, g_rptr, g_rval, group, idx, k_b, k_g,
+         k_p0, kind, kron, n_pair, na, pair_j, pair_k1, pair_k2, row_elim, slot_f, slot_w) = structure(
+            P_data, P_indices, P_indptr, G_data, G_indices, G_indptr, A_data, A_indices, A_indptr, n, m, e, bs, nb, delta)
+        nbw = BW + 1
+        bsq = bs * bs
+        Kb = np.zeros(nb * nbw * bsq)
+        Kc = np.zeros(nx * na)
+        Kaa = np.zeros(na * na)
+        M = np.zeros(m * bsq)  # per group: sum w g g^T
+        inv_x = np.empty(nx)
+        inv_a = np.empty(na)
+        dK = np.empty(nx + na)  # K's diagonal before the factorisation
+        # --- starting point: mid-box, slacks at least 0.03, duals at the scale of q
+        has_lb = np.empty(n, np.bool_)
+        has_ub = np.empty(n, np.bool_)
         for v in range(n):
-            Pz[v] = 0.0
-        for c in range(n):
-            zc = z[c]
-            for k in range(P_indptr[c], P_indptr[c + 1]):
-                Pz[P_indices[k]] += P_data[k] * zc
+            has_lb[v] = lb[v] > -_BIG
+            has_ub[v] = ub[v] < _BIG
+        q_norm = 0.0
+        for v in range(n):
+            q_norm = max(q_norm, abs(q[v]))
+        dual0 = max(1.0, q_norm)
+        slack0 = 0.03  # 1.0: 10 of 150 recorded QPs stalled, 19 iterations mean; 0.03: 1, 16
+        for v in range(n):
+            if has_lb[v] and has_ub[v]:
+                z[v] = 0.5 * (lb[v] + ub[v])
+            elif has_lb[v]:
+                z[v] = max(0.0, lb[v] + 1.0)
+            elif has_ub[v]:
+                z[v] = min(0.0, ub[v] - 1.0)
+            else:
+                z[v] = 0.0
+        y = np.zeros(e)
+        s = np.empty(m)
+        lam = np.full(m, dual0)
         for j in range(m):
             acc = 0.0
             for k in range(g_rptr[j], g_rptr[j + 1]):
                 acc += g_rval[k] * z[g_ridx[k]]
-            Gz[j] = acc
-        for c in range(n):
-            acc = 0.0
-            for k in range(G_indptr[c], G_indptr[c + 1]):
-                acc += G_data[k] * lam[G_indices[k]]
-            Glam[c] = acc
-            acc = 0.0
-            for k in range(A_indptr[c], A_indptr[c + 1]):
-                acc += A_data[k] * y[A_indices[k]]
-            Aty[c] = acc
-        dual_scale = q_norm
-        dual_res = 0.0
+            s[j] = max(h[j] - acc, slack0)
+        sl = np.ones(n)
+        nul = np.zeros(n)
+        su = np.ones(n)
+        nuu = np.zeros(n)
+        n_comp = m
         for v in range(n):
-            rd[v] = Pz[v] + q[v] + Aty[v] + Glam[v] - nul[v] + nuu[v]
-            dual_scale = max(dual_scale, abs(Pz[v]), abs(Glam[v]), abs(Aty[v]))
-            dual_res = max(dual_res, abs(rd[v]))
-        primal_res = 0.0
+            if has_lb[v]:
+                sl[v] = max(z[v] - lb[v], slack0)
+                nul[v] = dual0
+                n_comp += 1
+            if has_ub[v]:
+                su[v] = max(ub[v] - z[v], slack0)
+                nuu[v] = dual0
+                n_comp += 1
+        Pz = np.empty(n)
+        Gz = np.empty(m)
+        Glam = np.empty(n)
+        Aty = np.empty(n)
+        rd = np.empty(n)
+        rp = np.empty(e)
+        ri = np.empty(m)
+        rl = np.zeros(n)
+        ru = np.zeros(n)
+        rx = np.empty(nx)
+        ra = np.empty(na)
+        ta = np.empty(na)
+        dz = np.empty(n)
+        dy = np.empty(e)
+        dlam = np.empty(m)
+        ds = np.empty(m)
+        dsl = np.zeros(n)
+        dsu = np.zeros(n)
+        dnul = np.zeros(n)
+        dnuu = np.zeros(n)
+        rc = np.empty(m)
+        rcl = np.zeros(n)
+        rcu = np.zeros(n)
+        W = np.empty(m)
+        Weff = np.empty(m)
+        Htt = np.ones(m)
+        dv = np.empty(n)
+        base = np.empty(n)
+        coef = np.empty(m)
+        r_el = np.zeros(m)
+        wg = np.empty(bs)
+        h_norm = 0.0
+        for j in range(m):
+            h_norm = max(h_norm, abs(h[j]))
         for r in range(e):
-            acc = -b[r]
-            for k in range(a_rptr[r], a_rptr[r + 1]):
-                acc += a_rval[k] * z[a_ridx[k]]
-            rp[r] = acc
-            primal_res = max(primal_res, abs(acc))
-        mu = 0.0
-        for j in range(m):
-            ri[j] = Gz[j] + s[j] - h[j]
-            primal_res = max(primal_res, abs(ri[j]))
-            mu += s[j] * lam[j]
-        for v in range(n):
-            if has_lb[v]:
-                rl[v] = z[v] - lb[v] - sl[v]
-                primal_res = max(primal_res, abs(rl[v]))
-                mu += sl[v] * nul[v]
-            if has_ub[v]:
-                ru[v] = z[v] + su[v] - ub[v]
-                primal_res = max(primal_res, abs(ru[v]))
-                mu += su[v] * nuu[v]
-        mu /= max(n_comp, 1)
-        if not (math.isfinite(primal_res) and math.isfinite(dual_res) and math.isfinite(mu)):
-            status = NUMERICAL
-            break
-        if primal_res <= eps_abs + eps_rel * h_norm and dual_res <= eps_abs + eps_rel * dual_scale and mu <= eps_abs:
-            status = SOLVED
-            break
-        if it == max_iter:
-            break
-        # --- the reduced matrix in blocks
-        Kb[:] = Kb0
-        Kc[:] = Kc0
-        Kaa[:] = Kaa0
-        for j in range(m):
-            W[j] = lam[j] / s[j]
-        for v in range(n):
-            d = rho
-            if has_lb[v]:
-                d += nul[v] / sl[v]
-            if has_ub[v]:
-                d += nuu[v] / su[v]
-            dv[v] = P_diag[v] + d
-            if kind[v] == 0:
-                Kb[(idx[v] // bs) * nbw * bsq + (idx[v] % bs) * (bs + 1)] += d
-            elif kind[v] == 1:
-                Kaa[idx[v] * (na + 1)] += d
-            elif kind[v] == 2:
-                j = idx[v]
-                Htt[j] = dv[v] + g_elim[j] * g_elim[j] * W[j]
-        for j in range(m):
-            if row_elim[j] >= 0:
-                Weff[j] = W[j] - (g_elim[j] * W[j]) ** 2 / Htt[j]
-            else:
-                Weff[j] = W[j]
-        for t in range(n_pair):
-            w = slot_w[t]
-            if w >= 0:
-                val = Weff[pair_j[t]] * g_rval[pair_k1[t]] * g_rval[pair_k2[t]]
-                if w == 0:
-                    Kb[slot_f[t]] += val
-                elif w == 1:
-                    Kc[slot_f[t]] += val
-                else:
-                    Kaa[slot_f[t]] += val
-        for j in range(m):
-            if kron[j]:
-                gj = group[j]
-                if gj == j:
-                    for t in range(bsq):
-                        M[j * bsq + t] = 0.0
-                for i in range(bs):
-                    wg[i] = Weff[j] * k_g[j * bs + i]
-                for r in range(bs):
-                    f = k_g[j * bs + r]
-                    o = gj * bsq + r * bs
-                    for c2 in range(bs):
-                        M[o + c2] += f * wg[c2]
-        for j in range(m):
-            if kron[j] and group[j] == j:
-                p0 = k_p0[j]
-                for a1 in range(nbw):
-                    b1 = k_b[j * nbw + a1]
-                    if b1 == 0.0:
-                        continue
-                    for a2 in range(a1 + 1):
-                        f = b1 * k_b[j * nbw + a2]
-                        if f == 0.0:
-                            continue
-                        o = ((p0 + a1) * nbw + a1 - a2) * bsq
-                        for t in range(bsq):
-                            Kb[o + t] += f * M[j * bsq + t]
-        # block Cholesky: L[p, d] = the block (p, p - d); Y = Kc's columns solved (the arrow)
-        for i in range(nx):
-            dK[i] = Kb[(i // bs) * nbw * bsq + (i % bs) * (bs + 1)]
-        for i in range(na):
-            dK[nx + i] = Kaa[i * (na + 1)]
-        ok = True
-        for p in range(nb):
-            for d in range(min(BW, p), -1, -1):
-                qq = p - d
-                o = (p * nbw + d) * bsq
-                for kk in range(max(p - BW, 0), qq):
-                    oa = (p * nbw + p - kk) * bsq
-                    ob = (qq * nbw + qq - kk) * bsq
-                    for r in range(bs):
-                        for c2 in range(bs if d > 0 else r + 1):
-                            acc = 0.0
-                            for t in range(bs):
-                                acc += Kb[oa + r * bs + t] * Kb[ob + c2 * bs + t]
-                            Kb[o + r * bs + c2] -= acc
-                od = qq * nbw * bsq
-                if d > 0:  # X L_qq^{-T}, by rows
-                    for r in range(bs):
-                        for c2 in range(bs):
-                            acc = Kb[o + r * bs + c2]
-                            for t in range(c2):
-                                acc -= Kb[o + r * bs + t] * Kb[od + c2 * bs + t]
-                            Kb[o + r * bs + c2] = acc * inv_x[qq * bs + c2]
-                else:  # dense Cholesky of the diagonal block (lower)
-                    for r in range(bs):
-                        for c2 in range(r + 1):
-                            acc = Kb[o + r * bs + c2]
-                            for t in range(c2):
-                                acc -= Kb[o + r * bs + t] * Kb[o + c2 * bs + t]
-                            if c2 < r:
-                                Kb[o + r * bs + c2] = acc * inv_x[p * bs + c2]
-                            else:
-                                if not acc > 1e-12 * dK[p * bs + r]:
-                                    if not math.isfinite(acc):
-                                        ok = False
-                                    acc = dK[p * bs + r]
-                                dd = math.sqrt(acc)
-                                Kb[o + r * bs + r] = dd
-                                inv_x[p * bs + r] = 1.0 / dd
-            if na:  # Y_p = L_pp^{-1} (Kc_p - sum_k L[p, k] Y_k)
-                for kk in range(max(p - BW, 0), p):
-                    oa = (p * nbw + p - kk) * bsq
-                    for r in range(bs):
-                        for t in range(bs):
-                            f = Kb[oa + r * bs + t]
-                            for a in range(na):
-                                Kc[(p * bs + r) * na + a] -= f * Kc[(kk * bs + t) * na + a]
-                od = p * nbw * bsq
-                for r in range(bs):
-                    for t in range(r):
-                        f = Kb[od + r * bs + t]
-                        for a in range(na):
-                            Kc[(p * bs + r) * na + a] -= f * Kc[(p * bs + t) * na + a]
-                    for a in range(na):
-                        Kc[(p * bs + r) * na + a] *= inv_x[p * bs + r]
-        for x in range(nx):  # S = Kaa - Y^T Y, then its Cholesky (lower)
-            for a1 in range(na):
-                f = Kc[x * na + a1]
-                for a2 in range(a1 + 1):
-                    Kaa[a1 * na + a2] -= f * Kc[x * na + a2]
-        for r in range(na):
-            for c2 in range(r + 1):
-                acc = Kaa[r * na + c2]
-                for t in range(c2):
-                    acc -= Kaa[r * na + t] * Kaa[c2 * na + t]
-                if c2 < r:
-                    Kaa[r * na + c2] = acc * inv_a[c2]
-                else:
-                    if not acc > 1e-12 * dK[nx + r]:
-                        if not math.isfinite(acc):
-                            ok = False
-                        acc = dK[nx + r]
-                    dd = math.sqrt(acc)
-                    Kaa[r * na + r] = dd
-                    inv_a[r] = 1.0 / dd
-        if not ok:
-            status = NUMERICAL
-            break
-        # --- predictor, then corrector (one factor)
-        alpha = 0.0
-        sigma_mu = 0.0
-        for phase in range(2):
-            if phase == 0:
-                for j in range(m):
-                    rc[j] = s[j] * lam[j]
-                for v in range(n):
-                    rcl[v] = sl[v] * nul[v] if has_lb[v] else 0.0
-                    rcu[v] = su[v] * nuu[v] if has_ub[v] else 0.0
-            else:
-                for j in range(m):
-                    rc[j] = s[j] * lam[j] + ds[j] * dlam[j] - sigma_mu
-                for v in range(n):
-                    rcl[v] = sl[v] * nul[v] + dsl[v] * dnul[v] - sigma_mu if has_lb[v] else 0.0
-                    rcu[v] = su[v] * nuu[v] + dsu[v] * dnuu[v] - sigma_mu if has_ub[v] else 0.0
-            # right-hand side: -rd - bound terms - A^T rp / delta - G^T (W ri - rc / s), with
-            # the eliminated columns' share folded into each row's coefficient
+            h_norm = max(h_norm, abs(b[r]))
+        status = MAX_ITERATIONS
+        it = 0
+        for it in range(max_iter + 1):
+            # --- residuals
             for v in range(n):
-                acc = -rd[v]
-                if has_lb[v]:
-                    acc -= (rcl[v] + nul[v] * rl[v]) / sl[v]
-                if has_ub[v]:
-                    acc -= (-rcu[v] + nuu[v] * ru[v]) / su[v]
-                for k in range(A_indptr[v], A_indptr[v + 1]):
-                    acc -= A_data[k] * rp[A_indices[k]] / delta
-                base[v] = acc
-            for j in range(m):
-                t = W[j] * ri[j] - rc[j] / s[j]
-                v = row_elim[j]
-                if v >= 0:
-                    r_el[j] = base[v] - g_elim[j] * t
-                    t += g_elim[j] * W[j] * r_el[j] / Htt[j]
-                coef[j] = t
-            for v in range(n):
-                if kind[v] < 2:
-                    acc = base[v]
-                    for k in range(G_indptr[v], G_indptr[v + 1]):
-                        acc -= G_data[k] * coef[G_indices[k]]
-                    if kind[v] == 0:
-                        rx[idx[v]] = acc
-                    else:
-                        ra[idx[v]] = acc
-            # L L^T dz = rhs: forward
-            for p in range(nb):
-                for kk in range(max(p - BW, 0), p):
-                    oa = (p * nbw + p - kk) * bsq
-                    for r in range(bs):
-                        acc = 0.0
-                        for t in range(bs):
-                            acc += Kb[oa + r * bs + t] * rx[kk * bs + t]
-                        rx[p * bs + r] -= acc
-                od = p * nbw * bsq
-                for r in range(bs):
-                    acc = rx[p * bs + r]
-                    for t in range(r):
-                        acc -= Kb[od + r * bs + t] * rx[p * bs + t]
-                    rx[p * bs + r] = acc * inv_x[p * bs + r]
-            for a in range(na):
-                ta[a] = 0.0
-            for x in range(nx):
-                f = rx[x]
-                for a in range(na):
-                    ta[a] += Kc[x * na + a] * f
-            for r in range(na):
-                acc = ra[r] - ta[r]
-                for t in range(r):
-                    acc -= Kaa[r * na + t] * ra[t]
-                ra[r] = acc * inv_a[r]
-            # backward
-            for r in range(na - 1, -1, -1):
-                xr = ra[r] * inv_a[r]
-                ra[r] = xr
-                for t in range(r):
-                    ra[t] -= Kaa[r * na + t] * xr
-            for x in range(nx):
-                acc = rx[x]
-                for a in range(na):
-                    acc -= Kc[x * na + a] * ra[a]
-                rx[x] = acc
-            for p in range(nb - 1, -1, -1):
-                od = p * nbw * bsq
-                for r in range(bs - 1, -1, -1):
-                    xr = rx[p * bs + r] * inv_x[p * bs + r]
-                    rx[p * bs + r] = xr
-                    for t in range(r):
-                        rx[p * bs + t] -= Kb[od + r * bs + t] * xr
-                for kk in range(max(p - BW, 0), p):  # L[p, kk]^T x_p out of block kk
-                    oa = (p * nbw + p - kk) * bsq
-                    for r in range(bs):
-                        f = rx[p * bs + r]
-                        for t in range(bs):
-                            rx[kk * bs + t] -= Kb[oa + r * bs + t] * f
-            for v in range(n):
-                if kind[v] == 0:
-                    dz[v] = rx[idx[v]]
-                elif kind[v] == 1:
-                    dz[v] = ra[idx[v]]
-                elif kind[v] == 3:
-                    dz[v] = base[v] / dv[v]
+                Pz[v] = 0.0
+            for c in range(n):
+                zc = z[c]
+                for k in range(P_indptr[c], P_indptr[c + 1]):
+                    Pz[P_indices[k]] += P_data[k] * zc
             for j in range(m):
                 acc = 0.0
-                v = row_elim[j]
                 for k in range(g_rptr[j], g_rptr[j + 1]):
-                    if g_ridx[k] != v:
-                        acc += g_rval[k] * dz[g_ridx[k]]
-                if v >= 0:
-                    dz[v] = (r_el[j] - g_elim[j] * W[j] * acc) / Htt[j]
-                    acc += g_elim[j] * dz[v]
-                ds[j] = -ri[j] - acc
-                dlam[j] = W[j] * (acc + ri[j]) - rc[j] / s[j]
+                    acc += g_rval[k] * z[g_ridx[k]]
+                Gz[j] = acc
+            for c in range(n):
+                acc = 0.0
+                for k in range(G_indptr[c], G_indptr[c + 1]):
+                    acc += G_data[k] * lam[G_indices[k]]
+                Glam[c] = acc
+                acc = 0.0
+                for k in range(A_indptr[c], A_indptr[c + 1]):
+                    acc += A_data[k] * y[A_indices[k]]
+                Aty[c] = acc
+            dual_scale = q_norm
+            dual_res = 0.0
+            for v in range(n):
+                rd[v] = Pz[v] + q[v] + Aty[v] + Glam[v] - nul[v] + nuu[v]
+                dual_scale = max(dual_scale, abs(Pz[v]), abs(Glam[v]), abs(Aty[v]))
+                dual_res = max(dual_res, abs(rd[v]))
+            primal_res = 0.0
             for r in range(e):
-                acc = rp[r]
+                acc = -b[r]
                 for k in range(a_rptr[r], a_rptr[r + 1]):
-                    acc += a_rval[k] * dz[a_ridx[k]]
-                dy[r] = acc / delta
-            alpha = 1.0  # the longest step keeping s, lam, sl, nul, su, nuu positive
+                    acc += a_rval[k] * z[a_ridx[k]]
+                rp[r] = acc
+                primal_res = max(primal_res, abs(acc))
+            mu = 0.0
             for j in range(m):
-                if ds[j] < 0.0:
-                    alpha = min(alpha, -s[j] / ds[j])
-                if dlam[j] < 0.0:
-                    alpha = min(alpha, -lam[j] / dlam[j])
+                ri[j] = Gz[j] + s[j] - h[j]
+                primal_res = max(primal_res, abs(ri[j]))
+                mu += s[j] * lam[j]
             for v in range(n):
                 if has_lb[v]:
-                    dsl[v] = dz[v] + rl[v]
-                    dnul[v] = (-rcl[v] - nul[v] * dsl[v]) / sl[v]
-                    if dsl[v] < 0.0:
-                        alpha = min(alpha, -sl[v] / dsl[v])
-                    if dnul[v] < 0.0:
-                        alpha = min(alpha, -nul[v] / dnul[v])
+                    rl[v] = z[v] - lb[v] - sl[v]
+                    primal_res = max(primal_res, abs(rl[v]))
+                    mu += sl[v] * nul[v]
                 if has_ub[v]:
-                    dsu[v] = -ru[v] - dz[v]
-                    dnuu[v] = (-rcu[v] - nuu[v] * dsu[v]) / su[v]
-                    if dsu[v] < 0.0:
-                        alpha = min(alpha, -su[v] / dsu[v])
-                    if dnuu[v] < 0.0:
-                        alpha = min(alpha, -nuu[v] / dnuu[v])
-            if phase == 0:
-                mu_aff = 0.0
+                    ru[v] = z[v] + su[v] - ub[v]
+                    primal_res = max(primal_res, abs(ru[v]))
+                    mu += su[v] * nuu[v]
+            mu /= max(n_comp, 1)
+            if not (math.isfinite(primal_res) and math.isfinite(dual_res) and math.isfinite(mu)):
+                status = NUMERICAL
+                break
+            if primal_res <= eps_abs + eps_rel * h_norm and dual_res <= eps_abs + eps_rel * dual_scale and mu <= eps_abs:
+                status = SOLVED
+                break
+            if it == max_iter:
+                break
+            # --- the reduced matrix in blocks
+            Kb[:] = Kb0
+            Kc[:] = Kc0
+            Kaa[:] = Kaa0
+            for j in range(m):
+                W[j] = lam[j] / s[j]
+            for v in range(n):
+                d = rho
+                if has_lb[v]:
+                    d += nul[v] / sl[v]
+                if has_ub[v]:
+                    d += nuu[v] / su[v]
+                dv[v] = P_diag[v] + d
+                if kind[v] == 0:
+                    Kb[(idx[v] // bs) * nbw * bsq + (idx[v] % bs) * (bs + 1)] += d
+                elif kind[v] == 1:
+                    Kaa[idx[v] * (na + 1)] += d
+                elif kind[v] == 2:
+                    j = idx[v]
+                    Htt[j] = dv[v] + g_elim[j] * g_elim[j] * W[j]
+            for j in range(m):
+                if row_elim[j] >= 0:
+                    Weff[j] = W[j] - (g_elim[j] * W[j]) ** 2 / Htt[j]
+                else:
+                    Weff[j] = W[j]
+            for t in range(n_pair):
+                w = slot_w[t]
+                if w >= 0:
+                    val = Weff[pair_j[t]] * g_rval[pair_k1[t]] * g_rval[pair_k2[t]]
+                    if w == 0:
+                        Kb[slot_f[t]] += val
+                    elif w == 1:
+                        Kc[slot_f[t]] += val
+                    else:
+                        Kaa[slot_f[t]] += val
+            add_kronecker(Kb, M, Weff, kron, group, k_g, k_b, k_p0, wg, nbw)
+            ok = cholesky(Kb, Kc, Kaa, dK, inv_x, inv_a, nb, BW, na)
+            if not ok:
+                status = NUMERICAL
+                break
+            # --- predictor, then corrector (one factor)
+            alpha = 0.0
+            sigma_mu = 0.0
+            for phase in range(2):
+                if phase == 0:
+                    for j in range(m):
+                        rc[j] = s[j] * lam[j]
+                    for v in range(n):
+                        rcl[v] = sl[v] * nul[v] if has_lb[v] else 0.0
+                        rcu[v] = su[v] * nuu[v] if has_ub[v] else 0.0
+                else:
+                    for j in range(m):
+                        rc[j] = s[j] * lam[j] + ds[j] * dlam[j] - sigma_mu
+                    for v in range(n):
+                        rcl[v] = sl[v] * nul[v] + dsl[v] * dnul[v] - sigma_mu if has_lb[v] else 0.0
+                        rcu[v] = su[v] * nuu[v] + dsu[v] * dnuu[v] - sigma_mu if has_ub[v] else 0.0
+                # right-hand side: -rd - bound terms - A^T rp / delta - G^T (W ri - rc / s), with
+                # the eliminated columns' share folded into each row's coefficient
+                for v in range(n):
+                    acc = -rd[v]
+                    if has_lb[v]:
+                        acc -= (rcl[v] + nul[v] * rl[v]) / sl[v]
+                    if has_ub[v]:
+                        acc -= (-rcu[v] + nuu[v] * ru[v]) / su[v]
+                    for k in range(A_indptr[v], A_indptr[v + 1]):
+                        acc -= A_data[k] * rp[A_indices[k]] / delta
+                    base[v] = acc
                 for j in range(m):
-                    mu_aff += (s[j] + alpha * ds[j]) * (lam[j] + alpha * dlam[j])
+                    t = W[j] * ri[j] - rc[j] / s[j]
+                    v = row_elim[j]
+                    if v >= 0:
+                        r_el[j] = base[v] - g_elim[j] * t
+                        t += g_elim[j] * W[j] * r_el[j] / Htt[j]
+                    coef[j] = t
+                for v in range(n):
+                    if kind[v] < 2:
+                        acc = base[v]
+                        for k in range(G_indptr[v], G_indptr[v + 1]):
+                            acc -= G_data[k] * coef[G_indices[k]]
+                        if kind[v] == 0:
+                            rx[idx[v]] = acc
+                        else:
+                            ra[idx[v]] = acc
+                # L L^T dz = rhs: forward
+                for p in range(nb):
+                    for kk in range(max(p - BW, 0), p):
+                        oa = (p * nbw + p - kk) * bsq
+                        for r in range(bs):
+                            acc = 0.0
+                            for t in range(bs):
+                                acc += Kb[oa + r * bs + t] * rx[kk * bs + t]
+                            rx[p * bs + r] -= acc
+                    od = p * nbw * bsq
+                    for r in range(bs):
+                        acc = rx[p * bs + r]
+                        for t in range(r):
+                            acc -= Kb[od + r * bs + t] * rx[p * bs + t]
+                        rx[p * bs + r] = acc * inv_x[p * bs + r]
+                for a in range(na):
+                    ta[a] = 0.0
+                for x in range(nx):
+                    f = rx[x]
+                    for a in range(na):
+                        ta[a] += Kc[x * na + a] * f
+                for r in range(na):
+                    acc = ra[r] - ta[r]
+                    for t in range(r):
+                        acc -= Kaa[r * na + t] * ra[t]
+                    ra[r] = acc * inv_a[r]
+                # backward
+                for r in range(na - 1, -1, -1):
+                    xr = ra[r] * inv_a[r]
+                    ra[r] = xr
+                    for t in range(r):
+                        ra[t] -= Kaa[r * na + t] * xr
+                for x in range(nx):
+                    acc = rx[x]
+                    for a in range(na):
+                        acc -= Kc[x * na + a] * ra[a]
+                    rx[x] = acc
+                for p in range(nb - 1, -1, -1):
+                    od = p * nbw * bsq
+                    for r in range(bs - 1, -1, -1):
+                        xr = rx[p * bs + r] * inv_x[p * bs + r]
+                        rx[p * bs + r] = xr
+                        for t in range(r):
+                            rx[p * bs + t] -= Kb[od + r * bs + t] * xr
+                    for kk in range(max(p - BW, 0), p):  # L[p, kk]^T x_p out of block kk
+                        oa = (p * nbw + p - kk) * bsq
+                        for r in range(bs):
+                            f = rx[p * bs + r]
+                            for t in range(bs):
+                                rx[kk * bs + t] -= Kb[oa + r * bs + t] * f
+                for v in range(n):
+                    if kind[v] == 0:
+                        dz[v] = rx[idx[v]]
+                    elif kind[v] == 1:
+                        dz[v] = ra[idx[v]]
+                    elif kind[v] == 3:
+                        dz[v] = base[v] / dv[v]
+                for j in range(m):
+                    acc = 0.0
+                    v = row_elim[j]
+                    for k in range(g_rptr[j], g_rptr[j + 1]):
+                        if g_ridx[k] != v:
+                            acc += g_rval[k] * dz[g_ridx[k]]
+                    if v >= 0:
+                        dz[v] = (r_el[j] - g_elim[j] * W[j] * acc) / Htt[j]
+                        acc += g_elim[j] * dz[v]
+                    ds[j] = -ri[j] - acc
+                    dlam[j] = W[j] * (acc + ri[j]) - rc[j] / s[j]
+                for r in range(e):
+                    acc = rp[r]
+                    for k in range(a_rptr[r], a_rptr[r + 1]):
+                        acc += a_rval[k] * dz[a_ridx[k]]
+                    dy[r] = acc / delta
+                alpha = 1.0  # the longest step keeping s, lam, sl, nul, su, nuu positive
+                for j in range(m):
+                    if ds[j] < 0.0:
+                        alpha = min(alpha, -s[j] / ds[j])
+                    if dlam[j] < 0.0:
+                        alpha = min(alpha, -lam[j] / dlam[j])
                 for v in range(n):
                     if has_lb[v]:
-                        mu_aff += (sl[v] + alpha * dsl[v]) * (nul[v] + alpha * dnul[v])
+                        dsl[v] = dz[v] + rl[v]
+                        dnul[v] = (-rcl[v] - nul[v] * dsl[v]) / sl[v]
+                        if dsl[v] < 0.0:
+                            alpha = min(alpha, -sl[v] / dsl[v])
+                        if dnul[v] < 0.0:
+                            alpha = min(alpha, -nul[v] / dnul[v])
                     if has_ub[v]:
-                        mu_aff += (su[v] + alpha * dsu[v]) * (nuu[v] + alpha * dnuu[v])
-                mu_aff /= max(n_comp, 1)
-                sigma_mu = min(1.0, mu_aff / mu) ** 3 * mu
-        alpha = min(1.0, 0.99 * alpha)
-        for v in range(n):
-            z[v] += alpha * dz[v]
-            if has_lb[v]:
-                sl[v] += alpha * dsl[v]
-                nul[v] += alpha * dnul[v]
-            if has_ub[v]:
-                su[v] += alpha * dsu[v]
-                nuu[v] += alpha * dnuu[v]
-        for j in range(m):
-            s[j] += alpha * ds[j]
-            lam[j] += alpha * dlam[j]
-        for r in range(e):
-            y[r] += alpha * dy[r]
-    return status, it
+                        dsu[v] = -ru[v] - dz[v]
+                        dnuu[v] = (-rcu[v] - nuu[v] * dsu[v]) / su[v]
+                        if dsu[v] < 0.0:
+                            alpha = min(alpha, -su[v] / dsu[v])
+                        if dnuu[v] < 0.0:
+                            alpha = min(alpha, -nuu[v] / dnuu[v])
+                if phase == 0:
+                    mu_aff = 0.0
+                    for j in range(m):
+                        mu_aff += (s[j] + alpha * ds[j]) * (lam[j] + alpha * dlam[j])
+                    for v in range(n):
+                        if has_lb[v]:
+                            mu_aff += (sl[v] + alpha * dsl[v]) * (nul[v] + alpha * dnul[v])
+                        if has_ub[v]:
+                            mu_aff += (su[v] + alpha * dsu[v]) * (nuu[v] + alpha * dnuu[v])
+                    mu_aff /= max(n_comp, 1)
+                    sigma_mu = min(1.0, mu_aff / mu) ** 3 * mu
+            alpha = min(1.0, 0.99 * alpha)
+            for v in range(n):
+                z[v] += alpha * dz[v]
+                if has_lb[v]:
+                    sl[v] += alpha * dsl[v]
+                    nul[v] += alpha * dnul[v]
+                if has_ub[v]:
+                    su[v] += alpha * dsu[v]
+                    nuu[v] += alpha * dnuu[v]
+            for j in range(m):
+                s[j] += alpha * ds[j]
+                lam[j] += alpha * dlam[j]
+            for r in range(e):
+                y[r] += alpha * dy[r]
+        return status, it
+    return _interior_point
+
+
+_KERNELS: dict = {}  # dof -> `_interior_point` compiled for it
+
+
+def _kernel(dof: int):
+    if dof not in _KERNELS:
+        _KERNELS[dof] = _make_interior_point(dof)
+    return _KERNELS[dof]
 
 
 def _csc(M: sp.csc_matrix, rows: int, cols: int, name: str) -> sp.csc_matrix:
@@ -775,7 +493,7 @@ def solve(P: sp.csc_matrix, q: np.ndarray, G: sp.csc_matrix, h: np.ndarray, A: s
         raise InvalidInputError(f"max_iter must be an integer >= 0; got {max_iter!r}")
     P_data, q, G_data, h, A_data, b, lb, ub = arrays
     z = np.empty(n)
-    status, iterations = _interior_point(
+    status, iterations = _kernel(int(dof))(
         P_data, kernel_array(P.indices, np.int32), kernel_array(P.indptr, np.int32), q, G_data,
         kernel_array(G.indices, np.int32), kernel_array(G.indptr, np.int32), h, A_data,
         kernel_array(A.indices, np.int32), kernel_array(A.indptr, np.int32), b, lb, ub, int(dof), int(points),

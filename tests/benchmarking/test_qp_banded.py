@@ -108,3 +108,18 @@ def test_compare_reports_on_recorded_qps(banded_qp, recorded):
     result = banded_qp.compare(qps)
     assert result["qps"] == len(qps) and result["mismatched"] <= len(qps) // 10
     assert "status differs on" in result["text"] and "CPU per QP" in result["text"]
+
+
+def test_another_block_size_is_compiled_for_and_solves_the_same(banded_qp, recorded):
+    # the kernel is compiled per dof (the block size a constant); dof 1 over 7 * points "points" puts the
+    # same variables in 1 x 1 blocks (a wide band): the same QP, the same solution
+    P, q, G, h, A, b, lb, ub = recorded[0]
+    m = banded_qp.points_of(P)
+    status7, z7, _ = banded_qp.solve(P, q, G, h, A, b, lb, ub, 7, m)
+    status1, z1, _ = banded_qp.solve(P, q, G, h, A, b, lb, ub, 1, 7 * m)
+    assert banded_qp._kernel(1) is not banded_qp._kernel(7)
+    assert status7 == status1 == banded_qp.SOLVED
+    ref = qp.solve(P, q, G, h, A, b, lb, ub, "piqp")
+    scale = max(1.0, np.max(np.abs(ref[: 7 * m])))
+    assert np.max(np.abs(z1[: 7 * m] - ref[: 7 * m])) / scale < 1e-3
+    assert np.max(np.abs(z1[: 7 * m] - z7[: 7 * m])) / scale < 1e-3
