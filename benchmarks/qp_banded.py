@@ -5,7 +5,7 @@ optimiser's QP, a structured solver (issue 33, round six)" and its "Round seven"
 
     python benchmarks/qp_banded.py [--limit-per-scene 6] [--save QPS.pkl | --load QPS.pkl]
 
-Records the QPs of MotionBenchMaker plans (`qp_prototype.record`: both goal kinds, seed 0), then
+Records the QPs of MotionBenchMaker plans (`qp_record.record`: both goal kinds, seed 0), then
 solves each with PIQP as the planner does (`qp.solve(..., "piqp")`) and with `solve` below, and
 prints how often the statuses differ, how far the control points are apart (relative to their
 size), the iterations and each solver's CPU time per QP (`time.thread_time`, alternating).
@@ -552,9 +552,9 @@ def main(argv=None) -> int:
     if args.load:
         qps = pickle.loads(Path(args.load).read_bytes())
     else:
-        import qp_prototype
+        import qp_record
 
-        qps = qp_prototype.record(args.limit_per_scene, args.scenes)
+        qps = qp_record.record(args.limit_per_scene, args.scenes)
         if args.save:
             Path(args.save).write_bytes(pickle.dumps(qps))
     print(compare(qps)["text"])
