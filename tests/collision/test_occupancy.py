@@ -178,6 +178,38 @@ def test_the_solids_mesh_is_the_boxes_and_hulls_the_checks_use():
     assert _signed_volume(Vb, Fb) == pytest.approx(len(cells) * RES ** 3, rel=1e-9)
 
 
+def test_a_hull_from_qhulls_triangles_answers_as_coals_own_hull():
+    import coal
+
+    from manip.collision.occupancy_hulls import cell_hull, hull_triangles
+
+    cells, (start, P) = _slanted_points()
+    m = OccupancyMap.from_cells("camera", RES, cells, None, (start, P))
+    g = m.coal_geometry()
+    rng = np.random.default_rng(0)
+    checked = 0
+    for k in np.flatnonzero(~g.solid):
+        pts = P[start[g.hulls[2][k]]:start[g.hulls[2][k] + 1]]
+        ours, _ = cell_hull(pts, g.boxes[k], RES)
+        V, _ = hull_triangles(pts, g.boxes[k], RES)
+        vertices = coal.StdVec_Vec3s()
+        for x in V:
+            vertices.append(x)
+        coals = coal.ConvexBase.convexHull(vertices, False, "Qt")
+        centre = (g.boxes[k, :3] + g.boxes[k, 3:]) / 2
+        for _ in range(10):
+            tf = coal.Transform3s(np.eye(3), centre + rng.normal(0.0, 0.01, 3))
+            ball = coal.Sphere(0.003)
+            d = [coal.distance(h, coal.Transform3s(), ball, tf, coal.DistanceRequest(), coal.DistanceResult())
+                 for h in (ours, coals)]
+            hit = [coal.collide(h, coal.Transform3s(), ball, tf, coal.CollisionRequest(), coal.CollisionResult())
+                   for h in (ours, coals)]
+            # equal to GJK's tolerance (its iterations walk the two vertex sets by other paths)
+            assert d[0] == pytest.approx(d[1], abs=coal.DistanceRequest().gjk_tolerance) and hit[0] == hit[1]
+            checked += 1
+    assert checked >= 100
+
+
 def test_hulls_are_remembered_for_a_bounded_number_of_cells(monkeypatch):
     from manip.collision import occupancy_hulls
 
