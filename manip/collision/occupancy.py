@@ -255,8 +255,8 @@ class OccupancyMap(Mesh):
 
     def solids_mesh(self) -> tuple[np.ndarray, np.ndarray]:
         """(V (K, 3) [m], F (T, 3)): triangles of the solids the checks see, in the frame of
-        `vertices` (the merged boxes and each hull cell's convex hull, built here: ~0.2 ms a
-        hull), for drawing; `vertices` / `faces` are the boxes alone (the hulls' bounds)."""
+        `vertices` (the merged boxes and each hull cell's convex hull: ~0.2-0.4 ms a hull not
+        built yet), for drawing; `vertices` / `faces` are the boxes alone (the hulls' bounds)."""
         g = self._grid["geometry"]
         return solids_mesh(g.boxes, g.solid, g.hulls, self.resolution)
 
