@@ -11,6 +11,26 @@ import numba
 import numpy as np
 
 
+@numba.njit(nogil=True)
+def _by_rows(data, indices, indptr, n, rows):
+    """(rptr (rows + 1,), column indices, values) of an (rows, n) CSC matrix in CSR, columns ascending."""
+    rptr = np.zeros(rows + 1, np.int64)
+    for k in range(indptr[n]):
+        rptr[indices[k] + 1] += 1
+    for r in range(rows):
+        rptr[r + 1] += rptr[r]
+    ridx = np.empty(indptr[n], np.int64)
+    rval = np.empty(indptr[n])
+    fill = rptr[:rows].copy()
+    for c in range(n):
+        for k in range(indptr[c], indptr[c + 1]):
+            r = indices[k]
+            ridx[fill[r]] = c
+            rval[fill[r]] = data[k]
+            fill[r] += 1
+    return rptr, ridx, rval
+
+
 @numba.njit(nogil=True, fastmath={"reassoc", "contract"})
 def structure(P_data, P_indices, P_indptr, G_data, G_indices, G_indptr, A_data, A_indices, A_indptr, n, m, e, bs, nb,
               delta):
@@ -19,34 +39,8 @@ def structure(P_data, P_indices, P_indptr, G_data, G_indices, G_indptr, A_data, 
     k_b, k_g, k_p0, kind, kron, n_pair, na, pair_j, pair_k1, pair_k2, row_elim, slot_f, slot_w)."""
     nx = bs * nb
     # --- G and A by rows (CSR), columns ascending
-    g_rptr = np.zeros(m + 1, np.int64)
-    for k in range(G_indptr[n]):
-        g_rptr[G_indices[k] + 1] += 1
-    for j in range(m):
-        g_rptr[j + 1] += g_rptr[j]
-    g_ridx = np.empty(G_indptr[n], np.int64)
-    g_rval = np.empty(G_indptr[n])
-    fill = g_rptr[:m].copy()
-    for c in range(n):
-        for k in range(G_indptr[c], G_indptr[c + 1]):
-            j = G_indices[k]
-            g_ridx[fill[j]] = c
-            g_rval[fill[j]] = G_data[k]
-            fill[j] += 1
-    a_rptr = np.zeros(e + 1, np.int64)
-    for k in range(A_indptr[n]):
-        a_rptr[A_indices[k] + 1] += 1
-    for r in range(e):
-        a_rptr[r + 1] += a_rptr[r]
-    a_ridx = np.empty(A_indptr[n], np.int64)
-    a_rval = np.empty(A_indptr[n])
-    fill_a = a_rptr[:e].copy()
-    for c in range(n):
-        for k in range(A_indptr[c], A_indptr[c + 1]):
-            r = A_indices[k]
-            a_ridx[fill_a[r]] = c
-            a_rval[fill_a[r]] = A_data[k]
-            fill_a[r] += 1
+    g_rptr, g_ridx, g_rval = _by_rows(G_data, G_indices, G_indptr, n, m)
+    a_rptr, a_ridx, a_rval = _by_rows(A_data, A_indices, A_indptr, n, e)
     # --- kinds: 0 control point (time-major position idx), 1 arrow (idx), 2 eliminated into its
     # G row (one row, no A row, P diagonal only), 3 isolated (no G or A row, P diagonal only)
     P_diag = np.zeros(n)
