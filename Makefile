@@ -1,4 +1,4 @@
-# Two commands do everything on a fresh machine with Python >= 3.10 and pip:
+# Two commands do everything on a fresh machine with Python >= 3.11 and pip:
 #   make demo   set up .venv with manip alone (no extras), prebuild its kernels, run the
 #               flagship pick-and-place headless (fresh clone, 2-core machine, no pip cache:
 #               1.7 min: install 40 s, prebuild 48 s, three episodes 10 s; 1.4 GB in .venv)
@@ -19,6 +19,7 @@ KERNEL_SOURCES := $(shell grep -rl --include='*.py' '^@kernel' manip) manip/jit.
 .PHONY: setup test demo bench wheel clean
 
 $(PY):
+	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 11))' || { echo "manip needs Python >= 3.11 (MuJoCo 4 does); $(PYTHON) is $$($(PYTHON) -V 2>&1): run e.g. make $(MAKECMDGOALS) PYTHON=python3.12" >&2; exit 1; }
 	$(PYTHON) -m venv $(VENV)
 
 $(CORE): $(PY) pyproject.toml
