@@ -42,9 +42,21 @@ test: $(FULL) $(PREBUILT)
 demo: $(CORE) $(PREBUILT)
 	$(PY) examples/pick_and_place.py --episodes 3
 
-# The wheel carries the prebuilt kernels and every shipped robot's geometry.
+# The wheel carries the prebuilt kernels and every shipped robot's geometry, with the kernels of
+# each Python of WHEEL_PYTHONS found here besides the venv's (a venv .venv-3.X each, `prebuild --add`);
+# users of a Python not found compile the kernels on first use (20-40 s once).
+WHEEL_PYTHONS ?= python3.11 python3.12 python3.13
 wheel: $(FULL)
 	$(PY) -m manip.prebuild --robots all
+	@own=$$($(PY) -c 'import sys; print("%d.%d" % sys.version_info[:2])'); \
+	for p in $(WHEEL_PYTHONS); do \
+	  if ! command -v $$p >/dev/null 2>&1; then echo "wheel: no $$p here: the wheel carries no kernels for it"; continue; fi; \
+	  v=$$($$p -c 'import sys; print("%d.%d" % sys.version_info[:2])'); \
+	  [ "$$v" = "$$own" ] && continue; \
+	  $$p -m venv .venv-$$v && .venv-$$v/bin/python -m pip install --quiet --upgrade pip && \
+	  .venv-$$v/bin/python -m pip install --quiet -e . && \
+	  .venv-$$v/bin/python -m manip.prebuild --add --robots all || exit 1; \
+	done
 	$(PY) -m pip install --quiet build twine
 	rm -rf dist
 	$(PY) -m build --wheel    # from the checkout: the sdist leaves the prebuilt files out
@@ -61,4 +73,4 @@ bench: $(FULL) $(PREBUILT)
 	$(PY) benchmarks/mbm.py --goal both --planners manip,roboplan,ompl --write-md
 
 clean:
-	rm -rf $(VENV) build dist *.egg-info .pytest_cache manip/_prebuilt
+	rm -rf $(VENV) .venv-3.* build dist *.egg-info .pytest_cache manip/_prebuilt

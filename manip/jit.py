@@ -9,7 +9,10 @@
    `python -m manip.prebuild` (the wheel is built with them; `make setup` builds them in a
    checkout). They are used only when numba's version, Python's version, the architecture
    and the source of every kernel module are exactly those they were built from
-   (`manifest.json`); anything else compiles as before. `MANIP_PREBUILT=off` ignores them.
+   (`manifest.json`); anything else compiles as before. One folder can serve several Pythons
+   (numba names its files by Python version): `python -m manip.prebuild --add`, run by each
+   other interpreter, adds its kernels and its environment to the manifest (`make wheel` does
+   for Python 3.11-3.13). `MANIP_PREBUILT=off` ignores them.
 
 As with numba's own cache, a kernel is keyed by its module's source: a kernel must read no
 global of a module that defines no kernel (such a value is frozen into the compiled code).
@@ -102,6 +105,13 @@ def environment() -> dict[str, str]:
     return {"numba": numba.__version__, "python": f"{sys.version_info[0]}.{sys.version_info[1]}", "triple": triple}
 
 
+def manifest_environments(manifest: dict) -> list[dict]:
+    """The environments (`environment()`) whose kernels a prebuilt manifest lists: the one that
+    built the folder, then each added by `python -m manip.prebuild --add` (another Python)."""
+    envs = manifest.get("environments")
+    return list(envs) if isinstance(envs, list) else [manifest.get("environment")]
+
+
 def _manifest_matches() -> bool:
     """True when the prebuilt kernels were built from this source, numba, Python and architecture."""
     global _prebuilt_valid
@@ -122,10 +132,10 @@ def _manifest_matches() -> bool:
                 except OSError:
                     sources = None
                 env = environment()
-                _prebuilt_valid = sources == manifest.get("sources") and manifest.get("environment") == env
+                _prebuilt_valid = sources == manifest.get("sources") and env in manifest_environments(manifest)
                 if not _prebuilt_valid:
                     logger.info("prebuilt kernels in %s were built for %s, this is %s%s: compiling instead",
-                                PREBUILT_KERNELS, manifest.get("environment"), env,
+                                PREBUILT_KERNELS, manifest_environments(manifest), env,
                                 "" if sources == manifest.get("sources") else " (the kernels' source changed)")
         return _prebuilt_valid
 

@@ -14,6 +14,12 @@ wheel (the wheel carries `manip/_prebuilt/`). It starts one child process that
 then writes `_prebuilt/kernels/manifest.json` (numba, Python, architecture and the digest of
 every kernel module: the kernels are used only where all of these match). A first plan in a
 fresh environment then loads kernels instead of compiling them (`benchmarks/cold_start.py`).
+
+    python -m manip.prebuild --add      # run by another Python: its kernels beside the others
+
+keeps what is there and adds this interpreter's kernels and environment (numba names its files
+by Python version, so one folder, and one wheel, serves each Python that ran it); the kernels'
+source must be the one the folder was built from (`make wheel` runs it for Python 3.11-3.13).
 """
 
 from __future__ import annotations
@@ -162,26 +168,62 @@ def _perception(mg, q0) -> None:
         raise RuntimeError(f"the prebuild workload's plan on an occupancy map failed: {r.status.name}")
 
 
-def _child(out: Path, robots: list[str]) -> None:
+def merged_manifest(existing: dict | None, built: dict) -> dict:
+    """The manifest of a folder holding `existing`'s kernels and those just `built` (by another
+    Python, `--add`): the environments of both, the kernels of either. Raises RuntimeError when
+    there is nothing to add to or the kernels' source differs (the folder must be rebuilt)."""
+    if existing is None:
+        raise RuntimeError("--add: no prebuilt kernels to add to; run `python -m manip.prebuild` first")
+    if existing.get("sources") != built["sources"]:
+        raise RuntimeError("--add: the prebuilt kernels were built from another source of the kernel modules; "
+                           "rebuild them with `python -m manip.prebuild` (without --add) first")
+    envs = jit.manifest_environments(existing)
+    envs += [e for e in built["environments"] if e not in envs]
+    return dict(built, environment=envs[0], environments=envs,
+                kernels=sorted(set(existing.get("kernels", [])) | set(built["kernels"])))
+
+
+def _kernel_modules() -> list[Path]:
+    """The modules of manip that define kernels, found by their text (nothing imported)."""
+    root = Path(jit.__file__).resolve().parent
+    return [f for f in root.rglob("*.py") if "\n@kernel" in f.read_text()]
+
+
+def _read_manifest(folder: Path) -> dict | None:
+    try:
+        return json.loads((folder / "manifest.json").read_text())
+    except (OSError, ValueError):
+        return None
+
+
+def _child(out: Path, robots: list[str], add: bool) -> None:
     started = time.process_time()
     names = workload(robots)
-    manifest = {"environment": jit.environment(), "sources": jit.source_digest(jit.kernel_files()),
+    env = jit.environment()
+    manifest = {"environment": env, "environments": [env], "sources": jit.source_digest(jit.kernel_files()),
                 "kernels": names, "built": time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime()),
                 "cpu_seconds": round(time.process_time() - started, 1)}
+    if add:
+        manifest = merged_manifest(_read_manifest(out), manifest)
     (out / "manifest.json").write_text(json.dumps(manifest, indent=1))
 
 
-def build(robots: list[str], out_kernels: Path = jit.PREBUILT_KERNELS, out_geometry: Path = PREBUILT_GEOMETRY) -> dict:
+def build(robots: list[str], out_kernels: Path = jit.PREBUILT_KERNELS, out_geometry: Path = PREBUILT_GEOMETRY,
+          add: bool = False) -> dict:
     """Rebuild the prebuilt kernels and the geometry of `robots` (in a child process); returns
-    the manifest."""
+    the manifest. With `add`, keep what is there and add this Python's kernels (module docstring)."""
+    if add:   # checked before the workload's minutes of CPU
+        merged_manifest(_read_manifest(out_kernels), {"sources": jit.source_digest(_kernel_modules()),
+                                                      "environments": [], "kernels": []})
     for folder in (out_kernels, out_geometry):
-        shutil.rmtree(folder, ignore_errors=True)
-        folder.mkdir(parents=True)
+        if not add:
+            shutil.rmtree(folder, ignore_errors=True)
+        folder.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="manip-prebuild-") as numba_cache:
         env = dict(os.environ, NUMBA_CPU_NAME=jit.PORTABLE_CPU, NUMBA_CPU_FEATURES="", NUMBA_CACHE_DIR=numba_cache,
                    MANIP_CACHE_DIR=str(out_geometry), **{jit.BUILD_ENV: str(out_kernels)})
-        subprocess.run([sys.executable, "-m", "manip.prebuild", "--child", str(out_kernels), "--robots", *robots],
-                       env=env, check=True)
+        subprocess.run([sys.executable, "-m", "manip.prebuild", "--child", str(out_kernels), "--robots", *robots,
+                        *(["--add"] if add else [])], env=env, check=True)
     return json.loads((out_kernels / "manifest.json").read_text())
 
 
@@ -190,6 +232,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--robots", nargs="+", default=["all"], metavar="NAME",
                         help="shipped robots whose collision geometry is prebuilt (default: all of them; the "
                              "kernels are built either way)")
+    parser.add_argument("--add", action="store_true",
+                        help="keep the prebuilt kernels there and add this Python's (for a wheel serving several "
+                             "Pythons; the kernels' source must be the one they were built from)")
     parser.add_argument("--child", metavar="DIR", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     logging.basicConfig(level=logging.WARNING, format="%(message)s")
@@ -198,13 +243,16 @@ def main(argv: list[str] | None = None) -> int:
     if unknown:
         parser.error(f"unknown robots {unknown}; shipped: {available_robots()}")
     if args.child:
-        _child(Path(args.child), robots)
+        _child(Path(args.child), robots, args.add)
         return 0
     t = time.perf_counter()
-    manifest = build(robots)
+    try:
+        manifest = build(robots, add=args.add)
+    except RuntimeError as e:
+        parser.error(str(e))
     print(f"prebuilt {len(manifest['kernels'])} kernels and the geometry of {', '.join(robots)} "
-          f"({manifest['cpu_seconds']} s of CPU) for {manifest['environment']} into {jit.PREBUILT_KERNELS.parent} "
-          f"in {time.perf_counter() - t:.0f} s")
+          f"({manifest['cpu_seconds']} s of CPU) for {jit.environment()} into {jit.PREBUILT_KERNELS.parent} "
+          f"in {time.perf_counter() - t:.0f} s; the folder serves {jit.manifest_environments(manifest)}")
     return 0
 
 

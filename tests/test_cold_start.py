@@ -74,7 +74,7 @@ def _fresh(tmp_path: Path, code: str = FIRST_USE, **env) -> subprocess.Completed
 def test_the_prebuilt_files_are_there_and_match_this_source():
     assert MANIFEST.is_file(), "no prebuilt kernels: run `python -m manip.prebuild` (make setup/test/demo do)"
     manifest = json.loads(MANIFEST.read_text())
-    assert manifest["environment"] == jit.environment()
+    assert jit.environment() in jit.manifest_environments(manifest)
     assert manifest["sources"] == jit.source_digest(ROOT / "manip" / name for name in manifest["sources"])
     # every module that defines a kernel is in the digest
     defining = {str(p.relative_to(ROOT / "manip")) for p in (ROOT / "manip").rglob("*.py")
@@ -162,6 +162,43 @@ def test_a_manifest_of_another_source_is_not_used(tmp_path, monkeypatch):
     monkeypatch.setattr(jit, "_prebuilt_valid", None)
     monkeypatch.setattr(jit, "PREBUILT_KERNELS", MANIFEST.parent)
     assert jit._manifest_matches() is True
+
+
+def _elsewhere(env: dict, python: str) -> dict:
+    return dict(env, python=python)
+
+
+def test_a_folder_built_for_several_pythons_serves_each_and_no_other(tmp_path, monkeypatch):
+    manifest = json.loads(MANIFEST.read_text())
+    here = jit.environment()
+    monkeypatch.setattr(jit, "PREBUILT_KERNELS", tmp_path)
+    for envs, used in (([_elsewhere(here, "3.12"), here, _elsewhere(here, "3.13")], True),
+                       ([_elsewhere(here, "3.12"), _elsewhere(here, "3.13")], False),
+                       ([dict(here, numba="0.0.1")], False)):
+        (tmp_path / "manifest.json").write_text(json.dumps(dict(manifest, environment=envs[0], environments=envs)))
+        monkeypatch.setattr(jit, "_prebuilt_valid", None)
+        assert jit._manifest_matches() is used, envs
+    # a manifest of one environment only (as manip 0.2.0 wrote them)
+    (tmp_path / "manifest.json").write_text(json.dumps({"environment": here, "sources": manifest["sources"]}))
+    monkeypatch.setattr(jit, "_prebuilt_valid", None)
+    assert jit._manifest_matches() is True
+
+
+def test_adding_another_pythons_kernels_keeps_every_environment_and_refuses_another_source():
+    from manip.prebuild import merged_manifest
+
+    manifest = json.loads(MANIFEST.read_text())
+    here = jit.environment()
+    other = _elsewhere(here, "3.13")
+    built = {"environment": other, "environments": [other], "sources": manifest["sources"], "kernels": ["k.new"]}
+    merged = merged_manifest(manifest, built)
+    assert merged["environments"] == jit.manifest_environments(manifest) + [other]
+    assert set(merged["kernels"]) == set(manifest["kernels"]) | {"k.new"}
+    assert merged_manifest(merged, built)["environments"] == merged["environments"]  # added twice: once
+    with pytest.raises(RuntimeError, match="another source"):
+        merged_manifest(manifest, dict(built, sources=dict(manifest["sources"], **{"kinematics.py": "0" * 64})))
+    with pytest.raises(RuntimeError, match="first"):
+        merged_manifest(None, built)
 
 
 def test_the_disk_cache_reads_the_users_folder_then_the_prebuilt_one_and_writes_only_the_users(tmp_path):
