@@ -50,8 +50,8 @@ wheel: $(FULL)
 	$(PY) -m manip.prebuild --robots all
 	@own=$$($(PY) -c 'import sys; print("%d.%d" % sys.version_info[:2])'); \
 	for p in $(WHEEL_PYTHONS); do \
-	  if ! command -v $$p >/dev/null 2>&1; then echo "wheel: no $$p here: the wheel carries no kernels for it"; continue; fi; \
-	  v=$$($$p -c 'import sys; print("%d.%d" % sys.version_info[:2])'); \
+	  v=$$($$p -c 'import sys; print("%d.%d" % sys.version_info[:2])' 2>/dev/null) || \
+	    { echo "wheel: no working $$p here (WHEEL_PYTHONS names the interpreters): the wheel carries no kernels for it"; continue; }; \
 	  [ "$$v" = "$$own" ] && continue; \
 	  $$p -m venv .venv-$$v && .venv-$$v/bin/python -m pip install --quiet --upgrade pip && \
 	  .venv-$$v/bin/python -m pip install --quiet -e . && \

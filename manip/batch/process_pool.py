@@ -23,7 +23,9 @@ and submits the unfinished tasks again, so no problem is lost and none is return
 a task caught in `MAX_ATTEMPTS` broken pools raises `WorkerLostError`. On KeyboardInterrupt
 (or any exception) the queued tasks are cancelled and the workers terminated. A caller that
 is killed outright (kill -9, the OOM killer) cannot stop its workers: each notices within
-`PARENT_POLL` s that its parent is gone and exits.
+`PARENT_POLL` s that the caller is gone and exits. (A fork server's workers watch the caller,
+not their parent: the server lives until the caller and every worker have exited, since each
+worker holds the server's "alive" pipe open, so it never ends first.)
 """
 
 from __future__ import annotations
@@ -77,34 +79,56 @@ class WorkerLostError(ManipError):
     """Workers kept dying while these problems were being planned."""
 
 
-#: Seconds between a worker's checks that its parent still lives (`_exit_with_parent`).
+#: Seconds between a worker's checks that the caller still lives (`_exit_with_caller`).
 PARENT_POLL = 1.0
 
 
-def _init_worker(robots: tuple[str | RobotSpec, ...], new_session: bool) -> None:
+def _init_worker(robots: tuple[str | RobotSpec, ...], new_session: bool, caller: int) -> None:
     if new_session:
         os.setsid()
     # Ctrl-C in a terminal reaches the whole process group: the caller stops the workers.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    _exit_with_parent()
+    _exit_with_caller(caller)
     worker.start(robots)
 
 
-def _exit_with_parent() -> None:
-    """End this worker when its parent process ends (POSIX): a caller killed without a chance to
-    stop its pool (kill -9, the OOM killer) would leave its workers waiting for tasks forever,
-    each holding a warm generator's memory. The parent is the caller, or the fork server, which
-    exits with the caller."""
+def process_identity(pid: int) -> str | None:
+    """What tells process `pid` from a later one given the same pid: its start time in clock
+    ticks where /proc exists (Linux), else "" (only that a process of that pid exists); None
+    when no such process runs (a zombie, killed and not yet reaped, counts as gone)."""
+    if os.path.isdir("/proc/self"):
+        try:
+            with open(f"/proc/{pid}/stat") as f:
+                fields = f.read().rsplit(")", 1)[1].split()
+        except (OSError, IndexError):
+            return None
+        return None if fields[0] in ("Z", "X") else fields[19]
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return None
+    except PermissionError:
+        pass
+    return ""
+
+
+def _exit_with_caller(caller: int) -> None:
+    """End this worker when the process that made its pool (pid `caller`) ends, or when its
+    parent does (POSIX): a caller killed without a chance to stop its pool (kill -9, the OOM
+    killer) would leave its workers waiting for tasks forever, each holding a warm generator's
+    memory. A forked worker's parent is the caller; a fork server's worker's parent is the
+    server, which outlives the caller as long as any of its workers lives (module docstring)."""
     if os.name != "posix":
         return
     parent = os.getppid()
+    identity = process_identity(caller)
 
     def watch() -> None:
-        while os.getppid() == parent:
+        while identity is not None and os.getppid() == parent and process_identity(caller) == identity:
             time.sleep(PARENT_POLL)
         os.kill(os.getpid(), signal.SIGKILL)  # at once: no cleanup to wait for, nobody to report to
 
-    threading.Thread(target=watch, name="manip-exit-with-parent", daemon=True).start()
+    threading.Thread(target=watch, name="manip-exit-with-caller", daemon=True).start()
 
 
 def default_start_method() -> str:
@@ -145,7 +169,7 @@ def _context(method: str) -> BaseContext:
 
 def _new_pool(workers: int, robots: tuple[str | RobotSpec, ...], method: str) -> ProcessPoolExecutor:
     return ProcessPoolExecutor(workers, mp_context=_context(method), initializer=_init_worker,
-                               initargs=(robots, NEW_SESSION))
+                               initargs=(robots, NEW_SESSION, os.getpid()))
 
 
 def _workers(pool: ProcessPoolExecutor) -> list:
