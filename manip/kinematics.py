@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
+from manip import curobo_names
 from manip import quaternion as quat
 from manip.errors import InvalidInputError, UnknownNameError
 from manip.jit import kernel, kernel_array
@@ -412,3 +413,9 @@ class Kinematics:
             return Pose._trusted(M.translation.copy(), wxyz / math.sqrt(float(wxyz @ wxyz)))
         R, p = self.frame_transforms(q, [fid])
         return Pose._trusted(np.ascontiguousarray(p[:, 0]), quat.from_matrix(R[:, 0]))
+
+    def __getattr__(self, name: str):
+        # only for missing names: cuRobo's CudaRobotModel names (get_state, ...) say where manip has them
+        if name.startswith("__"):
+            raise AttributeError(name)
+        raise curobo_names.missing(type(self).__name__, curobo_names.KINEMATICS, name)

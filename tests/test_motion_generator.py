@@ -15,7 +15,7 @@ from manip import InvalidInputError, Pose, UnknownNameError
 from manip.benchmarking.verify import default_verifier
 from manip.collision import Cuboid, WorldConfig
 from manip.motion_generator import MotionGenerator
-from manip.planning import PlanStatus
+from manip.planning import PlanOptions, PlanStatus
 from robot_constants import FRANKA_READY
 
 READY = np.array(FRANKA_READY)
@@ -295,6 +295,39 @@ def test_curobo_names_of_the_world_pose_and_ik_point_to_manips(mg):
     assert copy.deepcopy(Pose([1, 2, 3])).isclose(Pose([1, 2, 3]))
     assert np.array_equal(pickle.loads(pickle.dumps(result)).q, result.q)
 
+
+
+def test_curobo_plan_config_kinematics_and_generator_names_point_to_manips(mg):
+    """cuRobo's MotionGenPlanConfig fields passed as options (`timeout`, `max_attempts`,
+    `time_dilation_factor`, ...), `motion_gen.dof` and `kin_model.get_state(q)` name manip's
+    equivalent (they were a bare unknown option / "no attribute")."""
+    q0 = mg.default_joint_positions
+    goal = Pose([0.45, -0.3, 0.3], DOWN)
+    with pytest.raises(InvalidInputError, match=r"unknown planning option\(s\) \['max_attempts', 'timeout'\]; valid: .*"
+                                                r"cuRobo's MotionGenPlanConfig fields in manip: max_attempts -> .*"
+                                                r"timeout -> time_budget \[s\]"):
+        mg.plan_pose(q0, goal, timeout=2.0, max_attempts=4)
+    with pytest.raises(InvalidInputError, match=r"time_dilation_factor -> velocity_scale=f and acceleration_scale=f\*\*2"):
+        mg.plan_joints(q0, q0 + 0.1, time_dilation_factor=0.5)
+    with pytest.raises(InvalidInputError, match=r"enable_opt -> trajopt"):
+        mg.plan_batch(q0, [goal], enable_opt=False)
+    with pytest.raises(InvalidInputError) as plain:   # a name cuRobo lacks keeps the plain message
+        mg.plan_joints(q0, q0 + 0.1, no_such_option=1)
+    assert "cuRobo" not in str(plain.value)
+    kin = mg.kinematics
+    for owner, name, where in ((mg, "dof", "MotionGenerator.robot_dof"),
+                               (mg, "get_retract_config", "MotionGenerator.default_joint_positions"),
+                               (mg, "plan_batch_env", "manip.batch.plan_many"),
+                               (kin, "get_state", "Kinematics.fk(q, link)"), (kin, "get_joint_limits", "Kinematics.limits"),
+                               (mg.ik_solver, "fk", "IKSolver.kinematics.fk")):
+        with pytest.raises(AttributeError, match=rf"no '{name}' \(cuRobo's name\); manip's equivalent: {re.escape(where)}"):
+            getattr(owner, name)
+    with pytest.raises(AttributeError, match="'Kinematics' object has no attribute 'no_such_name'"):
+        kin.no_such_name
+    import copy
+    import pickle
+    assert copy.copy(kin).dof == kin.dof and not hasattr(kin, "__no_such_dunder__")
+    assert pickle.loads(pickle.dumps(PlanOptions(seed=3))).seed == 3
 
 def test_a_start_a_hair_outside_a_limit_never_leaves_the_limits_again():
     """A start 5e-5 rad above panda_joint7's upper limit is accepted as given, and the timing may
