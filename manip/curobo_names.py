@@ -73,6 +73,20 @@ RESULT = {
 }
 
 
+#: cuRobo `JointState` member (what `get_interpolated_plan()` returns) -> manip's `Trajectory` equivalent.
+TRAJECTORY = {
+    "position": "positions ((T, dof) [rad]; the last state: positions[-1])",
+    "velocity": "velocities ((T, dof) [rad/s])",
+    "acceleration": "accelerations ((T, dof) [rad/s^2])",
+    "jerk": "jerks ((T, dof) [rad/s^3])",
+    "get_ordered_joint_state": "positions[:, [t.joint_names.index(n) for n in names]] (joint_names: the column "
+                               "order; joint_indices_for(robot) for a manip.sim robot)",
+    "get_augmented_joint_state": "joint_names (the arm joints only; a gripper's are not in the trajectory)",
+    "trim_trajectory": "at_time(times) (or resample(dt))",
+    "clone": "the Trajectory itself (read-only arrays)",
+    "shape": "positions.shape ((T, dof))",
+}
+
 #: cuRobo `WorldConfig` member -> manip's `WorldConfig` equivalent.
 WORLD_CONFIG = {
     "add_obstacle": "add(obstacle)",

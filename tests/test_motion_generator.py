@@ -315,11 +315,15 @@ def test_curobo_plan_config_kinematics_and_generator_names_point_to_manips(mg):
         mg.plan_joints(q0, q0 + 0.1, no_such_option=1)
     assert "cuRobo" not in str(plain.value)
     kin = mg.kinematics
+    trajectory = mg.plan_joints(q0, q0 + 0.1).trajectory   # what cuRobo's get_interpolated_plan() gives
     for owner, name, where in ((mg, "dof", "MotionGenerator.robot_dof"),
                                (mg, "get_retract_config", "MotionGenerator.default_joint_positions"),
                                (mg, "plan_batch_env", "manip.batch.plan_many"),
                                (kin, "get_state", "Kinematics.fk(q, link)"), (kin, "get_joint_limits", "Kinematics.limits"),
-                               (mg.ik_solver, "fk", "IKSolver.kinematics.fk")):
+                               (mg.ik_solver, "fk", "IKSolver.kinematics.fk"),
+                               (trajectory, "position", "Trajectory.positions ((T, dof)"),
+                               (trajectory, "velocity", "Trajectory.velocities"),
+                               (trajectory, "get_ordered_joint_state", "Trajectory.positions[:, [t.joint_names.index(n)")):
         with pytest.raises(AttributeError, match=rf"no '{name}' \(cuRobo's name\); manip's equivalent: {re.escape(where)}"):
             getattr(owner, name)
     with pytest.raises(AttributeError, match="'Kinematics' object has no attribute 'no_such_name'"):
@@ -327,6 +331,7 @@ def test_curobo_plan_config_kinematics_and_generator_names_point_to_manips(mg):
     import copy
     import pickle
     assert copy.copy(kin).dof == kin.dof and not hasattr(kin, "__no_such_dunder__")
+    assert pickle.loads(pickle.dumps(trajectory)).duration == trajectory.duration
     assert pickle.loads(pickle.dumps(PlanOptions(seed=3))).seed == 3
 
 def test_a_start_a_hair_outside_a_limit_never_leaves_the_limits_again():
