@@ -338,7 +338,7 @@ def test_world_edits(mg):
     _raises(lambda: mg.checker.update_obstacle_pose("table", [0, 0]), "pose")
     _raises(lambda: mg.attach_object("nothing"), "obstacle", UnknownNameError)
     _raises(lambda: mg.attach_object(Cuboid("held", [0.02] * 3), q=[0.0] * 6), "q")
-    _raises(lambda: mg.detach_object(name="nothing"), "attached object", UnknownNameError)
+    _raises(lambda: mg.detach_object(READY, name="nothing"), "attached object", UnknownNameError)
     assert mg.world.names == ["table"]
 
 
@@ -391,8 +391,9 @@ def test_no_file_is_created(tmp_path: Path):
 
 def test_more_collision_arguments(mg):
     _raises(lambda: CollisionChecker(mg.config, mg.kinematics, sphere_tolerance=0.0), "sphere_tolerance")
-    _raises(lambda: mg.attach_object(Cuboid("held", [0.02] * 3), allowed_links="panda_hand"), "allowed_links")
-    _raises(lambda: mg.attach_object(Cuboid("held", [0.02] * 3), allowed_links=["nope"]), "link", UnknownNameError)
+    _raises(lambda: mg.attach_object(Cuboid("held", [0.02] * 3), q=READY, allowed_links="panda_hand"), "allowed_links")
+    _raises(lambda: mg.attach_object(Cuboid("held", [0.02] * 3), q=READY, allowed_links=["nope"]), "link",
+            UnknownNameError)
     _raises(lambda: mg.checker.set_gripper_positions([0.04, 1j]), "gripper")
     _raises(lambda: mg.checker.set_gripper_positions([0.04, 0.5]), "gripper")
     _raises(lambda: load_robot_config(123), "robot", UnknownNameError)

@@ -221,6 +221,32 @@ def test_velocity_scale_slows_the_motion(mg):
     assert np.all(np.abs(slow.trajectory.velocities) <= 0.5 * mg.velocity_limits + 1e-9)
 
 
+
+def test_attach_and_detach_need_the_configuration():
+    """A grasp without its configuration attached the cube at its pose relative to the hand at
+    the *default* configuration (here 0.6 m away from the hand that grasped it), and a detach
+    without one put the carried cube back where the hand would be at the default configuration,
+    on the way home: both were accepted silently. They need q (or pose_in_link), as cuRobo's
+    attach needs the joint state."""
+    mg = MotionGenerator("franka", {"cuboid": {"cube": {"dims": [0.05] * 3, "pose": [0.5, -0.3, 0.025, 1, 0, 0, 0]}}})
+    grasp = mg.ik(Pose([0.5, -0.3, 0.03], DOWN), "panda_hand_tcp", READY).q
+    with pytest.raises(InvalidInputError, match="attach_object needs q"):
+        mg.attach_object("cube", link="panda_hand_tcp")
+    assert mg.world.names == ["cube"] and not mg.checker.attached_objects
+    mg.attach_object("cube", grasp, link="panda_hand_tcp")
+    carried = mg.plan_pose(grasp, Pose([0.4, 0.3, 0.3], DOWN), "panda_hand_tcp")
+    assert carried.success, carried.message
+    with pytest.raises(InvalidInputError, match="detach_object needs q, the configuration at release"):
+        mg.detach_object()
+    assert "cube" in mg.checker.attached_objects
+    mg.detach_object(carried.goal_q)
+    assert mg.world.get("cube").pose.isclose(Pose([0.4, 0.3, 0.3 - 0.005]), 1e-3, 1e-2)
+    home = mg.plan_joints(carried.goal_q, READY)   # the cube stays where it was released, off the way home
+    assert home.success, home.message
+    # an external shape placed in the link frame needs no configuration
+    mg.attach_object(Cuboid("tool", [0.02, 0.02, 0.1]), pose_in_link=[0.0, 0.0, 0.05], link="panda_hand_tcp")
+    assert "tool" in mg.checker.attached_objects
+
 def test_curobo_names_point_to_manips():
     mg = MotionGenerator("franka")
     q0 = mg.default_joint_positions
