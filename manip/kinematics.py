@@ -402,10 +402,11 @@ class Kinematics:
         return _frame_jacobians(kernel_array(Q), *self.fk_tables(),
                                 *self.jacobian_tables(frame_id))
 
-    def fk(self, q: np.ndarray, link: str) -> Pose:
-        """Pose of `link` in the base frame for q (dof,) -> Pose or (N, dof) -> batched Pose."""
+    def fk(self, q: np.ndarray, link: str | None = None) -> Pose:
+        """Pose of `link` (default the config's `ee_link`, as `MotionGenerator.fk` and cuRobo's
+        `get_state`) in the base frame for q (dof,) -> Pose or (N, dof) -> batched Pose."""
         q = self.check_q(q)
-        fid = self.frame_id(link, "link")
+        fid = self.frame_id(self.config.ee_link if link is None else link, "link")
         if q.ndim == 1:
             M = self.frame_transform(q, fid)
             x, y, z, w = pin.Quaternion(M.rotation).coeffs()
