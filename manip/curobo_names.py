@@ -134,8 +134,8 @@ KINEMATICS = {
 
 #: cuRobo `IKResult` member -> manip's `IKResult` equivalent.
 IK_RESULT = {
-    "solution": "q ((dof,) joints in joint_names order)",
-    "js_solution": "q ((dof,) joints in joint_names order)",
+    "solution": "q ((dof,) joints in joint_names order; (N, dof) for a batch)",
+    "js_solution": "q ((dof,) joints in joint_names order; (N, dof) for a batch)",
     "goalset_index": "nothing: IK takes one goal (MotionGenerator.batch_ik for several)",
     "error": "position_error [m] and rotation_error [rad]",
 }

@@ -348,6 +348,7 @@ def test_curobo_plan_config_kinematics_and_generator_names_point_to_manips(mg):
                                (kin, "get_state", "Kinematics.fk(q, link)"), (kin, "get_joint_limits", "Kinematics.limits"),
                                (mg.ik_solver, "fk", "IKSolver.kinematics.fk"),
                                (trajectory, "position", "Trajectory.positions ((T, dof)"),
+                               (mg.batch_ik(Pose.stack([goal, goal])), "js_solution", "BatchIKResult.q"),
                                (trajectory, "velocity", "Trajectory.velocities"),
                                (trajectory, "get_ordered_joint_state", "Trajectory.positions[:, [t.joint_names.index(n)")):
         with pytest.raises(AttributeError, match=rf"no '{name}' \(cuRobo's name\); manip's equivalent: {re.escape(where)}"):
