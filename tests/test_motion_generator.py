@@ -222,6 +222,22 @@ def test_velocity_scale_slows_the_motion(mg):
 
 
 
+
+def test_velocity_and_acceleration_scales_given_to_the_constructor():
+    # cuRobo's MotionGenConfig.load_from_robot_config(..., velocity_scale=, acceleration_scale=):
+    # a TypeError here before; the generator's defaults, which a call's options override
+    slow = MotionGenerator("franka", WorldConfig.from_dict(TABLE_WALL), velocity_scale=0.5, acceleration_scale=0.25)
+    left, right = _left_right(slow)
+    r = slow.plan_joints(left, right, seed=1)
+    assert r.success, r.message
+    assert np.all(r.trajectory.max_abs_velocity() <= 0.5 * slow.velocity_limits * (1 + 1e-6))
+    assert np.all(r.trajectory.max_abs_acceleration() <= 0.25 * slow.acceleration_limits * (1 + 1e-6))
+    _verify(slow, r, goal_q=right)
+    fast = slow.plan_joints(left, right, seed=1, velocity_scale=1.0, acceleration_scale=1.0)
+    assert fast.success and fast.motion_time < r.motion_time
+    with pytest.raises(InvalidInputError, match=r"velocity_scale must be a number in \(0, 1\]; got 2"):
+        MotionGenerator("franka", velocity_scale=2)
+
 def test_attach_and_detach_need_the_configuration():
     """A grasp without its configuration attached the cube at its pose relative to the hand at
     the *default* configuration (here 0.6 m away from the hand that grasped it), and a detach
