@@ -165,6 +165,9 @@ def test_invalid_goal_status(mg):
         (lambda m: m.plan_joints(READY, READY, velocity_scale=1.5), r"velocity_scale"),
         (lambda m: m.plan_pose(READY, [0.4, 0, 0.4, 1, 0, 0, 0]), r"manip.Pose"),
         (lambda m: m.fk(READY, link="gripper"), r"frame 'gripper' not found; available: .*panda_hand"),
+        # cuRobo's JointState.position of one state is (1, dof): the message says what to pass
+        (lambda m: m.plan_joints(READY[None], READY), r"got \(1, 7\) \(one configuration, .*: pass start_q\[0\]\)"),
+        (lambda m: m.plan_joints(READY, READY[None]), r"got \(1, 7\) \(one configuration, .*: pass goal_q\[0\]\)"),
     ],
 )
 def test_bad_input_raises(mg, call, match):

@@ -32,6 +32,11 @@ SAFETY_NET = ("the time budget ran out during the plan: a stage may have stopped
               "the machine")
 
 
+def _one_row(q: np.ndarray, what: str) -> str:
+    """The hint for a (1, dof) configuration (cuRobo's `JointState.position` of one state)."""
+    return f" (one configuration, as cuRobo's (1, dof) JointState.position: pass {what}[0])" if q.shape[0] == 1 else ""
+
+
 class PlanContext:
     """Per-call planning state.
 
@@ -75,7 +80,7 @@ class PlanContext:
         """
         q = kinematics.check_q(start_q, "start_q")
         if q.ndim != 1:
-            raise InvalidInputError(f"start_q must have shape ({kinematics.dof},); got {q.shape}")
+            raise InvalidInputError(f"start_q must have shape ({kinematics.dof},); got {q.shape}{_one_row(q, 'start_q')}")
         bad = kinematics.limit_violations(q, START_LIMIT_TOLERANCE)
         if bad:
             self.fail(PlanStatus.INVALID_START_JOINT_LIMITS, "start outside the joint limits: " + "; ".join(bad))
@@ -103,7 +108,7 @@ class PlanContext:
         """
         q = kinematics.check_q(goal_q, "goal_q")
         if q.ndim != 1:
-            raise InvalidInputError(f"goal_q must have shape ({kinematics.dof},); got {q.shape}")
+            raise InvalidInputError(f"goal_q must have shape ({kinematics.dof},); got {q.shape}{_one_row(q, 'goal_q')}")
         if kinematics.limit_violations(q, GOAL_LIMIT_TOLERANCE):
             problem = validity.goal_problem(q)
         else:
