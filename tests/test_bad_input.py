@@ -91,6 +91,21 @@ def test_complex_q_is_not_truncated(mg):
     _raises(lambda: mg.fk(np.asarray(READY, dtype=complex)), "q")
 
 
+
+def test_a_joint_state_object_says_to_pass_the_numbers(mg):
+    # a cuRobo JointState (its .position a (1, dof) tensor) given where manip takes an array:
+    # it said only "non-numeric values <JointState object>"
+    class JointState:
+        def __init__(self, position):
+            self.position = position
+
+    state = JointState(READY[None])
+    msg = _raises(lambda: mg.plan_joints(state, READY), "start_q")
+    assert "as cuRobo's JointState: pass the configuration itself as a NumPy array, e.g. js.position[0]" in msg
+    msg = _raises(lambda: mg.fk(state), "q")
+    assert "js.position[0]" in msg
+    assert "JointState" not in _raises(lambda: mg.fk([None] * 7), "q")   # no hint without a .position
+
 def test_batch_where_one_configuration_is_expected(mg):
     _raises(lambda: mg.check_collision(np.stack([READY, READY])), "q")
     _raises(lambda: mg.plan_joints(np.stack([READY, READY]), GOAL), "start_q")
