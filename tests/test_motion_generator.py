@@ -266,6 +266,25 @@ def test_attach_and_detach_need_the_configuration():
     mg.attach_object(Cuboid("tool", [0.02, 0.02, 0.1]), pose_in_link=[0.0, 0.0, 0.05], link="panda_hand_tcp")
     assert "tool" in mg.checker.attached_objects
 
+
+def test_a_held_object_still_on_its_support_says_how_to_lift_it():
+    # cuRobo's flow, attach then plan the lift, from a cube resting on the table: the start
+    # collides (the cube touches the table); the message says what to do
+    mg = MotionGenerator("franka", {"cuboid": {"cube": {"dims": [0.05] * 3, "pose": [0.5, -0.3, 0.025, 1, 0, 0, 0]},
+                                               "table": {"dims": [1.0, 1.2, 0.04], "pose": [0.5, 0, -0.02, 1, 0, 0, 0]}}})
+    grasp = mg.ik(Pose([0.5, -0.3, 0.03], DOWN), "panda_hand_tcp", READY).q
+    assert not mg.check_collision(grasp)
+    mg.attach_object("cube", grasp, link="panda_hand_tcp")
+    r = mg.plan_pose(grasp, Pose([0.5, -0.3, 0.2], DOWN), "panda_hand_tcp", linear=True)
+    assert r.status is PlanStatus.INVALID_START_WORLD_COLLISION
+    assert r.message.startswith("start in collision: cube touches table")
+    assert r.message.endswith("(still on its support?): plan the lift with plan_grasp, whose lift may leave the "
+                              "support, or attach it where it is clear")
+    mg.detach_object(grasp)
+    inside = mg.ik(Pose([0.5, -0.3, -0.01], DOWN), "panda_hand_tcp", READY).q   # the fingers themselves in the table
+    blocked = mg.plan_joints(inside, READY)
+    assert blocked.status is PlanStatus.INVALID_START_WORLD_COLLISION and "plan_grasp" not in blocked.message
+
 def test_curobo_names_point_to_manips():
     mg = MotionGenerator("franka")
     q0 = mg.default_joint_positions

@@ -24,6 +24,10 @@ START_LIMIT_TOLERANCE = 1e-4
 #: A joint goal this far outside a joint limit [rad] is moved onto the limit (a goal read
 #: from a simulated joint resting on its limit); one further out is INVALID_GOAL.
 GOAL_LIMIT_TOLERANCE = START_LIMIT_TOLERANCE
+#: Ends the message of a start whose only contacts are an attached object's with the world (a
+#: grasped object still on its support): how to lift it.
+HELD_HINT = ("; an attached object touches the world at the start (still on its support?): plan the lift with "
+             "plan_grasp, whose lift may leave the support, or attach it where it is clear")
 #: Ends the message of a result returned after its time budget ran out. Every stage is bounded
 #: by counts and stops early only when the budget has run out, so a result without this note
 #: does not depend on the machine's speed or load; one with it may (a stage was perhaps cut
@@ -91,7 +95,8 @@ class PlanContext:
                 PlanStatus.INVALID_START_WORLD_COLLISION if report.world_collision
                 else PlanStatus.INVALID_START_SELF_COLLISION
             )
-            self.fail(status, "start in collision: " + describe_contacts(report))
+            held = all(c.kind == "attached_world" for c in report.contacts)
+            self.fail(status, "start in collision: " + describe_contacts(report) + (HELD_HINT if held else ""))
             return q
         problem = validity.constraint_problem(q)
         if problem:
