@@ -471,7 +471,7 @@ class MotionGenerator(WorldEdits):
                                solver=self.ik_solver, limits=self.limits, clearance=self.clearance)
 
     def plan_goalset(self, start_q, goals: Pose, link: str | None = None, **options) -> PlanResult:
-        """Plan to whichever of several poses (a batched Pose, or a list of Poses) is best reached.
+        """Plan to whichever of several poses (a batched Pose) is best reached.
 
         Collision-free IK solutions of every pose (for a redundant arm, each also moved along
         its self-motion towards the start) are planned to at once, the ones reachable fastest
@@ -481,10 +481,8 @@ class MotionGenerator(WorldEdits):
         """
         ctx = self._context(options)
         link = self._link(link)
-        if isinstance(goals, (list, tuple)) and goals and all(isinstance(g, Pose) for g in goals):
-            goals = Pose.stack(list(goals))   # a list of Poses, as plan_batch takes them
         if not isinstance(goals, Pose):
-            raise InvalidInputError(f"goals must be a manip.Pose (a batch) or a list of Poses; got {type(goals).__name__}")
+            raise InvalidInputError(f"goals must be a manip.Pose; got {type(goals).__name__}")
         if not goals.is_batch:
             goals = Pose.stack([goals])
         if len(goals) == 0:

@@ -118,12 +118,6 @@ def test_goalset_picks_a_reachable_pose(mg):
     r = mg.plan_goalset(left, Pose.stack([unreachable, reachable]), seed=0)
     assert r.success, r.message
     assert r.goal_index == 1
-    # a list of Poses, as plan_batch takes them (it raised "goals must be a manip.Pose; got list")
-    again = mg.plan_goalset(left, [unreachable, reachable], seed=0)
-    assert again.goal_index == 1
-    np.testing.assert_array_equal(again.trajectory.positions, r.trajectory.positions)
-    with pytest.raises(InvalidInputError, match="goals must be a manip.Pose \\(a batch\\) or a list of Poses; got list"):
-        mg.plan_goalset(left, [reachable.to_xyz_wxyz()])
 
 
 def test_unreachable_pose_is_ik_fail(mg):
