@@ -1,4 +1,4 @@
-"""cuRobo's MotionGen names and where manip has them (data only).
+"""cuRobo's MotionGen names and where manip has them (data, and the messages naming them).
 
 A script written against cuRobo (`motion_gen.plan_single(...)`, `result.get_interpolated_plan()`)
 asking a `MotionGenerator` or a `PlanResult` for one gets an AttributeError that names manip's
@@ -23,6 +23,35 @@ MOTION_GEN = {
     "world_coll_checker": "checker (check_collision(q), distance(q))",
     "world_collision": "checker (check_collision(q), distance(q))",
     "clear_world_cache": "update_world(None) (no obstacles)",
+    "dof": "robot_dof",
+    "get_retract_config": "default_joint_positions ((dof,) [rad])",
+    "world_model": "world (a WorldConfig; checker for the collision queries)",
+    "plan_batch_env": "manip.batch.plan_many([Problem(world, start, goal), ...]) (each problem its own world)",
+    "update_batch_world": "manip.batch.plan_many([Problem(world, start, goal), ...]) (each problem its own world)",
+    "plan_batch_goalset": "plan_goalset(start_q, goals) for each problem",
+}
+
+#: cuRobo `MotionGenPlanConfig` field -> manip's planning option (`manip.PlanOptions`), for the
+#: error naming an unknown option: a cuRobo script passes them as keyword arguments.
+PLAN_CONFIG = {
+    "timeout": "time_budget [s]",
+    "max_attempts": "no such option: every stage is bounded by counts (search_iterations) within time_budget; "
+                    "after a failure, retry with another seed",
+    "enable_graph": "no such option: the path search runs whenever the straight line collides",
+    "enable_graph_attempt": "no such option: the path search runs whenever the straight line collides",
+    "disable_graph_attempt": "no such option: the path search runs whenever the straight line collides",
+    "need_graph_success": "no such option: the path search runs whenever the straight line collides",
+    "enable_opt": "trajopt (True/False)",
+    "enable_finetune_trajopt": "trajopt (the optimiser minimises the duration itself; no finetune stage)",
+    "parallel_finetune": "trajopt (the optimiser minimises the duration itself; no finetune stage)",
+    "finetune_attempts": "trajopt (the optimiser minimises the duration itself; no finetune stage)",
+    "time_dilation_factor": "velocity_scale=f and acceleration_scale=f**2 (the limits of a motion retimed "
+                            "f times as fast), or duration [s]",
+    "num_ik_seeds": "ik_solutions (collision-free IK solutions sought per goal pose)",
+    "num_trajopt_seeds": "no such option: one optimisation of the searched path (seed for another)",
+    "num_graph_seeds": "search_iterations (one search; seed for another)",
+    "check_start_validity": "no such option: the start is always checked (INVALID_START_* statuses)",
+    "pose_cost_metric": "constraints=(OrientationConstraint(...), PositionConstraint(...)) or plan_pose(..., linear=True)",
 }
 
 #: cuRobo `MotionGenResult` member -> manip's `PlanResult` equivalent.
@@ -43,6 +72,20 @@ RESULT = {
     "used_graph": 'source ("straight_line" when no search was needed)',
 }
 
+
+#: cuRobo `JointState` member (what `get_interpolated_plan()` returns) -> manip's `Trajectory` equivalent.
+TRAJECTORY = {
+    "position": "positions ((T, dof) [rad]; the last state: positions[-1])",
+    "velocity": "velocities ((T, dof) [rad/s])",
+    "acceleration": "accelerations ((T, dof) [rad/s^2])",
+    "jerk": "jerks ((T, dof) [rad/s^3])",
+    "get_ordered_joint_state": "positions[:, [t.joint_names.index(n) for n in names]] (joint_names: the column "
+                               "order; joint_indices_for(robot) for a manip.sim robot)",
+    "get_augmented_joint_state": "joint_names (the arm joints only; a gripper's are not in the trajectory)",
+    "trim_trajectory": "at_time(times) (or resample(dt))",
+    "clone": "the Trajectory itself (read-only arrays)",
+    "shape": "positions.shape ((T, dof))",
+}
 
 #: cuRobo `WorldConfig` member -> manip's `WorldConfig` equivalent.
 WORLD_CONFIG = {
@@ -76,19 +119,39 @@ IK_SOLVER = {
     "solve_goalset": "solve_batch(goals, link, seed_q) (each goal solved; MotionGenerator.plan_goalset picks the best)",
     "solve_batch_goalset": "solve_batch(goals, link, seed_q)",
     "sample_configs": "kinematics.limits (sample uniformly between lower and upper)",
+    "fk": "kinematics.fk(q, link)",
+}
+
+#: cuRobo `CudaRobotModel` member -> manip's `Kinematics` equivalent.
+KINEMATICS = {
+    "get_state": "fk(q, link) (one link's Pose; (N, dof) -> a batched Pose)",
+    "forward": "fk(q, link)",
+    "get_link_poses": "fk(q, link) for each link",
+    "get_joint_limits": "limits (a JointLimits: lower, upper, velocity, acceleration, jerk)",
+    "get_dof": "dof",
+    "lock_jointstate": "nothing: configurations are the arm joints (Kinematics.pinned(q, free) holds some)",
 }
 
 #: cuRobo `IKResult` member -> manip's `IKResult` equivalent.
 IK_RESULT = {
-    "solution": "q ((dof,) joints in joint_names order)",
-    "js_solution": "q ((dof,) joints in joint_names order)",
+    "solution": "q ((dof,) joints in joint_names order; (N, dof) for a batch)",
+    "js_solution": "q ((dof,) joints in joint_names order; (N, dof) for a batch)",
     "goalset_index": "nothing: IK takes one goal (MotionGenerator.batch_ik for several)",
     "error": "position_error [m] and rotation_error [rad]",
 }
 
 
+def unknown_options(names) -> str:
+    """What manip calls the cuRobo `MotionGenPlanConfig` fields among `names` ("" when none is one)."""
+    known = [f"{n} -> {PLAN_CONFIG[n]}" for n in names if n in PLAN_CONFIG]
+    return "; cuRobo's MotionGenPlanConfig fields in manip: " + "; ".join(known) if known else ""
+
+
 def missing(owner: str, table: dict[str, str], name: str) -> AttributeError:
     """The AttributeError for `owner.name`, naming manip's equivalent when cuRobo has `name`."""
     if name in table:
-        return AttributeError(f"{owner} has no '{name}' (cuRobo's name); manip's equivalent: {owner}.{table[name]}")
+        where = table[name]
+        # a member of `owner` is named through it; a module path or "nothing: ..." as written
+        where = where if where.startswith(("manip.", "nothing")) else f"{owner}.{where}"
+        return AttributeError(f"{owner} has no '{name}' (cuRobo's name); manip's equivalent: {where}")
     return AttributeError(f"'{owner}' object has no attribute '{name}'")

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
+from manip import curobo_names
 from manip import quaternion as quat
 from manip.errors import InvalidInputError, UnknownNameError
 from manip.jit import kernel, kernel_array
@@ -401,10 +402,11 @@ class Kinematics:
         return _frame_jacobians(kernel_array(Q), *self.fk_tables(),
                                 *self.jacobian_tables(frame_id))
 
-    def fk(self, q: np.ndarray, link: str) -> Pose:
-        """Pose of `link` in the base frame for q (dof,) -> Pose or (N, dof) -> batched Pose."""
+    def fk(self, q: np.ndarray, link: str | None = None) -> Pose:
+        """Pose of `link` (default the config's `ee_link`, as `MotionGenerator.fk` and cuRobo's
+        `get_state`) in the base frame for q (dof,) -> Pose or (N, dof) -> batched Pose."""
         q = self.check_q(q)
-        fid = self.frame_id(link, "link")
+        fid = self.frame_id(self.config.ee_link if link is None else link, "link")
         if q.ndim == 1:
             M = self.frame_transform(q, fid)
             x, y, z, w = pin.Quaternion(M.rotation).coeffs()
@@ -412,3 +414,9 @@ class Kinematics:
             return Pose._trusted(M.translation.copy(), wxyz / math.sqrt(float(wxyz @ wxyz)))
         R, p = self.frame_transforms(q, [fid])
         return Pose._trusted(np.ascontiguousarray(p[:, 0]), quat.from_matrix(R[:, 0]))
+
+    def __getattr__(self, name: str):
+        # only for missing names: cuRobo's CudaRobotModel names (get_state, ...) say where manip has them
+        if name.startswith("__"):
+            raise AttributeError(name)
+        raise curobo_names.missing(type(self).__name__, curobo_names.KINEMATICS, name)

@@ -87,7 +87,7 @@ from manip.robot_config import (
     config_from_urdf,
     load_robot_config,
 )
-from manip.validation import as_real_array, flag, positive
+from manip.validation import as_real_array, flag, fraction, positive
 from manip.world_edits import WorldEdits
 
 logger = logging.getLogger(__name__)
@@ -119,6 +119,9 @@ class MotionGenerator(WorldEdits):
         search_resolution: coarser resolution of the path search's edge checks [rad]; the
             found path is re-checked (and repaired) at `resolution`.
         seed: default random seed of IK restarts and sampling-based planning.
+        velocity_scale, acceleration_scale: default factors in (0, 1] on the velocity and on the
+            acceleration and jerk limits (cuRobo's MotionGenConfig arguments; the attributes of the
+            same names, and the per-call options, override them).
 
     Configurations (`start_q`, `goal_q`, `q`, `seed_q`) are the arm joints, (dof,) in
     `joint_names` order; a robot with a gripper also takes its full state (dof + G,), the
@@ -142,6 +145,8 @@ class MotionGenerator(WorldEdits):
         resolution: float = 0.01,
         search_resolution: float = 0.08,
         seed: int = 0,
+        velocity_scale: float = 1.0,
+        acceleration_scale: float = 1.0,
     ):
         if isinstance(robot, RobotConfig):
             self.config = robot
@@ -155,6 +160,8 @@ class MotionGenerator(WorldEdits):
         self.defaults = PlanOptions(time_budget=time_budget, dt=interpolation_dt, seed=seed)
         resolution = positive(resolution, "resolution", "rad")
         search_resolution = positive(search_resolution, "search_resolution", "rad")
+        velocity_scale = fraction(velocity_scale, "velocity_scale")
+        acceleration_scale = fraction(acceleration_scale, "acceleration_scale")
         self.kinematics = Kinematics(self.config)
         self.checker = CollisionChecker(self.config, self.kinematics, None, padding=padding)
         self.validity = Validity(self.checker, self.kinematics, resolution, search_resolution)
@@ -163,8 +170,8 @@ class MotionGenerator(WorldEdits):
         #: The robot's `JointLimits` (`config.limits`; `timing_limits` is the old name).
         self.limits = self.config.limits
         self.timing_limits = self.limits
-        self.velocity_scale = 1.0
-        self.acceleration_scale = 1.0
+        self.velocity_scale = velocity_scale
+        self.acceleration_scale = acceleration_scale
         if world is not None:
             self.update_world(world)
 
@@ -179,7 +186,8 @@ class MotionGenerator(WorldEdits):
         jerk_limits, name) or else to the constructor (world, padding, time_budget, ...).
         """
         names = ("arm_joints", "default_joint_positions", "acceleration_limits", "jerk_limits", "name")
-        constructor = ("world", "padding", "time_budget", "interpolation_dt", "resolution", "search_resolution", "seed")
+        constructor = ("world", "padding", "time_budget", "interpolation_dt", "resolution", "search_resolution", "seed",
+                       "velocity_scale", "acceleration_scale")
         unknown = sorted(set(kwargs) - set(names) - set(constructor))
         if unknown:
             raise InvalidInputError(f"MotionGenerator.from_urdf got unknown arguments {unknown}; valid: urdf, srdf, "

@@ -97,7 +97,11 @@ def as_real_array(value, what: str) -> np.ndarray:
         except TypeError:
             pass
     kind = {"c": "complex", "b": "boolean", "U": "string", "S": "bytes", "O": "non-numeric"}.get(a.dtype.kind, a.dtype.name)
-    raise InvalidInputError(f"{what} must be an array of real numbers; got {kind} values {_short(value)}")
+    hint = ""
+    if a.ndim == 0 and hasattr(value, "position"):  # cuRobo's JointState (or a Pose-like object)
+        hint = (" (it has a .position, as cuRobo's JointState: pass the configuration itself as a NumPy array, "
+                "e.g. js.position[0], with .cpu().numpy() for a torch tensor)")
+    raise InvalidInputError(f"{what} must be an array of real numbers; got {kind} values {_short(value)}{hint}")
 
 
 def sample_count(duration: float, dt: float, what: str = "dt") -> int:

@@ -74,20 +74,27 @@ class WorldEdits:
         """Carry an obstacle (or a new shape) with `link` (default the end-effector).
 
         The named obstacle leaves the world and moves rigidly with the link from its pose at
-        configuration `q` (default: the default configuration). Two links, `link=("left_panda_hand",
+        configuration `q` (dof,), the grasp configuration: needed unless `pose_in_link` (the
+        object's pose in the link frame) is given (as cuRobo's `attach_objects_to_robot` needs
+        the joint state). Two links, `link=("left_panda_hand",
         "right_panda_hand")`: an object both hold moves with the first, and the second's links
         never count as touching it (plan with a `RelativePoseConstraint` of the two so that the
         second keeps its hold; `planning.arms.shared_attachment`).
         """
-        qq = self.default_joint_positions if q is None else self._one_q(q, "q")
+        qq = None if q is None else self._one_q(q, "q")
         if isinstance(link, (tuple, list)):
             link, kwargs["allowed_links"] = shared_attachment(self.checker.robot.parts, self.kinematics, link,
                                                               kwargs.get("allowed_links", ()))
         return self.checker.attach_object(name_or_shape, q=qq, link=self._link(link), **kwargs)
 
     def detach_object(self, q: np.ndarray | Sequence[float] | None = None, **kwargs):
-        """Put attached objects back into the world at their pose at configuration `q`."""
-        qq = self.default_joint_positions if q is None else self._one_q(q, "q")
+        """Put attached objects back into the world at their pose at configuration `q` (dof,), the
+        configuration at release (needed: cuRobo's `detach_object_from_robot` only drops the
+        object, manip puts it back into the world where the hand leaves it)."""
+        if q is None:
+            raise InvalidInputError("detach_object needs q, the configuration at release (dof,) [rad]: the object is "
+                                    "put back into the world at its pose there")
+        qq = self._one_q(q, "q")
         return self.checker.detach_object(qq, **kwargs)
 
     def update_world_from_sim(self, world, robot, ignore: Sequence[str] = ()) -> WorldConfig:

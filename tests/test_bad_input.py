@@ -91,6 +91,21 @@ def test_complex_q_is_not_truncated(mg):
     _raises(lambda: mg.fk(np.asarray(READY, dtype=complex)), "q")
 
 
+
+def test_a_joint_state_object_says_to_pass_the_numbers(mg):
+    # a cuRobo JointState (its .position a (1, dof) tensor) given where manip takes an array:
+    # it said only "non-numeric values <JointState object>"
+    class JointState:
+        def __init__(self, position):
+            self.position = position
+
+    state = JointState(READY[None])
+    msg = _raises(lambda: mg.plan_joints(state, READY), "start_q")
+    assert "as cuRobo's JointState: pass the configuration itself as a NumPy array, e.g. js.position[0]" in msg
+    msg = _raises(lambda: mg.fk(state), "q")
+    assert "js.position[0]" in msg
+    assert "JointState" not in _raises(lambda: mg.fk([None] * 7), "q")   # no hint without a .position
+
 def test_batch_where_one_configuration_is_expected(mg):
     _raises(lambda: mg.check_collision(np.stack([READY, READY])), "q")
     _raises(lambda: mg.plan_joints(np.stack([READY, READY]), GOAL), "start_q")
@@ -338,7 +353,7 @@ def test_world_edits(mg):
     _raises(lambda: mg.checker.update_obstacle_pose("table", [0, 0]), "pose")
     _raises(lambda: mg.attach_object("nothing"), "obstacle", UnknownNameError)
     _raises(lambda: mg.attach_object(Cuboid("held", [0.02] * 3), q=[0.0] * 6), "q")
-    _raises(lambda: mg.detach_object(name="nothing"), "attached object", UnknownNameError)
+    _raises(lambda: mg.detach_object(READY, name="nothing"), "attached object", UnknownNameError)
     assert mg.world.names == ["table"]
 
 
@@ -391,8 +406,9 @@ def test_no_file_is_created(tmp_path: Path):
 
 def test_more_collision_arguments(mg):
     _raises(lambda: CollisionChecker(mg.config, mg.kinematics, sphere_tolerance=0.0), "sphere_tolerance")
-    _raises(lambda: mg.attach_object(Cuboid("held", [0.02] * 3), allowed_links="panda_hand"), "allowed_links")
-    _raises(lambda: mg.attach_object(Cuboid("held", [0.02] * 3), allowed_links=["nope"]), "link", UnknownNameError)
+    _raises(lambda: mg.attach_object(Cuboid("held", [0.02] * 3), q=READY, allowed_links="panda_hand"), "allowed_links")
+    _raises(lambda: mg.attach_object(Cuboid("held", [0.02] * 3), q=READY, allowed_links=["nope"]), "link",
+            UnknownNameError)
     _raises(lambda: mg.checker.set_gripper_positions([0.04, 1j]), "gripper")
     _raises(lambda: mg.checker.set_gripper_positions([0.04, 0.5]), "gripper")
     _raises(lambda: load_robot_config(123), "robot", UnknownNameError)

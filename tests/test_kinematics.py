@@ -75,6 +75,15 @@ def test_fk_of_the_ready_configuration(franka_kinematics: Kinematics, franka_con
     np.testing.assert_allclose(hand.position - tcp.position, [0.0, 0.0, 0.1034], atol=1e-3)
 
 
+
+def test_fk_without_a_link_is_the_end_effector(franka_kinematics: Kinematics, franka_config):
+    # as MotionGenerator.fk and cuRobo's kin_model.get_state(q): it was a TypeError (link missing)
+    q = np.asarray(franka_config.default_joint_positions)
+    assert franka_kinematics.fk(q).isclose(franka_kinematics.fk(q, franka_config.ee_link))
+    Q = np.stack([q, q + 0.1])
+    batch = franka_kinematics.fk(Q)
+    assert batch.is_batch and batch[1].isclose(franka_kinematics.fk(Q[1], franka_config.ee_link), 1e-9, 1e-9)
+
 def test_jacobians_equal_pinocchio(franka_kinematics: Kinematics):
     k = franka_kinematics
     Q = random_configs(k, 10, seed=4)

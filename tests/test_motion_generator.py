@@ -15,7 +15,7 @@ from manip import InvalidInputError, Pose, UnknownNameError
 from manip.benchmarking.verify import default_verifier
 from manip.collision import Cuboid, WorldConfig
 from manip.motion_generator import MotionGenerator
-from manip.planning import PlanStatus
+from manip.planning import PlanOptions, PlanStatus
 from robot_constants import FRANKA_READY
 
 READY = np.array(FRANKA_READY)
@@ -165,6 +165,9 @@ def test_invalid_goal_status(mg):
         (lambda m: m.plan_joints(READY, READY, velocity_scale=1.5), r"velocity_scale"),
         (lambda m: m.plan_pose(READY, [0.4, 0, 0.4, 1, 0, 0, 0]), r"manip.Pose"),
         (lambda m: m.fk(READY, link="gripper"), r"frame 'gripper' not found; available: .*panda_hand"),
+        # cuRobo's JointState.position of one state is (1, dof): the message says what to pass
+        (lambda m: m.plan_joints(READY[None], READY), r"got \(1, 7\) \(one configuration, .*: pass start_q\[0\]\)"),
+        (lambda m: m.plan_joints(READY, READY[None]), r"got \(1, 7\) \(one configuration, .*: pass goal_q\[0\]\)"),
     ],
 )
 def test_bad_input_raises(mg, call, match):
@@ -178,6 +181,21 @@ def test_same_seed_same_plan(mg):
     b = mg.plan_joints(left, right, seed=7)
     assert a.success and b.success
     np.testing.assert_array_equal(a.trajectory.positions, b.trajectory.positions)
+
+
+def test_call_seed_alone_decides_pose_plan(mg):
+    # the IK restarts of a pose goal follow the call's seed, not the generator's: a plan with
+    # seed=3 is the same from MotionGenerator(seed=3) and from MotionGenerator(seed=0) (the IK
+    # stage used the generator's seed, so retrying with other seeds retried the same IK)
+    left, _ = _left_right(mg)
+    goal = Pose([0.5, -0.25, 0.2], DOWN)
+    seeded = MotionGenerator("franka", WorldConfig.from_dict(TABLE_WALL), seed=3)
+    a = mg.plan_pose(left, goal, seed=3)
+    b = seeded.plan_pose(left, goal)
+    assert a.success and b.success
+    np.testing.assert_array_equal(a.goal_q, b.goal_q)
+    np.testing.assert_array_equal(a.trajectory.positions, b.trajectory.positions)
+    _verify(mg, a, goal_pose=goal)
 
 
 def test_attach_and_detach_object():
@@ -205,6 +223,67 @@ def test_velocity_scale_slows_the_motion(mg):
     assert slow.trajectory.duration > fast.trajectory.duration * 1.3
     assert np.all(np.abs(slow.trajectory.velocities) <= 0.5 * mg.velocity_limits + 1e-9)
 
+
+
+
+def test_velocity_and_acceleration_scales_given_to_the_constructor():
+    # cuRobo's MotionGenConfig.load_from_robot_config(..., velocity_scale=, acceleration_scale=):
+    # a TypeError here before; the generator's defaults, which a call's options override
+    slow = MotionGenerator("franka", WorldConfig.from_dict(TABLE_WALL), velocity_scale=0.5, acceleration_scale=0.25)
+    left, right = _left_right(slow)
+    r = slow.plan_joints(left, right, seed=1)
+    assert r.success, r.message
+    assert np.all(r.trajectory.max_abs_velocity() <= 0.5 * slow.velocity_limits * (1 + 1e-6))
+    assert np.all(r.trajectory.max_abs_acceleration() <= 0.25 * slow.acceleration_limits * (1 + 1e-6))
+    _verify(slow, r, goal_q=right)
+    fast = slow.plan_joints(left, right, seed=1, velocity_scale=1.0, acceleration_scale=1.0)
+    assert fast.success and fast.motion_time < r.motion_time
+    with pytest.raises(InvalidInputError, match=r"velocity_scale must be a number in \(0, 1\]; got 2"):
+        MotionGenerator("franka", velocity_scale=2)
+
+def test_attach_and_detach_need_the_configuration():
+    """A grasp without its configuration attached the cube at its pose relative to the hand at
+    the *default* configuration (here 0.6 m away from the hand that grasped it), and a detach
+    without one put the carried cube back where the hand would be at the default configuration,
+    on the way home: both were accepted silently. They need q (or pose_in_link), as cuRobo's
+    attach needs the joint state."""
+    mg = MotionGenerator("franka", {"cuboid": {"cube": {"dims": [0.05] * 3, "pose": [0.5, -0.3, 0.025, 1, 0, 0, 0]}}})
+    grasp = mg.ik(Pose([0.5, -0.3, 0.03], DOWN), "panda_hand_tcp", READY).q
+    with pytest.raises(InvalidInputError, match="attach_object needs q"):
+        mg.attach_object("cube", link="panda_hand_tcp")
+    assert mg.world.names == ["cube"] and not mg.checker.attached_objects
+    mg.attach_object("cube", grasp, link="panda_hand_tcp")
+    carried = mg.plan_pose(grasp, Pose([0.4, 0.3, 0.3], DOWN), "panda_hand_tcp")
+    assert carried.success, carried.message
+    with pytest.raises(InvalidInputError, match="detach_object needs q, the configuration at release"):
+        mg.detach_object()
+    assert "cube" in mg.checker.attached_objects
+    mg.detach_object(carried.goal_q)
+    assert mg.world.get("cube").pose.isclose(Pose([0.4, 0.3, 0.3 - 0.005]), 1e-3, 1e-2)
+    home = mg.plan_joints(carried.goal_q, READY)   # the cube stays where it was released, off the way home
+    assert home.success, home.message
+    # an external shape placed in the link frame needs no configuration
+    mg.attach_object(Cuboid("tool", [0.02, 0.02, 0.1]), pose_in_link=[0.0, 0.0, 0.05], link="panda_hand_tcp")
+    assert "tool" in mg.checker.attached_objects
+
+
+def test_a_held_object_still_on_its_support_says_how_to_lift_it():
+    # cuRobo's flow, attach then plan the lift, from a cube resting on the table: the start
+    # collides (the cube touches the table); the message says what to do
+    mg = MotionGenerator("franka", {"cuboid": {"cube": {"dims": [0.05] * 3, "pose": [0.5, -0.3, 0.025, 1, 0, 0, 0]},
+                                               "table": {"dims": [1.0, 1.2, 0.04], "pose": [0.5, 0, -0.02, 1, 0, 0, 0]}}})
+    grasp = mg.ik(Pose([0.5, -0.3, 0.03], DOWN), "panda_hand_tcp", READY).q
+    assert not mg.check_collision(grasp)
+    mg.attach_object("cube", grasp, link="panda_hand_tcp")
+    r = mg.plan_pose(grasp, Pose([0.5, -0.3, 0.2], DOWN), "panda_hand_tcp", linear=True)
+    assert r.status is PlanStatus.INVALID_START_WORLD_COLLISION
+    assert r.message.startswith("start in collision: cube touches table")
+    assert r.message.endswith("(still on its support?): plan the lift with plan_grasp, whose lift may leave the "
+                              "support, or attach it where it is clear")
+    mg.detach_object(grasp)
+    inside = mg.ik(Pose([0.5, -0.3, -0.01], DOWN), "panda_hand_tcp", READY).q   # the fingers themselves in the table
+    blocked = mg.plan_joints(inside, READY)
+    assert blocked.status is PlanStatus.INVALID_START_WORLD_COLLISION and "plan_grasp" not in blocked.message
 
 def test_curobo_names_point_to_manips():
     mg = MotionGenerator("franka")
@@ -280,6 +359,45 @@ def test_curobo_names_of_the_world_pose_and_ik_point_to_manips(mg):
     assert copy.deepcopy(Pose([1, 2, 3])).isclose(Pose([1, 2, 3]))
     assert np.array_equal(pickle.loads(pickle.dumps(result)).q, result.q)
 
+
+
+def test_curobo_plan_config_kinematics_and_generator_names_point_to_manips(mg):
+    """cuRobo's MotionGenPlanConfig fields passed as options (`timeout`, `max_attempts`,
+    `time_dilation_factor`, ...), `motion_gen.dof` and `kin_model.get_state(q)` name manip's
+    equivalent (they were a bare unknown option / "no attribute")."""
+    q0 = mg.default_joint_positions
+    goal = Pose([0.45, -0.3, 0.3], DOWN)
+    with pytest.raises(InvalidInputError, match=r"unknown planning option\(s\) \['max_attempts', 'timeout'\]; valid: .*"
+                                                r"cuRobo's MotionGenPlanConfig fields in manip: max_attempts -> .*"
+                                                r"timeout -> time_budget \[s\]"):
+        mg.plan_pose(q0, goal, timeout=2.0, max_attempts=4)
+    with pytest.raises(InvalidInputError, match=r"time_dilation_factor -> velocity_scale=f and acceleration_scale=f\*\*2"):
+        mg.plan_joints(q0, q0 + 0.1, time_dilation_factor=0.5)
+    with pytest.raises(InvalidInputError, match=r"enable_opt -> trajopt"):
+        mg.plan_batch(q0, [goal], enable_opt=False)
+    with pytest.raises(InvalidInputError) as plain:   # a name cuRobo lacks keeps the plain message
+        mg.plan_joints(q0, q0 + 0.1, no_such_option=1)
+    assert "cuRobo" not in str(plain.value)
+    kin = mg.kinematics
+    trajectory = mg.plan_joints(q0, q0 + 0.1).trajectory   # what cuRobo's get_interpolated_plan() gives
+    for owner, name, where in ((mg, "dof", "MotionGenerator.robot_dof"),
+                               (mg, "get_retract_config", "MotionGenerator.default_joint_positions"),
+                               (mg, "plan_batch_env", "manip.batch.plan_many"),
+                               (kin, "get_state", "Kinematics.fk(q, link)"), (kin, "get_joint_limits", "Kinematics.limits"),
+                               (mg.ik_solver, "fk", "IKSolver.kinematics.fk"),
+                               (trajectory, "position", "Trajectory.positions ((T, dof)"),
+                               (mg.batch_ik(Pose.stack([goal, goal])), "js_solution", "BatchIKResult.q"),
+                               (trajectory, "velocity", "Trajectory.velocities"),
+                               (trajectory, "get_ordered_joint_state", "Trajectory.positions[:, [t.joint_names.index(n)")):
+        with pytest.raises(AttributeError, match=rf"no '{name}' \(cuRobo's name\); manip's equivalent: {re.escape(where)}"):
+            getattr(owner, name)
+    with pytest.raises(AttributeError, match="'Kinematics' object has no attribute 'no_such_name'"):
+        kin.no_such_name
+    import copy
+    import pickle
+    assert copy.copy(kin).dof == kin.dof and not hasattr(kin, "__no_such_dunder__")
+    assert pickle.loads(pickle.dumps(trajectory)).duration == trajectory.duration
+    assert pickle.loads(pickle.dumps(PlanOptions(seed=3))).seed == 3
 
 def test_a_start_a_hair_outside_a_limit_never_leaves_the_limits_again():
     """A start 5e-5 rad above panda_joint7's upper limit is accepted as given, and the timing may

@@ -25,7 +25,8 @@ from manip.errors import InvalidInputError, ManipError, UnknownNameError
 from manip.planning.options import PlanOptions
 from manip.pose import Pose
 from manip.robot_config import CONFIG_FILE, RobotConfig, available_robots, load_robot_config
-from manip.validation import integer, vec
+from manip.robot_arms import state_columns
+from manip.validation import as_real_array, integer, vec
 
 #: A problem id: an int (default: the problem's index in the batch) or a string.
 ProblemId = int | str
@@ -56,8 +57,11 @@ class Problem:
         world: the obstacles, a cuRobo-style dict ({"cuboid": {name: {"dims": [x, y, z],
             "pose": [x, y, z, qw, qx, qy, qz]}}, ...}) or a `WorldConfig`, in the robot's
             base frame [m].
-        start: (dof,) start configuration [rad].
-        goal: (dof,) joint goal [rad], or a `Pose` of the end-effector link (`plan_pose`).
+        start: (dof,) start configuration [rad]; a full robot state (dof + G,), the gripper's
+            joints last (`franka.get_joint_positions()`), is taken as its arm joints, as
+            `MotionGenerator.plan_joints` takes it.
+        goal: (dof,) joint goal [rad] (or a full state, as `start`), or a `Pose` of the
+            end-effector link (`plan_pose`).
         robot: robot name (one of `manip.available_robots()`), the path of a robot's
             `robot.yaml` or of its folder, or a `RobotConfig` (e.g. the `config` of a
             `MotionGenerator.from_urdf`), as `MotionGenerator` takes (with backend="ray" the
@@ -142,8 +146,19 @@ def problem_seed(seed: int, problem_id: ProblemId) -> int:
 
 
 @lru_cache(maxsize=None)
-def _dof(robot: str) -> int:
-    return load_robot_config(robot).dof
+def _config(robot: str) -> RobotConfig:
+    return load_robot_config(robot)
+
+
+def _arm_values(value: Any, config: RobotConfig, what: str) -> Any:
+    """A full robot state (dof + G,), the gripper's G joints last (each arm's state in turn on a
+    multi-arm robot), as its arm joints (dof,), as `MotionGenerator` takes it; anything else as
+    given (`vec` checks it)."""
+    a = as_real_array(value, what)
+    g = len(config.gripper.joints) if config.gripper is not None else 0
+    if not g or a.shape != (config.dof + g,):
+        return value
+    return a[state_columns(config.arms)] if config.arms else a[:config.dof]
 
 
 def _robot(robot: Any, robots: list[str], where: str) -> str | RobotSpec:
@@ -254,16 +269,17 @@ def prepare(problems: Iterable[Problem], seed: int) -> list[Task]:
         seen[pid] = index
         where = f"problem {pid!r} (problems[{index}])"
         robot = _robot(p.robot, robots, where)
-        dof = robot.config.dof if isinstance(robot, RobotSpec) else _dof(robot)
+        config = robot.config if isinstance(robot, RobotSpec) else _config(robot)
+        dof = config.dof
         _check_world(p.world, where)
-        start = vec(p.start, dof, f"{where}: start")
+        start = vec(_arm_values(p.start, config, f"{where}: start"), dof, f"{where}: start")
         if isinstance(p.goal, Pose):
             if p.goal.is_batch:
                 raise InvalidInputError(f"{where}: goal must be a single Pose; got a batch of {len(p.goal)}")
             goal: np.ndarray | Pose = p.goal
         else:
             try:
-                goal = vec(p.goal, dof, f"{where}: goal")
+                goal = vec(_arm_values(p.goal, config, f"{where}: goal"), dof, f"{where}: goal")
             except InvalidInputError as exc:
                 raise InvalidInputError(
                     f"{exc} (a joint goal is ({dof},) [rad]; a pose goal is a manip.Pose)") from None

@@ -116,6 +116,7 @@ class WorldEdits:
     def remove_obstacle(self, name: str) -> Obstacle:
         """Remove and return the obstacle `name` (UnknownNameError lists the names); incremental."""
         with self._writing():
+            self._not_attached(name, "remove_obstacle")
             world = self._world.copy()
             index = world.index(name)
             ob = world.remove(name)
@@ -124,10 +125,17 @@ class WorldEdits:
             self._set_world_tables(world, tables, static)
             return ob
 
+    def _not_attached(self, name: str, what: str) -> None:
+        """Raise for an edit of the world naming an attached object (it said "not found")."""
+        if isinstance(name, str) and name in self._attached and name not in self._world:
+            raise InvalidInputError(f"{what}('{name}'): '{name}' is attached to the robot (to "
+                                    f"{self._attached[name].link}), not in the world; detach_object(q) it first")
+
     def update_obstacle_pose(self, name: str, pose: Pose | Sequence[float]) -> None:
         """Move the obstacle `name` to `pose` (base frame): a Pose, [x, y, z, qw, qx, qy, qz],
         or a position [x, y, z] alone, which keeps the obstacle's rotation; incremental."""
         with self._writing():
+            self._not_attached(name, "update_obstacle_pose")
             world = self._world.copy()
             index = world.index(name)
             ob = world.get(name)

@@ -64,6 +64,22 @@ def _check_color(color: object, what: str) -> None:
         raise InvalidInputError(f"{what}: color must be None or [r, g, b] / [r, g, b, a] numbers; got {color!r}")
 
 
+def _curobo_order(value: object, kind: str, sizes: tuple[str, ...]) -> str:
+    """The hint for a pose given where manip takes a size: cuRobo's shapes take (name, pose, ...)
+    positionally, manip's (name, sizes..., pose) ("" when `value` is not 3 or 7 numbers)."""
+    if np.ndim(value) == 1 and np.size(value) in (3, 7):
+        return (f" (a pose? manip's order is {kind}(name, {', '.join(sizes)}, pose), cuRobo's is (name, pose, ...): "
+                f"pass them by keyword, pose=..., {'=..., '.join(sizes)}=...)")
+    return ""
+
+
+def _radius(radius: object, name: str, kind: str, sizes: tuple[str, ...]) -> float:
+    try:
+        return positive(radius, f"{kind.lower()} '{name}': radius", "m")
+    except InvalidInputError as exc:
+        raise InvalidInputError(f"{exc}{_curobo_order(radius, kind, sizes)}") from None
+
+
 def _check_name(name: object, kind: str) -> str:
     if not isinstance(name, str) or not name:
         raise InvalidInputError(f"{kind}: name must be a non-empty string; got {name!r}")
@@ -123,7 +139,8 @@ class Cuboid(Obstacle):
         except InvalidInputError:
             d = np.zeros(0)
         if d.shape != (3,) or not np.all(np.isfinite(d)) or np.any(d <= 0):
-            raise InvalidInputError(f"cuboid '{name}': dims must be 3 positive full edge lengths [x, y, z] in m; got {dims!r}")
+            raise InvalidInputError(f"cuboid '{name}': dims must be 3 positive full edge lengths [x, y, z] in m; got {dims!r}"
+                                    + (_curobo_order(dims, "Cuboid", ("dims",)) if d.shape == (7,) else ""))
         d.setflags(write=False)
         object.__setattr__(self, "dims", d)
         object.__setattr__(self, "pose", as_pose(pose, f"cuboid '{name}'"))
@@ -154,7 +171,7 @@ class Sphere(Obstacle):
     def __init__(self, name: str, radius: float, pose: Pose | Sequence[float] | None = None, *,
                  position: Sequence[float] | None = None, color: Sequence[float] | None = None):
         object.__setattr__(self, "name", _check_name(name, "sphere"))
-        object.__setattr__(self, "radius", positive(radius, f"sphere '{name}': radius", "m"))
+        object.__setattr__(self, "radius", _radius(radius, name, "Sphere", ("radius",)))
         _check_color(color, f"sphere '{name}'")
         if position is not None:
             if pose is not None:
@@ -197,7 +214,7 @@ class Cylinder(Obstacle):
                  color: Sequence[float] | None = None):
         object.__setattr__(self, "name", _check_name(name, "cylinder"))
         _check_color(color, f"cylinder '{name}'")
-        object.__setattr__(self, "radius", positive(radius, f"cylinder '{name}': radius", "m"))
+        object.__setattr__(self, "radius", _radius(radius, name, "Cylinder", ("radius", "height")))
         object.__setattr__(self, "height", positive(height, f"cylinder '{name}': height", "m"))
         object.__setattr__(self, "pose", as_pose(pose, f"cylinder '{name}'"))
 
@@ -237,7 +254,7 @@ class Capsule(Obstacle):
             if height is not None or base is None or tip is None:
                 raise InvalidInputError(f"capsule '{name}': give either height (and pose) or both base and tip points")
             height, pose = _base_tip(name, base, tip, pose)
-        object.__setattr__(self, "radius", positive(radius, f"capsule '{name}': radius", "m"))
+        object.__setattr__(self, "radius", _radius(radius, name, "Capsule", ("radius", "height")))
         object.__setattr__(self, "height", non_negative(height, f"capsule '{name}': height (segment length)", "m"))
         object.__setattr__(self, "pose", as_pose(pose, f"capsule '{name}'"))
 

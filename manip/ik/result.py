@@ -136,6 +136,12 @@ class BatchIKResult:
         """Fraction of goals solved."""
         return float(np.mean(self.success)) if len(self) else 0.0
 
+    def __getattr__(self, name: str):
+        # only for missing names: cuRobo's (solution, js_solution, ...) say where manip has them
+        if name.startswith("_"):
+            raise AttributeError(name)
+        raise curobo_names.missing(type(self).__name__, curobo_names.IK_RESULT, name)
+
 
 @dataclass(frozen=True, eq=False)
 class IKSolutions:

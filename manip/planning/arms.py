@@ -182,7 +182,7 @@ def _link_solutions(ctx: PlanContext, validity: Validity, kinematics: Kinematics
     """(K, dof) IK solutions of one link's goal, its arm alone moving (see the module docstring)."""
     kin, arm_solver = held_view(config, kinematics, solver, [link], start)
     sols = arm_solver.solve_many(goal, link, n=ctx.options.ik_solutions, seed_q=start, validity_fn=validity.configs,
-                                 toward_seed=IK_TOWARD_START)
+                                 toward_seed=IK_TOWARD_START, seed=ctx.options.seed)
     if len(sols) == 0:  # perhaps blocked by another arm where it starts, which also moves
         sols = arm_solver.solve_many(goal, link, n=ctx.options.ik_solutions, seed_q=start,
                                      toward_seed=IK_TOWARD_START, seed=int(ctx.rng.integers(2**31)))

@@ -24,12 +24,21 @@ START_LIMIT_TOLERANCE = 1e-4
 #: A joint goal this far outside a joint limit [rad] is moved onto the limit (a goal read
 #: from a simulated joint resting on its limit); one further out is INVALID_GOAL.
 GOAL_LIMIT_TOLERANCE = START_LIMIT_TOLERANCE
+#: Ends the message of a start whose only contacts are an attached object's with the world (a
+#: grasped object still on its support): how to lift it.
+HELD_HINT = ("; an attached object touches the world at the start (still on its support?): plan the lift with "
+             "plan_grasp, whose lift may leave the support, or attach it where it is clear")
 #: Ends the message of a result returned after its time budget ran out. Every stage is bounded
 #: by counts and stops early only when the budget has run out, so a result without this note
 #: does not depend on the machine's speed or load; one with it may (a stage was perhaps cut
 #: short by the clock).
 SAFETY_NET = ("the time budget ran out during the plan: a stage may have stopped early, so this result may depend on "
               "the machine")
+
+
+def _one_row(q: np.ndarray, what: str) -> str:
+    """The hint for a (1, dof) configuration (cuRobo's `JointState.position` of one state)."""
+    return f" (one configuration, as cuRobo's (1, dof) JointState.position: pass {what}[0])" if q.shape[0] == 1 else ""
 
 
 class PlanContext:
@@ -75,7 +84,7 @@ class PlanContext:
         """
         q = kinematics.check_q(start_q, "start_q")
         if q.ndim != 1:
-            raise InvalidInputError(f"start_q must have shape ({kinematics.dof},); got {q.shape}")
+            raise InvalidInputError(f"start_q must have shape ({kinematics.dof},); got {q.shape}{_one_row(q, 'start_q')}")
         bad = kinematics.limit_violations(q, START_LIMIT_TOLERANCE)
         if bad:
             self.fail(PlanStatus.INVALID_START_JOINT_LIMITS, "start outside the joint limits: " + "; ".join(bad))
@@ -86,7 +95,8 @@ class PlanContext:
                 PlanStatus.INVALID_START_WORLD_COLLISION if report.world_collision
                 else PlanStatus.INVALID_START_SELF_COLLISION
             )
-            self.fail(status, "start in collision: " + describe_contacts(report))
+            held = all(c.kind == "attached_world" for c in report.contacts)
+            self.fail(status, "start in collision: " + describe_contacts(report) + (HELD_HINT if held else ""))
             return q
         problem = validity.constraint_problem(q)
         if problem:
@@ -103,7 +113,7 @@ class PlanContext:
         """
         q = kinematics.check_q(goal_q, "goal_q")
         if q.ndim != 1:
-            raise InvalidInputError(f"goal_q must have shape ({kinematics.dof},); got {q.shape}")
+            raise InvalidInputError(f"goal_q must have shape ({kinematics.dof},); got {q.shape}{_one_row(q, 'goal_q')}")
         if kinematics.limit_violations(q, GOAL_LIMIT_TOLERANCE):
             problem = validity.goal_problem(q)
         else:

@@ -41,7 +41,8 @@ def goal_configurations(ik_solver: IKSolver, ctx: PlanContext, validity: Validit
 
     Args:
         ik_solver: the robot's IK solver.
-        ctx: the plan's context (options: `ik_solutions`; its generator seeds the retries).
+        ctx: the plan's context (options: `ik_solutions`, and `seed`, which seeds the IK restarts; its
+            generator seeds the retries).
         validity: the plan's validity checks (the world snapshot).
         start: (dof,) the start configuration [rad] (the IK seed).
         goals: a Pose or a batched Pose (a goal set).
@@ -54,7 +55,7 @@ def goal_configurations(ik_solver: IKSolver, ctx: PlanContext, validity: Validit
     configs, owners, reasons = [], [], []
     for i, g in enumerate(goals):
         sols = ik_solver.solve_many(g, link, n=ctx.options.ik_solutions, seed_q=start, validity_fn=validity.configs,
-                                    toward_seed=IK_TOWARD_START)
+                                    toward_seed=IK_TOWARD_START, seed=ctx.options.seed)
         if len(sols) == 0:
             # tight goals (a hand between obstacles, a joint on its limit) have few
             # collision-free solutions: search many more random starts for one
@@ -64,7 +65,7 @@ def goal_configurations(ik_solver: IKSolver, ctx: PlanContext, validity: Validit
             configs.append(q)
             owners.append(i)
         if len(sols) == 0:
-            reasons.append(_ik_failure(ik_solver, sols, g, link, start, validity))
+            reasons.append(_ik_failure(ik_solver, sols, g, link, start, validity, ctx.options.seed))
     why = ""
     if not configs:
         # one reason per pose; the first of the most telling kind (see IK_FAILURE_ORDER)
@@ -76,12 +77,12 @@ def goal_configurations(ik_solver: IKSolver, ctx: PlanContext, validity: Validit
 
 
 def _ik_failure(ik_solver: IKSolver, sols, goal: Pose, link: str, start: np.ndarray,
-                validity: Validity) -> tuple[IKStatus, str]:
+                validity: Validity, seed: int) -> tuple[IKStatus, str]:
     """(IKStatus, detail) of a pose without collision-free IK solutions. When solutions exist
     but all collide, one of them (the nearest the start) says with what."""
     if sols.status is not IKStatus.REJECTED_BY_VALIDITY:
         return sols.status, sols.message
-    found = ik_solver.solve_many(goal, link, n=1, seed_q=start)
+    found = ik_solver.solve_many(goal, link, n=1, seed_q=start, seed=seed)
     if len(found) == 0:
         return sols.status, "every IK solution found is in collision"
     problem = validity.goal_problem(found[0]) or "in collision"

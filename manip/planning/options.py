@@ -7,6 +7,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
+from manip import curobo_names
 from manip.constraints import Constraint
 from manip.errors import InvalidInputError
 from manip.validation import fraction, integer, positive, sample_count
@@ -123,7 +124,8 @@ class PlanOptions:
             raise InvalidInputError(f"options must be a dict of keyword arguments; got {type(options).__name__}")
         unknown = sorted(set(map(str, options)) - set(self.names()))
         if unknown:
-            raise InvalidInputError(f"unknown planning option(s) {unknown}; valid: {self.names()}")
+            raise InvalidInputError(f"unknown planning option(s) {unknown}; valid: {self.names()}"
+                                    + curobo_names.unknown_options(unknown))
         values = {f.name: getattr(self, f.name) for f in fields(self)}
         values.update(options)
         return PlanOptions(**values)

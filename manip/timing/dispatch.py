@@ -183,6 +183,16 @@ def time_parameterize_for_robot(
             `arm_joints`).
         **options: any keyword of `time_parameterize` (overrides the config's values).
     """
+    try:
+        shape = np.asarray(path, dtype=float).shape
+    except (TypeError, ValueError):
+        shape = ()  # time_parameterize's own checks say what is wrong
+    width = shape[-1] if len(shape) == 2 else None
+    if width is not None and width != config.dof:
+        raise InvalidInputError(
+            f"path must have shape (K, {config.dof}): the arm joints {list(config.arm_joints)}; got {width} columns"
+            + (f" (a full robot state, the gripper's last? pass path[:, :{config.dof}])" if width > config.dof else "")
+        )
     kwargs = dict(
         joint_names=list(config.arm_joints),
         lower_limits=config.lower_limits,

@@ -10,6 +10,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from manip import curobo_names
 from manip.articulation_action import ArticulationAction
 from manip.errors import InvalidInputError
 from manip.sim_bridge import joint_indices_for, trajectory_to_actions
@@ -288,3 +289,9 @@ class Trajectory:
             f"Trajectory(duration={self.duration:.4f} s, samples={self.num_samples}, dt={self.dt:.6g} s, "
             f"joints={list(self.joint_names)})"
         )
+
+    def __getattr__(self, name: str):
+        # only for missing names: cuRobo's JointState names (position, ...) say where manip has them
+        if name.startswith("__"):
+            raise AttributeError(name)
+        raise curobo_names.missing(type(self).__name__, curobo_names.TRAJECTORY, name)

@@ -355,6 +355,29 @@ def test_a_from_urdf_robot_plans_in_a_batch_as_its_motion_generator_does():
     assert not mp.active_children()
 
 
+
+def test_full_robot_states_are_taken_as_the_arm_joints_as_a_single_call_takes_them(problems):
+    # a simulated Franka's state (7 arm joints, then 2 fingers), as plan_joints takes it: the
+    # batch refused it ("start must have shape (7,); got (9,)") where the single call plans it
+    p = problems[0]
+    fingers = [0.04, 0.04]
+    full = Problem(p.world, np.r_[p.start, fingers], np.r_[p.goal, fingers], options=OPTIONS, id="full")
+    (task,) = prepare([full], SEED)
+    np.testing.assert_array_equal(task.start, p.start)
+    np.testing.assert_array_equal(task.goal, p.goal)
+    (result,) = plan_many([full], workers=1, seed=SEED, progress=False)
+    ref = MotionGenerator("franka", p.world).plan_joints(np.r_[p.start, fingers], np.r_[p.goal, fingers],
+                                                         seed=problem_seed(SEED, "full"), **SINGLE)
+    assert ref.success
+    assert_same(result, ref)
+    # two Frankas: each arm's state in turn (18 values) -> the 14 arm joints
+    duo = MotionGenerator("dual_franka").default_joint_positions
+    state = np.r_[duo[:7], fingers, duo[7:], fingers]
+    (task,) = prepare([Problem({}, state, state, robot="dual_franka")], 0)
+    np.testing.assert_array_equal(task.start, duo)
+    with pytest.raises(InvalidInputError, match=r"start must have shape \(7,\); got \(8,\)"):
+        prepare([Problem({}, np.r_[p.start, 0.04], p.goal)], 0)
+
 # What a fresh interpreter loads: the numba kernels after `worker.warm_up`, and those that
 # planning problems of every scene kind (joint goals, a pose goal, a start in collision) adds.
 KERNEL_PROBE = """

@@ -258,6 +258,12 @@ def test_attaching_an_attached_object_again_says_it_is_attached(franka_config, f
     with pytest.raises(InvalidInputError, match="'held' is already attached .*panda_hand.*detach"):
         cc.attach_object("held", q=q)
     assert list(cc.attached_objects) == ["held"] and "held" not in cc.world
+    # moving or removing it as an obstacle said "obstacle 'held' not found; available: ..."
+    for edit in (lambda: cc.update_obstacle_pose("held", [0.3, 0.3, 0.3]), lambda: cc.remove_obstacle("held")):
+        with pytest.raises(InvalidInputError, match=r"\('held'\): 'held' is attached to the robot \(to panda_hand\), "
+                                                    r"not in the world; detach_object\(q\) it first"):
+            edit()
+    assert list(cc.attached_objects) == ["held"]
 
 
 def test_attached_object_hits_the_arm(franka_config, franka_kinematics):

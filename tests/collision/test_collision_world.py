@@ -183,3 +183,15 @@ def test_curobo_keyword_construction_as_its_tutorial_writes_it():
         Capsule(name="c", radius=0.1)
     with pytest.raises(InvalidInputError, match="color"):
         Cuboid(name="c", dims=[1, 1, 1], color="red")
+    # cuRobo's positional order is (name, pose, ...), manip's (name, sizes..., pose): the message
+    # says so when a pose stands where a size is expected
+    order = r"\(a pose\? manip's order is {}, cuRobo's is \(name, pose, \.\.\.\): pass them by keyword"
+    with pytest.raises(InvalidInputError, match=order.format(r"Cuboid\(name, dims, pose\)")):
+        Cuboid("c", [0.5, 0, 0.3, 1, 0, 0, 0], [0.1, 0.1, 0.1])
+    with pytest.raises(InvalidInputError, match=order.format(r"Sphere\(name, radius, pose\)")):
+        Sphere("s", [0.5, 0, 0.3], 0.1)
+    with pytest.raises(InvalidInputError, match=order.format(r"Cylinder\(name, radius, height, pose\)")):
+        Cylinder("c", [0.5, 0, 0.3, 1, 0, 0, 0], 0.1, 0.2)
+    with pytest.raises(InvalidInputError) as plain:
+        Sphere("s", -0.1)
+    assert "cuRobo" not in str(plain.value)

@@ -135,6 +135,18 @@ def test_exact_mode_stays_on_the_straight_segments(cfg):
             assert np.abs(traj.at_time(t[i])[1]).max() < 0.5  # near the stop
 
 
+
+def test_a_path_of_the_wrong_width_names_the_path(cfg):
+    # a path of full robot states (7 arm joints + 2 fingers) blamed the robot's limits:
+    # "velocity_limits must have shape (9,) (one per joint); got (7,)"
+    a = np.r_[cfg.default_joint_positions, 0.04, 0.04]
+    with pytest.raises(InvalidInputError, match=r"path must have shape \(K, 7\): the arm joints \['panda_joint1'.*"
+                                                r"got 9 columns \(a full robot state, the gripper's last\? pass path\[:, :7\]\)"):
+        time_parameterize_for_robot([a, a + 0.1], cfg)
+    with pytest.raises(InvalidInputError, match=r"path must have shape \(K, 7\).*got 6 columns$"):
+        time_parameterize_for_robot(np.zeros((2, 6)), cfg)
+    assert time_parameterize_for_robot([a[:7], a[:7] + 0.1], cfg).success
+
 def test_exact_segments_are_time_optimal_lines(cfg):
     """A rest-to-rest straight move takes as long as its slowest joint alone needs (ruckig)."""
     vmax, amax, jmax, lo, hi = limits(cfg)
