@@ -97,12 +97,15 @@ class Articulation(DefaultPoseMixin):
                 f"(referenced prims: {refs})"
             )
         p = position_or_translation(position, translation)
-        if p is not None:
-            ref.position = bounded_vec(p, "position", "position")
-        if orientation is not None:
-            ref.orientation = unit_quat(orientation)
+        # Checked before the model's pose changes: a rejected call leaves the model as it was.
+        p = bounded_vec(p, "position", "position") if p is not None else None
+        q = unit_quat(orientation) if orientation is not None else None
         if scale is not None and not np.allclose(np.asarray(scale, dtype=float), 1.0):
             raise InvalidInputError("scaling an articulation is not supported (scale must be 1)")
+        if p is not None:
+            ref.position = p
+        if q is not None:
+            ref.orientation = q
         self.prim_path = prim_path
         self._name = name
         self._ref = ref

@@ -59,15 +59,24 @@ class SingleManipulator(Robot):
         if not end_effector_prim_path.startswith(prim_path + "/"):
             raise InvalidInputError(f"end_effector_prim_path {end_effector_prim_path!r} must lie inside the robot's "
                                     f"prim {prim_path!r}")
-        if usd_path is not None and get_current_stage().find_reference(prim_path) is None:
+        stage = get_current_stage()
+        created = usd_path is not None and stage.find_reference(prim_path) is None
+        if created:
             add_reference_to_stage(usd_path, prim_path)
-        # The end effector and the gripper exist before the Robot registers itself: a model
-        # compiled already binds the robot (and its gripper) at once.
-        self._end_effector_prim_path = end_effector_prim_path
-        self._end_effector = XFormPrim(end_effector_prim_path, name=f"{name}_end_effector")
-        self._gripper = gripper
-        super().__init__(prim_path, name, position=position, translation=translation, orientation=orientation,
-                         scale=scale, visible=visible)
+        try:
+            # The end effector and the gripper exist before the Robot registers itself: a model
+            # compiled already binds the robot (and its gripper) at once.
+            self._end_effector_prim_path = end_effector_prim_path
+            self._end_effector = XFormPrim(end_effector_prim_path, name=f"{name}_end_effector")
+            self._gripper = gripper
+            super().__init__(prim_path, name, position=position, translation=translation, orientation=orientation,
+                             scale=scale, visible=visible)
+        except Exception:
+            # A rejected call leaves the stage as it was: the model this constructor referenced
+            # goes (with the end-effector frame below it), so the prim_path can be used again.
+            if created:
+                stage.remove_prim(prim_path)
+            raise
 
     @property
     def end_effector(self) -> XFormPrim:
