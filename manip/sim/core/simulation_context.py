@@ -97,9 +97,16 @@ class SimulationContext:
     _observers: list[WorldObserver] = []  # shared by every World of the process
 
     def __new__(cls, *args, **kwargs):
-        if cls._instance is None:
-            cls._instance = super().__new__(cls)  # `_initialized` is False until __init__ ends
-        return cls._instance
+        # One instance per process, shared with World as in Isaac: `SimulationContext()` or
+        # `SimulationContext.instance()` after `World()` is that World.
+        inst = SimulationContext._instance
+        if inst is None:
+            inst = SimulationContext._instance = super().__new__(cls)  # `_initialized` is False until __init__ ends
+        elif not isinstance(inst, cls):
+            raise SimulationError(
+                f"a {type(inst).__name__} exists already and there is one simulation per process; call "
+                f"{type(inst).__name__}.clear_instance() before creating a {cls.__name__} (or use only {cls.__name__})")
+        return inst
 
     def __init__(
         self,
@@ -147,7 +154,7 @@ class SimulationContext:
             self._substep_dt = positive(substep_dt, "substep_dt", "s")
             self._gravity = vec(gravity if gravity is not None else DEFAULT_GRAVITY, 3, "gravity")
         except Exception:
-            type(self)._instance = None
+            SimulationContext._instance = None
             raise
         self._stage = get_current_stage()
         self._sim: SimHandle | None = None
@@ -174,19 +181,26 @@ class SimulationContext:
     # ------------------------------------------------------------------ instance
     @classmethod
     def instance(cls) -> SimulationContext | None:
-        """The instance of this process, or None."""
-        return cls._instance
+        """The instance of this process (a World is the SimulationContext too, as in Isaac),
+        or None; `World.instance()` is None while the instance is a plain SimulationContext."""
+        inst = SimulationContext._instance
+        return inst if isinstance(inst, cls) else None
 
     @classmethod
     def clear_instance(cls) -> None:
-        """Forget the instance: stop recording, unbind objects, empty the stage."""
-        w = cls._instance
+        """Forget the instance (`SimulationContext.clear_instance()` clears a World too):
+        stop recording, clean up (a World: its tasks), unbind objects, empty the stage."""
+        w = SimulationContext._instance
         if w is not None and getattr(w, "_initialized", False):
             w.stop_recording()
+            w._clear_components()
             w._unbind_all()
             w._stage.clear()
             w._notify("on_world_cleared")
-        cls._instance = None
+        SimulationContext._instance = None
+
+    def _clear_components(self) -> None:
+        """Clean up what a subclass added (the World: its tasks); called by `clear_instance`."""
 
     @classmethod
     def add_observer(cls, observer: WorldObserver) -> None:

@@ -38,21 +38,14 @@ class World(SimulationContext):
             `SimulationContext` (physics_dt [s] default 1/60; substep_dt, gravity keyword-only).
     """
 
-    _instance: World | None = None
-
     def _init_components(self) -> None:
         self._scene = Scene(self)
         self._task_registry = TaskRegistry()
         self._last_pre_step_index = -1  # step index whose task pre_steps ran
 
-    @classmethod
-    def clear_instance(cls) -> None:
-        """Forget the World: stop recording, clean up the tasks, unbind objects, empty the stage."""
-        w = cls._instance
-        if w is not None and getattr(w, "_initialized", False):
-            w.stop_recording()
-            w._task_registry.cleanup()
-        super().clear_instance()
+    def _clear_components(self) -> None:
+        """At `clear_instance()`: clean up the tasks."""
+        self._task_registry.cleanup()
 
     @property
     def scene(self) -> Scene:

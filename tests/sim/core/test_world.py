@@ -245,6 +245,31 @@ def test_a_second_world_is_the_same_instance(caplog):
     assert "ignored" in caplog.text
 
 
+def test_the_world_is_the_simulation_context_as_in_isaac():
+    """Isaac keeps one SimulationContext per process and World is one: SimulationContext.instance()
+    and SimulationContext() after World() are that World (they were None and a second,
+    separate simulation of the same stage)."""
+    from manip.sim import SimulationContext, SimulationError
+
+    world = World(physics_dt=1 / 120)
+    cube = world.scene.add(DynamicCuboid("/World/cube", name="cube", position=[0, 0, 0.5], size=0.1))
+    assert SimulationContext.instance() is world
+    assert SimulationContext() is world
+    world.reset()
+    ctx = SimulationContext.instance()
+    assert ctx.get_physics_dt() == pytest.approx(1 / 120)
+    ctx.step(render=False)
+    assert world.current_time_step_index == 2 and cube.get_linear_velocity()[2] < 0
+    SimulationContext.clear_instance()  # clears the World too
+    assert World.instance() is None and SimulationContext.instance() is None
+    SimulationContext()
+    assert World.instance() is None  # a plain SimulationContext is not a World
+    with pytest.raises(SimulationError, match="clear_instance"):
+        World()
+    SimulationContext.clear_instance()
+    assert isinstance(World(), World)
+
+
 def test_world_arguments_isaac_has_and_manip_cannot_mirror(caplog):
     for kwargs, message in (({"stage_units_in_meters": 0.01}, "must be 1.0; got 0.01: manip.sim works in metres"),
                             ({"backend": "torch"}, "runs MuJoCo on the CPU"),
