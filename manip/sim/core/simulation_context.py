@@ -33,7 +33,7 @@ from __future__ import annotations
 import logging
 import math
 from pathlib import Path
-from typing import Callable, Protocol
+from typing import Callable
 
 import mujoco
 import numpy as np
@@ -42,6 +42,7 @@ from manip.errors import InvalidInputError, UnknownNameError
 from manip.sim.core import recording as rec, substeps
 from manip.sim.articulations.articulation_core import ArticulationCore
 from manip.sim.core.callbacks import CallbackTable, TimelineEvent
+from manip.sim.core.observers import WorldObserver  # noqa: F401 (re-exported)
 from manip.sim.core.mujoco_warnings import SimulationInstabilityError, SimulationWarning, WarningMonitor  # noqa: F401 (re-exported)
 from manip.sim.scenes.compiler import compile_stage
 from manip.sim.scenes.stage import ReferencePrim, SimHandle, SimulationError, StageEvent, get_current_stage
@@ -51,22 +52,6 @@ logger = logging.getLogger(__name__)
 
 DEFAULT_DT = 1.0 / 60.0
 DEFAULT_GRAVITY = (0.0, 0.0, -9.81)  # [m/s^2]
-
-
-class WorldObserver(Protocol):
-    """Follows every World (`World.add_observer`); the SimulationApp's viewer is one.
-
-    Each method receives the World: after it compiled a model, after it rendered (or
-    reset), when it is cleared (`clear_instance`), when its camera view changed.
-    """
-
-    def on_world_compiled(self, world: SimulationContext) -> None: ...
-
-    def on_world_rendered(self, world: SimulationContext) -> None: ...
-
-    def on_world_cleared(self, world: SimulationContext) -> None: ...
-
-    def on_camera_changed(self, world: SimulationContext) -> None: ...
 
 
 class SimulationContext:
@@ -97,15 +82,12 @@ class SimulationContext:
     _observers: list[WorldObserver] = []  # shared by every World of the process
 
     def __new__(cls, *args, **kwargs):
-        # One instance per process, shared with World as in Isaac: `SimulationContext()` or
-        # `SimulationContext.instance()` after `World()` is that World.
-        inst = SimulationContext._instance
+        inst = SimulationContext._instance  # one per process, a World included (as in Isaac)
         if inst is None:
             inst = SimulationContext._instance = super().__new__(cls)  # `_initialized` is False until __init__ ends
         elif not isinstance(inst, cls):
-            raise SimulationError(
-                f"a {type(inst).__name__} exists already and there is one simulation per process; call "
-                f"{type(inst).__name__}.clear_instance() before creating a {cls.__name__} (or use only {cls.__name__})")
+            raise SimulationError(f"a {type(inst).__name__} exists (one simulation per process): call "
+                                  f"{type(inst).__name__}.clear_instance() before creating a {cls.__name__}")
         return inst
 
     def __init__(
@@ -192,12 +174,15 @@ class SimulationContext:
         stop recording, clean up (a World: its tasks), unbind objects, empty the stage."""
         w = SimulationContext._instance
         if w is not None and getattr(w, "_initialized", False):
-            w.stop_recording()
-            w._clear_components()
-            w._unbind_all()
-            w._stage.clear()
-            w._notify("on_world_cleared")
+            w._forget()
         SimulationContext._instance = None
+
+    def _forget(self) -> None:
+        self.stop_recording()
+        self._clear_components()
+        self._unbind_all()
+        self._stage.clear()
+        self._notify("on_world_cleared")
 
     def _clear_components(self) -> None:
         """Clean up what a subclass added (the World: its tasks); called by `clear_instance`."""
