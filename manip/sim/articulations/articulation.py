@@ -56,6 +56,7 @@ from manip.sim.utils.types import DefaultPoseMixin, JointsState, XFormPrimState,
 from manip.validation import unit_quat
 from manip.sim.utils.bounds import bounded_vec
 from manip.sim.utils.not_supported import declare as declare_not_supported
+from manip.sim.prims import isaac5_views
 
 logger = logging.getLogger(__name__)
 
@@ -74,6 +75,11 @@ class Articulation(DefaultPoseMixin):
     Raises:
         SimulationError: nothing is referenced at `prim_path`.
     """
+
+    def __new__(cls, *args, **kwargs):
+        # Isaac 5's `Articulation(prim_paths_expr=...)` is a view (4.x's ArticulationView).
+        view = isaac5_views.view_call(cls, args, kwargs)
+        return view if view is not None else super().__new__(cls)
 
     def __init__(
         self,
@@ -496,6 +502,7 @@ class Robot(Articulation):
 
 
 SingleArticulation = Articulation
+isaac5_views.register(Articulation, ArticulationView)
 
 
 declare_not_supported(Articulation)
