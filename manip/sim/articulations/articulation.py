@@ -381,18 +381,7 @@ class Articulation(DefaultPoseMixin):
             self._ref.position, self._ref.orientation = p.copy(), q.copy()
             get_current_stage().mark_changed(self.prim_path)
             return
-        R = quat.to_matrix(q)
-        m, d = c.sim.model, c.sim.data
-        for k, b in enumerate(c.root_ids):
-            lp, lq = c.root_local[k]
-            bp, bq = p + R @ lp, quat.multiply(q, lq)
-            if k == 0 and c.free_qadr >= 0:
-                d.qpos[c.free_qadr:c.free_qadr + 3] = bp
-                d.qpos[c.free_qadr + 3:c.free_qadr + 7] = bq
-            else:
-                m.body_pos[b] = bp
-                m.body_quat[b] = bq
-        c.sim.mark_stale()
+        c.set_root_pose(p, q)
 
     def get_local_pose(self):
         return self.get_world_pose()

@@ -24,12 +24,14 @@ import numpy as np
 from manip.articulation_action import ArticulationAction
 from manip.errors import InvalidInputError
 from manip.sim.articulations import articulation_dynamics as dyn
-from manip.sim.articulations.articulation_core import MAX_EFFORT, ArticulationCore
+from manip.sim.articulations.articulation_core import MAX_EFFORT, MAX_POSITION, MAX_VELOCITY, ArticulationCore
 from manip.sim.controllers.articulation_controller import ArticulationController
-from manip.sim.utils.types import JointsState
+from manip.sim.utils.types import ArticulationViewActions, JointsState
 from manip.sim.utils.not_supported import declare as declare_not_supported
 from manip.sim.scenes.stage import ReferencePrim, SimulationError, get_current_stage
 from manip.sim.prims.views import compile_path_expression, path_matches
+from manip.sim.utils.bounds import bounded_vec
+from manip.validation import unit_quat
 
 
 class ViewedArticulation(Protocol):
@@ -97,6 +99,7 @@ class ArticulationView:
         else:
             self._articulation = prim_paths_expr
         self._name = name
+        self._default_joints: dict[str, np.ndarray] = {}  # set_joints_default_state's, applied by post_reset
 
     @property
     def name(self) -> str:
@@ -158,7 +161,49 @@ class ArticulationView:
         return names.index(dof_name)
 
     def post_reset(self) -> None:
-        """Nothing to do: the articulation restores its default state at `World.reset()`."""
+        """Apply the view's joint default state (`set_joints_default_state`), if it has one, over
+        the articulation's own (the World's reset calls it after the single objects', as Isaac's
+        scene does, when the view is in the scene); else nothing: the articulation restores its
+        own default state."""
+        if not self._default_joints or self._articulation.core is None:
+            return
+        c = self._articulation.core
+        pos = self._default_joints.get("positions")
+        if pos is not None:
+            c.teleport(pos)
+        if "velocities" in self._default_joints:
+            c.set_velocities(self._default_joints["velocities"])
+        if "efforts" in self._default_joints:
+            self.set_joint_efforts(self._default_joints["efforts"])
+
+    def set_joints_default_state(self, positions=None, velocities=None, efforts=None) -> None:
+        """The joint state (1, num_dof) or (num_dof,) each (None keeps a part) the view's
+        `post_reset` restores at every `World.reset()` (as Isaac's view: add the view to the
+        scene). Positions [rad or m] become the drive targets; velocities [rad/s or m/s];
+        efforts [N m or N] applied until changed.
+
+        Raises:
+            InvalidInputError: a wrong length, NaN, or magnitudes beyond physical bounds.
+        """
+        c = self._c("set_joints_default_state")
+        idx = np.arange(c.n)
+        for what, v, limit in (("positions", positions, MAX_POSITION), ("velocities", velocities, MAX_VELOCITY),
+                               ("efforts", efforts, MAX_EFFORT)):
+            if v is not None:
+                self._default_joints[what] = c.values(self._row(v, what), idx, what, limit=limit).copy()
+
+    def get_joints_default_state(self) -> JointsState:
+        """The view's joint default state, (1, num_dof) each; the articulation's own where the view
+        sets none (what `World.reset()` restores)."""
+        c = self._c("get_joints_default_state")
+        own = {"positions": c.home, "velocities": np.zeros(c.n), "efforts": np.zeros(c.n)}
+        wrapper = next((w for w in get_current_stage().wrappers()
+                        if getattr(w, "core", None) is c and hasattr(w, "get_joints_default_state")), None)
+        if wrapper is not None and wrapper.get_joints_default_state() is not None:
+            s = wrapper.get_joints_default_state()
+            own = {"positions": s.positions, "velocities": s.velocities, "efforts": s.efforts}
+        rows = {k: np.array(self._default_joints.get(k, v), dtype=float)[None, :] for k, v in own.items()}
+        return JointsState(rows["positions"], rows["velocities"], rows["efforts"])
 
     def is_physics_handle_valid(self) -> bool:
         return self._articulation.core is not None
@@ -190,6 +235,12 @@ class ArticulationView:
         c.check_drive(new_kp, new_kd, c.pos_target, c.vel_target, "kps/kds")
         c.kps, c.kds = new_kp, new_kd
         c.write_gains()
+
+    def set_max_efforts(self, values, indices=None, joint_indices=None) -> None:
+        """Drive force limits (1, K) or (K,) [N m or N] (> 0; inf = unlimited) of `joint_indices`
+        (all for None), as `ArticulationController.set_max_efforts`."""
+        self._check_indices(indices)
+        self._controller("set_max_efforts").set_max_efforts(self._row(values, "values"), joint_indices)
 
     def get_max_efforts(self, indices=None, joint_indices=None, clone: bool = True) -> np.ndarray:
         """Drive force limits (1, K) [N m or N] (inf = unlimited)."""
@@ -283,13 +334,28 @@ class ArticulationView:
         self._check_indices(indices)
         return JointsState(self.get_joint_positions(), self.get_joint_velocities(), self.get_applied_joint_efforts())
 
+    def _controller(self, what: str) -> ArticulationController:
+        """A controller of the viewed articulation's drives (the view holds no state of its own)."""
+        self._c(what)
+        controller = ArticulationController()
+        controller.initialize(self._articulation)
+        return controller
+
     def switch_control_mode(self, mode: str, indices=None, joint_indices=None) -> None:
         """Drives to "position", "velocity" or "effort" (as `ArticulationController.switch_control_mode`)."""
         self._check_indices(indices)
-        self._c("switch_control_mode")
-        controller = ArticulationController()
-        controller.initialize(self._articulation)
-        controller.switch_control_mode(mode, joint_indices)
+        self._controller("switch_control_mode").switch_control_mode(mode, joint_indices)
+
+    def switch_dof_control_mode(self, mode: str, dof_index: int, indices=None) -> None:
+        """One joint's drive to "position", "velocity" or "effort"."""
+        self._check_indices(indices)
+        self._controller("switch_dof_control_mode").switch_control_mode(mode, [dof_index])
+
+    def get_applied_actions(self, clone: bool = True) -> ArticulationViewActions:
+        """The drive targets: position, velocity and effort, (1, num_dof) each."""
+        a = self._controller("get_applied_actions").get_applied_action()
+        return ArticulationViewActions(a.joint_positions[None, :], a.joint_velocities[None, :],
+                                       a.joint_efforts[None, :])
 
     # ------------------------------------------------------------------ root and dynamics
     def get_world_poses(self, indices=None, clone: bool = True, usd: bool = True) -> tuple[np.ndarray, np.ndarray]:
@@ -299,6 +365,16 @@ class ArticulationView:
         c.sim.ensure_kinematics()
         b = c.root_ids[0]
         return c.sim.data.xpos[b][None, :].copy(), c.sim.data.xquat[b][None, :].copy()
+
+    def set_world_poses(self, positions=None, orientations=None, indices=None, usd: bool = True) -> None:
+        """Teleport the root: positions (1, 3) or (3,) [m], orientations (1, 4) or (4,) (w, x, y, z)
+        (None keeps a part); a fixed base moves with it. As Isaac's, a `World.reset()` restores the
+        articulation's default pose (`set_default_state` on the articulation keeps the new one)."""
+        self._check_indices(indices)
+        cur_p, cur_q = self.get_world_poses()
+        p = cur_p[0] if positions is None else bounded_vec(self._row(positions, "positions"), "position", "positions")
+        q = cur_q[0] if orientations is None else unit_quat(self._row(orientations, "orientations"))
+        self._c("set_world_poses").set_root_pose(p, q)
 
     def get_velocities(self, indices=None, clone: bool = True) -> np.ndarray:
         """(1, 6) root linear [m/s] and angular [rad/s] velocity, world frame (zeros for a fixed base)."""

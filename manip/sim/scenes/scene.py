@@ -153,7 +153,10 @@ class Scene:
             self.remove_object(name, registry_only)
 
     def post_reset(self) -> None:
-        for obj in list(self._objects.values()):
+        """Every object's `post_reset()`, the views' (objects with `prim_paths`) last, as
+        Isaac's scene orders them: a view's default state applies over its prims'."""
+        objects = list(self._objects.values())
+        for obj in sorted(objects, key=lambda o: hasattr(o, "prim_paths")):
             if hasattr(obj, "post_reset"):
                 obj.post_reset()
 
