@@ -245,8 +245,6 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
         "set_effort_modes": "effort limits are always force limits here",
     },
     "ParallelGripper": {
-        "get_action_deltas": "the deltas are set at construction (action_deltas=...)",
-        "set_action_deltas": "the deltas are set at construction (action_deltas=...)",
         "is_closed": "compare get_joint_positions() with joint_closed_positions",
     },
     "PickPlaceController": {},

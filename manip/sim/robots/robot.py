@@ -63,11 +63,11 @@ class ParallelGripper:
         k = len(self._joint_names)
         self._opened = np.asarray(joint_opened_positions, dtype=float).ravel()
         self._closed = np.asarray(joint_closed_positions, dtype=float).ravel()
-        self._deltas = None if action_deltas is None else np.asarray(action_deltas, dtype=float).ravel()
-        for what, a in (("joint_opened_positions", self._opened), ("joint_closed_positions", self._closed),
-                        ("action_deltas", self._deltas)):
-            if a is not None and (a.size != k or not np.all(np.isfinite(a))):
+        for what, a in (("joint_opened_positions", self._opened), ("joint_closed_positions", self._closed)):
+            if a.size != k or not np.all(np.isfinite(a)):
                 raise InvalidInputError(f"{what} needs {k} finite values (one per finger joint); got {a}")
+        self._deltas: np.ndarray | None = None
+        self.set_action_deltas(action_deltas)
         self._apply: Callable | None = None
         self._get_q: Callable | None = None
         self._set_q: Callable | None = None
@@ -90,6 +90,22 @@ class ParallelGripper:
     def _need(self) -> None:
         if self._indices is None:
             raise SimulationError("the gripper is used before World.reset() bound it to its robot")
+
+    def set_action_deltas(self, value) -> None:
+        """Finger steps (2,) [m] of "open" / "close" from the current positions (None: go to
+        the opened / closed positions); from the next `forward`."""
+        if value is None:
+            self._deltas = None
+            return
+        a = np.asarray(value, dtype=float).ravel()
+        if a.size != len(self._joint_names) or not np.all(np.isfinite(a)):
+            raise InvalidInputError(f"action_deltas needs {len(self._joint_names)} finite values (one per finger "
+                                    f"joint) or None; got {value!r}")
+        self._deltas = a
+
+    def get_action_deltas(self) -> np.ndarray | None:
+        """The finger steps (2,) [m] of "open" / "close", or None (see `set_action_deltas`)."""
+        return None if self._deltas is None else self._deltas.copy()
 
     @property
     def joint_opened_positions(self) -> np.ndarray:
