@@ -168,10 +168,6 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
         "device": "one device: the CPU",
         "get_data_logger": "no DataLogger: record states in a physics callback",
     },
-    "Scene": {
-        "enable_bounding_boxes_computations": "compute_object_AABB computes bounds on demand, no cache to enable",
-        "disable_bounding_boxes_computations": "compute_object_AABB computes bounds on demand, no cache to disable",
-    },
     "XFormPrim": {
         "prim": "there is no USD prim (manip has no USD): use prim_path",
         "apply_visual_material": "a bare transform has no geometry to colour here: apply materials to shapes",
@@ -271,6 +267,8 @@ DIFFERS: dict[str, dict[str, str]] = {
                      "disable_gravity": "each body's weight cancelled at its centre of mass (was a no-op: MuJoCo's "
                                         "gravcomp needs bodies compiled with it)"},
     "ArticulationView": {"get_jacobians": "MuJoCo's body-origin Jacobians in Isaac's layout"},
+    "Scene": {"disable_bounding_boxes_computations": "compute_object_AABB keeps working (bounds are computed on "
+                                                      "demand; Isaac raises until they are enabled again)"},
     "PreviewSurface": {"set_roughness": "kept, not rendered (MuJoCo has no MDL shaders)",
                        "set_metallic": "kept, not rendered (MuJoCo has no MDL shaders)"},
     "OmniPBR": {"set_texture": "kept, not rendered (MuJoCo has no MDL shaders)"},
