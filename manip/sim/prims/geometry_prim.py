@@ -15,7 +15,7 @@ import numpy as np
 
 from manip.errors import InvalidInputError
 from manip.sim.materials.visual_material import PreviewSurface, VisualMaterial, rgb, unique_material_path
-from manip.sim.scenes.contact_model import PHYSX_DEFAULT_FRICTION, check_combine_mode
+from manip.sim.scenes.contact_model import PHYSX_DEFAULT_FRICTION, check_combine_mode, switch_pairs
 from manip.sim.scenes.stage import SimHandle, SimulationError
 from manip.sim.prims.xform_prim import XFormPrim
 from manip.sim.utils.not_supported import declare as declare_not_supported
@@ -329,6 +329,7 @@ class GeometryPrim(XFormPrim):
             v = 1 if enabled else 0
             self._sim.model.geom_contype[self._geom_id] = v
             self._sim.model.geom_conaffinity[self._geom_id] = v
+            switch_pairs(self._sim.model, self._geom_id)  # the friction pairs ignore contype/conaffinity
 
     @property
     def geom_id(self) -> int:
