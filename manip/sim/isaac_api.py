@@ -288,6 +288,8 @@ ISAAC_FUNCTIONS: dict[str, tuple[str, ...]] = {
                                         "gf_quat_to_np_array"),
     "omni.isaac.core.utils.nucleus": ("get_assets_root_path",),
     "omni.isaac.core.utils.string": ("find_unique_string_name",),
+    "omni.isaac.core.utils.viewports": ("set_camera_view",),
+    "omni.isaac.core.utils.extensions": ("enable_extension", "disable_extension", "get_extension_path_from_name"),
     "omni.isaac.motion_generation.interface_config_loader": (
         "get_supported_robot_policy_pairs", "load_supported_motion_policy_config",
         "get_supported_robots_with_lula_kinematics", "load_supported_lula_kinematics_solver_config"),

@@ -47,8 +47,8 @@ class CameraView:
     @classmethod
     def from_eye_target(cls, eye, target) -> CameraView:
         """The view from `eye` (3,) looking at `target` (3,) (Isaac's `set_camera_view`)."""
-        eye = np.asarray(eye, dtype=float)
-        target = np.asarray(target, dtype=float)
+        eye = vec(eye, 3, "eye")
+        target = vec(target, 3, "target")
         v = target - eye
         dist = float(np.linalg.norm(v))
         if dist <= 0 or not np.isfinite(dist):
