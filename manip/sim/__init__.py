@@ -86,6 +86,7 @@ from manip.sim.utils.rotations import (
     xyzw2wxyz,
 )
 from manip.sim.scenes.scene import CollisionObject, Scene
+from manip.sim.core.physics_context import PhysicsContext
 from manip.sim.core.simulation_context import SimulationContext, SimulationInstabilityError, SimulationWarning
 from manip.sim.scenes.stage import (
     SimulationError,
@@ -158,7 +159,7 @@ __all__ = [
     "DynamicState", "DynamicsViewState", "FixedCapsule", "FixedCone", "FixedCuboid", "FixedCylinder",
     "FixedSphere", "FollowTarget", "Franka", "GeometryPrim", "GroundPlane", "HelloWorld", "HelloWorldExtension",
     "ISAAC_ASSETS", "JointsState", "LulaKinematicsSolver", "MotionPolicyController", "OffscreenRenderingError", "OmniGlass", "OmniPBR",
-    "ParallelGripper",
+    "ParallelGripper", "PhysicsContext",
     "PhysicsMaterial", "PickPlace", "PickPlaceController", "PreviewSurface", "RMPFlowController", "RigidPrim",
     "RigidPrimView", "RmpFlow", "Robot", "Scene", "SimulationApp", "SimulationContext", "SimulationError",
     "SimulationInstabilityError", "SimulationWarning", "SingleArticulation", "SingleGeometryPrim",

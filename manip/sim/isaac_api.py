@@ -67,6 +67,24 @@ ISAAC_API: dict[str, tuple[str, tuple[str, ...]]] = {
         "scene", "add_task", "get_task", "get_current_tasks", "get_observations", "calculate_metrics", "is_done",
         "is_tasks_scene_built", "reset_async_set_up_scene", "reset_async_no_set_up_scene", "step_async", "clear",
         "get_data_logger")),
+    "PhysicsContext": ("omni.isaac.core.physics_context.PhysicsContext", (
+        "prim_path", "device", "use_gpu_sim", "use_gpu_pipeline", "use_fabric", "get_current_physics_scene_prim",
+        "warm_start", "set_physics_dt", "get_physics_dt", "enable_fabric", "enable_ccd", "is_ccd_enabled",
+        "enable_stablization", "is_stablization_enabled", "enable_gpu_dynamics", "is_gpu_dynamics_enabled",
+        "set_broadphase_type", "get_broadphase_type", "set_solver_type", "get_solver_type", "set_gravity",
+        "get_gravity", "set_physx_update_transformations_settings", "get_physx_update_transformations_settings",
+        "set_invert_collision_group_filter", "get_invert_collision_group_filter", "set_bounce_threshold",
+        "get_bounce_threshold", "set_friction_offset_threshold", "get_friction_offset_threshold",
+        "set_friction_correlation_distance", "get_friction_correlation_distance", "set_enable_scene_query_support",
+        "get_enable_scene_query_support", "set_gpu_max_rigid_contact_count", "get_gpu_max_rigid_contact_count",
+        "set_gpu_max_rigid_patch_count", "get_gpu_max_rigid_patch_count", "set_gpu_found_lost_pairs_capacity",
+        "get_gpu_found_lost_pairs_capacity", "set_gpu_found_lost_aggregate_pairs_capacity",
+        "get_gpu_found_lost_aggregate_pairs_capacity", "set_gpu_total_aggregate_pairs_capacity",
+        "get_gpu_total_aggregate_pairs_capacity", "set_gpu_max_soft_body_contacts", "get_gpu_max_soft_body_contacts",
+        "set_gpu_max_particle_contacts", "get_gpu_max_particle_contacts", "set_gpu_heap_capacity",
+        "get_gpu_heap_capacity", "set_gpu_temp_buffer_capacity", "get_gpu_temp_buffer_capacity",
+        "set_gpu_max_num_partitions", "get_gpu_max_num_partitions", "set_gpu_collision_stack_size",
+        "get_gpu_collision_stack_size")),
     "Scene": ("omni.isaac.core.scenes.Scene", (
         "add", "add_default_ground_plane", "add_ground_plane", "clear", "compute_object_AABB",
         "enable_bounding_boxes_computations", "disable_bounding_boxes_computations", "get_object", "object_exists",
@@ -153,6 +171,11 @@ ISAAC_API: dict[str, tuple[str, tuple[str, ...]]] = {
 
 #: Isaac members manip.sim cannot provide: calling one raises NotImplementedError with the reason.
 NOT_SUPPORTED: dict[str, dict[str, str]] = {
+    "PhysicsContext": {
+        "get_current_physics_scene_prim": "there is no USD physics scene prim: the solver options are World.model.opt",
+        "set_physx_update_transformations_settings": "there is no USD/Fabric write-back: poses are read from MuJoCo",
+        "get_physx_update_transformations_settings": "there is no USD/Fabric write-back: poses are read from MuJoCo",
+    },
     "SimulationApp": {
         "reset_render_settings": "manip has no RTX renderer settings",
         "run_coroutine": "there is no Kit event loop: use asyncio.run(...), or asyncio.ensure_future, run at the "
@@ -160,7 +183,6 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
         "context": "there is no Kit USD context (manip has no USD)",
     },
     "SimulationContext": {
-        "get_physics_context": "there is no PhysX scene: the solver options are MuJoCo's (World.model.opt)",
         "get_block_on_render": "rendering is synchronous here",
         "set_block_on_render": "rendering is synchronous here",
         "app": "there is no Kit app object (use manip.sim.SimulationApp)",
@@ -258,6 +280,16 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
 
 #: Members implemented with a difference a script may notice.
 DIFFERS: dict[str, dict[str, str]] = {
+    "PhysicsContext": {name: "checked and kept for its getter; changes nothing (a PhysX setting MuJoCo lacks)"
+                       for name in ("enable_ccd", "enable_stablization", "enable_gpu_dynamics", "enable_fabric",
+                                    "set_broadphase_type", "set_solver_type", "set_bounce_threshold",
+                                    "set_friction_offset_threshold", "set_friction_correlation_distance",
+                                    "set_enable_scene_query_support", "set_invert_collision_group_filter")
+                       + tuple(f"set_gpu_{n}" for n in (
+                           "max_rigid_contact_count", "max_rigid_patch_count", "found_lost_pairs_capacity",
+                           "found_lost_aggregate_pairs_capacity", "total_aggregate_pairs_capacity",
+                           "max_soft_body_contacts", "max_particle_contacts", "heap_capacity", "temp_buffer_capacity",
+                           "max_num_partitions", "collision_stack_size"))},
     "SimulationApp": {"update": "steps physics only while a World plays, without the tasks' pre_step (as Kit)"},
     "GeometryPrim": {"apply_physics_material": "combined frictions with other surfaces apply from the next reset"},
     "RigidPrimView": {"get_net_contact_forces": "contact impulses over the step / dt, as Isaac; MuJoCo's soft "

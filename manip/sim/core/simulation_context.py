@@ -15,11 +15,10 @@ Callback names follow Isaac: a duplicate name or removing an unknown one logs an
 (`carb.log_error`) and changes nothing. The `*_async` methods are coroutines doing the same
 as the plain ones, for Isaac's extension workflow (`asyncio.run(world.reset_async())`).
 
-Solver options (`manip.sim.scenes.compiler`): `implicitfast`, elliptic cones, gravity -9.81
-m/s^2 along z; the same script gives the same trajectory run after run (nothing is random).
+Solver options (`manip.sim.scenes.compiler`): `implicitfast`, elliptic cones, gravity -9.81 m/s^2
+along z (`get_physics_context()`); the same script gives the same trajectory (nothing is random).
 
-Observers (`add_observer`, e.g. the SimulationApp's viewer) follow every instance through
-the `WorldObserver` methods; this module imports no viewer.
+Observers (`add_observer`, e.g. the viewer) follow every instance (`WorldObserver`).
 
 Joint limits hold after every physics step (see `manip.sim.articulations.articulation`). MuJoCo's own
 warnings become Python ones after every physics step (`manip.sim.core.mujoco_warnings`): an
@@ -43,6 +42,7 @@ from manip.sim.core import recording as rec, substeps
 from manip.sim.articulations.articulation_core import ArticulationCore
 from manip.sim.core.callbacks import CallbackTable, TimelineEvent
 from manip.sim.core.observers import WorldObserver  # noqa: F401 (re-exported)
+from manip.sim.core.physics_context import PhysicsContext
 from manip.sim.core.mujoco_warnings import SimulationInstabilityError, SimulationWarning, WarningMonitor  # noqa: F401 (re-exported)
 from manip.sim.scenes.compiler import compile_stage
 from manip.sim.scenes.stage import ReferencePrim, SimHandle, SimulationError, StageEvent, get_current_stage
@@ -70,7 +70,7 @@ class SimulationContext:
         sim_params: Isaac's physics settings: "gravity" is used (the argument takes
             precedence); other keys (PhysX/GPU settings) are ignored with a warning.
         backend, device: "numpy" and None/"cpu" only (MuJoCo runs on the CPU).
-        physics_prim_path, set_defaults: accepted for Isaac scripts and ignored.
+        physics_prim_path, set_defaults: the PhysicsContext's prim path; ignored.
 
     Raises:
         InvalidInputError: stage units other than metres, another backend or device, a
@@ -134,10 +134,11 @@ class SimulationContext:
             self._rendering_dt = positive(rendering_dt if rendering_dt is not None else self._physics_dt,
                                           "rendering_dt", "s")
             self._substep_dt = positive(substep_dt, "substep_dt", "s")
-            self._gravity = vec(gravity if gravity is not None else DEFAULT_GRAVITY, 3, "gravity")
+            g = vec(gravity if gravity is not None else DEFAULT_GRAVITY, 3, "gravity")
         except Exception:
             SimulationContext._instance = None
             raise
+        self._physics_context = PhysicsContext(self, g, physics_prim_path)
         self._stage = get_current_stage()
         self._sim: SimHandle | None = None
         self._cores: list[ArticulationCore] = []  # of the compiled model
@@ -233,6 +234,9 @@ class SimulationContext:
         """MuJoCo steps per physics step."""
         return max(1, math.ceil(self._physics_dt / self._substep_dt - 1e-9))
 
+    def get_physics_context(self) -> PhysicsContext:
+        return self._physics_context  # gravity and the step; PhysX's other settings kept, unused
+
     def get_physics_dt(self) -> float:
         return self._physics_dt
 
@@ -278,7 +282,7 @@ class SimulationContext:
         model (a new `ArticulationCore`), then the wrappers (articulations, views)."""
         self.stop_recording()
         self._unbind_all()
-        sim = compile_stage(self._stage, timestep=self._physics_dt / self.physics_substeps, gravity=self._gravity)
+        sim = compile_stage(self._stage, timestep=self._physics_dt / self.physics_substeps, gravity=self._physics_context.gravity)
         model = sim.model
         cores = []
         for prim in self._stage.prims():
@@ -329,9 +333,7 @@ class SimulationContext:
         self._notify("on_world_rendered")
 
     def initialize_physics(self) -> None:
-        """Stop, compile the stage if it changed (else restore the compiled initial state),
-        play, and run the warm-up physics of one rendered step without callbacks (Isaac:
-        "it does one step internally to propagate all physics handles")."""
+        """`reset()`'s work (Isaac: "it does one step internally to propagate all physics handles")."""
         self._restart_physics()
         self._play_and_warm_up()
 
