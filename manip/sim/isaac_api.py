@@ -337,6 +337,5 @@ ISAAC_MODULES: dict[str, str] = {
 FUNCTIONS_NOT_SUPPORTED: dict[str, str] = {
     "open_stage": "manip has no USD: reference MJCF/URDF files with add_reference_to_stage",
     "save_stage": "manip has no USD: World.model (MuJoCo) can be saved with mujoco.mj_saveLastXML",
-    "create_prim": "manip has no USD prims: create objects (VisualCuboid, FixedCuboid, ...) or reference a model",
     "gf_quat_to_np_array": "manip has no USD Gf types: quaternions are NumPy arrays (w, x, y, z) already",
 }
