@@ -85,6 +85,31 @@ ISAAC_API: dict[str, tuple[str, tuple[str, ...]]] = {
         "get_gpu_heap_capacity", "set_gpu_temp_buffer_capacity", "get_gpu_temp_buffer_capacity",
         "set_gpu_max_num_partitions", "get_gpu_max_num_partitions", "set_gpu_collision_stack_size",
         "get_gpu_collision_stack_size")),
+    "Camera": ("omni.isaac.sensor.Camera", (
+        "distort_point_rational_polynomial", "distort_point_kannala_brandt2", "supported_annotators",
+        "get_render_product_path", "set_frequency", "get_frequency", "set_dt", "get_dt", "get_current_frame",
+        "initialize", "post_reset", "resume", "pause", "is_paused", "set_resolution", "get_resolution",
+        "get_aspect_ratio", "get_world_pose", "set_world_pose", "get_local_pose", "set_local_pose",
+        "add_normals_to_frame", "remove_normals_from_frame", "add_motion_vectors_to_frame",
+        "remove_motion_vectors_from_frame", "add_occlusion_to_frame", "remove_occlusion_from_frame",
+        "add_distance_to_image_plane_to_frame", "remove_distance_to_image_plane_from_frame",
+        "add_distance_to_camera_to_frame", "remove_distance_to_camera_from_frame",
+        "add_bounding_box_2d_tight_to_frame", "remove_bounding_box_2d_tight_from_frame",
+        "add_bounding_box_2d_loose_to_frame", "remove_bounding_box_2d_loose_from_frame",
+        "add_bounding_box_3d_to_frame", "remove_bounding_box_3d_from_frame", "add_semantic_segmentation_to_frame",
+        "remove_semantic_segmentation_from_frame", "add_instance_id_segmentation_to_frame",
+        "remove_instance_id_segmentation_from_frame", "add_instance_segmentation_to_frame",
+        "remove_instance_segmentation_from_frame", "add_pointcloud_to_frame", "remove_pointcloud_from_frame",
+        "get_rgba", "get_rgb", "get_depth", "get_pointcloud", "get_focal_length", "set_focal_length",
+        "get_focus_distance", "set_focus_distance", "get_lens_aperture", "set_lens_aperture",
+        "get_horizontal_aperture", "set_horizontal_aperture", "get_vertical_aperture", "set_vertical_aperture",
+        "get_clipping_range", "set_clipping_range", "get_projection_type", "set_projection_type",
+        "get_projection_mode", "set_projection_mode", "get_stereo_role", "set_stereo_role",
+        "set_fisheye_polynomial_properties", "set_matching_fisheye_polynomial_properties",
+        "set_rational_polynomial_properties", "set_kannala_brandt_properties", "get_fisheye_polynomial_properties",
+        "set_shutter_properties", "get_shutter_properties", "get_view_matrix_ros", "get_intrinsics_matrix",
+        "get_image_coords_from_world_points", "get_world_points_from_image_coords", "get_horizontal_fov",
+        "get_vertical_fov")),
     "Scene": ("omni.isaac.core.scenes.Scene", (
         "add", "add_default_ground_plane", "add_ground_plane", "clear", "compute_object_AABB",
         "enable_bounding_boxes_computations", "disable_bounding_boxes_computations", "get_object", "object_exists",
@@ -171,6 +196,19 @@ ISAAC_API: dict[str, tuple[str, tuple[str, ...]]] = {
 
 #: Isaac members manip.sim cannot provide: calling one raises NotImplementedError with the reason.
 NOT_SUPPORTED: dict[str, dict[str, str]] = {
+    "Camera": {
+        **{name: "MuJoCo renders pinhole cameras only (no lens distortion models)" for name in (
+            "distort_point_rational_polynomial", "distort_point_kannala_brandt2", "set_fisheye_polynomial_properties",
+            "set_matching_fisheye_polynomial_properties", "set_rational_polynomial_properties",
+            "set_kannala_brandt_properties", "get_fisheye_polynomial_properties")},
+        **{f"{verb}_{annotator}_{where}_frame": "no semantic labels or instance ids in manip: use get_depth, "
+           "get_pointcloud, get_rgba" for verb, where in (("add", "to"), ("remove", "from")) for annotator in (
+               "occlusion", "bounding_box_2d_tight", "bounding_box_2d_loose", "bounding_box_3d",
+               "semantic_segmentation", "instance_id_segmentation", "instance_segmentation")},
+        "set_shutter_properties": "rendering is instantaneous (no rolling shutter)",
+        "get_shutter_properties": "rendering is instantaneous (no rolling shutter)",
+        "get_render_product_path": "there are no Replicator render products: every getter renders the current state",
+    },
     "PhysicsContext": {
         "get_current_physics_scene_prim": "there is no USD physics scene prim: the solver options are World.model.opt",
         "set_physx_update_transformations_settings": "there is no USD/Fabric write-back: poses are read from MuJoCo",
@@ -299,6 +337,9 @@ DIFFERS: dict[str, dict[str, str]] = {
                      "disable_gravity": "each body's weight cancelled at its centre of mass (was a no-op: MuJoCo's "
                                         "gravcomp needs bodies compiled with it)"},
     "ArticulationView": {"get_jacobians": "MuJoCo's body-origin Jacobians in Isaac's layout"},
+    "Camera": {"set_focus_distance": "kept, not rendered (no depth of field)",
+               "set_lens_aperture": "kept, not rendered (no depth of field)",
+               "set_stereo_role": "kept; the images are the same"},
     "Scene": {"disable_bounding_boxes_computations": "compute_object_AABB keeps working (bounds are computed on "
                                                       "demand; Isaac raises until they are enabled again)"},
     "PreviewSurface": {"set_roughness": "kept, not rendered (MuJoCo has no MDL shaders)",
