@@ -54,7 +54,8 @@ _ARTICULATION = (
     "set_stabilization_threshold", "get_world_pose", "set_world_pose", "get_local_pose", "set_local_pose",
     "handles_initialized", "initialize", "num_bodies", "num_dof", "post_reset", "set_angular_velocity",
     "set_linear_velocity", "set_joint_efforts", "set_joint_positions", "set_joint_velocities",
-    "set_joints_default_state", "get_default_state", "set_default_state", "name", "prim_path", "is_valid")
+    "set_joints_default_state", "get_default_state", "set_default_state", "name", "prim_path", "is_valid",
+    "get_world_velocity", "set_world_velocity")
 _WORLD_INTERFACE = ("update_world", "add_obstacle", "add_cuboid", "add_sphere", "add_capsule", "add_cylinder",
                     "add_cone", "add_ground_plane", "disable_obstacle", "enable_obstacle", "remove_obstacle", "reset")
 
@@ -84,7 +85,8 @@ ISAAC_API: dict[str, tuple[str, tuple[str, ...]]] = {
         "set_gpu_max_particle_contacts", "get_gpu_max_particle_contacts", "set_gpu_heap_capacity",
         "get_gpu_heap_capacity", "set_gpu_temp_buffer_capacity", "get_gpu_temp_buffer_capacity",
         "set_gpu_max_num_partitions", "get_gpu_max_num_partitions", "set_gpu_collision_stack_size",
-        "get_gpu_collision_stack_size")),
+        "get_gpu_collision_stack_size", "enable_stabilization", "set_solve_articulation_contact_last",
+        "get_solve_articulation_contact_last")),
     "Camera": ("omni.isaac.sensor.Camera", (
         "distort_point_rational_polynomial", "distort_point_kannala_brandt2", "supported_annotators",
         "get_render_product_path", "set_frequency", "get_frequency", "set_dt", "get_dt", "get_current_frame",
@@ -319,7 +321,8 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
 #: Members implemented with a difference a script may notice.
 DIFFERS: dict[str, dict[str, str]] = {
     "PhysicsContext": {name: "checked and kept for its getter; changes nothing (a PhysX setting MuJoCo lacks)"
-                       for name in ("enable_ccd", "enable_stablization", "enable_gpu_dynamics", "enable_fabric",
+                       for name in ("enable_ccd", "enable_stablization", "enable_stabilization",
+                                    "set_solve_articulation_contact_last", "enable_gpu_dynamics", "enable_fabric",
                                     "set_broadphase_type", "set_solver_type", "set_bounce_threshold",
                                     "set_friction_offset_threshold", "set_friction_correlation_distance",
                                     "set_enable_scene_query_support", "set_invert_collision_group_filter")

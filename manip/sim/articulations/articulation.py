@@ -92,6 +92,7 @@ class Articulation(DefaultPoseMixin):
         visible: bool | None = None,
         articulation_controller: ArticulationController | None = None,
         enable_residual_reports: bool = False,
+        reset_xform_properties: bool = True,
     ):
         validate_prim_path(prim_path)
         stage = get_current_stage()
@@ -430,6 +431,24 @@ class Articulation(DefaultPoseMixin):
         c = self._floating("set_angular_velocity")
         c.sim.set_free_angular_velocity(c.free_qadr, c.free_dadr, bounded_vec(velocity, "angular", "angular velocity"))
         c.sim.mark_stale()
+
+    def get_world_velocity(self) -> np.ndarray | None:
+        """Root velocity (6,): linear [m/s] then angular [rad/s], world frame (zeros for a fixed base)."""
+        lin = self.get_linear_velocity()
+        return None if lin is None else np.concatenate([lin, self.get_angular_velocity()])
+
+    def set_world_velocity(self, velocity) -> None:
+        """Set a floating base's root velocity (6,): linear [m/s] then angular [rad/s], world frame.
+
+        Raises:
+            InvalidInputError: not 6 values. SimulationError: a fixed base.
+        """
+        v = np.asarray(velocity, dtype=float).ravel() if not isinstance(velocity, str) else np.zeros(0)
+        if v.size != 6:
+            raise InvalidInputError(f"velocity must be 6 values (linear [m/s], angular [rad/s]); got {velocity!r}")
+        self._floating("set_world_velocity")
+        self.set_linear_velocity(v[:3])
+        self.set_angular_velocity(v[3:])
 
     def _floating(self, what: str) -> ArticulationCore:
         c = self._cs(what)

@@ -63,20 +63,23 @@ def _count(value: Any, what: str) -> int:
     return int(value)
 
 
-#: PhysX settings kept for their getters: name -> (setter, getter, check, default).
+#: PhysX settings kept for their getters: name -> (setter, getter, check, default). The setters of
+#: the first block are written out below (Isaac names their argument); the rest take `value`.
 KEPT_SETTINGS: dict[str, tuple[str, str, Callable[[Any, str], Any], Any]] = {
     "ccd": ("enable_ccd", "is_ccd_enabled", _flag, False),
     "stabilization": ("enable_stablization", "is_stablization_enabled", _flag, True),
     "broadphase_type": ("set_broadphase_type", "get_broadphase_type", _choice(("MBP", "GPU", "SAP")), "MBP"),
     "solver_type": ("set_solver_type", "get_solver_type", _choice(("TGS", "PGS")), "TGS"),
+    "scene_query_support": ("set_enable_scene_query_support", "get_enable_scene_query_support", _flag, True),
+    "invert_collision_group_filter": ("set_invert_collision_group_filter", "get_invert_collision_group_filter",
+                                      _flag, False),
+    "solve_articulation_contact_last": ("set_solve_articulation_contact_last",
+                                        "get_solve_articulation_contact_last", _flag, False),
     "bounce_threshold": ("set_bounce_threshold", "get_bounce_threshold", _non_negative, 0.2),
     "friction_offset_threshold": ("set_friction_offset_threshold", "get_friction_offset_threshold",
                                   _non_negative, 0.04),
     "friction_correlation_distance": ("set_friction_correlation_distance", "get_friction_correlation_distance",
                                       _non_negative, 0.025),
-    "scene_query_support": ("set_enable_scene_query_support", "get_enable_scene_query_support", _flag, True),
-    "invert_collision_group_filter": ("set_invert_collision_group_filter", "get_invert_collision_group_filter",
-                                      _flag, False),
     **{f"gpu_{n}": (f"set_gpu_{n}", f"get_gpu_{n}", _count, d) for n, d in (
         ("max_rigid_contact_count", 524288), ("max_rigid_patch_count", 81920),
         ("found_lost_pairs_capacity", 1024), ("found_lost_aggregate_pairs_capacity", 1024),
@@ -84,6 +87,8 @@ KEPT_SETTINGS: dict[str, tuple[str, str, Callable[[Any, str], Any], Any]] = {
         ("max_particle_contacts", 1048576), ("heap_capacity", 67108864), ("temp_buffer_capacity", 16777216),
         ("max_num_partitions", 8), ("collision_stack_size", 67108864))},
 }
+_NAMED_ARGUMENT = ("ccd", "stabilization", "broadphase_type", "solver_type", "scene_query_support",
+                   "invert_collision_group_filter", "solve_articulation_contact_last")
 
 
 class PhysicsContext:
@@ -175,6 +180,36 @@ class PhysicsContext:
     def warm_start(self) -> None:
         """Nothing to start: the World compiles at its reset."""
 
+    def enable_ccd(self, flag: bool) -> None:
+        """PhysX continuous collision detection: kept (MuJoCo's substeps bound travel between contact checks)."""
+        self._keep("ccd", flag)
+
+    def enable_stablization(self, flag: bool) -> None:
+        """PhysX's stabilization pass: kept, no MuJoCo equivalent."""
+        self._keep("stabilization", flag)
+
+    enable_stabilization = enable_stablization  # Isaac 5's spelling
+
+    def set_broadphase_type(self, broadcast_type: str) -> None:
+        """"MBP", "GPU" or "SAP": kept (MuJoCo has its own broadphase)."""
+        self._keep("broadphase_type", broadcast_type)
+
+    def set_solver_type(self, solver_type: str) -> None:
+        """"TGS" or "PGS": kept (MuJoCo's solver is World.model.opt.solver)."""
+        self._keep("solver_type", solver_type)
+
+    def set_enable_scene_query_support(self, enable_scene_query_support: bool) -> None:
+        """Kept (no PhysX scene queries here)."""
+        self._keep("scene_query_support", enable_scene_query_support)
+
+    def set_invert_collision_group_filter(self, invert_collision_group_filter: bool) -> None:
+        """Kept (no PhysX collision groups here)."""
+        self._keep("invert_collision_group_filter", invert_collision_group_filter)
+
+    def set_solve_articulation_contact_last(self, solve_articulation_contact_last: bool) -> None:
+        """Kept (a PhysX solver ordering)."""
+        self._keep("solve_articulation_contact_last", solve_articulation_contact_last)
+
     def _keep(self, name: str, value: Any) -> None:
         setter, _, check, _ = KEPT_SETTINGS[name]
         self._settings[name] = check(value, setter)
@@ -201,7 +236,8 @@ def _accessors(name: str) -> tuple[Callable, Callable]:
 
 for _name, (_setter, _getter, _, _) in KEPT_SETTINGS.items():
     _set, _get = _accessors(_name)
-    setattr(PhysicsContext, _setter, _set)
+    if _name not in _NAMED_ARGUMENT:
+        setattr(PhysicsContext, _setter, _set)
     setattr(PhysicsContext, _getter, _get)
 
 declare_not_supported(PhysicsContext)

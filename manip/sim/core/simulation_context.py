@@ -434,9 +434,9 @@ class SimulationContext:
         self._timeline_callbacks.call(TimelineEvent(kind))
 
     # ------------------------------------------------------------------ stepping
-    def step(self, render: bool = True, step_sim: bool = True) -> None:
+    def step(self, render: bool = True, step_sim: bool = True, update_fabric: bool = False) -> None:
         """Physics (if playing): max(1, rendering_dt / physics_dt) physics steps with
-        render=True, one with render=False; then render.
+        render=True, one with render=False; then render (`update_fabric`: no Fabric here).
 
         Physics callbacks run before each physics step with `step_size = physics_dt`.
         """

@@ -88,9 +88,10 @@ class World(SimulationContext):
         self._last_pre_step_index = -1
         super().stop()
 
-    def step(self, render: bool = True, step_sim: bool = True) -> None:
+    def step(self, render: bool = True, step_sim: bool = True, update_fabric: bool = False) -> None:
         """Run the tasks' `pre_step`, then physics (if playing): max(1, rendering_dt /
         physics_dt) physics steps with render=True, one with render=False; then render.
+        `update_fabric` (Isaac 5) is accepted: poses are always read from MuJoCo.
 
         Physics callbacks run before each physics step with `step_size = physics_dt`.
         Coroutines a script scheduled with `asyncio.ensure_future` outside a running loop

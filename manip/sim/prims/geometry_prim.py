@@ -117,6 +117,7 @@ class GeometryPrim(XFormPrim):
         scale=None,
         visible: bool | None = None,
         *,
+        reset_xform_properties: bool = True,
         collision: bool = False,
         track_contact_forces: bool = False,
         prepare_contact_sensor: bool = False,

@@ -48,6 +48,7 @@ class XFormPrim(DefaultPoseMixin):
         orientation: (4,) world orientation (w, x, y, z).
         scale: (3,) or scalar scale.
         visible: whether it is drawn.
+        reset_xform_properties: Isaac's USD transform-op reset; accepted (no USD ops here).
     """
 
     _default_name = "xform_prim"
@@ -69,6 +70,7 @@ class XFormPrim(DefaultPoseMixin):
         orientation=None,
         scale=None,
         visible: bool | None = None,
+        reset_xform_properties: bool = True,
     ):
         validate_prim_path(prim_path)
         self.prim_path = prim_path

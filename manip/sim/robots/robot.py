@@ -219,8 +219,8 @@ class Franka(SingleManipulator):
             gripper_closed_position if gripper_closed_position is not None else [0.0, 0.0],
             deltas,
         )
-        super().__init__(prim_path, ee, name, usd_path if usd_path is not None else franka_model_path(),
-                         position=position, orientation=orientation, gripper=gripper)
+        super().__init__(prim_path, ee, name, position=position, orientation=orientation, gripper=gripper,
+                         usd_path=usd_path if usd_path is not None else franka_model_path())
 
     @property
     def gripper(self) -> ParallelGripper:
