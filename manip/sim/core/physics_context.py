@@ -151,10 +151,12 @@ class PhysicsContext:
         return direction, g
 
     def set_physics_dt(self, dt: float = 1.0 / 60.0, substeps: int = 1) -> None:
-        """The World's physics step `dt` [s] (0 < dt <= 1); `substeps` (Isaac's minimum frame
-        rate of rendering) is checked and unused: `rendering_dt` sets the rendering rate."""
-        if not isinstance(dt, (int, float, np.floating, np.integer)) or not 0.0 < float(dt) <= 1.0:
-            raise InvalidInputError(f"dt must be a number in (0, 1] [s]; got {dt!r}")
+        """The World's physics step `dt` [s] (0 <= dt <= 1; 0: physics does not simulate, as in
+        Isaac); `substeps` (Isaac's minimum frame rate of rendering) is checked and unused:
+        `rendering_dt` sets the rendering rate."""
+        if isinstance(dt, (bool, np.bool_)) or not isinstance(dt, (int, float, np.floating, np.integer)) \
+                or not 0.0 <= float(dt) <= 1.0:
+            raise InvalidInputError(f"dt must be a number in [0, 1] [s]; got {dt!r}")
         if substeps is not None:
             _count(substeps, "substeps")
         self._simulation.set_simulation_dt(physics_dt=float(dt))

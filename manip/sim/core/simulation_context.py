@@ -37,7 +37,7 @@ from typing import Callable
 import mujoco
 import numpy as np
 
-from manip.errors import InvalidInputError, UnknownNameError
+from manip.errors import InvalidInputError
 from manip.sim.core import recording as rec, substeps
 from manip.sim.articulations.articulation_core import ArticulationCore
 from manip.sim.core.callbacks import CallbackTable, TimelineEvent
@@ -46,7 +46,7 @@ from manip.sim.core.physics_context import PhysicsContext
 from manip.sim.core.mujoco_warnings import SimulationInstabilityError, SimulationWarning, WarningMonitor  # noqa: F401 (re-exported)
 from manip.sim.scenes.compiler import compile_stage
 from manip.sim.scenes.stage import ReferencePrim, SimHandle, SimulationError, StageEvent, get_current_stage
-from manip.validation import positive, vec
+from manip.validation import non_negative, positive, vec
 
 logger = logging.getLogger(__name__)
 
@@ -139,6 +139,7 @@ class SimulationContext:
             SimulationContext._instance = None
             raise
         self._physics_context = PhysicsContext(self, g, physics_prim_path)
+        self._physics_off = False  # set_simulation_dt(physics_dt=0): steps only render
         self._stage = get_current_stage()
         self._sim: SimHandle | None = None
         self._cores: list[ArticulationCore] = []  # of the compiled model
@@ -238,23 +239,28 @@ class SimulationContext:
         return self._physics_context  # gravity and the step; PhysX's other settings kept, unused
 
     def get_physics_dt(self) -> float:
-        return self._physics_dt
+        return 0.0 if self._physics_off else self._physics_dt
 
     def get_rendering_dt(self) -> float:
         return self._rendering_dt
 
     def set_simulation_dt(self, physics_dt: float | None = None, rendering_dt: float | None = None) -> None:
         """Change the physics step and/or render interval [s] (takes effect immediately;
-        `current_time` goes on from where it is).
+        `current_time` goes on from where it is). As in Isaac, `physics_dt=0`: physics does not
+        simulate (steps only render) until a positive physics_dt is set again; `rendering_dt=0`:
+        `step(render=True)` runs one physics step.
 
         Raises:
-            InvalidInputError: a dt that is not positive and finite (nothing changes then).
+            InvalidInputError: a negative or non-finite dt (nothing changes then).
         """
-        new_physics = positive(physics_dt, "physics_dt", "s") if physics_dt is not None else self._physics_dt
-        new_rendering = positive(rendering_dt, "rendering_dt", "s") if rendering_dt is not None else self._rendering_dt
+        v = non_negative(physics_dt, "physics_dt", "s") if physics_dt is not None else None
+        off = v == 0.0 if v is not None else self._physics_off
+        new_physics = v if v else self._physics_dt
+        new_rendering = non_negative(rendering_dt, "rendering_dt") if rendering_dt is not None else self._rendering_dt
         # current_time = time_origin + index * physics_dt (no accumulated rounding); keep it continuous.
         self._time_origin = self._time - self._index * new_physics
         self._physics_dt, self._rendering_dt = new_physics, new_rendering
+        self._physics_off = off
         if self._sim is not None:
             self._sim.model.opt.timestep = self._physics_dt / self.physics_substeps
             for core in self._cores:
@@ -431,7 +437,7 @@ class SimulationContext:
         """Nothing to wait for: ready once constructed (Isaac sets up its USD stage here)."""
 
     def _fire_timeline(self, kind: str) -> None:
-        self._timeline_callbacks.call(TimelineEvent(kind))
+        self._timeline_callbacks.call(TimelineEvent(kind, {"currentTime": self.current_time}))
 
     # ------------------------------------------------------------------ stepping
     def step(self, render: bool = True, step_sim: bool = True, update_fabric: bool = False) -> None:
@@ -440,7 +446,7 @@ class SimulationContext:
 
         Physics callbacks run before each physics step with `step_size = physics_dt`.
         """
-        if self._playing and step_sim:
+        if self._playing and step_sim and not self._physics_off:
             if self._compiled_version != self._stage.version and not self._warned_dirty:
                 logger.warning("the stage changed since the last world.reset(); new prims appear after a reset")
                 self._warned_dirty = True
@@ -485,7 +491,7 @@ class SimulationContext:
             self._sim.ensure_kinematics()
             self._recorder.maybe_capture(self._sim.data, self._time, self._camera_view)
         self._notify("on_world_rendered")
-        self._render_callbacks.call(TimelineEvent("RENDER"))
+        self._render_callbacks.call(TimelineEvent("RENDER", {"dt": self._rendering_dt}))
 
     # ------------------------------------------------------------------ callbacks
     def add_physics_callback(self, callback_name: str, callback_fn: Callable[[float], None]) -> None:
@@ -553,16 +559,13 @@ class SimulationContext:
                         height: int = 480, fps: float = 30.0) -> None:
         """Write an MP4 of a camera view, a frame every 1/fps of simulated time on render.
 
-        Offscreen: works without a display when EGL or OSMesa is installed (see
-        `manip.sim.core.recording`). The model must be compiled (call after `reset()`); a recompile
-        (reset after adding prims) ends the recording.
+        Offscreen (EGL or OSMesa, `manip.sim.core.recording`), after `reset()`; a recompile ends it.
 
         Args:
             path: output file (.mp4).
             camera: name of a model camera, a CameraView, or None for the World's view
                 (`set_camera_view`).
-            width, height: frame size [px].
-            fps: frames per second of simulated time.
+            width, height, fps: frame size [px]; frames per second of simulated time.
 
         Raises:
             OffscreenRenderingError: no offscreen GL backend or no imageio-ffmpeg.
@@ -572,9 +575,7 @@ class SimulationContext:
             raise SimulationError("start_recording: call world.reset() first (the model is not compiled)")
         if self._recorder is not None:
             raise SimulationError(f"already recording to {self._recorder.path}; call stop_recording() first")
-        if isinstance(camera, str) and mujoco.mj_name2id(self._sim.model, mujoco.mjtObj.mjOBJ_CAMERA, camera) < 0:
-            cams = [self._sim.model.camera(i).name for i in range(self._sim.model.ncam)]
-            raise UnknownNameError("camera", camera, cams)
+        rec.check_camera(self._sim.model, camera)
         self._recorder = rec.Recorder(self._sim.model, path, camera, width=width, height=height, fps=fps)
         self._recorder.capture(self._sim.data, self._camera_view)
 

@@ -51,7 +51,11 @@ def test_set_physics_dt_is_the_worlds_step():
     world.step(render=False)
     assert world.current_time == pytest.approx(1 / 60 + 1 / 120)  # the warm-up (one rendering_dt), then a step
     assert world.current_time_step_index == 3
-    for bad in (0.0, -0.01, 2.0, "fast"):
+    ctx.set_physics_dt(0.0)  # Isaac: physics does not simulate
+    assert ctx.get_physics_dt() == 0.0
+    world.step(render=True)
+    assert world.current_time == pytest.approx(1 / 60 + 1 / 120)
+    for bad in (-0.01, 2.0, "fast", True):
         with pytest.raises(InvalidInputError, match="dt"):
             ctx.set_physics_dt(bad)
 
