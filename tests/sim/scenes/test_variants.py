@@ -26,7 +26,7 @@ def test_isaac5s_variant_selection_is_kept_and_the_franka_runs():
     for _ in range(60):
         art.set_joint_positions([-1.5], joint_indices=[dof])
         sim.step(render=False)
-    assert art.get_joint_positions(joint_indices=[dof])[0] == pytest.approx(-1.5, abs=1e-3)
+    assert art.get_joint_positions(joint_indices=[dof])[0] == pytest.approx(-1.5, abs=0.02)  # set, then one step
     assert np.all(np.isfinite(art.get_joint_positions()))
     with pytest.raises(InvalidInputError, match="variant name"):
         robot.GetVariantSet("Gripper").SetVariantSelection("")
