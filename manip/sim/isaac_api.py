@@ -228,7 +228,6 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
         "app": "there is no Kit app object (use manip.sim.SimulationApp)",
         "backend": "one backend: NumPy on the CPU",
         "device": "one device: the CPU",
-        "get_data_logger": "no DataLogger: record states in a physics callback",
     },
     "XFormPrim": {
         "prim": "there is no USD prim (manip has no USD): use prim_path",

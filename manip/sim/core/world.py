@@ -11,6 +11,7 @@ import logging
 
 from manip.sim.core.callbacks import TimelineEvent  # noqa: F401 (re-exported)
 from manip.errors import InvalidInputError
+from manip.sim.core.data_logger import DataLogger
 from manip.sim.core.event_loop import run_pending_coroutines
 from manip.sim.scenes.scene import Scene
 from manip.sim.core.simulation_context import (  # noqa: F401 (re-exported)
@@ -42,6 +43,11 @@ class World(SimulationContext):
         self._scene = Scene(self)
         self._task_registry = TaskRegistry()
         self._last_pre_step_index = -1  # step index whose task pre_steps ran
+        self._data_logger = DataLogger()
+
+    def get_data_logger(self) -> DataLogger:
+        """The World's `DataLogger`: started, it records one frame per `step()` (after its physics)."""
+        return self._data_logger
 
     def _clear_components(self) -> None:
         """At `clear_instance()`: clean up the tasks."""
@@ -100,6 +106,8 @@ class World(SimulationContext):
         run_pending_coroutines()
         self.step_async()
         super().step(render, step_sim)
+        self._data_logger.log_step(self.get_current_tasks(), self._scene, self.current_time_step_index,
+                                   self.current_time)
 
     async def reset_async_set_up_scene(self, soft: bool = False) -> None:
         """Build the task scenes that are not built yet (Isaac's first half of `reset_async`)."""
@@ -160,6 +168,7 @@ class World(SimulationContext):
         self._unbind_all()
         self._stage.clear()
         self._compiled_version = -1
+        self._data_logger = DataLogger()  # as Isaac's clear()
         self.stop()
 
 
