@@ -22,7 +22,7 @@ from typing import Protocol
 import numpy as np
 
 from manip.articulation_action import ArticulationAction
-from manip.errors import InvalidInputError
+from manip.errors import InvalidInputError, UnknownNameError
 from manip.sim.articulations import articulation_dynamics as dyn
 from manip.sim.articulations.articulation_core import MAX_EFFORT, MAX_POSITION, MAX_VELOCITY, ArticulationCore
 from manip.sim.controllers.articulation_controller import ArticulationController
@@ -118,6 +118,22 @@ class ArticulationView:
             raise SimulationError(f"articulation view {self.prim_paths[0]!r}: {what} before world.reset()")
         return c
 
+    def _named_joints(self, joint_indices, joint_names):
+        """`joint_indices`, or (Isaac 5) the indices of `joint_names`; not both.
+
+        Raises:
+            InvalidInputError: both given. UnknownNameError: an unknown joint name (the message lists them).
+        """
+        if joint_names is None:
+            return joint_indices
+        if joint_indices is not None:
+            raise InvalidInputError("give joint_indices or joint_names, not both")
+        names = self.dof_names
+        missing = [n for n in ([joint_names] if isinstance(joint_names, str) else joint_names) if n not in names]
+        if missing:
+            raise UnknownNameError("joint", str(missing[0]), names)
+        return [names.index(n) for n in ([joint_names] if isinstance(joint_names, str) else joint_names)]
+
     @staticmethod
     def _check_indices(indices) -> None:
         if indices is not None and np.asarray(indices).ravel().tolist() not in ([0], []):
@@ -209,19 +225,23 @@ class ArticulationView:
         return self._articulation.core is not None
 
     # ------------------------------------------------------------------ drives
-    def get_gains(self, indices=None, joint_indices=None, clone: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    def get_gains(self, indices=None, joint_indices=None, joint_names=None,
+                  clone: bool = True) -> tuple[np.ndarray, np.ndarray]:
         """Drive stiffness and damping: (kps (1, K), kds (1, K)) for the joints `joint_indices` (all for None)."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         c = self._c("get_gains")
         idx = c.indices(joint_indices)
         return c.kps[idx][None, :].copy(), c.kds[idx][None, :].copy()
 
-    def set_gains(self, kps=None, kds=None, indices=None, joint_indices=None, save_to_usd: bool = False) -> None:
+    def set_gains(self, kps=None, kds=None, indices=None, joint_indices=None, joint_names=None,
+                  save_to_usd: bool = False) -> None:
         """Set drive stiffness `kps` and damping `kds`, (1, K) or (K,) each, of `joint_indices` (all for None).
 
         Raises:
             InvalidInputError: wrong shape, a negative or non-finite gain.
         """
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         c = self._c("set_gains")
         idx = c.indices(joint_indices)
@@ -236,14 +256,16 @@ class ArticulationView:
         c.kps, c.kds = new_kp, new_kd
         c.write_gains()
 
-    def set_max_efforts(self, values, indices=None, joint_indices=None) -> None:
+    def set_max_efforts(self, values, indices=None, joint_indices=None, joint_names=None) -> None:
         """Drive force limits (1, K) or (K,) [N m or N] (> 0; inf = unlimited) of `joint_indices`
         (all for None), as `ArticulationController.set_max_efforts`."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         self._controller("set_max_efforts").set_max_efforts(self._row(values, "values"), joint_indices)
 
-    def get_max_efforts(self, indices=None, joint_indices=None, clone: bool = True) -> np.ndarray:
+    def get_max_efforts(self, indices=None, joint_indices=None, joint_names=None, clone: bool = True) -> np.ndarray:
         """Drive force limits (1, K) [N m or N] (inf = unlimited)."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         c = self._c("get_max_efforts")
         return c.max_efforts[c.indices(joint_indices)][None, :].copy()
@@ -253,21 +275,26 @@ class ArticulationView:
         c = self._c("get_dof_limits")
         return np.stack([c.lower, c.upper], axis=1)[None, :, :]
 
-    def get_joint_max_velocities(self, indices=None, joint_indices=None, clone: bool = True) -> np.ndarray:
+    def get_joint_max_velocities(self, indices=None, joint_indices=None, joint_names=None,
+                                 clone: bool = True) -> np.ndarray:
         """(1, K) joint velocity limits [rad/s or m/s] (inf where the model gives none)."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         c = self._c("get_joint_max_velocities")
         return c.max_velocities[c.indices(joint_indices)][None, :].copy()
 
     # ------------------------------------------------------------------ state
-    def get_joint_positions(self, indices=None, joint_indices=None, clone: bool = True) -> np.ndarray:
+    def get_joint_positions(self, indices=None, joint_indices=None, joint_names=None, clone: bool = True) -> np.ndarray:
         """(1, K) joint positions [rad or m]."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         c = self._c("get_joint_positions")
         return c.sim.data.qpos[c.qadr[c.indices(joint_indices)]][None, :].copy()
 
-    def get_joint_velocities(self, indices=None, joint_indices=None, clone: bool = True) -> np.ndarray:
+    def get_joint_velocities(self, indices=None, joint_indices=None, joint_names=None,
+                             clone: bool = True) -> np.ndarray:
         """(1, K) joint velocities [rad/s or m/s]."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         c = self._c("get_joint_velocities")
         return c.sim.data.qvel[c.dadr[c.indices(joint_indices)]][None, :].copy()
@@ -286,30 +313,35 @@ class ArticulationView:
             a = a[0]
         return a
 
-    def set_joint_positions(self, positions, indices=None, joint_indices=None) -> None:
+    def set_joint_positions(self, positions, indices=None, joint_indices=None, joint_names=None) -> None:
         """Teleport the joints to `positions` (1, K) [rad or m] and make them their drive targets."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         self._c("set_joint_positions").teleport(self._row(positions, "positions"), joint_indices)
 
-    def set_joint_velocities(self, velocities, indices=None, joint_indices=None) -> None:
+    def set_joint_velocities(self, velocities, indices=None, joint_indices=None, joint_names=None) -> None:
         """Set joint velocities (1, K) [rad/s or m/s] (drive targets unchanged)."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         self._c("set_joint_velocities").set_velocities(self._row(velocities, "velocities"), joint_indices)
 
-    def set_joint_position_targets(self, positions, indices=None, joint_indices=None) -> None:
+    def set_joint_position_targets(self, positions, indices=None, joint_indices=None, joint_names=None) -> None:
         """Drive position targets (1, K) [rad or m] (NaN keeps a joint's target)."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         self._c("set_joint_position_targets").apply_action(
             ArticulationAction(joint_positions=self._row(positions, "positions"), joint_indices=joint_indices))
 
-    def set_joint_velocity_targets(self, velocities, indices=None, joint_indices=None) -> None:
+    def set_joint_velocity_targets(self, velocities, indices=None, joint_indices=None, joint_names=None) -> None:
         """Drive velocity targets (1, K) [rad/s or m/s] (NaN keeps a joint's target)."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         self._c("set_joint_velocity_targets").apply_action(
             ArticulationAction(joint_velocities=self._row(velocities, "velocities"), joint_indices=joint_indices))
 
-    def set_joint_efforts(self, efforts, indices=None, joint_indices=None) -> None:
+    def set_joint_efforts(self, efforts, indices=None, joint_indices=None, joint_names=None) -> None:
         """Joint efforts (1, K) [N m or N] added to the drives (persist until changed)."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         c = self._c("set_joint_efforts")
         idx = c.indices(joint_indices)
@@ -319,13 +351,17 @@ class ArticulationView:
         c.efforts[idx] = e
         c.write_targets()
 
-    def get_applied_joint_efforts(self, indices=None, joint_indices=None, clone: bool = True) -> np.ndarray:
+    def get_applied_joint_efforts(self, indices=None, joint_indices=None, joint_names=None,
+                                  clone: bool = True) -> np.ndarray:
         """(1, K) drive force plus applied effort per joint [N m or N], last physics substep."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         return self._c("get_applied_joint_efforts").joint_forces(joint_indices, constraint=False)[None, :]
 
-    def get_measured_joint_efforts(self, indices=None, joint_indices=None, clone: bool = True) -> np.ndarray:
+    def get_measured_joint_efforts(self, indices=None, joint_indices=None, joint_names=None,
+                                   clone: bool = True) -> np.ndarray:
         """(1, K) total generalized force per joint, constraints (limits, contacts) included."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         return self._c("get_measured_joint_efforts").joint_forces(joint_indices, constraint=True)[None, :]
 
@@ -341,8 +377,9 @@ class ArticulationView:
         controller.initialize(self._articulation)
         return controller
 
-    def switch_control_mode(self, mode: str, indices=None, joint_indices=None) -> None:
+    def switch_control_mode(self, mode: str, indices=None, joint_indices=None, joint_names=None) -> None:
         """Drives to "position", "velocity" or "effort" (as `ArticulationController.switch_control_mode`)."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         self._controller("switch_control_mode").switch_control_mode(mode, joint_indices)
 
@@ -433,13 +470,17 @@ class ArticulationView:
     def get_mass_matrix_shape(self) -> tuple[int, int]:
         return dyn.mass_matrix(self._c("get_mass_matrix_shape")).shape
 
-    def get_generalized_gravity_forces(self, indices=None, joint_indices=None, clone: bool = True) -> np.ndarray:
+    def get_generalized_gravity_forces(self, indices=None, joint_indices=None, joint_names=None,
+                                       clone: bool = True) -> np.ndarray:
         """(1, n) generalized forces holding the articulation against gravity [N m or N]."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         return dyn.gravity_forces(self._c("get_generalized_gravity_forces"))[None]
 
-    def get_coriolis_and_centrifugal_forces(self, indices=None, joint_indices=None, clone: bool = True) -> np.ndarray:
+    def get_coriolis_and_centrifugal_forces(self, indices=None, joint_indices=None, joint_names=None,
+                                            clone: bool = True) -> np.ndarray:
         """(1, n) Coriolis and centrifugal generalized forces [N m or N]."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         return dyn.coriolis_and_centrifugal_forces(self._c("get_coriolis_and_centrifugal_forces"))[None]
 

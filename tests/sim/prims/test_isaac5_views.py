@@ -78,3 +78,26 @@ def test_a_geometry_prim_view_says_what_to_use():
     _cubes(world, 2)
     with pytest.raises(NotImplementedError, match="XFormPrim\\(prim_paths_expr"):
         GeometryPrim(prim_paths_expr="/World/Cube_.*")
+
+
+def test_an_isaac5_articulation_view_addresses_joints_by_name():
+    """Isaac 5's views take `joint_names=` besides `joint_indices=` (it raised TypeError)."""
+    from manip.errors import InvalidInputError, UnknownNameError
+
+    world = World()
+    world.scene.add_default_ground_plane()
+    franka = world.scene.add(Franka("/World/Franka", name="franka"))
+    arm = world.scene.add(Articulation(prim_paths_expr="/World/Franka", name="arm"))
+    world.reset()
+    q = franka.get_joint_positions()
+    arm.set_joint_position_targets(np.array([[q[0] + 0.3, q[3] - 0.2]]), joint_names=["panda_joint1", "panda_joint4"])
+    for _ in range(90):
+        world.step(render=False)
+    np.testing.assert_allclose(arm.get_joint_positions(joint_names=["panda_joint1", "panda_joint4"]),
+                               [[q[0] + 0.3, q[3] - 0.2]], atol=5e-3)
+    kps, _ = arm.get_gains(joint_names="panda_finger_joint1")
+    assert kps.shape == (1, 1) and kps[0, 0] == franka.get_articulation_controller().get_gains()[0][7]
+    with pytest.raises(UnknownNameError, match="panda_joint1"):
+        arm.get_joint_positions(joint_names=["elbow_joint"])
+    with pytest.raises(InvalidInputError, match="not both"):
+        arm.get_joint_positions(joint_indices=[0], joint_names=["panda_joint1"])
