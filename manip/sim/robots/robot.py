@@ -195,7 +195,8 @@ class Franka(SingleManipulator):
     `end_effector` is the tool centre point between the fingertips (`panda_hand_tcp`, 0.1034 m
     beyond the hand flange) by default; Isaac uses the right finger body, a poor grasp
     reference. Pass `end_effector_prim_name="panda_hand"` for the flange frame the motion
-    generator plans for.
+    generator plans for. `PickPlaceController` and `RMPFlowController` place the tool centre at
+    their targets whatever `end_effector` is (as Isaac's place "right_gripper").
 
     Args:
         prim_path: e.g. "/World/Franka".
