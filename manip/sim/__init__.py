@@ -86,6 +86,7 @@ from manip.sim.utils.rotations import (
     xyzw2wxyz,
 )
 from manip.sim.scenes.scene import CollisionObject, Scene
+from manip.sim.core.physics_context import PhysicsContext
 from manip.sim.core.simulation_context import SimulationContext, SimulationInstabilityError, SimulationWarning
 from manip.sim.scenes.stage import (
     SimulationError,
@@ -112,6 +113,8 @@ from manip.sim.utils.prims import (
     save_stage,
 )
 from manip.sim.core.world import World, clear_stage
+from manip.sim.utils.extensions import disable_extension, enable_extension
+from manip.sim.utils.viewports import set_camera_view
 
 SingleXFormPrim = XFormPrim
 SingleRigidPrim = RigidPrim
@@ -140,6 +143,7 @@ from manip.sim.motion_generation import (
     ArticulationKinematicsSolver,
     ArticulationMotionPolicy,
     ArticulationSubset,
+    KinematicsSolver,
     LulaKinematicsSolver,
     MotionPolicyController,
     RmpFlow,
@@ -155,8 +159,8 @@ __all__ = [
     "DifferentialController", "DynamicCapsule", "DynamicCone", "DynamicCuboid", "DynamicCylinder", "DynamicSphere",
     "DynamicState", "DynamicsViewState", "FixedCapsule", "FixedCone", "FixedCuboid", "FixedCylinder",
     "FixedSphere", "FollowTarget", "Franka", "GeometryPrim", "GroundPlane", "HelloWorld", "HelloWorldExtension",
-    "ISAAC_ASSETS", "JointsState", "LulaKinematicsSolver", "MotionPolicyController", "OffscreenRenderingError", "OmniGlass", "OmniPBR",
-    "ParallelGripper",
+    "ISAAC_ASSETS", "JointsState", "KinematicsSolver", "LulaKinematicsSolver", "MotionPolicyController", "OffscreenRenderingError", "OmniGlass", "OmniPBR",
+    "ParallelGripper", "PhysicsContext",
     "PhysicsMaterial", "PickPlace", "PickPlaceController", "PreviewSurface", "RMPFlowController", "RigidPrim",
     "RigidPrimView", "RmpFlow", "Robot", "Scene", "SimulationApp", "SimulationContext", "SimulationError",
     "SimulationInstabilityError", "SimulationWarning", "SingleArticulation", "SingleGeometryPrim",
@@ -165,11 +169,12 @@ __all__ = [
     "VisualCylinder", "VisualMaterial", "VisualSphere", "WheelBasePoseController", "WheeledRobot", "World",
     "XFormPrim", "XFormPrimState", "XFormPrimView", "XFormPrimViewState", "add_reference_to_stage",
     "available_assets", "carb", "clear_stage", "create_new_stage", "create_new_stage_async", "create_prim",
-    "delete_prim", "euler_angles_to_quat", "euler_angles_to_rot_matrix", "euler_to_rot_matrix",
+    "delete_prim", "disable_extension", "enable_extension", "euler_angles_to_quat", "euler_angles_to_rot_matrix", "euler_to_rot_matrix",
     "find_matching_prim_paths", "find_unique_string_name", "franka_model_path", "get_assets_root_path",
     "get_current_stage", "get_extension_path_from_name", "get_prim_at_path", "get_stage_units", "gf_quat_to_np_array", "is_prim_path_valid",
     "is_stage_loading", "jetbot_model_path", "open_stage", "quat_to_euler_angles", "quat_to_rot_matrix",
     "resolve_asset_path", "robot_model_path", "rot_matrix_to_euler_angles", "rot_matrix_to_quat", "save_stage",
+    "set_camera_view",
     "update_stage", "update_stage_async",
     # isaacsim.core.utils.numpy.rotations (batched)
     "deg2rad", "euler_angles_to_quats", "quats_to_euler_angles", "quats_to_rot_matrices", "quats_to_rotvecs",

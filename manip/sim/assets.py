@@ -7,8 +7,10 @@ tutorials onto the MuJoCo models there (`ISAAC_ASSETS`). Any other path must be 
 MJCF (.xml) or URDF file.
 
 Differences from Isaac (no USD): `franka.usd`, `franka_alt_fingers.usd` and Isaac 5's
-`FrankaRobotics/FrankaPanda/franka.usd` (whatever its variants) are the same model here (manip's Franka, box finger pads); the Jetbot is manip's own two-wheel robot
-with the dimensions of NVIDIA's (wheel radius 0.03 m, wheel base 0.1125 m, same joint names).
+`FrankaRobotics/FrankaPanda/franka.usd` (whatever its variants) are the same model here
+(manip's Franka, box finger pads); the Jetbot (`Jetbot/jetbot.usd`, Isaac 5's
+`NVIDIA/Jetbot/jetbot.usd`) is manip's own two-wheel robot with the dimensions of NVIDIA's
+(wheel radius 0.03 m, wheel base 0.1125 m, same joint names).
 """
 
 from __future__ import annotations
@@ -22,8 +24,9 @@ ISAAC_ASSETS: dict[str, str] = {
     "Isaac/Robots/Jetbot/jetbot.usd": "jetbot/jetbot.xml",
     "Isaac/Robots/Franka/franka.usd": "franka/franka.xml",
     "Isaac/Robots/Franka/franka_alt_fingers.usd": "franka/franka.xml",
-    # Isaac Sim 5.x moved the Franka (its finger variants are USD variant sets there)
+    # Isaac Sim 5.x moved the Franka (its finger variants are USD variant sets there) and the Jetbot
     "Isaac/Robots/FrankaRobotics/FrankaPanda/franka.usd": "franka/franka.xml",
+    "Isaac/Robots/NVIDIA/Jetbot/jetbot.usd": "jetbot/jetbot.xml",
 }
 
 MODEL_SUFFIXES = (".xml", ".mjcf", ".urdf")

@@ -54,7 +54,8 @@ _ARTICULATION = (
     "set_stabilization_threshold", "get_world_pose", "set_world_pose", "get_local_pose", "set_local_pose",
     "handles_initialized", "initialize", "num_bodies", "num_dof", "post_reset", "set_angular_velocity",
     "set_linear_velocity", "set_joint_efforts", "set_joint_positions", "set_joint_velocities",
-    "set_joints_default_state", "get_default_state", "set_default_state", "name", "prim_path", "is_valid")
+    "set_joints_default_state", "get_default_state", "set_default_state", "name", "prim_path", "is_valid",
+    "get_world_velocity", "set_world_velocity")
 _WORLD_INTERFACE = ("update_world", "add_obstacle", "add_cuboid", "add_sphere", "add_capsule", "add_cylinder",
                     "add_cone", "add_ground_plane", "disable_obstacle", "enable_obstacle", "remove_obstacle", "reset")
 
@@ -67,6 +68,50 @@ ISAAC_API: dict[str, tuple[str, tuple[str, ...]]] = {
         "scene", "add_task", "get_task", "get_current_tasks", "get_observations", "calculate_metrics", "is_done",
         "is_tasks_scene_built", "reset_async_set_up_scene", "reset_async_no_set_up_scene", "step_async", "clear",
         "get_data_logger")),
+    "PhysicsContext": ("omni.isaac.core.physics_context.PhysicsContext", (
+        "prim_path", "device", "use_gpu_sim", "use_gpu_pipeline", "use_fabric", "get_current_physics_scene_prim",
+        "warm_start", "set_physics_dt", "get_physics_dt", "enable_fabric", "enable_ccd", "is_ccd_enabled",
+        "enable_stablization", "is_stablization_enabled", "enable_gpu_dynamics", "is_gpu_dynamics_enabled",
+        "set_broadphase_type", "get_broadphase_type", "set_solver_type", "get_solver_type", "set_gravity",
+        "get_gravity", "set_physx_update_transformations_settings", "get_physx_update_transformations_settings",
+        "set_invert_collision_group_filter", "get_invert_collision_group_filter", "set_bounce_threshold",
+        "get_bounce_threshold", "set_friction_offset_threshold", "get_friction_offset_threshold",
+        "set_friction_correlation_distance", "get_friction_correlation_distance", "set_enable_scene_query_support",
+        "get_enable_scene_query_support", "set_gpu_max_rigid_contact_count", "get_gpu_max_rigid_contact_count",
+        "set_gpu_max_rigid_patch_count", "get_gpu_max_rigid_patch_count", "set_gpu_found_lost_pairs_capacity",
+        "get_gpu_found_lost_pairs_capacity", "set_gpu_found_lost_aggregate_pairs_capacity",
+        "get_gpu_found_lost_aggregate_pairs_capacity", "set_gpu_total_aggregate_pairs_capacity",
+        "get_gpu_total_aggregate_pairs_capacity", "set_gpu_max_soft_body_contacts", "get_gpu_max_soft_body_contacts",
+        "set_gpu_max_particle_contacts", "get_gpu_max_particle_contacts", "set_gpu_heap_capacity",
+        "get_gpu_heap_capacity", "set_gpu_temp_buffer_capacity", "get_gpu_temp_buffer_capacity",
+        "set_gpu_max_num_partitions", "get_gpu_max_num_partitions", "set_gpu_collision_stack_size",
+        "get_gpu_collision_stack_size", "enable_stabilization", "set_solve_articulation_contact_last",
+        "get_solve_articulation_contact_last")),
+    "Camera": ("omni.isaac.sensor.Camera", (
+        "distort_point_rational_polynomial", "distort_point_kannala_brandt2", "supported_annotators",
+        "get_render_product_path", "set_frequency", "get_frequency", "set_dt", "get_dt", "get_current_frame",
+        "initialize", "post_reset", "resume", "pause", "is_paused", "set_resolution", "get_resolution",
+        "get_aspect_ratio", "get_world_pose", "set_world_pose", "get_local_pose", "set_local_pose",
+        "add_normals_to_frame", "remove_normals_from_frame", "add_motion_vectors_to_frame",
+        "remove_motion_vectors_from_frame", "add_occlusion_to_frame", "remove_occlusion_from_frame",
+        "add_distance_to_image_plane_to_frame", "remove_distance_to_image_plane_from_frame",
+        "add_distance_to_camera_to_frame", "remove_distance_to_camera_from_frame",
+        "add_bounding_box_2d_tight_to_frame", "remove_bounding_box_2d_tight_from_frame",
+        "add_bounding_box_2d_loose_to_frame", "remove_bounding_box_2d_loose_from_frame",
+        "add_bounding_box_3d_to_frame", "remove_bounding_box_3d_from_frame", "add_semantic_segmentation_to_frame",
+        "remove_semantic_segmentation_from_frame", "add_instance_id_segmentation_to_frame",
+        "remove_instance_id_segmentation_from_frame", "add_instance_segmentation_to_frame",
+        "remove_instance_segmentation_from_frame", "add_pointcloud_to_frame", "remove_pointcloud_from_frame",
+        "get_rgba", "get_rgb", "get_depth", "get_pointcloud", "get_focal_length", "set_focal_length",
+        "get_focus_distance", "set_focus_distance", "get_lens_aperture", "set_lens_aperture",
+        "get_horizontal_aperture", "set_horizontal_aperture", "get_vertical_aperture", "set_vertical_aperture",
+        "get_clipping_range", "set_clipping_range", "get_projection_type", "set_projection_type",
+        "get_projection_mode", "set_projection_mode", "get_stereo_role", "set_stereo_role",
+        "set_fisheye_polynomial_properties", "set_matching_fisheye_polynomial_properties",
+        "set_rational_polynomial_properties", "set_kannala_brandt_properties", "get_fisheye_polynomial_properties",
+        "set_shutter_properties", "get_shutter_properties", "get_view_matrix_ros", "get_intrinsics_matrix",
+        "get_image_coords_from_world_points", "get_world_points_from_image_coords", "get_horizontal_fov",
+        "get_vertical_fov")),
     "Scene": ("omni.isaac.core.scenes.Scene", (
         "add", "add_default_ground_plane", "add_ground_plane", "clear", "compute_object_AABB",
         "enable_bounding_boxes_computations", "disable_bounding_boxes_computations", "get_object", "object_exists",
@@ -153,6 +198,24 @@ ISAAC_API: dict[str, tuple[str, tuple[str, ...]]] = {
 
 #: Isaac members manip.sim cannot provide: calling one raises NotImplementedError with the reason.
 NOT_SUPPORTED: dict[str, dict[str, str]] = {
+    "Camera": {
+        **{name: "MuJoCo renders pinhole cameras only (no lens distortion models)" for name in (
+            "distort_point_rational_polynomial", "distort_point_kannala_brandt2", "set_fisheye_polynomial_properties",
+            "set_matching_fisheye_polynomial_properties", "set_rational_polynomial_properties",
+            "set_kannala_brandt_properties", "get_fisheye_polynomial_properties")},
+        **{f"{verb}_{annotator}_{where}_frame": "no semantic labels or instance ids in manip: use get_depth, "
+           "get_pointcloud, get_rgba" for verb, where in (("add", "to"), ("remove", "from")) for annotator in (
+               "occlusion", "bounding_box_2d_tight", "bounding_box_2d_loose", "bounding_box_3d",
+               "semantic_segmentation", "instance_id_segmentation", "instance_segmentation")},
+        "set_shutter_properties": "rendering is instantaneous (no rolling shutter)",
+        "get_shutter_properties": "rendering is instantaneous (no rolling shutter)",
+        "get_render_product_path": "there are no Replicator render products: every getter renders the current state",
+    },
+    "PhysicsContext": {
+        "get_current_physics_scene_prim": "there is no USD physics scene prim: the solver options are World.model.opt",
+        "set_physx_update_transformations_settings": "there is no USD/Fabric write-back: poses are read from MuJoCo",
+        "get_physx_update_transformations_settings": "there is no USD/Fabric write-back: poses are read from MuJoCo",
+    },
     "SimulationApp": {
         "reset_render_settings": "manip has no RTX renderer settings",
         "run_coroutine": "there is no Kit event loop: use asyncio.run(...), or asyncio.ensure_future, run at the "
@@ -160,17 +223,11 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
         "context": "there is no Kit USD context (manip has no USD)",
     },
     "SimulationContext": {
-        "get_physics_context": "there is no PhysX scene: the solver options are MuJoCo's (World.model.opt)",
         "get_block_on_render": "rendering is synchronous here",
         "set_block_on_render": "rendering is synchronous here",
         "app": "there is no Kit app object (use manip.sim.SimulationApp)",
         "backend": "one backend: NumPy on the CPU",
         "device": "one device: the CPU",
-        "get_data_logger": "no DataLogger: record states in a physics callback",
-    },
-    "Scene": {
-        "enable_bounding_boxes_computations": "compute_object_AABB computes bounds on demand, no cache to enable",
-        "disable_bounding_boxes_computations": "compute_object_AABB computes bounds on demand, no cache to disable",
     },
     "XFormPrim": {
         "prim": "there is no USD prim (manip has no USD): use prim_path",
@@ -232,27 +289,19 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
     },
     "Robot": {"get_sensors": "sensors are not attached to robots here (cameras: manip.sim sensors)"},
     "ArticulationView": {
-        "get_applied_actions": "use the articulation's get_applied_action()",
         "get_measured_joint_forces": "PhysX joint-frame 6-D forces: use get_measured_joint_efforts",
         "get_body_coms": "read World.model.body_ipos (MuJoCo) for the bodies",
         "get_body_inertias": "read World.model.body_inertia (MuJoCo) for the bodies",
         "get_effort_modes": "effort limits are always force limits here",
         "get_enabled_self_collisions": "self-collisions are the model's (MJCF contype/conaffinity, excludes)",
         "get_friction_coefficients": "joint friction is the model's (MJCF frictionloss)",
-        "get_joints_default_state": "use the articulation's get_joints_default_state()",
-        "set_joints_default_state": "use the articulation's set_joints_default_state()",
-        "set_world_poses": "move the articulation with set_world_pose",
-        "set_max_efforts": "use the articulation controller's set_max_efforts",
         "set_velocities": "a fixed base has no root velocity; set the joints' velocities",
-        "switch_dof_control_mode": "use switch_control_mode(mode, joint_indices=[i])",
     },
     "ArticulationController": {
         "get_effort_modes": "effort limits are always force limits here",
         "set_effort_modes": "effort limits are always force limits here",
     },
     "ParallelGripper": {
-        "get_action_deltas": "the deltas are set at construction (action_deltas=...)",
-        "set_action_deltas": "the deltas are set at construction (action_deltas=...)",
         "is_closed": "compare get_joint_positions() with joint_closed_positions",
     },
     "PickPlaceController": {},
@@ -270,6 +319,17 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
 
 #: Members implemented with a difference a script may notice.
 DIFFERS: dict[str, dict[str, str]] = {
+    "PhysicsContext": {name: "checked and kept for its getter; changes nothing (a PhysX setting MuJoCo lacks)"
+                       for name in ("enable_ccd", "enable_stablization", "enable_stabilization",
+                                    "set_solve_articulation_contact_last", "enable_gpu_dynamics", "enable_fabric",
+                                    "set_broadphase_type", "set_solver_type", "set_bounce_threshold",
+                                    "set_friction_offset_threshold", "set_friction_correlation_distance",
+                                    "set_enable_scene_query_support", "set_invert_collision_group_filter")
+                       + tuple(f"set_gpu_{n}" for n in (
+                           "max_rigid_contact_count", "max_rigid_patch_count", "found_lost_pairs_capacity",
+                           "found_lost_aggregate_pairs_capacity", "total_aggregate_pairs_capacity",
+                           "max_soft_body_contacts", "max_particle_contacts", "heap_capacity", "temp_buffer_capacity",
+                           "max_num_partitions", "collision_stack_size"))},
     "SimulationApp": {"update": "steps physics only while a World plays, without the tasks' pre_step (as Kit)"},
     "GeometryPrim": {"apply_physics_material": "combined frictions with other surfaces apply from the next reset"},
     "RigidPrimView": {"get_net_contact_forces": "contact impulses over the step / dt, as Isaac; MuJoCo's soft "
@@ -279,6 +339,11 @@ DIFFERS: dict[str, dict[str, str]] = {
                      "disable_gravity": "each body's weight cancelled at its centre of mass (was a no-op: MuJoCo's "
                                         "gravcomp needs bodies compiled with it)"},
     "ArticulationView": {"get_jacobians": "MuJoCo's body-origin Jacobians in Isaac's layout"},
+    "Camera": {"set_focus_distance": "kept, not rendered (no depth of field)",
+               "set_lens_aperture": "kept, not rendered (no depth of field)",
+               "set_stereo_role": "kept; the images are the same"},
+    "Scene": {"disable_bounding_boxes_computations": "compute_object_AABB keeps working (bounds are computed on "
+                                                      "demand; Isaac raises until they are enabled again)"},
     "PreviewSurface": {"set_roughness": "kept, not rendered (MuJoCo has no MDL shaders)",
                        "set_metallic": "kept, not rendered (MuJoCo has no MDL shaders)"},
     "OmniPBR": {"set_texture": "kept, not rendered (MuJoCo has no MDL shaders)"},
@@ -298,6 +363,8 @@ ISAAC_FUNCTIONS: dict[str, tuple[str, ...]] = {
                                         "gf_quat_to_np_array"),
     "omni.isaac.core.utils.nucleus": ("get_assets_root_path",),
     "omni.isaac.core.utils.string": ("find_unique_string_name",),
+    "omni.isaac.core.utils.viewports": ("set_camera_view",),
+    "omni.isaac.core.utils.extensions": ("enable_extension", "disable_extension", "get_extension_path_from_name"),
     "omni.isaac.motion_generation.interface_config_loader": (
         "get_supported_robot_policy_pairs", "load_supported_motion_policy_config",
         "get_supported_robots_with_lula_kinematics", "load_supported_lula_kinematics_solver_config"),
@@ -313,6 +380,5 @@ ISAAC_MODULES: dict[str, str] = {
 FUNCTIONS_NOT_SUPPORTED: dict[str, str] = {
     "open_stage": "manip has no USD: reference MJCF/URDF files with add_reference_to_stage",
     "save_stage": "manip has no USD: World.model (MuJoCo) can be saved with mujoco.mj_saveLastXML",
-    "create_prim": "manip has no USD prims: create objects (VisualCuboid, FixedCuboid, ...) or reference a model",
     "gf_quat_to_np_array": "manip has no USD Gf types: quaternions are NumPy arrays (w, x, y, z) already",
 }

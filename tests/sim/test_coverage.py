@@ -51,6 +51,7 @@ def _objects() -> dict:
     policy = sim.ArticulationMotionPolicy(franka, rmpflow)
     objs.update({
         "SimulationApp": app, "SimulationContext": world, "World": world, "Scene": world.scene,
+        "PhysicsContext": world.get_physics_context(), "Camera": sim.Camera("/World/camera", resolution=(64, 48)),
         "XFormPrim": sim.XFormPrim("/World/target", name="target"),
         "GeometryPrim": sim.GeometryPrim("/World/cube", name="cube_geometry"),
         "RigidPrim": sim.RigidPrim("/World/Franka/panda_hand", name="hand"),

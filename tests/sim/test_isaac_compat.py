@@ -164,7 +164,8 @@ def test_a_robot_wrapped_after_a_reset_is_initialised_by_the_next_reset():
 
 @pytest.mark.parametrize("asset, dof", [("/Isaac/Robots/Jetbot/jetbot.usd", 2), (FRANKA_USD, 9),
                                         ("/Isaac/Robots/Franka/franka_alt_fingers.usd", 9),
-                                        ("/Isaac/Robots/FrankaRobotics/FrankaPanda/franka.usd", 9)])
+                                        ("/Isaac/Robots/FrankaRobotics/FrankaPanda/franka.usd", 9),
+                                        ("/Isaac/Robots/NVIDIA/Jetbot/jetbot.usd", 2)])  # Isaac 5's Jetbot
 def test_isaac_asset_paths_resolve_to_the_bundled_models(asset, dof):
     world = World()
     add_reference_to_stage(usd_path=get_assets_root_path() + asset, prim_path="/World/Robot")

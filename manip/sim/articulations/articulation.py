@@ -56,6 +56,7 @@ from manip.sim.utils.types import DefaultPoseMixin, JointsState, XFormPrimState,
 from manip.validation import unit_quat
 from manip.sim.utils.bounds import bounded_vec
 from manip.sim.utils.not_supported import declare as declare_not_supported
+from manip.sim.prims import isaac5_views
 
 logger = logging.getLogger(__name__)
 
@@ -75,6 +76,11 @@ class Articulation(DefaultPoseMixin):
         SimulationError: nothing is referenced at `prim_path`.
     """
 
+    def __new__(cls, *args, **kwargs):
+        # Isaac 5's `Articulation(prim_paths_expr=...)` is a view (4.x's ArticulationView).
+        view = isaac5_views.view_call(cls, args, kwargs)
+        return view if view is not None else super().__new__(cls)
+
     def __init__(
         self,
         prim_path: str,
@@ -86,6 +92,7 @@ class Articulation(DefaultPoseMixin):
         visible: bool | None = None,
         articulation_controller: ArticulationController | None = None,
         enable_residual_reports: bool = False,
+        reset_xform_properties: bool = True,
     ):
         validate_prim_path(prim_path)
         stage = get_current_stage()
@@ -97,12 +104,15 @@ class Articulation(DefaultPoseMixin):
                 f"(referenced prims: {refs})"
             )
         p = position_or_translation(position, translation)
-        if p is not None:
-            ref.position = bounded_vec(p, "position", "position")
-        if orientation is not None:
-            ref.orientation = unit_quat(orientation)
+        # Checked before the model's pose changes: a rejected call leaves the model as it was.
+        p = bounded_vec(p, "position", "position") if p is not None else None
+        q = unit_quat(orientation) if orientation is not None else None
         if scale is not None and not np.allclose(np.asarray(scale, dtype=float), 1.0):
             raise InvalidInputError("scaling an articulation is not supported (scale must be 1)")
+        if p is not None:
+            ref.position = p
+        if q is not None:
+            ref.orientation = q
         self.prim_path = prim_path
         self._name = name
         self._ref = ref
@@ -372,18 +382,7 @@ class Articulation(DefaultPoseMixin):
             self._ref.position, self._ref.orientation = p.copy(), q.copy()
             get_current_stage().mark_changed(self.prim_path)
             return
-        R = quat.to_matrix(q)
-        m, d = c.sim.model, c.sim.data
-        for k, b in enumerate(c.root_ids):
-            lp, lq = c.root_local[k]
-            bp, bq = p + R @ lp, quat.multiply(q, lq)
-            if k == 0 and c.free_qadr >= 0:
-                d.qpos[c.free_qadr:c.free_qadr + 3] = bp
-                d.qpos[c.free_qadr + 3:c.free_qadr + 7] = bq
-            else:
-                m.body_pos[b] = bp
-                m.body_quat[b] = bq
-        c.sim.mark_stale()
+        c.set_root_pose(p, q)
 
     def get_local_pose(self):
         return self.get_world_pose()
@@ -432,6 +431,24 @@ class Articulation(DefaultPoseMixin):
         c = self._floating("set_angular_velocity")
         c.sim.set_free_angular_velocity(c.free_qadr, c.free_dadr, bounded_vec(velocity, "angular", "angular velocity"))
         c.sim.mark_stale()
+
+    def get_world_velocity(self) -> np.ndarray | None:
+        """Root velocity (6,): linear [m/s] then angular [rad/s], world frame (zeros for a fixed base)."""
+        lin = self.get_linear_velocity()
+        return None if lin is None else np.concatenate([lin, self.get_angular_velocity()])
+
+    def set_world_velocity(self, velocity) -> None:
+        """Set a floating base's root velocity (6,): linear [m/s] then angular [rad/s], world frame.
+
+        Raises:
+            InvalidInputError: not 6 values. SimulationError: a fixed base.
+        """
+        v = np.asarray(velocity, dtype=float).ravel() if not isinstance(velocity, str) else np.zeros(0)
+        if v.size != 6:
+            raise InvalidInputError(f"velocity must be 6 values (linear [m/s], angular [rad/s]); got {velocity!r}")
+        self._floating("set_world_velocity")
+        self.set_linear_velocity(v[:3])
+        self.set_angular_velocity(v[3:])
 
     def _floating(self, what: str) -> ArticulationCore:
         c = self._cs(what)
@@ -493,6 +510,7 @@ class Robot(Articulation):
 
 
 SingleArticulation = Articulation
+isaac5_views.register(Articulation, ArticulationView)
 
 
 declare_not_supported(Articulation)

@@ -331,6 +331,22 @@ class ArticulationCore:
         self.pos_target, self.vel_target, self.efforts = pos, vel, eff
         self.write_targets()
 
+    def set_root_pose(self, position: np.ndarray, orientation: np.ndarray) -> None:
+        """Teleport the model's frame to `position` (3,) [m], `orientation` (4,) (w, x, y, z)
+        (validated by the caller); a fixed base moves with it."""
+        R = quat.to_matrix(orientation)
+        m, d = self.sim.model, self.sim.data
+        for k, b in enumerate(self.root_ids):
+            lp, lq = self.root_local[k]
+            bp, bq = position + R @ lp, quat.multiply(orientation, lq)
+            if k == 0 and self.free_qadr >= 0:
+                d.qpos[self.free_qadr:self.free_qadr + 3] = bp
+                d.qpos[self.free_qadr + 3:self.free_qadr + 7] = bq
+            else:
+                m.body_pos[b] = bp
+                m.body_quat[b] = bq
+        self.sim.mark_stale()
+
     def onto_limits(self, positions: np.ndarray, idx: np.ndarray, what: str) -> np.ndarray:
         """`positions` (K,) of joints `idx` (K,) put inside the joint limits, with a warning
         naming the joints moved by more than LIMIT_TOLERANCE (for default states, which a

@@ -22,14 +22,16 @@ from typing import Protocol
 import numpy as np
 
 from manip.articulation_action import ArticulationAction
-from manip.errors import InvalidInputError
+from manip.errors import InvalidInputError, UnknownNameError
 from manip.sim.articulations import articulation_dynamics as dyn
-from manip.sim.articulations.articulation_core import MAX_EFFORT, ArticulationCore
+from manip.sim.articulations.articulation_core import MAX_EFFORT, MAX_POSITION, MAX_VELOCITY, ArticulationCore
 from manip.sim.controllers.articulation_controller import ArticulationController
-from manip.sim.utils.types import JointsState
+from manip.sim.utils.types import ArticulationViewActions, JointsState
 from manip.sim.utils.not_supported import declare as declare_not_supported
 from manip.sim.scenes.stage import ReferencePrim, SimulationError, get_current_stage
 from manip.sim.prims.views import compile_path_expression, path_matches
+from manip.sim.utils.bounds import bounded_vec
+from manip.validation import unit_quat
 
 
 class ViewedArticulation(Protocol):
@@ -97,6 +99,7 @@ class ArticulationView:
         else:
             self._articulation = prim_paths_expr
         self._name = name
+        self._default_joints: dict[str, np.ndarray] = {}  # set_joints_default_state's, applied by post_reset
 
     @property
     def name(self) -> str:
@@ -114,6 +117,22 @@ class ArticulationView:
         if c is None:
             raise SimulationError(f"articulation view {self.prim_paths[0]!r}: {what} before world.reset()")
         return c
+
+    def _named_joints(self, joint_indices, joint_names):
+        """`joint_indices`, or (Isaac 5) the indices of `joint_names`; not both.
+
+        Raises:
+            InvalidInputError: both given. UnknownNameError: an unknown joint name (the message lists them).
+        """
+        if joint_names is None:
+            return joint_indices
+        if joint_indices is not None:
+            raise InvalidInputError("give joint_indices or joint_names, not both")
+        names = self.dof_names
+        missing = [n for n in ([joint_names] if isinstance(joint_names, str) else joint_names) if n not in names]
+        if missing:
+            raise UnknownNameError("joint", str(missing[0]), names)
+        return [names.index(n) for n in ([joint_names] if isinstance(joint_names, str) else joint_names)]
 
     @staticmethod
     def _check_indices(indices) -> None:
@@ -158,25 +177,71 @@ class ArticulationView:
         return names.index(dof_name)
 
     def post_reset(self) -> None:
-        """Nothing to do: the articulation restores its default state at `World.reset()`."""
+        """Apply the view's joint default state (`set_joints_default_state`), if it has one, over
+        the articulation's own (the World's reset calls it after the single objects', as Isaac's
+        scene does, when the view is in the scene); else nothing: the articulation restores its
+        own default state."""
+        if not self._default_joints or self._articulation.core is None:
+            return
+        c = self._articulation.core
+        pos = self._default_joints.get("positions")
+        if pos is not None:
+            c.teleport(pos)
+        if "velocities" in self._default_joints:
+            c.set_velocities(self._default_joints["velocities"])
+        if "efforts" in self._default_joints:
+            self.set_joint_efforts(self._default_joints["efforts"])
+
+    def set_joints_default_state(self, positions=None, velocities=None, efforts=None) -> None:
+        """The joint state (1, num_dof) or (num_dof,) each (None keeps a part) the view's
+        `post_reset` restores at every `World.reset()` (as Isaac's view: add the view to the
+        scene). Positions [rad or m] become the drive targets; velocities [rad/s or m/s];
+        efforts [N m or N] applied until changed.
+
+        Raises:
+            InvalidInputError: a wrong length, NaN, or magnitudes beyond physical bounds.
+        """
+        c = self._c("set_joints_default_state")
+        idx = np.arange(c.n)
+        for what, v, limit in (("positions", positions, MAX_POSITION), ("velocities", velocities, MAX_VELOCITY),
+                               ("efforts", efforts, MAX_EFFORT)):
+            if v is not None:
+                self._default_joints[what] = c.values(self._row(v, what), idx, what, limit=limit).copy()
+
+    def get_joints_default_state(self) -> JointsState:
+        """The view's joint default state, (1, num_dof) each; the articulation's own where the view
+        sets none (what `World.reset()` restores)."""
+        c = self._c("get_joints_default_state")
+        own = {"positions": c.home, "velocities": np.zeros(c.n), "efforts": np.zeros(c.n)}
+        wrapper = next((w for w in get_current_stage().wrappers()
+                        if getattr(w, "core", None) is c and hasattr(w, "get_joints_default_state")), None)
+        if wrapper is not None and wrapper.get_joints_default_state() is not None:
+            s = wrapper.get_joints_default_state()
+            own = {"positions": s.positions, "velocities": s.velocities, "efforts": s.efforts}
+        rows = {k: np.array(self._default_joints.get(k, v), dtype=float)[None, :] for k, v in own.items()}
+        return JointsState(rows["positions"], rows["velocities"], rows["efforts"])
 
     def is_physics_handle_valid(self) -> bool:
         return self._articulation.core is not None
 
     # ------------------------------------------------------------------ drives
-    def get_gains(self, indices=None, joint_indices=None, clone: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    def get_gains(self, indices=None, joint_indices=None, joint_names=None,
+                  clone: bool = True) -> tuple[np.ndarray, np.ndarray]:
         """Drive stiffness and damping: (kps (1, K), kds (1, K)) for the joints `joint_indices` (all for None)."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         c = self._c("get_gains")
         idx = c.indices(joint_indices)
         return c.kps[idx][None, :].copy(), c.kds[idx][None, :].copy()
 
-    def set_gains(self, kps=None, kds=None, indices=None, joint_indices=None, save_to_usd: bool = False) -> None:
+    def set_gains(self, kps=None, kds=None, indices=None, joint_indices=None, joint_names=None,
+                  save_to_usd: bool = False) -> None:
         """Set drive stiffness `kps` and damping `kds`, (1, K) or (K,) each, of `joint_indices` (all for None).
 
         Raises:
             InvalidInputError: wrong shape, a negative or non-finite gain.
         """
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         c = self._c("set_gains")
         idx = c.indices(joint_indices)
@@ -191,8 +256,16 @@ class ArticulationView:
         c.kps, c.kds = new_kp, new_kd
         c.write_gains()
 
-    def get_max_efforts(self, indices=None, joint_indices=None, clone: bool = True) -> np.ndarray:
+    def set_max_efforts(self, values, indices=None, joint_indices=None, joint_names=None) -> None:
+        """Drive force limits (1, K) or (K,) [N m or N] (> 0; inf = unlimited) of `joint_indices`
+        (all for None), as `ArticulationController.set_max_efforts`."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
+        self._check_indices(indices)
+        self._controller("set_max_efforts").set_max_efforts(self._row(values, "values"), joint_indices)
+
+    def get_max_efforts(self, indices=None, joint_indices=None, joint_names=None, clone: bool = True) -> np.ndarray:
         """Drive force limits (1, K) [N m or N] (inf = unlimited)."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         c = self._c("get_max_efforts")
         return c.max_efforts[c.indices(joint_indices)][None, :].copy()
@@ -202,21 +275,26 @@ class ArticulationView:
         c = self._c("get_dof_limits")
         return np.stack([c.lower, c.upper], axis=1)[None, :, :]
 
-    def get_joint_max_velocities(self, indices=None, joint_indices=None, clone: bool = True) -> np.ndarray:
+    def get_joint_max_velocities(self, indices=None, joint_indices=None, joint_names=None,
+                                 clone: bool = True) -> np.ndarray:
         """(1, K) joint velocity limits [rad/s or m/s] (inf where the model gives none)."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         c = self._c("get_joint_max_velocities")
         return c.max_velocities[c.indices(joint_indices)][None, :].copy()
 
     # ------------------------------------------------------------------ state
-    def get_joint_positions(self, indices=None, joint_indices=None, clone: bool = True) -> np.ndarray:
+    def get_joint_positions(self, indices=None, joint_indices=None, joint_names=None, clone: bool = True) -> np.ndarray:
         """(1, K) joint positions [rad or m]."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         c = self._c("get_joint_positions")
         return c.sim.data.qpos[c.qadr[c.indices(joint_indices)]][None, :].copy()
 
-    def get_joint_velocities(self, indices=None, joint_indices=None, clone: bool = True) -> np.ndarray:
+    def get_joint_velocities(self, indices=None, joint_indices=None, joint_names=None,
+                             clone: bool = True) -> np.ndarray:
         """(1, K) joint velocities [rad/s or m/s]."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         c = self._c("get_joint_velocities")
         return c.sim.data.qvel[c.dadr[c.indices(joint_indices)]][None, :].copy()
@@ -235,30 +313,35 @@ class ArticulationView:
             a = a[0]
         return a
 
-    def set_joint_positions(self, positions, indices=None, joint_indices=None) -> None:
+    def set_joint_positions(self, positions, indices=None, joint_indices=None, joint_names=None) -> None:
         """Teleport the joints to `positions` (1, K) [rad or m] and make them their drive targets."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         self._c("set_joint_positions").teleport(self._row(positions, "positions"), joint_indices)
 
-    def set_joint_velocities(self, velocities, indices=None, joint_indices=None) -> None:
+    def set_joint_velocities(self, velocities, indices=None, joint_indices=None, joint_names=None) -> None:
         """Set joint velocities (1, K) [rad/s or m/s] (drive targets unchanged)."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         self._c("set_joint_velocities").set_velocities(self._row(velocities, "velocities"), joint_indices)
 
-    def set_joint_position_targets(self, positions, indices=None, joint_indices=None) -> None:
+    def set_joint_position_targets(self, positions, indices=None, joint_indices=None, joint_names=None) -> None:
         """Drive position targets (1, K) [rad or m] (NaN keeps a joint's target)."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         self._c("set_joint_position_targets").apply_action(
             ArticulationAction(joint_positions=self._row(positions, "positions"), joint_indices=joint_indices))
 
-    def set_joint_velocity_targets(self, velocities, indices=None, joint_indices=None) -> None:
+    def set_joint_velocity_targets(self, velocities, indices=None, joint_indices=None, joint_names=None) -> None:
         """Drive velocity targets (1, K) [rad/s or m/s] (NaN keeps a joint's target)."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         self._c("set_joint_velocity_targets").apply_action(
             ArticulationAction(joint_velocities=self._row(velocities, "velocities"), joint_indices=joint_indices))
 
-    def set_joint_efforts(self, efforts, indices=None, joint_indices=None) -> None:
+    def set_joint_efforts(self, efforts, indices=None, joint_indices=None, joint_names=None) -> None:
         """Joint efforts (1, K) [N m or N] added to the drives (persist until changed)."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         c = self._c("set_joint_efforts")
         idx = c.indices(joint_indices)
@@ -268,13 +351,17 @@ class ArticulationView:
         c.efforts[idx] = e
         c.write_targets()
 
-    def get_applied_joint_efforts(self, indices=None, joint_indices=None, clone: bool = True) -> np.ndarray:
+    def get_applied_joint_efforts(self, indices=None, joint_indices=None, joint_names=None,
+                                  clone: bool = True) -> np.ndarray:
         """(1, K) drive force plus applied effort per joint [N m or N], last physics substep."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         return self._c("get_applied_joint_efforts").joint_forces(joint_indices, constraint=False)[None, :]
 
-    def get_measured_joint_efforts(self, indices=None, joint_indices=None, clone: bool = True) -> np.ndarray:
+    def get_measured_joint_efforts(self, indices=None, joint_indices=None, joint_names=None,
+                                   clone: bool = True) -> np.ndarray:
         """(1, K) total generalized force per joint, constraints (limits, contacts) included."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         return self._c("get_measured_joint_efforts").joint_forces(joint_indices, constraint=True)[None, :]
 
@@ -283,13 +370,29 @@ class ArticulationView:
         self._check_indices(indices)
         return JointsState(self.get_joint_positions(), self.get_joint_velocities(), self.get_applied_joint_efforts())
 
-    def switch_control_mode(self, mode: str, indices=None, joint_indices=None) -> None:
-        """Drives to "position", "velocity" or "effort" (as `ArticulationController.switch_control_mode`)."""
-        self._check_indices(indices)
-        self._c("switch_control_mode")
+    def _controller(self, what: str) -> ArticulationController:
+        """A controller of the viewed articulation's drives (the view holds no state of its own)."""
+        self._c(what)
         controller = ArticulationController()
         controller.initialize(self._articulation)
-        controller.switch_control_mode(mode, joint_indices)
+        return controller
+
+    def switch_control_mode(self, mode: str, indices=None, joint_indices=None, joint_names=None) -> None:
+        """Drives to "position", "velocity" or "effort" (as `ArticulationController.switch_control_mode`)."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
+        self._check_indices(indices)
+        self._controller("switch_control_mode").switch_control_mode(mode, joint_indices)
+
+    def switch_dof_control_mode(self, mode: str, dof_index: int, indices=None) -> None:
+        """One joint's drive to "position", "velocity" or "effort"."""
+        self._check_indices(indices)
+        self._controller("switch_dof_control_mode").switch_control_mode(mode, [dof_index])
+
+    def get_applied_actions(self, clone: bool = True) -> ArticulationViewActions:
+        """The drive targets: position, velocity and effort, (1, num_dof) each."""
+        a = self._controller("get_applied_actions").get_applied_action()
+        return ArticulationViewActions(a.joint_positions[None, :], a.joint_velocities[None, :],
+                                       a.joint_efforts[None, :])
 
     # ------------------------------------------------------------------ root and dynamics
     def get_world_poses(self, indices=None, clone: bool = True, usd: bool = True) -> tuple[np.ndarray, np.ndarray]:
@@ -299,6 +402,16 @@ class ArticulationView:
         c.sim.ensure_kinematics()
         b = c.root_ids[0]
         return c.sim.data.xpos[b][None, :].copy(), c.sim.data.xquat[b][None, :].copy()
+
+    def set_world_poses(self, positions=None, orientations=None, indices=None, usd: bool = True) -> None:
+        """Teleport the root: positions (1, 3) or (3,) [m], orientations (1, 4) or (4,) (w, x, y, z)
+        (None keeps a part); a fixed base moves with it. As Isaac's, a `World.reset()` restores the
+        articulation's default pose (`set_default_state` on the articulation keeps the new one)."""
+        self._check_indices(indices)
+        cur_p, cur_q = self.get_world_poses()
+        p = cur_p[0] if positions is None else bounded_vec(self._row(positions, "positions"), "position", "positions")
+        q = cur_q[0] if orientations is None else unit_quat(self._row(orientations, "orientations"))
+        self._c("set_world_poses").set_root_pose(p, q)
 
     def get_velocities(self, indices=None, clone: bool = True) -> np.ndarray:
         """(1, 6) root linear [m/s] and angular [rad/s] velocity, world frame (zeros for a fixed base)."""
@@ -357,13 +470,17 @@ class ArticulationView:
     def get_mass_matrix_shape(self) -> tuple[int, int]:
         return dyn.mass_matrix(self._c("get_mass_matrix_shape")).shape
 
-    def get_generalized_gravity_forces(self, indices=None, joint_indices=None, clone: bool = True) -> np.ndarray:
+    def get_generalized_gravity_forces(self, indices=None, joint_indices=None, joint_names=None,
+                                       clone: bool = True) -> np.ndarray:
         """(1, n) generalized forces holding the articulation against gravity [N m or N]."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         return dyn.gravity_forces(self._c("get_generalized_gravity_forces"))[None]
 
-    def get_coriolis_and_centrifugal_forces(self, indices=None, joint_indices=None, clone: bool = True) -> np.ndarray:
+    def get_coriolis_and_centrifugal_forces(self, indices=None, joint_indices=None, joint_names=None,
+                                            clone: bool = True) -> np.ndarray:
         """(1, n) Coriolis and centrifugal generalized forces [N m or N]."""
+        joint_indices = self._named_joints(joint_indices, joint_names)
         self._check_indices(indices)
         return dyn.coriolis_and_centrifugal_forces(self._c("get_coriolis_and_centrifugal_forces"))[None]
 

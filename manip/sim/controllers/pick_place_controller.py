@@ -135,8 +135,10 @@ class PickPlaceController(BaseController):
             moves above the pick and place positions (default 0.3).
         events_dt: (10,) progress per call of each phase, each in (0, 1] (default Isaac's
             Franka values `FRANKA_EVENTS_DT`, about 38 s of motion at 60 calls/s).
-        end_effector_link: frame of the kinematics placed at the targets (default: the
-            robot's end effector if the kinematics has that frame, else "panda_hand_tcp").
+        end_effector_link: frame of the kinematics placed at the targets (default the robot
+            configuration's tool centre point, the Franka's "panda_hand_tcp", where Isaac's
+            controller places its RMPflow end effector "right_gripper", whatever the
+            articulation's `end_effector` is: Isaac's pick-up example makes it the right finger).
         robot: robot configuration name or `RobotConfig` of the kinematics (default "franka").
         max_joint_step: largest accepted change [rad] of an arm joint's IK solution between
             two calls (a larger one means the solver switched to another arm configuration):
@@ -173,16 +175,8 @@ class PickPlaceController(BaseController):
         self._kin = Kinematics(config)
         # One local solve from the seed: a random restart could land on another branch.
         self._ik = IKSolver(self._kin, max_attempts=1)
-        if end_effector_link is None:
-            end_effector_link = config.tcp_link
-            ee = getattr(robot_articulation, "end_effector", None)
-            leaf = str(getattr(ee, "prim_path", "")).rsplit("/", 1)[-1]
-            if leaf:
-                try:
-                    self._kin.frame_id(leaf)
-                    end_effector_link = leaf
-                except KeyError:
-                    pass
+        if end_effector_link is None:  # Isaac's: its RMPflow end effector, whatever robot.end_effector is
+            end_effector_link = config.tcp_link or config.ee_link
         self._kin.frame_id(end_effector_link)  # raises UnknownNameError with the valid frames
         self._link = end_effector_link
         self._rest = np.asarray(config.default_joint_positions, dtype=float).copy()

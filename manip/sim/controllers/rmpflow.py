@@ -19,8 +19,9 @@ behind one) rather than repulsive fields; joint accelerations are bounded by the
 configuration's acceleration limits, and a target that jumps is approached at
 `max_speed` (1 m/s) rather than along RMPflow's damped attractor.
 
-Targets are world poses of the robot's end effector (`robot_articulation.end_effector`,
-the Franka's `panda_hand_tcp`, if the controller's model has that frame). The controller
+Targets are world poses of the robot configuration's tool centre point (the Franka's
+`panda_hand_tcp`, where Isaac's RMPflow places "right_gripper"), whatever the articulation's
+`end_effector` is, as in Isaac (a `frame=` keyword chooses another). The controller
 integrates its own joint command from step to step (as Isaac's RMPflow does) and starts
 again from the measured joints after `reset()` or when the robot is more than
 `resync_tolerance` away from the command (blocked, or moved by hand):
@@ -35,7 +36,7 @@ from typing import Any
 import numpy as np
 
 from manip.articulation_action import ArticulationAction
-from manip.control import ReactiveController, StepResult, UnknownFrameError
+from manip.control import ReactiveController, StepResult
 from manip.errors import InvalidInputError
 from manip.pose import Pose
 from manip.robot_config import RobotConfig, load_robot_config
@@ -79,18 +80,7 @@ class RMPFlowController(BaseController):
         self._command = JointCommand(resync_tolerance)
         config = robot if isinstance(robot, RobotConfig) else load_robot_config(robot)
         controller_options["safety_margin"] = safety_margin
-        self._ctrl: ReactiveController | None = None
-        if "frame" not in controller_options:
-            ee = getattr(robot_articulation, "end_effector", None)
-            leaf = str(getattr(ee, "prim_path", "")).rsplit("/", 1)[-1]
-            if leaf:
-                try:
-                    self._ctrl = ReactiveController(config, frame=leaf, **controller_options)
-                except UnknownFrameError:
-                    logger.info("%s: the end effector %r is not a frame of the controller's model; using %s",
-                                name, leaf, config.tcp_link or config.ee_link)
-        if self._ctrl is None:
-            self._ctrl = ReactiveController(config, **controller_options)
+        self._ctrl = ReactiveController(config, **controller_options)  # frame: the configuration's TCP
         self._obstacles = TrackedObstacles(self._ctrl)
         self._policy = ControllerMotionPolicy(self._ctrl, self._obstacles, self._base_from_world, self._forget_command)
         self._arm_idx: np.ndarray | None = None

@@ -17,10 +17,12 @@ from manip.sim.core.carb_logging import carb
 
 class TimelineEvent:
     """What a timeline callback receives: `type` is "PLAY", "PAUSE" or "STOP" (render
-    callbacks get "RENDER")."""
+    callbacks get "RENDER"); `payload` is Isaac's event payload: {"currentTime": t [s]} for the
+    timeline, {"dt": rendering_dt [s]} for a render (Kit's update event)."""
 
-    def __init__(self, type: str):
+    def __init__(self, type: str, payload: dict | None = None):
         self.type = type
+        self.payload = dict(payload or {})
 
     def __repr__(self) -> str:
         return f"TimelineEvent({self.type!r})"

@@ -15,7 +15,7 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from manip.errors import InvalidInputError, ManipError
+from manip.errors import InvalidInputError, ManipError, UnknownNameError
 from manip.sim.core.gl_backend import choose_gl_backend, ensure_offscreen_gl, gl_help  # noqa: F401 (re-exported)
 from manip.sim.scenes.stage import SimHandle
 from manip.validation import positive, vec
@@ -47,8 +47,8 @@ class CameraView:
     @classmethod
     def from_eye_target(cls, eye, target) -> CameraView:
         """The view from `eye` (3,) looking at `target` (3,) (Isaac's `set_camera_view`)."""
-        eye = np.asarray(eye, dtype=float)
-        target = np.asarray(target, dtype=float)
+        eye = vec(eye, 3, "eye")
+        target = vec(target, 3, "target")
         v = target - eye
         dist = float(np.linalg.norm(v))
         if dist <= 0 or not np.isfinite(dist):
@@ -114,6 +114,12 @@ class Recorder:
         self._writer.close()
         self.renderer.close()
         logger.info("wrote %d frames to %s", self.frames, self.path)
+
+
+def check_camera(model: mujoco.MjModel, camera: str | CameraView | None) -> None:
+    """Raise UnknownNameError (listing the model's cameras) if `camera` names none of them."""
+    if isinstance(camera, str) and mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_CAMERA, camera) < 0:
+        raise UnknownNameError("camera", camera, [model.camera(i).name for i in range(model.ncam)])
 
 
 def make_renderer(model: mujoco.MjModel, width: int, height: int) -> mujoco.Renderer:

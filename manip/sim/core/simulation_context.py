@@ -15,11 +15,10 @@ Callback names follow Isaac: a duplicate name or removing an unknown one logs an
 (`carb.log_error`) and changes nothing. The `*_async` methods are coroutines doing the same
 as the plain ones, for Isaac's extension workflow (`asyncio.run(world.reset_async())`).
 
-Solver options (`manip.sim.scenes.compiler`): `implicitfast`, elliptic cones, gravity -9.81
-m/s^2 along z; the same script gives the same trajectory run after run (nothing is random).
+Solver options (`manip.sim.scenes.compiler`): `implicitfast`, elliptic cones, gravity -9.81 m/s^2
+along z (`get_physics_context()`); the same script gives the same trajectory (nothing is random).
 
-Observers (`add_observer`, e.g. the SimulationApp's viewer) follow every instance through
-the `WorldObserver` methods; this module imports no viewer.
+Observers (`add_observer`, e.g. the viewer) follow every instance (`WorldObserver`).
 
 Joint limits hold after every physics step (see `manip.sim.articulations.articulation`). MuJoCo's own
 warnings become Python ones after every physics step (`manip.sim.core.mujoco_warnings`): an
@@ -33,40 +32,26 @@ from __future__ import annotations
 import logging
 import math
 from pathlib import Path
-from typing import Callable, Protocol
+from typing import Callable
 
 import mujoco
 import numpy as np
 
-from manip.errors import InvalidInputError, UnknownNameError
+from manip.errors import InvalidInputError
 from manip.sim.core import recording as rec, substeps
 from manip.sim.articulations.articulation_core import ArticulationCore
 from manip.sim.core.callbacks import CallbackTable, TimelineEvent
+from manip.sim.core.observers import WorldObserver  # noqa: F401 (re-exported)
+from manip.sim.core.physics_context import PhysicsContext
 from manip.sim.core.mujoco_warnings import SimulationInstabilityError, SimulationWarning, WarningMonitor  # noqa: F401 (re-exported)
 from manip.sim.scenes.compiler import compile_stage
 from manip.sim.scenes.stage import ReferencePrim, SimHandle, SimulationError, StageEvent, get_current_stage
-from manip.validation import positive, vec
+from manip.validation import non_negative, positive, vec
 
 logger = logging.getLogger(__name__)
 
 DEFAULT_DT = 1.0 / 60.0
 DEFAULT_GRAVITY = (0.0, 0.0, -9.81)  # [m/s^2]
-
-
-class WorldObserver(Protocol):
-    """Follows every World (`World.add_observer`); the SimulationApp's viewer is one.
-
-    Each method receives the World: after it compiled a model, after it rendered (or
-    reset), when it is cleared (`clear_instance`), when its camera view changed.
-    """
-
-    def on_world_compiled(self, world: SimulationContext) -> None: ...
-
-    def on_world_rendered(self, world: SimulationContext) -> None: ...
-
-    def on_world_cleared(self, world: SimulationContext) -> None: ...
-
-    def on_camera_changed(self, world: SimulationContext) -> None: ...
 
 
 class SimulationContext:
@@ -85,7 +70,7 @@ class SimulationContext:
         sim_params: Isaac's physics settings: "gravity" is used (the argument takes
             precedence); other keys (PhysX/GPU settings) are ignored with a warning.
         backend, device: "numpy" and None/"cpu" only (MuJoCo runs on the CPU).
-        physics_prim_path, set_defaults: accepted for Isaac scripts and ignored.
+        physics_prim_path, set_defaults: the PhysicsContext's prim path; ignored.
 
     Raises:
         InvalidInputError: stage units other than metres, another backend or device, a
@@ -97,9 +82,13 @@ class SimulationContext:
     _observers: list[WorldObserver] = []  # shared by every World of the process
 
     def __new__(cls, *args, **kwargs):
-        if cls._instance is None:
-            cls._instance = super().__new__(cls)  # `_initialized` is False until __init__ ends
-        return cls._instance
+        inst = SimulationContext._instance  # one per process, a World included (as in Isaac)
+        if inst is None:
+            inst = SimulationContext._instance = super().__new__(cls)  # `_initialized` is False until __init__ ends
+        elif not isinstance(inst, cls):
+            raise SimulationError(f"a {type(inst).__name__} exists (one simulation per process): call "
+                                  f"{type(inst).__name__}.clear_instance() before creating a {cls.__name__}")
+        return inst
 
     def __init__(
         self,
@@ -145,10 +134,12 @@ class SimulationContext:
             self._rendering_dt = positive(rendering_dt if rendering_dt is not None else self._physics_dt,
                                           "rendering_dt", "s")
             self._substep_dt = positive(substep_dt, "substep_dt", "s")
-            self._gravity = vec(gravity if gravity is not None else DEFAULT_GRAVITY, 3, "gravity")
+            g = vec(gravity if gravity is not None else DEFAULT_GRAVITY, 3, "gravity")
         except Exception:
-            type(self)._instance = None
+            SimulationContext._instance = None
             raise
+        self._physics_context = PhysicsContext(self, g, physics_prim_path)
+        self._physics_off = False  # set_simulation_dt(physics_dt=0): steps only render
         self._stage = get_current_stage()
         self._sim: SimHandle | None = None
         self._cores: list[ArticulationCore] = []  # of the compiled model
@@ -174,19 +165,29 @@ class SimulationContext:
     # ------------------------------------------------------------------ instance
     @classmethod
     def instance(cls) -> SimulationContext | None:
-        """The instance of this process, or None."""
-        return cls._instance
+        """The instance of this process (a World is the SimulationContext too, as in Isaac),
+        or None; `World.instance()` is None while the instance is a plain SimulationContext."""
+        inst = SimulationContext._instance
+        return inst if isinstance(inst, cls) else None
 
     @classmethod
     def clear_instance(cls) -> None:
-        """Forget the instance: stop recording, unbind objects, empty the stage."""
-        w = cls._instance
+        """Forget the instance (`SimulationContext.clear_instance()` clears a World too):
+        stop recording, clean up (a World: its tasks), unbind objects, empty the stage."""
+        w = SimulationContext._instance
         if w is not None and getattr(w, "_initialized", False):
-            w.stop_recording()
-            w._unbind_all()
-            w._stage.clear()
-            w._notify("on_world_cleared")
-        cls._instance = None
+            w._forget()
+        SimulationContext._instance = None
+
+    def _forget(self) -> None:
+        self.stop_recording()
+        self._clear_components()
+        self._unbind_all()
+        self._stage.clear()
+        self._notify("on_world_cleared")
+
+    def _clear_components(self) -> None:
+        """Clean up what a subclass added (the World: its tasks); called by `clear_instance`."""
 
     @classmethod
     def add_observer(cls, observer: WorldObserver) -> None:
@@ -234,24 +235,32 @@ class SimulationContext:
         """MuJoCo steps per physics step."""
         return max(1, math.ceil(self._physics_dt / self._substep_dt - 1e-9))
 
+    def get_physics_context(self) -> PhysicsContext:
+        return self._physics_context  # gravity and the step; PhysX's other settings kept, unused
+
     def get_physics_dt(self) -> float:
-        return self._physics_dt
+        return 0.0 if self._physics_off else self._physics_dt
 
     def get_rendering_dt(self) -> float:
         return self._rendering_dt
 
     def set_simulation_dt(self, physics_dt: float | None = None, rendering_dt: float | None = None) -> None:
         """Change the physics step and/or render interval [s] (takes effect immediately;
-        `current_time` goes on from where it is).
+        `current_time` goes on from where it is). As in Isaac, `physics_dt=0`: physics does not
+        simulate (steps only render) until a positive physics_dt is set again; `rendering_dt=0`:
+        `step(render=True)` runs one physics step.
 
         Raises:
-            InvalidInputError: a dt that is not positive and finite (nothing changes then).
+            InvalidInputError: a negative or non-finite dt (nothing changes then).
         """
-        new_physics = positive(physics_dt, "physics_dt", "s") if physics_dt is not None else self._physics_dt
-        new_rendering = positive(rendering_dt, "rendering_dt", "s") if rendering_dt is not None else self._rendering_dt
+        v = non_negative(physics_dt, "physics_dt", "s") if physics_dt is not None else None
+        off = v == 0.0 if v is not None else self._physics_off
+        new_physics = v if v else self._physics_dt
+        new_rendering = non_negative(rendering_dt, "rendering_dt") if rendering_dt is not None else self._rendering_dt
         # current_time = time_origin + index * physics_dt (no accumulated rounding); keep it continuous.
         self._time_origin = self._time - self._index * new_physics
         self._physics_dt, self._rendering_dt = new_physics, new_rendering
+        self._physics_off = off
         if self._sim is not None:
             self._sim.model.opt.timestep = self._physics_dt / self.physics_substeps
             for core in self._cores:
@@ -279,7 +288,7 @@ class SimulationContext:
         model (a new `ArticulationCore`), then the wrappers (articulations, views)."""
         self.stop_recording()
         self._unbind_all()
-        sim = compile_stage(self._stage, timestep=self._physics_dt / self.physics_substeps, gravity=self._gravity)
+        sim = compile_stage(self._stage, timestep=self._physics_dt / self.physics_substeps, gravity=self._physics_context.gravity)
         model = sim.model
         cores = []
         for prim in self._stage.prims():
@@ -330,9 +339,7 @@ class SimulationContext:
         self._notify("on_world_rendered")
 
     def initialize_physics(self) -> None:
-        """Stop, compile the stage if it changed (else restore the compiled initial state),
-        play, and run the warm-up physics of one rendered step without callbacks (Isaac:
-        "it does one step internally to propagate all physics handles")."""
+        """`reset()`'s work (Isaac: "it does one step internally to propagate all physics handles")."""
         self._restart_physics()
         self._play_and_warm_up()
 
@@ -430,16 +437,16 @@ class SimulationContext:
         """Nothing to wait for: ready once constructed (Isaac sets up its USD stage here)."""
 
     def _fire_timeline(self, kind: str) -> None:
-        self._timeline_callbacks.call(TimelineEvent(kind))
+        self._timeline_callbacks.call(TimelineEvent(kind, {"currentTime": self.current_time}))
 
     # ------------------------------------------------------------------ stepping
-    def step(self, render: bool = True, step_sim: bool = True) -> None:
+    def step(self, render: bool = True, step_sim: bool = True, update_fabric: bool = False) -> None:
         """Physics (if playing): max(1, rendering_dt / physics_dt) physics steps with
-        render=True, one with render=False; then render.
+        render=True, one with render=False; then render (`update_fabric`: no Fabric here).
 
         Physics callbacks run before each physics step with `step_size = physics_dt`.
         """
-        if self._playing and step_sim:
+        if self._playing and step_sim and not self._physics_off:
             if self._compiled_version != self._stage.version and not self._warned_dirty:
                 logger.warning("the stage changed since the last world.reset(); new prims appear after a reset")
                 self._warned_dirty = True
@@ -484,7 +491,7 @@ class SimulationContext:
             self._sim.ensure_kinematics()
             self._recorder.maybe_capture(self._sim.data, self._time, self._camera_view)
         self._notify("on_world_rendered")
-        self._render_callbacks.call(TimelineEvent("RENDER"))
+        self._render_callbacks.call(TimelineEvent("RENDER", {"dt": self._rendering_dt}))
 
     # ------------------------------------------------------------------ callbacks
     def add_physics_callback(self, callback_name: str, callback_fn: Callable[[float], None]) -> None:
@@ -552,16 +559,13 @@ class SimulationContext:
                         height: int = 480, fps: float = 30.0) -> None:
         """Write an MP4 of a camera view, a frame every 1/fps of simulated time on render.
 
-        Offscreen: works without a display when EGL or OSMesa is installed (see
-        `manip.sim.core.recording`). The model must be compiled (call after `reset()`); a recompile
-        (reset after adding prims) ends the recording.
+        Offscreen (EGL or OSMesa, `manip.sim.core.recording`), after `reset()`; a recompile ends it.
 
         Args:
             path: output file (.mp4).
             camera: name of a model camera, a CameraView, or None for the World's view
                 (`set_camera_view`).
-            width, height: frame size [px].
-            fps: frames per second of simulated time.
+            width, height, fps: frame size [px]; frames per second of simulated time.
 
         Raises:
             OffscreenRenderingError: no offscreen GL backend or no imageio-ffmpeg.
@@ -571,9 +575,7 @@ class SimulationContext:
             raise SimulationError("start_recording: call world.reset() first (the model is not compiled)")
         if self._recorder is not None:
             raise SimulationError(f"already recording to {self._recorder.path}; call stop_recording() first")
-        if isinstance(camera, str) and mujoco.mj_name2id(self._sim.model, mujoco.mjtObj.mjOBJ_CAMERA, camera) < 0:
-            cams = [self._sim.model.camera(i).name for i in range(self._sim.model.ncam)]
-            raise UnknownNameError("camera", camera, cams)
+        rec.check_camera(self._sim.model, camera)
         self._recorder = rec.Recorder(self._sim.model, path, camera, width=width, height=height, fps=fps)
         self._recorder.capture(self._sim.data, self._camera_view)
 

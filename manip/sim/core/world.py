@@ -11,6 +11,7 @@ import logging
 
 from manip.sim.core.callbacks import TimelineEvent  # noqa: F401 (re-exported)
 from manip.errors import InvalidInputError
+from manip.sim.core.data_logger import DataLogger
 from manip.sim.core.event_loop import run_pending_coroutines
 from manip.sim.scenes.scene import Scene
 from manip.sim.core.simulation_context import (  # noqa: F401 (re-exported)
@@ -38,21 +39,19 @@ class World(SimulationContext):
             `SimulationContext` (physics_dt [s] default 1/60; substep_dt, gravity keyword-only).
     """
 
-    _instance: World | None = None
-
     def _init_components(self) -> None:
         self._scene = Scene(self)
         self._task_registry = TaskRegistry()
         self._last_pre_step_index = -1  # step index whose task pre_steps ran
+        self._data_logger = DataLogger()
 
-    @classmethod
-    def clear_instance(cls) -> None:
-        """Forget the World: stop recording, clean up the tasks, unbind objects, empty the stage."""
-        w = cls._instance
-        if w is not None and getattr(w, "_initialized", False):
-            w.stop_recording()
-            w._task_registry.cleanup()
-        super().clear_instance()
+    def get_data_logger(self) -> DataLogger:
+        """The World's `DataLogger`: started, it records one frame per `step()` (after its physics)."""
+        return self._data_logger
+
+    def _clear_components(self) -> None:
+        """At `clear_instance()`: clean up the tasks."""
+        self._task_registry.cleanup()
 
     @property
     def scene(self) -> Scene:
@@ -95,9 +94,10 @@ class World(SimulationContext):
         self._last_pre_step_index = -1
         super().stop()
 
-    def step(self, render: bool = True, step_sim: bool = True) -> None:
+    def step(self, render: bool = True, step_sim: bool = True, update_fabric: bool = False) -> None:
         """Run the tasks' `pre_step`, then physics (if playing): max(1, rendering_dt /
         physics_dt) physics steps with render=True, one with render=False; then render.
+        `update_fabric` (Isaac 5) is accepted: poses are always read from MuJoCo.
 
         Physics callbacks run before each physics step with `step_size = physics_dt`.
         Coroutines a script scheduled with `asyncio.ensure_future` outside a running loop
@@ -106,6 +106,8 @@ class World(SimulationContext):
         run_pending_coroutines()
         self.step_async()
         super().step(render, step_sim)
+        self._data_logger.log_step(self.get_current_tasks(), self._scene, self.current_time_step_index,
+                                   self.current_time)
 
     async def reset_async_set_up_scene(self, soft: bool = False) -> None:
         """Build the task scenes that are not built yet (Isaac's first half of `reset_async`)."""
@@ -166,6 +168,7 @@ class World(SimulationContext):
         self._unbind_all()
         self._stage.clear()
         self._compiled_version = -1
+        self._data_logger = DataLogger()  # as Isaac's clear()
         self.stop()
 
 

@@ -5,7 +5,8 @@
   description YAML (`robot_description`) and a URDF (`urdf_aliases` maps Isaac's
   `lula_franka_gen.urdf` to manip's Franka with its `right_gripper` frame).
 - `ArticulationKinematicsSolver`, `ArticulationSubset` (`articulation_kinematics_solver`): the
-  solver applied to a simulated robot, its answers as ArticulationActions.
+  solver applied to a simulated robot, its answers as ArticulationActions; `KinematicsSolver`
+  (`franka_kinematics_solver`): the Franka's, as Isaac's Franka extension ships it.
 - `RmpFlow` (`rmpflow`): RMPflow's motion-policy interface on manip's QP controller
   (`manip.control.ReactiveController`; not RMPflow: the module docstring says what differs),
   with `rmpflow_config` (the RMPflow YAML), `end_effector_map` (the URDF end effector as a
@@ -26,9 +27,11 @@ from manip.sim.motion_generation import interface_config_loader
 from manip.sim.motion_generation.articulation_kinematics_solver import ArticulationKinematicsSolver, ArticulationSubset
 from manip.sim.motion_generation.articulation_motion_policy import ArticulationMotionPolicy
 from manip.sim.motion_generation.extension import get_extension_path_from_name
+from manip.sim.motion_generation.franka_kinematics_solver import KinematicsSolver
 from manip.sim.motion_generation.kinematics_solver import LulaKinematicsSolver
 from manip.sim.motion_generation.motion_policy_controller import MotionPolicyController
 from manip.sim.motion_generation.rmpflow import RmpFlow
 
-__all__ = ["ArticulationKinematicsSolver", "ArticulationMotionPolicy", "ArticulationSubset", "LulaKinematicsSolver",
+__all__ = ["ArticulationKinematicsSolver", "ArticulationMotionPolicy", "ArticulationSubset", "KinematicsSolver",
+           "LulaKinematicsSolver",
            "MotionPolicyController", "RmpFlow", "get_extension_path_from_name", "interface_config_loader"]

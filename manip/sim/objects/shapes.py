@@ -227,13 +227,16 @@ class _ShapePrim(GeometryPrim):
         extra = [k for k, v in given.items() if v is not None and k not in self._shape_params]
         if extra:
             raise InvalidInputError(f"{self._title()} takes {', '.join(self._shape_params)}, not {', '.join(extra)}")
+        # Every argument is checked before the prim is put on the stage: a rejected call leaves
+        # nothing behind (the same prim_path can be used again).
         self._check_family_args(physics_material, (mass, density, linear_velocity, angular_velocity))
         self._scale = scale3(scale) if scale is not None else np.ones(3)
         self.prim_path = prim_path
         self._init_shape(size, radius, height)
+        body = self._check_body(mass, density, linear_velocity, angular_velocity)
         super().__init__(prim_path, name, position, translation, orientation, scale, visible, color=color,
                          physics_material=physics_material, visual_material=visual_material)
-        self._init_body(mass, density, linear_velocity, angular_velocity)
+        self._init_body(*body)
 
     def _title(self, family: str | None = None) -> str:
         """E.g. "DynamicCuboid" (of this shape in `family`, default its own)."""
@@ -244,8 +247,13 @@ class _ShapePrim(GeometryPrim):
             raise InvalidInputError(f"{self._title()} is not a rigid body: mass, density and velocities "
                                     f"belong to {self._title('dynamic')}")
 
-    def _init_body(self, mass, density, linear_velocity, angular_velocity) -> None:
-        """Rigid-body state (Dynamic family only)."""
+    def _check_body(self, mass, density, linear_velocity, angular_velocity) -> tuple:
+        """The rigid-body arguments, validated (Dynamic family only; checked by
+        `_check_family_args` for the others)."""
+        return ()
+
+    def _init_body(self, *body) -> None:
+        """Rigid-body state (Dynamic family only), from `_check_body`'s values."""
 
 
 class _VisualShape(_ShapePrim):
@@ -269,16 +277,20 @@ class _DynamicShape(RigidPrim, _ShapePrim):
     def _check_family_args(self, physics_material, body_args: tuple) -> None:
         pass
 
-    def _init_body(self, mass, density, linear_velocity, angular_velocity) -> None:
+    def _check_body(self, mass, density, linear_velocity, angular_velocity) -> tuple:
         if mass is not None and density is not None:
             raise InvalidInputError("give either mass or density, not both")
-        self._mass = positive(mass, "mass", "kg") if mass is not None else None
-        self._density = positive(density, "density", "kg/m^3") if density is not None else None
-        if self._mass is None and self._density is None:
-            self._mass = 0.02
+        mass = positive(mass, "mass", "kg") if mass is not None else None
+        density = positive(density, "density", "kg/m^3") if density is not None else None
+        if mass is None and density is None:
+            mass = 0.02
         lin = bounded_vec(linear_velocity, "linear", "linear_velocity") if linear_velocity is not None else np.zeros(3)
         ang = bounded_vec(angular_velocity, "angular", "angular_velocity") if angular_velocity is not None \
             else np.zeros(3)
+        return mass, density, lin, ang
+
+    def _init_body(self, mass, density, lin, ang) -> None:
+        self._mass, self._density = mass, density
         s = self._default_state
         self._default_state = DynamicState(s.position, s.orientation, lin, ang)
 

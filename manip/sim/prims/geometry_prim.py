@@ -15,7 +15,7 @@ import numpy as np
 
 from manip.errors import InvalidInputError
 from manip.sim.materials.visual_material import PreviewSurface, VisualMaterial, rgb, unique_material_path
-from manip.sim.scenes.contact_model import PHYSX_DEFAULT_FRICTION, check_combine_mode
+from manip.sim.scenes.contact_model import PHYSX_DEFAULT_FRICTION, check_combine_mode, switch_pairs
 from manip.sim.scenes.stage import SimHandle, SimulationError
 from manip.sim.prims.xform_prim import XFormPrim
 from manip.sim.utils.not_supported import declare as declare_not_supported
@@ -117,6 +117,7 @@ class GeometryPrim(XFormPrim):
         scale=None,
         visible: bool | None = None,
         *,
+        reset_xform_properties: bool = True,
         collision: bool = False,
         track_contact_forces: bool = False,
         prepare_contact_sensor: bool = False,
@@ -329,6 +330,7 @@ class GeometryPrim(XFormPrim):
             v = 1 if enabled else 0
             self._sim.model.geom_contype[self._geom_id] = v
             self._sim.model.geom_conaffinity[self._geom_id] = v
+            switch_pairs(self._sim.model, self._geom_id)  # the friction pairs ignore contype/conaffinity
 
     @property
     def geom_id(self) -> int:

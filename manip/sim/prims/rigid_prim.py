@@ -27,7 +27,7 @@ class RigidPrim(XFormPrim):
 
     def __init__(self, prim_path: str, name: str | None = None, position=None, translation=None, orientation=None,
                  scale=None, visible: bool | None = None, mass: float | None = None, density: float | None = None,
-                 linear_velocity=None, angular_velocity=None):
+                 linear_velocity=None, angular_velocity=None, *, reset_xform_properties: bool = True):
         """Wrap a rigid body on the stage (a Dynamic* object, a robot's link), with Isaac's
         arguments: `mass` [kg] or `density` [kg/m^3] (not both), and for a free body its
         `linear_velocity` [m/s] and `angular_velocity` [rad/s] (set now; before the first
@@ -37,9 +37,9 @@ class RigidPrim(XFormPrim):
             InvalidInputError: both mass and density, or a bad value.
             SimulationError: velocities for a robot's link (its joints move it).
         """
-        super().__init__(prim_path, name, position, translation, orientation, scale, visible)
-        if mass is not None and density is not None:
+        if mass is not None and density is not None:  # before the prim is on the stage
             raise InvalidInputError("give either mass or density, not both")
+        super().__init__(prim_path, name, position, translation, orientation, scale, visible)
         if mass is not None:
             self.set_mass(mass)
         elif density is not None:

@@ -19,8 +19,10 @@ import numpy as np
 
 from manip import quaternion as quat
 from manip.errors import InvalidInputError
-from manip.sim.prims import body_forces
-from manip.sim.prims.xform_prim import model_frame_pose, relative_pose
+from manip.sim.prims import body_forces, isaac5_views
+from manip.sim.prims.geometry_prim import GeometryPrim
+from manip.sim.prims.rigid_prim import RigidPrim
+from manip.sim.prims.xform_prim import XFormPrim, model_frame_pose, relative_pose
 from manip.sim.scenes.stage import SimHandle, SimulationError, get_current_stage
 from manip.sim.utils.types import DynamicsViewState, XFormPrimViewState
 from manip.sim.utils.bounds import check_bounded_rows
@@ -141,7 +143,11 @@ class XFormPrimView:
         self._mocap = m.body_mocapid[self._bodies].copy()
         p, q = self._initial
         if p is not None or q is not None:
+            # As Isaac's view: the given poses are the prims' poses and their default state
+            # (the World's reset, which follows this binding, restores them).
             self.set_world_poses(p, q)
+            if all(hasattr(get_current_stage().get_prim(path), "get_default_state") for path in self._paths):
+                XFormPrimView.set_default_state(self, p, q)
             self._initial = (None, None)
 
     def unbind_simulation(self) -> None:
@@ -492,3 +498,15 @@ class RigidPrimView(XFormPrimView):
 
 declare_not_supported(XFormPrimView)
 declare_not_supported(RigidPrimView)
+
+
+def _no_geometry_view(*args, **kwargs):
+    raise NotImplementedError(
+        "GeometryPrim as a view (Isaac 5's GeometryPrim(prim_paths_expr=...)) is not available in manip.sim: "
+        "use XFormPrim(prim_paths_expr=...) for the poses, and SingleGeometryPrim (GeometryPrim at one "
+        "prim_path) for each object's collision and materials")
+
+
+isaac5_views.register(XFormPrim, XFormPrimView)
+isaac5_views.register(RigidPrim, RigidPrimView)
+isaac5_views.register(GeometryPrim, _no_geometry_view)

@@ -23,6 +23,7 @@ from manip.sim.utils.types import DefaultPoseMixin, XFormPrimState, position_or_
 from manip.validation import scale3, unit_quat
 from manip.sim.utils.bounds import bounded_vec
 from manip.sim.utils.not_supported import declare as declare_not_supported
+from manip.sim.prims import isaac5_views
 
 logger = logging.getLogger(__name__)
 
@@ -47,12 +48,18 @@ class XFormPrim(DefaultPoseMixin):
         orientation: (4,) world orientation (w, x, y, z).
         scale: (3,) or scalar scale.
         visible: whether it is drawn.
+        reset_xform_properties: Isaac's USD transform-op reset; accepted (no USD ops here).
     """
 
     _default_name = "xform_prim"
     prim_path: str  # where the prim lives on the stage
     _wraps_existing = True  # the shape classes and the ground plane always create their prim
     _mounts_on_links = True  # below a robot's link (no body or site of that name): a frame fixed to the link
+
+    def __new__(cls, *args, **kwargs):
+        # Isaac 5's `XFormPrim(prim_paths_expr=...)` (and RigidPrim's, GeometryPrim's) is a view.
+        view = isaac5_views.view_call(cls, args, kwargs)
+        return view if view is not None else super().__new__(cls)
 
     def __init__(
         self,
@@ -63,6 +70,7 @@ class XFormPrim(DefaultPoseMixin):
         orientation=None,
         scale=None,
         visible: bool | None = None,
+        reset_xform_properties: bool = True,
     ):
         validate_prim_path(prim_path)
         self.prim_path = prim_path

@@ -43,14 +43,22 @@ class SingleManipulator(Robot):
         end_effector_prim_path: the full path of the end-effector frame, instead of
             end_effector_prim_name (Isaac 4.5's form).
 
+    Isaac 5 (`isaacsim.robot.manipulators`) takes the end effector's full path as its second
+    argument: a second argument starting with "/" is that path. `usd_path` is keyword-only
+    (manip's addition: positions 3-9 are Isaac's `name`, `position`, ..., `gripper`).
+
     Raises:
         InvalidInputError: neither or both of end_effector_prim_name / end_effector_prim_path,
             or an end-effector path outside `prim_path`.
     """
 
     def __init__(self, prim_path: str, end_effector_prim_name: str | None = None, name: str = "single_manipulator",
-                 usd_path: str | None = None, position=None, translation=None, orientation=None, scale=None,
-                 visible=None, gripper: Gripper | None = None, end_effector_prim_path: str | None = None):
+                 position=None, translation=None, orientation=None, scale=None, visible=None,
+                 gripper: Gripper | None = None, end_effector_prim_path: str | None = None, *,
+                 usd_path: str | None = None):
+        if isinstance(end_effector_prim_name, str) and end_effector_prim_name.startswith("/") \
+                and end_effector_prim_path is None:  # Isaac 5's second argument: the full path
+            end_effector_prim_name, end_effector_prim_path = None, end_effector_prim_name
         if (end_effector_prim_name is None) == (end_effector_prim_path is None):
             raise InvalidInputError("give end_effector_prim_name (e.g. 'panda_rightfinger') or end_effector_prim_path "
                                     "(e.g. '/World/Franka/panda_rightfinger'), exactly one")
@@ -59,15 +67,24 @@ class SingleManipulator(Robot):
         if not end_effector_prim_path.startswith(prim_path + "/"):
             raise InvalidInputError(f"end_effector_prim_path {end_effector_prim_path!r} must lie inside the robot's "
                                     f"prim {prim_path!r}")
-        if usd_path is not None and get_current_stage().find_reference(prim_path) is None:
+        stage = get_current_stage()
+        created = usd_path is not None and stage.find_reference(prim_path) is None
+        if created:
             add_reference_to_stage(usd_path, prim_path)
-        # The end effector and the gripper exist before the Robot registers itself: a model
-        # compiled already binds the robot (and its gripper) at once.
-        self._end_effector_prim_path = end_effector_prim_path
-        self._end_effector = XFormPrim(end_effector_prim_path, name=f"{name}_end_effector")
-        self._gripper = gripper
-        super().__init__(prim_path, name, position=position, translation=translation, orientation=orientation,
-                         scale=scale, visible=visible)
+        try:
+            # The end effector and the gripper exist before the Robot registers itself: a model
+            # compiled already binds the robot (and its gripper) at once.
+            self._end_effector_prim_path = end_effector_prim_path
+            self._end_effector = XFormPrim(end_effector_prim_path, name=f"{name}_end_effector")
+            self._gripper = gripper
+            super().__init__(prim_path, name, position=position, translation=translation, orientation=orientation,
+                             scale=scale, visible=visible)
+        except Exception:
+            # A rejected call leaves the stage as it was: the model this constructor referenced
+            # goes (with the end-effector frame below it), so the prim_path can be used again.
+            if created:
+                stage.remove_prim(prim_path)
+            raise
 
     @property
     def end_effector(self) -> XFormPrim:

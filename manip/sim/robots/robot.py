@@ -63,11 +63,11 @@ class ParallelGripper:
         k = len(self._joint_names)
         self._opened = np.asarray(joint_opened_positions, dtype=float).ravel()
         self._closed = np.asarray(joint_closed_positions, dtype=float).ravel()
-        self._deltas = None if action_deltas is None else np.asarray(action_deltas, dtype=float).ravel()
-        for what, a in (("joint_opened_positions", self._opened), ("joint_closed_positions", self._closed),
-                        ("action_deltas", self._deltas)):
-            if a is not None and (a.size != k or not np.all(np.isfinite(a))):
+        for what, a in (("joint_opened_positions", self._opened), ("joint_closed_positions", self._closed)):
+            if a.size != k or not np.all(np.isfinite(a)):
                 raise InvalidInputError(f"{what} needs {k} finite values (one per finger joint); got {a}")
+        self._deltas: np.ndarray | None = None
+        self.set_action_deltas(action_deltas)
         self._apply: Callable | None = None
         self._get_q: Callable | None = None
         self._set_q: Callable | None = None
@@ -90,6 +90,22 @@ class ParallelGripper:
     def _need(self) -> None:
         if self._indices is None:
             raise SimulationError("the gripper is used before World.reset() bound it to its robot")
+
+    def set_action_deltas(self, value) -> None:
+        """Finger steps (2,) [m] of "open" / "close" from the current positions (None: go to
+        the opened / closed positions); from the next `forward`."""
+        if value is None:
+            self._deltas = None
+            return
+        a = np.asarray(value, dtype=float).ravel()
+        if a.size != len(self._joint_names) or not np.all(np.isfinite(a)):
+            raise InvalidInputError(f"action_deltas needs {len(self._joint_names)} finite values (one per finger "
+                                    f"joint) or None; got {value!r}")
+        self._deltas = a
+
+    def get_action_deltas(self) -> np.ndarray | None:
+        """The finger steps (2,) [m] of "open" / "close", or None (see `set_action_deltas`)."""
+        return None if self._deltas is None else self._deltas.copy()
 
     @property
     def joint_opened_positions(self) -> np.ndarray:
@@ -179,7 +195,8 @@ class Franka(SingleManipulator):
     `end_effector` is the tool centre point between the fingertips (`panda_hand_tcp`, 0.1034 m
     beyond the hand flange) by default; Isaac uses the right finger body, a poor grasp
     reference. Pass `end_effector_prim_name="panda_hand"` for the flange frame the motion
-    generator plans for.
+    generator plans for. `PickPlaceController` and `RMPFlowController` place the tool centre at
+    their targets whatever `end_effector` is (as Isaac's place "right_gripper").
 
     Args:
         prim_path: e.g. "/World/Franka".
@@ -203,8 +220,8 @@ class Franka(SingleManipulator):
             gripper_closed_position if gripper_closed_position is not None else [0.0, 0.0],
             deltas,
         )
-        super().__init__(prim_path, ee, name, usd_path if usd_path is not None else franka_model_path(),
-                         position=position, orientation=orientation, gripper=gripper)
+        super().__init__(prim_path, ee, name, position=position, orientation=orientation, gripper=gripper,
+                         usd_path=usd_path if usd_path is not None else franka_model_path())
 
     @property
     def gripper(self) -> ParallelGripper:

@@ -46,6 +46,21 @@ _DEFAULT_SOLREF = (0.02, 1.0)
 _DEFAULT_SOLIMP = (0.9, 0.95, 0.001)
 
 
+#: Margin [m] of an explicit pair switched off (`switch_pairs`): no geom comes within reach.
+PAIR_OFF_MARGIN = -1e9
+
+
+def switch_pairs(model: mujoco.MjModel, geom: int) -> None:
+    """After `geom`'s contype/conaffinity changed in the compiled model: its explicit pairs, which
+    MuJoCo collides whatever the filters, follow them: a pair whose two geoms both collide gets
+    its margin back (the geoms' margins summed, as built), any other is put out of reach
+    (`PAIR_OFF_MARGIN`)."""
+    for i in np.flatnonzero((model.pair_geom1 == geom) | (model.pair_geom2 == geom)):
+        g1, g2 = model.pair_geom1[i], model.pair_geom2[i]
+        on = all(model.geom_contype[g] or model.geom_conaffinity[g] for g in (g1, g2))
+        model.pair_margin[i] = model.geom_margin[g1] + model.geom_margin[g2] if on else PAIR_OFF_MARGIN
+
+
 def check_combine_mode(mode: str, what: str = "friction_combine_mode") -> str:
     """`mode` if it is one of COMBINE_MODES, else InvalidInputError naming `what`."""
     if mode not in COMBINE_MODES:

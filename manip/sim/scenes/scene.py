@@ -14,6 +14,7 @@ from manip.errors import InvalidInputError
 from manip.pose import Pose
 from manip.sim.prims.geometry_prim import GeometryPrim
 from manip.sim.objects.ground_plane import GroundPlane
+from manip.sim.scenes.aabb import geom_box, shape_box
 from manip.sim.scenes.stage import ReferencePrim, SimHandle, SimulationError, get_current_stage
 from manip.sim.utils.not_supported import declare as declare_not_supported
 
@@ -153,7 +154,10 @@ class Scene:
             self.remove_object(name, registry_only)
 
     def post_reset(self) -> None:
-        for obj in list(self._objects.values()):
+        """Every object's `post_reset()`, the views' (objects with `prim_paths`) last, as
+        Isaac's scene orders them: a view's default state applies over its prims'."""
+        objects = list(self._objects.values())
+        for obj in sorted(objects, key=lambda o: hasattr(o, "prim_paths")):
             if hasattr(obj, "post_reset"):
                 obj.post_reset()
 
@@ -191,45 +195,50 @@ class Scene:
                                     restitution=restitution))
 
     # ------------------------------------------------------------------ geometry queries
-    def _geoms_of(self, obj: Any) -> list[int]:
-        sim = self._world.physics_sim_view
-        if sim is None:
-            raise SimulationError("the world is not compiled yet; call world.reset() first")
-        m = sim.model
-        if isinstance(obj, GeometryPrim):
-            return [obj.geom_id]
-        prefix = obj.prim_path + "/"
-        return [g for g in range(m.ngeom) if m.body(m.geom_bodyid[g]).name.startswith(prefix)
-                or m.body(m.geom_bodyid[g]).name == obj.prim_path]
+    def enable_bounding_boxes_computations(self) -> None:
+        """Nothing to enable: `compute_object_AABB` computes bounds on demand (Isaac scripts
+        call this first, as Isaac's requires)."""
+
+    def disable_bounding_boxes_computations(self) -> None:
+        """Nothing to disable (bounds are computed on demand; `compute_object_AABB` keeps working)."""
 
     def compute_object_AABB(self, name: str) -> np.ndarray:
-        """Axis-aligned bounding box [[min x, y, z], [max x, y, z]] (2, 3) [m] of an object
-        (its geoms' bounding boxes, in the current state). A plane's box is its drawn square.
+        """Axis-aligned bounding box [[min x, y, z], [max x, y, z]] (2, 3) [m] of an object,
+        tight (`manip.sim.scenes.aabb`): its geoms in the current state; a plane's box is its
+        drawn square at its height. A shape not compiled yet (before the first reset, or added
+        since) is bounded from its pose and dimensions, as Isaac bounds USD prims at any time.
 
         Raises:
-            InvalidInputError: no such object. SimulationError: before the first reset.
+            InvalidInputError: no such object. SimulationError: a robot (or other referenced
+                model) or view not compiled yet.
         """
         obj = self._objects.get(name)
         if obj is None:
             raise InvalidInputError(f"no object named {name!r} in the scene; names: {sorted(self._objects)}")
         sim = self._world.physics_sim_view
-        geoms = self._geoms_of(obj)
-        if not geoms:
+        if isinstance(obj, GeometryPrim) and (sim is None or obj.geom_id < 0):
+            if obj.shape_kind in ("cuboid", "sphere", "cylinder", "capsule", "cone"):
+                return shape_box(obj.shape_kind, obj.shape_dimensions(), *obj.get_world_pose())
+        if sim is None:
+            raise SimulationError(f"compute_object_AABB({name!r}): the world is not compiled yet; call world.reset() "
+                                  "first (shapes are bounded before; robots once compiled)")
+        m = sim.model
+        path = getattr(obj, "prim_path", None)
+        bodies = [b for b in range(m.nbody) if path is not None and
+                  (m.body(b).name == path or m.body(b).name.startswith(path + "/"))]
+        if not bodies and getattr(obj, "simulated", False):  # a frame fixed to a robot's link
+            p = obj.get_world_pose()[0]
+            return np.stack([p, p])
+        if not bodies:
+            raise SimulationError(f"compute_object_AABB({name!r}): the object was added after the last world.reset() "
+                                  "and is not in the compiled world yet; reset first")
+        geoms = [g for g in range(m.ngeom) if m.geom_bodyid[g] in bodies]
+        if not geoms:  # a bare transform
             p = obj.get_world_pose()[0]
             return np.stack([p, p])
         sim.ensure_kinematics()
-        m, d = sim.model, sim.data
-        lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
-        signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
-        for g in geoms:
-            c, h = m.geom_aabb[g, :3], m.geom_aabb[g, 3:]
-            if int(m.geom_type[g]) == int(mujoco.mjtGeom.mjGEOM_PLANE):
-                h = np.array([m.geom_size[g, 0], m.geom_size[g, 1], 0.0])
-            R = d.geom_xmat[g].reshape(3, 3)
-            pts = d.geom_xpos[g] + (c + signs * h) @ R.T
-            lo = np.minimum(lo, pts.min(axis=0))
-            hi = np.maximum(hi, pts.max(axis=0))
-        return np.stack([lo, hi])
+        boxes = np.array([geom_box(m, sim.data, g) for g in geoms])
+        return np.stack([boxes[:, 0].min(axis=0), boxes[:, 1].max(axis=0)])
 
     def get_collision_objects(self, include_robots: bool = True) -> list[CollisionObject]:
         """Every colliding shape of the World with its world pose (for planners' world sync).

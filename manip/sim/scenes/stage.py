@@ -19,6 +19,7 @@ import numpy as np
 
 from manip import package_uri
 from manip import quaternion as quat
+from manip.sim.scenes.variants import VariantSet
 from manip.errors import InvalidInputError, ManipError, RobotConfigError
 from manip.sim.assets import MODEL_SUFFIXES, get_assets_root_path, resolve_asset_path
 from manip.sim.core.callbacks import CallbackTable
@@ -126,6 +127,11 @@ class ReferencePrim:
         self.core: Any = None
         self._probe: tuple[mujoco.MjModel, mujoco.MjData] | None = None  # the file alone, for authored poses
         self._names: tuple[frozenset, frozenset] | None = None  # the file's (body, site) names
+        self._variants: dict[str, str] = {}  # USD variant selections, kept (`GetVariantSet`)
+
+    def GetVariantSet(self, name: str) -> VariantSet:  # noqa: N802 (USD's name, as Isaac 5's examples call it)
+        """The asset's variant set `name` (selections are kept and change nothing: `manip.sim.scenes.variants`)."""
+        return VariantSet(self._variants, name, self.prim_path)
 
     def unbind_simulation(self) -> None:
         """Forget the compiled model's core (the prim was removed from the stage)."""

@@ -35,6 +35,7 @@ from manip.errors import InvalidInputError
 from manip.sim.prims.xform_prim import XFormPrim
 from manip.sim.scenes.stage import SimulationError
 from manip.sim.sensors import annotators
+from manip.sim.utils.not_supported import declare as declare_not_supported
 from manip.validation import positive
 
 logger = logging.getLogger(__name__)
@@ -112,6 +113,7 @@ class Camera(XFormPrim):
         self._focal_length = DEFAULT_FOCAL_LENGTH
         self._horizontal_aperture = DEFAULT_HORIZONTAL_APERTURE
         self._clipping = DEFAULT_CLIPPING_RANGE
+        self._lens = {"focus_distance": 400.0, "f_stop": 0.0, "stereo_role": "mono"}  # kept, not rendered
         self._renderers: dict[str, mujoco.Renderer] = {}   # by mode: "rgb", "depth", "segmentation"
         self._annotators: set[str] = set()   # the optional frame entries asked for ("normals", "motion_vectors")
         self._paused_frame: dict | None = None
@@ -264,6 +266,59 @@ class Camera(XFormPrim):
     def get_projection_type(self) -> str:
         return "pinhole"
 
+    def set_projection_type(self, value: str) -> None:
+        """Only "pinhole" (MuJoCo renders pinhole cameras; Isaac's fisheye models are not available)."""
+        if value != "pinhole":
+            raise InvalidInputError(f"projection type must be 'pinhole' (MuJoCo renders pinhole cameras); got {value!r}")
+
+    def get_projection_mode(self) -> str:
+        return "perspective"
+
+    def set_projection_mode(self, value: str) -> None:
+        """Only "perspective" (the intrinsics and point clouds here are a perspective camera's)."""
+        if value != "perspective":
+            raise InvalidInputError(f"projection mode must be 'perspective'; got {value!r}")
+
+    def get_aspect_ratio(self) -> float:
+        """Width / height of the image (square pixels)."""
+        w, h = self._resolution
+        return w / float(h)
+
+    def get_view_matrix_ros(self) -> np.ndarray:
+        """(4, 4) transform of world points [m] into the camera's ROS frame (+Z forward, +X right,
+        +Y down): x_cam = V @ [x_world, 1]."""
+        p, q = self.get_world_pose(camera_axes="ros")
+        R = quat.to_matrix(q)
+        V = np.eye(4)
+        V[:3, :3], V[:3, 3] = R.T, -R.T @ p
+        return V
+
+    def get_focus_distance(self) -> float:
+        return self._lens["focus_distance"]
+
+    def set_focus_distance(self, value: float) -> None:
+        """Kept, not rendered (MuJoCo's cameras have no depth of field) [stage units]."""
+        self._lens["focus_distance"] = positive(value, "focus_distance", "m")
+
+    def get_lens_aperture(self) -> float:
+        return self._lens["f_stop"]
+
+    def set_lens_aperture(self, value: float) -> None:
+        """The f-stop; kept, not rendered (0: no depth of field, USD's default)."""
+        v = float(value)
+        if not math.isfinite(v) or v < 0:
+            raise InvalidInputError(f"lens aperture (f-stop) must be >= 0; got {value!r}")
+        self._lens["f_stop"] = v
+
+    def get_stereo_role(self) -> str:
+        return self._lens["stereo_role"]
+
+    def set_stereo_role(self, value: str) -> None:
+        """"mono", "left" or "right"; kept (the images are the same)."""
+        if value not in ("mono", "left", "right"):
+            raise InvalidInputError(f"stereo role must be 'mono', 'left' or 'right'; got {value!r}")
+        self._lens["stereo_role"] = value
+
     def get_intrinsics_matrix(self) -> np.ndarray:
         """(3, 3) pinhole intrinsics [px]: [[fx, 0, cx], [0, fy, cy], [0, 0, 1]] (OpenCV's
         convention, see the module docstring)."""
@@ -307,6 +362,18 @@ class Camera(XFormPrim):
         step when no frequency is set), from the simulation's velocities
         (`manip.sim.sensors.annotators.motion_vectors`)."""
         self._annotators.add("motion_vectors")
+
+    def remove_distance_to_image_plane_from_frame(self) -> None:
+        """Nothing to remove: depth is always in the frame (`get_depth`)."""
+
+    def remove_distance_to_camera_from_frame(self) -> None:
+        """Nothing to remove: the frame always holds it."""
+
+    @property
+    def supported_annotators(self) -> list[str]:
+        """The annotators of `get_current_frame()` here (Isaac's semantic, bounding-box, instance
+        and occlusion annotators need semantic labels manip does not have)."""
+        return ["normals", "motion_vectors", "distance_to_image_plane", "distance_to_camera", "pointcloud"]
 
     def remove_normals_from_frame(self) -> None:
         self._annotators.discard("normals")
@@ -459,3 +526,6 @@ class Camera(XFormPrim):
             self._close_renderers()
         except Exception:  # pragma: no cover
             pass
+
+
+declare_not_supported(Camera)

@@ -12,7 +12,7 @@ from manip.sim.utils.bounds import bounded_vec
 from manip.validation import unit_quat
 
 __all__ = ["ArticulationAction", "DynamicState", "DynamicsViewState", "JointsState", "XFormPrimState", "XFormPrimViewState",
-           "ArticulationActions"]
+           "ArticulationActions", "ArticulationViewActions"]
 
 
 @dataclass
@@ -72,6 +72,18 @@ class JointsState:
 
 
 ArticulationActions = ArticulationAction
+
+
+@dataclass
+class ArticulationViewActions:
+    """The drive targets a view returns (Isaac's `ArticulationActions` of
+    `ArticulationView.get_applied_actions`): positions [rad or m], velocities [rad/s or m/s]
+    and efforts [N m or N], (M, num_dof) each for M articulations."""
+
+    joint_positions: np.ndarray
+    joint_velocities: np.ndarray
+    joint_efforts: np.ndarray
+    joint_indices: np.ndarray | None = None
 
 
 @dataclass

@@ -115,6 +115,26 @@ def test_gripper_forward_is_full_length_and_moves_the_fingers(franka_world):
     assert np.allclose(franka.gripper.get_joint_positions(), 0.02, atol=0.002)
 
 
+def test_gripper_action_deltas_set_after_construction_step_the_fingers(franka_world):
+    """Isaac's ParallelGripper.set_action_deltas / get_action_deltas (they raised
+    NotImplementedError): with deltas, close() moves each finger by its delta from where it is."""
+    world, franka = franka_world
+    assert franka.gripper.get_action_deltas() is None
+    franka.gripper.set_action_deltas(np.array([0.01, 0.01]))
+    np.testing.assert_allclose(franka.gripper.get_action_deltas(), [0.01, 0.01])
+    franka.gripper.close()
+    for _ in range(30):
+        world.step(render=False)
+    np.testing.assert_allclose(franka.gripper.get_joint_positions(), 0.03, atol=0.002)
+    franka.gripper.set_action_deltas(None)
+    franka.gripper.close()
+    for _ in range(30):
+        world.step(render=False)
+    assert np.all(franka.gripper.get_joint_positions() < 0.002)
+    with pytest.raises(InvalidInputError, match="action_deltas"):
+        franka.gripper.set_action_deltas([0.01, np.nan])
+
+
 def test_bad_actions_raise_and_leave_the_state_unchanged(franka_world):
     world, franka = franka_world
     ctrl = franka.get_articulation_controller()

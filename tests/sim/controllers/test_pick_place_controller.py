@@ -261,3 +261,38 @@ def test_an_unreachable_place_stops_with_the_object_held_and_says_why():
     # Still in the hand, not dropped wherever the arm stopped.
     assert cube.get_world_pose()[0][2] > 0.2
     assert np.linalg.norm(cube.get_world_pose()[0] - franka.end_effector.get_world_pose()[0]) < 0.02
+
+
+def test_isaac5s_franka_pick_up_example_with_the_right_finger_as_end_effector():
+    """Isaac 5's standalone franka_pick_up.py: a SingleManipulator whose end effector is the right
+    finger. Isaac's controller places its RMPflow end effector (right_gripper, between the
+    fingertips) at the targets whatever the articulation's end effector; manip's drove the finger
+    onto the cube, pushed it 14 cm away and reported a failed grasp."""
+    from manip.sim import ParallelGripper, SingleManipulator, add_reference_to_stage, get_assets_root_path
+
+    world = World()
+    world.scene.add_default_ground_plane()
+    add_reference_to_stage(get_assets_root_path() + "/Isaac/Robots/FrankaRobotics/FrankaPanda/franka.usd",
+                           "/World/Franka")
+    gripper = ParallelGripper(end_effector_prim_path="/World/Franka/panda_rightfinger",
+                              joint_prim_names=["panda_finger_joint1", "panda_finger_joint2"],
+                              joint_opened_positions=np.array([0.05, 0.05]),
+                              joint_closed_positions=np.array([0.02, 0.02]), action_deltas=np.array([0.01, 0.01]))
+    franka = world.scene.add(SingleManipulator(prim_path="/World/Franka", name="my_franka",
+                                               end_effector_prim_path="/World/Franka/panda_rightfinger",
+                                               gripper=gripper))
+    cube = world.scene.add(DynamicCuboid("/World/Cube", name="cube", position=np.array([0.3, 0.3, 0.3]),
+                                         scale=np.array([0.0515, 0.0515, 0.0515]), size=1.0))
+    franka.gripper.set_default_state(franka.gripper.joint_opened_positions)
+    world.reset()
+    controller = PickPlaceController(name="pick_place_controller", gripper=franka.gripper, robot_articulation=franka)
+    place = np.array([-0.3, -0.3, 0.0515 / 2.0])
+    for _ in range(sum(calls_per_phase(FRANKA_EVENTS_DT)) + 60):
+        world.step(render=True)
+        franka.apply_action(controller.forward(picking_position=cube.get_local_pose()[0], placing_position=place,
+                                               current_joint_positions=franka.get_joint_positions(),
+                                               end_effector_offset=np.array([0, 0.005, 0])))
+        if controller.is_done():
+            break
+    assert controller.is_done()
+    assert np.linalg.norm(cube.get_world_pose()[0][:2] - place[:2]) < 0.015

@@ -245,6 +245,31 @@ def test_a_second_world_is_the_same_instance(caplog):
     assert "ignored" in caplog.text
 
 
+def test_the_world_is_the_simulation_context_as_in_isaac():
+    """Isaac keeps one SimulationContext per process and World is one: SimulationContext.instance()
+    and SimulationContext() after World() are that World (they were None and a second,
+    separate simulation of the same stage)."""
+    from manip.sim import SimulationContext, SimulationError
+
+    world = World(physics_dt=1 / 120)
+    cube = world.scene.add(DynamicCuboid("/World/cube", name="cube", position=[0, 0, 0.5], size=0.1))
+    assert SimulationContext.instance() is world
+    assert SimulationContext() is world
+    world.reset()
+    ctx = SimulationContext.instance()
+    assert ctx.get_physics_dt() == pytest.approx(1 / 120)
+    ctx.step(render=False)
+    assert world.current_time_step_index == 2 and cube.get_linear_velocity()[2] < 0
+    SimulationContext.clear_instance()  # clears the World too
+    assert World.instance() is None and SimulationContext.instance() is None
+    SimulationContext()
+    assert World.instance() is None  # a plain SimulationContext is not a World
+    with pytest.raises(SimulationError, match="clear_instance"):
+        World()
+    SimulationContext.clear_instance()
+    assert isinstance(World(), World)
+
+
 def test_world_arguments_isaac_has_and_manip_cannot_mirror(caplog):
     for kwargs, message in (({"stage_units_in_meters": 0.01}, "must be 1.0; got 0.01: manip.sim works in metres"),
                             ({"backend": "torch"}, "runs MuJoCo on the CPU"),
@@ -591,7 +616,7 @@ def test_changing_the_physics_step_mid_run_keeps_time_continuous():
         world.step(render=False)
     assert world.current_time == pytest.approx(1.0)
     with pytest.raises(InvalidInputError, match="rendering_dt"):
-        world.set_simulation_dt(physics_dt=1 / 120, rendering_dt=0.0)
+        world.set_simulation_dt(physics_dt=1 / 120, rendering_dt=-1.0)
     assert world.get_physics_dt() == pytest.approx(1 / 60)  # nothing changed
     world.set_simulation_dt(physics_dt=1 / 120, rendering_dt=1 / 120)
     z0, v0 = ball.get_world_pose()[0][2], ball.get_linear_velocity()[2]
@@ -599,6 +624,30 @@ def test_changing_the_physics_step_mid_run_keeps_time_continuous():
         world.step(render=False)
     assert world.current_time == pytest.approx(2.0)  # was 121 / 120 s: the past recomputed with the new step
     assert ball.get_world_pose()[0][2] - z0 == pytest.approx(v0 - 0.5 * 9.81, abs=0.02)  # 1 s of free fall
+
+
+def test_zero_physics_or_rendering_dt_as_isaacs_time_stepping_example():
+    """Isaac's time_stepping example: physics_dt=0 stops physics (a step only renders) until a
+    positive dt is set; rendering_dt=0 makes step(render=True) run one physics step; render
+    callbacks get Isaac's payload {"dt": rendering_dt} (all raised)."""
+    world = World()
+    ball = world.scene.add(DynamicSphere("/World/ball", name="ball", position=[0, 0, 10.0], radius=0.05))
+    events = []
+    world.add_render_callback("r", lambda event: events.append(event.payload["dt"]))
+    world.reset()
+    world.set_simulation_dt(physics_dt=0.0, rendering_dt=1 / 60)
+    t, z = world.current_time, ball.get_world_pose()[0][2]
+    for _ in range(5):
+        world.step(render=True)
+    assert world.current_time == t and ball.get_world_pose()[0][2] == z and world.get_physics_dt() == 0.0
+    assert events[-1] == pytest.approx(1 / 60) and len(events) >= 5
+    world.set_simulation_dt(physics_dt=1 / 60, rendering_dt=0.0)
+    world.step(render=True)
+    assert world.current_time == pytest.approx(t + 1 / 60) and ball.get_world_pose()[0][2] < z
+    assert events[-1] == 0.0
+    world.set_simulation_dt(physics_dt=1 / 600)  # the rendering_dt stays 0: one 1/600 s step per render
+    world.step(render=True)
+    assert world.current_time == pytest.approx(t + 1 / 60 + 1 / 600)
 
 
 def test_xform_rigid_and_geometry_prims_wrap_an_existing_object_as_in_isaac():

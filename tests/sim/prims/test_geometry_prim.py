@@ -32,6 +32,37 @@ def test_collisions_switched_off_before_the_first_reset_stay_off_across_recompil
     assert cube.get_world_pose()[0][2] == pytest.approx(0.025, abs=2e-3)  # through the wall, onto the ground
 
 
+def test_collisions_switched_off_while_running_stop_the_friction_pairs_too():
+    """A shape with a physics material touches the ground through an explicit MuJoCo pair
+    (PhysX's combined friction), which MuJoCo collides whatever contype/conaffinity say: switched
+    off after the reset, a cube resting on a fixed box and one on the ground stayed put."""
+    world = World()
+    world.scene.add_default_ground_plane()
+    rubber = PhysicsMaterial("/World/Physics_Materials/rubber", static_friction=1.2, dynamic_friction=1.2)
+    box = world.scene.add(FixedCuboid("/World/box", name="box", position=[0.5, 0.0, 0.05], size=0.1))
+    on_box = world.scene.add(DynamicCuboid("/World/a", name="a", position=[0.5, 0.0, 0.2], size=0.05,
+                                           physics_material=rubber))
+    on_ground = world.scene.add(DynamicCuboid("/World/b", name="b", position=[0.0, 0.0, 0.2], size=0.05,
+                                              physics_material=rubber))
+    world.reset()
+    assert world.model.npair > 0  # the friction pairs exist
+    for _ in range(60):
+        world.step(render=False)
+    assert on_box.get_world_pose()[0][2] == pytest.approx(0.125, abs=2e-3)
+    assert on_ground.get_world_pose()[0][2] == pytest.approx(0.025, abs=2e-3)
+    box.set_collision_enabled(False)
+    on_ground.set_collision_enabled(False)
+    for _ in range(30):
+        world.step(render=False)
+    assert on_box.get_world_pose()[0][2] == pytest.approx(0.025, abs=2e-3)  # through the box, onto the ground
+    assert on_ground.get_world_pose()[0][2] < -0.5  # through the ground
+    box.set_collision_enabled(True)  # on again: the pair is back
+    on_box.set_world_pose([0.5, 0.0, 0.3])
+    for _ in range(60):
+        world.step(render=False)
+    assert on_box.get_world_pose()[0][2] == pytest.approx(0.125, abs=2e-3)
+
+
 def test_isaacs_collision_argument_and_a_robot_link_is_refused_not_another_geom_written():
     world = World()
     franka = world.scene.add(Franka("/World/Franka", name="franka"))

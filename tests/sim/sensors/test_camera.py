@@ -112,3 +112,40 @@ def test_bad_input_names_the_argument():
         cam.set_clipping_range(1.0, 0.5)
     with pytest.raises(SimulationError, match="reset"):
         cam.get_depth()
+
+
+def test_view_matrix_ros_aspect_ratio_and_the_lens_settings_isaac_scripts_call():
+    """get_view_matrix_ros, get_aspect_ratio, the projection, focus and stereo getters and setters
+    (they raised AttributeError); the annotators that need semantic labels raise saying so."""
+    q = quat.from_axis_angle(np.array([0.0, 0.0, 1.0]), math.radians(30.0))
+    cam = Camera("/World/camera", position=[0.2, -0.1, 0.5], orientation=q, resolution=(320, 240))
+    _, cam = _wall_world(camera=cam)
+    V = cam.get_view_matrix_ros()
+    pts = cam.get_pointcloud()[::997]
+    cam_pts = pts @ V[:3, :3].T + V[:3, 3]
+    depth = cam.get_depth().ravel()
+    hit = depth[np.isfinite(depth)][::997]
+    np.testing.assert_allclose(cam_pts[:, 2], hit, atol=1e-4)  # +Z forward: the depth of each point
+    uv = cam.get_image_coords_from_world_points(pts)
+    K = cam.get_intrinsics_matrix()
+    np.testing.assert_allclose(cam_pts[:, :2] / cam_pts[:, 2:] * [K[0, 0], K[1, 1]] + K[:2, 2], uv, atol=1e-6)
+    assert cam.get_aspect_ratio() == pytest.approx(320 / 240)
+    assert cam.get_projection_mode() == "perspective" and cam.get_projection_type() == "pinhole"
+    cam.set_projection_mode("perspective")
+    with pytest.raises(InvalidInputError, match="perspective"):
+        cam.set_projection_mode("orthographic")
+    with pytest.raises(InvalidInputError, match="pinhole"):
+        cam.set_projection_type("fisheyePolynomial")
+    cam.set_focus_distance(2.0)
+    cam.set_lens_aperture(1.8)
+    cam.set_stereo_role("left")
+    assert (cam.get_focus_distance(), cam.get_lens_aperture(), cam.get_stereo_role()) == (2.0, 1.8, "left")
+    before = cam.get_rgba()
+    np.testing.assert_array_equal(cam.get_rgba(), before)  # kept, not rendered: the same image
+    cam.remove_distance_to_image_plane_from_frame()
+    assert "distance_to_image_plane" in cam.get_current_frame()
+    assert "pointcloud" in cam.supported_annotators and "semantic_segmentation" not in cam.supported_annotators
+    with pytest.raises(NotImplementedError, match="semantic labels"):
+        cam.add_semantic_segmentation_to_frame()
+    with pytest.raises(NotImplementedError, match="pinhole"):
+        cam.set_fisheye_polynomial_properties(1920, 1080, 2.0, 0.0, 0.0, 3.0, [0.0, 0.0, 0.0, 0.0, 0.0])

@@ -223,3 +223,29 @@ def test_a_reset_removes_the_tasks_obstacles_and_the_controller_forgets_them_as_
     # Without controller.reset(), the removed obstacle is named at the next forward.
     with pytest.raises(SimulationError, match="remove_obstacle"):
         controller.forward(target["position"], target["orientation"])
+
+
+def test_the_rmpflow_controller_places_the_tool_centre_not_a_finger_chosen_as_end_effector():
+    """Isaac's Franka RMPFlowController moves its RMPflow end effector (right_gripper) to the
+    target whatever the articulation's end effector; with a SingleManipulator whose end effector
+    is the right finger (Isaac 5's examples) manip's put the finger on the target."""
+    from manip import quaternion as quat
+    from manip.sim import ParallelGripper, RigidPrim, SingleManipulator, add_reference_to_stage, get_assets_root_path
+
+    world = World()
+    add_reference_to_stage(get_assets_root_path() + "/Isaac/Robots/Franka/franka.usd", "/World/Franka")
+    gripper = ParallelGripper("/World/Franka/panda_rightfinger", ["panda_finger_joint1", "panda_finger_joint2"],
+                              [0.04, 0.04], [0.0, 0.0])
+    robot = world.scene.add(SingleManipulator("/World/Franka", end_effector_prim_name="panda_rightfinger",
+                                              name="franka", gripper=gripper))
+    world.reset()
+    controller = RMPFlowController(name="rmp", robot_articulation=robot)
+    target, down = np.array([0.45, 0.15, 0.35]), np.array([0.0, 1.0, 0.0, 0.0])
+    for _ in range(180):
+        robot.apply_action(controller.forward(target_end_effector_position=target,
+                                              target_end_effector_orientation=down))
+        world.step(render=False)
+    hand_p, hand_q = RigidPrim("/World/Franka/panda_hand", name="hand").get_world_pose()
+    tcp = hand_p + 0.1034 * quat.to_matrix(hand_q)[:, 2]
+    assert np.linalg.norm(tcp - target) < 0.01  # the tool centre on the target (gravity sag aside)
+    assert np.linalg.norm(robot.end_effector.get_world_pose()[0] - target) > 0.03  # not the finger
