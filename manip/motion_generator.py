@@ -66,7 +66,7 @@ from manip.planning.arms import (
 )
 from manip.planning.constrained import with_constraints
 from manip.planning.context import START_LIMIT_TOLERANCE, PlanContext
-from manip.planning.goal_configurations import plan_to_poses
+from manip.planning.goal_configurations import explain_rejected_ik, plan_to_poses
 from manip.planning.grasp import Stages, finger_links, plan_grasp, plan_place
 from manip.planning.grasp_plan import GraspPlan
 from manip.planning.linear_motion import (
@@ -325,9 +325,12 @@ class MotionGenerator(WorldEdits):
         link = self._link(link)
         if seed_q is not None:
             seed_q = self.kinematics.check_q(self._arm_q(seed_q, "seed_q"), "seed_q")
-        if flag(collision_free, "collision_free"):
-            kwargs.setdefault("validity_fn", self._validity().configs)
-        return self._arm_solver(link, seed_q).solve(goal, link, seed_q=seed_q, **kwargs)
+        solver = self._arm_solver(link, seed_q)
+        if not flag(collision_free, "collision_free") or "validity_fn" in kwargs:
+            return solver.solve(goal, link, seed_q=seed_q, **kwargs)
+        validity = self._validity()  # a failure names what the solution nearest seed_q touches
+        result = solver.solve(goal, link, seed_q=seed_q, validity_fn=validity.configs, **kwargs)
+        return explain_rejected_ik(result, solver, goal, link, seed_q, validity, kwargs.get("seed"))
 
     def batch_ik(self, goals: Pose, link: str | None = None, seed_q: np.ndarray | None = None, *,
                  collision_free: bool = False, **kwargs) -> BatchIKResult:
