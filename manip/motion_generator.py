@@ -502,9 +502,12 @@ class MotionGenerator(WorldEdits):
                              clearance=self.clearance)
 
     def plan_batch(self, start_qs, goals, link: str | None = None, **options) -> list[PlanResult]:
-        """Plan several problems: `goals` is (N, dof) joint goals, a batched Pose or a list of Poses."""
+        """Plan several problems: `goals` is (N, dof) joint goals, a batched Pose or a list of Poses.
+        One start (dof,) serves every goal; no goals (N = 0, an empty list too) give []."""
         start_qs = np.atleast_2d(self.kinematics.check_q(self._arm_q(start_qs, "start_qs"), "start_qs"))
-        if isinstance(goals, (list, tuple)) and goals and all(isinstance(g, Pose) for g in goals):
+        if isinstance(goals, (list, tuple)) and not goals:
+            goals = np.zeros((0, self.robot_dof))
+        if isinstance(goals, (list, tuple)) and all(isinstance(g, Pose) for g in goals):
             goals = Pose.stack(list(goals))
         if isinstance(goals, Pose):
             goal_list = list(goals) if goals.is_batch else [goals]
@@ -512,7 +515,7 @@ class MotionGenerator(WorldEdits):
             if isinstance(goals, (list, tuple)) and any(isinstance(g, Pose) for g in goals):
                 raise InvalidInputError("goals must be all joint configurations or all Poses, not a mix")
             goal_list = list(np.atleast_2d(self.kinematics.check_q(self._arm_q(goals, "goals"), "goals")))
-        if len(start_qs) == 1 and len(goal_list) > 1:
+        if len(start_qs) == 1 and len(goal_list) != 1:
             start_qs = np.repeat(start_qs, len(goal_list), axis=0)
         if len(start_qs) != len(goal_list):
             raise InvalidInputError(f"plan_batch needs as many start_qs as goals; got {len(start_qs)} and {len(goal_list)}")
