@@ -51,8 +51,6 @@ SLIDE_TOLERANCE = 5e-3
 #: `IKSolver(max_attempts=)`'s default: attempts per goal (the first from `seed_q`).
 MAX_ATTEMPTS = 100
 
-#: A validity check for candidate solutions: Q (K, dof) -> (K,) bool (True = acceptable).
-
 
 class _Attempts(NamedTuple):
     found: list[np.ndarray]
@@ -117,8 +115,7 @@ class IKSolver:
         seed: seed of the random restarts; the same inputs and seed give the same answer.
         damping: Levenberg-Marquardt damping gain (lambda = damping * |e|^2).
         max_step: largest change of one joint per iteration [rad].
-        num_seeds: cuRobo's name of `max_attempts` (its `IKSolverConfig`: the starts tried per
-            goal); deprecated here, give one of the two.
+        num_seeds: cuRobo's name (`IKSolverConfig`) of `max_attempts`; deprecated, give one of them.
 
     Raises:
         InvalidInputError: if a parameter is not positive, or both max_attempts and num_seeds are given.
@@ -143,8 +140,7 @@ class IKSolver:
         self.position_tolerance = positive(position_tolerance, "position_tolerance", "m")
         self.rotation_tolerance = positive(rotation_tolerance, "rotation_tolerance", "rad")
         self.max_iterations = integer(max_iterations, "max_iterations", 1)
-        if num_seeds is not None:
-            num_seeds = _at_least_one(num_seeds, "num_seeds")
+        num_seeds = None if num_seeds is None else _at_least_one(num_seeds, "num_seeds")
         max_attempts = _renamed("num_seeds", num_seeds, "max_attempts", max_attempts)
         self.max_attempts = integer(MAX_ATTEMPTS if max_attempts is None else max_attempts, "max_attempts", 1)
         self.seed = integer(seed, "seed", 0)
