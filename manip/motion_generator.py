@@ -312,6 +312,7 @@ class MotionGenerator(WorldEdits):
 
         With `collision_free=True` only configurations free of collisions with the world and
         the robot itself count as solutions (the world as it is when the call starts).
+        When every solution found collides, `message` says what the one nearest `seed_q` touches.
         Other keyword arguments go to `IKSolver.solve`. A batched Pose is deprecated here:
         use `batch_ik`. On a multi-arm robot only the link's arm moves: the other joints keep
         their `seed_q` values (default: the default configuration; `manip.planning.arms`).
