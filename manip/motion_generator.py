@@ -66,7 +66,7 @@ from manip.planning.arms import (
 )
 from manip.planning.constrained import with_constraints
 from manip.planning.context import START_LIMIT_TOLERANCE, PlanContext
-from manip.planning.goal_configurations import plan_to_poses
+from manip.planning.goal_configurations import explain_rejected_ik, plan_to_poses
 from manip.planning.grasp import Stages, finger_links, plan_grasp, plan_place
 from manip.planning.grasp_plan import GraspPlan
 from manip.planning.linear_motion import (
@@ -312,6 +312,7 @@ class MotionGenerator(WorldEdits):
 
         With `collision_free=True` only configurations free of collisions with the world and
         the robot itself count as solutions (the world as it is when the call starts).
+        When every solution found collides, `message` says what the one nearest `seed_q` touches.
         Other keyword arguments go to `IKSolver.solve`. A batched Pose is deprecated here:
         use `batch_ik`. On a multi-arm robot only the link's arm moves: the other joints keep
         their `seed_q` values (default: the default configuration; `manip.planning.arms`).
@@ -325,9 +326,12 @@ class MotionGenerator(WorldEdits):
         link = self._link(link)
         if seed_q is not None:
             seed_q = self.kinematics.check_q(self._arm_q(seed_q, "seed_q"), "seed_q")
-        if flag(collision_free, "collision_free"):
-            kwargs.setdefault("validity_fn", self._validity().configs)
-        return self._arm_solver(link, seed_q).solve(goal, link, seed_q=seed_q, **kwargs)
+        solver = self._arm_solver(link, seed_q)
+        if not flag(collision_free, "collision_free") or "validity_fn" in kwargs:
+            return solver.solve(goal, link, seed_q=seed_q, **kwargs)
+        validity = self._validity()  # a failure names what the solution nearest seed_q touches
+        result = solver.solve(goal, link, seed_q=seed_q, validity_fn=validity.configs, **kwargs)
+        return explain_rejected_ik(result, solver, goal, link, seed_q, validity, kwargs.get("seed"))
 
     def batch_ik(self, goals: Pose, link: str | None = None, seed_q: np.ndarray | None = None, *,
                  collision_free: bool = False, **kwargs) -> BatchIKResult:
@@ -499,9 +503,12 @@ class MotionGenerator(WorldEdits):
                              clearance=self.clearance)
 
     def plan_batch(self, start_qs, goals, link: str | None = None, **options) -> list[PlanResult]:
-        """Plan several problems: `goals` is (N, dof) joint goals, a batched Pose or a list of Poses."""
+        """Plan several problems: `goals` is (N, dof) joint goals, a batched Pose or a list of Poses.
+        One start (dof,) serves every goal; no goals (N = 0, an empty list too) give []."""
         start_qs = np.atleast_2d(self.kinematics.check_q(self._arm_q(start_qs, "start_qs"), "start_qs"))
-        if isinstance(goals, (list, tuple)) and goals and all(isinstance(g, Pose) for g in goals):
+        if isinstance(goals, (list, tuple)) and not goals:
+            goals = np.zeros((0, self.robot_dof))
+        if isinstance(goals, (list, tuple)) and all(isinstance(g, Pose) for g in goals):
             goals = Pose.stack(list(goals))
         if isinstance(goals, Pose):
             goal_list = list(goals) if goals.is_batch else [goals]
@@ -509,7 +516,7 @@ class MotionGenerator(WorldEdits):
             if isinstance(goals, (list, tuple)) and any(isinstance(g, Pose) for g in goals):
                 raise InvalidInputError("goals must be all joint configurations or all Poses, not a mix")
             goal_list = list(np.atleast_2d(self.kinematics.check_q(self._arm_q(goals, "goals"), "goals")))
-        if len(start_qs) == 1 and len(goal_list) > 1:
+        if len(start_qs) == 1 and len(goal_list) != 1:
             start_qs = np.repeat(start_qs, len(goal_list), axis=0)
         if len(start_qs) != len(goal_list):
             raise InvalidInputError(f"plan_batch needs as many start_qs as goals; got {len(start_qs)} and {len(goal_list)}")

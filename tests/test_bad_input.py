@@ -166,6 +166,17 @@ def test_plan_batch_checks_options_and_counts(mg):
     _raises(lambda: mg.plan_batch(READY, "goal"), "goals")
 
 
+def test_plan_batch_of_no_goals_is_empty_whatever_their_form(mg):
+    """One start and no goals is a batch of 0 problems, as (0, 7) starts and goals are."""
+    empty_pose = Pose(np.zeros((0, 3)), np.zeros((0, 4)))
+    for starts in (READY, np.zeros((0, 7))):
+        for goals in ([], (), np.zeros((0, 7)), empty_pose):
+            assert mg.plan_batch(starts, goals) == [], (starts.shape, goals)
+    # no start for two goals is still a count mismatch, and a bad option still fails first
+    _raises(lambda: mg.plan_batch(np.zeros((0, 7)), np.stack([GOAL, GOAL])), ("start_qs", "goals"))
+    _raises(lambda: mg.plan_batch(READY, [], seed="abc"), "seed")
+
+
 def test_plan_batch_accepts_a_list_of_poses(mg):
     out = mg.plan_batch(READY, [HAND_GOAL, Pose([0.45, -0.2, 0.35], DOWN)], time_budget=5.0)
     assert len(out) == 2 and all(r.success for r in out)

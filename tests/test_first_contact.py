@@ -114,6 +114,17 @@ def test_a_goal_inside_the_table_says_what_it_touches(mg):
     assert re.search(r"panda_hand touches table \(\d+\.\d mm deep", result.message), result.message
 
 
+def test_collision_free_ik_inside_the_table_says_what_it_touches(mg):
+    """`ik(collision_free=True)` names the contact as `plan_pose` does, not only "rejected"."""
+    result = mg.ik(Pose([0.5, 0.0, 0.0], DOWN), collision_free=True)
+    assert not result.success and result.status.name == "REJECTED_BY_VALIDITY"
+    assert re.search(r"nearest seed_q: goal in collision: panda_hand touches table \(\d+\.\d mm deep",
+                     result.message), result.message
+    # a validity_fn of the caller's own is not second-guessed: its message stays generic
+    own = mg.ik(Pose([0.5, 0.0, 0.0], DOWN), validity_fn=lambda Q: np.zeros(len(Q), dtype=bool))
+    assert own.status.name == "REJECTED_BY_VALIDITY" and "touches" not in own.message, own.message
+
+
 # ---------------------------------------------------------------------------- names
 def test_robot_names_in_any_case():
     assert MotionGenerator("Franka").config.name == "franka"

@@ -48,8 +48,8 @@ SLIDE_DAMPING = 1e-6
 SLIDE_STEP = 0.2
 SLIDE_ITERATIONS = 30
 SLIDE_TOLERANCE = 5e-3
-
-#: A validity check for candidate solutions: Q (K, dof) -> (K,) bool (True = acceptable).
+#: `IKSolver(max_attempts=)`'s default: attempts per goal (the first from `seed_q`).
+MAX_ATTEMPTS = 100
 
 
 class _Attempts(NamedTuple):
@@ -111,13 +111,14 @@ class IKSolver:
         rotation_tolerance: success threshold on the rotation error [rad].
         max_iterations: iterations per attempt.
         max_attempts: attempts per goal: the first from `seed_q`, the others from uniformly
-            random configurations within the joint limits.
+            random configurations within the joint limits (default `MAX_ATTEMPTS`).
         seed: seed of the random restarts; the same inputs and seed give the same answer.
         damping: Levenberg-Marquardt damping gain (lambda = damping * |e|^2).
         max_step: largest change of one joint per iteration [rad].
+        num_seeds: cuRobo's name (`IKSolverConfig`) of `max_attempts`; deprecated, give one of them.
 
     Raises:
-        InvalidInputError: if a parameter is not positive.
+        InvalidInputError: if a parameter is not positive, or both max_attempts and num_seeds are given.
     """
 
     def __init__(
@@ -127,10 +128,11 @@ class IKSolver:
         position_tolerance: float = 1e-3,
         rotation_tolerance: float = 0.01,
         max_iterations: int = 60,
-        max_attempts: int = 100,
+        max_attempts: int | None = None,
         seed: int = 0,
         damping: float = 0.03,
         max_step: float = 1.0,
+        num_seeds: int | None = None,
     ):
         if not isinstance(kinematics, Kinematics):
             raise InvalidInputError(f"kinematics must be a manip.Kinematics, got {type(kinematics).__name__}")
@@ -138,7 +140,9 @@ class IKSolver:
         self.position_tolerance = positive(position_tolerance, "position_tolerance", "m")
         self.rotation_tolerance = positive(rotation_tolerance, "rotation_tolerance", "rad")
         self.max_iterations = integer(max_iterations, "max_iterations", 1)
-        self.max_attempts = integer(max_attempts, "max_attempts", 1)
+        num_seeds = None if num_seeds is None else _at_least_one(num_seeds, "num_seeds")
+        max_attempts = _renamed("num_seeds", num_seeds, "max_attempts", max_attempts)
+        self.max_attempts = integer(MAX_ATTEMPTS if max_attempts is None else max_attempts, "max_attempts", 1)
         self.seed = integer(seed, "seed", 0)
         self.damping = positive(damping, "damping")
         self.max_step = positive(max_step, "max_step", "rad")

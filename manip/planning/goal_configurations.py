@@ -14,7 +14,7 @@ from dataclasses import replace
 import numpy as np
 
 from manip.collision.clearance import ClearanceModel
-from manip.ik import IKSolver, IKStatus
+from manip.ik import IKResult, IKSolver, IKStatus
 from manip.kinematics import Kinematics
 from manip.limits import JointLimits
 from manip.planning.context import PlanContext
@@ -82,11 +82,35 @@ def _ik_failure(ik_solver: IKSolver, sols, goal: Pose, link: str, start: np.ndar
     but all collide, one of them (the nearest the start) says with what."""
     if sols.status is not IKStatus.REJECTED_BY_VALIDITY:
         return sols.status, sols.message
-    found = ik_solver.solve_many(goal, link, n=1, seed_q=start, seed=seed)
-    if len(found) == 0:
+    problem = nearest_solution_problem(ik_solver, goal, link, start, validity, seed)
+    if problem is None:
         return sols.status, "every IK solution found is in collision"
-    problem = validity.goal_problem(found[0]) or "in collision"
     return sols.status, f"every IK solution found is in collision; the one nearest the start: {problem}"
+
+
+def nearest_solution_problem(ik_solver: IKSolver, goal: Pose, link: str, seed_q: np.ndarray | None,
+                             validity: Validity, seed: int | None) -> str | None:
+    """What `validity` finds wrong with the IK solution of `goal` nearest `seed_q` (dof,) found
+    without it (`Validity.goal_problem`, e.g. "goal in collision: panda_hand touches table
+    (3.1 mm deep, ...)"); None when IK finds no solution at all."""
+    found = ik_solver.solve_many(goal, link, n=1, seed_q=seed_q, seed=seed)
+    if len(found) == 0:
+        return None
+    return validity.goal_problem(found[0]) or "in collision"
+
+
+def explain_rejected_ik(result: IKResult, ik_solver: IKSolver, goal: Pose, link: str, seed_q: np.ndarray | None,
+                        validity: Validity, seed: int | None) -> IKResult:
+    """`result` of a collision-free IK query (`MotionGenerator.ik(collision_free=True)`), its
+    message naming what the solution nearest `seed_q` touches when every solution was rejected
+    (as `plan_pose`'s IK_FAIL messages do); any other result unchanged."""
+    if result.status is not IKStatus.REJECTED_BY_VALIDITY:
+        return result
+    problem = nearest_solution_problem(ik_solver, goal, link, seed_q, validity, seed)
+    if problem is None:
+        return result
+    return replace(result, message=f"every solution found in {result.attempts} attempt(s) is in collision "
+                                   f"(collision_free=True); the one nearest seed_q: {problem}")
 
 
 def plan_to_poses(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: Pose, link: str, *,

@@ -42,7 +42,9 @@ _SIMULATION_CONTEXT = (
     "physics_sim_view", "play", "play_async", "remove_physics_callback", "remove_render_callback",
     "remove_stage_callback", "remove_timeline_callback", "render", "render_async", "reset", "reset_async",
     "set_camera_view", "set_simulation_dt", "stage", "step", "stop", "stop_async", "stage_callback_exists",
-    "timeline_callback_exists", "get_block_on_render", "set_block_on_render", "app", "backend", "device")
+    "timeline_callback_exists", "get_block_on_render", "set_block_on_render", "app", "backend", "device",
+    "clear_physics_callbacks", "clear_render_callbacks", "clear_stage_callbacks", "clear_timeline_callbacks",
+    "render_callback_exists")
 _ARTICULATION = (
     "apply_action", "disable_gravity", "enable_gravity", "dof_names", "dof_properties", "get_angular_velocity",
     "get_applied_action", "get_applied_joint_efforts", "get_articulation_body_count", "get_articulation_controller",

@@ -459,6 +459,26 @@ def test_bad_solver_parameters(franka_kinematics: Kinematics, kwargs: dict):
         IKSolver(franka_kinematics, **kwargs)
 
 
+def test_num_seeds_is_curobos_name_of_max_attempts(franka_kinematics: Kinematics):
+    """cuRobo's `IKSolverConfig.load_from_robot_config(num_seeds=...)` (random starts per goal) is
+    manip's `max_attempts`: the same solver, a DeprecationWarning naming manip's name."""
+    k = franka_kinematics
+    with pytest.warns(DeprecationWarning, match="num_seeds.*max_attempts"):
+        old = IKSolver(k, num_seeds=3, seed=2)
+    new = IKSolver(k, max_attempts=3, seed=2)
+    assert old.max_attempts == new.max_attempts == 3
+    assert IKSolver(k).max_attempts == 100  # the default is unchanged
+    goal = k.fk(np.array([2.5, 1.5, -2.5, -0.5, 2.5, 3.5, -2.5]), HAND)  # far from the default: restarts
+    a, b = old.solve(goal, HAND), new.solve(goal, HAND)
+    assert a.attempts == b.attempts <= 3
+    np.testing.assert_array_equal(a.q, b.q)
+    with pytest.raises(InvalidInputError, match="max_attempts"):
+        IKSolver(k, num_seeds=5, max_attempts=5)
+    for bad in (0, -4, 2.5, True, "8"):
+        with pytest.raises(InvalidInputError, match="num_seeds must be an integer >= 1"):
+            IKSolver(k, num_seeds=bad)
+
+
 def test_compiled_rotation_log_matches_pinocchio_up_to_pi():
     """The IK error's rotation part (compiled log3) is Pinocchio's log3, including the
     near-pi rotations where the axis comes from the quaternion instead of the skew part."""

@@ -12,7 +12,7 @@ warm-up `step(render=True)` without physics callbacks, so `current_time_step_ind
 right after a reset (with the default dts) and the world is playing.
 
 Callback names follow Isaac: a duplicate name or removing an unknown one logs an error
-(`carb.log_error`) and changes nothing. The `*_async` methods are coroutines doing the same
+(`carb.log_error`) and changes nothing (`manip.sim.core.simulation_callbacks`). The `*_async` methods are coroutines doing the same
 as the plain ones, for Isaac's extension workflow (`asyncio.run(world.reset_async())`).
 
 Solver options (`manip.sim.scenes.compiler`): `implicitfast`, elliptic cones, gravity -9.81 m/s^2
@@ -32,7 +32,6 @@ from __future__ import annotations
 import logging
 import math
 from pathlib import Path
-from typing import Callable
 
 import mujoco
 import numpy as np
@@ -40,12 +39,13 @@ import numpy as np
 from manip.errors import InvalidInputError
 from manip.sim.core import recording as rec, substeps
 from manip.sim.articulations.articulation_core import ArticulationCore
-from manip.sim.core.callbacks import CallbackTable, TimelineEvent
+from manip.sim.core.callbacks import TimelineEvent
 from manip.sim.core.observers import WorldObserver  # noqa: F401 (re-exported)
 from manip.sim.core.physics_context import PhysicsContext
+from manip.sim.core.simulation_callbacks import SimulationCallbacks
 from manip.sim.core.mujoco_warnings import SimulationInstabilityError, SimulationWarning, WarningMonitor  # noqa: F401 (re-exported)
 from manip.sim.scenes.compiler import compile_stage
-from manip.sim.scenes.stage import ReferencePrim, SimHandle, SimulationError, StageEvent, get_current_stage
+from manip.sim.scenes.stage import ReferencePrim, SimHandle, SimulationError, get_current_stage
 from manip.validation import non_negative, positive, vec
 
 logger = logging.getLogger(__name__)
@@ -54,9 +54,9 @@ DEFAULT_DT = 1.0 / 60.0
 DEFAULT_GRAVITY = (0.0, 0.0, -9.81)  # [m/s^2]
 
 
-class SimulationContext:
+class SimulationContext(SimulationCallbacks):
     """The simulation (one per process, as Isaac's): stage compilation, timeline, stepping,
-    callbacks, camera and video. `World` adds the scene and the tasks.
+    callbacks (`SimulationCallbacks`), camera and video. `World` adds the scene and the tasks.
 
     A second construction returns the existing instance; differing arguments are ignored
     with a warning (use `set_simulation_dt`, or `clear_instance()` first).
@@ -150,9 +150,7 @@ class SimulationContext:
         self._time = 0.0
         self._time_origin = 0.0
         self._index = 0
-        self._physics_callbacks = CallbackTable("physics")
-        self._timeline_callbacks = CallbackTable("timeline")
-        self._render_callbacks = CallbackTable("render")
+        self._init_callbacks()
         self._camera_view = rec.CameraView()
         self._recorder: rec.Recorder | None = None
         self._warned_dirty = False
@@ -492,59 +490,6 @@ class SimulationContext:
             self._recorder.maybe_capture(self._sim.data, self._time, self._camera_view)
         self._notify("on_world_rendered")
         self._render_callbacks.call(TimelineEvent("RENDER", {"dt": self._rendering_dt}))
-
-    # ------------------------------------------------------------------ callbacks
-    def add_physics_callback(self, callback_name: str, callback_fn: Callable[[float], None]) -> None:
-        """Call `callback_fn(step_size)` before every physics step (step_size = physics_dt [s]).
-
-        A name that is taken logs an error (`carb.log_error`, as Isaac) and keeps the
-        existing callback.
-
-        Raises:
-            InvalidInputError: `callback_fn` is not callable.
-        """
-        self._physics_callbacks.add(callback_name, callback_fn)
-
-    def remove_physics_callback(self, callback_name: str) -> None:
-        """Remove a physics callback; an unknown name logs an error (as Isaac)."""
-        self._physics_callbacks.remove(callback_name)
-
-    def physics_callback_exists(self, callback_name: str) -> bool:
-        return callback_name in self._physics_callbacks
-
-    def add_timeline_callback(self, callback_name: str, callback_fn: Callable[[TimelineEvent], None]) -> None:
-        """Call `callback_fn(event)` on play/pause/stop (`event.type`: "PLAY", "PAUSE", "STOP")."""
-        self._timeline_callbacks.add(callback_name, callback_fn)
-
-    def remove_timeline_callback(self, callback_name: str) -> None:
-        self._timeline_callbacks.remove(callback_name)
-
-    def timeline_callback_exists(self, callback_name: str) -> bool:
-        return callback_name in self._timeline_callbacks
-
-    def add_stage_callback(self, callback_name: str, callback_fn: Callable[[StageEvent], None]) -> None:
-        """Call `callback_fn(event)` when the stage changes (`event.type`: "PRIM_ADDED",
-        "PRIM_REMOVED", "PRIM_CHANGED", "CLEARED", "COMPILED"; `event.path`)."""
-        self._stage.callbacks.add(callback_name, callback_fn)
-
-    def remove_stage_callback(self, callback_name: str) -> None:
-        self._stage.callbacks.remove(callback_name)
-
-    def stage_callback_exists(self, callback_name: str) -> bool:
-        return callback_name in self._stage.callbacks
-
-    def add_render_callback(self, callback_name: str, callback_fn: Callable) -> None:
-        """Call `callback_fn(event)` after every render."""
-        self._render_callbacks.add(callback_name, callback_fn)
-
-    def remove_render_callback(self, callback_name: str) -> None:
-        self._render_callbacks.remove(callback_name)
-
-    def clear_all_callbacks(self) -> None:
-        """Remove every physics, timeline, stage and render callback."""
-        for table in (self._physics_callbacks, self._timeline_callbacks, self._stage.callbacks,
-                      self._render_callbacks):
-            table.clear()
 
     # ------------------------------------------------------------------ camera and video
     def set_camera_view(self, eye, target) -> None:

@@ -111,6 +111,45 @@ def test_callback_name_errors_are_logged_like_isaac(caplog):
     world.step()
 
 
+def test_clear_one_kind_of_callbacks_as_isaac():
+    """Isaac 4.x's clear_physics/render/stage/timeline_callbacks() each remove one kind only;
+    render_callback_exists(name) as the other *_exists."""
+    world = World()
+    calls = {"physics": 0, "render": 0, "stage": 0, "timeline": 0}
+
+    def count(kind):
+        return lambda arg: calls.__setitem__(kind, calls[kind] + 1)
+
+    def add_all():
+        world.add_physics_callback("p", count("physics"))
+        world.add_render_callback("r", count("render"))
+        world.add_stage_callback("s", count("stage"))
+        world.add_timeline_callback("t", count("timeline"))
+
+    def exists():
+        return (world.physics_callback_exists("p"), world.render_callback_exists("r"),
+                world.stage_callback_exists("s"), world.timeline_callback_exists("t"))
+
+    add_all()
+    assert exists() == (True, True, True, True) and not world.render_callback_exists("other")
+    world.scene.add(DynamicCuboid("/World/c", name="c", size=0.1))
+    world.reset()
+    world.step(render=True)
+    assert all(calls.values()), calls
+    for k, clear in enumerate((world.clear_physics_callbacks, world.clear_render_callbacks,
+                               world.clear_stage_callbacks, world.clear_timeline_callbacks)):
+        clear()
+        assert exists() == tuple(i > k for i in range(4))
+    before = dict(calls)
+    world.pause()
+    world.play()
+    world.step(render=True)
+    world.scene.add(DynamicCuboid("/World/d", name="d", position=[1, 0, 0.1], size=0.1))
+    assert calls == before  # none of them is called any more
+    add_all()  # the names are free again
+    assert exists() == (True, True, True, True)
+
+
 def test_pause_stop_play_and_timeline_events():
     world = World()
     events = []
