@@ -12,6 +12,21 @@ import numpy as np
 
 
 @numba.njit(nogil=True)
+def _row_spread(rptr, ridx, rows, nx, nb):
+    """The largest distance in blocks of two control points one row couples (rows in CSR form
+    rptr, ridx; columns >= nx are not control points; point of column c: c % nb)."""
+    spread = 0
+    for r in range(rows):
+        lo, hi = nb, -1
+        for k in range(rptr[r], rptr[r + 1]):
+            if ridx[k] < nx:
+                lo = min(lo, ridx[k] % nb)
+                hi = max(hi, ridx[k] % nb)
+        spread = max(spread, hi - lo)
+    return spread
+
+
+@numba.njit(nogil=True)
 def _by_rows(data, indices, indptr, n, rows):
     """(rptr (rows + 1,), column indices, values) of an (rows, n) CSC matrix in CSR, columns ascending."""
     rptr = np.zeros(rows + 1, np.int64)
@@ -82,20 +97,7 @@ def structure(P_data, P_indices, P_indptr, G_data, G_indices, G_indptr, A_data, 
         for k in range(P_indptr[c], P_indptr[c + 1]):
             if P_indices[k] < nx:
                 BW = max(BW, abs(P_indices[k] % nb - c % nb))
-    for j in range(m):
-        lo, hi = nb, -1
-        for k in range(g_rptr[j], g_rptr[j + 1]):
-            if g_ridx[k] < nx:
-                lo = min(lo, g_ridx[k] % nb)
-                hi = max(hi, g_ridx[k] % nb)
-        BW = max(BW, hi - lo)
-    for r in range(e):
-        lo, hi = nb, -1
-        for k in range(a_rptr[r], a_rptr[r + 1]):
-            if a_ridx[k] < nx:
-                lo = min(lo, a_ridx[k] % nb)
-                hi = max(hi, a_ridx[k] % nb)
-        BW = max(BW, hi - lo)
+    BW = max(BW, _row_spread(g_rptr, g_ridx, m, nx, nb), _row_spread(a_rptr, a_ridx, e, nx, nb))
     BW = min(BW, nb - 1)
     nbw = BW + 1
     bsq = bs * bs

@@ -112,6 +112,14 @@ def manifest_environments(manifest: dict) -> list[dict]:
     return list(envs) if isinstance(envs, list) else [manifest.get("environment")]
 
 
+def read_manifest(folder: Path) -> dict | None:
+    """The prebuilt kernels' `manifest.json` in `folder`, or None (missing or unreadable)."""
+    try:
+        return json.loads((folder / "manifest.json").read_text())
+    except (OSError, ValueError):
+        return None
+
+
 def _manifest_matches() -> bool:
     """True when the prebuilt kernels were built from this source, numba, Python and architecture."""
     global _prebuilt_valid
@@ -120,11 +128,7 @@ def _manifest_matches() -> bool:
             _prebuilt_valid = False
             if not prebuilt_enabled():
                 return False
-            file = PREBUILT_KERNELS / "manifest.json"
-            try:
-                manifest = json.loads(file.read_text())
-            except (OSError, ValueError):
-                manifest = None
+            manifest = read_manifest(PREBUILT_KERNELS)
             if manifest is not None:
                 root = Path(__file__).resolve().parent
                 try:

@@ -189,13 +189,6 @@ def _kernel_modules() -> list[Path]:
     return [f for f in root.rglob("*.py") if "\n@kernel" in f.read_text()]
 
 
-def _read_manifest(folder: Path) -> dict | None:
-    try:
-        return json.loads((folder / "manifest.json").read_text())
-    except (OSError, ValueError):
-        return None
-
-
 def _child(out: Path, robots: list[str], add: bool) -> None:
     started = time.process_time()
     names = workload(robots)
@@ -204,7 +197,7 @@ def _child(out: Path, robots: list[str], add: bool) -> None:
                 "kernels": names, "built": time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime()),
                 "cpu_seconds": round(time.process_time() - started, 1)}
     if add:
-        manifest = merged_manifest(_read_manifest(out), manifest)
+        manifest = merged_manifest(jit.read_manifest(out), manifest)
     (out / "manifest.json").write_text(json.dumps(manifest, indent=1))
 
 
@@ -213,7 +206,7 @@ def build(robots: list[str], out_kernels: Path = jit.PREBUILT_KERNELS, out_geome
     """Rebuild the prebuilt kernels and the geometry of `robots` (in a child process); returns
     the manifest. With `add`, keep what is there and add this Python's kernels (module docstring)."""
     if add:   # checked before the workload's minutes of CPU
-        merged_manifest(_read_manifest(out_kernels), {"sources": jit.source_digest(_kernel_modules()),
+        merged_manifest(jit.read_manifest(out_kernels), {"sources": jit.source_digest(_kernel_modules()),
                                                       "environments": [], "kernels": []})
     for folder in (out_kernels, out_geometry):
         if not add:
