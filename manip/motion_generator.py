@@ -66,7 +66,7 @@ from manip.planning.arms import (
 )
 from manip.planning.constrained import with_constraints
 from manip.planning.context import START_LIMIT_TOLERANCE, PlanContext
-from manip.planning.goal_configurations import explain_rejected_ik, plan_to_poses
+from manip.planning.goal_configurations import explain_rejected_batch_ik, explain_rejected_ik, plan_to_poses
 from manip.planning.grasp import Stages, finger_links, plan_grasp, plan_place
 from manip.planning.grasp_plan import GraspPlan
 from manip.planning.linear_motion import (
@@ -351,11 +351,13 @@ class MotionGenerator(WorldEdits):
         link = self._link(link)
         if seed_q is not None:
             seed_q = self.kinematics.check_q(self._arm_q(seed_q, "seed_q"), "seed_q")
-        if flag(collision_free, "collision_free"):
-            kwargs.setdefault("validity_fn", self._validity().configs)
+        # a failure of collision_free=True names what the best solution touches (as `ik`); not a caller's validity_fn
+        validity = self._validity() if flag(collision_free, "collision_free") and "validity_fn" not in kwargs else None
+        kwargs.setdefault("validity_fn", validity.configs if validity else None)
         goals = goals if goals.is_batch else Pose.stack([goals])
-        return held_batch_ik(self.config, self.kinematics, self.ik_solver, goals, link, seed_q,
-                             self.default_joint_positions, **kwargs)
+        result = held_batch_ik(self.config, self.kinematics, self.ik_solver, goals, link, seed_q,
+                               self.default_joint_positions, **kwargs)
+        return explain_rejected_batch_ik(result, validity) if validity else result
 
     def _arm_q(self, q, what: str):
         """`q` with the gripper's values of a full robot state dropped: (..., dof + G) ->

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from manip import curobo_names
+from manip.host_array import HostArray, host
 from manip.status import Status, no_truth_value, truth_is_success
 
 
@@ -56,7 +57,8 @@ class IKResult:
     """Result of one IK query.
 
     Attributes:
-        success: True when `q` reaches the goal within the tolerances and the joint limits.
+        success: True when `q` reaches the goal within the tolerances and the joint limits (a 0-d
+            bool `HostArray`: `bool()`, `==`, `.item()` (a Python bool), `.cpu()`, as cuRobo's tensor).
         q: (dof,) the solution, or the best configuration found when `success` is False
             (always within the joint limits).
         position_error: distance [m] between the goal and the link's position at `q`.
@@ -80,6 +82,12 @@ class IKResult:
     attempts: int
     message: str = ""
 
+    def __post_init__(self):
+        # cuRobo's IKResult holds tensors: `result.success.item()`, `.cpu()`, `.tolist()` run as written
+        object.__setattr__(self, "success", host(bool(self.success)))
+        object.__setattr__(self, "position_error", np.float64(self.position_error))
+        object.__setattr__(self, "rotation_error", np.float64(self.rotation_error))
+
     def __getattr__(self, name: str):
         # only for missing names: cuRobo's (solution, js_solution, ...) say where manip has them
         if name.startswith("_"):
@@ -92,7 +100,7 @@ class BatchIKResult:
     """Result of a batched IK query (N goals). Index it to get one goal's `IKResult`.
 
     Attributes:
-        success: (N,) bool.
+        success: (N,) bool (a `HostArray`: `.cpu().numpy()` as cuRobo's tensor; so are the errors).
         q: (N, dof) solutions (the best configuration found where `success` is False).
         position_error: (N,) [m].
         rotation_error: (N,) [rad].
@@ -114,6 +122,11 @@ class BatchIKResult:
     attempts: np.ndarray
     solve_time: float
     message: tuple[str, ...] = ()
+
+    def __post_init__(self):
+        # cuRobo's batch results hold tensors: `result.success.cpu().numpy()` runs as written
+        for name in ("success", "position_error", "rotation_error"):
+            object.__setattr__(self, name, host(getattr(self, name)))
 
     def __len__(self) -> int:
         return self.q.shape[0]
@@ -165,9 +178,9 @@ class IKSolutions:
     attempts: int = 0
 
     @property
-    def success(self) -> bool:
-        """True when at least one solution was found."""
-        return self.status is IKStatus.SUCCESS
+    def success(self) -> HostArray:
+        """True when at least one solution was found (a 0-d bool array: `.item()` is a bool)."""
+        return host(self.status is IKStatus.SUCCESS)
 
     def __len__(self) -> int:
         return self.q.shape[0]

@@ -22,7 +22,6 @@ from __future__ import annotations
 import logging
 import threading
 import time
-import warnings
 from typing import NamedTuple
 
 import numpy as np
@@ -30,6 +29,7 @@ import pinocchio as pin
 
 from manip import curobo_names
 from manip.errors import InvalidInputError
+from manip.ik.attempts import LazyRng, at_least_one, call_attempts, renamed
 from manip.ik.batch import run_lanes
 from manip.ik.kernels import _INTERNAL_TOLERANCE, _MIN_DAMPING, _STALL_ITERATIONS, _lm_lanes, _slide_lanes
 from manip.ik.result import BatchIKResult, IKResult, IKSolutions, IKStatus, ValidityFn, _freeze
@@ -73,33 +73,6 @@ def _distinct(Q: np.ndarray, min_distance: float, n: int) -> np.ndarray:
     return np.array(kept, dtype=np.int64)
 
 
-class _LazyRng:
-    """A np.random.Generator created on first use (most solves never restart)."""
-
-    def __init__(self, seed: int):
-        self._seed = seed
-        self._rng: np.random.Generator | None = None
-
-    def uniform(self, low: np.ndarray, high: np.ndarray, size: tuple[int, ...] | None = None) -> np.ndarray:
-        if self._rng is None:
-            self._rng = np.random.default_rng(self._seed)
-        return self._rng.uniform(low, high, size)
-
-
-def _at_least_one(value: int, what: str) -> int:
-    return integer(value, what, 1)
-
-
-def _renamed(old: str, old_value, new: str, new_value):
-    """The value of keyword `new`, or of its deprecated name `old` (with a DeprecationWarning)."""
-    if old_value is None:
-        return new_value
-    if new_value is not None:
-        raise InvalidInputError(f"give {new} only ({old} is its deprecated name)")
-    warnings.warn(f"{old} is deprecated; use {new}", DeprecationWarning, stacklevel=3)
-    return old_value
-
-
 class IKSolver:
     """Levenberg-Marquardt inverse kinematics with joint limits and random restarts.
 
@@ -140,8 +113,8 @@ class IKSolver:
         self.position_tolerance = positive(position_tolerance, "position_tolerance", "m")
         self.rotation_tolerance = positive(rotation_tolerance, "rotation_tolerance", "rad")
         self.max_iterations = integer(max_iterations, "max_iterations", 1)
-        num_seeds = None if num_seeds is None else _at_least_one(num_seeds, "num_seeds")
-        max_attempts = _renamed("num_seeds", num_seeds, "max_attempts", max_attempts)
+        num_seeds = None if num_seeds is None else at_least_one(num_seeds, "num_seeds")
+        max_attempts = renamed("num_seeds", num_seeds, "max_attempts", max_attempts, stacklevel=3)
         self.max_attempts = integer(MAX_ATTEMPTS if max_attempts is None else max_attempts, "max_attempts", 1)
         self.seed = integer(seed, "seed", 0)
         self.damping = positive(damping, "damping")
@@ -172,6 +145,8 @@ class IKSolver:
         num_solutions: int = 1,
         seed: int | None = None,
         time_limit: float | None = None,
+        max_attempts: int | None = None,
+        num_seeds: int | None = None,
     ) -> IKResult:
         """Solve IK for one goal pose.
 
@@ -185,20 +160,24 @@ class IKSolver:
                 `max_attempts` run out) and return the one nearest `seed_q`.
             seed: seed of the random restarts (default: the solver's).
             time_limit: optional wall-time budget [s].
+            max_attempts: this call's attempts (default: the solver's `max_attempts`);
+                `num_seeds`, cuRobo's `solve_single` name, is its deprecated name.
 
         Returns:
             IKResult; `q` is the solution nearest `seed_q` among those found; on failure
             `message` says what went wrong in this call.
 
         Raises:
-            InvalidInputError: goal not a single Pose, bad seed_q, bad num_solutions.
+            InvalidInputError: goal not a single Pose, bad seed_q, bad num_solutions or
+                max_attempts (or both max_attempts and num_seeds).
             UnknownNameError: unknown link (the message lists the frames).
         """
         t0 = time.perf_counter()
         fid, q_ref = self._prepare(goal, link, seed_q, batched=False)
-        _at_least_one(num_solutions, "num_solutions")
+        at_least_one(num_solutions, "num_solutions")
+        attempts = call_attempts(self.max_attempts, max_attempts, num_seeds)
         seed, time_limit = self._call_options(seed, time_limit, validity_fn)
-        rng = _LazyRng(seed)
+        rng = LazyRng(seed)
         R_goal = goal.rotation
         p_goal = goal.position
 
@@ -210,7 +189,7 @@ class IKSolver:
 
         lo, hi = self.kinematics.lower, self.kinematics.upper
         out = self._run_attempts(
-            fid, R_goal, p_goal, np.clip(q_ref, lo, hi), self.max_attempts, rng, validity_fn, num_solutions, t0, time_limit
+            fid, R_goal, p_goal, np.clip(q_ref, lo, hi), attempts, rng, validity_fn, num_solutions, t0, time_limit
         )
         elapsed = time.perf_counter() - t0
         if out.found:
@@ -234,6 +213,8 @@ class IKSolver:
         validity_fn: ValidityFn | None = None,
         seed: int | None = None,
         time_limit: float | None = None,
+        max_attempts: int | None = None,
+        num_seeds: int | None = None,
     ) -> BatchIKResult:
         """Solve IK for every goal of a batched Pose at once (vectorised NumPy).
 
@@ -250,22 +231,25 @@ class IKSolver:
             validity_fn: optional Q (K, dof) -> (K,) bool; rejected solutions restart.
             seed: seed of the random restarts (default: the solver's).
             time_limit: optional wall-time budget [s] for the whole batch.
+            max_attempts: this call's attempts per goal (default: the solver's); `num_seeds`
+                (cuRobo's `solve_batch` name) is its deprecated name.
 
         Returns:
             BatchIKResult with (N,) arrays.
 
         Raises:
-            InvalidInputError: goals not a batched Pose, bad seed_q.
+            InvalidInputError: goals not a batched Pose, bad seed_q or max_attempts.
             UnknownNameError: unknown link.
         """
         t0 = time.perf_counter()
         fid, q_ref = self._prepare(goals, link, seed_q, batched=True)
         n = len(goals)
+        attempts = call_attempts(self.max_attempts, max_attempts, num_seeds)
         seed, time_limit = self._call_options(seed, time_limit, validity_fn)
         rng = np.random.default_rng(seed)
         out = run_lanes(
             self, goals.rotation, goals.position, fid, np.broadcast_to(q_ref, (n, self.kinematics.dof)),
-            rng, validity_fn, self.max_attempts, t0, time_limit,
+            rng, validity_fn, attempts, t0, time_limit,
         )
         q, success, ep, er, iters, attempts, status = out
         message = [""] * n
@@ -325,13 +309,13 @@ class IKSolver:
             UnknownNameError: unknown link.
         """
         fid, q_ref = self._prepare(goal, link, seed_q, batched=False)
-        _at_least_one(n, "n")
-        attempts = _renamed("num_seeds", num_seeds, "attempts", attempts)
-        m = max(4 * n, 16) if attempts is None else _at_least_one(attempts, "attempts")
+        at_least_one(n, "n")
+        attempts = renamed("num_seeds", num_seeds, "attempts", attempts, stacklevel=3)
+        m = max(4 * n, 16) if attempts is None else at_least_one(attempts, "attempts")
         min_distance = positive(min_distance, "min_distance", "rad")
         toward_seed = flag(toward_seed, "toward_seed")
         seed, _ = self._call_options(seed, None, validity_fn)
-        rng = _LazyRng(seed)
+        rng = LazyRng(seed)
         k = self.kinematics
         R_goal, p_goal = goal.rotation, goal.position
         if self.out_of_reach(fid, p_goal[None])[0]:
@@ -469,7 +453,7 @@ class IKSolver:
         p_goal: np.ndarray,
         q_first: np.ndarray,
         max_attempts: int,
-        rng: _LazyRng | np.random.Generator,
+        rng: LazyRng | np.random.Generator,
         validity_fn: ValidityFn | None,
         num_solutions: int,
         t0: float,

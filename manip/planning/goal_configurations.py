@@ -14,7 +14,7 @@ from dataclasses import replace
 import numpy as np
 
 from manip.collision.clearance import ClearanceModel
-from manip.ik import IKResult, IKSolver, IKStatus
+from manip.ik import BatchIKResult, IKResult, IKSolver, IKStatus
 from manip.kinematics import Kinematics
 from manip.limits import JointLimits
 from manip.planning.context import PlanContext
@@ -111,6 +111,22 @@ def explain_rejected_ik(result: IKResult, ik_solver: IKSolver, goal: Pose, link:
         return result
     return replace(result, message=f"every solution found in {result.attempts} attempt(s) is in collision "
                                    f"(collision_free=True); the one nearest seed_q: {problem}")
+
+
+def explain_rejected_batch_ik(result: BatchIKResult, validity: Validity) -> BatchIKResult:
+    """`result` of a collision-free batched IK query (`MotionGenerator.batch_ik(collision_free=True)`),
+    the message of each goal whose every solution was rejected naming what the best one found
+    (its `q` row) touches, as `explain_rejected_ik` does for one goal; other rows unchanged."""
+    rows = [i for i, s in enumerate(result.status) if s is IKStatus.REJECTED_BY_VALIDITY]
+    if not rows:
+        return result
+    message = list(result.message) if result.message else [""] * len(result)
+    for i in rows:
+        problem = validity.goal_problem(np.asarray(result.q[i]))
+        if problem:  # the best row may be a lane that did not converge: then the message stays
+            message[i] = (f"every solution found in {int(result.attempts[i])} attempt(s) is in collision "
+                          f"(collision_free=True); the best one found: {problem}")
+    return replace(result, message=tuple(message))
 
 
 def plan_to_poses(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: Pose, link: str, *,

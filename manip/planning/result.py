@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from manip import curobo_names
+from manip.host_array import host
 from manip.status import Status, truth_is_success
 from manip.trajectory import Trajectory
 
@@ -78,7 +79,9 @@ class PlanResult:
 
     Attributes:
         success: True when `trajectory` is valid (certified collision-free over its continuous
-            motion, within all limits, at rest at both ends, at the goal).
+            motion, within all limits, at rest at both ends, at the goal). A 0-d bool `HostArray`:
+            `if result.success:`, `==` and `repr` as a bool; `.item()` (a Python bool), `.cpu()`,
+            `.numpy()`, `.tolist()` as on cuRobo's tensor (`manip.host_array`).
         status: why it succeeded or failed (`status.hint` says what to change).
         trajectory: the timed trajectory (None on failure).
         path: (K, dof) collision-free joint-space waypoints the trajectory follows (None if
@@ -111,6 +114,13 @@ class PlanResult:
     goal_index: int | None = None
     message: str = ""
     source: str = ""
+
+    def __post_init__(self):
+        # cuRobo's results hold tensors: `result.success.item()`, `.cpu().numpy()`, `.tolist()` and
+        # `result.position_error.item()` run as written (`manip.host_array`)
+        object.__setattr__(self, "success", host(bool(self.success)))
+        object.__setattr__(self, "position_error", np.float64(self.position_error))
+        object.__setattr__(self, "rotation_error", np.float64(self.rotation_error))
 
     @property
     def plan_time(self) -> float:

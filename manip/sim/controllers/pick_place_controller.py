@@ -73,6 +73,7 @@ from manip.kinematics import Kinematics
 from manip.pose import Pose
 from manip.robot_config import RobotConfig, load_robot_config
 from manip.sim.controllers.base_controller import BaseController
+from manip.sim.controllers.cspace_pick_place import CspacePickPlace, is_cspace_controller
 from manip.sim.scenes.stage import SimulationError
 from manip.validation import positive, unit_quat, vec
 
@@ -125,6 +126,12 @@ class PickPlaceController(BaseController):
     """Pick an object and place it, one `forward` call per physics step (Isaac's
     `omni.isaac.franka.controllers.PickPlaceController`).
 
+    Given a `cspace_controller` (keyword, or second by position), it is instead Isaac's generic
+    `omni.isaac.manipulators.controllers.PickPlaceController(name, cspace_controller, gripper,
+    end_effector_initial_height=None, events_dt=None)`, driving that controller
+    (`cspace_pick_place.py`); a subclass calling `super().__init__(name=..., cspace_controller=...,
+    gripper=...)` gets it too. The keywords after `*` are the Franka flavour's.
+
     Args:
         name: controller name.
         gripper: the robot's `ParallelGripper` (`franka.gripper`); phases 3 and 7 return its
@@ -155,10 +162,21 @@ class PickPlaceController(BaseController):
         InvalidInputError: bad events_dt, height or max_joint_step.
     """
 
-    def __init__(self, name: str, gripper, robot_articulation, end_effector_initial_height: float | None = None,
-                 events_dt=None, *, end_effector_link: str | None = None, robot: str | RobotConfig = "franka",
-                 max_joint_step: float = 0.2, check_grasp: bool = True, symmetric_grasp: bool = True):
+    def __init__(self, name: str, gripper=None, robot_articulation=None, end_effector_initial_height: float | None = None,
+                 events_dt=None, *, cspace_controller=None, end_effector_link: str | None = None,
+                 robot: str | RobotConfig = "franka", max_joint_step: float = 0.2, check_grasp: bool = True,
+                 symmetric_grasp: bool = True):
         super().__init__(name)
+        if cspace_controller is None and is_cspace_controller(gripper):  # Isaac's generic signature, by position
+            cspace_controller, gripper, robot_articulation = gripper, robot_articulation, None
+        self._generic = None if cspace_controller is None else CspacePickPlace(
+            name, cspace_controller, gripper, end_effector_initial_height, events_dt)
+        self._ik_failures, self._link = 0, None
+        if self._generic is not None:
+            return
+        if gripper is None or robot_articulation is None:
+            raise InvalidInputError(f"{name}: PickPlaceController needs gripper and robot_articulation (the Franka "
+                                    "flavour), or cspace_controller and gripper (Isaac's generic controller)")
         self._gripper = gripper
         self._robot = robot_articulation
         self._h1 = DEFAULT_INITIAL_HEIGHT if end_effector_initial_height is None else _check_height(
@@ -200,6 +218,8 @@ class PickPlaceController(BaseController):
 
     def reset(self, end_effector_initial_height: float | None = None, events_dt=None) -> None:
         """Restart at phase 0 (unpaused); optionally change h1 [m] and events_dt (10,)."""
+        if self._generic is not None:
+            return self._generic.reset(end_effector_initial_height, events_dt)
         h1 = self._h1 if end_effector_initial_height is None else _check_height(end_effector_initial_height)
         dts = self._events_dt if events_dt is None else _check_events_dt(events_dt)
         self._h1, self._events_dt = h1, dts
@@ -209,27 +229,31 @@ class PickPlaceController(BaseController):
     def is_done(self) -> bool:
         """True once the last phase (9) has ended, or the sequence stopped on a failed grasp or
         an unreached place position (see `failure`)."""
-        return self._event >= len(self._events_dt)
+        return self._generic.is_done() if self._generic else self._event >= len(self._events_dt)
 
     @property
     def failure(self) -> str | None:
         """Why the sequence stopped before its end (a failed grasp, a place position the end
-        effector could not reach), or None."""
-        return self._failure
+        effector could not reach), or None (always None for the generic controller)."""
+        return None if self._generic else self._failure
 
     def get_current_event(self) -> int:
         """The current phase, 0..9 (10 when done, also after a failed grasp)."""
-        return self._event
+        return self._generic.get_current_event() if self._generic else self._event
 
     def pause(self) -> None:
         """`forward` returns empty actions (targets kept) and the phases stop advancing."""
         self._pause = True
+        if self._generic:
+            self._generic.pause()
 
     def resume(self) -> None:
         self._pause = False
+        if self._generic:
+            self._generic.resume()
 
     def is_paused(self) -> bool:
-        return self._pause
+        return self._generic.is_paused() if self._generic else self._pause
 
     @property
     def ik_failures(self) -> int:
@@ -375,6 +399,9 @@ class PickPlaceController(BaseController):
             InvalidInputError: a non-finite value or a wrong shape (the state is unchanged).
             SimulationError: the robot is not simulated yet (before `world.reset()`).
         """
+        if self._generic is not None:
+            return self._generic.forward(picking_position, placing_position, current_joint_positions,
+                                         end_effector_offset, end_effector_orientation)
         pick = vec(picking_position, 3, "picking_position")
         place = vec(placing_position, 3, "placing_position")
         q_now = np.asarray(current_joint_positions, dtype=float)

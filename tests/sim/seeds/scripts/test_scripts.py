@@ -81,3 +81,13 @@ def test_stepping_callbacks_and_the_app_loop():
     assert ns["timeline_events"] == ["PLAY", "PAUSE", "PLAY", "STOP", "PLAY"]
     assert ns["fell"] > 0.3
     assert len(ns["renders"]) >= 35
+
+
+def test_new_manipulator_pattern_generic_pick_place_with_an_rmpflow_cspace_controller():
+    """Isaac's generic `PickPlaceController(name, cspace_controller, gripper, ...)`, subclassed as
+    in "Adding a New Manipulator" (a TypeError before: manip had only the Franka's signature)."""
+    ns = run("new_manipulator_pick_place.py")
+    assert ns["done"]
+    assert sorted(set(ns["events"])) == list(range(11))   # every phase, then done
+    assert np.linalg.norm(ns["cube_position"][:2] - ns["target_position"][:2]) < 0.02
+    assert ns["cube_position"][2] == pytest.approx(0.0515 / 2, abs=3e-3)  # released on the ground

@@ -1,0 +1,97 @@
+"""Lines of cuRobo scripts that read results as torch tensors, and cuRobo's per-call IK names.
+
+cuRobo's results hold tensors: `if result.success.item():`, `result.success.cpu().numpy()`,
+`result.position_error.item()`. manip's results answer them (`manip.host_array`), and
+`solve_single(..., num_seeds=)` maps onto `IKSolver.solve(..., max_attempts=)`.
+"""
+
+from __future__ import annotations
+
+import pickle
+import re
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from manip import InvalidInputError, MotionGenerator, Pose
+from manip.host_array import HostArray
+
+TABLE = {"cuboid": {"table": {"dims": [0.8, 1.2, 0.04], "pose": [0.55, 0, -0.02, 1, 0, 0, 0]}}}
+DOWN = [0, 1, 0, 0]  # (w, x, y, z): the hand pointing down
+REACHABLE = Pose([0.5, 0.2, 0.3], DOWN)
+IN_TABLE = Pose([0.5, 0.0, 0.0], DOWN)
+
+
+@pytest.fixture(scope="module")
+def mg() -> MotionGenerator:
+    return MotionGenerator("franka", TABLE)
+
+
+def test_plan_result_success_reads_as_curobos_tensor(mg):
+    result = mg.plan_pose(mg.default_joint_positions, REACHABLE)
+    assert result.success.item() is True                     # `if result.success.item():`
+    assert result.success.cpu().numpy().item() is True and result.success.tolist() is True
+    assert result.success.detach().cpu() == True and bool(result.success)  # noqa: E712
+    assert repr(result.success) == "True" and str(result.success) == "True"
+    assert isinstance(result.position_error.item(), float) and result.position_error.item() < 1e-3
+    assert {result.success: 1}[True] == 1                    # hashable as the bool it holds
+    # a failed plan: False the same way, and a replace() keeps the type
+    failed = mg.plan_pose(mg.default_joint_positions, IN_TABLE)
+    assert failed.success.item() is False and not failed
+    assert replace(failed, success=True).success.item() is True
+    # a list of them makes a bool array (success rates), and results pickle (manip.batch)
+    assert np.array([result.success, failed.success]).dtype == bool
+    assert pickle.loads(pickle.dumps(result)).success.item() is True
+    with pytest.raises(InvalidInputError, match="CPU"):
+        result.success.cuda()
+    assert result.success.to("cpu") is result.success
+    with pytest.raises(InvalidInputError, match=r"got .to\('cuda:0'\)"):
+        result.success.to("cuda:0")
+
+
+def test_ik_results_read_as_curobos_tensors(mg):
+    one = mg.ik(REACHABLE)
+    assert one.success.item() is True and one.position_error.item() < 1e-3
+    batch = mg.batch_ik(Pose.stack([REACHABLE, IN_TABLE]), collision_free=True)
+    assert isinstance(batch.success, HostArray)
+    np.testing.assert_array_equal(batch.success.cpu().numpy(), [True, False])
+    assert type(batch.success.cpu().numpy()) is np.ndarray
+    assert batch.success.tolist() == [True, False] and batch.position_error.cpu().numpy().shape == (2,)
+    assert not batch.success.flags.writeable
+    assert mg.ik_solver.solve_many(REACHABLE, n=2).success.item() is True
+
+
+def test_num_seeds_per_call_is_curobos_name_of_max_attempts(mg):
+    """cuRobo's `solve_single(goal, num_seeds=n)`: the starts tried for this call (a TypeError before)."""
+    with pytest.warns(DeprecationWarning, match="num_seeds is deprecated; use max_attempts"):
+        few = mg.ik(IN_TABLE, collision_free=True, num_seeds=3)
+    assert few.attempts == 3 and not few.success
+    assert mg.ik(IN_TABLE, collision_free=True, max_attempts=5).attempts == 5
+    with pytest.warns(DeprecationWarning):
+        r = mg.ik_solver.solve(REACHABLE, num_seeds=2)
+    assert r.success and r.attempts <= 2
+    with pytest.warns(DeprecationWarning):
+        b = mg.batch_ik(Pose.stack([IN_TABLE, IN_TABLE]), collision_free=True, num_seeds=4)
+    assert b.attempts.tolist() == [4, 4]
+    with pytest.raises(InvalidInputError, match="give max_attempts only"):
+        mg.ik_solver.solve(REACHABLE, num_seeds=2, max_attempts=3)
+    with pytest.raises(InvalidInputError, match="num_seeds"):
+        mg.ik_solver.solve(REACHABLE, num_seeds=0)
+    with pytest.raises(InvalidInputError, match="max_attempts"):
+        mg.ik_solver.solve_batch(Pose.stack([REACHABLE]), max_attempts=1.5)
+
+
+def test_collision_free_batch_ik_names_what_a_rejected_goal_touches(mg):
+    """`batch_ik(collision_free=True)` says what the best solution of a goal in the table touches,
+    as `ik(collision_free=True)` does (it said only that validity_fn rejected every solution)."""
+    result = mg.batch_ik(Pose.stack([IN_TABLE, REACHABLE, IN_TABLE]), collision_free=True)
+    assert result.success.tolist() == [False, True, False]
+    for i in (0, 2):
+        assert result.status[i].name == "REJECTED_BY_VALIDITY"
+        assert re.search(r"in collision \(collision_free=True\); the best one found: goal in collision: "
+                         r"panda_hand touches table \(\d+\.\d mm deep", result.message[i]), result.message[i]
+    assert result.message[1] == ""
+    # a validity_fn of the caller's own keeps the generic message
+    own = mg.batch_ik(Pose.stack([IN_TABLE]), validity_fn=lambda Q: np.zeros(len(Q), dtype=bool))
+    assert own.status[0].name == "REJECTED_BY_VALIDITY" and "touches" not in own.message[0]
