@@ -45,6 +45,7 @@ from manip.sim.core.physics_context import PhysicsContext
 from manip.sim.core.simulation_callbacks import SimulationCallbacks
 from manip.sim.core.mujoco_warnings import SimulationInstabilityError, SimulationWarning, WarningMonitor  # noqa: F401 (re-exported)
 from manip.sim.scenes.compiler import compile_stage
+from manip.sim.scenes.robot_overlaps import check_robot_overlaps
 from manip.sim.scenes.stage import ReferencePrim, SimHandle, SimulationError, get_current_stage
 from manip.validation import non_negative, positive, vec
 
@@ -348,6 +349,8 @@ class SimulationContext(SimulationCallbacks):
             self._compile()
         else:
             self._reset_physics_state()
+        self._forward()  # robots placed inside each other raise here, before any step
+        check_robot_overlaps(self._sim.model, self._sim.data, self._cores)
 
     def _forward(self) -> None:
         """Bring the derived quantities (poses, velocities...) up to date with the state."""
