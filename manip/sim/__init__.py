@@ -122,6 +122,7 @@ SingleGeometryPrim = GeometryPrim
 from manip.sim.controllers.base_controller import BaseController, DifferentialController, WheelBasePoseController
 from manip.sim.controllers.pick_place_controller import PickPlaceController
 from manip.sim.robots.manipulator import SingleManipulator
+from manip.sim.robots.surface_gripper import SurfaceGripper
 from manip.sim.robots.robot import (
     Franka,
     ParallelGripper,
@@ -164,7 +165,8 @@ __all__ = [
     "PhysicsMaterial", "PickPlace", "PickPlaceController", "PreviewSurface", "RMPFlowController", "RigidPrim",
     "RigidPrimView", "RmpFlow", "Robot", "Scene", "SimulationApp", "SimulationContext", "SimulationError",
     "SimulationInstabilityError", "SimulationWarning", "SingleArticulation", "SingleGeometryPrim",
-    "SingleManipulator", "SingleRigidPrim", "SingleXFormPrim", "Stacking", "StackingController", "VisualCapsule",
+    "SingleManipulator", "SingleRigidPrim", "SingleXFormPrim", "Stacking", "StackingController", "SurfaceGripper",
+    "VisualCapsule",
     "VisualCone", "VisualCuboid",
     "VisualCylinder", "VisualMaterial", "VisualSphere", "WheelBasePoseController", "WheeledRobot", "World",
     "XFormPrim", "XFormPrimState", "XFormPrimView", "XFormPrimViewState", "add_reference_to_stage",

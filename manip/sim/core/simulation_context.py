@@ -477,6 +477,8 @@ class SimulationContext(SimulationCallbacks):
         fatal = self._warnings.check(sim.model, sim.data, self._time)
         for core in self._cores:
             core.enforce_limits()
+        for hook in sim.after_step:
+            hook()
         if fatal is not None:
             for core in self._cores:  # MuJoCo reset the state, or ignored the controls
                 core.reset_drive_targets()

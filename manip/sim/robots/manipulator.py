@@ -97,8 +97,8 @@ class SingleManipulator(Robot):
 
     def bind_simulation(self, sim: SimHandle) -> None:
         super().bind_simulation(sim)
-        if self._gripper is None:
-            return
+        if self._gripper is None or hasattr(self._gripper, "add_equalities_to_spec"):
+            return  # a SurfaceGripper is bound as a wrapper of the stage (it drives no joints)
         self._gripper.initialize(self.apply_action, self.get_joint_positions, self.set_joint_positions,
                                  self._core.dof_names)
         indices = getattr(self._gripper, "joint_dof_indices", None)

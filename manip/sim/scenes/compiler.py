@@ -38,6 +38,9 @@ def compile_stage(stage: Stage, *, timestep: float, gravity: np.ndarray) -> SimH
                              castshadow=True)
     for prim in stage.prims():
         prim.add_to_spec(spec)
+    for wrapper in stage.wrappers():  # a SurfaceGripper's weld (manip.sim.robots.surface_gripper)
+        if hasattr(wrapper, "add_equalities_to_spec"):
+            wrapper.add_equalities_to_spec(spec)
     stiffen_contacts(spec)
     modes = {}
     for prim in stage.prims():  # the combine modes of the shapes' physics materials

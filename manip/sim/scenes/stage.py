@@ -63,6 +63,8 @@ class SimHandle:
         self.gravity_off: set[int] = set()
         #: The World's physics step [s] (set at each step by `manip.sim.core.substeps`).
         self.physics_dt: float | None = None
+        #: Called after every physics step (a `SurfaceGripper` checks whether its grip broke).
+        self.after_step: list = []
 
     def ensure_kinematics(self) -> None:
         if self.kinematics_stale:
