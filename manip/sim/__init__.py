@@ -136,6 +136,7 @@ from manip.sim.samples.extension import BaseSampleExtension
 from manip.sim.samples.hello_world import HelloWorld, HelloWorldExtension
 from manip.sim.tasks.base_task import BaseTask, PickPlace, find_unique_string_name
 from manip.sim.prims.views import RigidPrimView, XFormPrimView
+from manip.sim.prims.geometry_view import GeometryPrimView
 from manip.sim.tasks.follow_target import FollowTarget
 from manip.sim.tasks.stacking import Stacking
 from manip.sim.controllers.stacking_controller import StackingController
@@ -159,7 +160,7 @@ __all__ = [
     "BaseSample", "BaseSampleExtension", "BaseTask", "Camera", "CameraView", "CollisionObject", "DOF_PROPERTIES_DTYPE",
     "DifferentialController", "DynamicCapsule", "DynamicCone", "DynamicCuboid", "DynamicCylinder", "DynamicSphere",
     "DynamicState", "DynamicsViewState", "FixedCapsule", "FixedCone", "FixedCuboid", "FixedCylinder",
-    "FixedSphere", "FollowTarget", "Franka", "GeometryPrim", "GroundPlane", "HelloWorld", "HelloWorldExtension",
+    "FixedSphere", "FollowTarget", "Franka", "GeometryPrim", "GeometryPrimView", "GroundPlane", "HelloWorld", "HelloWorldExtension",
     "ISAAC_ASSETS", "JointsState", "KinematicsSolver", "LulaKinematicsSolver", "MotionPolicyController", "OffscreenRenderingError", "OmniGlass", "OmniPBR",
     "ParallelGripper", "PhysicsContext",
     "PhysicsMaterial", "PickPlace", "PickPlaceController", "PreviewSurface", "RMPFlowController", "RigidPrim",

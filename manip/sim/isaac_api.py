@@ -122,6 +122,12 @@ ISAAC_API: dict[str, tuple[str, tuple[str, ...]]] = {
     "GeometryPrim": ("omni.isaac.core.prims.GeometryPrim", _GEOMETRY),
     "RigidPrim": ("omni.isaac.core.prims.RigidPrim", _RIGID),
     "XFormPrimView": ("omni.isaac.core.prims.XFormPrimView", _XFORM_VIEW),
+    "GeometryPrimView": ("omni.isaac.core.prims.GeometryPrimView", _XFORM_VIEW + (
+        "is_collision_enabled", "enable_collision", "disable_collision", "apply_collision_apis",
+        "set_collision_approximations", "get_collision_approximations", "apply_physics_materials",
+        "get_applied_physics_materials", "set_contact_offsets", "get_contact_offsets", "set_rest_offsets",
+        "get_rest_offsets", "set_torsional_patch_radii", "get_torsional_patch_radii", "set_min_torsional_patch_radii",
+        "get_min_torsional_patch_radii", "get_net_contact_forces", "get_contact_force_matrix")),
     "RigidPrimView": ("omni.isaac.core.prims.RigidPrimView", _RIGID_VIEW),
     "DynamicCuboid": ("omni.isaac.core.objects.DynamicCuboid", _RIGID + _GEOMETRY[len(_XFORM):] + ("get_size",
                                                                                                    "set_size")),
@@ -238,14 +244,26 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
         "is_visual_material_applied": "a bare transform has no geometry to colour here: shapes carry materials",
     },
     "GeometryPrim": {
-        "get_collision_approximation": "MuJoCo collides primitives exactly and meshes by their convex hull",
-        "set_collision_approximation": "MuJoCo collides primitives exactly and meshes by their convex hull",
         "get_contact_offset": "PhysX contact offsets do not exist in MuJoCo (contacts: manip.sim.scenes.contact_model)",
         "set_contact_offset": "PhysX contact offsets do not exist in MuJoCo (contacts: manip.sim.scenes.contact_model)",
         "get_rest_offset": "PhysX rest offsets do not exist in MuJoCo",
         "set_rest_offset": "PhysX rest offsets do not exist in MuJoCo",
         "get_torsional_patch_radius": "MuJoCo models torsional friction by a coefficient, not a patch radius",
         "set_torsional_patch_radius": "MuJoCo models torsional friction by a coefficient, not a patch radius",
+    },
+    "GeometryPrimView": {
+        "set_contact_offsets": "PhysX contact offsets do not exist in MuJoCo (contacts: manip.sim.scenes.contact_model)",
+        "get_contact_offsets": "PhysX contact offsets do not exist in MuJoCo (contacts: manip.sim.scenes.contact_model)",
+        "set_rest_offsets": "PhysX rest offsets do not exist in MuJoCo",
+        "get_rest_offsets": "PhysX rest offsets do not exist in MuJoCo",
+        "set_torsional_patch_radii": "MuJoCo models torsional friction by a coefficient, not a patch radius",
+        "get_torsional_patch_radii": "MuJoCo models torsional friction by a coefficient, not a patch radius",
+        "set_min_torsional_patch_radii": "MuJoCo models torsional friction by a coefficient, not a patch radius",
+        "get_min_torsional_patch_radii": "MuJoCo models torsional friction by a coefficient, not a patch radius",
+        "get_net_contact_forces": "read contact forces with RigidPrimView(prim_paths_expr, "
+                                  "contact_filter_prim_paths_expr=...)",
+        "get_contact_force_matrix": "read contact forces with RigidPrimView(prim_paths_expr, "
+                                    "contact_filter_prim_paths_expr=...)",
     },
     "RigidPrim": {
         "set_sleep_threshold": "MuJoCo bodies never sleep",
@@ -333,7 +351,13 @@ DIFFERS: dict[str, dict[str, str]] = {
                            "max_soft_body_contacts", "max_particle_contacts", "heap_capacity", "temp_buffer_capacity",
                            "max_num_partitions", "collision_stack_size"))},
     "SimulationApp": {"update": "steps physics only while a World plays, without the tasks' pre_step (as Kit)"},
-    "GeometryPrim": {"apply_physics_material": "combined frictions with other surfaces apply from the next reset"},
+    "GeometryPrim": {"apply_physics_material": "combined frictions with other surfaces apply from the next reset",
+                     "get_collision_approximation": "the token set (default 'none'); primitives collide exactly "
+                                                    "whatever it says, as PhysX's primitive shapes do",
+                     "set_collision_approximation": "kept for the getter; primitives collide exactly whatever it "
+                                                    "says, as PhysX's primitive shapes do"},
+    "GeometryPrimView": {"set_collision_approximations": "kept for the getter; primitives collide exactly, as "
+                                                         "PhysX's primitive shapes do"},
     "RigidPrimView": {"get_net_contact_forces": "contact impulses over the step / dt, as Isaac; MuJoCo's soft "
                       "contacts, summed per body"},
     "Articulation": {"set_joint_positions": "a position past a limit is set with a warning; the next step puts it "

@@ -28,7 +28,8 @@ def _objects() -> dict:
     app = sim.SimulationApp()
     world = sim.World()
     world.scene.add_default_ground_plane()
-    franka = world.scene.add(sim.Franka("/World/Franka", name="franka"))
+    # away from the PickPlace task's Franka at the origin (robots inside each other raise at reset)
+    franka = world.scene.add(sim.Franka("/World/Franka", name="franka", position=[-2.0, 0.0, 0.0]))
     objs = {
         "DynamicCuboid": sim.DynamicCuboid("/World/cube", name="cube", position=[0.5, 0, 0.03], size=0.05),
         "FixedCuboid": sim.FixedCuboid("/World/wall", name="wall", position=[0, 1, 0.1], size=0.1),
@@ -45,6 +46,7 @@ def _objects() -> dict:
     world.add_task(stacking)
     rigid_view = world.scene.add(sim.RigidPrimView("/World/cube", name="cube_view"))
     xform_view = world.scene.add(sim.XFormPrimView("/World/mark", name="mark_view"))
+    geometry_view = world.scene.add(sim.GeometryPrimView("/World/(cube|wall)", name="shapes_view"))
     art_view = world.scene.add(sim.ArticulationView(prim_paths_expr="/World/Franka", name="franka_view"))
     world.reset()
     rmpflow = sim.RmpFlow(**sim.interface_config_loader.load_supported_motion_policy_config("Franka", "RMPflow"))
@@ -54,6 +56,7 @@ def _objects() -> dict:
         "PhysicsContext": world.get_physics_context(), "Camera": sim.Camera("/World/camera", resolution=(64, 48)),
         "XFormPrim": sim.XFormPrim("/World/target", name="target"),
         "GeometryPrim": sim.GeometryPrim("/World/cube", name="cube_geometry"),
+        "GeometryPrimView": geometry_view,
         "RigidPrim": sim.RigidPrim("/World/Franka/panda_hand", name="hand"),
         "XFormPrimView": xform_view, "RigidPrimView": rigid_view, "ArticulationView": art_view,
         "GroundPlane": world.scene.get_object("default_ground_plane"),

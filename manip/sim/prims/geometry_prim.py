@@ -99,6 +99,11 @@ class PhysicsMaterial:
         return self._dynamic if self._dynamic is not None else self._static
 
 
+#: USD's collision approximation tokens (`UsdPhysics.MeshCollisionAPI`).
+COLLISION_APPROXIMATIONS = ("none", "convexHull", "convexDecomposition", "meshSimplification", "boundingSphere",
+                            "boundingCube", "sdf", "sphereFill")
+
+
 class GeometryPrim(XFormPrim):
     """A prim with one geometry (base of the shape classes)."""
 
@@ -331,6 +336,24 @@ class GeometryPrim(XFormPrim):
             self._sim.model.geom_contype[self._geom_id] = v
             self._sim.model.geom_conaffinity[self._geom_id] = v
             switch_pairs(self._sim.model, self._geom_id)  # the friction pairs ignore contype/conaffinity
+
+    def set_collision_approximation(self, approximation_type: str) -> None:
+        """Isaac's mesh collision approximation token ("none", "convexHull", ...), kept for the getter:
+        the shapes here are primitives, collided exactly whatever the token (as PhysX's Cube, Sphere, ...).
+
+        Raises:
+            InvalidInputError: not one of USD's tokens (`COLLISION_APPROXIMATIONS`).
+        """
+        if approximation_type not in COLLISION_APPROXIMATIONS:
+            raise InvalidInputError(f"collision approximation must be one of {list(COLLISION_APPROXIMATIONS)}; "
+                                    f"got {approximation_type!r}")
+        target = self._wrapped_object if isinstance(self._wrapped_object, GeometryPrim) else self
+        target._approximation = approximation_type
+
+    def get_collision_approximation(self) -> str:
+        """The token set by `set_collision_approximation` (default "none": the exact shape)."""
+        target = self._wrapped_object if isinstance(self._wrapped_object, GeometryPrim) else self
+        return getattr(target, "_approximation", "none")
 
     @property
     def geom_id(self) -> int:

@@ -20,7 +20,6 @@ import numpy as np
 from manip import quaternion as quat
 from manip.errors import InvalidInputError
 from manip.sim.prims import body_forces, isaac5_views
-from manip.sim.prims.geometry_prim import GeometryPrim
 from manip.sim.prims.rigid_prim import RigidPrim
 from manip.sim.prims.xform_prim import XFormPrim, model_frame_pose, relative_pose
 from manip.sim.scenes.stage import SimHandle, SimulationError, get_current_stage
@@ -138,8 +137,9 @@ class XFormPrimView:
         jnt = m.body_jntadr[self._bodies]
         free = np.array([j >= 0 and int(m.jnt_type[j]) == int(mujoco.mjtJoint.mjJNT_FREE) for j in jnt], dtype=bool)
         self._free = free
-        self._qadr = np.where(free, m.jnt_qposadr[np.maximum(jnt, 0)], -1)
-        self._dadr = np.where(free, m.jnt_dofadr[np.maximum(jnt, 0)], -1)
+        jnt = np.maximum(jnt, 0) if m.njnt else np.zeros(0, dtype=int)  # a world of no joint has no addresses
+        self._qadr = np.where(free, m.jnt_qposadr[jnt], -1) if m.njnt else np.full(len(ids), -1)
+        self._dadr = np.where(free, m.jnt_dofadr[jnt], -1) if m.njnt else np.full(len(ids), -1)
         self._mocap = m.body_mocapid[self._bodies].copy()
         p, q = self._initial
         if p is not None or q is not None:
@@ -500,13 +500,5 @@ declare_not_supported(XFormPrimView)
 declare_not_supported(RigidPrimView)
 
 
-def _no_geometry_view(*args, **kwargs):
-    raise NotImplementedError(
-        "GeometryPrim as a view (Isaac 5's GeometryPrim(prim_paths_expr=...)) is not available in manip.sim: "
-        "use XFormPrim(prim_paths_expr=...) for the poses, and SingleGeometryPrim (GeometryPrim at one "
-        "prim_path) for each object's collision and materials")
-
-
 isaac5_views.register(XFormPrim, XFormPrimView)
 isaac5_views.register(RigidPrim, RigidPrimView)
-isaac5_views.register(GeometryPrim, _no_geometry_view)

@@ -73,11 +73,16 @@ def test_single_names_and_plain_paths_stay_single_prims():
     assert type(DynamicCuboid("/World/other", name="o", position=[0, 0, 1])) is DynamicCuboid
 
 
-def test_a_geometry_prim_view_says_what_to_use():
+def test_geometry_prim_with_prim_paths_expr_is_a_geometry_prim_view():
+    """Isaac 5's GeometryPrim view (it raised NotImplementedError): `tests/sim/prims/test_geometry_view.py`."""
+    from manip.sim import GeometryPrimView
+
     world = World()
     _cubes(world, 2)
-    with pytest.raises(NotImplementedError, match="XFormPrim\\(prim_paths_expr"):
-        GeometryPrim(prim_paths_expr="/World/Cube_.*")
+    view = GeometryPrim(prim_paths_expr="/World/Cube_.*")
+    assert isinstance(view, GeometryPrimView)
+    world.reset()
+    assert view.count == 2 and view.is_collision_enabled().tolist() == [True, True]
 
 
 def test_an_isaac5_articulation_view_addresses_joints_by_name():
