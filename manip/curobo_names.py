@@ -31,6 +31,41 @@ MOTION_GEN = {
     "plan_batch_goalset": "plan_goalset(start_q, goals) for each problem",
 }
 
+#: cuRobo `RobotWorld` member (`curobo.wrap.model.robot_world`: collision and kinematics queries)
+#: -> the `MotionGenerator` equivalent (a RobotWorld script builds a MotionGenerator in its place).
+ROBOT_WORLD = {
+    "get_kinematics": "fk(q, link) (one link's Pose; (N, dof) -> a batched Pose); checker.spheres(q) for the "
+                      "collision spheres",
+    "get_collision_distance": "checker.world_clearance_batch(Q) ((N,) signed clearance [m] to the world from joint "
+                              "configurations, <= 0 in contact; cuRobo's takes spheres and reports penetration > 0)",
+    "get_collision_constraint": "checker.world_clearance_batch(Q) ((N,) signed clearance [m], <= 0 in contact)",
+    "collision_constraint": "checker.world_clearance_batch(Q) ((N,) signed clearance [m], <= 0 in contact)",
+    "collision_cost": "checker.world_clearance_batch(Q) ((N,) signed clearance [m], <= 0 in contact)",
+    "get_collision_vector": "checker.distance_report(q) (signed distances [m] and the closest pair)",
+    "get_self_collision_distance": "checker.distance_report(q).self_distance (signed [m], < 0: penetration; "
+                                   "check_collision(q) for the exact yes/no)",
+    "get_self_collision": "check_collision(q) (world and self; checker.distance_report(q) says which)",
+    "self_collision_cost": "checker.distance_report(q).self_distance (signed [m])",
+    "get_world_self_collision_distance_from_joints": "checker.world_clearance_batch(Q) (world, (N,) [m]) and "
+                                                     "checker.distance_report(q) per configuration (.world_distance, "
+                                                     ".self_distance [m])",
+    "get_world_self_collision_distance_from_joint_trajectory": "checker.certify_path(path) (the continuous motion "
+                                                               "through the (T, dof) waypoints, certified or not)",
+    "validate": "checker.in_collision_batch(Q) ((N,) bool, True = in collision with the world or itself: "
+                "cuRobo's validity is its negation)",
+    "validate_trajectory": "checker.certify_path(path) (continuous, certified)",
+    "sample": "kinematics.limits (sample uniformly between lower and upper, keep the rows where "
+              "checker.in_collision_batch(Q) is False)",
+    "sample_trajectory": "plan_joints(start_q, goal_q).trajectory",
+    "get_point_robot_distance": "distance(q) after add_obstacle(Sphere(name, radius, position=p)) for the points "
+                                "(or a WorldConfig from the point cloud)",
+    "pose_distance": "manip.Pose.distance (pose.distance(other): position error [m], rotation angle [rad])",
+    "get_bound": "kinematics.limits (lower, upper)",
+    "contact_distance": "the robot configuration's collision padding [m] (robot.yaml `collision: padding`); "
+                        "distance(q) is without it",
+    "rejection_ratio": "nothing: sampling valid configurations is the caller's (see sample)",
+}
+
 #: cuRobo `MotionGenPlanConfig` field -> manip's planning option (`manip.PlanOptions`), for the
 #: error naming an unknown option: a cuRobo script passes them as keyword arguments.
 PLAN_CONFIG = {

@@ -590,4 +590,4 @@ class MotionGenerator(WorldEdits):
                 f"wrap the generator, TutorialMotionGen(motion_gen=mg).{name}(...), or build the wrapper directly, "
                 f"TutorialMotionGen('franka')"
             )
-        raise curobo_names.missing(type(self).__name__, curobo_names.MOTION_GEN, name)
+        raise curobo_names.missing(type(self).__name__, {**curobo_names.ROBOT_WORLD, **curobo_names.MOTION_GEN}, name)

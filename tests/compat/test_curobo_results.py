@@ -95,3 +95,26 @@ def test_collision_free_batch_ik_names_what_a_rejected_goal_touches(mg):
     # a validity_fn of the caller's own keeps the generic message
     own = mg.batch_ik(Pose.stack([IN_TABLE]), validity_fn=lambda Q: np.zeros(len(Q), dtype=bool))
     assert own.status[0].name == "REJECTED_BY_VALIDITY" and "touches" not in own.message[0]
+
+
+def test_curobos_robot_world_names_point_to_manips(mg):
+    """A cuRobo RobotWorld script's calls on the MotionGenerator built in its place name manip's
+    equivalent (a bare "no attribute" before), and every named equivalent exists."""
+    from manip import curobo_names
+
+    for name in ("get_collision_distance", "get_self_collision_distance", "get_kinematics", "collision_constraint",
+                 "get_world_self_collision_distance_from_joints", "validate", "sample"):
+        with pytest.raises(AttributeError, match=rf"no '{name}' \(cuRobo's name\); manip's equivalent: "):
+            getattr(mg, name)
+    for name, where in curobo_names.ROBOT_WORLD.items():
+        if where.startswith("nothing"):
+            continue
+        for ref in re.findall(r"(?<![\w.])((?:checker|kinematics)\.\w+|[a-z_]+)\(", where):
+            obj = mg
+            for part in ref.split("."):
+                obj = getattr(obj, part)   # raises if the table names something manip lacks
+    # what get_world_self_collision_distance_from_joints gives, the manip way
+    q = np.vstack([mg.default_joint_positions, mg.ik(IN_TABLE).q])
+    clearance = mg.checker.world_clearance_batch(q)
+    assert clearance[0] > 0 and clearance[1] <= 0
+    assert mg.checker.in_collision_batch(q).tolist() == [False, True]
