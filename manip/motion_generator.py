@@ -92,8 +92,7 @@ from manip.world_edits import WorldEdits
 
 logger = logging.getLogger(__name__)
 
-__all__ = ["MotionGenerator", "START_LIMIT_TOLERANCE", "LINEAR_DEVIATION", "LINEAR_SPLINE_DEVIATION",
-           "MAX_LINEAR_POINTS"]
+__all__ = ["LINEAR_DEVIATION", "LINEAR_SPLINE_DEVIATION", "MAX_LINEAR_POINTS", "START_LIMIT_TOLERANCE", "MotionGenerator"]
 
 #: The Isaac Sim tutorial wrapper's names, which moved to `manip.TutorialMotionGen` (asking a
 #: MotionGenerator for one raises an AttributeError saying where it went).

@@ -11,7 +11,6 @@ from manip import curobo_names
 from manip.host_array import HostArray, host
 from manip.status import Status, no_truth_value, truth_is_success
 
-
 #: A validity check for candidate solutions: Q (K, dof) -> (K,) bool (True = acceptable).
 ValidityFn = Callable[[np.ndarray], np.ndarray]
 

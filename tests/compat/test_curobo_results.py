@@ -32,7 +32,7 @@ def test_plan_result_success_reads_as_curobos_tensor(mg):
     result = mg.plan_pose(mg.default_joint_positions, REACHABLE)
     assert result.success.item() is True                     # `if result.success.item():`
     assert result.success.cpu().numpy().item() is True and result.success.tolist() is True
-    assert result.success.detach().cpu() == True and bool(result.success)  # noqa: E712
+    assert result.success.detach().cpu() == True and bool(result.success)
     assert repr(result.success) == "True" and str(result.success) == "True"
     assert isinstance(result.position_error.item(), float) and result.position_error.item() < 1e-3
     assert {result.success: 1}[True] == 1                    # hashable as the bool it holds

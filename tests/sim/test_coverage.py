@@ -6,10 +6,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
-import manip.sim as sim
-from manip.sim.coverage import class_rows, function_rows, markdown
 from robot_constants import REPO_ROOT
+
+from manip import sim
+from manip.sim.coverage import class_rows, function_rows, markdown
 
 DOC = REPO_ROOT / "docs" / "isaac_coverage.md"
 

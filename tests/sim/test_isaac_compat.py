@@ -156,7 +156,8 @@ def test_a_robot_wrapped_after_a_reset_is_initialised_by_the_next_reset():
     again = Robot(prim_path="/World/Franka", name="franka_again")  # a second wrapper of a compiled model
     assert again.num_dof == 9
     jetbot = WheeledRobot("/World/Jetbot", name="jetbot", wheel_dof_names=["left_wheel_joint", "right_wheel_joint"],
-                          create_robot=True, usd_path=get_assets_root_path() + "/Isaac/Robots/Jetbot/jetbot.usd")
+                          create_robot=True, usd_path=get_assets_root_path() + "/Isaac/Robots/Jetbot/jetbot.usd",
+                          position=[1.0, 0.0, 0.0])  # not inside the Franka (robots inside each other raise at reset)
     world.scene.add(jetbot)
     world.reset()
     assert jetbot.wheel_dof_indices.tolist() == [0, 1]

@@ -32,18 +32,20 @@ from __future__ import annotations
 import logging
 import math
 from pathlib import Path
+from typing import ClassVar
 
 import mujoco
 import numpy as np
 
 from manip.errors import InvalidInputError
-from manip.sim.core import recording as rec, substeps
 from manip.sim.articulations.articulation_core import ArticulationCore
+from manip.sim.core import recording as rec
+from manip.sim.core import substeps
 from manip.sim.core.callbacks import TimelineEvent
-from manip.sim.core.observers import WorldObserver  # noqa: F401 (re-exported)
+from manip.sim.core.mujoco_warnings import SimulationInstabilityError, SimulationWarning, WarningMonitor  # noqa: F401 (re-exported)
+from manip.sim.core.observers import WorldObserver
 from manip.sim.core.physics_context import PhysicsContext
 from manip.sim.core.simulation_callbacks import SimulationCallbacks
-from manip.sim.core.mujoco_warnings import SimulationInstabilityError, SimulationWarning, WarningMonitor  # noqa: F401 (re-exported)
 from manip.sim.scenes.compiler import compile_stage
 from manip.sim.scenes.robot_overlaps import check_robot_overlaps
 from manip.sim.scenes.stage import ReferencePrim, SimHandle, SimulationError, get_current_stage
@@ -80,7 +82,7 @@ class SimulationContext(SimulationCallbacks):
 
     _instance: SimulationContext | None = None
     _initialized = False  # per instance: True once __init__ has run (the singleton is initialised once)
-    _observers: list[WorldObserver] = []  # shared by every World of the process
+    _observers: ClassVar[list[WorldObserver]] = []  # shared by every World of the process
 
     def __new__(cls, *args, **kwargs):
         inst = SimulationContext._instance  # one per process, a World included (as in Isaac)
@@ -368,7 +370,7 @@ class SimulationContext(SimulationCallbacks):
         self._forward()
 
     def _steps_per_render(self) -> int:
-        return max(1, int(round(self._rendering_dt / self._physics_dt)))
+        return max(1, round(self._rendering_dt / self._physics_dt))
 
     def is_simulating(self) -> bool:
         """Whether a compiled model exists (Isaac: a physics simulation view exists)."""

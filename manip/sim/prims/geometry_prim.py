@@ -15,11 +15,11 @@ import numpy as np
 
 from manip.errors import InvalidInputError
 from manip.sim.materials.visual_material import PreviewSurface, VisualMaterial, rgb, unique_material_path
+from manip.sim.prims.xform_prim import XFormPrim
 from manip.sim.scenes.contact_model import PHYSX_DEFAULT_FRICTION, check_combine_mode, switch_pairs
 from manip.sim.scenes.stage import SimHandle, SimulationError
-from manip.sim.prims.xform_prim import XFormPrim
 from manip.sim.utils.not_supported import declare as declare_not_supported
-from manip.validation import non_negative, vec
+from manip.validation import non_negative
 
 #: Whether each family's geoms collide ("ground" is the GroundPlane's).
 _FAMILY_COLLIDES = {"visual": False, "fixed": True, "dynamic": True, "ground": True}

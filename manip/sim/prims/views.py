@@ -23,9 +23,9 @@ from manip.sim.prims import body_forces, isaac5_views
 from manip.sim.prims.rigid_prim import RigidPrim
 from manip.sim.prims.xform_prim import XFormPrim, model_frame_pose, relative_pose
 from manip.sim.scenes.stage import SimHandle, SimulationError, get_current_stage
-from manip.sim.utils.types import DynamicsViewState, XFormPrimViewState
 from manip.sim.utils.bounds import check_bounded_rows
 from manip.sim.utils.not_supported import declare as declare_not_supported
+from manip.sim.utils.types import DynamicsViewState, XFormPrimViewState
 from manip.validation import batch
 
 logger = logging.getLogger(__name__)

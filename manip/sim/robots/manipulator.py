@@ -13,8 +13,8 @@ from typing import Any, Protocol
 
 from manip.errors import InvalidInputError
 from manip.sim.articulations.articulation import Robot
-from manip.sim.scenes.stage import SimHandle, add_reference_to_stage, get_current_stage
 from manip.sim.prims.xform_prim import XFormPrim
+from manip.sim.scenes.stage import SimHandle, add_reference_to_stage, get_current_stage
 
 
 class Gripper(Protocol):

@@ -7,9 +7,21 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from manip.sim import (Articulation, ArticulationView, DynamicCuboid, Franka, GeometryPrim, RigidPrim,
-                       RigidPrimView, SingleArticulation, SingleRigidPrim, SingleXFormPrim, World, XFormPrim,
-                       XFormPrimView)
+from manip.sim import (
+    Articulation,
+    ArticulationView,
+    DynamicCuboid,
+    Franka,
+    GeometryPrim,
+    RigidPrim,
+    RigidPrimView,
+    SingleArticulation,
+    SingleRigidPrim,
+    SingleXFormPrim,
+    World,
+    XFormPrim,
+    XFormPrimView,
+)
 
 
 def _cubes(world, n=3):

@@ -91,7 +91,7 @@ def test_the_grip_breaks_past_its_force_limit():
 
 
 def test_nothing_within_reach_stays_open_and_bad_arguments_raise():
-    world, ur10, gripper, cube = ur10_over_a_cube(gap=0.03)   # 3 cm away, grip_threshold 1 cm
+    gripper = ur10_over_a_cube(gap=0.03)[2]   # 3 cm away, grip_threshold 1 cm
     gripper.close()
     assert not gripper.is_closed()
     with pytest.raises(InvalidInputError, match="direction must be 'x', 'y' or 'z'"):

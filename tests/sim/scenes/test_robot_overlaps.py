@@ -29,7 +29,7 @@ def test_overlapping_frankas_raise_at_reset_naming_both(x):
 
 
 def test_frankas_apart_simulate_and_a_moved_one_is_checked_again():
-    world, a, b = two_frankas([0.0, 1.0, 0.0])
+    world, _, b = two_frankas([0.0, 1.0, 0.0])
     world.reset()
     for _ in range(30):
         world.step(render=False)

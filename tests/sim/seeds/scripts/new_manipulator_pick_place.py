@@ -9,9 +9,10 @@ from manip.sim import SimulationApp
 simulation_app = SimulationApp({"headless": True})
 
 import numpy as np
+
 import manip.sim as manipulators_controllers
 import manip.sim as mg
-from manip.sim import World, PickPlace
+from manip.sim import PickPlace, World
 from manip.sim.motion_generation import interface_config_loader
 
 

@@ -91,3 +91,34 @@ def test_new_manipulator_pattern_generic_pick_place_with_an_rmpflow_cspace_contr
     assert sorted(set(ns["events"])) == list(range(11))   # every phase, then done
     assert np.linalg.norm(ns["cube_position"][:2] - ns["target_position"][:2]) < 0.02
     assert ns["cube_position"][2] == pytest.approx(0.0515 / 2, abs=3e-3)  # released on the ground
+
+
+def test_isaac5_hello_world_cube_falls_and_the_callback_sees_it():
+    ns = run("hello_world_isaac5.py")
+    heights = [p[2] for _, p, _ in ns["states"]]
+    assert heights[0] == pytest.approx(1.0) and min(np.diff(heights[:20])) < 0          # falling at first
+    assert ns["final_position"][2] == pytest.approx(0.5015 / 2, abs=2e-3)               # resting on the ground
+    assert all(s == pytest.approx(1 / 60) for s, _, _ in ns["states"])
+    assert len(ns["states"]) == 120
+
+
+def test_rmpflow_follow_target_through_an_articulation_motion_policy():
+    ns = run("follow_target_rmpflow.py")
+    assert max(ns["errors"]) < 0.01          # right_gripper within 1 cm of each goal (drives sag under gravity)
+    assert all(ns["ik_errors"])              # Lula's IK solves each goal
+
+
+def test_pick_place_two_episodes_with_world_and_controller_resets():
+    ns = run("pick_place_episodes.py")
+    assert len(ns["episodes"]) == 2
+    for cube, target, failure in ns["episodes"]:
+        assert failure is None
+        assert np.linalg.norm(cube[:2] - target[:2]) < 0.02
+        assert cube[2] == pytest.approx(0.0515 / 2, abs=3e-3)
+
+
+def test_curobo_motion_gen_reacher_loop_reaches_each_target():
+    """cuRobo's reacher loop: `result.success.item()` on each plan (an AttributeError before)."""
+    ns = run("motion_gen_reacher.py")
+    assert ns["plans"] == 3 and len(ns["reached"]) == 3
+    assert max(ns["reached"]) < 0.01         # the TCP at the target cube after each motion
