@@ -205,12 +205,15 @@ class SurfaceGripper:
                 self._restore_gravity()
             return
         m, d = self._sim.model, self._sim.data
-        rows = np.flatnonzero((d.efc_type[:d.nefc] == mujoco.mjtConstraint.mjCNSTR_EQUALITY)
-                              & (d.efc_id[:d.nefc] == self._eq))
+        n = d.nefc
+        rows = np.flatnonzero((d.efc_type[:n] == mujoco.mjtConstraint.mjCNSTR_EQUALITY) & (d.efc_id[:n] == self._eq))
         force = d.efc_force[rows]
-        held = int(m.eq_obj2id[self._eq])
-        q_rel = quat.multiply(quat.conjugate(quat.multiply(d.xquat[self._body], m.eq_data[self._eq, 6:10])),
-                              d.xquat[held])
+        # the object's turn from its gripped orientation: (q_body * relquat)^-1 * q_object (MuJoCo's C helpers:
+        # this runs after every physics step)
+        gripped, inverse, q_rel = np.empty(4), np.empty(4), np.empty(4)
+        mujoco.mju_mulQuat(gripped, d.xquat[self._body], m.eq_data[self._eq, 6:10])
+        mujoco.mju_negQuat(inverse, gripped)
+        mujoco.mju_mulQuat(q_rel, inverse, d.xquat[int(m.eq_obj2id[self._eq])])
         bend = 2.0 * math.acos(min(1.0, abs(float(q_rel[0]))))
         why = None
         if rows.size >= 3 and np.linalg.norm(force[:3]) > self._force_limit:
