@@ -173,6 +173,9 @@ ISAAC_API: dict[str, tuple[str, tuple[str, ...]]] = {
         "apply_action", "close", "open", "forward", "initialize", "post_reset", "get_default_state",
         "set_default_state", "get_joint_positions", "set_joint_positions", "joint_opened_positions",
         "joint_closed_positions", "joint_dof_indicies", "get_action_deltas", "set_action_deltas", "is_closed")),
+    "SurfaceGripper": ("omni.isaac.manipulators.grippers.SurfaceGripper", (
+        "initialize", "close", "open", "update", "is_closed", "set_translate", "set_direction", "set_force_limit",
+        "set_torque_limit", "set_default_state", "get_default_state", "post_reset", "forward", "apply_action")),
     "PickPlaceController": ("omni.isaac.franka.controllers.PickPlaceController", (
         "forward", "get_current_event", "is_done", "is_paused", "pause", "reset", "resume")),
     "RMPFlowController": ("omni.isaac.franka.controllers.RMPFlowController", (
@@ -324,6 +327,9 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
     "ParallelGripper": {
         "is_closed": "compare get_joint_positions() with joint_closed_positions",
     },
+    "SurfaceGripper": {
+        "apply_action": "a surface gripper has no joints to drive: use close() / open() or forward('close' | 'open')",
+    },
     "PickPlaceController": {},
     "Stacking": {},
     "StackingController": {},
@@ -356,6 +362,9 @@ DIFFERS: dict[str, dict[str, str]] = {
                                                     "whatever it says, as PhysX's primitive shapes do",
                      "set_collision_approximation": "kept for the getter; primitives collide exactly whatever it "
                                                     "says, as PhysX's primitive shapes do"},
+    "SurfaceGripper": {"close": "a MuJoCo weld to the free body the grip ray hits, held where it was touched "
+                                "(Isaac pulls it in by up to grip_threshold)",
+                       "initialize": "the gripper binds when the World compiles; initialize() checks it did"},
     "GeometryPrimView": {"set_collision_approximations": "kept for the getter; primitives collide exactly, as "
                                                          "PhysX's primitive shapes do"},
     "RigidPrimView": {"get_net_contact_forces": "contact impulses over the step / dt, as Isaac; MuJoCo's soft "

@@ -47,6 +47,7 @@ def _objects() -> dict:
     rigid_view = world.scene.add(sim.RigidPrimView("/World/cube", name="cube_view"))
     xform_view = world.scene.add(sim.XFormPrimView("/World/mark", name="mark_view"))
     geometry_view = world.scene.add(sim.GeometryPrimView("/World/(cube|wall)", name="shapes_view"))
+    suction = sim.SurfaceGripper("/World/Franka/panda_hand", direction="z")
     art_view = world.scene.add(sim.ArticulationView(prim_paths_expr="/World/Franka", name="franka_view"))
     world.reset()
     rmpflow = sim.RmpFlow(**sim.interface_config_loader.load_supported_motion_policy_config("Franka", "RMPflow"))
@@ -56,7 +57,7 @@ def _objects() -> dict:
         "PhysicsContext": world.get_physics_context(), "Camera": sim.Camera("/World/camera", resolution=(64, 48)),
         "XFormPrim": sim.XFormPrim("/World/target", name="target"),
         "GeometryPrim": sim.GeometryPrim("/World/cube", name="cube_geometry"),
-        "GeometryPrimView": geometry_view,
+        "GeometryPrimView": geometry_view, "SurfaceGripper": suction,
         "RigidPrim": sim.RigidPrim("/World/Franka/panda_hand", name="hand"),
         "XFormPrimView": xform_view, "RigidPrimView": rigid_view, "ArticulationView": art_view,
         "GroundPlane": world.scene.get_object("default_ground_plane"),

@@ -22,6 +22,7 @@ import numpy as np
 
 from manip.articulation_action import ArticulationAction
 from manip.errors import InvalidInputError
+from manip.sim.controllers.base_controller import BaseController
 from manip.validation import unit_quat, vec
 
 #: Isaac's default events_dt of the generic controller (the Franka's values).
@@ -36,7 +37,6 @@ def _mix(t: float) -> float:
 
 def is_cspace_controller(value) -> bool:
     """True for a c-space controller (a `BaseController`-like with `forward`, not a gripper)."""
-    from manip.sim.controllers.base_controller import BaseController
     return isinstance(value, BaseController) or (callable(getattr(value, "forward", None))
                                                  and not hasattr(value, "get_joint_positions")
                                                  and not hasattr(value, "open"))

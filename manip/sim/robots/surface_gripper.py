@@ -37,6 +37,7 @@ from manip import quaternion as quat
 from manip.articulation_action import ArticulationAction
 from manip.errors import InvalidInputError
 from manip.sim.scenes.stage import SimHandle, SimulationError, get_current_stage, validate_prim_path
+from manip.sim.utils.not_supported import declare as declare_not_supported
 from manip.validation import non_negative, positive
 
 logger = logging.getLogger(__name__)
@@ -273,7 +274,5 @@ class SurfaceGripper:
             raise InvalidInputError(f"SurfaceGripper.forward: action must be 'open' or 'close'; got {action!r}")
         return ArticulationAction()
 
-    def apply_action(self, control_actions: ArticulationAction) -> None:
-        """Refused: a surface gripper has no joints (use `close()` / `open()` or `forward`)."""
-        raise NotImplementedError("SurfaceGripper.apply_action: a surface gripper has no joints to drive; use "
-                                  "close() / open() or forward('close' | 'open')")
+
+declare_not_supported(SurfaceGripper)  # apply_action: no joints to drive (manip.sim.isaac_api)
