@@ -122,3 +122,12 @@ def test_curobo_motion_gen_reacher_loop_reaches_each_target():
     ns = run("motion_gen_reacher.py")
     assert ns["plans"] == 3 and len(ns["reached"]) == 3
     assert max(ns["reached"]) < 0.01         # the TCP at the target cube after each motion
+
+
+def test_ur10_with_a_suction_gripper_picks_and_places_with_the_generic_controller():
+    """SurfaceGripper + Isaac's generic PickPlaceController + an RMPFlowController of the UR10."""
+    ns = run("ur10_suction_pick_place.py")
+    assert ns["my_controller"].is_done()
+    assert sum(ns["held"]) > 100                                   # carried by suction
+    np.testing.assert_allclose(ns["cube_position"], ns["goal_position"], atol=0.01)
+    assert not ns["gripper"].is_closed()                           # released
