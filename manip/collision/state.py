@@ -76,6 +76,7 @@ class CollisionState:
     _segments_free: Callable[[np.ndarray, np.ndarray, float], np.ndarray]
     _advance: Callable[[np.ndarray, np.ndarray, float], tuple[Any, int]]
     occupancy_maps: tuple = ()
+    _collides_given: Callable[..., bool] | None = None
 
     @property
     def every_configuration_collides(self) -> bool:
@@ -90,6 +91,19 @@ class CollisionState:
         """(N,) bool: which configurations of Q (N, dof) collide (the checker's exact answer;
         no input checks)."""
         return self._collides(Q)
+
+    def first_colliding(self, Q: np.ndarray) -> int:
+        """Index of the first row of Q (N, dof) that collides, in order, or -1 (the checker's
+        exact answer, stopping at that row; no input checks)."""
+        hit = self._collides(Q, stop_at_first=True, deepest_first=False)
+        return int(np.argmax(hit)) if hit.any() else -1
+
+    def collides_given(self, R: np.ndarray, p: np.ndarray, world: tuple, self_: tuple) -> bool:
+        """True when the configuration with joint frames R (1, J+1, 3, 3), p (1, J+1, 3) [m]
+        collides, given its broadphase candidates computed on these tables: `world` = the
+        parts, obstacles and depths of `broadphase.world_candidates`, `self_` = the pair
+        indices and depths of `broadphase.self_candidates` (coal decides; no occupancy maps)."""
+        return self._collides_given(R, p, *world, *self_)
 
     def motion_free(self, q0: np.ndarray, q1: np.ndarray, resolution: float) -> bool:
         """True when the straight motion q0 -> q1 (dof,) is free, checked every `resolution`

@@ -9,13 +9,32 @@ from __future__ import annotations
 
 import numpy as np
 
+from manip.planning.path.compiled_search import CompiledChecks
 from manip.planning.path.rrt_connect import Sampler, rrt_connect
-from manip.planning.validity import Validity
+from manip.planning.validity import ADVANCE_BACKOFF_STEPS, Validity
 
 #: Edges of a coarse search path replaced by fine searches before giving up on the path.
 MAX_REPAIRS = 6
 #: RRT iterations of a search (and of its repairs together) when the caller gives no count.
 MAX_ITERATIONS = 20000
+#: The coarse search runs in compiled code (`compiled_search`: the same samples, answers and
+#: path) where it can; False: the Python `rrt_connect` always (BENCHMARKS.md, "Round nine").
+COMPILED_SEARCH = True
+
+
+def compiled_checks(validity: Validity) -> CompiledChecks | None:
+    """The compiled search's tables for `validity`'s coarse advance, or None where it keeps the
+    Python search: `COMPILED_SEARCH` off, a validity that changes the advance (a constrained
+    one), a strict one searching at its fine resolution, occupancy maps in the world."""
+    cls = type(validity)
+    if (not COMPILED_SEARCH or cls.coarse_advance is not Validity.coarse_advance or cls.advance is not Validity.advance
+            or getattr(validity, "steer", None) is not None
+            or (validity.certified and validity.search_resolution == validity.resolution)):
+        return None
+    state = validity.checker.state
+    if state.occupancy_maps or state.every_configuration_collides:
+        return None
+    return CompiledChecks(state, validity.search_resolution, ADVANCE_BACKOFF_STEPS)
 
 
 def search_path(
@@ -43,6 +62,7 @@ def search_path(
     path, iterations = rrt_connect(
         start, goals, lower, upper, validity.coarse_motion, rng, deadline, advance=validity.coarse_advance,
         max_iterations=MAX_ITERATIONS if max_iterations is None else max_iterations, sample=sample, steer=steer,
+        compiled=None if steer is not None else compiled_checks(validity),
     )
     if validity.search_resolution == validity.resolution:
         return path, iterations
