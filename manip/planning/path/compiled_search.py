@@ -36,7 +36,8 @@ PAUSE_EVERY = 64
 # what the kernel returns
 FOUND, EXHAUSTED, PAUSE = 0, 1, 3
 # slots of the kernel's integer state (`ints`)
-_IT, _A, _PHASE, _TREE, _FROM, _S, _STEPS, _INEW, _HIT, _MAXIT, _TRIES, _PAUSE_AT, _JOIN, _WORLD, _SELF = range(15)
+_IT, _A, _PHASE, _TREE, _FROM, _S, _STEPS, _INEW, _HIT, _MAXIT, _TRIES, _PAUSE_AT, _JOIN, _WORLD, _SELF, \
+    _SCREENED = range(16)
 _NONE = -2  # `_HIT` with no answer pending (-1: the unsure sample is free; 1: it collides)
 
 
@@ -172,6 +173,7 @@ def _screen(ints, buf, Qb, R, p, fk, wot, st, wmargin, smargin):
         for j in range(dof):
             q[j] = buf[1, j] + t * (buf[2, j] - buf[1, j])
         c = _candidates_at(q, Qb, R, p, fk, wot, st, wmargin, smargin, ints[_WORLD] != 0, ints[_SELF] != 0)
+        ints[_SCREENED] += 1
         if c[0].size or c[3].size:
             ints[_S] = s
             return -2, c
@@ -284,8 +286,9 @@ class CompiledChecks:
         J = self.fk[2].shape[0]
         dof = state.kinematics.dof
         self.R, self.p, self.Qb = np.empty((1, J + 1, 3, 3)), np.empty((1, J + 1, 3)), np.empty((1, dof))
-        #: (configurations decided by the exact checker, kernel calls) of the searches so far
-        self.counts = [0, 0]
+        #: (configurations decided by the exact checker, kernel calls, configurations screened by
+        #: the kernel, those included) of the searches so far
+        self.counts = [0, 0, 0]
 
 
 def compiled_rrt_connect(
@@ -306,7 +309,7 @@ def compiled_rrt_connect(
     nodes[1, : goals.shape[0]] = goals
     parents[:, : goals.shape[0]] = -1
     counts = np.array([1, goals.shape[0]], dtype=np.int64)
-    ints = np.zeros(15, dtype=np.int64)
+    ints = np.zeros(16, dtype=np.int64)
     ints[_IT], ints[_MAXIT], ints[_PAUSE_AT], ints[_HIT] = 1, max_iterations, 1 + PAUSE_EVERY, _NONE
     ints[_WORLD], ints[_SELF] = checks.world, checks.self_
     if sample is None:
@@ -322,10 +325,19 @@ def compiled_rrt_connect(
     tally = checks.counts
     if time.perf_counter() > deadline:
         return None, 1
+    try:
+        return _run(rng, nodes, parents, counts, ints, buf, lower, upper, params, centre, shape, checks, deadline)
+    finally:
+        tally[2] += int(ints[_SCREENED])
+
+
+def _run(rng, nodes, parents, counts, ints, buf, lower, upper, params, centre, shape, checks, deadline):
+    """`compiled_rrt_connect`'s loop over the kernel's pauses."""
+    tally = checks.counts
     while True:
         _RUNNING.checks = checks
-        status = _search(rng, nodes, parents, counts, ints, buf, lower, upper, params, centre,
-                                               shape, checks.fk, checks.wot, checks.st, checks.R, checks.p, checks.Qb)
+        status = _search(rng, nodes, parents, counts, ints, buf, lower, upper, params, centre, shape, checks.fk,
+                         checks.wot, checks.st, checks.R, checks.p, checks.Qb)
         tally[1] += 1
         if status == PAUSE:
             if time.perf_counter() > deadline:
@@ -333,7 +345,7 @@ def compiled_rrt_connect(
         elif status == FOUND:
             return _join(nodes, parents, int(ints[_A]), int(ints[_INEW]), int(ints[_JOIN])), int(ints[_IT])
         else:
-            return None, max_iterations
+            return None, int(ints[_MAXIT])
 
 
 def _join(nodes: np.ndarray, parents: np.ndarray, a: int, i: int, j: int) -> np.ndarray:

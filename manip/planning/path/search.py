@@ -24,10 +24,10 @@ COMPILED_SEARCH = True
 
 def compiled_checks(validity: Validity) -> CompiledChecks | None:
     """The compiled search's tables for `validity`'s coarse advance, or None where it keeps the
-    Python search: `COMPILED_SEARCH` off, a validity that changes the advance (a constrained
-    one), a strict one searching at its fine resolution, occupancy maps in the world."""
+    Python search: `COMPILED_SEARCH` off, another kind of validity or one that changes the
+    advance (a constrained one), a strict one searching at its fine resolution, occupancy maps in the world."""
     cls = type(validity)
-    if (not COMPILED_SEARCH or cls.coarse_advance is not Validity.coarse_advance or cls.advance is not Validity.advance
+    if (not COMPILED_SEARCH or not isinstance(validity, Validity) or cls.coarse_advance is not Validity.coarse_advance or cls.advance is not Validity.advance
             or getattr(validity, "steer", None) is not None
             or (validity.certified and validity.search_resolution == validity.resolution)):
         return None
