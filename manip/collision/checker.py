@@ -244,26 +244,19 @@ class CollisionChecker(WorldEdits, SegmentChecks):
             return False
         return self._narrowphase(R, p, n, kind, i, j, group, done, out)
 
-    def _collides_given(self, R: np.ndarray, p: np.ndarray, wg: np.ndarray, wo: np.ndarray, wd: np.ndarray,
-                        sk: np.ndarray, sd: np.ndarray) -> bool:
+    def _collides_given(self, R: np.ndarray, p: np.ndarray, kind: np.ndarray, i: np.ndarray, j: np.ndarray) -> bool:
         """True when the one configuration whose joint frames are R (1, J+1, 3, 3), p (1, J+1, 3)
-        collides, given its broadphase candidates (`broadphase.world_candidates`: parts wg,
-        obstacles wo, depths wd; `self_candidates`: pairs sk, depths sd) computed by a caller's
-        kernel on this checker's tables (no occupancy maps); coal decides, deepest first."""
+        collides, given its broadphase candidates (T,) kind (0 = world, 1 = self), i (part), j
+        (obstacle or part) in the order to try them, computed by a caller's kernel on this
+        checker's tables (`broadphase.world_candidates`, `self_candidates`; no occupancy maps)."""
         allowed = self.__dict__.get("_allowed_world")
-        if allowed is not None and wg.size:
-            keep = ~allowed[wg, wo]
-            wg, wo, wd = wg[keep], wo[keep], wd[keep]
-        pairs = self._bp_pairs
-        i = np.concatenate([wg, pairs[sk, 0]])
+        if allowed is not None and (kind == 0).any():   # contacts `allowing` allows are not checked
+            keep = kind == 1
+            keep[~keep] = ~allowed[i[~keep], j[~keep]]
+            kind, i, j = kind[keep], i[keep], j[keep]
         if i.size == 0:
             return False
-        j = np.concatenate([wo, pairs[sk, 1]])
-        kind = np.concatenate([np.zeros(wg.size, dtype=np.int64), np.ones(sk.size, dtype=np.int64)])
-        order = np.argsort(np.concatenate([wd, sd]), kind="stable")
-        out = np.zeros(1, dtype=bool)
-        return self._narrowphase(R, p, np.zeros(i.size, dtype=np.int64), kind[order], i[order], j[order], None, None,
-                                 out)
+        return self._narrowphase(R, p, np.zeros(i.size, dtype=np.int64), kind, i, j, None, None, np.zeros(1, dtype=bool))
 
     def _narrowphase(self, R: np.ndarray, p: np.ndarray, n: np.ndarray, kind: np.ndarray, i: np.ndarray,
                      j: np.ndarray, group: np.ndarray | None, done: set[int] | None, out: np.ndarray) -> bool:

@@ -98,12 +98,12 @@ class CollisionState:
         hit = self._collides(Q, stop_at_first=True, deepest_first=False)
         return int(np.argmax(hit)) if hit.any() else -1
 
-    def collides_given(self, R: np.ndarray, p: np.ndarray, world: tuple, self_: tuple) -> bool:
+    def collides_given(self, R: np.ndarray, p: np.ndarray, kind: np.ndarray, i: np.ndarray, j: np.ndarray) -> bool:
         """True when the configuration with joint frames R (1, J+1, 3, 3), p (1, J+1, 3) [m]
-        collides, given its broadphase candidates computed on these tables: `world` = the
-        parts, obstacles and depths of `broadphase.world_candidates`, `self_` = the pair
-        indices and depths of `broadphase.self_candidates` (coal decides; no occupancy maps)."""
-        return self._collides_given(R, p, *world, *self_)
+        collides, given its broadphase candidates computed on these tables, in the order to try
+        them: kind (T,) 0 = world (part i, obstacle j), 1 = self (parts i, j) (coal decides; no
+        occupancy maps)."""
+        return self._collides_given(R, p, kind, i, j)
 
     def motion_free(self, q0: np.ndarray, q1: np.ndarray, resolution: float) -> bool:
         """True when the straight motion q0 -> q1 (dof,) is free, checked every `resolution`

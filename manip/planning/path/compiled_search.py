@@ -45,19 +45,21 @@ _NONE = -2  # `_HIT` with no answer pending (-1: the unsure sample is free; 1: i
 _RUNNING = threading.local()
 
 
-def _exact_answer(R, p, wg, wo, wd, sk, sd) -> int:
+def _exact_answer(R, p, kind, i, j) -> int:
     """1 when the configuration with joint frames R, p and these broadphase candidates collides
     (coal, `CollisionState.collides_given`), else -1: called from the kernel (object mode)."""
     checks = _RUNNING.checks
     checks.counts[0] += 1
-    return 1 if checks.state.collides_given(R, p, (wg, wo, wd), (sk, sd)) else -1
+    return 1 if checks.state.collides_given(R, p, kind, i, j) else -1
 
 
 @kernel
-def _candidates_at(q, Qb, R, p, fk, wot, st, wmargin, smargin, world, self_):
-    """The broadphase candidates of configuration q (dof,): (parts, obstacles, depths) of
-    `world_candidates` with margin `wmargin` and (pairs, depths) of `self_candidates` with
-    `smargin` [m] (none at all: free for certain). R, p, Qb: buffers (q's joint frames after)."""
+def _candidates_at(q, Qb, R, p, fk, wot, st, pairs, wmargin, smargin, world, self_):
+    """The broadphase candidates of configuration q (dof,), deepest first (T,) each: kind (0 =
+    world, 1 = self), i (the part), j (the obstacle, or the other part): those of
+    `world_candidates` with margin `wmargin` and of `self_candidates` with `smargin` [m], whose
+    pair indices map to parts by `pairs` (P, 2); none at all: free for certain. R, p, Qb:
+    buffers (q's joint frames after)."""
     chain_frames(q, fk[0], fk[1], fk[2], R[0], p[0])
     e = np.empty(0, dtype=np.int64)
     wg, wo, wd = e, e, np.empty(0)
@@ -68,14 +70,29 @@ def _candidates_at(q, Qb, R, p, fk, wot, st, wmargin, smargin, world, self_):
         for j in range(q.shape[0]):
             Qb[0, j] = q[j]
         _, sk, sd = self_candidates(R, p, Qb, smargin, *st)
-    return wg, wo, wd, sk, sd
+    nw = wg.size
+    T = nw + sk.size
+    depth = np.empty(T)
+    depth[:nw] = wd
+    depth[nw:] = sd
+    order = np.argsort(depth, kind="mergesort")   # stable: the checker's order (`_candidates`)
+    kind = np.empty(T, dtype=np.int64)
+    a = np.empty(T, dtype=np.int64)
+    b = np.empty(T, dtype=np.int64)
+    for t in range(T):
+        k = order[t]
+        if k < nw:
+            kind[t], a[t], b[t] = 0, wg[k], wo[k]
+        else:
+            kind[t], a[t], b[t] = 1, pairs[sk[k - nw], 0], pairs[sk[k - nw], 1]
+    return kind, a, b
 
 
 @kernel
 def _no_candidates():
     """Empty `_candidates_at` results."""
     e = np.empty(0, dtype=np.int64)
-    return e, e, np.empty(0), e, np.empty(0)
+    return e, e, e
 
 
 @kernel
@@ -154,7 +171,7 @@ def _begin(ints, buf, tree, i, resolution):
 
 
 @kernel
-def _screen(ints, buf, Qb, R, p, fk, wot, st, wmargin, smargin):
+def _screen(ints, buf, Qb, R, p, fk, wot, st, pairs, wmargin, smargin):
     """Go on with the advance: (-1 when its samples are free to the end, else the first colliding
     sample's index, or -2 when sample ints[_S] needs the exact checker; then its candidates
     (`_candidates_at`), R and p holding its joint frames)."""
@@ -172,9 +189,9 @@ def _screen(ints, buf, Qb, R, p, fk, wot, st, wmargin, smargin):
         t = s / steps
         for j in range(dof):
             q[j] = buf[1, j] + t * (buf[2, j] - buf[1, j])
-        c = _candidates_at(q, Qb, R, p, fk, wot, st, wmargin, smargin, ints[_WORLD] != 0, ints[_SELF] != 0)
+        c = _candidates_at(q, Qb, R, p, fk, wot, st, pairs, wmargin, smargin, ints[_WORLD] != 0, ints[_SELF] != 0)
         ints[_SCREENED] += 1
-        if c[0].size or c[3].size:
+        if c[0].size:
             ints[_S] = s
             return -2, c
         s += 1
@@ -182,7 +199,8 @@ def _screen(ints, buf, Qb, R, p, fk, wot, st, wmargin, smargin):
 
 
 @kernel(nogil=False)  # it calls coal through Python (`_exact_answer`)
-def _search(rng, nodes, parents, counts, ints, buf, lower, upper, params, centre, shape, fk, wot, st, R, p, Qb):
+def _search(rng, nodes, parents, counts, ints, buf, lower, upper, params, centre, shape, fk, wot, st, pairs, R, p,
+            Qb):
     """Run the search (`rrt_connect`'s loop) from the state in `ints` until it is FOUND (the
     joining nodes in ints[_INEW], ints[_JOIN]), EXHAUSTED (ints[_MAXIT] iterations) or PAUSEs
     (every PAUSE_EVERY iterations, for the clock; call again to go on). A configuration the
@@ -217,10 +235,10 @@ def _search(rng, nodes, parents, counts, ints, buf, lower, upper, params, centre
             _begin(ints, buf, a, i, resolution)
             ints[_PHASE] = 1
             continue
-        s_hit, c = _screen(ints, buf, Qb, R, p, fk, wot, st, wmargin, smargin)
+        s_hit, c = _screen(ints, buf, Qb, R, p, fk, wot, st, pairs, wmargin, smargin)
         if s_hit == -2:  # coal decides (in Python), then the advance goes on
             with numba.objmode(hit="int64"):
-                hit = _exact_answer(R, p, c[0], c[1], c[2], c[3], c[4])
+                hit = _exact_answer(R, p, c[0], c[1], c[2])
             ints[_HIT] = hit
             continue
         # the advance's stop (`Validity.advance`), and the node it adds
@@ -281,6 +299,7 @@ class CompiledChecks:
         self.fk = state.kinematics.fk_tables()
         self.wot = tuple(state.world_tables) + tuple(state.obstacle_tables)
         self.st = tuple(state.self_tables)
+        self.pairs = np.ascontiguousarray(state.self_pairs, dtype=np.int64).reshape(-1, 2)
         self.world = bool(len(state.obstacles) and state.moving_world_parts)
         self.self_ = bool(state.self_tables[3].shape[0])
         J = self.fk[2].shape[0]
@@ -337,7 +356,7 @@ def _run(rng, nodes, parents, counts, ints, buf, lower, upper, params, centre, s
     while True:
         _RUNNING.checks = checks
         status = _search(rng, nodes, parents, counts, ints, buf, lower, upper, params, centre, shape, checks.fk,
-                         checks.wot, checks.st, checks.R, checks.p, checks.Qb)
+                         checks.wot, checks.st, checks.pairs, checks.R, checks.p, checks.Qb)
         tally[1] += 1
         if status == PAUSE:
             if time.perf_counter() > deadline:
