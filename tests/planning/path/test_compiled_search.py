@@ -126,3 +126,13 @@ def test_compiled_search_is_off_where_it_cannot_answer(mg, problems, monkeypatch
     assert search_module.compiled_checks(strict_fine) is None   # its advances certify
     monkeypatch.setattr(search_module, "COMPILED_SEARCH", False)
     assert search_module.compiled_checks(v) is None
+
+
+def test_compiled_search_stops_at_the_deadline(mg, problems):
+    v = _validity(mg, problems[0])
+    start, goal = np.asarray(problems[0].start, float), np.asarray(problems[0].goal, float)
+    checks = search_module.compiled_checks(v)
+    path, its = rrt_connect(start, goal[None], v.kinematics.lower, v.kinematics.upper, v.coarse_motion,
+                            np.random.default_rng(0), time.perf_counter() - 1.0, advance=v.coarse_advance,
+                            compiled=checks)
+    assert path is None and its == 1
