@@ -92,12 +92,6 @@ class CollisionState:
         no input checks)."""
         return self._collides(Q)
 
-    def first_colliding(self, Q: np.ndarray) -> int:
-        """Index of the first row of Q (N, dof) that collides, in order, or -1 (the checker's
-        exact answer, stopping at that row; no input checks)."""
-        hit = self._collides(Q, stop_at_first=True, deepest_first=False)
-        return int(np.argmax(hit)) if hit.any() else -1
-
     def collides_given(self, R: np.ndarray, p: np.ndarray, kind: np.ndarray, i: np.ndarray, j: np.ndarray) -> bool:
         """True when the configuration with joint frames R (1, J+1, 3, 3), p (1, J+1, 3) [m]
         collides, given its broadphase candidates computed on these tables, in the order to try

@@ -8,10 +8,12 @@ streams), in the same order, so a search makes the same samples, trees and path 
 (up to the last bits of a few sums: norms and nearest-node distances are summed in another
 order). An advance checks its samples in order from the one after its start; a sample whose
 robot balls keep clear of every obstacle and of each other (the broadphase kernels find no
-candidate) is free for certain (`manip.collision.broadphase`); at any other the kernel returns
-with its candidates, Python asks coal about them (`CollisionState.collides_given`, the
-checker's narrowphase) and the kernel resumes where it stopped. The answers are the exact checker's: the first colliding sample of every advance is
-the one `CollisionChecker.first_collision` finds.
+candidate) is free for certain (`manip.collision.broadphase`); at any other the kernel calls
+back into Python (`numba.objmode`) with its candidates, ordered deepest first, and coal decides
+(`CollisionState.collides_given`, the checker's narrowphase). The answers are the exact
+checker's: the first colliding sample of every advance is the one
+`CollisionChecker.first_collision` finds. The kernel returns to Python every `PAUSE_EVERY`
+iterations to look at the clock (the Python search looks at every iteration).
 
 The constrained search (`steer`), strict validities checking their search at the fine
 resolution, worlds with occupancy maps (whose candidates come from their own kernels) and
@@ -34,7 +36,7 @@ from manip.kinematics import chain_frames
 PAUSE_EVERY = 64
 
 # what the kernel returns
-FOUND, EXHAUSTED, PAUSE = 0, 1, 3
+FOUND, EXHAUSTED, PAUSE = 0, 1, 2
 # slots of the kernel's integer state (`ints`)
 _IT, _A, _PHASE, _TREE, _FROM, _S, _STEPS, _INEW, _HIT, _MAXIT, _TRIES, _PAUSE_AT, _JOIN, _WORLD, _SELF, \
     _SCREENED = range(16)
