@@ -142,6 +142,8 @@ _COUNTED = ((qp_module, "solve", "qp", None), (refine_module, "optimize_trajecto
             (ClearanceModel, "terms", "terms", None),
             (CollisionChecker, "_check", "check", lambda a, k, r: {"configs": len(a[1])}),
             (search_module, "rrt_connect", "rrt", _rrt_phase))
+if hasattr(CollisionChecker, "_collides_given"):  # the compiled search's exact checks (one configuration each)
+    _COUNTED += ((CollisionChecker, "_collides_given", "check", lambda a, k, r: {"configs": 1}),)
 
 
 def _restarts_kept(fn):

@@ -56,10 +56,11 @@ _warned = False
 
 
 def kernel(fn=None, **options):
-    """Decorator: `numba.njit(nogil=True, **options)` with manip's two-level cache (module docstring)."""
+    """Decorator: `numba.njit(nogil=True, **options)` with manip's two-level cache (module docstring);
+    `nogil=False` for a kernel that calls back into Python (`numba.objmode`)."""
 
     def wrap(f):
-        dispatcher = numba.njit(nogil=True, **options)(f)
+        dispatcher = numba.njit(**{"nogil": True, **options})(f)
         _KERNEL_FILES.add(Path(f.__code__.co_filename).resolve())
         # numba's `enable_caching` installs a FunctionCache; ours extends it
         dispatcher._cache = KernelCache(dispatcher.py_func)

@@ -128,6 +128,7 @@ class CollisionChecker(WorldEdits, SegmentChecks):
                 moving_world_parts=bool(self._l0_joint.size), obstacle_tables=tuple(self._bp_obstacles),
                 self_tables=tuple(self._bp_self), self_pairs=self._bp_pairs,
                 allowed_world=self.__dict__.get("_allowed_world"), _collides=self._check,
+                _collides_given=self._collides_given,
                 _motion_free=self._motion_free_at, _segments_free=self._segments_free, _advance=self._advance_to,
                 occupancy_maps=tuple(self._occupancy))
         return state
@@ -241,6 +242,26 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         n, kind, i, j = self._candidates(Q, R, p, deepest_first=deepest_first)
         if n.size == 0:
             return False
+        return self._narrowphase(R, p, n, kind, i, j, group, done, out)
+
+    def _collides_given(self, R: np.ndarray, p: np.ndarray, kind: np.ndarray, i: np.ndarray, j: np.ndarray) -> bool:
+        """True when the one configuration whose joint frames are R (1, J+1, 3, 3), p (1, J+1, 3)
+        collides, given its broadphase candidates (T,) kind (0 = world, 1 = self), i (part), j
+        (obstacle or part) in the order to try them, computed by a caller's kernel on this
+        checker's tables (`broadphase.world_candidates`, `self_candidates`; no occupancy maps)."""
+        allowed = self.__dict__.get("_allowed_world")
+        if allowed is not None and (kind == 0).any():   # contacts `allowing` allows are not checked
+            keep = kind == 1
+            keep[~keep] = ~allowed[i[~keep], j[~keep]]
+            kind, i, j = kind[keep], i[keep], j[keep]
+        if i.size == 0:
+            return False
+        return self._narrowphase(R, p, np.zeros(i.size, dtype=np.int64), kind, i, j, None, None, np.zeros(1, dtype=bool))
+
+    def _narrowphase(self, R: np.ndarray, p: np.ndarray, n: np.ndarray, kind: np.ndarray, i: np.ndarray,
+                     j: np.ndarray, group: np.ndarray | None, done: set[int] | None, out: np.ndarray) -> bool:
+        """Coal on the candidates (n, kind, i, j) (T,) of `_candidates`, in their order (see
+        `_check_chunk`, whose arguments the others are)."""
         # world placements of both geometries of every candidate pair, in one go
         RA, pA = broadphase.part_placements(R, p, n, i, self._pj, self._gR, self._gp)
         selfp = kind == 1

@@ -76,6 +76,7 @@ class CollisionState:
     _segments_free: Callable[[np.ndarray, np.ndarray, float], np.ndarray]
     _advance: Callable[[np.ndarray, np.ndarray, float], tuple[Any, int]]
     occupancy_maps: tuple = ()
+    _collides_given: Callable[..., bool] | None = None
 
     @property
     def every_configuration_collides(self) -> bool:
@@ -90,6 +91,13 @@ class CollisionState:
         """(N,) bool: which configurations of Q (N, dof) collide (the checker's exact answer;
         no input checks)."""
         return self._collides(Q)
+
+    def collides_given(self, R: np.ndarray, p: np.ndarray, kind: np.ndarray, i: np.ndarray, j: np.ndarray) -> bool:
+        """True when the configuration with joint frames R (1, J+1, 3, 3), p (1, J+1, 3) [m]
+        collides, given its broadphase candidates computed on these tables, in the order to try
+        them: kind (T,) 0 = world (part i, obstacle j), 1 = self (parts i, j) (coal decides; no
+        occupancy maps)."""
+        return self._collides_given(R, p, kind, i, j)
 
     def motion_free(self, q0: np.ndarray, q1: np.ndarray, resolution: float) -> bool:
         """True when the straight motion q0 -> q1 (dof,) is free, checked every `resolution`

@@ -82,6 +82,7 @@ def rrt_connect(
     max_iterations: int = 20000,
     sample: Sampler | None = None,
     steer: Steer | None = None,
+    compiled=None,
 ) -> tuple[np.ndarray | None, int]:
     """Find a collision-free piecewise-linear path from `start` to any of `goals`.
 
@@ -108,10 +109,19 @@ def rrt_connect(
         max_iterations: bound on sampling iterations.
         sample: `f(rng) -> q (dof,)`, the global samples (default: uniform within the
             joint limits), e.g. `informed_sampler`'s set of shorter paths.
+        compiled: a `compiled_search.CompiledChecks` of the same check as `advance`: the
+            search runs in compiled code (`compiled_search`; the same samples and answers)
+            unless `steer` is given or `sample` is neither None nor an `InformedSampler`.
 
     Returns:
         (path (K, dof) from start to a goal, or None; iterations used).
     """
+    if compiled is not None and steer is None and (sample is None or isinstance(sample, InformedSampler)):
+        from manip.planning.path.compiled_search import compiled_rrt_connect
+
+        return compiled_rrt_connect(start, goals, lower, upper, compiled, rng, deadline, step_size=step_size,
+                                    local_fraction=local_fraction, local_sigma=local_sigma,
+                                    max_iterations=max_iterations, sample=sample)
     trees = [_Tree(start[None, :]), _Tree(goals)]
     a, b = 0, 1  # tree `a` extends towards the sample, `b` connects to it
 
@@ -163,39 +173,52 @@ def rrt_connect(
     return None, max_iterations
 
 
-def informed_sampler(start: np.ndarray, goal: np.ndarray, length: float, lower: np.ndarray, upper: np.ndarray,
-                     tries: int = 8) -> Sampler:
+class InformedSampler:
     """Uniform samples of the configurations through which a path from `start` to `goal`
-    can be shorter than `length` (Informed RRT*, Gammell et al. 2014).
+    can be shorter than `length` (Informed RRT*, Gammell et al. 2014): call it with the
+    generator for one (dof,) sample.
 
     That set is the prolate hyperspheroid with foci `start` and `goal` (dof,) [rad] and
     transverse diameter `length` [rad] (joint-space L2): a unit-ball sample scaled by its
     radii and turned so that its first axis runs from start to goal. A sample outside the
     joint limits `lower`, `upper` (dof,) is drawn again, at most `tries` times, then clipped.
-    A `length` at most the straight line's gives samples on the segment.
+    A `length` at most the straight line's gives samples on the segment. `centre` (dof,) and
+    `shape` (dof, dof) (a unit-ball sample x maps to centre + shape @ x) are what the compiled
+    search (`compiled_search`) draws with.
     """
-    start, goal = np.asarray(start, dtype=float), np.asarray(goal, dtype=float)
-    dof = len(start)
-    c_min = float(np.linalg.norm(goal - start))
-    centre = 0.5 * (start + goal)
-    radii = np.full(dof, 0.5 * np.sqrt(max(length * length - c_min * c_min, 0.0)))
-    radii[0] = 0.5 * max(length, c_min)
-    # a Householder reflection taking the first axis onto start -> goal (any orthogonal map
-    # keeps the distribution uniform)
-    turn = np.eye(dof)
-    if c_min > 1e-12:
-        v = np.eye(dof)[0] - (goal - start) / c_min
-        if float(v @ v) > 1e-24:
-            turn -= 2.0 * np.outer(v, v) / float(v @ v)
-    shape = turn * radii  # columns scaled: turn @ diag(radii)
 
-    def sample(rng: np.random.Generator) -> np.ndarray:
-        for _ in range(tries):
+    def __init__(self, start: np.ndarray, goal: np.ndarray, length: float, lower: np.ndarray, upper: np.ndarray,
+                 tries: int = 8):
+        start, goal = np.asarray(start, dtype=float), np.asarray(goal, dtype=float)
+        dof = len(start)
+        c_min = float(np.linalg.norm(goal - start))
+        self.centre = 0.5 * (start + goal)
+        radii = np.full(dof, 0.5 * np.sqrt(max(length * length - c_min * c_min, 0.0)))
+        radii[0] = 0.5 * max(length, c_min)
+        # a Householder reflection taking the first axis onto start -> goal (any orthogonal map
+        # keeps the distribution uniform)
+        turn = np.eye(dof)
+        if c_min > 1e-12:
+            v = np.eye(dof)[0] - (goal - start) / c_min
+            if float(v @ v) > 1e-24:
+                turn -= 2.0 * np.outer(v, v) / float(v @ v)
+        self.shape = np.ascontiguousarray(turn * radii)  # columns scaled: turn @ diag(radii)
+        if int(tries) < 1:
+            raise ValueError(f"tries must be >= 1; got {tries}")
+        self.lower, self.upper, self.tries = lower, upper, int(tries)
+
+    def __call__(self, rng: np.random.Generator) -> np.ndarray:
+        dof = len(self.centre)
+        for _ in range(self.tries):
             x = rng.normal(size=dof)
             x *= rng.random() ** (1.0 / dof) / max(float(np.linalg.norm(x)), 1e-12)
-            q = centre + shape @ x
-            if np.all(q >= lower) and np.all(q <= upper):
+            q = self.centre + self.shape @ x
+            if np.all(q >= self.lower) and np.all(q <= self.upper):
                 return q
-        return np.clip(q, lower, upper)
+        return np.clip(q, self.lower, self.upper)
 
-    return sample
+
+def informed_sampler(start: np.ndarray, goal: np.ndarray, length: float, lower: np.ndarray, upper: np.ndarray,
+                     tries: int = 8) -> InformedSampler:
+    """`InformedSampler(start, goal, length, lower, upper, tries)` (a `Sampler`)."""
+    return InformedSampler(start, goal, length, lower, upper, tries)

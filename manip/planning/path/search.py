@@ -9,13 +9,38 @@ from __future__ import annotations
 
 import numpy as np
 
+from manip.planning.path.compiled_search import CompiledChecks
 from manip.planning.path.rrt_connect import Sampler, rrt_connect
-from manip.planning.validity import Validity
+from manip.planning.validity import ADVANCE_BACKOFF_STEPS, Validity
 
 #: Edges of a coarse search path replaced by fine searches before giving up on the path.
 MAX_REPAIRS = 6
 #: RRT iterations of a search (and of its repairs together) when the caller gives no count.
 MAX_ITERATIONS = 20000
+#: The coarse search runs in compiled code (`compiled_search`: the same samples, answers and
+#: path) where it can; False: the Python `rrt_connect` always (BENCHMARKS.md, "Round nine").
+COMPILED_SEARCH = True
+#: The repairs' fine searches run in compiled code too (with `COMPILED_SEARCH`); off: no faster
+#: (BENCHMARKS.md, "Round nine").
+REPAIRS_COMPILED = False
+
+
+def compiled_checks(validity: Validity, fine: bool = False) -> CompiledChecks | None:
+    """The compiled search's tables for `validity`'s coarse advance (`fine`: its fine one, the
+    repairs'), or None where it keeps the Python search: `COMPILED_SEARCH` off, another kind of
+    validity or one that changes the advance (a constrained one), a strict one advancing at its
+    fine resolution (it certifies), occupancy maps in the world."""
+    cls = type(validity)
+    if (not COMPILED_SEARCH or not isinstance(validity, Validity) or cls.coarse_advance is not Validity.coarse_advance
+            or cls.advance is not Validity.advance or getattr(validity, "steer", None) is not None):
+        return None
+    resolution = validity.resolution if fine else validity.search_resolution
+    if validity.certified and resolution == validity.resolution:
+        return None
+    state = validity.checker.state
+    if state.occupancy_maps or state.every_configuration_collides:
+        return None
+    return CompiledChecks(state, resolution, ADVANCE_BACKOFF_STEPS)
 
 
 def search_path(
@@ -43,6 +68,7 @@ def search_path(
     path, iterations = rrt_connect(
         start, goals, lower, upper, validity.coarse_motion, rng, deadline, advance=validity.coarse_advance,
         max_iterations=MAX_ITERATIONS if max_iterations is None else max_iterations, sample=sample, steer=steer,
+        compiled=None if steer is not None else compiled_checks(validity),
     )
     if validity.search_resolution == validity.resolution:
         return path, iterations
@@ -67,6 +93,7 @@ def repair_path(
     """
     lower, upper = validity.kinematics.lower, validity.kinematics.upper
     iterations = 0
+    compiled = None
     for _ in range(MAX_REPAIRS):
         if path is None:
             return None, iterations
@@ -76,9 +103,11 @@ def repair_path(
         if iterations >= max_iterations:
             return None, iterations
         s = int(np.argmin(ok))
+        if compiled is None and REPAIRS_COMPILED:
+            compiled = compiled_checks(validity, fine=True)
         sub, more = rrt_connect(
             path[s], path[s + 1][None], lower, upper, validity.motion, rng, deadline, advance=validity.advance,
-            max_iterations=max_iterations - iterations, steer=getattr(validity, "steer", None),
+            max_iterations=max_iterations - iterations, steer=getattr(validity, "steer", None), compiled=compiled,
         )
         iterations += more
         path = None if sub is None else np.concatenate([path[:s], sub, path[s + 2 :]])
