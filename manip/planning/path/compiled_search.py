@@ -31,15 +31,20 @@ import numpy as np
 from manip.collision.broadphase import self_candidates, world_candidates
 from manip.jit import kernel
 from manip.kinematics import chain_frames
+from manip.planning.path.compiled_narrowphase import NarrowTables, decide
 
 #: Iterations between the kernel's returns to Python to look at the clock (the deadline).
 PAUSE_EVERY = 64
+
+#: The coarse search decides the candidates of convex pairs in the kernel (`compiled_narrowphase`:
+#: GJK on the parts' hulls against boxes, spheres, capsules, cylinders), coal only the rest.
+KERNEL_NARROWPHASE = True
 
 # what the kernel returns
 FOUND, EXHAUSTED, PAUSE = 0, 1, 2
 # slots of the kernel's integer state (`ints`)
 _IT, _A, _PHASE, _TREE, _FROM, _S, _STEPS, _INEW, _HIT, _MAXIT, _TRIES, _PAUSE_AT, _JOIN, _WORLD, _SELF, \
-    _SCREENED = range(16)
+    _SCREENED, _NARROW, _DECIDED = range(18)
 _NONE = -2  # `_HIT` with no answer pending (-1: the unsure sample is free; 1: it collides)
 
 
@@ -202,11 +207,12 @@ def _screen(ints, buf, Qb, R, p, fk, wot, st, pairs, wmargin, smargin):
 
 @kernel(nogil=False)  # it calls coal through Python (`_exact_answer`)
 def _search(rng, nodes, parents, counts, ints, buf, lower, upper, params, centre, shape, fk, wot, st, pairs, R, p,
-            Qb):
+            Qb, nt, ot):
     """Run the search (`rrt_connect`'s loop) from the state in `ints` until it is FOUND (the
     joining nodes in ints[_INEW], ints[_JOIN]), EXHAUSTED (ints[_MAXIT] iterations) or PAUSEs
     (every PAUSE_EVERY iterations, for the clock; call again to go on). A configuration the
-    balls cannot clear is decided by `_exact_answer` (coal, through Python).
+    balls cannot clear is decided by `compiled_narrowphase.decide` (with ints[_NARROW]) and
+    by `_exact_answer` (coal, through Python) for the candidates it leaves.
 
     nodes (2, cap, dof), parents (2, cap), counts (2,): the start (0) and goal (1) trees.
     buf (6, dof): sample, advance start and end, stop, scratch. params: step size [rad], local
@@ -238,9 +244,17 @@ def _search(rng, nodes, parents, counts, ints, buf, lower, upper, params, centre
             ints[_PHASE] = 1
             continue
         s_hit, c = _screen(ints, buf, Qb, R, p, fk, wot, st, pairs, wmargin, smargin)
-        if s_hit == -2:  # coal decides (in Python), then the advance goes on
+        if s_hit == -2:  # decided here or by coal (in Python), then the advance goes on
+            kind, a, b = c
+            if ints[_NARROW] != 0:
+                hit, left = decide(kind, a, b, R, p, nt, ot)
+                if hit != 0:
+                    ints[_DECIDED] += 1
+                    ints[_HIT] = hit
+                    continue
+                kind, a, b = kind[left], a[left], b[left]
             with numba.objmode(hit="int64"):
-                hit = _exact_answer(R, p, c[0], c[1], c[2])
+                hit = _exact_answer(R, p, kind, a, b)
             ints[_HIT] = hit
             continue
         # the advance's stop (`Validity.advance`), and the node it adds
@@ -287,9 +301,11 @@ class CompiledChecks:
         resolution: the advances' check resolution [rad] > 0.
         backoff: check steps an advance stops short of its first contact
             (`validity.ADVANCE_BACKOFF_STEPS`).
+        narrowphase: decide convex candidates in the kernel (`compiled_narrowphase`; the
+            coarse search only, never the repairs).
     """
 
-    def __init__(self, state, resolution: float, backoff: int):
+    def __init__(self, state, resolution: float, backoff: int, narrowphase: bool = False):
         if state.occupancy_maps or state.every_configuration_collides:
             raise ValueError("the compiled search needs a world without occupancy maps whose fixed parts collide "
                              "with nothing; use rrt_connect")
@@ -307,9 +323,13 @@ class CompiledChecks:
         J = self.fk[2].shape[0]
         dof = state.kinematics.dof
         self.R, self.p, self.Qb = np.empty((1, J + 1, 3, 3)), np.empty((1, J + 1, 3)), np.empty((1, dof))
+        self.narrow = bool(narrowphase)
+        self.nt = NarrowTables(state if narrowphase else None).arrays()
+        self.ot = tuple(state.obstacle_tables)[:4]
         #: (configurations decided by the exact checker, kernel calls, configurations screened by
-        #: the kernel, those included) of the searches so far
-        self.counts = [0, 0, 0]
+        #: the kernel, those included, configurations decided by `compiled_narrowphase`) of the
+        #: searches so far
+        self.counts = [0, 0, 0, 0]
 
 
 def compiled_rrt_connect(
@@ -330,9 +350,9 @@ def compiled_rrt_connect(
     nodes[1, : goals.shape[0]] = goals
     parents[:, : goals.shape[0]] = -1
     counts = np.array([1, goals.shape[0]], dtype=np.int64)
-    ints = np.zeros(16, dtype=np.int64)
+    ints = np.zeros(18, dtype=np.int64)
     ints[_IT], ints[_MAXIT], ints[_PAUSE_AT], ints[_HIT] = 1, max_iterations, 1 + PAUSE_EVERY, _NONE
-    ints[_WORLD], ints[_SELF] = checks.world, checks.self_
+    ints[_WORLD], ints[_SELF], ints[_NARROW] = checks.world, checks.self_, checks.narrow
     if sample is None:
         centre, shape = np.zeros(dof), np.zeros((dof, dof))
     else:
@@ -350,6 +370,7 @@ def compiled_rrt_connect(
         return _run(rng, nodes, parents, counts, ints, buf, lower, upper, params, centre, shape, checks, deadline)
     finally:
         tally[2] += int(ints[_SCREENED])
+        tally[3] += int(ints[_DECIDED])
 
 
 def _run(rng, nodes, parents, counts, ints, buf, lower, upper, params, centre, shape, checks, deadline):
@@ -358,7 +379,7 @@ def _run(rng, nodes, parents, counts, ints, buf, lower, upper, params, centre, s
     while True:
         _RUNNING.checks = checks
         status = _search(rng, nodes, parents, counts, ints, buf, lower, upper, params, centre, shape, checks.fk,
-                         checks.wot, checks.st, checks.pairs, checks.R, checks.p, checks.Qb)
+                         checks.wot, checks.st, checks.pairs, checks.R, checks.p, checks.Qb, checks.nt, checks.ot)
         tally[1] += 1
         if status == PAUSE:
             if time.perf_counter() > deadline:

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from manip.planning.path import compiled_search
 from manip.planning.path.compiled_search import CompiledChecks
 from manip.planning.path.rrt_connect import Sampler, rrt_connect
 from manip.planning.validity import ADVANCE_BACKOFF_STEPS, Validity
@@ -40,7 +41,8 @@ def compiled_checks(validity: Validity, fine: bool = False) -> CompiledChecks | 
     state = validity.checker.state
     if state.occupancy_maps or state.every_configuration_collides:
         return None
-    return CompiledChecks(state, resolution, ADVANCE_BACKOFF_STEPS)
+    return CompiledChecks(state, resolution, ADVANCE_BACKOFF_STEPS,
+                          narrowphase=compiled_search.KERNEL_NARROWPHASE and not fine)
 
 
 def search_path(
