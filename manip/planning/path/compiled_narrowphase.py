@@ -28,7 +28,7 @@ from manip.collision.shapes import Capsule, Cuboid, Cylinder, Sphere
 from manip.jit import kernel
 
 #: [m] a mesh is convex for this test when every triangle's vertices and centroid lie within
-#: this depth of its hull's boundary (the Panda's collision meshes: under 0.1 mm).
+#: this depth of its hull's boundary (the Panda's collision meshes: 0.03-0.23 mm).
 CONVEX_TOLERANCE = 1e-3
 
 _NO = -1   # a shape kind this test does not decide

@@ -136,3 +136,71 @@ def test_compiled_search_stops_at_the_deadline(mg, problems):
                             np.random.default_rng(0), time.perf_counter() - 1.0, advance=v.coarse_advance,
                             compiled=checks)
     assert path is None and its == 1
+
+
+def test_kernel_narrowphase_decides_the_cuboid_worlds_and_keeps_the_searches(mg, problems, monkeypatch):
+    """MotionBenchMaker's worlds are cuboids and cylinders and the Panda's meshes are convex: the
+    kernel decides every candidate (coal none), and the searches are those of coal's answers."""
+    from manip.planning.path import compiled_search
+
+    for p in problems[::2]:
+        v = _validity(mg, p)
+        start, goal = np.asarray(p.start, float), np.asarray(p.goal, float)
+        runs = {}
+        for on in (True, False):
+            monkeypatch.setattr(compiled_search, "KERNEL_NARROWPHASE", on)
+            checks = search_module.compiled_checks(v)
+            assert checks.narrow == on
+            path, its = rrt_connect(start, goal[None], v.kinematics.lower, v.kinematics.upper, v.coarse_motion,
+                                    np.random.default_rng(0), time.perf_counter() + 600.0, advance=v.coarse_advance,
+                                    compiled=checks)
+            runs[on] = (path, its, checks.counts)
+        (a, ia, ca), (b, ib, cb) = runs[True], runs[False]
+        assert ia == ib and np.array_equal(a, b), (p.scene, p.index)
+        assert ca[3] > 0 and ca[0] == 0          # kernel decided, coal none
+        assert cb[3] == 0 and cb[0] == ca[3]     # coal decided the same configurations
+        assert search_module.compiled_checks(v, fine=True).narrow is False   # never the repairs
+
+
+def _coarse(v: Validity, start, goal):
+    checks = search_module.compiled_checks(v)
+    path, its = rrt_connect(start, goal[None], v.kinematics.lower, v.kinematics.upper, v.coarse_motion,
+                            np.random.default_rng(0), time.perf_counter() + 600.0, advance=v.coarse_advance,
+                            compiled=checks)
+    return path, its, checks.counts
+
+
+def test_kernel_narrowphase_leaves_meshes_to_coal_and_skips_allowed_contacts(mg, monkeypatch):
+    """A mesh obstacle's candidates go to coal, a cuboid's are decided in the kernel; with every
+    contact of a block allowed, the search is the one of a world without it."""
+    from manip.collision.shapes import Cuboid, Mesh
+    from manip.planning.path import compiled_search
+
+    box = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float) * 0.15
+    faces = np.array([[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1], [2, 3, 7], [2, 7, 6],
+                      [0, 2, 6], [0, 6, 4], [1, 5, 7], [1, 7, 3]])
+    q0 = mg.default_joint_positions
+    goal = np.clip(q0 + np.array([1.6, 0.4, 0.0, 0.3, 0.0, 0.0, 0.0]), mg.kinematics.lower, mg.kinematics.upper)
+    pose = [0.35, 0.3, 0.45]
+    found = {}
+    for name, ob in (("mesh", Mesh("block", vertices=box, faces=faces, pose=pose)),
+                     ("cuboid", Cuboid("block", dims=[0.3, 0.3, 0.3], pose=pose))):
+        mg.update_world(WorldConfig([ob]))
+        v = Validity(mg.checker.snapshot(), mg.kinematics, mg.validity.resolution, mg.validity.search_resolution)
+        assert not v.coarse_motion(q0, goal)   # the block is in the way
+        found[name] = _coarse(v, q0, goal)
+        links = sorted({p.name for p in mg.checker.state.parts})
+        allowed = mg.checker.allowing([(link, "block") for link in links])
+        va = Validity(allowed, mg.kinematics, mg.validity.resolution, mg.validity.search_resolution)
+        found[name + " allowed"] = _coarse(va, q0, goal)
+        monkeypatch.setattr(compiled_search, "KERNEL_NARROWPHASE", False)
+        found[name + " allowed, coal"] = _coarse(va, q0, goal)
+        monkeypatch.setattr(compiled_search, "KERNEL_NARROWPHASE", True)
+    mg.update_world(WorldConfig())
+    v = Validity(mg.checker.snapshot(), mg.kinematics, mg.validity.resolution, mg.validity.search_resolution)
+    empty = _coarse(v, q0, goal)
+    assert found["mesh"][2][0] > 0       # coal decided the mesh's candidates (the kernel: self ones)
+    assert found["cuboid"][2][3] > 0 and found["cuboid"][2][0] == 0
+    assert found["mesh"][0] is not None and found["cuboid"][0] is not None
+    for key in ("mesh allowed", "cuboid allowed", "mesh allowed, coal", "cuboid allowed, coal"):
+        assert found[key][1] == empty[1] and np.array_equal(found[key][0], empty[0]), key
