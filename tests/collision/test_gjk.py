@@ -19,7 +19,7 @@ BAND = 1e-6   # [m] answers may differ from coal's only this close to the margin
 def links(franka_config):
     """The Panda's link meshes and their hulls (coal), and the hulls' vertices in one array."""
     checker = CollisionChecker(franka_config)
-    meshes = [(p.geometry, h) for p, h in zip(checker._parts, checker._hulls) if h is not None]
+    meshes = [(p.geometry, p.hull) for p in checker.state.parts if p.hull is not p.geometry]
     points = [np.asarray(h.points(), dtype=float) for _, h in meshes]
     count = np.array([len(P) for P in points])
     return meshes, np.ascontiguousarray(np.concatenate(points)), np.cumsum(count) - count, count

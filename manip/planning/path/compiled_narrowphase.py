@@ -33,6 +33,7 @@ CONVEX_TOLERANCE = 1e-3
 
 _NO = -1   # a shape kind this test does not decide
 _CONCAVITY: dict[int, tuple[object, float]] = {}   # id(mesh) -> (mesh, depth [m])
+_LAST_PARTS: tuple = (None, None)                    # (parts, their arrays): `_part_arrays`
 
 
 def concavity(mesh, hull_points: np.ndarray) -> float:
@@ -81,6 +82,32 @@ def _obstacle_kind(ob) -> int:
     return _NO
 
 
+def _part_arrays(parts) -> tuple:
+    """`NarrowTables`' part arrays, kept for the last parts seen (the same `Part` objects in every
+    state of a checker until its attachments change)."""
+    global _LAST_PARTS
+    last, arrays = _LAST_PARTS
+    if last is not None and len(last) == len(parts) and all(a is b for a, b in zip(last, parts)):
+        return arrays
+    rows = [_part_row(p) for p in parts]
+    G = len(rows)
+    count = np.array([len(r[3]) for r in rows], dtype=np.int64)
+    arrays = (
+        np.array([r[0] for r in rows], dtype=np.int64),
+        np.array([p.joint for p in parts], dtype=np.int64),
+        np.ascontiguousarray(np.array([p.R for p in parts], dtype=float).reshape(G, 3, 3)),
+        np.ascontiguousarray(np.array([p.p for p in parts], dtype=float).reshape(G, 3)),
+        np.ascontiguousarray(np.array([r[1] for r in rows], dtype=float).reshape(G, 3)),
+        np.array([r[2] for r in rows], dtype=float),
+        np.cumsum(count) - count,
+        count,
+        np.ascontiguousarray(np.concatenate([r[3] for r in rows] + [np.zeros((0, 3))]).reshape(-1, 3)),
+        np.array([r[4] for r in rows], dtype=np.bool_),
+    )
+    _LAST_PARTS = (tuple(parts), arrays)
+    return arrays
+
+
 class NarrowTables:
     """The arrays of `decide` for one collision state (`collision.state.CollisionState`).
 
@@ -92,19 +119,9 @@ class NarrowTables:
 
     def __init__(self, state):
         parts, obstacles = (state.parts, state.obstacles) if state is not None else ((), ())
-        rows = [_part_row(p) for p in parts]
-        G = len(rows)
-        self.kind = np.array([r[0] for r in rows], dtype=np.int64)
-        self.joint = np.array([p.joint for p in parts], dtype=np.int64)
-        self.R = np.ascontiguousarray(np.array([p.R for p in parts], dtype=float).reshape(G, 3, 3))
-        self.c = np.ascontiguousarray(np.array([p.p for p in parts], dtype=float).reshape(G, 3))
-        self.h = np.ascontiguousarray(np.array([r[1] for r in rows], dtype=float).reshape(G, 3))
-        self.rho = np.array([r[2] for r in rows], dtype=float)
-        count = np.array([len(r[3]) for r in rows], dtype=np.int64)
-        self.start = np.cumsum(count) - count
-        self.count = count
-        self.V = np.ascontiguousarray(np.concatenate([r[3] for r in rows] + [np.zeros((0, 3))]).reshape(-1, 3))
-        self.convex = np.array([r[4] for r in rows], dtype=np.bool_)
+        (self.kind, self.joint, self.R, self.c, self.h, self.rho, self.start, self.count, self.V,
+         self.convex) = _part_arrays(parts)
+        G = len(parts)
         self.okind = np.array([_obstacle_kind(ob) for ob in obstacles], dtype=np.int64)
         allowed = None if state is None else state.allowed_world
         self.allowed = (np.zeros((G, len(obstacles)), dtype=np.bool_) if allowed is None

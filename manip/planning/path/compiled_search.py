@@ -8,11 +8,14 @@ streams), in the same order, so a search makes the same samples, trees and path 
 (up to the last bits of a few sums: norms and nearest-node distances are summed in another
 order). An advance checks its samples in order from the one after its start; a sample whose
 robot balls keep clear of every obstacle and of each other (the broadphase kernels find no
-candidate) is free for certain (`manip.collision.broadphase`); at any other the kernel calls
-back into Python (`numba.objmode`) with its candidates, ordered deepest first, and coal decides
-(`CollisionState.collides_given`, the checker's narrowphase). The answers are the exact
-checker's: the first colliding sample of every advance is the one
-`CollisionChecker.first_collision` finds. The kernel returns to Python every `PAUSE_EVERY`
+candidate) is free for certain (`manip.collision.broadphase`); at any other the kernel decides
+the candidates of convex pairs itself (`compiled_narrowphase`, with `KERNEL_NARROWPHASE`: GJK on
+the parts' hulls against boxes, spheres, capsules, cylinders) and calls back into Python
+(`numba.objmode`) with the candidates left, ordered deepest first, for coal to decide
+(`CollisionState.collides_given`, the checker's narrowphase). Coal's answers are the exact
+checker's; the kernel's may differ from them in rare near-touch cases (`compiled_narrowphase`),
+and the search may then take another path, which goes through the same fine repairs, shortcut,
+optimiser and certificate (the exact checker). The kernel returns to Python every `PAUSE_EVERY`
 iterations to look at the clock (the Python search looks at every iteration).
 
 The constrained search (`steer`), strict validities checking their search at the fine
