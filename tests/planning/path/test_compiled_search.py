@@ -204,3 +204,29 @@ def test_kernel_narrowphase_leaves_meshes_to_coal_and_skips_allowed_contacts(mg,
     assert found["mesh"][0] is not None and found["cuboid"][0] is not None
     for key in ("mesh allowed", "cuboid allowed", "mesh allowed, coal", "cuboid allowed, coal"):
         assert found[key][1] == empty[1] and np.array_equal(found[key][0], empty[0]), key
+
+
+@pytest.mark.parametrize("shape", ["cuboid", "cylinder", "capsule"])
+def test_kernel_narrowphase_with_an_attached_object_keeps_the_searches(mg, monkeypatch, shape):
+    """An object carried by the hand (a box, cylinder or capsule part) around a block: the
+    kernel's answers are coal's, so the search is the one with coal alone."""
+    from manip.collision.checker import CollisionChecker
+    from manip.collision.shapes import Capsule, Cuboid, Cylinder
+    from manip.planning.path import compiled_search
+
+    held = {"cuboid": Cuboid("held", dims=[0.04, 0.04, 0.08]), "cylinder": Cylinder("held", radius=0.02, height=0.08),
+            "capsule": Capsule("held", radius=0.02, height=0.06)}[shape]
+    carrier = CollisionChecker(mg.config)
+    carrier.set_world(WorldConfig([Cuboid("block", dims=[0.3, 0.3, 0.3], pose=[0.35, 0.3, 0.45])]))
+    carrier.attach_object(held, pose_in_link=[0.0, 0.0, 0.15], allowed_links=["panda_leftfinger", "panda_rightfinger"])
+    v = Validity(carrier.snapshot(), mg.kinematics, mg.validity.resolution, mg.validity.search_resolution)
+    start = mg.default_joint_positions
+    goal = np.clip(start + np.array([1.6, 0.4, 0.0, 0.3, 0.0, 0.0, 0.0]), mg.kinematics.lower, mg.kinematics.upper)
+    assert v.configs(np.array([start, goal])).all() and not v.coarse_motion(start, goal)
+    runs = {}
+    for on in (True, False):
+        monkeypatch.setattr(compiled_search, "KERNEL_NARROWPHASE", on)
+        runs[on] = _coarse(v, start, goal)
+    assert runs[True][0] is not None
+    assert runs[True][1] == runs[False][1] and np.array_equal(runs[True][0], runs[False][0])
+    assert runs[True][2][3] == runs[False][2][0] > 0 and runs[True][2][0] == 0
