@@ -61,7 +61,7 @@ from manip.collision.results import (  # noqa: F401  (re-exported: manip.collisi
 from manip.collision.robot_geometry import RobotGeometry
 from manip.collision.segments import SegmentChecks, consistent
 from manip.collision.shapes import Obstacle  # noqa: F401  (re-exported)
-from manip.collision.solids import part_inside
+from manip.collision.solids import closed_part_mesh, part_in_part, part_inside
 from manip.collision.state import CollisionState
 from manip.collision.tables import coal_transform
 from manip.collision.world import WorldConfig
@@ -202,7 +202,8 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         tfb = tfs.get(key)
         if tfb is None:
             tfb = tfs[key] = self._part_tf(R, p, n, j)
-        return bool(coal.collide(self._parts[i].geometry, tfa, self._parts[j].geometry, tfb, self._req_self, res))
+        return bool(coal.collide(self._parts[i].geometry, tfa, self._parts[j].geometry, tfb, self._req_self, res)) \
+            or self._part_in_part(i, j, tfa.getRotation(), tfa.getTranslation(), tfb.getRotation(), tfb.getTranslation())
 
     def _check(self, Q: np.ndarray, stop_at_first: bool = False, group: np.ndarray | None = None,
                deepest_first: bool = True) -> np.ndarray:
@@ -282,7 +283,7 @@ class CollisionChecker(WorldEdits, SegmentChecks):
                         and not collide(convex[a], ta, convex[b], tb, req_s, res)):
                     continue
                 res.clear()
-                hit = collide(geoms[a], ta, geoms[b], tb, req_s, res)
+                hit = collide(geoms[a], ta, geoms[b], tb, req_s, res) or self._part_in_part(a, b, RA[t], pA[t], RB[t], pB[t])
             if hit:
                 out[n_l[t]] = True
                 if keys is None:
@@ -311,6 +312,17 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         if not getattr(ob, "solid", False):
             return False
         return part_inside(self._parts[g].geometry, np.asarray(R), np.asarray(p), ob, self._ogeom[o])
+
+    def _part_in_part(self, a: int, b: int, Ra, pa, Rb, pb) -> bool:
+        """True when part a, placed at (Ra, pa), or part b, at (Rb, pb) (base frame), touching
+        no surface of the other, lies inside the other's closed mesh (`solids.part_in_part`)."""
+        A, B = self._parts[a], self._parts[b]
+        sa, sb = closed_part_mesh(A.geometry, A.name), closed_part_mesh(B.geometry, B.name)
+        if sa is None and sb is None:
+            return False
+        Ra, pa, Rb, pb = np.asarray(Ra), np.asarray(pa), np.asarray(Rb), np.asarray(pb)
+        return (part_in_part(A.geometry, Ra, pa, sb, B.geometry, Rb, pb)
+                or part_in_part(B.geometry, Rb, pb, sa, A.geometry, Ra, pa))
 
     # ------------------------------------------------------------------ public checks
     def _one_q(self, q: np.ndarray, what: str = "q", note: str = "") -> np.ndarray:

@@ -237,6 +237,45 @@ def part_inside(geometry, R: np.ndarray, p: np.ndarray, mesh, bvh) -> bool:
     return contains(mesh.solid_data, bvh, local)
 
 
+def closed_part_mesh(geometry, name: str) -> SolidData | None:
+    """The `SolidData` of a robot part's coal mesh when it bounds a volume, else None (a
+    primitive, which coal already treats as a solid, or an open mesh). Cached per geometry."""
+    hit = _CLOSED.get(id(geometry))
+    if hit is not None and hit[0] is geometry:
+        return hit[1]
+    if len(_CLOSED) > 4096:
+        _CLOSED.clear()
+    _CLOSED[id(geometry)] = (geometry, _closed_part_mesh(geometry, name))
+    return _CLOSED[id(geometry)][1]
+
+
+_CLOSED: dict[int, tuple[object, SolidData | None]] = {}
+
+
+def _closed_part_mesh(geometry, name: str) -> SolidData | None:
+    if not (hasattr(geometry, "num_tris") and hasattr(geometry, "tri_indices")):
+        return None
+    V = np.asarray(geometry.vertices(), dtype=float).reshape(-1, 3)
+    F = np.array([[t[0], t[1], t[2]] for t in (geometry.tri_indices(i) for i in range(geometry.num_tris))],
+                 dtype=np.int64).reshape(-1, 3)
+    try:
+        return solid_data(*weld(V, F), name)
+    except InvalidInputError:
+        return None
+
+
+def part_in_part(geometry_a, Ra: np.ndarray, pa: np.ndarray, solid_b: SolidData | None, geometry_b,
+                 Rb: np.ndarray, pb: np.ndarray) -> bool:
+    """True when part a (coal geometry placed at (Ra, pa), base frame) has a probe point inside
+    the closed mesh `solid_b` of part b placed at (Rb, pb). For two parts whose surfaces do not
+    touch: coal's mesh tests see surfaces only, so a part wholly inside a link's mesh (a finger
+    inside panda_link5) would pass as free."""
+    if solid_b is None:
+        return False
+    X = probe_points(geometry_a) @ Ra.T + pa
+    return contains(solid_b, geometry_b, (X - pb) @ Rb)
+
+
 def part_inside_a_solid(parts, obstacles, geometries, R: np.ndarray, p: np.ndarray) -> tuple[str, str] | None:
     """The (part, obstacle) names of a moving part inside a solid mesh at one configuration, or None.
 
