@@ -68,18 +68,19 @@ def _random_quat(rng) -> list[float]:
     return list(q / np.linalg.norm(q))
 
 
-def random_world(rng, reach: float) -> dict:
-    """A table top below the workspace and 5-25 random obstacles within `reach` [m]."""
+def random_world(rng, reach: float, dense: bool = False) -> dict:
+    """A table top below the workspace and 5-25 random obstacles within `reach` [m], all around
+    the robot; `dense`: 15-25 of them in front of it (azimuth within 90 deg, 0.25-0.8 reach)."""
     w: dict = {"cuboid": {}, "sphere": {}, "capsule": {}, "cylinder": {}, "mesh": {}}
     top = rng.uniform(-0.25, 0.0) * reach
     w["cuboid"]["table"] = {"dims": [1.2 * reach, 2.0 * reach, 0.04],
                             "pose": [0.55 * reach, 0, top - 0.02, 1, 0, 0, 0]}
     meshes = _meshes()
     n_mesh = int(rng.integers(1, 3))
-    for k in range(int(rng.integers(5, 26))):
-        r = rng.uniform(0.25, 1.0) * reach
-        a = rng.uniform(-np.pi, np.pi)
-        c = [r * math.cos(a), r * math.sin(a), rng.uniform(top, 0.9 * reach)]
+    for k in range(int(rng.integers(15 if dense else 5, 26))):
+        r = rng.uniform(0.25, 0.8 if dense else 1.0) * reach
+        a = rng.uniform(-np.pi / 2, np.pi / 2) if dense else rng.uniform(-np.pi, np.pi)
+        c = [r * math.cos(a), r * math.sin(a), rng.uniform(top, (0.7 if dense else 0.9) * reach)]
         s = rng.uniform(0.02, 0.30, 3)
         kind = "mesh" if k < n_mesh else rng.choice(["cuboid", "sphere", "capsule", "cylinder"])
         pose = c + _random_quat(rng)
@@ -171,9 +172,9 @@ def run_arms(args) -> list[dict]:
         reach = _reach(mg)
         for i in range(args.start, args.start + args.n):
             rng = np.random.default_rng([args.seed, ROBOTS.index(robot), i])
-            row = {"part": "arms", "robot": robot, "i": i, "goal": "joint" if i % 2 == 0 else "pose"}
+            row = {"part": "arms, dense" if args.dense else "arms", "robot": robot, "i": i, "goal": "joint" if i % 2 == 0 else "pose"}
             for _attempt in range(20):
-                world = random_world(rng, reach)
+                world = random_world(rng, reach, args.dense)
                 mg.update_world(world)
                 a = free_configuration(mg, verifier, world, rng)
                 b = free_configuration(mg, verifier, world, rng) if a is not None else None
@@ -486,6 +487,7 @@ def main(argv: list[str] | None = None) -> int:
     a.add_argument("--start", type=int, default=0, help="first problem index (to run in chunks)")
     a.add_argument("--seed", type=int, default=1000)
     a.add_argument("--resolution", type=float, default=0.005, help="verifier's collision resolution [rad]")
+    a.add_argument("--dense", action="store_true", help="15-25 obstacles in front of the robot")
     a.add_argument("--no-retry", dest="retry", action="store_false", help="do not replan failures")
     a.add_argument("--json", help="write the rows here")
     k = sub.add_parser("tasks", help="plan_grasp / plan_place upright on random picks; two-arm robots")
