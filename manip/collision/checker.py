@@ -206,7 +206,7 @@ class CollisionChecker(WorldEdits, SegmentChecks):
             or self._part_in_part(i, j, tfa.getRotation(), tfa.getTranslation(), tfb.getRotation(), tfb.getTranslation())
 
     def _check(self, Q: np.ndarray, stop_at_first: bool = False, group: np.ndarray | None = None,
-               deepest_first: bool = True) -> np.ndarray:
+               deepest_first: bool = True, inside: bool = False) -> np.ndarray:
         """(N,) bool: which configurations of Q (N, dof) collide.
 
         Args:
@@ -216,13 +216,16 @@ class CollisionChecker(WorldEdits, SegmentChecks):
             deepest_first: with `stop_at_first` or `group`, try the most penetrating ball
                 pairs first (the likeliest collisions); else go in configuration order, so
                 that with `stop_at_first` the first True is the first colliding row.
+            inside: also find a part wholly inside another's closed mesh (`_part_in_part`), for
+                configurations checked on their own. Motions need not: a motion that enters a
+                part from outside crosses its surface, which the checks along it see.
         """
         if self._always_colliding:
             return np.ones(Q.shape[0], dtype=bool)
         out = np.zeros(Q.shape[0], dtype=bool)
         if stop_at_first:  # one group: no bookkeeping, stop at the first collision found
             for s in range(0, Q.shape[0], _CHUNK):
-                if self._check_chunk(Q[s:s + _CHUNK], None, deepest_first, None, out[s:s + _CHUNK]):
+                if self._check_chunk(Q[s:s + _CHUNK], None, deepest_first, None, out[s:s + _CHUNK], inside):
                     break
             return out
         ordered = not (deepest_first and group is not None)
@@ -230,11 +233,11 @@ class CollisionChecker(WorldEdits, SegmentChecks):
             group = np.arange(Q.shape[0])
         done: set[int] = set()
         for s in range(0, Q.shape[0], _CHUNK):  # bounded memory for large batches
-            self._check_chunk(Q[s:s + _CHUNK], group[s:s + _CHUNK], not ordered, done, out[s:s + _CHUNK])
+            self._check_chunk(Q[s:s + _CHUNK], group[s:s + _CHUNK], not ordered, done, out[s:s + _CHUNK], inside)
         return out
 
     def _check_chunk(self, Q: np.ndarray, group: np.ndarray | None, deepest_first: bool, done: set[int] | None,
-                     out: np.ndarray) -> bool:
+                     out: np.ndarray, inside: bool = False) -> bool:
         """`_check` of at most _CHUNK configurations: sets `out` where they collide, skipping
         the groups (N,) in `done` and adding those found colliding; with `group` None, one
         group: returns at the first collision found. Returns True when one was found."""
@@ -283,7 +286,8 @@ class CollisionChecker(WorldEdits, SegmentChecks):
                         and not collide(convex[a], ta, convex[b], tb, req_s, res)):
                     continue
                 res.clear()
-                hit = collide(geoms[a], ta, geoms[b], tb, req_s, res) or self._part_in_part(a, b, RA[t], pA[t], RB[t], pB[t])
+                hit = collide(geoms[a], ta, geoms[b], tb, req_s, res) or (
+                    inside and self._part_in_part(a, b, RA[t], pA[t], RB[t], pB[t]))
             if hit:
                 out[n_l[t]] = True
                 if keys is None:
@@ -341,7 +345,7 @@ class CollisionChecker(WorldEdits, SegmentChecks):
     def in_collision(self, q: np.ndarray) -> bool:
         """True if configuration q (dof,) collides with the world (within the padding) or itself."""
         q = self._one_q(q, note=" (one configuration; in_collision_batch takes several)")
-        return bool(self._check(q[None])[0])
+        return bool(self._check(q[None], inside=True)[0])
 
     @consistent
     def in_collision_batch(self, Q: np.ndarray) -> np.ndarray:
@@ -349,13 +353,13 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         Q = self._rows(Q)
         if Q.shape[0] == 0:
             return np.zeros(0, dtype=bool)
-        return self._check(Q)
+        return self._check(Q, inside=True)
 
     @consistent
     def any_in_collision(self, Q: np.ndarray) -> bool:
         """True if any row of Q (N, dof) collides (stops at the first collision found)."""
         Q = self._rows(Q)
-        return bool(Q.shape[0] and self._check(Q, stop_at_first=True).any())
+        return bool(Q.shape[0] and self._check(Q, stop_at_first=True, inside=True).any())
 
     @consistent
     def in_collision_exact(self, q: np.ndarray) -> bool:
