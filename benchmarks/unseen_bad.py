@@ -13,7 +13,9 @@ TCP = "panda_hand_tcp"
 
 def bad_inputs() -> list[tuple[str, object]]:
     """(label, call) pairs of inputs users get wrong; each call must raise a ManipError (or a
-    ValueError/KeyError/TypeError naming the argument) or return a failed result."""
+    ValueError/KeyError/TypeError naming the argument) or return a failed result, but those
+    labelled "valid: ", unusual inputs that mean something (a zero-length capsule is a sphere),
+    which must succeed."""
     from manip import PositionConstraint, RelativePoseConstraint, WorldConfig
 
     fr = MotionGenerator("franka")
@@ -40,28 +42,28 @@ def bad_inputs() -> list[tuple[str, object]]:
         ("world: negative dims", lambda: WorldConfig.from_dict({"cuboid": {"b": {"dims": [-1, 1, 1], "pose": [0, 0, 0, 1, 0, 0, 0]}}})),
         ("world: zero radius sphere", lambda: WorldConfig.from_dict({"sphere": {"s": {"radius": 0.0, "position": [1, 0, 0]}}})),
         ("world: NaN pose", lambda: WorldConfig.from_dict({"cuboid": {"b": {"dims": [1, 1, 1], "pose": [np.nan, 0, 0, 1, 0, 0, 0]}}})),
-        ("world: capsule base == tip", lambda: WorldConfig.from_dict({"capsule": {"c": {"radius": 0.1, "base": [1, 0, 0], "tip": [1, 0, 0]}}})),
+        ("valid: world: capsule base == tip", lambda: WorldConfig.from_dict({"capsule": {"c": {"radius": 0.1, "base": [1, 0, 0], "tip": [1, 0, 0]}}})),
         ("world: missing mesh file", lambda: WorldConfig.from_dict({"mesh": {"m": {"file_path": "/nonexistent.stl", "pose": [1, 0, 0, 1, 0, 0, 0]}}})),
         ("world: unknown kind", lambda: WorldConfig.from_dict({"cube": {"b": {"dims": [1, 1, 1]}}})),
         ("robot inside a 1e9 m cuboid", lambda: MotionGenerator("franka", {"cuboid": {"b": {"dims": [1e9] * 3, "pose": [0, 0, 0, 1, 0, 0, 0]}}}).plan_joints(q0, q0 + 0.1)),
-        ("a 1e9 m floor below the base", lambda: MotionGenerator("franka", {"cuboid": {"f": {"dims": [1e9, 1e9, 1.0], "pose": [0, 0, -0.5, 1, 0, 0, 0]}}}).plan_joints(q0, q0 + 0.3)),
+        ("valid: a 1e9 m floor below the base", lambda: MotionGenerator("franka", {"cuboid": {"f": {"dims": [1e9, 1e9, 1.0], "pose": [0, 0, -0.5, 1, 0, 0, 0]}}}).plan_joints(q0, q0 + 0.3)),
         ("OrientationConstraint zero axis", lambda: OrientationConstraint(axis=(0, 0, 0), direction=(0, 0, -1), tolerance=0.1)),
         ("OrientationConstraint negative tolerance", lambda: OrientationConstraint(axis=(0, 0, 1), direction=(0, 0, -1), tolerance=-0.1)),
         ("OrientationConstraint tolerance 10 rad", lambda: OrientationConstraint(axis=(0, 0, 1), direction=(0, 0, -1), tolerance=10)),
         ("OrientationConstraint unknown link", lambda: fr.plan_joints(q0, q0 + 0.1, constraints=(OrientationConstraint(axis=(0, 0, 1), direction=(0, 0, -1), tolerance=0.5, link="gripper"),))),
         ("PositionConstraint lower > upper", lambda: PositionConstraint(lower=(1, 0, 0), upper=(0, 1, 1))),
-        ("constraints not a tuple", lambda: fr.plan_joints(q0, q0 + 0.1, constraints=OrientationConstraint(axis=(0, 0, 1), direction=(0, 0, -1), tolerance=3.0))),
+        ("valid: constraints not a tuple", lambda: fr.plan_joints(q0, q0 + 0.1, constraints=OrientationConstraint(axis=(0, 0, 1), direction=(0, 0, -1), tolerance=3.0))),
         ("RelativePoseConstraint one link twice", lambda: duo.plan_joints(d0, d0, constraints=(RelativePoseConstraint("left_panda_hand", "left_panda_hand"),))),
         ("RelativePoseConstraint unknown link", lambda: duo.plan_joints(d0, d0 + 0.05, constraints=(RelativePoseConstraint("left_panda_hand", "panda_hand"),))),
         ("plan_grasp unknown object", lambda: fr.plan_grasp(q0, Pose.stack([Pose([0.5, 0, 0.1], down)]), "nothing")),
         ("plan_grasp negative approach", lambda: _grasp(fr, q0, approach=-0.1)),
-        ("plan_grasp a single Pose", lambda: _grasp(fr, q0, single=True)),
+        ("valid: plan_grasp a single Pose", lambda: _grasp(fr, q0, single=True)),
         ("plan_grasp a list of Poses", lambda: _grasp(fr, q0, as_list=True)),
         ("plan_place with nothing attached", lambda: fr.plan_place(q0, Pose.stack([Pose([0.5, 0, 0.1])]))),
         ("attach_object unknown name", lambda: fr.attach_object("nothing", q=q0)),
-        ("detach_object with nothing attached", lambda: fr.detach_object(q0)),
+        ("valid: detach_object with nothing attached", lambda: fr.detach_object(q0)),
         ("a finger inside panda_link5 as the goal", lambda: fr.plan_joints(q0, [-0.7005, 0.9538, 1.6255, -1.1995, 1.0952, -0.0043, 2.5645])),
-        ("plan_poses on one arm", lambda: fr.plan_poses(q0, {"panda_hand": Pose([0.4, 0, 0.3], down)})),
+        ("valid: plan_poses on one arm", lambda: fr.plan_poses(q0, {"panda_hand": Pose([0.4, 0, 0.3], down)})),
         ("plan_poses two links of one arm", lambda: duo.plan_poses(d0, {"left_panda_hand": Pose([0.4, 0.2, 0.3], down), "left_panda_link7": Pose([0.4, 0.2, 0.4], down)})),
         ("dual_franka: a 7-joint start", lambda: duo.plan_joints(q0, q0)),
         ("plan_batch 3 starts, 2 goals", lambda: fr.plan_batch(np.stack([q0] * 3), np.stack([q0] * 2))),
@@ -69,7 +71,7 @@ def bad_inputs() -> list[tuple[str, object]]:
         ("time_budget -1", lambda: fr.plan_joints(q0, q0 + 0.1, time_budget=-1.0)),
         ("velocity_scale 0", lambda: fr.plan_joints(q0, q0 + 0.1, velocity_scale=0.0)),
         ("velocity_scale 2", lambda: fr.plan_joints(q0, q0 + 0.1, velocity_scale=2.0)),
-        ("dt 10 s", lambda: fr.plan_joints(q0, q0 + 0.1, dt=10.0)),
+        ("valid: dt 10 s", lambda: fr.plan_joints(q0, q0 + 0.1, dt=10.0)),
         ("duration shorter than feasible", lambda: fr.plan_joints(q0, q0 + 1.0, duration=0.01)),
         ("ik a list", lambda: fr.ik([0.4, 0, 0.3, 1, 0, 0, 0])),
         ("unknown robot", lambda: MotionGenerator("panda_arm")),
@@ -140,11 +142,14 @@ def run_bad(args) -> list[dict]:
             row.update(status="UNCLEAR", kind=type(exc).__name__, message=str(exc)[:240],
                        trace=traceback.format_exc()[-600:])
         else:
+            valid = label.startswith("valid: ")
             if hasattr(r, "status") and hasattr(r, "success"):
-                row.update(status="failed result" if not r.success else "SILENT SUCCESS",
-                           kind=r.status.name, message=(r.message or "")[:240], success=bool(r.success))
+                status = ("accepted" if valid else "SILENT SUCCESS") if r.success else "failed result"
+                row.update(status=status, kind=r.status.name, message=(r.message or "")[:240], success=bool(r.success))
             else:
-                row.update(status="RETURNED", kind=type(r).__name__, message=repr(r)[:120])
+                row.update(status="accepted" if valid else "RETURNED", kind=type(r).__name__, message=repr(r)[:120])
+        if label.startswith("valid: ") and row["status"] != "accepted":
+            row["status"] = "VALID INPUT REFUSED"
         rows.append(row)
         print(f"{label:<45} {row['status']:<14} {row['kind']:<28} {row['message'][:150]}", flush=True)
     return rows

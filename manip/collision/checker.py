@@ -61,7 +61,14 @@ from manip.collision.results import (  # noqa: F401  (re-exported: manip.collisi
 from manip.collision.robot_geometry import RobotGeometry
 from manip.collision.segments import SegmentChecks, consistent
 from manip.collision.shapes import Obstacle  # noqa: F401  (re-exported)
-from manip.collision.solids import closed_part_mesh, part_in_part, part_inside
+from manip.collision.solids import (
+    closed_part_mesh,
+    inside_screen,
+    inside_table,
+    part_in_part,
+    part_inside,
+    part_volume,
+)
 from manip.collision.state import CollisionState
 from manip.collision.tables import coal_transform
 from manip.collision.world import WorldConfig
@@ -263,6 +270,7 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         keys = None if group is None else group[n].tolist()
         kind_l, i_l, j_l = kind.tolist(), i.tolist(), j.tolist()
         found = False
+        pending: list[int] = []
         for t in range(len(n_l)):
             if keys is not None and keys[t] in done:
                 continue
@@ -286,9 +294,21 @@ class CollisionChecker(WorldEdits, SegmentChecks):
                         and not collide(convex[a], ta, convex[b], tb, req_s, res)):
                     continue
                 res.clear()
-                hit = collide(geoms[a], ta, geoms[b], tb, req_s, res) or (
-                    inside and self._part_in_part(a, b, RA[t], pA[t], RB[t], pB[t]))
+                hit = collide(geoms[a], ta, geoms[b], tb, req_s, res)
+                if not hit and inside:
+                    pending.append(t)
             if hit:
+                out[n_l[t]] = True
+                if keys is None:
+                    return True
+                done.add(keys[t])
+                found = True
+        if pending:   # self pairs whose surfaces do not touch: one inside the other? (screened together)
+            P = np.array(pending)
+            for t in P[inside_screen(inside_table(self._parts), i[P], j[P], RA[P], pA[P], RB[P], pB[P])].tolist():
+                if (keys is not None and keys[t] in done) or not self._part_in_part(
+                        i_l[t], j_l[t], RA[t], pA[t], RB[t], pB[t]):
+                    continue
                 out[n_l[t]] = True
                 if keys is None:
                     return True
@@ -324,9 +344,10 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         sa, sb = closed_part_mesh(A.geometry, A.name), closed_part_mesh(B.geometry, B.name)
         if sa is None and sb is None:
             return False
+        va, vb = part_volume(A.geometry, sa), part_volume(B.geometry, sb)   # only the smaller fits in the larger
         Ra, pa, Rb, pb = np.asarray(Ra), np.asarray(pa), np.asarray(Rb), np.asarray(pb)
-        return (part_in_part(A.geometry, Ra, pa, sb, B.geometry, Rb, pb)
-                or part_in_part(B.geometry, Rb, pb, sa, A.geometry, Ra, pa))
+        return ((va < vb and part_in_part(A.geometry, Ra, pa, sb, B.geometry, Rb, pb))
+                or (vb < va and part_in_part(B.geometry, Rb, pb, sa, A.geometry, Ra, pa)))
 
     # ------------------------------------------------------------------ public checks
     def _one_q(self, q: np.ndarray, what: str = "q", note: str = "") -> np.ndarray:
