@@ -386,6 +386,7 @@ def run_tasks(args) -> list[dict]:
         _print(prow)
         mg.detach_object(q_lift)
     rows += run_two_arms(args)
+    rows += run_tutorial(args)
     return rows
 
 
@@ -440,6 +441,55 @@ def run_two_arms(args) -> list[dict]:
                     row["reasons"] = row.get("reasons", []) + [f"hand off its goal by {max(errs):.4f} m"]
             rows.append(row)
             _print(row)
+    return rows
+
+
+def run_tutorial(args) -> list[dict]:
+    """The Isaac tutorial's wrapper as its scripts call it: `motion_generate` from a 9-value state
+    to an [x, y, z, qx, qy, qz, qw] goal (the end effector's pose at a free configuration) in
+    random worlds; the returned dict's positions checked by the verifier."""
+    from manip import TutorialMotionGen
+
+    t = TutorialMotionGen("franka.yml")
+    t.init_motion_gen()
+    mg = t.motion_gen
+    verifier = SupportVerifier(mg.config, resolution=args.resolution)
+    reach, rows = _reach(mg), []
+    for i in range(args.start, args.start + max(1, args.n // 2)):
+        rng = np.random.default_rng([args.seed, 99, i])
+        world = random_world(rng, reach)
+        mg.update_world(world)
+        a = free_configuration(mg, verifier, world, rng)
+        b = free_configuration(mg, verifier, world, rng) if a is not None else None
+        row = {"part": "tutorial", "robot": "franka", "i": i, "goal": "motion_generate xyzw"}
+        if a is None or b is None or isinstance(a, tuple) or isinstance(b, tuple):
+            row["status"] = "NO_PROBLEM" if a is None or b is None else "CHECKER_DISAGREES"
+            rows.append(row)
+            continue
+        goal = t.fk(list(b))
+        t0 = time.perf_counter()
+        try:
+            out = t.motion_generate(list(a) + [0.04, 0.04], goal_end_effector_pose=goal)
+        except Exception as exc:  # noqa: BLE001 - a finding
+            row.update(status="EXCEPTION", message=f"{type(exc).__name__}: {exc}"[:300])
+            rows.append(row)
+            _print(row)
+            continue
+        row["plan_s"] = time.perf_counter() - t0
+        row.update(status="SUCCESS" if out else "None", success=bool(out))
+        if out:
+            tr = out["raw_data"]
+            v = verifier.verify_trajectory(world, tr.times, tr.positions, tr.velocities, tr.accelerations, tr.jerks,
+                                           start_q=a, check_jerk=True)
+            end = np.array(t.fk(list(tr.positions[-1])))
+            err = float(np.linalg.norm(end[:3] - goal[:3]))
+            dot = abs(float(np.dot(end[3:], goal[3:])))   # the gripper's half-turn twin counts (symmetric_gripper)
+            twin = abs(float(np.dot(end[3:], quat.wxyz_to_xyzw(quat.multiply(quat.xyzw_to_wxyz(goal[3:]), [0, 0, 0, 1])))))
+            reasons = list(v.reasons)[:3] + ([f"end {err * 1e3:.2f} mm from the goal"] if err > 1e-3 else []) \
+                + ([f"end orientation off ({max(dot, twin):.5f})"] if max(dot, twin) < 1 - 1e-4 else [])
+            row.update(valid=not reasons, reasons=reasons, certified=bool(mg.checker.certify_path(tr.positions).certified))
+        rows.append(row)
+        _print(row)
     return rows
 
 

@@ -79,8 +79,29 @@ def bad_inputs() -> list[tuple[str, object]]:
         ("batch: unknown robot", lambda: _batch_unknown_robot()),
         ("linear to an out-of-reach goal", lambda: fr.plan_pose(q0, far, linear=True)),
         ("goalset empty", lambda: fr.plan_goalset(q0, Pose.stack([]))),
+        ("tutorial: non-unit xyzw quaternion", lambda: _tutorial().ik([0.4, 0, 0.3, 0, 0, 0, 2])),
+        ("tutorial: ragged ik_batch", lambda: _tutorial().ik_batch([[0.4, 0, 0.3, 1, 0, 0, 0], [0.4, 0, 0.3]])),
+        ("tutorial: a 6-value pose", lambda: _tutorial().motion_generate(list(q0), goal_end_effector_pose=[0.4, 0, 0.3, 0, 1, 0])),
+        ("tutorial: both goals", lambda: _tutorial().motion_generate(list(q0), [0.4, 0, 0.3, 1, 0, 0, 0], list(q0))),
+        ("tutorial: an 8-value start", lambda: _tutorial().motion_generate(list(q0) + [0.04], goal_joint_angles=list(q0))),
+        ("tutorial: set_constraint of 3", lambda: _tutorial().set_constraint([1, 1, 1])),
+        ("tutorial: goal out of reach", lambda: _tutorial().motion_generate(list(q0), [3.0, 0, 0.3, 1, 0, 0, 0])),
     ]
     return cases
+
+
+_TUTORIAL: list = []
+
+
+def _tutorial():
+    """The Isaac tutorial's wrapper as its scripts build it (one, reused)."""
+    from manip import TutorialMotionGen
+
+    if not _TUTORIAL:
+        t = TutorialMotionGen("franka.yml")
+        t.init_motion_gen()
+        _TUTORIAL.append(t)
+    return _TUTORIAL[0]
 
 
 def _kin_past_limit():
@@ -143,7 +164,9 @@ def run_bad(args) -> list[dict]:
                        trace=traceback.format_exc()[-600:])
         else:
             valid = label.startswith("valid: ")
-            if hasattr(r, "status") and hasattr(r, "success"):
+            if r is None and label.startswith("tutorial"):   # the tutorial API's failure (the reason is logged)
+                row.update(status="failed result", kind="None (reason logged)", message="")
+            elif hasattr(r, "status") and hasattr(r, "success"):
                 status = ("accepted" if valid else "SILENT SUCCESS") if r.success else "failed result"
                 row.update(status=status, kind=r.status.name, message=(r.message or "")[:240], success=bool(r.success))
             else:
