@@ -147,15 +147,27 @@ def free_configuration(mg, verifier, world, rng, tries: int = 400):
     return None
 
 
-def check_result(mg, verifier, world, r, start, goal, resolution: float) -> dict:
-    """The independent checks of one result; a dict of findings."""
+def random_options(rng) -> dict:
+    """Per-call options a user may pass: velocity and acceleration scales in [0.2, 1], the smooth
+    or time-optimal optimiser, a sample period of 1/60, 0.01 or 0.05 s."""
+    return {"velocity_scale": float(rng.uniform(0.2, 1.0)), "acceleration_scale": float(rng.uniform(0.2, 1.0)),
+            "smoothness": str(rng.choice(["time_optimal", "smooth"])), "dt": float(rng.choice([1 / 60, 0.01, 0.05]))}
+
+
+def check_result(mg, verifier, world, r, start, goal, resolution: float, options: dict | None = None) -> dict:
+    """The independent checks of one result, against the limits the call's `options` scale; a dict."""
+    from manip.planning import PlanOptions
     out = {"status": r.status.name, "message": (r.message or "")[:300], "success": bool(r.success)}
     if not r.success:
         return out
     t = r.trajectory
     kw = {"goal_pose": goal} if isinstance(goal, Pose) else {"goal_q": goal}
+    o = PlanOptions().updated(options or {})
+    c = mg.config
     v = verifier.verify_trajectory(world, t.times, t.positions, t.velocities, t.accelerations, t.jerks,
-                                   start_q=start, check_jerk=True, **kw)
+                                   start_q=start, check_jerk=True, velocity_limits=c.velocity_limits * o.velocity_scale,
+                                   acceleration_limits=c.acceleration_limits * o.acceleration_scale,
+                                   jerk_limits=c.jerk_limits * o.jerk_scale, **kw)
     cert = mg.checker.certify_path(t.positions)
     out.update(valid=bool(v.valid), reasons=list(v.reasons)[:3], certified=bool(cert.certified),
                cert_reason=cert.reason, duration=float(t.duration), source=r.source,
@@ -172,7 +184,8 @@ def run_arms(args) -> list[dict]:
         reach = _reach(mg)
         for i in range(args.start, args.start + args.n):
             rng = np.random.default_rng([args.seed, ROBOTS.index(robot), i])
-            row = {"part": "arms, dense" if args.dense else "arms", "robot": robot, "i": i, "goal": "joint" if i % 2 == 0 else "pose"}
+            row = {"part": ("arms, dense" if args.dense else "arms") + (", random options" if args.random_options else ""),
+                   "robot": robot, "i": i, "goal": "joint" if i % 2 == 0 else "pose"}
             for _attempt in range(20):
                 world = random_world(rng, reach, args.dense)
                 mg.update_world(world)
@@ -191,9 +204,11 @@ def run_arms(args) -> list[dict]:
                 _print(row)
                 continue
             goal = b if row["goal"] == "joint" else mg.fk(b)
+            opts = random_options(np.random.default_rng([args.seed, ROBOTS.index(robot), i, 5])) if args.random_options else {}
+            row["options"] = opts
             t0 = time.perf_counter()
             try:
-                r = mg.plan_joints(a, goal) if row["goal"] == "joint" else mg.plan_pose(a, goal)
+                r = mg.plan_joints(a, goal, **opts) if row["goal"] == "joint" else mg.plan_pose(a, goal, **opts)
             except Exception as exc:  # noqa: BLE001 - a finding, recorded
                 row.update(status="EXCEPTION", message=f"{type(exc).__name__}: {exc}"[:300],
                            trace=traceback.format_exc()[-800:])
@@ -201,11 +216,10 @@ def run_arms(args) -> list[dict]:
                 _print(row)
                 continue
             row["plan_s"] = time.perf_counter() - t0
-            row.update(check_result(mg, verifier, world, r, a, goal, args.resolution))
+            row.update(check_result(mg, verifier, world, r, a, goal, args.resolution, opts))
             if not r.success and args.retry:
-                r2 = (mg.plan_joints(a, goal, seed=1, time_budget=20.0, search_iterations=None)
-                      if row["goal"] == "joint" else mg.plan_pose(a, goal, seed=1, time_budget=20.0,
-                                                                  search_iterations=None))
+                again = dict(opts, seed=1, time_budget=20.0, search_iterations=None)
+                r2 = mg.plan_joints(a, goal, **again) if row["goal"] == "joint" else mg.plan_pose(a, goal, **again)
                 row["retry_status"] = r2.status.name
             row["start"], row["goal_q"] = a.tolist(), b.tolist()
             rows.append(row)
@@ -538,6 +552,8 @@ def main(argv: list[str] | None = None) -> int:
     a.add_argument("--seed", type=int, default=1000)
     a.add_argument("--resolution", type=float, default=0.005, help="verifier's collision resolution [rad]")
     a.add_argument("--dense", action="store_true", help="15-25 obstacles in front of the robot")
+    a.add_argument("--random-options", action="store_true",
+                   help="random velocity/acceleration scales, smoothness and dt per problem (checked against the scaled limits)")
     a.add_argument("--no-retry", dest="retry", action="store_false", help="do not replan failures")
     a.add_argument("--json", help="write the rows here")
     k = sub.add_parser("tasks", help="plan_grasp / plan_place upright on random picks; two-arm robots")
