@@ -253,7 +253,7 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         n, kind, i, j = self._candidates(Q, R, p, deepest_first=deepest_first)
         if n.size == 0:
             return False
-        return self._narrowphase(R, p, n, kind, i, j, group, done, out)
+        return self._narrowphase(R, p, n, kind, i, j, group, done, out, inside)
 
     def _collides_given(self, R: np.ndarray, p: np.ndarray, kind: np.ndarray, i: np.ndarray, j: np.ndarray) -> bool:
         """True when the one configuration whose joint frames are R (1, J+1, 3, 3), p (1, J+1, 3)
@@ -270,9 +270,10 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         return self._narrowphase(R, p, np.zeros(i.size, dtype=np.int64), kind, i, j, None, None, np.zeros(1, dtype=bool))
 
     def _narrowphase(self, R: np.ndarray, p: np.ndarray, n: np.ndarray, kind: np.ndarray, i: np.ndarray,
-                     j: np.ndarray, group: np.ndarray | None, done: set[int] | None, out: np.ndarray) -> bool:
+                     j: np.ndarray, group: np.ndarray | None, done: set[int] | None, out: np.ndarray,
+                     inside: bool = False) -> bool:
         """Coal on the candidates (n, kind, i, j) (T,) of `_candidates`, in their order (see
-        `_check_chunk`, whose arguments the others are)."""
+        `_check_chunk` and `_check`, whose arguments the others are)."""
         # world placements of both geometries of every candidate pair, in one go
         RA, pA = broadphase.part_placements(R, p, n, i, self._pj, self._gR, self._gp)
         selfp = kind == 1
