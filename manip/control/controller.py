@@ -53,8 +53,8 @@ import numpy as np
 
 from manip.collision.shapes import as_pose
 from manip.collision.world import WorldConfig
-from manip.control.limits import StepBounds
 from manip.control.collision import CollisionLimit, robot_collision_geoms, self_collision_pairs, self_pair_margins
+from manip.control.limits import StepBounds
 from manip.control.model import ControlModel
 from manip.control.obstacles import geom_shape
 from manip.control.results import StepResult, StepStatus
