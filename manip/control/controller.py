@@ -185,8 +185,13 @@ class ReactiveController:
             mujoco.mj_kinematics(m, home)
             self_pairs, self_margins = self_pair_margins(m, home, self_collision_pairs(m, self._model.robot_bodies,
                                                                                       disabled), self._margin)
+        first = not hasattr(self, "_collision")
         self._collision = CollisionLimit(m, obstacle_pairs, self_pairs, self._margin, self._detection,
                                          self._collision_gain, self_margins)
+        if first and self.self_margins:
+            logger.info("%s: self pairs closer than 2 x safety_margin (%.3f m) at the default joint positions keep "
+                        "half that distance: %s", self._config.name, self._margin,
+                        ", ".join(f"{a}-{b} {1000 * v:.1f} mm" for (a, b), v in self.self_margins.items()))
         self._joint_limits = StepBounds(self._limits, self._limit_gain, use_acceleration=self._use_acceleration)
 
     # ------------------------------------------------------------------ properties
