@@ -104,7 +104,7 @@ def run(args) -> dict:
             c0, t0 = time.process_time(), time.perf_counter()
             r = mg.plan_joints(p.start, p.goal, seed=args.seed + i, **opts)
             row[f"{label}_wall"], row[f"{label}_cpu"] = time.perf_counter() - t0, time.process_time() - c0
-            row[f"{label}_ok"], row[f"{label}_status"] = r.success, r.status.name
+            row[f"{label}_ok"], row[f"{label}_status"] = bool(r.success), r.status.name
             if r.success:
                 tr = r.trajectory
                 v = verifier.verify_trajectory(p.world, tr.times, tr.positions, tr.velocities, tr.accelerations,

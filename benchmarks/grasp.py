@@ -141,7 +141,7 @@ def run(args) -> list[dict]:
         c0, t0 = time.process_time(), time.perf_counter()
         plan = mg.plan_grasp(start, grasps, "object", link=TCP, seed=args.seed + i)
         row = {"i": i, "kind": kind, "n": len(grasps), "wall": time.perf_counter() - t0, "cpu": time.process_time() - c0,
-               "ok": plan.success, "status": plan.status.name, "message": plan.message}
+               "ok": bool(plan.success), "status": plan.status.name, "message": plan.message}
         row["feasible"] = plan.success or has_feasible_candidate(mg, grasps, start)
         if plan.success:
             without = {k: {n: v for n, v in d.items() if n != "object"} for k, d in world.items()}

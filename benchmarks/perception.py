@@ -209,11 +209,11 @@ def run(kinds: list[str], per_kind: int, seed: int, resolution: float = RESOLUTI
                 row = {"kind": kind, "index": k, "cells": m.num_cells, "boxes": m.num_boxes,
                        # the clearance of start and goal (true geometry, no padding)
                        "clearance": min(mg_true.distance(pb.start), mg_true.distance(pb.goal)),
-                       "true_time": true_time, "true_ok": true_plan.success, "true_status": true_plan.status.name}
+                       "true_time": true_time, "true_ok": bool(true_plan.success), "true_status": true_plan.status.name}
                 c0 = time.thread_time()
                 r = mg_map.plan_joints(pb.start, pb.goal, seed=seed * 1000 + k, **OPTIONS)
                 row["map_time"] = time.thread_time() - c0
-                row["map_ok"] = r.success
+                row["map_ok"] = bool(r.success)
                 row["map_status"] = r.status.name
                 if r.success:
                     t = r.trajectory

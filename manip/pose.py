@@ -96,6 +96,12 @@ class Pose:
         v = as_real_array(v, "pose [x, y, z, qx, qy, qz, qw]")
         if v.ndim not in (1, 2) or v.shape[-1] != 7:
             raise InvalidInputError(f"expected [x, y, z, qx, qy, qz, qw] of shape (7,) or (N, 7); got {v.shape}")
+        norm = np.linalg.norm(v[..., 3:], axis=-1)
+        bad = np.abs(norm - 1.0) > quat.UNIT_NORM_TOLERANCE   # said here: Pose would name its (w, x, y, z) order
+        if np.any(bad):
+            raise InvalidInputError(
+                f"pose [x, y, z, qx, qy, qz, qw]: the quaternion's norm must be 1 within {quat.UNIT_NORM_TOLERANCE} "
+                f"(got {norm[bad].ravel()[:5]}); quaternions here are (x, y, z, w), normalise yours first")
         return cls(v[..., :3], quat.xyzw_to_wxyz(v[..., 3:]))
 
     @classmethod

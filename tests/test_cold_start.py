@@ -59,7 +59,7 @@ FIRST_USE = textwrap.dedent("""
     seen.update_world_from_depth(cam.get_depth(), cam.get_intrinsics_matrix(), Pose(position, orientation),
                                  q=franka.get_joint_positions())
     ok.append(seen.plan_pose(q0, Pose([0.4, -0.2, 0.3], [0, 1, 0, 0])).success)
-    print(json.dumps({"ok": ok, "compiled": jit.compiled_names()}))
+    print(json.dumps({"ok": [bool(x) for x in ok], "compiled": jit.compiled_names()}))
 """)
 
 
@@ -115,7 +115,7 @@ CONSTRAINED_USE = textwrap.dedent("""
     mg.attach_object("cube", q=grasp.segment("approach").goal_q, link="panda_hand_tcp")
     place = mg.plan_place(grasp.segment("lift").goal_q, Pose.stack([Pose([0.4, 0.3, 0.025])]), constraints=(upright,))
     ok += [grasp.success, place.success]
-    print(json.dumps({"ok": ok, "compiled": jit.compiled_names()}))
+    print(json.dumps({"ok": [bool(x) for x in ok], "compiled": jit.compiled_names()}))
 """)
 
 

@@ -419,3 +419,14 @@ def test_a_start_a_hair_outside_a_limit_never_leaves_the_limits_again():
     assert not np.any(np.maximum.accumulate(inside, axis=0) & ~inside)
     dp, dr = mg.fk(r.trajectory.positions[-1]).distance(goal)
     assert dp <= 1e-3 and dr <= 0.01
+
+
+def test_a_linear_motion_to_a_goal_out_of_reach_says_so(mg):
+    """benchmarks/unseen.py bad: a straight line to a goal 3 m away said only "IK fails on the
+    line at 16% (NOT_CONVERGED)"; the line's end is out of reach, as plan_pose's IK_FAIL says."""
+    r = mg.plan_pose(READY, Pose([3.0, 0.0, 0.3], DOWN), linear=True)
+    assert r.status is PlanStatus.LINEAR_PATH_FAIL
+    assert "out of reach" in r.message and "3.000 m" in r.message, r.message
+    free = MotionGenerator("franka")   # within reach, in free space: unchanged
+    r = free.plan_pose(READY, Pose([0.6, 0.0, 0.3], DOWN), linear=True)
+    assert r.success, r.message

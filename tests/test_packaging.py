@@ -88,7 +88,7 @@ INSTALLED_USE = textwrap.dedent("""
     w.reset()
     for _ in range(30):
         w.step(render=False)
-    print(json.dumps({"ok": ok, "cube_z": float(cube.get_world_pose()[0][2]), "compiled": jit.compiled_names()}))
+    print(json.dumps({"ok": [bool(x) for x in ok], "cube_z": float(cube.get_world_pose()[0][2]), "compiled": jit.compiled_names()}))
 """)
 
 

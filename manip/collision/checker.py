@@ -61,7 +61,14 @@ from manip.collision.results import (  # noqa: F401  (re-exported: manip.collisi
 from manip.collision.robot_geometry import RobotGeometry
 from manip.collision.segments import SegmentChecks, consistent
 from manip.collision.shapes import Obstacle  # noqa: F401  (re-exported)
-from manip.collision.solids import part_inside
+from manip.collision.solids import (
+    closed_part_mesh,
+    inside_screen,
+    inside_table,
+    part_in_part,
+    part_inside,
+    part_volume,
+)
 from manip.collision.state import CollisionState
 from manip.collision.tables import coal_transform
 from manip.collision.world import WorldConfig
@@ -203,10 +210,11 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         tfb = tfs.get(key)
         if tfb is None:
             tfb = tfs[key] = self._part_tf(R, p, n, j)
-        return bool(coal.collide(self._parts[i].geometry, tfa, self._parts[j].geometry, tfb, self._req_self, res))
+        return bool(coal.collide(self._parts[i].geometry, tfa, self._parts[j].geometry, tfb, self._req_self, res)) \
+            or self._part_in_part(i, j, tfa.getRotation(), tfa.getTranslation(), tfb.getRotation(), tfb.getTranslation())
 
     def _check(self, Q: np.ndarray, stop_at_first: bool = False, group: np.ndarray | None = None,
-               deepest_first: bool = True) -> np.ndarray:
+               deepest_first: bool = True, inside: bool = False) -> np.ndarray:
         """(N,) bool: which configurations of Q (N, dof) collide.
 
         Args:
@@ -216,13 +224,16 @@ class CollisionChecker(WorldEdits, SegmentChecks):
             deepest_first: with `stop_at_first` or `group`, try the most penetrating ball
                 pairs first (the likeliest collisions); else go in configuration order, so
                 that with `stop_at_first` the first True is the first colliding row.
+            inside: also find a part wholly inside another's closed mesh (`_part_in_part`), for
+                configurations checked on their own. Motions need not: a motion that enters a
+                part from outside crosses its surface, which the checks along it see.
         """
         if self._always_colliding:
             return np.ones(Q.shape[0], dtype=bool)
         out = np.zeros(Q.shape[0], dtype=bool)
         if stop_at_first:  # one group: no bookkeeping, stop at the first collision found
             for s in range(0, Q.shape[0], _CHUNK):
-                if self._check_chunk(Q[s:s + _CHUNK], None, deepest_first, None, out[s:s + _CHUNK]):
+                if self._check_chunk(Q[s:s + _CHUNK], None, deepest_first, None, out[s:s + _CHUNK], inside):
                     break
             return out
         ordered = not (deepest_first and group is not None)
@@ -230,11 +241,11 @@ class CollisionChecker(WorldEdits, SegmentChecks):
             group = np.arange(Q.shape[0])
         done: set[int] = set()
         for s in range(0, Q.shape[0], _CHUNK):  # bounded memory for large batches
-            self._check_chunk(Q[s:s + _CHUNK], group[s:s + _CHUNK], not ordered, done, out[s:s + _CHUNK])
+            self._check_chunk(Q[s:s + _CHUNK], group[s:s + _CHUNK], not ordered, done, out[s:s + _CHUNK], inside)
         return out
 
     def _check_chunk(self, Q: np.ndarray, group: np.ndarray | None, deepest_first: bool, done: set[int] | None,
-                     out: np.ndarray) -> bool:
+                     out: np.ndarray, inside: bool = False) -> bool:
         """`_check` of at most _CHUNK configurations: sets `out` where they collide, skipping
         the groups (N,) in `done` and adding those found colliding; with `group` None, one
         group: returns at the first collision found. Returns True when one was found."""
@@ -242,7 +253,7 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         n, kind, i, j = self._candidates(Q, R, p, deepest_first=deepest_first)
         if n.size == 0:
             return False
-        return self._narrowphase(R, p, n, kind, i, j, group, done, out)
+        return self._narrowphase(R, p, n, kind, i, j, group, done, out, inside)
 
     def _collides_given(self, R: np.ndarray, p: np.ndarray, kind: np.ndarray, i: np.ndarray, j: np.ndarray) -> bool:
         """True when the one configuration whose joint frames are R (1, J+1, 3, 3), p (1, J+1, 3)
@@ -259,9 +270,10 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         return self._narrowphase(R, p, np.zeros(i.size, dtype=np.int64), kind, i, j, None, None, np.zeros(1, dtype=bool))
 
     def _narrowphase(self, R: np.ndarray, p: np.ndarray, n: np.ndarray, kind: np.ndarray, i: np.ndarray,
-                     j: np.ndarray, group: np.ndarray | None, done: set[int] | None, out: np.ndarray) -> bool:
+                     j: np.ndarray, group: np.ndarray | None, done: set[int] | None, out: np.ndarray,
+                     inside: bool = False) -> bool:
         """Coal on the candidates (n, kind, i, j) (T,) of `_candidates`, in their order (see
-        `_check_chunk`, whose arguments the others are)."""
+        `_check_chunk` and `_check`, whose arguments the others are)."""
         # world placements of both geometries of every candidate pair, in one go
         RA, pA = broadphase.part_placements(R, p, n, i, self._pj, self._gR, self._gp)
         selfp = kind == 1
@@ -280,6 +292,7 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         keys = None if group is None else group[n].tolist()
         kind_l, i_l, j_l = kind.tolist(), i.tolist(), j.tolist()
         found = False
+        pending: list[int] = []
         for t in range(len(n_l)):
             if keys is not None and keys[t] in done:
                 continue
@@ -304,7 +317,20 @@ class CollisionChecker(WorldEdits, SegmentChecks):
                     continue
                 res.clear()
                 hit = collide(geoms[a], ta, geoms[b], tb, req_s, res)
+                if not hit and inside:
+                    pending.append(t)
             if hit:
+                out[n_l[t]] = True
+                if keys is None:
+                    return True
+                done.add(keys[t])
+                found = True
+        if pending:   # self pairs whose surfaces do not touch: one inside the other? (screened together)
+            P = np.array(pending)
+            for t in P[inside_screen(inside_table(self._parts), i[P], j[P], RA[P], pA[P], RB[P], pB[P])].tolist():
+                if (keys is not None and keys[t] in done) or not self._part_in_part(
+                        i_l[t], j_l[t], RA[t], pA[t], RB[t], pB[t]):
+                    continue
                 out[n_l[t]] = True
                 if keys is None:
                     return True
@@ -333,6 +359,18 @@ class CollisionChecker(WorldEdits, SegmentChecks):
             return False
         return part_inside(self._parts[g].geometry, np.asarray(R), np.asarray(p), ob, self._ogeom[o])
 
+    def _part_in_part(self, a: int, b: int, Ra, pa, Rb, pb) -> bool:
+        """True when part a, placed at (Ra, pa), or part b, at (Rb, pb) (base frame), touching
+        no surface of the other, lies inside the other's closed mesh (`solids.part_in_part`)."""
+        A, B = self._parts[a], self._parts[b]
+        sa, sb = closed_part_mesh(A.geometry, A.name), closed_part_mesh(B.geometry, B.name)
+        if sa is None and sb is None:
+            return False
+        va, vb = part_volume(A.geometry, sa), part_volume(B.geometry, sb)   # only the smaller fits in the larger
+        Ra, pa, Rb, pb = np.asarray(Ra), np.asarray(pa), np.asarray(Rb), np.asarray(pb)
+        return ((va < vb and part_in_part(A.geometry, Ra, pa, sb, B.geometry, Rb, pb))
+                or (vb < va and part_in_part(B.geometry, Rb, pb, sa, A.geometry, Ra, pa)))
+
     # ------------------------------------------------------------------ public checks
     def _one_q(self, q: np.ndarray, what: str = "q", note: str = "") -> np.ndarray:
         """`q` checked as one configuration (dof,)."""
@@ -350,7 +388,7 @@ class CollisionChecker(WorldEdits, SegmentChecks):
     def in_collision(self, q: np.ndarray) -> bool:
         """True if configuration q (dof,) collides with the world (within the padding) or itself."""
         q = self._one_q(q, note=" (one configuration; in_collision_batch takes several)")
-        return bool(self._check(q[None])[0])
+        return bool(self._check(q[None], inside=True)[0])
 
     @consistent
     def in_collision_batch(self, Q: np.ndarray) -> np.ndarray:
@@ -358,13 +396,13 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         Q = self._rows(Q)
         if Q.shape[0] == 0:
             return np.zeros(0, dtype=bool)
-        return self._check(Q)
+        return self._check(Q, inside=True)
 
     @consistent
     def any_in_collision(self, Q: np.ndarray) -> bool:
         """True if any row of Q (N, dof) collides (stops at the first collision found)."""
         Q = self._rows(Q)
-        return bool(Q.shape[0] and self._check(Q, stop_at_first=True).any())
+        return bool(Q.shape[0] and self._check(Q, stop_at_first=True, inside=True).any())
 
     @consistent
     def in_collision_exact(self, q: np.ndarray) -> bool:

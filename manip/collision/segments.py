@@ -228,7 +228,7 @@ class SegmentChecks:
             raise InvalidInputError(f"path must have shape (K, {self.kinematics.dof}) with K >= 1; got {path.shape}")
         resolution = positive(resolution, "resolution", "rad")
         if path.shape[0] == 1:
-            bad = bool(self._check(path)[0])
+            bad = bool(self._check(path, inside=True)[0])
             return PathCheck(not bad, 0 if bad else None)
         ok = self._segments_valid(path[:-1], path[1:], resolution)
         if ok.all():

@@ -17,6 +17,7 @@ padding of the surface keeps every piece on its side, so the side at the start d
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import coal
@@ -235,6 +236,108 @@ def part_inside(geometry, R: np.ndarray, p: np.ndarray, mesh, bvh) -> bool:
         return mesh.contains_points(X)
     local = (X - mesh.pose.position) @ mesh.pose.rotation
     return contains(mesh.solid_data, bvh, local)
+
+
+def closed_part_mesh(geometry, name: str) -> SolidData | None:
+    """The `SolidData` of a robot part's coal mesh when it bounds a volume, else None (a
+    primitive, which coal already treats as a solid, or an open mesh). Cached per geometry."""
+    hit = _CLOSED.get(id(geometry))
+    if hit is not None and hit[0] is geometry:
+        return hit[1]
+    if len(_CLOSED) > 4096:
+        _CLOSED.clear()
+    _CLOSED[id(geometry)] = (geometry, _closed_part_mesh(geometry, name))
+    return _CLOSED[id(geometry)][1]
+
+
+_CLOSED: dict[int, tuple[object, SolidData | None]] = {}
+
+
+def _closed_part_mesh(geometry, name: str) -> SolidData | None:
+    if not (hasattr(geometry, "num_tris") and hasattr(geometry, "tri_indices")):
+        return None
+    V = np.asarray(geometry.vertices(), dtype=float).reshape(-1, 3)
+    F = np.array([[t[0], t[1], t[2]] for t in (geometry.tri_indices(i) for i in range(geometry.num_tris))],
+                 dtype=np.int64).reshape(-1, 3)
+    try:
+        return solid_data(*weld(V, F), name)
+    except InvalidInputError:
+        return None
+
+
+def part_volume(geometry, solid: SolidData | None) -> float:
+    """The volume [m^3] of a robot part: its closed mesh's, a primitive's, or inf (an open mesh:
+    nothing is tested inside it, and it is never tested inside another)."""
+    if solid is not None:
+        return solid.volume
+    if hasattr(geometry, "num_tris") or not hasattr(geometry, "computeVolume"):
+        return math.inf
+    return float(geometry.computeVolume())
+
+
+@dataclass(frozen=True, eq=False)
+class InsideTable:
+    """The robot's parts for the vectorised screen of `part_in_part` (`inside_screen`).
+
+    Attributes:
+        lower, upper: (G, 3) the bounding box of each part's mesh, its frame [m] (nan: a
+            primitive, which coal treats as a solid already).
+        centre: (G, 3) the centre of its probe points, its frame [m]; radius: (G,) their
+            largest distance from it [m].
+    """
+
+    lower: np.ndarray
+    upper: np.ndarray
+    centre: np.ndarray
+    radius: np.ndarray
+
+
+_TABLES: dict[int, tuple[object, InsideTable]] = {}
+
+
+def inside_table(parts) -> InsideTable:
+    """The `InsideTable` of a list of robot parts (`.geometry`), cached per list."""
+    hit = _TABLES.get(id(parts))
+    if hit is not None and hit[0] is parts:
+        return hit[1]
+    lower, upper = np.full((len(parts), 3), np.nan), np.full((len(parts), 3), np.nan)
+    for k, part in enumerate(parts):
+        if hasattr(part.geometry, "num_tris"):
+            V = np.asarray(part.geometry.vertices(), dtype=float).reshape(-1, 3)
+            lower[k], upper[k] = V.min(axis=0), V.max(axis=0)
+    probes = [probe_points(g.geometry) for g in parts]
+    centre = np.array([P.mean(axis=0) for P in probes])
+    tab = InsideTable(lower, upper, centre, np.array([np.linalg.norm(P - c, axis=1).max() for P, c in zip(probes, centre)]))
+    if len(_TABLES) > 64:
+        _TABLES.clear()
+    _TABLES[id(parts)] = (parts, tab)
+    return tab
+
+
+def inside_screen(tab: InsideTable, a: np.ndarray, b: np.ndarray, Ra: np.ndarray, pa: np.ndarray, Rb: np.ndarray,
+                  pb: np.ndarray) -> np.ndarray:
+    """(K,) bool: for K pairs of parts a, b (K,) placed at (Ra (K, 3, 3), pa (K, 3)) and (Rb, pb),
+    whether one may have a probe point inside the other's mesh (inside its bounding box);
+    False rules `part_in_part` out for both orders."""
+    def fits(x, Rx, px, y, Ry, py):
+        X = np.einsum("kij,kj->ki", Rx, tab.centre[x]) + px
+        L = np.einsum("kji,kj->ki", Ry, X - py)   # in y's frame
+        r = tab.radius[x][:, None]
+        with np.errstate(invalid="ignore"):   # nan bounds: y is a primitive
+            return np.all((L >= tab.lower[y] - r) & (L <= tab.upper[y] + r), axis=1)
+    return fits(a, Ra, pa, b, Rb, pb) | fits(b, Rb, pb, a, Ra, pa)
+
+
+def part_in_part(geometry_a, Ra: np.ndarray, pa: np.ndarray, solid_b: SolidData | None, geometry_b,
+                 Rb: np.ndarray, pb: np.ndarray) -> bool:
+    """True when part a (coal geometry placed at (Ra, pa), base frame) has a probe point inside
+    the closed mesh `solid_b` of part b placed at (Rb, pb). For two parts whose surfaces do not
+    touch: coal's mesh tests see surfaces only, so a part wholly inside a link's mesh (a finger
+    inside panda_link5) would pass as free."""
+    if solid_b is None:
+        return False
+    X = probe_points(geometry_a) @ Ra.T + pa
+    return contains(solid_b, geometry_b, (X - pb) @ Rb)
 
 
 def part_inside_a_solid(parts, obstacles, geometries, R: np.ndarray, p: np.ndarray) -> tuple[str, str] | None:

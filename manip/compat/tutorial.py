@@ -286,6 +286,11 @@ class TutorialMotionGen:
 
     def ik_batch(self, poses_xyzw: Sequence[Sequence[float]]) -> list[list[float] | None]:
         """Joint angles for each [x, y, z, qx, qy, qz, qw] (collision-free); None where it fails."""
+        sizes = [np.size(p) for p in poses_xyzw] if isinstance(poses_xyzw, (list, tuple)) else []
+        odd = [k for k, n in enumerate(sizes) if n != 7]
+        if odd:
+            raise InvalidInputError(f"poses_xyzw: each pose is [x, y, z, qx, qy, qz, qw]; pose {odd[0]} has "
+                                    f"{sizes[odd[0]]} values")
         return [self.ik(pose) for pose in np.atleast_2d(np.asarray(poses_xyzw, dtype=float))]
 
     # ------------------------------------------------------------------ constraints

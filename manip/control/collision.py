@@ -12,6 +12,15 @@ distance decays geometrically towards the margin and never crosses it (up to the
 linearisation error of one step, which the margin absorbs); moving away is never
 restricted. A pair already closer than the margin may not get closer.
 
+Each pair has its own margin: obstacle pairs the controller's, self pairs at most that
+(`self_pair_margins`). Some robots' links lie closer to each other than the margin by
+design (the UR10's, 18-20 mm apart at home, with no SRDF to disable them): with the
+controller's margin each such pair would forbid half of the joint space from the first step
+(a row with bound 0), and a few of them together stop the arm short of its target. Rule:
+a self pair at distance d0 at the robot configuration's default joint positions keeps
+min(margin, d0 / 2) (still half its designed clearance); a pair touching there (d0 <= 0)
+is not checked, as MoveIt's setup assistant disables pairs in collision at the default pose.
+
 Differences from mink's `CollisionAvoidanceLimit`, which this replaces:
 
 - the bound is on the displacement dq of the step, as for mink's configuration limit
@@ -38,6 +47,7 @@ import mujoco
 import numpy as np
 from mink import Configuration, Constraint, Limit
 
+from manip.errors import InvalidInputError
 from manip.jit import kernel
 
 #: Rows of a pair's local box in `model.geom_aabb`: centre (3) then half extents (3).
@@ -90,6 +100,26 @@ def self_collision_pairs(
     return pairs
 
 
+def self_pair_margins(
+    model: mujoco.MjModel, data: mujoco.MjData, pairs: list[tuple[int, int]], margin: float
+) -> tuple[list[tuple[int, int]], np.ndarray]:
+    """Self pairs to check and their margins [m], from their distances in `data` (the
+    robot at its default joint positions, kinematics computed).
+
+    A pair at distance d0 keeps min(margin, d0 / 2); a pair with d0 <= 0 (touching by design)
+    is left out. Returns (kept pairs, (len(kept),) margins).
+    """
+    fromto = np.zeros(6)
+    kept, margins = [], []
+    for g1, g2 in pairs:
+        d0 = mujoco.mj_geomDistance(model, data, g1, g2, 2.0 * margin + 1.0, fromto)
+        if d0 <= 0.0:
+            continue
+        kept.append((g1, g2))
+        margins.append(min(margin, 0.5 * d0))
+    return kept, np.array(margins, dtype=float)
+
+
 @kernel
 def _aabb_candidates(xpos, xmat, geoms, centre, half, s1, s2, distance):  # pragma: no cover (compiled)
     """Pairs (s1[k], s2[k]) of `geoms` whose world-aligned boxes are closer than `distance`.
@@ -136,6 +166,8 @@ class CollisionLimit(Limit):
         margin: distance [m] the pairs keep (>= 0).
         detection_distance: pairs farther apart than this [m] add no row (> margin).
         gain: fraction of the distance above the margin a pair may close per step, (0, 1].
+        self_margins: (len(self_pairs),) the self pairs' own margins [m], each in [0, margin]
+            (default: all `margin`; see `self_pair_margins`).
 
     After each `compute_qp_inequalities`, `obstacle_clearance` and `self_clearance` hold
     the smallest measured distances [m] (inf if no pair was within the detection distance)
@@ -150,6 +182,7 @@ class CollisionLimit(Limit):
         margin: float,
         detection_distance: float,
         gain: float,
+        self_margins=None,
     ):
         self.model = model
         self.margin = float(margin)
@@ -159,6 +192,13 @@ class CollisionLimit(Limit):
         self.n_obstacle_pairs = len(obstacle_pairs)
         self.pairs = np.array(pairs, dtype=int).reshape(-1, 2)
         self._is_obstacle = np.arange(len(pairs)) < self.n_obstacle_pairs
+        own = np.full(len(self_pairs), self.margin) if self_margins is None else np.asarray(self_margins, dtype=float)
+        if own.shape != (len(self_pairs),) or not np.all((own >= 0.0) & (own <= self.margin)):
+            raise InvalidInputError(f"self_margins must be {len(self_pairs)} values in [0, margin = {self.margin} m]; "
+                                    f"got {np.asarray(self_margins).tolist()}")
+        #: (n_pairs,) each pair's margin [m]: obstacle pairs first, then self pairs.
+        self.margins = np.concatenate([np.full(len(obstacle_pairs), self.margin), own])
+        self._margin_of = self.margins.tolist()
         geoms = np.unique(self.pairs).astype(np.int64) if len(pairs) else np.zeros(0, dtype=np.int64)
         self._geoms = geoms
         slot = {int(g): i for i, g in enumerate(geoms)}
@@ -204,7 +244,7 @@ class CollisionLimit(Limit):
     def compute_qp_inequalities(self, configuration: Configuration, dt: float) -> Constraint:
         model, data = self.model, configuration.data
         dmax = self.detection_distance
-        margin, gain = self.margin, self.gain
+        margins, gain = self._margin_of, self.gain
         fromto, jac1, jac2 = self._fromto, self._jac1, self._jac2
         G, h = self._G, self._h
         n_rows = 0
@@ -218,6 +258,7 @@ class CollisionLimit(Limit):
                 best_obstacle = min(best_obstacle, d)
             else:
                 best_self = min(best_self, d)
+            margin = margins[k]
             n = fromto[3:] - fromto[:3]
             norm = math.sqrt(float(n @ n))
             if norm < 1e-12:

@@ -48,12 +48,13 @@ import time
 from typing import Any
 
 import mink
+import mujoco
 import numpy as np
 
 from manip.collision.shapes import as_pose
 from manip.collision.world import WorldConfig
+from manip.control.collision import CollisionLimit, robot_collision_geoms, self_collision_pairs, self_pair_margins
 from manip.control.limits import StepBounds
-from manip.control.collision import CollisionLimit, robot_collision_geoms, self_collision_pairs
 from manip.control.model import ControlModel
 from manip.control.obstacles import geom_shape
 from manip.control.results import StepResult, StepStatus
@@ -85,7 +86,9 @@ class ReactiveController:
         rest_configuration: (dof,) the posture task's target [rad] (default the
             configuration's `default_joint_positions`).
         safety_margin: distance [m] kept from obstacles and between checked robot links
-            (default 0.01).
+            (default 0.01). Links closer than twice this at the configuration's default joint
+            positions keep half their distance there instead (`self_margins`; e.g. three
+            pairs of the UR10's, 18-20 mm apart); links touching there are not checked.
         detection_distance: pairs closer than this [m] are constrained (default 0.1; must
             exceed the margin).
         collision_gain: fraction of the distance above the margin a pair may close per
@@ -174,12 +177,21 @@ class ReactiveController:
         self._tasks = Tasks(m, frame_type, frame_id, self._model.q_to_qpos(self._rest), self._weights)
         robot_geoms = robot_collision_geoms(m, self._model.robot_bodies)
         obstacle_pairs = [(g, o) for o in self._model.obstacle_geoms.values() for g in robot_geoms]
-        self_pairs = []
+        self_pairs, self_margins = [], np.zeros(0)
         if self._self_collision:
             disabled = {frozenset(p) for p in self._config.disabled_collision_pairs}
-            self_pairs = self_collision_pairs(m, self._model.robot_bodies, disabled)
+            home = mujoco.MjData(m)
+            home.qpos[:] = self._model.q_to_qpos(self._config.default_joint_positions)
+            mujoco.mj_kinematics(m, home)
+            self_pairs, self_margins = self_pair_margins(m, home, self_collision_pairs(m, self._model.robot_bodies,
+                                                                                      disabled), self._margin)
+        first = not hasattr(self, "_collision")
         self._collision = CollisionLimit(m, obstacle_pairs, self_pairs, self._margin, self._detection,
-                                         self._collision_gain)
+                                         self._collision_gain, self_margins)
+        if first and self.self_margins:
+            logger.info("%s: self pairs closer than 2 x safety_margin (%.3f m) at the default joint positions keep "
+                        "half that distance: %s", self._config.name, self._margin,
+                        ", ".join(f"{a}-{b} {1000 * v:.1f} mm" for (a, b), v in self.self_margins.items()))
         self._joint_limits = StepBounds(self._limits, self._limit_gain, use_acceleration=self._use_acceleration)
 
     # ------------------------------------------------------------------ properties
@@ -276,6 +288,19 @@ class ReactiveController:
     @property
     def safety_margin(self) -> float:
         return self._margin
+
+    @property
+    def self_margins(self) -> dict[tuple[str, str], float]:
+        """The self pairs (body names) whose margin [m] is below `safety_margin`: pairs closer
+        than twice the margin at the configuration's default joint positions keep half that
+        distance (`manip.control.collision.self_pair_margins`). Empty for most robots."""
+        m, lim = self._model.model, self._collision
+        out = {}
+        for (g1, g2), margin in zip(lim.pairs[lim.n_obstacle_pairs:], lim.margins[lim.n_obstacle_pairs:]):
+            if margin < self._margin:
+                key = (m.body(int(m.geom_bodyid[g1])).name, m.body(int(m.geom_bodyid[g2])).name)
+                out[key] = min(float(margin), out.get(key, math.inf))
+        return out
 
     @property
     def collision_pair_counts(self) -> tuple[int, int]:

@@ -62,7 +62,7 @@ class Reference:
             oid = gm.addGeometryObject(go)
             for r in range(n_robot):
                 gm.addCollisionPair(pin.CollisionPair(r, oid))
-        self.model, self.data, self.gm = model, model.createData(), gm
+        self.model, self.data, self.gm, self.n_robot = model, model.createData(), gm, n_robot
         self.gd = pin.GeometryData(gm)
         for k, cp in enumerate(gm.collisionPairs):
             if cp.second >= n_robot:
@@ -70,6 +70,44 @@ class Reference:
 
     def __call__(self, q: np.ndarray) -> bool:
         return bool(pin.computeCollisions(self.model, self.data, self.gm, self.gd, q, True))
+
+    def part_inside_part(self, q: np.ndarray) -> tuple[str, str] | None:
+        """A robot geometry with a vertex inside another's closed mesh (winding number) at q,
+        among the checked self pairs, or None: coal tests surfaces, so it misses a part wholly
+        inside a link's mesh (a finger inside panda_link5)."""
+        import trimesh
+
+        pin.updateGeometryPlacements(self.model, self.data, self.gm, self.gd, q)
+        objs = self.gm.geometryObjects
+        for cp in self.gm.collisionPairs:
+            a, b = cp.first, cp.second
+            if b >= self.n_robot:   # a world pair
+                continue
+            for x, y in ((a, b), (b, a)):
+                if not objs[y].meshPath.lower().endswith((".stl", ".obj", ".dae")):
+                    continue
+                mesh = trimesh.load(objs[y].meshPath, force="mesh")
+                mesh.apply_scale(np.asarray(objs[y].meshScale))
+                g = objs[x].geometry
+                V = (np.asarray(g.vertices()).reshape(-1, 3)[:1] if hasattr(g, "vertices")
+                     else np.zeros((1, 3)))   # a primitive: its centre
+                Mx, My = self.gd.oMg[x], self.gd.oMg[y]
+                local = (V @ Mx.rotation.T + Mx.translation - My.translation) @ My.rotation
+                if abs(_winding_number(mesh.vertices[mesh.faces], local[0])) > 0.5:
+                    return objs[x].name, objs[y].name
+        return None
+
+
+def _winding_number(T: np.ndarray, x: np.ndarray) -> float:
+    """The winding number of the closed triangle surface T (F, 3, 3) about the point x (3,): the
+    sum of its triangles' signed solid angles / 4 pi (A. Van Oosterom and J. Strackee, 1983);
+    +-1 inside, 0 outside."""
+    a, b, c = (T[:, k] - x for k in range(3))
+    la, lb, lc = (np.linalg.norm(v, axis=1) for v in (a, b, c))
+    num = np.einsum("ij,ij->i", a, np.cross(b, c))
+    den = la * lb * lc + np.einsum("ij,ij->i", a, b) * lc + np.einsum("ij,ij->i", a, c) * lb \
+        + np.einsum("ij,ij->i", b, c) * la
+    return float(np.arctan2(num, den).sum() * 2.0 / (4.0 * np.pi))
 
 
 @pytest.fixture(scope="module")
@@ -102,9 +140,12 @@ def test_batch_agrees_exactly_with_plain_pinocchio_coal(franka_config, franka_ki
     false_free = np.nonzero(expected & ~got)[0]
     false_hit = np.nonzero(~expected & got)[0]
     assert false_free.size == 0, f"declared free but colliding: {random_q[false_free[:3]]}"
-    assert false_hit.size == 0, f"declared colliding but free: {random_q[false_hit[:3]]}"
+    # coal misses a part wholly inside another's mesh: each extra hit must be one (found by trimesh)
+    inside = [ref.part_inside_part(random_q[k]) for k in false_hit]
+    assert all(inside), f"declared colliding but free: {random_q[false_hit[[x is None for x in inside]]][:3]}"
+    assert false_hit.size <= 0.005 * len(random_q)
     # single queries give the same answers
-    for q, e in zip(random_q[:100], expected[:100]):
+    for q, e in zip(random_q[:100], expected[:100] | np.isin(np.arange(100), false_hit)):
         assert checker.in_collision(q) == e
 
 

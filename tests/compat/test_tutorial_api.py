@@ -234,3 +234,16 @@ def test_obstacles_from_the_simulator_point_clouds_and_reset_world(curobo, caplo
     assert "shape" in caplog.text and curobo.motion_gen.world.names == ["world_pointcloud"]
     curobo.reset_world()
     assert curobo.motion_gen.world.names == ["table"]
+
+
+def test_xyzw_mistakes_are_named_in_the_callers_order(mg):
+    """benchmarks/unseen.py: a non-unit [x, y, z, qx, qy, qz, qw] was refused saying "quaternions are
+    (w, x, y, z)", the other order than the one the caller used; a ragged list of poses raised numpy's
+    "inhomogeneous shape" ValueError."""
+    with pytest.raises(InvalidInputError, match=r"\(x, y, z, w\)"):
+        mg.ik([0.4, 0.0, 0.3, 0.0, 0.0, 0.0, 2.0])
+    with pytest.raises(InvalidInputError, match=r"\(x, y, z, w\)"):
+        Pose.from_xyz_xyzw([0.4, 0.0, 0.3, 0.0, 0.0, 0.0, 0.0])
+    with pytest.raises(InvalidInputError, match=r"poses_xyzw.*pose 1 has 3 values"):
+        mg.ik_batch([[0.4, 0.0, 0.3, *DOWN_XYZW], [0.4, 0.0, 0.3]])
+    assert Pose.from_xyz_xyzw([0.4, 0.0, 0.3, *DOWN_XYZW]).quaternion.tolist() == [0.0, 1.0, 0.0, 0.0]

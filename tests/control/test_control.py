@@ -359,3 +359,66 @@ def test_bad_weights_raise(ctrl):
     with pytest.raises(InvalidInputError, match="both 0"):
         ctrl.set_weights(position=0.0, orientation=0.0)
     assert ctrl.weights == TaskWeights()  # unchanged
+
+
+# ---------------------------------------------------------------------------- self pairs closer than the margin
+def pair_distance(c: ReactiveController, q, body1: str, body2: str) -> float:
+    m = c.model
+    d = mujoco.MjData(m)
+    d.qpos[:] = c._model.q_to_qpos(q)
+    mujoco.mj_kinematics(m, d)
+    g1, g2 = (next(g for g in range(m.ngeom) if m.body(int(m.geom_bodyid[g])).name == b) for b in (body1, body2))
+    return mujoco.mj_geomDistance(m, d, g1, g2, 1.0, np.zeros(6))
+
+
+def test_self_pairs_closer_than_twice_the_margin_at_home_keep_half_their_distance():
+    c = ReactiveController("ur10", safety_margin=0.02)
+    home = c.config.default_joint_positions
+    reduced = c.self_margins
+    assert set(reduced) == {("base_link", "upper_arm_link"), ("forearm_link", "wrist_2_link"),
+                            ("wrist_1_link", "wrist_3_link")}
+    for (a, b), margin in reduced.items():
+        d0 = pair_distance(c, home, a, b)
+        assert 0.0 < d0 < 0.04 and margin == pytest.approx(d0 / 2, abs=1e-9)
+    assert ReactiveController("ur10", safety_margin=0.005).self_margins == {}   # 18-20 mm > 2 x 5 mm
+    assert ReactiveController("franka", safety_margin=0.02).self_margins == {}  # the Franka's pairs: unchanged
+    lim = c._collision
+    assert np.all(lim.margins[: lim.n_obstacle_pairs] == 0.02) and np.all(lim.margins <= 0.02)
+
+
+def test_ur10_reaches_its_target_with_a_2cm_margin():
+    """The UR10's links lie 18-20 mm apart at home: with one 2 cm margin for every pair, their
+    rows (bound 0 from the first step) stopped the flange 0.29 m short of this target."""
+    c = ReactiveController("ur10", safety_margin=0.02)
+    target = np.array([0.6, 0.3, 0.43])
+    q, results = run(c, c.rest_configuration, target, 240)
+    assert np.linalg.norm(c.forward_kinematics(q).position - target) < 1e-3
+    assert all(r.solved for r in results)
+    assert min(r.self_clearance for r in results) > 0.009  # the reduced margins (9.2-10 mm) hold
+
+
+def test_a_self_pair_with_a_reduced_margin_still_keeps_it():
+    """The frame and posture tasks pull the UR10 towards a configuration where its forearm and
+    wrist_2 overlap (by 3.7 mm): the pair stops at its own margin (half its 18.4 mm at home)."""
+    c0 = ReactiveController("ur10", safety_margin=0.02)
+    q_bad = c0.rest_configuration + np.array([0.0, 0.0, 0.0, 2.0, -1.0, 0.0])
+    assert pair_distance(c0, q_bad, "forearm_link", "wrist_2_link") < -0.003
+    c = ReactiveController("ur10", safety_margin=0.02, rest_configuration=q_bad)
+    margin = c.self_margins[("forearm_link", "wrist_2_link")]
+    goal = c.forward_kinematics(q_bad)
+    q = c0.rest_configuration
+    dists = []
+    for _ in range(600):
+        q = c.step(q, goal, DT).q
+        dists.append(pair_distance(c, q, "forearm_link", "wrist_2_link"))
+    assert min(dists) > margin - 1e-3          # kept, up to one step's linearisation error
+    assert dists[-1] < margin + 2e-3           # and it did press against it
+
+
+def test_bad_self_margins_raise(ctrl):
+    lim = ctrl._collision
+    self_pairs = [tuple(p) for p in lim.pairs[lim.n_obstacle_pairs:]]
+    with pytest.raises(InvalidInputError, match="self_margins"):
+        CollisionLimit(ctrl.model, [], self_pairs, 0.01, 0.1, 0.1, np.full(len(self_pairs), 0.02))
+    with pytest.raises(InvalidInputError, match="self_margins"):
+        CollisionLimit(ctrl.model, [], self_pairs, 0.01, 0.1, 0.1, [0.005])

@@ -86,6 +86,9 @@ def linear_paths(
     lines = []
     n = 1
     for link, goal, solver, free in targets:
+        if solver.out_of_reach(kinematics.frame_id(link), goal.position[None])[0]:   # say why, not where IK gave up
+            where = f" ('{link}')" if len(targets) > 1 else ""
+            return None, f"the line{where} ends out of reach: " + solver.solve(goal, link, seed_q=start).message
         p0 = kinematics.fk(start, link)
         dist = float(np.linalg.norm(goal.position - p0.position))
         angle = float(quat.angle_between(p0.quaternion, goal.quaternion))

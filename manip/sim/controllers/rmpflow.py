@@ -62,8 +62,10 @@ class RMPFlowController(BaseController):
         robot: robot configuration name or `RobotConfig` (default "franka").
         resync_tolerance: largest gap [rad] between the command and the measured joints
             before the command restarts from the measurement (default 0.1).
-        safety_margin: distance [m] kept from obstacles (default 0.02: the simulated drives
-            lag the command by up to about 1 cm when the arm stops at an obstacle).
+        safety_margin: distance [m] kept from obstacles and between the robot's links
+            (default 0.02: the simulated drives lag the command by up to about 1 cm when the
+            arm stops at an obstacle). Links closer than twice this at the robot's default
+            joint positions keep half their distance there (`ReactiveController.self_margins`).
         **controller_options: other keywords of `manip.control.ReactiveController`
             (`frame`, `solver`, `weights`, `velocity_scale`, `max_speed`, ...).
 

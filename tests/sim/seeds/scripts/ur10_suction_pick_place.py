@@ -2,9 +2,8 @@
 `ee_link`) wrapped as a `SingleManipulator`, Isaac's generic `PickPlaceController` driving an
 `RMPFlowController` of the UR10. Written as for Isaac Sim 4.x; only the imports differ
 (omni.isaac.core / omni.isaac.manipulators -> manip.sim), plus `robot="ur10"` for manip's
-RMPFlowController (Isaac's is the UR10's own class), `safety_margin=0.01` (the
-UR10's links lie 18-20 mm from each other, inside the default 2 cm: the QP controller then stalls) and manip's
-UR10 model path."""
+RMPFlowController (Isaac's is the UR10's own class) and manip's UR10 model path. The
+controller's defaults (a 2 cm safety margin, the UR10's links 18-20 mm apart at home)."""
 
 from manip.sim import SimulationApp
 
@@ -27,8 +26,7 @@ my_world.reset()
 
 my_controller = PickPlaceController(
     name="pick_place_controller",
-    cspace_controller=RMPFlowController(name="cspace_controller", robot_articulation=ur10, robot="ur10",
-                                       safety_margin=0.01),  # manip: UR10 links lie < 2 cm apart
+    cspace_controller=RMPFlowController(name="cspace_controller", robot_articulation=ur10, robot="ur10"),
     gripper=gripper,
     end_effector_initial_height=0.4,
     events_dt=[0.01, 0.01, 0.1, 0.1, 0.01, 0.005, 0.01, 1, 0.01, 0.08],
