@@ -6,8 +6,9 @@ attached objects: themselves); an obstacle is a box, sphere, capsule or cylinder
 occupancy maps and other shapes: not decided here). A candidate pair is
 - free when GJK keeps the two convex shapes more than the padding apart (certain for any mesh:
   its hull holds it),
-- colliding when GJK brings them within the padding and both sides are convex (a mesh whose
-  triangles all lie within `CONVEX_TOLERANCE` of its hull's boundary),
+- colliding when GJK brings them within the padding and both sides are convex (a closed mesh
+  whose triangles all lie within `CONVEX_TOLERANCE` of its hull's boundary; an open mesh never
+  counts as convex here: its hull fills what its surface leaves open),
 - else left to coal (the `numba.objmode` callback of `compiled_search`), as are the pairs of a
   part with an obstacle it may touch (`CollisionChecker.allowing`) when any is.
 
@@ -25,6 +26,7 @@ from scipy.spatial import ConvexHull
 
 from manip.collision import gjk
 from manip.collision.shapes import Capsule, Cuboid, Cylinder, Sphere
+from manip.collision.solids import closed_part_mesh
 from manip.jit import kernel
 
 #: [m] a mesh is convex for this test when every triangle's vertices and centroid lie within
@@ -36,15 +38,21 @@ _CONCAVITY: dict[int, tuple[object, float]] = {}   # id(mesh) -> (mesh, depth [m
 _LAST_PARTS: tuple = (None, None)                    # (parts, their arrays): `_part_arrays`
 
 
-def concavity(mesh, hull_points: np.ndarray) -> float:
+def concavity(mesh, hull_points: np.ndarray, limit: float = np.inf) -> float:
     """The largest depth [m] of a triangle's vertex or centroid of coal mesh `mesh` inside the
-    convex hull of hull_points (K, 3) (0 for a convex mesh)."""
+    convex hull of hull_points (K, 3) (0 for a convex mesh); once a depth exceeds `limit` [m],
+    that depth (the points are visited in blocks: a concave mesh stops early)."""
     V = np.asarray(mesh.vertices(), dtype=float)
     T = np.array([[t[0], t[1], t[2]] for t in (mesh.tri_indices(k) for k in range(mesh.num_tris))], dtype=np.int64)
     X = np.concatenate([V, V[T].mean(axis=1)])
     eq = ConvexHull(hull_points).equations          # (F, 4): n . x + d <= 0 inside, |n| = 1
-    depth = -(X @ eq[:, :3].T + eq[:, 3])            # (M, F) >= 0 inside
-    return float(max(0.0, depth.min(axis=1).max()))
+    worst = 0.0
+    for s in range(0, X.shape[0], 512):
+        depth = -(X[s:s + 512] @ eq[:, :3].T + eq[:, 3])    # (M, F) >= 0 inside
+        worst = max(worst, float(depth.min(axis=1).max()))
+        if worst > limit:
+            break
+    return worst
 
 
 def _part_row(part):
@@ -65,10 +73,15 @@ def _part_row(part):
         return _NO, np.zeros(3), 0.0, z, False
     P = np.ascontiguousarray(np.asarray(hull.points(), dtype=float))
     if hasattr(geom, "num_tris"):
-        cached = _CONCAVITY.get(id(geom))
-        if cached is None or cached[0] is not geom:
-            cached = _CONCAVITY[id(geom)] = (geom, concavity(geom, P))
-        convex = cached[1] <= CONVEX_TOLERANCE
+        # an open mesh's hull fills what its surface leaves open (the Kinova's links): a hull
+        # within the padding says nothing there, coal decides (and its concavity is not computed:
+        # large meshes made that seconds of a first plan's budget)
+        convex = closed_part_mesh(geom, part.name) is not None
+        if convex:
+            cached = _CONCAVITY.get(id(geom))
+            if cached is None or cached[0] is not geom:
+                cached = _CONCAVITY[id(geom)] = (geom, concavity(geom, P, limit=CONVEX_TOLERANCE))
+            convex = cached[1] <= CONVEX_TOLERANCE
     else:
         convex = True
     return gjk.VERTICES, np.zeros(3), 0.0, P, convex
