@@ -188,6 +188,14 @@ def contains(solid: SolidData, bvh, points: np.ndarray) -> bool:
 _PROBES: dict[int, tuple[object, np.ndarray]] = {}
 
 
+def mesh_arrays(geometry) -> tuple[np.ndarray, np.ndarray]:
+    """The vertices (P, 3) [m] and triangles (T, 3) (vertex indices) of a coal mesh (a BVH model)."""
+    V = np.asarray(geometry.vertices(), dtype=float).reshape(-1, 3)
+    F = np.array([[t[0], t[1], t[2]] for t in (geometry.tri_indices(i) for i in range(geometry.num_tris))],
+                 dtype=np.int64).reshape(-1, 3)
+    return V, F
+
+
 def probe_points(geometry) -> np.ndarray:
     """(K, 3) points of a part's coal geometry (its frame), one in each connected piece: a
     vertex of each connected set of triangles of a mesh, the centre of a primitive, a point
@@ -196,9 +204,7 @@ def probe_points(geometry) -> np.ndarray:
     if hit is not None and hit[0] is geometry:
         return hit[1]
     if hasattr(geometry, "num_tris") and hasattr(geometry, "tri_indices"):
-        V = np.asarray(geometry.vertices(), dtype=float).reshape(-1, 3)
-        F = np.array([[t[0], t[1], t[2]] for t in (geometry.tri_indices(i) for i in range(geometry.num_tris))],
-                     dtype=np.int64).reshape(-1, 3)
+        V, F = mesh_arrays(geometry)
         parent = np.arange(len(V))
 
         def root(v: int) -> int:
@@ -256,11 +262,8 @@ _CLOSED: dict[int, tuple[object, SolidData | None]] = {}
 def _closed_part_mesh(geometry, name: str) -> SolidData | None:
     if not (hasattr(geometry, "num_tris") and hasattr(geometry, "tri_indices")):
         return None
-    V = np.asarray(geometry.vertices(), dtype=float).reshape(-1, 3)
-    F = np.array([[t[0], t[1], t[2]] for t in (geometry.tri_indices(i) for i in range(geometry.num_tris))],
-                 dtype=np.int64).reshape(-1, 3)
     try:
-        return solid_data(*weld(V, F), name)
+        return solid_data(*weld(*mesh_arrays(geometry)), name)
     except InvalidInputError:
         return None
 

@@ -26,7 +26,7 @@ from scipy.spatial import ConvexHull
 
 from manip.collision import gjk
 from manip.collision.shapes import Capsule, Cuboid, Cylinder, Sphere
-from manip.collision.solids import closed_part_mesh
+from manip.collision.solids import closed_part_mesh, mesh_arrays
 from manip.jit import kernel
 
 #: [m] a mesh is convex for this test when every triangle's vertices and centroid lie within
@@ -42,8 +42,7 @@ def concavity(mesh, hull_points: np.ndarray, limit: float = np.inf) -> float:
     """The largest depth [m] of a triangle's vertex or centroid of coal mesh `mesh` inside the
     convex hull of hull_points (K, 3) (0 for a convex mesh); once a depth exceeds `limit` [m],
     that depth (the points are visited in blocks: a concave mesh stops early)."""
-    V = np.asarray(mesh.vertices(), dtype=float)
-    T = np.array([[t[0], t[1], t[2]] for t in (mesh.tri_indices(k) for k in range(mesh.num_tris))], dtype=np.int64)
+    V, T = mesh_arrays(mesh)
     X = np.concatenate([V, V[T].mean(axis=1)])
     eq = ConvexHull(hull_points).equations          # (F, 4): n . x + d <= 0 inside, |n| = 1
     worst = 0.0
