@@ -27,7 +27,7 @@ import math
 import numpy as np
 
 from manip.collision.occupancy_boxes import index_span
-from manip.collision.solids import solid_data, weld
+from manip.collision.solids import mesh_arrays, solid_data, weld
 from manip.errors import InvalidInputError
 from manip.jit import kernel
 
@@ -54,9 +54,7 @@ def _surface_depth(geometry, V: np.ndarray, eq: np.ndarray, area: float) -> floa
     inf for a surface that is not closed."""
     if not hasattr(geometry, "tri_indices"):   # coal.Convex: a solid
         return 0.0
-    F = np.array([[t[0], t[1], t[2]] for t in (geometry.tri_indices(i) for i in range(geometry.num_tris))],
-                 dtype=np.int64).reshape(-1, 3)
-    W, F = weld(V, F)
+    W, F = weld(V, mesh_arrays(geometry)[1])
     try:
         volume = solid_data(W, F, "part").volume
     except InvalidInputError:   # open or inconsistent: the inside of the hull says nothing

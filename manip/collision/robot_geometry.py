@@ -20,6 +20,7 @@ import pinocchio as pin
 
 from manip.collision.pair_maps import PairMap, build_pair_map
 from manip.collision.self_pairs import prove_pair_clear
+from manip.collision.solids import mesh_arrays
 from manip.collision.spheres import cover_with_spheres
 from manip.disk_cache import default_cache, user_folder
 from manip.errors import InvalidInputError
@@ -98,10 +99,7 @@ def geometry_triangles(geometry) -> tuple[np.ndarray, np.ndarray] | None:
     if isinstance(geometry, coal.Sphere):
         return None
     if hasattr(geometry, "num_tris") and hasattr(geometry, "vertices"):
-        V = np.array(geometry.vertices(), dtype=float).reshape(-1, 3)
-        F = np.array([[t[0], t[1], t[2]] for t in (geometry.tri_indices(i) for i in range(geometry.num_tris))],
-                     dtype=np.int64).reshape(-1, 3)
-        return V, F
+        return mesh_arrays(geometry)
     # anything else (convex, height fields, ...): its local bounding box
     geometry.computeLocalAABB()
     aabb = geometry.aabb_local

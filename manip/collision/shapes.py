@@ -512,6 +512,8 @@ def _read_binary_stl(path: Path) -> tuple[np.ndarray, np.ndarray] | None:
 def _load_mesh_file(path: Path, name: str) -> tuple[np.ndarray, np.ndarray]:
     import coal
 
+    from manip.collision.solids import mesh_arrays
+
     if path.suffix.lower() == ".stl":
         VF = _read_binary_stl(path)   # 1e6 triangles in about 1 s (coal's loader: 14 s)
         if VF is not None:
@@ -521,9 +523,7 @@ def _load_mesh_file(path: Path, name: str) -> tuple[np.ndarray, np.ndarray]:
         bvh = coal.MeshLoader().load(str(path), np.ones(3))
     except Exception as exc:  # coal raises plain RuntimeErrors for unreadable files
         raise InvalidInputError(f"mesh '{name}': could not read {path} ({exc}); coal reads STL, OBJ, DAE, PLY") from exc
-    V = np.array(bvh.vertices(), dtype=float).reshape(-1, 3)
-    F = np.array([[t[0], t[1], t[2]] for t in (bvh.tri_indices(i) for i in range(bvh.num_tris))], dtype=np.int64)
-    return V, F.reshape(-1, 3)
+    return mesh_arrays(bvh)
 
 
 SHAPE_TYPES: dict[str, type[Obstacle]] = {
