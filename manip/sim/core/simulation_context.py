@@ -298,7 +298,7 @@ class SimulationContext(SimulationCallbacks):
                 cores.append(prim.core)
             else:
                 prim.bind_simulation(sim)
-        self._cores = cores
+        self._cores = sim.robot_cores = cores
         self._warnings.watch(sim.data)
         for w in self._stage.wrappers():
             w.bind_simulation(sim)

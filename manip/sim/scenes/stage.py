@@ -65,6 +65,8 @@ class SimHandle:
         self.physics_dt: float | None = None
         #: Called after every physics step (a `SurfaceGripper` checks whether its grip broke).
         self.after_step: list = []
+        #: The referenced robots' `ArticulationCore`s (a teleported robot is checked against them).
+        self.robot_cores: list = []
 
     def ensure_kinematics(self) -> None:
         if self.kinematics_stale:
