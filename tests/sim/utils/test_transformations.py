@@ -70,6 +70,7 @@ def test_relative_transforms_between_a_robot_its_link_a_cube_and_a_camera():
     np.testing.assert_allclose(hand[:3, 3], kin.fk(q, "panda_hand").position, atol=1e-3)
     position, orientation = get_world_pose_from_relative(franka, hand[:3, 3], pose_from_tf_matrix(hand)[1])
     np.testing.assert_allclose(position, [0.5, 0.2, 0.0] + quat_to_rot_matrix(TURNED) @ hand[:3, 3], atol=1e-9)
+    assert rotational_distance_angle(quat_to_rot_matrix(orientation), quat_to_rot_matrix(TURNED) @ hand[:3, :3]) < 1e-6
     # the resting cube, seen from the robot: (0.4, 0.2) ahead in the world is (0.2, -0.4) in the turned base
     in_robot = get_translation_from_target([0, 0, 0], cube, franka)
     np.testing.assert_allclose(in_robot, [0.2, -0.4, 0.025], atol=2e-3)
