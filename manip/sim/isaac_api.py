@@ -280,12 +280,8 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
         "apply_visual_materials": "apply a material to each object (GeometryPrim.apply_visual_material)",
         "get_applied_visual_materials": "read each object's material (GeometryPrim.get_applied_visual_material)",
         "set_local_scales": "a scale is fixed when the World compiles: set it on each object before a reset",
-        "get_visibilities": "read each object's visibility (get_visibility)",
-        "set_visibilities": "set each object's visibility (set_visibility)",
     },
     "RigidPrimView": {
-        "set_masses": "set each object's mass (RigidPrim.set_mass)",
-        "get_densities": "read each object's density (RigidPrim.get_density)",
         "set_densities": "set each object's density before the World compiles",
         "set_coms": "the centre of mass follows the shape (MuJoCo computes it when the World compiles)",
         "set_inertias": "the inertia follows the shape (MuJoCo computes it when the World compiles)",
