@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from manip import curobo_names
-from manip.host_array import host
+from manip.host_array import HostArray, host
 from manip.status import Status, truth_is_success
 from manip.trajectory import Trajectory
 
@@ -136,6 +136,39 @@ class PlanResult:
 
     def __getattr__(self, name: str):
         # only for missing names: cuRobo's (get_interpolated_plan, ...) say where manip has them
+        if name.startswith("__"):
+            raise AttributeError(name)
+        raise curobo_names.missing(type(self).__name__, curobo_names.RESULT, name)
+
+
+class PlanResults(list):
+    """What `plan_batch` returns: the N `PlanResult`s in order (a list: `results[i]`, `len`,
+    iteration), also read as cuRobo's batched `MotionGenResult`: `success` (N,) bool and
+    `position_error` / `rotation_error` (N,) `HostArray`s (`.cpu().numpy()`, `.all()`,
+    `.tolist()`), `status` (N statuses); `get_paths()` the N trajectories (None where failed)."""
+
+    @property
+    def success(self) -> HostArray:
+        return host(np.array([bool(r.success) for r in self], dtype=bool).reshape(len(self)))
+
+    @property
+    def position_error(self) -> HostArray:
+        return host(np.array([float(r.position_error) for r in self], dtype=float).reshape(len(self)))
+
+    @property
+    def rotation_error(self) -> HostArray:
+        return host(np.array([float(r.rotation_error) for r in self], dtype=float).reshape(len(self)))
+
+    @property
+    def status(self) -> list[PlanStatus]:
+        return [r.status for r in self]
+
+    def get_paths(self) -> list[Trajectory | None]:
+        """cuRobo's per-problem trajectories: each result's `trajectory` (None where it failed)."""
+        return [r.trajectory for r in self]
+
+    def __getattr__(self, name: str):
+        # only for missing names: cuRobo's result names say where manip has them (on each result)
         if name.startswith("__"):
             raise AttributeError(name)
         raise curobo_names.missing(type(self).__name__, curobo_names.RESULT, name)

@@ -55,11 +55,22 @@ def test_plan_result_success_reads_as_curobos_tensor(mg):
         result.success.to("cuda:0")
 
 
-def test_batch_plan_successes_are_curobos_b_vector(mg):
-    """`plan_batch` gives one result per problem: their successes concatenate to cuRobo's (B,) vector."""
+def test_batch_plan_results_read_as_curobos_batched_result(mg):
+    """`plan_batch` gives the N results in a list that also reads as cuRobo's batched
+    MotionGenResult: `result.success` (N,) (an AttributeError on a list before)."""
     results = mg.plan_batch(mg.default_joint_positions, [REACHABLE, IN_TABLE])
-    success = np.concatenate([r.success for r in results])
-    assert success.tolist() == [True, False] and sum(bool(r.success) for r in results) == 1
+    assert isinstance(results, list) and len(results) == 2 and results[0].success.item() is True
+    assert isinstance(results.success, HostArray) and results.success.shape == (2,)
+    assert results.success.cpu().numpy().tolist() == [True, False] and not results.success.all()
+    assert results.position_error.shape == (2,) and results.position_error[0] < 1e-3
+    assert [s.name for s in results.status] == ["SUCCESS", "IK_FAIL"]
+    paths = results.get_paths()
+    assert paths[0] is results[0].trajectory and paths[1] is None
+    with pytest.raises(AttributeError, match="no 'interpolation_dt' \\(cuRobo's name\\); manip's equivalent"):
+        _ = results.interpolation_dt
+    assert mg.plan_batch(mg.default_joint_positions, []) == [] and mg.plan_batch(
+        mg.default_joint_positions, []).success.shape == (0,)
+    assert np.concatenate([r.success for r in results]).tolist() == [True, False]
     with pytest.raises(TypeError, match=r"one-element arrays convert to float; this one has shape \(2,\)"):
         float(host([1.0, 2.0]))
 
