@@ -338,9 +338,10 @@ class ArticulationCore:
         `RobotsOverlapError` and the robot stays where it was (`scenes.robot_overlaps`)."""
         before = self._root_state()
         self._place_root(position, orientation)
-        if len(self.sim.robot_cores) > 1:
+        cores = list(self.sim.robot_cores)
+        if len(cores) > 1:
             try:
-                check_moved_robot(self, self.sim.robot_cores)
+                check_moved_robot(self, cores)
             except RobotsOverlapError:
                 self._restore_root(before)
                 raise
