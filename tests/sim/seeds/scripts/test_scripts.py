@@ -157,3 +157,12 @@ def test_a_camera_sees_the_cube_picked_and_placed():
     assert all(f["rgba"] == (256, 256, 4) and f["depth"] == (256, 256) for f in ns["frames"])
     assert max(f["motion"] for f in ns["frames"]) > 0.5              # the arm moving in the images
     np.testing.assert_allclose(ns["intrinsics"][:2, 2], [127.5, 127.5])
+
+
+def test_curobo_batch_plan_read_as_a_batch_and_played():
+    """cuRobo's batch demo: `result.success` (2,) and `result.get_paths()` on plan_batch's result (an
+    AttributeError on its list before), each path played on the simulated Franka."""
+    ns = run("motion_gen_batch.py")
+    assert ns["success"].tolist() == [True, True] and ns["result"].success.shape == (2,)
+    assert len(ns["traj"]) == 2 and len(ns["reached"]) == 2
+    assert max(ns["reached"]) < 0.005        # the simulated hand at each goal
