@@ -52,7 +52,7 @@ def cube_in_image():
     rows, cols = np.nonzero(blue)
     top = position + [0.0, 0.0, 0.0515 / 2]
     along_axis = -get_translation_from_target(top, "/World/defaultGroundPlane", camera)[2]
-    return (u, v), float(depth[int(round(v)), int(round(u))]), float(along_axis), (cols.mean(), rows.mean())
+    return (u, v), float(depth[round(v), round(u)]), float(along_axis), (cols.mean(), rows.mean())
 
 
 frames = []
