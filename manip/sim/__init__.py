@@ -99,7 +99,14 @@ from manip.sim.scenes.stage import (
     update_stage,
     update_stage_async,
 )
-from manip.sim.utils.types import DynamicState, DynamicsViewState, JointsState, XFormPrimState, XFormPrimViewState
+from manip.sim.utils.types import (
+    ArticulationActions,
+    DynamicState,
+    DynamicsViewState,
+    JointsState,
+    XFormPrimState,
+    XFormPrimViewState,
+)
 from manip.sim.utils.prims import (
     create_prim,
     delete_prim,
@@ -170,7 +177,7 @@ from manip.sim.motion_generation import (
 
 #: Every name a ported Isaac script imports (no submodules: `from manip.sim import *` binds names only).
 __all__ = [
-    "Articulation", "ArticulationAction", "ArticulationController", "ArticulationKinematicsSolver",
+    "Articulation", "ArticulationAction", "ArticulationActions", "ArticulationController", "ArticulationKinematicsSolver",
     "ArticulationMotionPolicy", "ArticulationSubset", "ArticulationView", "BaseController",
     "BaseSample", "BaseSampleExtension", "BaseTask", "Camera", "CameraView", "CollisionObject", "DOF_PROPERTIES_DTYPE",
     "DifferentialController", "DynamicCapsule", "DynamicCone", "DynamicCuboid", "DynamicCylinder", "DynamicSphere",
