@@ -123,7 +123,7 @@ def run(batch, kill_after: int | None = None, workers: int | None = None, backen
         "startup": float(np.mean(startup)) if startup else float("nan"),  # none: workers kept from a batch before
         "cpu_with_startup": (sum(cpu) + sum(startup)) / n, "parent": _self_cpu() - parent0,
         "plan_mean": float(np.mean([r.plan_time for r in results.values()])),
-        "success": sum(r.success for r in results.values()), "late": late(results), "steal": _steal(ticks0),
+        "success": sum(bool(r.success) for r in results.values()), "late": late(results), "steal": _steal(ticks0),
     }
 
 
@@ -200,7 +200,7 @@ def ray_tasks(ray, batch, seed: int) -> dict:
     return {"wall": wall, "e2e": n / wall, "steady": (n - 1) / (times[-1] - times[0]), "first": times[0] - t0,
             "results": results, "seen": Counter(results), "cpu": float(np.mean(cpu)), "startup": float("nan"),
             "cpu_with_startup": float("nan"), "parent": _self_cpu() - parent0,
-            "success": sum(r.success for r in results.values()), "late": late(results), "steal": _steal(ticks0),
+            "success": sum(bool(r.success) for r in results.values()), "late": late(results), "steal": _steal(ticks0),
             "plan_mean": float(np.mean([r.plan_time for r in results.values()]))}
 
 

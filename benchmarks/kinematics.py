@@ -105,7 +105,7 @@ def bench_ik(k: Kinematics, n: int, seed: int) -> dict:
     for i, goal in enumerate(goals):
         r = solver.solve(goal, LINK)
         times.append(r.solve_time)
-        q_sol[i], success[i] = r.q, r.success
+        q_sol[i], success[i] = r.q, bool(r.success)
         attempts.append(r.attempts)
     times = np.array(times)
     out = {

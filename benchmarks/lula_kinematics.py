@@ -62,7 +62,7 @@ def main(argv: list[str] | None = None) -> int:
             t0 = time.perf_counter()
             if mode == "IKSolver":
                 r = ik.solve(T_WORLD_BASE.inverse() @ goal @ HAND_TO_RIGHT_GRIPPER.inverse())
-                q, success = np.asarray(r.q), r.success
+                q, success = np.asarray(r.q), bool(r.success)
             else:
                 warm = q_true + rng.uniform(-0.05, 0.05, 7) if mode == "tracking" else None
                 orientation = None if mode == "position" else goal.quaternion

@@ -169,7 +169,7 @@ def plan_batch(problems, workers: int | None) -> dict:
     w = time.perf_counter()
     results = plan_many(batch, workers=workers, seed=0)
     wall = time.perf_counter() - w
-    return {"solved": sum(r.success for r in results), "wall": wall, "results": results}
+    return {"solved": sum(bool(r.success) for r in results), "wall": wall, "results": results}
 
 
 def relative_pose_problems(mg: MotionGenerator, n: int, seed: int) -> list[tuple[np.ndarray, dict]]:

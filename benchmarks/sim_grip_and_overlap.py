@@ -4,7 +4,11 @@ robot-overlap check at reset, SurfaceGripper per step"):
 - `world.reset()` of two Frankas 1 m apart with and without the robot-overlap check
   (`manip.sim.scenes.robot_overlaps`, patched out for B);
 - `world.step(render=False)` of a UR10 holding a cube by a closed `SurfaceGripper` against the
-  same scene with the gripper open; and `SurfaceGripper.update()` alone.
+  same scene with the gripper open; and `SurfaceGripper.update()` alone;
+- `set_world_pose` of a Franka beside another after the reset, with and without the moved-robot
+  overlap check (`SimHandle.robot_cores` emptied for B); `SurfaceGripper.close()` alone (the ray,
+  the pull-in distance against the robot's geoms, the weld) against `close()` + `open()` of
+  round four's weld without the pull (`_pull` patched to return the gap).
 
 Run: `python benchmarks/sim_grip_and_overlap.py [--rounds 3]` (under the machine's benchmark lock).
 """
@@ -94,6 +98,39 @@ def update_cost(n: int = 2000) -> float:
     return (time.perf_counter() - t) / n
 
 
+def moves(n: int, check: bool) -> float:
+    """Mean seconds per `set_world_pose` of a Franka 1 m from another, after the reset."""
+    world = fresh()
+    world.scene.add(Franka("/World/F1", name="f1", position=[0, 0, 0]))
+    f2 = world.scene.add(Franka("/World/F2", name="f2", position=[0, 1.0, 0]))
+    world.reset()
+    sim = f2._core.sim
+    cores = sim.robot_cores
+    sim.robot_cores = cores if check else ()
+    t = time.perf_counter()
+    for i in range(n):
+        f2.set_world_pose(position=[0.0, 1.0 + 0.001 * (i % 2), 0.0])
+    dt = (time.perf_counter() - t) / n
+    sim.robot_cores = cores
+    return dt
+
+
+def closes(n: int, pull: bool) -> float:
+    """Mean seconds per `SurfaceGripper.close()` + `open()` on the cube 4 mm below the flange."""
+    _, gripper = ur10_holding(False)
+    original = SurfaceGripper._pull
+    if not pull:
+        SurfaceGripper._pull = lambda self, body, axis, gap: gap
+    try:
+        t = time.perf_counter()
+        for _ in range(n):
+            gripper.close()
+            gripper.open()
+        return (time.perf_counter() - t) / n
+    finally:
+        SurfaceGripper._pull = original
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--rounds", type=int, default=3)
@@ -104,6 +141,11 @@ def main() -> None:
         print(f"reset with check {a * 1e3:.2f} ms, without {b * 1e3:.2f} ms, ratio {a / b:.3f}; "
               f"step gripper closed {c * 1e3:.3f} ms, open {d * 1e3:.3f} ms, ratio {c / d:.3f}")
     print(f"SurfaceGripper.update() alone (closed): {update_cost() * 1e6:.1f} us per call")
+    for _ in range(args.rounds):
+        a, b = moves(2000, True), moves(2000, False)
+        c, d = closes(500, True), closes(500, False)
+        print(f"set_world_pose with check {a * 1e6:.1f} us, without {b * 1e6:.1f} us, ratio {a / b:.2f}; "
+              f"close+open with pull-in {c * 1e6:.1f} us, without {d * 1e6:.1f} us, ratio {c / d:.2f}")
 
 
 if __name__ == "__main__":

@@ -45,12 +45,12 @@ def main(argv: list[str] | None = None) -> int:
     goal = Pose(ready.position + np.array([0.10, 0.0, -0.10]), ready.quaternion)
     r = mg.ik(goal)  # seeded at the default configuration; the solution is the nearest found
     show("single goal", r)
-    ok &= r.success
+    ok &= bool(r.success)
 
     # The same goal from a seed: the solution nearest the seed.
     r2 = mg.ik(goal, seed_q=r.q + 0.05)
     show("same goal, seeded near the first answer", r2)
-    ok &= r2.success and bool(np.allclose(r2.q, r.q, atol=1e-2))
+    ok &= bool(r2.success) and bool(np.allclose(r2.q, r.q, atol=1e-2))
 
     # 2. A batch: the poses of random configurations within the limits (all reachable).
     rng = np.random.default_rng(args.seed)

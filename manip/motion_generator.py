@@ -77,7 +77,7 @@ from manip.planning.linear_motion import (
 )
 from manip.planning.options import PlanOptions
 from manip.planning.pipeline import plan_to_configs
-from manip.planning.result import PlanResult
+from manip.planning.result import PlanResult, PlanResults
 from manip.planning.validity import Validity
 from manip.pose import Pose
 from manip.robot_arms import arm_specs, state_columns
@@ -503,9 +503,10 @@ class MotionGenerator(WorldEdits):
         return plan_to_poses(ctx, validity, start, goals, link, kinematics=kin, ik_solver=solver, limits=kin.limits,
                              clearance=self.clearance)
 
-    def plan_batch(self, start_qs, goals, link: str | None = None, **options) -> list[PlanResult]:
+    def plan_batch(self, start_qs, goals, link: str | None = None, **options) -> PlanResults:
         """Plan several problems: `goals` is (N, dof) joint goals, a batched Pose or a list of Poses.
-        One start (dof,) serves every goal; no goals (N = 0, an empty list too) give []."""
+        One start (dof,) serves every goal; no goals (N = 0, an empty list too) give []. A list of
+        N PlanResults with cuRobo's batch reads (`.success` (N,), `PlanResults`)."""
         start_qs = np.atleast_2d(self.kinematics.check_q(self._arm_q(start_qs, "start_qs"), "start_qs"))
         if isinstance(goals, (list, tuple)) and not goals:
             goals = np.zeros((0, self.robot_dof))
@@ -522,7 +523,7 @@ class MotionGenerator(WorldEdits):
         if len(start_qs) != len(goal_list):
             raise InvalidInputError(f"plan_batch needs as many start_qs as goals; got {len(start_qs)} and {len(goal_list)}")
         PlanOptions().updated(options)  # a bad option fails before any planning
-        out = []
+        out = PlanResults()
         for s, g in zip(start_qs, goal_list):
             if isinstance(g, Pose):
                 out.append(self.plan_pose(s, g, link, **options))

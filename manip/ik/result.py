@@ -56,12 +56,14 @@ class IKResult:
     """Result of one IK query.
 
     Attributes:
-        success: True when `q` reaches the goal within the tolerances and the joint limits (a 0-d
-            bool `HostArray`: `bool()`, `==`, `.item()` (a Python bool), `.cpu()`, as cuRobo's tensor).
+        success: True when `q` reaches the goal within the tolerances and the joint limits, a
+            (1, 1) bool `HostArray` as cuRobo's `IKResult.success` of `solve_single` (batch, seeds):
+            `bool()`, `if`, `[0]`, `.item()` (a Python bool), `.cpu()` as on cuRobo's tensor.
         q: (dof,) the solution, or the best configuration found when `success` is False
             (always within the joint limits).
-        position_error: distance [m] between the goal and the link's position at `q`.
-        rotation_error: angle [rad] between the goal and the link's orientation at `q`.
+        position_error: distance [m] between the goal and the link's position at `q`, (1, 1) as
+            cuRobo's (`float()`, `.item()` and `f"{...:.4f}"` read the number).
+        rotation_error: angle [rad] between the goal and the link's orientation at `q`, (1, 1).
         status: why it succeeded or failed (see `IKStatus.hint`).
         iterations: solver iterations over all attempts.
         solve_time: wall time [s].
@@ -83,9 +85,9 @@ class IKResult:
 
     def __post_init__(self):
         # cuRobo's IKResult holds tensors: `result.success.item()`, `.cpu()`, `.tolist()` run as written
-        object.__setattr__(self, "success", host(bool(self.success)))
-        object.__setattr__(self, "position_error", np.float64(self.position_error))
-        object.__setattr__(self, "rotation_error", np.float64(self.rotation_error))
+        object.__setattr__(self, "success", host(bool(self.success), shape=(1, 1)))
+        object.__setattr__(self, "position_error", host(float(self.position_error), np.float64, (1, 1)))
+        object.__setattr__(self, "rotation_error", host(float(self.rotation_error), np.float64, (1, 1)))
 
     def __getattr__(self, name: str):
         # only for missing names: cuRobo's (solution, js_solution, ...) say where manip has them
@@ -100,6 +102,8 @@ class BatchIKResult:
 
     Attributes:
         success: (N,) bool (a `HostArray`: `.cpu().numpy()` as cuRobo's tensor; so are the errors).
+            cuRobo's is (N, 1) (one seed returned per goal) with `solution` (N, 1, dof); manip's `q`
+            is (N, dof), so `q[success]` is cuRobo's `solution[success]`.
         q: (N, dof) solutions (the best configuration found where `success` is False).
         position_error: (N,) [m].
         rotation_error: (N,) [rad].
@@ -178,8 +182,8 @@ class IKSolutions:
 
     @property
     def success(self) -> HostArray:
-        """True when at least one solution was found (a 0-d bool array: `.item()` is a bool)."""
-        return host(self.status is IKStatus.SUCCESS)
+        """True when at least one solution was found (a (1,) bool array: `.item()` is a bool)."""
+        return host(self.status is IKStatus.SUCCESS, shape=(1,))
 
     def __len__(self) -> int:
         return self.q.shape[0]

@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from manip import curobo_names
-from manip.host_array import host
+from manip.host_array import HostArray, host
 from manip.status import Status, truth_is_success
 from manip.trajectory import Trajectory
 
@@ -79,9 +79,10 @@ class PlanResult:
 
     Attributes:
         success: True when `trajectory` is valid (certified collision-free over its continuous
-            motion, within all limits, at rest at both ends, at the goal). A 0-d bool `HostArray`:
-            `if result.success:`, `==` and `repr` as a bool; `.item()` (a Python bool), `.cpu()`,
-            `.numpy()`, `.tolist()` as on cuRobo's tensor (`manip.host_array`).
+            motion, within all limits, at rest at both ends, at the goal). A (1,) bool `HostArray`,
+            the shape of cuRobo's `MotionGenResult.success` for one plan: `if result.success:`,
+            `bool()`, `result.success[0]`, `.item()` (a Python bool), `.cpu()`, `.numpy()`,
+            `.tolist()` (`[True]`) as on cuRobo's tensor (`manip.host_array`).
         status: why it succeeded or failed (`status.hint` says what to change).
         trajectory: the timed trajectory (None on failure).
         path: (K, dof) collision-free joint-space waypoints the trajectory follows (None if
@@ -90,8 +91,9 @@ class PlanResult:
         timings: seconds per stage ("ik", "plan", "optimize" (shortcutting), "restarts"
             (more searches after a detour), "trajopt", "timing", "validate", "other" (input and
             start/goal checks: everything outside the named stages) and "total", their sum).
-        position_error: final link position error [m] (pose goals; 0 for joint goals).
-        rotation_error: final link rotation error [rad] (pose goals; 0 for joint goals).
+        position_error: final link position error [m] (pose goals; 0 for joint goals), (1,) as
+            cuRobo's: `.item()`, `float()` and `f"{...:.4f}"` read the number.
+        rotation_error: final link rotation error [rad] (pose goals; 0 for joint goals), (1,).
         attempts: planning attempts used.
         goal_index: for goal sets, the index of the pose reached.
         message: a human-readable detail of the status.
@@ -118,9 +120,9 @@ class PlanResult:
     def __post_init__(self):
         # cuRobo's results hold tensors: `result.success.item()`, `.cpu().numpy()`, `.tolist()` and
         # `result.position_error.item()` run as written (`manip.host_array`)
-        object.__setattr__(self, "success", host(bool(self.success)))
-        object.__setattr__(self, "position_error", np.float64(self.position_error))
-        object.__setattr__(self, "rotation_error", np.float64(self.rotation_error))
+        object.__setattr__(self, "success", host(bool(self.success), shape=(1,)))
+        object.__setattr__(self, "position_error", host(float(self.position_error), np.float64, (1,)))
+        object.__setattr__(self, "rotation_error", host(float(self.rotation_error), np.float64, (1,)))
 
     @property
     def plan_time(self) -> float:
@@ -134,6 +136,39 @@ class PlanResult:
 
     def __getattr__(self, name: str):
         # only for missing names: cuRobo's (get_interpolated_plan, ...) say where manip has them
+        if name.startswith("__"):
+            raise AttributeError(name)
+        raise curobo_names.missing(type(self).__name__, curobo_names.RESULT, name)
+
+
+class PlanResults(list):
+    """What `plan_batch` returns: the N `PlanResult`s in order (a list: `results[i]`, `len`,
+    iteration), also read as cuRobo's batched `MotionGenResult`: `success` (N,) bool and
+    `position_error` / `rotation_error` (N,) `HostArray`s (`.cpu().numpy()`, `.all()`,
+    `.tolist()`), `status` (N statuses); `get_paths()` the N trajectories (None where failed)."""
+
+    @property
+    def success(self) -> HostArray:
+        return host(np.array([bool(r.success) for r in self], dtype=bool).reshape(len(self)))
+
+    @property
+    def position_error(self) -> HostArray:
+        return host(np.array([float(r.position_error) for r in self], dtype=float).reshape(len(self)))
+
+    @property
+    def rotation_error(self) -> HostArray:
+        return host(np.array([float(r.rotation_error) for r in self], dtype=float).reshape(len(self)))
+
+    @property
+    def status(self) -> list[PlanStatus]:
+        return [r.status for r in self]
+
+    def get_paths(self) -> list[Trajectory | None]:
+        """cuRobo's per-problem trajectories: each result's `trajectory` (None where it failed)."""
+        return [r.trajectory for r in self]
+
+    def __getattr__(self, name: str):
+        # only for missing names: cuRobo's result names say where manip has them (on each result)
         if name.startswith("__"):
             raise AttributeError(name)
         raise curobo_names.missing(type(self).__name__, curobo_names.RESULT, name)

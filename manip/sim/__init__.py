@@ -99,7 +99,14 @@ from manip.sim.scenes.stage import (
     update_stage,
     update_stage_async,
 )
-from manip.sim.utils.types import DynamicState, DynamicsViewState, JointsState, XFormPrimState, XFormPrimViewState
+from manip.sim.utils.types import (
+    ArticulationActions,
+    DynamicState,
+    DynamicsViewState,
+    JointsState,
+    XFormPrimState,
+    XFormPrimViewState,
+)
 from manip.sim.utils.prims import (
     create_prim,
     delete_prim,
@@ -115,6 +122,21 @@ from manip.sim.utils.prims import (
 from manip.sim.core.world import World, clear_stage
 from manip.sim.utils.extensions import disable_extension, enable_extension
 from manip.sim.utils.viewports import set_camera_view
+from manip.sim.utils.transformations import (
+    get_relative_transform,
+    get_transform_with_normalized_rotation,
+    get_translation_from_target,
+    get_world_pose_from_relative,
+    pose_from_tf_matrix,
+    tf_matrices_from_poses,
+    tf_matrix_from_pose,
+)
+from manip.sim.utils.distance_metrics import (
+    rotational_distance_angle,
+    rotational_distance_identity_matrix_deviation,
+    rotational_distance_single_axis,
+    weighted_translational_distance,
+)
 
 SingleXFormPrim = XFormPrim
 SingleRigidPrim = RigidPrim
@@ -155,7 +177,7 @@ from manip.sim.motion_generation import (
 
 #: Every name a ported Isaac script imports (no submodules: `from manip.sim import *` binds names only).
 __all__ = [
-    "Articulation", "ArticulationAction", "ArticulationController", "ArticulationKinematicsSolver",
+    "Articulation", "ArticulationAction", "ArticulationActions", "ArticulationController", "ArticulationKinematicsSolver",
     "ArticulationMotionPolicy", "ArticulationSubset", "ArticulationView", "BaseController",
     "BaseSample", "BaseSampleExtension", "BaseTask", "Camera", "CameraView", "CollisionObject", "DOF_PROPERTIES_DTYPE",
     "DifferentialController", "DynamicCapsule", "DynamicCone", "DynamicCuboid", "DynamicCylinder", "DynamicSphere",
@@ -179,6 +201,11 @@ __all__ = [
     "resolve_asset_path", "robot_model_path", "rot_matrix_to_euler_angles", "rot_matrix_to_quat", "save_stage",
     "set_camera_view",
     "update_stage", "update_stage_async",
+    # omni.isaac.core.utils.transformations and .distance_metrics
+    "get_relative_transform", "get_transform_with_normalized_rotation", "get_translation_from_target",
+    "get_world_pose_from_relative", "pose_from_tf_matrix", "tf_matrices_from_poses", "tf_matrix_from_pose",
+    "rotational_distance_angle", "rotational_distance_identity_matrix_deviation", "rotational_distance_single_axis",
+    "weighted_translational_distance",
     # isaacsim.core.utils.numpy.rotations (batched)
     "deg2rad", "euler_angles_to_quats", "quats_to_euler_angles", "quats_to_rot_matrices", "quats_to_rotvecs",
     "rad2deg", "rot_matrices_to_quats", "rotvecs_to_quats", "wxyz2xyzw", "xyzw2wxyz",

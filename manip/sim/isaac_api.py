@@ -280,12 +280,8 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
         "apply_visual_materials": "apply a material to each object (GeometryPrim.apply_visual_material)",
         "get_applied_visual_materials": "read each object's material (GeometryPrim.get_applied_visual_material)",
         "set_local_scales": "a scale is fixed when the World compiles: set it on each object before a reset",
-        "get_visibilities": "read each object's visibility (get_visibility)",
-        "set_visibilities": "set each object's visibility (set_visibility)",
     },
     "RigidPrimView": {
-        "set_masses": "set each object's mass (RigidPrim.set_mass)",
-        "get_densities": "read each object's density (RigidPrim.get_density)",
         "set_densities": "set each object's density before the World compiles",
         "set_coms": "the centre of mass follows the shape (MuJoCo computes it when the World compiles)",
         "set_inertias": "the inertia follows the shape (MuJoCo computes it when the World compiles)",
@@ -362,18 +358,23 @@ DIFFERS: dict[str, dict[str, str]] = {
                                                     "whatever it says, as PhysX's primitive shapes do",
                      "set_collision_approximation": "kept for the getter; primitives collide exactly whatever it "
                                                     "says, as PhysX's primitive shapes do"},
-    "SurfaceGripper": {"close": "a MuJoCo weld to the free body the grip ray hits, held where it was touched "
-                                "(Isaac pulls it in by up to grip_threshold)",
+    "SurfaceGripper": {"close": "a MuJoCo weld to the free body the grip ray hits, pulling it in along the axis "
+                                "onto the grip point (or until it touches the robot); the weld is stiff: kp / kd "
+                                "are not used (other values than Isaac's 100 warn)",
                        "initialize": "the gripper binds when the World compiles; initialize() checks it did"},
     "GeometryPrimView": {"set_collision_approximations": "kept for the getter; primitives collide exactly, as "
                                                          "PhysX's primitive shapes do"},
     "RigidPrimView": {"get_net_contact_forces": "contact impulses over the step / dt, as Isaac; MuJoCo's soft "
                       "contacts, summed per body"},
-    "Articulation": {"set_joint_positions": "a position past a limit is set with a warning; the next step puts it "
+    "Articulation": {"set_world_pose": "after the reset, a pose inside another robot raises RobotsOverlapError "
+                                       "and the robot stays where it was (PhysX would push them apart)",
+                     "set_joint_positions": "a position past a limit is set with a warning; the next step puts it "
                      "back on the limit (PhysX pushes it back too)",
                      "disable_gravity": "each body's weight cancelled at its centre of mass (was a no-op: MuJoCo's "
                                         "gravcomp needs bodies compiled with it)"},
-    "ArticulationView": {"get_jacobians": "MuJoCo's body-origin Jacobians in Isaac's layout"},
+    "ArticulationView": {"get_jacobians": "MuJoCo's body-origin Jacobians in Isaac's layout",
+                         "set_world_poses": "after the reset, a pose inside another robot raises RobotsOverlapError "
+                                            "and the robot stays where it was"},
     "Camera": {"set_focus_distance": "kept, not rendered (no depth of field)",
                "set_lens_aperture": "kept, not rendered (no depth of field)",
                "set_stereo_role": "kept; the images are the same"},
@@ -400,6 +401,13 @@ ISAAC_FUNCTIONS: dict[str, tuple[str, ...]] = {
     "omni.isaac.core.utils.string": ("find_unique_string_name",),
     "omni.isaac.core.utils.viewports": ("set_camera_view",),
     "omni.isaac.core.utils.extensions": ("enable_extension", "disable_extension", "get_extension_path_from_name"),
+    "omni.isaac.core.utils.transformations": ("tf_matrix_from_pose", "pose_from_tf_matrix", "tf_matrices_from_poses",
+                                              "get_relative_transform", "get_translation_from_target",
+                                              "get_world_pose_from_relative",
+                                              "get_transform_with_normalized_rotation"),
+    "omni.isaac.core.utils.distance_metrics": ("weighted_translational_distance", "rotational_distance_angle",
+                                               "rotational_distance_identity_matrix_deviation",
+                                               "rotational_distance_single_axis"),
     "omni.isaac.motion_generation.interface_config_loader": (
         "get_supported_robot_policy_pairs", "load_supported_motion_policy_config",
         "get_supported_robots_with_lula_kinematics", "load_supported_lula_kinematics_solver_config"),

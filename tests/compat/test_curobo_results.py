@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from manip import InvalidInputError, MotionGenerator, Pose
-from manip.host_array import HostArray
+from manip.host_array import HostArray, host
 
 TABLE = {"cuboid": {"table": {"dims": [0.8, 1.2, 0.04], "pose": [0.55, 0, -0.02, 1, 0, 0, 0]}}}
 DOWN = [0, 1, 0, 0]  # (w, x, y, z): the hand pointing down
@@ -31,17 +31,22 @@ def mg() -> MotionGenerator:
 def test_plan_result_success_reads_as_curobos_tensor(mg):
     result = mg.plan_pose(mg.default_joint_positions, REACHABLE)
     assert result.success.item() is True                     # `if result.success.item():`
-    assert result.success.cpu().numpy().item() is True and result.success.tolist() is True
+    assert result.success.cpu().numpy().item() is True and result.success.tolist() == [True]
     assert result.success.detach().cpu() == True and bool(result.success)
-    assert repr(result.success) == "True" and str(result.success) == "True"
     assert isinstance(result.position_error.item(), float) and result.position_error.item() < 1e-3
-    assert {result.success: 1}[True] == 1                    # hashable as the bool it holds
+    # cuRobo's MotionGenResult of plan_single holds (1,) tensors: `result.success[0]` indexes them
+    # (it raised IndexError on a 0-d array), and they convert and format as the number they hold
+    assert result.success.shape == (1,) and result.position_error.shape == result.rotation_error.shape == (1,)
+    assert result.success[0] and result.success[0].item() is True and bool(result.success[0])
+    assert float(result.position_error) < 1e-3 and f"{result.position_error:.2f}" == "0.00"
+    assert int(result.success) == 1 and f"{result.success}" == "True"
     # a failed plan: False the same way, and a replace() keeps the type
     failed = mg.plan_pose(mg.default_joint_positions, IN_TABLE)
-    assert failed.success.item() is False and not failed
+    assert failed.success.item() is False and not failed and not failed.success[0]
     assert replace(failed, success=True).success.item() is True
-    # a list of them makes a bool array (success rates), and results pickle (manip.batch)
-    assert np.array([result.success, failed.success]).dtype == bool
+    assert replace(failed, success=True).success.shape == (1,)
+    # a list of them stacks into a (B, 1) bool array, as torch.stack / cat would give (B,)
+    assert np.concatenate([result.success, failed.success]).tolist() == [True, False]
     assert pickle.loads(pickle.dumps(result)).success.item() is True
     with pytest.raises(InvalidInputError, match="CPU"):
         result.success.cuda()
@@ -50,9 +55,32 @@ def test_plan_result_success_reads_as_curobos_tensor(mg):
         result.success.to("cuda:0")
 
 
+def test_batch_plan_results_read_as_curobos_batched_result(mg):
+    """`plan_batch` gives the N results in a list that also reads as cuRobo's batched
+    MotionGenResult: `result.success` (N,) (an AttributeError on a list before)."""
+    results = mg.plan_batch(mg.default_joint_positions, [REACHABLE, IN_TABLE])
+    assert isinstance(results, list) and len(results) == 2 and results[0].success.item() is True
+    assert isinstance(results.success, HostArray) and results.success.shape == (2,)
+    assert results.success.cpu().numpy().tolist() == [True, False] and not results.success.all()
+    assert results.position_error.shape == (2,) and results.position_error[0] < 1e-3
+    assert [s.name for s in results.status] == ["SUCCESS", "IK_FAIL"]
+    paths = results.get_paths()
+    assert paths[0] is results[0].trajectory and paths[1] is None
+    with pytest.raises(AttributeError, match="no 'interpolation_dt' \\(cuRobo's name\\); manip's equivalent"):
+        _ = results.interpolation_dt
+    assert mg.plan_batch(mg.default_joint_positions, []) == [] and mg.plan_batch(
+        mg.default_joint_positions, []).success.shape == (0,)
+    assert np.concatenate([r.success for r in results]).tolist() == [True, False]
+    with pytest.raises(TypeError, match=r"one-element arrays convert to float; this one has shape \(2,\)"):
+        float(host([1.0, 2.0]))
+
+
 def test_ik_results_read_as_curobos_tensors(mg):
     one = mg.ik(REACHABLE)
     assert one.success.item() is True and one.position_error.item() < 1e-3
+    # cuRobo's solve_single gives (batch, seeds) = (1, 1) tensors
+    assert one.success.shape == one.position_error.shape == one.rotation_error.shape == (1, 1)
+    assert one.success[0][0] and one.success[0].item() is True and f"{one.position_error:.1f}" == "0.0"
     batch = mg.batch_ik(Pose.stack([REACHABLE, IN_TABLE]), collision_free=True)
     assert isinstance(batch.success, HostArray)
     np.testing.assert_array_equal(batch.success.cpu().numpy(), [True, False])
@@ -60,6 +88,7 @@ def test_ik_results_read_as_curobos_tensors(mg):
     assert batch.success.tolist() == [True, False] and batch.position_error.cpu().numpy().shape == (2,)
     assert not batch.success.flags.writeable
     assert mg.ik_solver.solve_many(REACHABLE, n=2).success.item() is True
+    assert batch[0].success.shape == (1, 1) and batch[1].success.item() is False
 
 
 def test_num_seeds_per_call_is_curobos_name_of_max_attempts(mg):

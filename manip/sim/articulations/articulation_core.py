@@ -26,6 +26,7 @@ from manip import quaternion as quat
 from manip.articulation_action import ArticulationAction
 from manip.errors import InvalidInputError
 from manip.robot_config import CONFIG_FILE, load_robot_config
+from manip.sim.scenes.robot_overlaps import RobotsOverlapError, check_moved_robot
 from manip.sim.scenes.stage import ReferencePrim, SimHandle, SimulationError
 from manip.sim.utils import bounds
 
@@ -333,7 +334,31 @@ class ArticulationCore:
 
     def set_root_pose(self, position: np.ndarray, orientation: np.ndarray) -> None:
         """Teleport the model's frame to `position` (3,) [m], `orientation` (4,) (w, x, y, z)
-        (validated by the caller); a fixed base moves with it."""
+        (validated by the caller); a fixed base moves with it. Into another robot, it raises
+        `RobotsOverlapError` and the robot stays where it was (`scenes.robot_overlaps`)."""
+        before = self._root_state()
+        self._place_root(position, orientation)
+        cores = list(self.sim.robot_cores)
+        if len(cores) > 1:
+            try:
+                check_moved_robot(self, cores)
+            except RobotsOverlapError:
+                self._restore_root(before)
+                raise
+
+    def _root_state(self) -> tuple:
+        m, d = self.sim.model, self.sim.data
+        free = d.qpos[self.free_qadr:self.free_qadr + 7].copy() if self.free_qadr >= 0 else None
+        return free, m.body_pos[self.root_ids].copy(), m.body_quat[self.root_ids].copy()
+
+    def _restore_root(self, state: tuple) -> None:
+        free, pos, rot = state
+        if free is not None:
+            self.sim.data.qpos[self.free_qadr:self.free_qadr + 7] = free
+        self.sim.model.body_pos[self.root_ids], self.sim.model.body_quat[self.root_ids] = pos, rot
+        self.sim.mark_stale()
+
+    def _place_root(self, position: np.ndarray, orientation: np.ndarray) -> None:
         R = quat.to_matrix(orientation)
         m, d = self.sim.model, self.sim.data
         for k, b in enumerate(self.root_ids):

@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import logging
 import math
+import weakref
 from pathlib import Path
 from typing import ClassVar
 
@@ -299,6 +300,7 @@ class SimulationContext(SimulationCallbacks):
             else:
                 prim.bind_simulation(sim)
         self._cores = cores
+        sim.robot_cores = weakref.WeakSet(cores)  # weak: a core holds the handle (no cycle keeps the model)
         self._warnings.watch(sim.data)
         for w in self._stage.wrappers():
             w.bind_simulation(sim)

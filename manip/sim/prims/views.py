@@ -26,7 +26,7 @@ from manip.sim.scenes.stage import SimHandle, SimulationError, get_current_stage
 from manip.sim.utils.bounds import check_bounded_rows
 from manip.sim.utils.not_supported import declare as declare_not_supported
 from manip.sim.utils.types import DynamicsViewState, XFormPrimViewState
-from manip.validation import batch
+from manip.validation import as_real_array, batch
 
 logger = logging.getLogger(__name__)
 
@@ -271,6 +271,32 @@ class XFormPrimView:
         """Same as `get_local_scales` (no parent transforms)."""
         return self.get_local_scales(indices)
 
+    def _shapes(self, indices, what: str) -> list:
+        """The scene objects (shapes, XFormPrims) of `indices`; a robot's link raises naming `what`."""
+        self._need()
+        stage = get_current_stage()
+        out = []
+        for i in self._idx(indices):
+            prim = stage.get_prim(self._paths[i])
+            if prim is None:
+                raise SimulationError(f"{what}: {self._paths[i]!r} is a link of a referenced robot, not an object of "
+                                      "the scene (only objects have it here)")
+            out.append(prim)
+        return out
+
+    def get_visibilities(self, indices=None) -> np.ndarray:
+        """(K,) bool: whether each matched object is drawn."""
+        return np.array([p.get_visibility() for p in self._shapes(indices, "get_visibilities")], dtype=bool)
+
+    def set_visibilities(self, visibilities, indices=None) -> None:
+        """Show or hide (K,) bool the matched objects (drawn only: collisions are unchanged, as Isaac's)."""
+        prims = self._shapes(indices, "set_visibilities")
+        v = np.asarray(visibilities).reshape(-1)
+        if v.size != len(prims) or v.dtype.kind not in "bi" or not np.all((v == 0) | (v == 1)):
+            raise InvalidInputError(f"visibilities must be {len(prims)} bools; got {visibilities!r}")
+        for prim, visible in zip(prims, v):
+            prim.set_visibility(bool(visible))
+
     def get_local_poses(self, indices=None):
         """Positions (K, 3) [m] and orientations (K, 4) in each prim's parent frame: a robot
         link's in its model's frame (as `XFormPrim.get_local_pose`), any other prim's in the
@@ -294,12 +320,13 @@ class RigidPrimView(XFormPrimView):
     def __init__(self, prim_paths_expr: str, name: str = "rigid_prim_view", positions=None, translations=None,
                  orientations=None, scales=None, visibilities=None, reset_xform_properties: bool = True, **kwargs):
         """Args as `XFormPrimView`; Isaac's PhysX options are accepted at their defaults only
-        (`RIGID_VIEW_OPTIONS`; contact sensors, per-view masses and velocities are not
-        available: set them on the objects).
+        (`RIGID_VIEW_OPTIONS`; masses, densities and velocities at construction are not
+        available: `set_masses` / `set_velocities` after the reset).
 
         Raises:
             InvalidInputError: an unknown keyword, or an option other than its default.
         """
+        self._links: dict[str, RigidPrim] = {}  # wrappers of robot links whose masses were set
         filters = kwargs.pop("contact_filter_prim_paths_expr", None) or []
         for key in CONTACT_OPTIONS[:2] + CONTACT_OPTIONS[3:]:
             kwargs.pop(key, None)  # contact forces are always available here
@@ -357,6 +384,29 @@ class RigidPrimView(XFormPrimView):
         """(K,) [kg]."""
         sim = self._need()
         return sim.model.body_mass[self._bodies[self._idx(indices)]].copy()
+
+    def set_masses(self, masses, indices=None) -> None:
+        """Set (K,) masses [kg] (each inertia scaled with its mass), at once and kept when the World
+        compiles again (domain randomisation of Isaac's views); a robot's link too."""
+        idx = self._idx(indices)
+        m = as_real_array(masses, "masses").reshape(-1)
+        if m.shape != (idx.size,):
+            raise InvalidInputError(f"masses must be {idx.size} values [kg] (one per prim); got shape {np.shape(masses)}")
+        for k, i in enumerate(idx):
+            self._rigid(i).set_mass(float(m[k]))
+
+    def get_densities(self, indices=None) -> np.ndarray:
+        """(K,) [kg/m^3]: each object's mass over its shape's volume (objects only)."""
+        return np.array([p.get_density() for p in self._shapes(indices, "get_densities")], dtype=float)
+
+    def _rigid(self, i: int):
+        """The RigidPrim of matched prim `i`: the scene object, or a wrapper of a robot's link."""
+        prim = get_current_stage().get_prim(self._paths[i])
+        if prim is None or not hasattr(prim, "set_mass"):
+            if self._paths[i] not in self._links:
+                self._links[self._paths[i]] = RigidPrim(self._paths[i])
+            prim = self._links[self._paths[i]]
+        return prim
 
     def bind_simulation(self, sim: SimHandle) -> None:
         super().bind_simulation(sim)

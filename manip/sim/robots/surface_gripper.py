@@ -9,26 +9,32 @@ as a MuJoCo weld constraint.
 
 Isaac casts a ray from the grip point (the end effector's origin moved `translate` [m] along
 its `direction` axis) along that axis and joins the first rigid body within `grip_threshold`
-[m] with a D6 joint. Here the compiled model holds one inactive weld equality per surface
-gripper (its end effector's body to the world); `close()` casts the same ray (MuJoCo's
-`mj_ray`) and, when it hits a free body (a Dynamic object) within `grip_threshold`, points the
-weld at that body with their current relative pose and activates it: the object then moves
-with the end effector, its weight and inertia carried by the arm through the constraint.
+[m] with a D6 joint that pulls it in onto the grip point. Here the compiled model holds one
+inactive weld equality per surface gripper (its end effector's body to the world); `close()`
+casts the same ray (MuJoCo's `mj_ray`) and, when it hits a free body (a Dynamic object) within
+`grip_threshold`, points the weld at that body and activates it, with the object's pose relative
+to the end effector as it is but moved along the axis by the gap, so that the constraint pulls
+the touched point onto the grip point (in a few 10 ms) and holds it there, the object's
+orientation unchanged (less where the robot's own collision geometry is nearer: pressed into
+it, the object would be tilted by the contact); the object then moves with the end effector,
+its weight and inertia carried by the arm through the constraint.
 `open()` deactivates it. After every physics step (and at `update()`), the weld's force and
 torque are compared with `force_limit` [N] and `torque_limit` [N m] and the object's turn
 from its gripped orientation with `bend_angle` [rad]: past any of them the grip breaks (the
 gripper opens), as PhysX breaks the joint. `disable_gravity=True` (Isaac's default) cancels
 the held object's weight while it is held.
 
-Differences from Isaac: the object is held where it was touched (Isaac pulls it in by up to
-`grip_threshold`); `kp` / `kd` are kept for their getters only (the weld is MuJoCo's stiff
-constraint); a gripper made after a `world.reset()` is in the model from the next reset.
+Differences from Isaac: `kp` / `kd` (the D6 joint's stiffness and damping in Isaac) are not
+used: the weld is MuJoCo's stiff constraint (`WELD_SOLREF`), so the pull-in takes a few 10 ms
+whatever they are, and a value other than Isaac's defaults (100, 100) is warned about (once per
+gripper); a gripper made after a `world.reset()` is in the model from the next reset.
 """
 
 from __future__ import annotations
 
 import logging
 import math
+import warnings
 
 import mujoco
 import numpy as np
@@ -45,6 +51,8 @@ logger = logging.getLogger(__name__)
 AXES = {"x": 0, "y": 1, "z": 2}
 #: MuJoCo's solref of the weld (time constant [s], damping ratio): stiff at the 1-2 ms substeps.
 WELD_SOLREF = (0.01, 1.0)
+#: Isaac's defaults of the D6 joint's stiffness and damping (not used here: other values warn).
+DEFAULT_KP = DEFAULT_KD = 1.0e2
 
 
 class SurfaceGripper:
@@ -59,7 +67,8 @@ class SurfaceGripper:
         force_limit: force [N] that breaks the grip.
         torque_limit: torque [N m] that breaks the grip.
         bend_angle: turn [rad] of the object from its gripped orientation that breaks the grip.
-        kp, kd: Isaac's joint stiffness and damping (kept; the weld is MuJoCo's constraint).
+        kp, kd: Isaac's joint stiffness and damping (kept for reading; not used, see the module
+            docstring: other values than 100 warn).
         disable_gravity: no gravity on a held object.
 
     Raises:
@@ -77,6 +86,10 @@ class SurfaceGripper:
         self.set_torque_limit(torque_limit)
         self._bend = positive(bend_angle, "bend_angle", "rad")
         self.kp, self.kd = non_negative(kp, "kp"), non_negative(kd, "kd")
+        if (self.kp, self.kd) != (DEFAULT_KP, DEFAULT_KD):
+            warnings.warn(f"SurfaceGripper at {self.prim_path}: kp={self.kp:g}, kd={self.kd:g} are not used (manip's "
+                          "grip is MuJoCo's stiff weld, which pulls the object onto the grip point in a few 10 ms "
+                          "whatever the stiffness; Isaac's D6 joint uses them)", UserWarning, stacklevel=2)
         self._disable_gravity = bool(disable_gravity)
         self._default_opened = True
         self._sim: SimHandle | None = None
@@ -172,17 +185,45 @@ class SurfaceGripper:
         if jnt < 0 or m.jnt_type[jnt] != mujoco.mjtJoint.mjJNT_FREE:
             logger.info("SurfaceGripper at %s: %s is not a free rigid body; stays open", self.prim_path, m.body(body).name)
             return
+        distance = self._pull(body, axis, distance)
         x1, q1 = d.xpos[self._body], d.xquat[self._body]
         x2, q2 = d.xpos[body], d.xquat[body]
         m.eq_obj2id[self._eq] = body
         m.eq_data[self._eq, :] = 0.0
-        m.eq_data[self._eq, 3:6] = d.xmat[self._body].reshape(3, 3).T @ (x2 - x1)
+        # the object's pose in the end effector's frame, moved by the gap: its touched point on the grip point
+        m.eq_data[self._eq, 3:6] = d.xmat[self._body].reshape(3, 3).T @ (x2 - distance * axis - x1)
         m.eq_data[self._eq, 6:10] = quat.multiply(quat.conjugate(q1), q2)
         m.eq_data[self._eq, 10] = 1.0  # torquescale
         d.eq_active[self._eq] = 1
         if self._disable_gravity:
             sim.gravity_off.add(body)
             self._lifted = body
+
+    def _pull(self, body: int, axis: np.ndarray, gap: float) -> float:
+        """How far [m] (at most `gap`) the free `body` moves towards the grip point along `axis`
+        before it touches the end effector's robot: a few steps, each by the distance between
+        its geoms and the robot's at that point (MuJoCo collides meshes by their hulls, which a
+        ray misses). The state is left as it was."""
+        m, d = self._sim.model, self._sim.data
+        adr = m.jnt_qposadr[m.body_jntadr[body]]
+        position = d.qpos[adr:adr + 3].copy()
+        ours = np.flatnonzero(m.geom_bodyid == body)
+        robot = np.flatnonzero((m.body_rootid[m.geom_bodyid] == m.body_rootid[self._body])
+                               & ((m.geom_contype | m.geom_conaffinity) > 0))
+        fromto, pulled = np.zeros(6), 0.0
+        try:
+            for _ in range(8):
+                room = min((mujoco.mj_geomDistance(m, d, int(g), int(h), gap - pulled, fromto)
+                            for g in ours for h in robot), default=gap - pulled)
+                pulled += max(room, 0.0)
+                if room < 1e-4 or pulled >= gap:
+                    break
+                d.qpos[adr:adr + 3] = position - pulled * axis
+                mujoco.mj_kinematics(m, d)
+        finally:
+            d.qpos[adr:adr + 3] = position
+            mujoco.mj_kinematics(m, d)
+        return min(pulled, gap)
 
     def open(self) -> None:
         """Let go of the held object (nothing when open)."""

@@ -65,6 +65,9 @@ class SimHandle:
         self.physics_dt: float | None = None
         #: Called after every physics step (a `SurfaceGripper` checks whether its grip broke).
         self.after_step: list = []
+        #: The referenced robots' `ArticulationCore`s, held weakly (a teleported robot is checked
+        #: against them; set by the World when it compiles).
+        self.robot_cores = ()
 
     def ensure_kinematics(self) -> None:
         if self.kinematics_stale:

@@ -97,3 +97,17 @@ def test_a_view_made_before_its_robot_still_applies_its_default_state_last():
     robot.set_joints_default_state(positions=np.zeros(9))
     world.reset()
     np.testing.assert_allclose(robot.get_joint_positions(), HOME, atol=1e-9)
+
+
+def test_a_view_applies_isaacs_batched_articulation_actions(franka):
+    """`from omni.isaac.core.utils.types import ArticulationActions` (an ImportError from manip.sim
+    before): a (1, K) batch of targets drives the view's robot."""
+    from manip.sim import ArticulationActions
+
+    world, robot, view = franka
+    target = np.array([[0.3, -0.5]])
+    view.apply_action(ArticulationActions(joint_positions=target, joint_indices=np.array([0, 1])))
+    for _ in range(120):
+        world.step(render=False)
+    np.testing.assert_allclose(robot.get_joint_positions()[:2], target[0], atol=0.02)
+    np.testing.assert_allclose(view.get_applied_actions().joint_positions[0, :2], target[0])

@@ -64,7 +64,8 @@ def test_a_cube_is_lifted_by_suction_and_released():
     lift(world, ur10)
     held = cube.get_world_pose()[0]
     assert held[2] - start[2] == pytest.approx(0.2, abs=0.005)
-    np.testing.assert_allclose(held - ur10.end_effector.get_world_pose()[0], start - FLANGE.position, atol=2e-3)
+    # held where it was pulled in to: against the wrist's collision hull, 2.8 mm below the flange
+    np.testing.assert_allclose(held - ur10.end_effector.get_world_pose()[0], [0, 0, -0.0028 - 0.025], atol=3e-4)
     gripper.open()
     for _ in range(60):
         world.step(render=False)
@@ -72,6 +73,27 @@ def test_a_cube_is_lifted_by_suction_and_released():
     assert cube.get_world_pose()[0][2] == pytest.approx(start[2], abs=2e-3)   # fell back onto the pedestal
     world.reset()                                   # open again after a reset (the default state)
     assert not gripper.is_closed() and gripper.get_default_state() == {"opened": True}
+
+
+def test_close_pulls_the_object_in_onto_the_grip_point():
+    """Isaac's gripper pulls what its ray finds within grip_threshold in onto the grip point (manip's
+    held it where it was, 8 mm away): here up against the UR10 wrist's collision hull, which
+    reaches 2.8 mm past the flange (the grip point), without turning it; kp / kd, which Isaac's
+    joint uses and manip's weld does not, warn when set."""
+    world, ur10, gripper, cube = ur10_over_a_cube(gap=0.008, grip_threshold=0.01)
+    top = cube.get_world_pose()[0][2] + 0.025
+    assert FLANGE.position[2] - top == pytest.approx(0.008, abs=1e-3)   # resting on the pedestal, 8 mm below
+    gripper.close()
+    for _ in range(30):                             # 0.5 s
+        world.step(render=False)
+    assert gripper.is_closed()
+    flange = ur10.end_effector.get_world_pose()[0]
+    cube_position, cube_orientation = cube.get_world_pose()
+    assert flange[2] - (cube_position[2] + 0.025) == pytest.approx(0.0028, abs=3e-4)   # 5.2 mm up
+    np.testing.assert_allclose(cube_position[:2], flange[:2], atol=1e-3)
+    np.testing.assert_allclose(np.abs(cube_orientation), [1, 0, 0, 0], atol=1e-3)   # not turned
+    with pytest.warns(UserWarning, match=r"kp=1000, kd=100 are not used"):
+        SurfaceGripper("/World/UR10/ee_link", kp=1.0e3)
 
 
 def test_the_grip_breaks_past_its_force_limit():

@@ -131,3 +131,38 @@ def test_ur10_with_a_suction_gripper_picks_and_places_with_the_generic_controlle
     assert sum(ns["held"]) > 100                                   # carried by suction
     np.testing.assert_allclose(ns["cube_position"], ns["goal_position"], atol=0.01)
     assert not ns["gripper"].is_closed()                           # released
+
+
+def test_two_pick_place_tasks_offset_each_place_their_cube():
+    ns = run("multiple_pick_place_tasks.py")
+    assert ns["done"] == [True, True] and ns["tasks_done"] == [True, True] and ns["all_done"]
+    for i, offset in enumerate(([0, -1, 0], [0, 1, 0])):
+        np.testing.assert_allclose(ns["robot_positions"][i], offset, atol=1e-9)   # each task's Franka offset
+        np.testing.assert_allclose(ns["target_positions"][i], np.add([-0.3, -0.3, 0.0515 / 2], offset))
+        assert np.linalg.norm(ns["cube_positions"][i][:2] - ns["target_positions"][i][:2]) < 0.02
+        assert ns["cube_positions"][i][2] == pytest.approx(0.0515 / 2, abs=3e-3)
+        assert ns["hand_tilts"][i] < 0.05                                             # the hand still points down
+    assert ns["metrics"]["distance_to_target"] < 0.02                                 # merged over tasks, as Isaac
+    assert len(ns["physics_steps"]) > 1000 and all(s == pytest.approx(1 / 60) for s in ns["physics_steps"])
+
+
+def test_a_camera_sees_the_cube_picked_and_placed():
+    ns = run("camera_pick_place.py")
+    for (u, v), depth, along_axis, (blue_u, blue_v) in (ns["before"], ns["after"]):
+        assert depth == pytest.approx(along_axis, abs=2e-3)          # the depth image sees the cube's top
+        assert abs(blue_u - u) < 1.5 and abs(blue_v - v) < 1.5       # the blue pixels are where it projects
+    (u0, v0), (u1, v1) = ns["before"][0], ns["after"][0]
+    assert u0 < 40 and v0 < 40 and u1 > 210 and v1 > 210             # from (0.3, 0.3) to (-0.3, -0.3)
+    assert ns["after"][2] == pytest.approx(2.0 - 0.0515, abs=3e-3)   # resting on the ground
+    assert all(f["rgba"] == (256, 256, 4) and f["depth"] == (256, 256) for f in ns["frames"])
+    assert max(f["motion"] for f in ns["frames"]) > 0.5              # the arm moving in the images
+    np.testing.assert_allclose(ns["intrinsics"][:2, 2], [127.5, 127.5])
+
+
+def test_curobo_batch_plan_read_as_a_batch_and_played():
+    """cuRobo's batch demo: `result.success` (2,) and `result.get_paths()` on plan_batch's result (an
+    AttributeError on its list before), each path played on the simulated Franka."""
+    ns = run("motion_gen_batch.py")
+    assert ns["success"].tolist() == [True, True] and ns["result"].success.shape == (2,)
+    assert len(ns["traj"]) == 2 and len(ns["reached"]) == 2
+    assert max(ns["reached"]) < 0.005        # the simulated hand at each goal
