@@ -57,6 +57,7 @@ from manip.sim import (
 
 # ---------------------------------------------------------------------------- the task
 CUBE_SIZE = 0.05  # [m]
+MIN_CUBE_SIZE, MAX_CUBE_SIZE = 0.03, 0.08  # [m] cubes the gripper grasps (it opens to 0.08 m)
 PLACE_POSITION = np.array([0.40, -0.35, CUBE_SIZE / 2])  # the PickPlace task's default target [m]
 PICK_AREA_X = (0.35, 0.65)  # [m] where episodes put the cube
 PICK_AREA_Y = (-0.35, 0.35)
@@ -177,14 +178,15 @@ def _box_clearance(p: np.ndarray, boxes) -> float:
     return best
 
 
-def random_cube_pose(rng: np.random.Generator, boxes=()) -> tuple[np.ndarray, np.ndarray]:
-    """A random resting cube pose in the pick area: (position (3,) [m], quaternion (4,) wxyz).
+def random_cube_pose(rng: np.random.Generator, boxes=(), size: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """A random resting cube pose in the pick area: (position (3,) [m], quaternion (4,) wxyz)
+    of a cube of edge `size` [m] (default CUBE_SIZE).
 
     At least MIN_DISTANCE_TO_PLACE from the place position and 10 cm (horizontally) from
     the obstacles, so that the open gripper fits around the cube.
     """
     for _ in range(1000):
-        p = np.array([rng.uniform(*PICK_AREA_X), rng.uniform(*PICK_AREA_Y), CUBE_SIZE / 2])
+        p = np.array([rng.uniform(*PICK_AREA_X), rng.uniform(*PICK_AREA_Y), (size or CUBE_SIZE) / 2])
         yaw = rng.uniform(-np.pi, np.pi)
         if np.linalg.norm(p[:2] - PLACE_POSITION[:2]) < MIN_DISTANCE_TO_PLACE:
             continue
@@ -240,10 +242,20 @@ class PickAndPlace:
         video: path of an MP4 to record (offscreen), or None.
         verbose: print a progress line per phase.
         record_joints: keep the trajectories executed in the current episode (for --plot).
+        cube_size: the cube's edge [m], MIN_CUBE_SIZE to MAX_CUBE_SIZE (the open gripper's
+            width less its clearance); default CUBE_SIZE.
+
+    Raises:
+        ValueError: a cube size the gripper cannot grasp (says the valid range).
     """
 
     def __init__(self, seed: int = 0, obstacles: bool = False, cube_mass: float = 0.05, viewer: bool | str = False,
-                 video: str | None = None, verbose: bool = True, record_joints: bool = False, perceive: bool = False):
+                 video: str | None = None, verbose: bool = True, record_joints: bool = False, perceive: bool = False,
+                 cube_size: float = CUBE_SIZE):
+        if not MIN_CUBE_SIZE <= cube_size <= MAX_CUBE_SIZE:
+            raise ValueError(f"cube_size {cube_size} m: the Franka's gripper grasps cubes of {MIN_CUBE_SIZE} to "
+                             f"{MAX_CUBE_SIZE} m (it opens to 0.08 m; SQUEEZE and a clearance on each side)")
+        self.cube_size = float(cube_size)
         self.seed = int(seed)
         self.verbose = verbose
         self.record_joints = record_joints
@@ -252,7 +264,7 @@ class PickAndPlace:
         World.clear_instance()  # a fresh World and stage (also when called again in one process)
         create_new_stage()
         self.world = World(physics_dt=1.0 / 60.0)
-        self.task = PickPlace(target_position=PLACE_POSITION, cube_size=CUBE_SIZE, cube_mass=cube_mass,
+        self.task = PickPlace(target_position=self.place_position, cube_size=self.cube_size, cube_mass=cube_mass,
                               success_tolerance=SUCCESS_TOLERANCE)
         self.world.add_task(self.task)
         self.boxes = obstacle_boxes(seed) if obstacles else []
@@ -263,8 +275,8 @@ class PickAndPlace:
             self.world.scene.add(box_prims[-1])
         # A flat green square on the ground marks the place position (drawn only, no collision).
         self.world.scene.add(VisualCuboid("/World/PlaceMarker", name="place_marker", size=1.0,
-                                          position=PLACE_POSITION * [1, 1, 0] + [0, 0, 0.0005],
-                                          scale=[CUBE_SIZE + 0.01, CUBE_SIZE + 0.01, 0.001], color=[0.1, 0.8, 0.2]))
+                                          position=self.place_position * [1, 1, 0] + [0, 0, 0.0005],
+                                          scale=[self.cube_size + 0.01, self.cube_size + 0.01, 0.001], color=[0.1, 0.8, 0.2]))
         # --perceive: two depth cameras, the planner's only source of obstacles (examples/perception_rig.py)
         self.rig = _perception_rig().CameraRig() if perceive else None
         self.world.reset()
@@ -292,6 +304,11 @@ class PickAndPlace:
         self.trajectory_log: list = []  # Trajectories executed in the current episode (record_joints)
 
     # ------------------------------------------------------------------ helpers
+    @property
+    def place_position(self) -> np.ndarray:
+        """(3,) [m] where the cube's centre is put: PLACE_POSITION's x, y, the cube resting on the ground."""
+        return np.array([PLACE_POSITION[0], PLACE_POSITION[1], self.cube_size / 2])
+
     def say(self, text: str) -> None:
         if self._ep is not None:
             self._ep.log.append(text)
@@ -376,7 +393,7 @@ class PickAndPlace:
     def refresh_map(self) -> None:
         """--perceive: both depth cameras into the planner's occupancy map, the cube left out."""
         state = np.concatenate([self.planning_start(), self.fingers()])   # the fingers where they are
-        self.rig.refresh(self.mg, state, Pose(*self.robot.get_world_pose()), Pose(*self.cube_pose()), CUBE_SIZE)
+        self.rig.refresh(self.mg, state, Pose(*self.robot.get_world_pose()), Pose(*self.cube_pose()), self.cube_size)
 
     def set_floor_guard(self, on: bool) -> None:
         """Add (or remove) the planner's floor guard: boxes whose top is FLOOR_CLEARANCE above
@@ -473,7 +490,8 @@ class PickAndPlace:
 
         Held: the cube's centre within 3 cm (along the fingers' width and the hand's axis)
         and 2 cm (between the fingers) of the TCP, and each finger stopped by the cube
-        (15-35 mm open for a 5 cm cube). `planned`: where the cube was (3,) [m] when the
+        (open between its target, SQUEEZE inside the face, and 1 cm outside the face: 15-35 mm
+        for a 5 cm cube). `planned`: where the cube was (3,) [m] when the
         grasp was planned, to say how far it moved since.
         """
         p, _ = self.cube_pose()
@@ -481,7 +499,7 @@ class PickAndPlace:
         local = tcp.inverse().transform_points(p[None])[0]
         f = self.fingers()
         between = bool(np.all(np.abs(local) < [0.03, 0.02, 0.03]))
-        gripped = bool(np.all(f > 0.015) and np.all(f < 0.035))
+        gripped = bool(np.all(f > self.cube_size / 2 - SQUEEZE) and np.all(f < self.cube_size / 2 + 0.01))
         if between and gripped:
             return None
         where = (f"its centre is {np.linalg.norm(local) * 100:.1f} cm from the TCP (at "
@@ -491,7 +509,7 @@ class PickAndPlace:
         fingers = f"the fingers are at {f[0] * 1e3:.1f} / {f[1] * 1e3:.1f} mm"
         if not between:
             return f"the cube is not between the fingers: {where}; {fingers}"
-        if np.any(f <= 0.015):
+        if np.any(f <= self.cube_size / 2 - SQUEEZE):
             return f"the fingers closed past the cube's faces ({fingers}): it is not gripped"
         return f"the fingers did not close on the cube ({fingers})"
 
@@ -504,7 +522,7 @@ class PickAndPlace:
         place position with the hand at orientation `hand_q` (wxyz). Uses where the cube
         sits in the hand now (measured; it may have shifted while closing or moving)."""
         in_tcp = self.cube_in_tcp()
-        return PLACE_POSITION + [0.0, 0.0, RELEASE_HEIGHT] - quat.to_matrix(hand_q) @ in_tcp
+        return self.place_position + [0.0, 0.0, RELEASE_HEIGHT] - quat.to_matrix(hand_q) @ in_tcp
 
     def grasp_candidates(self, p: np.ndarray, qc: np.ndarray) -> tuple[Pose, np.ndarray]:
         """The top grasps of a resting cube at p (3,) [m], orientation qc (wxyz): the hand
@@ -524,7 +542,7 @@ class PickAndPlace:
         45 deg (a cube's faces repeat every 90 deg: these let `plan_place` pick the smallest
         wrist turn)."""
         _, qc = self.cube_pose()
-        centre = PLACE_POSITION + [0.0, 0.0, RELEASE_HEIGHT]
+        centre = self.place_position + [0.0, 0.0, RELEASE_HEIGHT]
         return Pose.stack([Pose(centre, quat.multiply(quat.from_axis_angle([0, 0, 1], a), qc))
                            for a in np.arange(-3, 5) * np.pi / 4])
 
@@ -574,7 +592,7 @@ class PickAndPlace:
         T_base_world = Pose(*self.robot.get_world_pose()).inverse()
         grasps, yaws = self.grasp_candidates(p, qc)
         self.sync_obstacles(ground=True)
-        mg.add_obstacle(Cuboid("cube", [CUBE_SIZE] * 3, T_base_world @ Pose(p, qc)))
+        mg.add_obstacle(Cuboid("cube", [self.cube_size] * 3, T_base_world @ Pose(p, qc)))
         try:
             grasp = self.plan_task("grasp", lambda q, **o: mg.plan_grasp(q, grasps, "cube", approach=APPROACH_HEIGHT,
                                                                          lift=APPROACH_HEIGHT, link=TCP, **o))
@@ -592,7 +610,7 @@ class PickAndPlace:
         self.run_stage("descend", grasp.segment("approach"))
         mg.remove_obstacle("cube")
         self.sync_obstacles()
-        self.gripper(CUBE_SIZE / 2 - SQUEEZE, "close")
+        self.gripper(self.cube_size / 2 - SQUEEZE, "close")
         # Check the grasp before the cube becomes the planner's attached object: a cube that
         # moved away (pushed, or moved by someone) would be attached where it is, far from
         # the hand, and every later plan would fail for a reason that is not the real one.
@@ -601,7 +619,7 @@ class PickAndPlace:
             raise GraspFailed(f"grasp failed after closing: {problem}")
         # The cube as the planner's attached object, where the simulator has it now.
         p, qc = self.cube_pose()
-        cube = Cuboid("cube", [CUBE_SIZE] * 3, T_base_world @ Pose(p, qc))
+        cube = Cuboid("cube", [self.cube_size] * 3, T_base_world @ Pose(p, qc))
         mg.attach_object(cube, q=self.planning_start(), link="panda_hand")
         try:
             carry = {"velocity_scale": CARRY_SCALE, "acceleration_scale": CARRY_SCALE}
@@ -646,7 +664,7 @@ class PickAndPlace:
     # ------------------------------------------------------------------ episodes
     def error(self) -> float:
         """Distance [m] of the cube centre to the place position, from the simulator."""
-        return float(np.linalg.norm(self.cube_pose()[0] - PLACE_POSITION))
+        return float(np.linalg.norm(self.cube_pose()[0] - self.place_position))
 
     def run_episode(self, index: int, perturb: bool = False, cube_pose: tuple | None = None) -> EpisodeResult:
         """Reset, put the cube at the episode's random pose, pick and place until it rests at
@@ -665,7 +683,7 @@ class PickAndPlace:
         self.world.reset()  # the robot at its default (= wait) configuration, the fingers open
         t_sim = self.world.current_time
         self._plan_seed = self.seed * 100_003 + index * 1009
-        p, qc = random_cube_pose(rng, self.boxes)
+        p, qc = random_cube_pose(rng, self.boxes, self.cube_size)
         if cube_pose is not None:
             p, qc = cube_pose
         self.task.set_params(cube_position=p, cube_orientation=qc)
@@ -678,7 +696,7 @@ class PickAndPlace:
                 if err <= REPICK_DISTANCE:
                     if perturbations > 0:
                         perturbations -= 1
-                        p, qc = random_cube_pose(rng, self.boxes)
+                        p, qc = random_cube_pose(rng, self.boxes, self.cube_size)
                         self.say(f"perturb: the cube is moved to ({p[0]:.3f}, {p[1]:.3f}) m")
                         self.task.set_params(cube_position=p, cube_orientation=qc)
                         continue
