@@ -25,7 +25,7 @@ ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
-from benchmarks.pick_and_place import load_example  # noqa: E402
+from benchmarks.pick_and_place import load_example
 
 
 def run(n: int, seed: int, sizes: tuple[float, float]) -> list[dict]:

@@ -57,7 +57,7 @@ from manip.sim import (
 
 # ---------------------------------------------------------------------------- the task
 CUBE_SIZE = 0.05  # [m]
-MIN_CUBE_SIZE, MAX_CUBE_SIZE = 0.03, 0.08  # [m] cubes the gripper grasps (it opens to 0.08 m)
+MIN_CUBE_SIZE, MAX_CUBE_SIZE = 0.03, 0.078  # [m] cubes the gripper grasps (it opens to 0.08 m; 1 mm a side)
 PLACE_POSITION = np.array([0.40, -0.35, CUBE_SIZE / 2])  # the PickPlace task's default target [m]
 PICK_AREA_X = (0.35, 0.65)  # [m] where episodes put the cube
 PICK_AREA_Y = (-0.35, 0.35)
@@ -70,7 +70,12 @@ VIDEO_COST = ("12 s of wall time per simulated second (0.08x real time, against 
               "software OpenGL on a 2-core VM)")
 
 APPROACH_HEIGHT = 0.15  # [m] pre-grasp / pre-place / lift height of the TCP above the grasp
-GRASP_HEIGHT = 0.003  # [m] TCP this far above the cube centre at the grasp
+GRASP_HEIGHT = 0.003  # [m] TCP this far above the cube centre at the grasp (raised by `grasp_height`)
+#: The hand's geometry the grasp height keeps clear (measured with plan_grasp at PADDING = 1 cm:
+#: the palm's lowest point 36 mm above the TCP, the fingertips 10 mm below it).
+PALM_ABOVE_TCP = 0.036  # [m]
+FINGERTIP_BELOW_TCP = 0.010  # [m]
+GRASP_MARGIN = 0.002  # [m] kept beyond PADDING by the palm (cube top) and the fingertips (ground)
 RELEASE_HEIGHT = 0.003  # [m] cube bottom this far above the ground when the fingers open
 RETREAT_HEIGHT = 0.10  # [m] straight up after releasing
 PADDING = 0.01  # [m] clearance the planner keeps from obstacles
@@ -112,6 +117,14 @@ def cube_yaw(q_cube: np.ndarray) -> float:
 def fold_quarter(angle: float) -> float:
     """`angle` [rad] modulo pi/2, in [-pi/4, pi/4)."""
     return float((angle + np.pi / 4) % (np.pi / 2) - np.pi / 4)
+
+
+def grasp_height(size: float) -> float:
+    """TCP height [m] above the centre of a resting cube of edge `size` [m] at the grasp:
+    GRASP_HEIGHT, raised so the palm keeps PADDING + GRASP_MARGIN above a tall cube's top and
+    the fingertips as much above the ground beside a small cube (a 3 cm cube: 7 mm, 7 cm: 11 mm)."""
+    return max(GRASP_HEIGHT, size / 2 + PADDING + GRASP_MARGIN - PALM_ABOVE_TCP,
+               FINGERTIP_BELOW_TCP + PADDING + GRASP_MARGIN - size / 2)
 
 
 def grasp_yaw(cube_position: np.ndarray, cube_orientation: np.ndarray) -> float:
@@ -254,7 +267,7 @@ class PickAndPlace:
                  cube_size: float = CUBE_SIZE):
         if not MIN_CUBE_SIZE <= cube_size <= MAX_CUBE_SIZE:
             raise ValueError(f"cube_size {cube_size} m: the Franka's gripper grasps cubes of {MIN_CUBE_SIZE} to "
-                             f"{MAX_CUBE_SIZE} m (it opens to 0.08 m; SQUEEZE and a clearance on each side)")
+                             f"{MAX_CUBE_SIZE} m (it opens to 0.08 m: 1 mm of clearance a side)")
         self.cube_size = float(cube_size)
         self.seed = int(seed)
         self.verbose = verbose
@@ -534,7 +547,7 @@ class PickAndPlace:
             (a batched Pose of the TCP (4 poses), their yaws (4,) [rad]).
         """
         yaws = grasp_yaw(p, qc) + np.array([0.0, 1.0, -1.0, 2.0]) * np.pi / 2
-        return Pose.stack([Pose(p + [0.0, 0.0, GRASP_HEIGHT], hand_down(y)) for y in yaws]), yaws
+        return Pose.stack([Pose(p + [0.0, 0.0, grasp_height(self.cube_size)], hand_down(y)) for y in yaws]), yaws
 
     def place_candidates(self) -> Pose:
         """Goal poses of the held cube (a batched Pose): its centre RELEASE_HEIGHT above the
