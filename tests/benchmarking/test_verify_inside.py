@@ -16,6 +16,10 @@ from manip.benchmarking.verify import Verifier
 #: the left finger wholly inside panda_link5 (tests/collision/test_part_inside_part.py)
 FINGER_IN_LINK5 = np.array([-0.7005, 0.9538, 1.6255, -1.1995, 1.0952, -0.0043, 2.5645])
 READY = np.array([0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785])
+#: a finger wholly inside panda_link5 that manip's check_collision passes as free (2 of 5000
+#: uniformly random configurations, round three; tests/collision/test_part_inside_part.py)
+RIGHT_FINGER_IN_LINK5 = np.array([2.237984, 0.386481, 1.831686, -1.353043, 2.881792, -0.011904, -0.720005])
+LEFT_FINGER_IN_LINK5 = np.array([1.852394, -0.56329, 1.571227, -2.959354, 2.7396, -0.006162, 2.391773])
 
 
 @pytest.fixture(scope="module")
@@ -29,6 +33,8 @@ def test_a_finger_inside_a_link_is_a_self_collision(verifier):
     codes, reasons = verifier.check_configuration(FINGER_IN_LINK5, None, "goal")
     assert codes == ["goal_self_collision"] and "wholly inside" in reasons[0], reasons
     assert verifier.in_collision(READY) is None
+    assert verifier.in_collision(RIGHT_FINGER_IN_LINK5) == ("panda_rightfinger_0", "panda_link5_0")
+    assert verifier.in_collision(LEFT_FINGER_IN_LINK5) == ("panda_leftfinger_0", "panda_link5_0")
     hit = verifier.first_collision(np.stack([READY, FINGER_IN_LINK5]))
     assert hit is not None and hit[0] == 1
 
