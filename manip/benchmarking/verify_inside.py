@@ -81,21 +81,23 @@ class InsideTest:
         self._rep = np.array(rep).reshape(-1, 3)
         directed = [(a, b) for i, j in pairs for a, b in ((i, j), (j, i)) if b in self._tri]
         self.pairs = np.array(directed, dtype=np.int64).reshape(-1, 2)
+        self._lo = np.array([self._tri[int(b)][3] for b in self.pairs[:, 1]]).reshape(-1, 3)
+        self._hi = np.array([self._tri[int(b)][4] for b in self.pairs[:, 1]]).reshape(-1, 3)
+        self._n = gm.ngeoms
 
     def first(self, gd: pin.GeometryData) -> tuple[str, str] | None:
         """(part, the part whose closed mesh wholly contains it) at gd's placements, or None."""
         if not len(self.pairs):
             return None
         M = gd.oMg
+        R = np.array([M[k].rotation for k in range(self._n)])
+        t = np.array([M[k].translation for k in range(self._n)])
         a, b = self.pairs[:, 0], self.pairs[:, 1]
-        Ra = np.array([M[int(k)].rotation for k in a])
-        ta = np.array([M[int(k)].translation for k in a])
-        Rb = np.array([M[int(k)].rotation for k in b])
-        tb = np.array([M[int(k)].translation for k in b])
-        p = np.einsum("nij,nj->ni", Ra, self._rep[a]) + ta
-        local = np.einsum("nji,nj->ni", Rb, p - tb)  # in b's frame
-        for n in range(len(a)):
-            A, E1, E2, lo, hi = self._tri[int(b[n])]
-            if np.all(local[n] > lo) and np.all(local[n] < hi) and _inside(local[n], A, E1, E2):
+        p = np.einsum("nij,nj->ni", R[a], self._rep[a]) + t[a]
+        local = np.einsum("nji,nj->ni", R[b], p - t[b])  # in b's frame
+        boxed = np.flatnonzero(np.all((local > self._lo) & (local < self._hi), axis=1))
+        for n in boxed.tolist():
+            A, E1, E2, _, _ = self._tri[int(b[n])]
+            if _inside(local[n], A, E1, E2):
                 return self.names[int(a[n])], self.names[int(b[n])]
         return None
