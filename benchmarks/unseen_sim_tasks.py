@@ -22,8 +22,10 @@ import time
 
 import numpy as np
 
+AZIMUTH = np.radians(100)  # [rad] cubes and goals within this of the x axis
 
-def _spot(rng, r_lo, r_hi, az=np.radians(100)):
+
+def _spot(rng, r_lo, r_hi, az=AZIMUTH):
     r, a = rng.uniform(r_lo, r_hi), rng.uniform(-az, az)
     return np.array([r * np.cos(a), r * np.sin(a)])
 
