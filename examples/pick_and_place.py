@@ -14,6 +14,7 @@ the place position and has come to rest, it is picked up and placed again.
     python examples/pick_and_place.py --viewer              # interactive MuJoCo window
     python examples/pick_and_place.py --viewer web          # in the browser, served until Ctrl-C
     python examples/pick_and_place.py --perceive --obstacles  # obstacles only from two depth cameras
+    python examples/pick_and_place.py --cube-size 0.07        # cubes of 3 to 7.8 cm
 
 The physics is honest: the cube moves only by contact and friction with the fingers (no
 welding, no teleporting; the script moves the cube itself only to start an episode and,
@@ -779,6 +780,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--obstacles", action="store_true", help="Add fixed boxes the motions must avoid.")
     parser.add_argument("--perturb", action="store_true",
                         help="After each place, move the cube to a new random pose (it is picked again).")
+    parser.add_argument("--cube-size", type=float, default=CUBE_SIZE,
+                        help=f"Edge of the cube [m], {MIN_CUBE_SIZE} to {MAX_CUBE_SIZE} (the gripper opens to 0.08 m).")
     parser.add_argument("--cube-mass", type=float, default=0.05,
                         help="Mass of the cube [kg] (0.01-0.05 in the tutorial).")
     parser.add_argument("--viewer", nargs="?", const="native", choices=("native", "web"), default=None,
@@ -796,6 +799,8 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if args.episodes < 1:
         parser.error("--episodes must be >= 1")
+    if not MIN_CUBE_SIZE <= args.cube_size <= MAX_CUBE_SIZE:
+        parser.error(f"--cube-size must be in [{MIN_CUBE_SIZE}, {MAX_CUBE_SIZE}] m")
     if not 0.0 < args.cube_mass <= 0.5:
         parser.error("--cube-mass must be in (0, 0.5] kg")
 
@@ -809,7 +814,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         demo = PickAndPlace(seed=args.seed, obstacles=args.obstacles, cube_mass=args.cube_mass, viewer=args.viewer,
                             video=args.video, verbose=not args.quiet, record_joints=args.plot is not None,
-                            perceive=args.perceive)
+                            perceive=args.perceive, cube_size=args.cube_size)
     except (SimulationError, OffscreenRenderingError) as exc:  # no display for --viewer, no GL/ffmpeg for --video
         hint = ("\n  (no display? --viewer web shows it in the browser instead)"
                 if args.viewer == "native" and isinstance(exc, SimulationError) else "")
