@@ -4,7 +4,7 @@
 
 Episode i (seeded by seed + i): a cube of edge uniform in `--sizes` [m] at a random reachable
 pose and yaw (examples/pick_and_place.py's pick area), the example's obstacles on every other
-episode, a perturbation (the cube moved away after the place, picked again) on every third.
+episode (every episode with `--perceive`: the planner sees them only through two depth cameras), a perturbation (the cube moved away after the place, picked again) on every third.
 Each episode builds its own World (`PickAndPlace(cube_size=...)`), so sizes differ. Prints one
 line per episode and a summary: placed, why the others failed (the example's reason:
 planning status, grasp check, controller), largest slip of the cube in the hand, obstacle
@@ -28,16 +28,17 @@ if str(ROOT) not in sys.path:
 from benchmarks.pick_and_place import load_example
 
 
-def run(n: int, seed: int, sizes: tuple[float, float]) -> list[dict]:
+def run(n: int, seed: int, sizes: tuple[float, float], perceive: bool = False) -> list[dict]:
     ex = load_example()
     rows = []
     for i in range(n):
         rng = np.random.default_rng([seed, i])
         size = float(rng.uniform(*sizes))
-        obstacles, perturb = i % 2 == 1, i % 3 == 2
+        obstacles, perturb = i % 2 == 1 or perceive, i % 3 == 2
         t0 = time.perf_counter()
         try:
-            demo = ex.PickAndPlace(seed=seed + i, obstacles=obstacles, verbose=False, cube_size=size)
+            demo = ex.PickAndPlace(seed=seed + i, obstacles=obstacles, verbose=False, cube_size=size,
+                                   perceive=perceive)
         except ValueError as exc:
             rows.append({"i": i, "size": size, "placed": False, "reason": f"refused: {exc}", "obstacles": obstacles,
                          "perturb": perturb})
@@ -65,10 +66,12 @@ def main(argv=None) -> int:
     ap.add_argument("--n", type=int, default=40)
     ap.add_argument("--seed", type=int, default=4000)
     ap.add_argument("--sizes", default="0.03,0.08", help="cube edge range [m], lo,hi")
+    ap.add_argument("--perceive", action="store_true",
+                    help="the planner sees the obstacles only through two depth cameras (obstacles in every episode)")
     ap.add_argument("--out", help="write the rows (with each episode's log) as JSON")
     a = ap.parse_args(argv)
     lo, hi = (float(v) for v in a.sizes.split(","))
-    rows = run(a.n, a.seed, (lo, hi))
+    rows = run(a.n, a.seed, (lo, hi), a.perceive)
     ok = [r for r in rows if r["placed"]]
     print(f"\nplaced {len(ok)}/{len(rows)}; slip max {max([r.get('slip_mm', 0) for r in rows] or [0]):.1f} mm; "
           f"obstacle contact steps {sum(r.get('contacts', 0) for r in rows)}")
