@@ -28,13 +28,33 @@ if str(ROOT) not in sys.path:
 from benchmarks.pick_and_place import load_example
 
 
-def run(n: int, seed: int, sizes: tuple[float, float], perceive: bool = False) -> list[dict]:
+def random_boxes(ex, seed: int) -> list[tuple[str, np.ndarray, np.ndarray, float]]:
+    """2-5 random boxes on the ground instead of the example's layout (`--random-obstacles`): edges
+    4-15 cm, heights 5-35 cm, random yaw, 0.25-0.8 m from the base within +-110 deg of its x axis,
+    their footprint at least 12 cm from the place position (cubes keep 10 cm from them: the
+    example's `random_cube_pose`)."""
+    rng = np.random.default_rng([seed, 7919])
+    out = []
+    while len(out) < int(rng.integers(2, 6)):
+        r, a = rng.uniform(0.25, 0.8), rng.uniform(-np.radians(110), np.radians(110))
+        dims = np.array([rng.uniform(0.04, 0.15), rng.uniform(0.04, 0.15), rng.uniform(0.05, 0.35)])
+        c = np.array([r * np.cos(a), r * np.sin(a), dims[2] / 2])
+        if np.linalg.norm(c[:2] - ex.PLACE_POSITION[:2]) - np.linalg.norm(dims[:2]) / 2 < 0.12:
+            continue
+        out.append((f"box{len(out)}", c, dims, float(rng.uniform(-np.pi, np.pi))))
+    return out
+
+
+def run(n: int, seed: int, sizes: tuple[float, float], perceive: bool = False,
+        random_obstacles: bool = False) -> list[dict]:
     ex = load_example()
+    if random_obstacles:
+        ex.obstacle_boxes = lambda s: random_boxes(ex, s)
     rows = []
     for i in range(n):
         rng = np.random.default_rng([seed, i])
         size = float(rng.uniform(*sizes))
-        obstacles, perturb = i % 2 == 1 or perceive, i % 3 == 2
+        obstacles, perturb = i % 2 == 1 or perceive or random_obstacles, i % 3 == 2
         t0 = time.perf_counter()
         try:
             demo = ex.PickAndPlace(seed=seed + i, obstacles=obstacles, verbose=False, cube_size=size,
@@ -68,10 +88,12 @@ def main(argv=None) -> int:
     ap.add_argument("--sizes", default="0.03,0.08", help="cube edge range [m], lo,hi")
     ap.add_argument("--perceive", action="store_true",
                     help="the planner sees the obstacles only through two depth cameras (obstacles in every episode)")
+    ap.add_argument("--random-obstacles", action="store_true",
+                    help="2-5 random boxes in every episode instead of the example's layout")
     ap.add_argument("--out", help="write the rows (with each episode's log) as JSON")
     a = ap.parse_args(argv)
     lo, hi = (float(v) for v in a.sizes.split(","))
-    rows = run(a.n, a.seed, (lo, hi), a.perceive)
+    rows = run(a.n, a.seed, (lo, hi), a.perceive, a.random_obstacles)
     ok = [r for r in rows if r["placed"]]
     print(f"\nplaced {len(ok)}/{len(rows)}; slip max {max([r.get('slip_mm', 0) for r in rows] or [0]):.1f} mm; "
           f"obstacle contact steps {sum(r.get('contacts', 0) for r in rows)}")
