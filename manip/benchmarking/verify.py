@@ -3,7 +3,8 @@
 This module shares no collision code with `manip`'s planner: it builds its own exact-mesh
 model of the robot (Pinocchio `buildGeomFromUrdf`, COLLISION meshes of the URDF, fingers at
 their planning opening) and of the world (coal Box / Cylinder / Sphere / Capsule / mesh),
-and asks `pinocchio.computeCollisions` (coal, no padding) whether any pair touches.
+and asks `pinocchio.computeCollisions` (coal, no padding) whether any pair touches; a part
+wholly inside another's closed mesh, which touches no triangle, is found by `verify_inside`.
 Self-collision pairs are all pairs of robot geometries minus the SRDF's disabled pairs.
 
 What `verify_trajectory` checks, and with which tolerance:
