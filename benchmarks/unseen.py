@@ -42,6 +42,7 @@ if str(ROOT) not in sys.path:
 
 from manip import MotionGenerator, Pose
 from manip.benchmarking.verify import Verifier
+from manip.benchmarking.verify_inside import InsideTest
 
 ROBOTS = ["franka", "ur5", "ur10", "kinova", "xarm7"]
 MESH_DIR = Path(tempfile.gettempdir()) / "manip_unseen_meshes"
@@ -129,6 +130,7 @@ class SupportVerifier(Verifier):
             wm.gm.addCollisionPair(pin.CollisionPair(a, b))
         wm.gd = wm.gm.createData()
         wm.bp = pin.BroadPhaseManager_DynamicAABBTreeCollisionManager(self.model, wm.gm, wm.gd)
+        wm.inside = InsideTest(wm.gm, keep)
         return wm
 
 

@@ -14,6 +14,7 @@ the place position and has come to rest, it is picked up and placed again.
     python examples/pick_and_place.py --viewer              # interactive MuJoCo window
     python examples/pick_and_place.py --viewer web          # in the browser, served until Ctrl-C
     python examples/pick_and_place.py --perceive --obstacles  # obstacles only from two depth cameras
+    python examples/pick_and_place.py --cube-size 0.07        # cubes of 3 to 7.8 cm
 
 The physics is honest: the cube moves only by contact and friction with the fingers (no
 welding, no teleporting; the script moves the cube itself only to start an episode and,
@@ -57,6 +58,7 @@ from manip.sim import (
 
 # ---------------------------------------------------------------------------- the task
 CUBE_SIZE = 0.05  # [m]
+MIN_CUBE_SIZE, MAX_CUBE_SIZE = 0.03, 0.078  # [m] cubes the gripper grasps (it opens to 0.08 m; 1 mm a side)
 PLACE_POSITION = np.array([0.40, -0.35, CUBE_SIZE / 2])  # the PickPlace task's default target [m]
 PICK_AREA_X = (0.35, 0.65)  # [m] where episodes put the cube
 PICK_AREA_Y = (-0.35, 0.35)
@@ -69,7 +71,12 @@ VIDEO_COST = ("12 s of wall time per simulated second (0.08x real time, against 
               "software OpenGL on a 2-core VM)")
 
 APPROACH_HEIGHT = 0.15  # [m] pre-grasp / pre-place / lift height of the TCP above the grasp
-GRASP_HEIGHT = 0.003  # [m] TCP this far above the cube centre at the grasp
+GRASP_HEIGHT = 0.003  # [m] TCP this far above the cube centre at the grasp (raised by `grasp_height`)
+#: The hand's geometry the grasp height keeps clear (measured with plan_grasp at PADDING = 1 cm:
+#: the palm's lowest point 36 mm above the TCP, the fingertips 10 mm below it).
+PALM_ABOVE_TCP = 0.036  # [m]
+FINGERTIP_BELOW_TCP = 0.010  # [m]
+GRASP_MARGIN = 0.002  # [m] kept beyond PADDING by the palm (cube top) and the fingertips (ground)
 RELEASE_HEIGHT = 0.003  # [m] cube bottom this far above the ground when the fingers open
 RETREAT_HEIGHT = 0.10  # [m] straight up after releasing
 PADDING = 0.01  # [m] clearance the planner keeps from obstacles
@@ -111,6 +118,14 @@ def cube_yaw(q_cube: np.ndarray) -> float:
 def fold_quarter(angle: float) -> float:
     """`angle` [rad] modulo pi/2, in [-pi/4, pi/4)."""
     return float((angle + np.pi / 4) % (np.pi / 2) - np.pi / 4)
+
+
+def grasp_height(size: float) -> float:
+    """TCP height [m] above the centre of a resting cube of edge `size` [m] at the grasp:
+    GRASP_HEIGHT, raised so the palm keeps PADDING + GRASP_MARGIN above a tall cube's top and
+    the fingertips as much above the ground beside a small cube (a 3 cm cube: 7 mm, 7 cm: 11 mm)."""
+    return max(GRASP_HEIGHT, size / 2 + PADDING + GRASP_MARGIN - PALM_ABOVE_TCP,
+               FINGERTIP_BELOW_TCP + PADDING + GRASP_MARGIN - size / 2)
 
 
 def grasp_yaw(cube_position: np.ndarray, cube_orientation: np.ndarray) -> float:
@@ -177,14 +192,15 @@ def _box_clearance(p: np.ndarray, boxes) -> float:
     return best
 
 
-def random_cube_pose(rng: np.random.Generator, boxes=()) -> tuple[np.ndarray, np.ndarray]:
-    """A random resting cube pose in the pick area: (position (3,) [m], quaternion (4,) wxyz).
+def random_cube_pose(rng: np.random.Generator, boxes=(), size: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """A random resting cube pose in the pick area: (position (3,) [m], quaternion (4,) wxyz)
+    of a cube of edge `size` [m] (default CUBE_SIZE).
 
     At least MIN_DISTANCE_TO_PLACE from the place position and 10 cm (horizontally) from
     the obstacles, so that the open gripper fits around the cube.
     """
     for _ in range(1000):
-        p = np.array([rng.uniform(*PICK_AREA_X), rng.uniform(*PICK_AREA_Y), CUBE_SIZE / 2])
+        p = np.array([rng.uniform(*PICK_AREA_X), rng.uniform(*PICK_AREA_Y), (size or CUBE_SIZE) / 2])
         yaw = rng.uniform(-np.pi, np.pi)
         if np.linalg.norm(p[:2] - PLACE_POSITION[:2]) < MIN_DISTANCE_TO_PLACE:
             continue
@@ -240,10 +256,20 @@ class PickAndPlace:
         video: path of an MP4 to record (offscreen), or None.
         verbose: print a progress line per phase.
         record_joints: keep the trajectories executed in the current episode (for --plot).
+        cube_size: the cube's edge [m], MIN_CUBE_SIZE to MAX_CUBE_SIZE (the open gripper's
+            width less its clearance); default CUBE_SIZE.
+
+    Raises:
+        ValueError: a cube size the gripper cannot grasp (says the valid range).
     """
 
     def __init__(self, seed: int = 0, obstacles: bool = False, cube_mass: float = 0.05, viewer: bool | str = False,
-                 video: str | None = None, verbose: bool = True, record_joints: bool = False, perceive: bool = False):
+                 video: str | None = None, verbose: bool = True, record_joints: bool = False, perceive: bool = False,
+                 cube_size: float = CUBE_SIZE):
+        if not MIN_CUBE_SIZE <= cube_size <= MAX_CUBE_SIZE:
+            raise ValueError(f"cube_size {cube_size} m: the Franka's gripper grasps cubes of {MIN_CUBE_SIZE} to "
+                             f"{MAX_CUBE_SIZE} m (it opens to 0.08 m: 1 mm of clearance a side)")
+        self.cube_size = float(cube_size)
         self.seed = int(seed)
         self.verbose = verbose
         self.record_joints = record_joints
@@ -252,7 +278,7 @@ class PickAndPlace:
         World.clear_instance()  # a fresh World and stage (also when called again in one process)
         create_new_stage()
         self.world = World(physics_dt=1.0 / 60.0)
-        self.task = PickPlace(target_position=PLACE_POSITION, cube_size=CUBE_SIZE, cube_mass=cube_mass,
+        self.task = PickPlace(target_position=self.place_position, cube_size=self.cube_size, cube_mass=cube_mass,
                               success_tolerance=SUCCESS_TOLERANCE)
         self.world.add_task(self.task)
         self.boxes = obstacle_boxes(seed) if obstacles else []
@@ -263,8 +289,8 @@ class PickAndPlace:
             self.world.scene.add(box_prims[-1])
         # A flat green square on the ground marks the place position (drawn only, no collision).
         self.world.scene.add(VisualCuboid("/World/PlaceMarker", name="place_marker", size=1.0,
-                                          position=PLACE_POSITION * [1, 1, 0] + [0, 0, 0.0005],
-                                          scale=[CUBE_SIZE + 0.01, CUBE_SIZE + 0.01, 0.001], color=[0.1, 0.8, 0.2]))
+                                          position=self.place_position * [1, 1, 0] + [0, 0, 0.0005],
+                                          scale=[self.cube_size + 0.01, self.cube_size + 0.01, 0.001], color=[0.1, 0.8, 0.2]))
         # --perceive: two depth cameras, the planner's only source of obstacles (examples/perception_rig.py)
         self.rig = _perception_rig().CameraRig() if perceive else None
         self.world.reset()
@@ -292,6 +318,11 @@ class PickAndPlace:
         self.trajectory_log: list = []  # Trajectories executed in the current episode (record_joints)
 
     # ------------------------------------------------------------------ helpers
+    @property
+    def place_position(self) -> np.ndarray:
+        """(3,) [m] where the cube's centre is put: PLACE_POSITION's x, y, the cube resting on the ground."""
+        return np.array([PLACE_POSITION[0], PLACE_POSITION[1], self.cube_size / 2])
+
     def say(self, text: str) -> None:
         if self._ep is not None:
             self._ep.log.append(text)
@@ -376,7 +407,7 @@ class PickAndPlace:
     def refresh_map(self) -> None:
         """--perceive: both depth cameras into the planner's occupancy map, the cube left out."""
         state = np.concatenate([self.planning_start(), self.fingers()])   # the fingers where they are
-        self.rig.refresh(self.mg, state, Pose(*self.robot.get_world_pose()), Pose(*self.cube_pose()), CUBE_SIZE)
+        self.rig.refresh(self.mg, state, Pose(*self.robot.get_world_pose()), Pose(*self.cube_pose()), self.cube_size)
 
     def set_floor_guard(self, on: bool) -> None:
         """Add (or remove) the planner's floor guard: boxes whose top is FLOOR_CLEARANCE above
@@ -473,7 +504,8 @@ class PickAndPlace:
 
         Held: the cube's centre within 3 cm (along the fingers' width and the hand's axis)
         and 2 cm (between the fingers) of the TCP, and each finger stopped by the cube
-        (15-35 mm open for a 5 cm cube). `planned`: where the cube was (3,) [m] when the
+        (open between its target, SQUEEZE inside the face, and 1 cm outside the face: 15-35 mm
+        for a 5 cm cube). `planned`: where the cube was (3,) [m] when the
         grasp was planned, to say how far it moved since.
         """
         p, _ = self.cube_pose()
@@ -481,7 +513,7 @@ class PickAndPlace:
         local = tcp.inverse().transform_points(p[None])[0]
         f = self.fingers()
         between = bool(np.all(np.abs(local) < [0.03, 0.02, 0.03]))
-        gripped = bool(np.all(f > 0.015) and np.all(f < 0.035))
+        gripped = bool(np.all(f > self.cube_size / 2 - SQUEEZE) and np.all(f < self.cube_size / 2 + 0.01))
         if between and gripped:
             return None
         where = (f"its centre is {np.linalg.norm(local) * 100:.1f} cm from the TCP (at "
@@ -491,7 +523,7 @@ class PickAndPlace:
         fingers = f"the fingers are at {f[0] * 1e3:.1f} / {f[1] * 1e3:.1f} mm"
         if not between:
             return f"the cube is not between the fingers: {where}; {fingers}"
-        if np.any(f <= 0.015):
+        if np.any(f <= self.cube_size / 2 - SQUEEZE):
             return f"the fingers closed past the cube's faces ({fingers}): it is not gripped"
         return f"the fingers did not close on the cube ({fingers})"
 
@@ -504,7 +536,7 @@ class PickAndPlace:
         place position with the hand at orientation `hand_q` (wxyz). Uses where the cube
         sits in the hand now (measured; it may have shifted while closing or moving)."""
         in_tcp = self.cube_in_tcp()
-        return PLACE_POSITION + [0.0, 0.0, RELEASE_HEIGHT] - quat.to_matrix(hand_q) @ in_tcp
+        return self.place_position + [0.0, 0.0, RELEASE_HEIGHT] - quat.to_matrix(hand_q) @ in_tcp
 
     def grasp_candidates(self, p: np.ndarray, qc: np.ndarray) -> tuple[Pose, np.ndarray]:
         """The top grasps of a resting cube at p (3,) [m], orientation qc (wxyz): the hand
@@ -516,7 +548,7 @@ class PickAndPlace:
             (a batched Pose of the TCP (4 poses), their yaws (4,) [rad]).
         """
         yaws = grasp_yaw(p, qc) + np.array([0.0, 1.0, -1.0, 2.0]) * np.pi / 2
-        return Pose.stack([Pose(p + [0.0, 0.0, GRASP_HEIGHT], hand_down(y)) for y in yaws]), yaws
+        return Pose.stack([Pose(p + [0.0, 0.0, grasp_height(self.cube_size)], hand_down(y)) for y in yaws]), yaws
 
     def place_candidates(self) -> Pose:
         """Goal poses of the held cube (a batched Pose): its centre RELEASE_HEIGHT above the
@@ -524,7 +556,7 @@ class PickAndPlace:
         45 deg (a cube's faces repeat every 90 deg: these let `plan_place` pick the smallest
         wrist turn)."""
         _, qc = self.cube_pose()
-        centre = PLACE_POSITION + [0.0, 0.0, RELEASE_HEIGHT]
+        centre = self.place_position + [0.0, 0.0, RELEASE_HEIGHT]
         return Pose.stack([Pose(centre, quat.multiply(quat.from_axis_angle([0, 0, 1], a), qc))
                            for a in np.arange(-3, 5) * np.pi / 4])
 
@@ -574,7 +606,7 @@ class PickAndPlace:
         T_base_world = Pose(*self.robot.get_world_pose()).inverse()
         grasps, yaws = self.grasp_candidates(p, qc)
         self.sync_obstacles(ground=True)
-        mg.add_obstacle(Cuboid("cube", [CUBE_SIZE] * 3, T_base_world @ Pose(p, qc)))
+        mg.add_obstacle(Cuboid("cube", [self.cube_size] * 3, T_base_world @ Pose(p, qc)))
         try:
             grasp = self.plan_task("grasp", lambda q, **o: mg.plan_grasp(q, grasps, "cube", approach=APPROACH_HEIGHT,
                                                                          lift=APPROACH_HEIGHT, link=TCP, **o))
@@ -592,7 +624,7 @@ class PickAndPlace:
         self.run_stage("descend", grasp.segment("approach"))
         mg.remove_obstacle("cube")
         self.sync_obstacles()
-        self.gripper(CUBE_SIZE / 2 - SQUEEZE, "close")
+        self.gripper(self.cube_size / 2 - SQUEEZE, "close")
         # Check the grasp before the cube becomes the planner's attached object: a cube that
         # moved away (pushed, or moved by someone) would be attached where it is, far from
         # the hand, and every later plan would fail for a reason that is not the real one.
@@ -601,7 +633,7 @@ class PickAndPlace:
             raise GraspFailed(f"grasp failed after closing: {problem}")
         # The cube as the planner's attached object, where the simulator has it now.
         p, qc = self.cube_pose()
-        cube = Cuboid("cube", [CUBE_SIZE] * 3, T_base_world @ Pose(p, qc))
+        cube = Cuboid("cube", [self.cube_size] * 3, T_base_world @ Pose(p, qc))
         mg.attach_object(cube, q=self.planning_start(), link="panda_hand")
         try:
             carry = {"velocity_scale": CARRY_SCALE, "acceleration_scale": CARRY_SCALE}
@@ -646,7 +678,7 @@ class PickAndPlace:
     # ------------------------------------------------------------------ episodes
     def error(self) -> float:
         """Distance [m] of the cube centre to the place position, from the simulator."""
-        return float(np.linalg.norm(self.cube_pose()[0] - PLACE_POSITION))
+        return float(np.linalg.norm(self.cube_pose()[0] - self.place_position))
 
     def run_episode(self, index: int, perturb: bool = False, cube_pose: tuple | None = None) -> EpisodeResult:
         """Reset, put the cube at the episode's random pose, pick and place until it rests at
@@ -665,7 +697,7 @@ class PickAndPlace:
         self.world.reset()  # the robot at its default (= wait) configuration, the fingers open
         t_sim = self.world.current_time
         self._plan_seed = self.seed * 100_003 + index * 1009
-        p, qc = random_cube_pose(rng, self.boxes)
+        p, qc = random_cube_pose(rng, self.boxes, self.cube_size)
         if cube_pose is not None:
             p, qc = cube_pose
         self.task.set_params(cube_position=p, cube_orientation=qc)
@@ -678,7 +710,7 @@ class PickAndPlace:
                 if err <= REPICK_DISTANCE:
                     if perturbations > 0:
                         perturbations -= 1
-                        p, qc = random_cube_pose(rng, self.boxes)
+                        p, qc = random_cube_pose(rng, self.boxes, self.cube_size)
                         self.say(f"perturb: the cube is moved to ({p[0]:.3f}, {p[1]:.3f}) m")
                         self.task.set_params(cube_position=p, cube_orientation=qc)
                         continue
@@ -748,6 +780,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--obstacles", action="store_true", help="Add fixed boxes the motions must avoid.")
     parser.add_argument("--perturb", action="store_true",
                         help="After each place, move the cube to a new random pose (it is picked again).")
+    parser.add_argument("--cube-size", type=float, default=CUBE_SIZE,
+                        help=f"Edge of the cube [m], {MIN_CUBE_SIZE} to {MAX_CUBE_SIZE} (the gripper opens to 0.08 m).")
     parser.add_argument("--cube-mass", type=float, default=0.05,
                         help="Mass of the cube [kg] (0.01-0.05 in the tutorial).")
     parser.add_argument("--viewer", nargs="?", const="native", choices=("native", "web"), default=None,
@@ -765,6 +799,8 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if args.episodes < 1:
         parser.error("--episodes must be >= 1")
+    if not MIN_CUBE_SIZE <= args.cube_size <= MAX_CUBE_SIZE:
+        parser.error(f"--cube-size must be in [{MIN_CUBE_SIZE}, {MAX_CUBE_SIZE}] m")
     if not 0.0 < args.cube_mass <= 0.5:
         parser.error("--cube-mass must be in (0, 0.5] kg")
 
@@ -778,7 +814,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         demo = PickAndPlace(seed=args.seed, obstacles=args.obstacles, cube_mass=args.cube_mass, viewer=args.viewer,
                             video=args.video, verbose=not args.quiet, record_joints=args.plot is not None,
-                            perceive=args.perceive)
+                            perceive=args.perceive, cube_size=args.cube_size)
     except (SimulationError, OffscreenRenderingError) as exc:  # no display for --viewer, no GL/ffmpeg for --video
         hint = ("\n  (no display? --viewer web shows it in the browser instead)"
                 if args.viewer == "native" and isinstance(exc, SimulationError) else "")

@@ -32,7 +32,38 @@ PLANE_THICKNESS = 0.1
 
 
 def _ignored(name: str, prim_path: str, ignore: Sequence[str]) -> bool:
-    return any(name.startswith(p) or prim_path.startswith(p) for p in ignore if p)
+    return any(name.startswith(p) or prim_path.startswith(p) for p in ignore)
+
+
+def _check_ignore(world, ignore) -> tuple[str, ...]:
+    """`ignore` as a tuple of non-empty strings (one string is one entry), each the start of the
+    name or prim path of something in the World (a scene object or a prim on its stage).
+
+    Raises:
+        InvalidInputError: an entry that is not a non-empty string (a string that is not in a
+            list would otherwise be read letter by letter: "/World/cube" ignored everything).
+        UnknownNameError: an entry that names nothing in the World (a typo would leave the
+            object to pick as an obstacle, or, as a prefix, drop other objects silently).
+    """
+    entries = (ignore,) if isinstance(ignore, str) else tuple(ignore or ())
+    for p in entries:
+        if not isinstance(p, str) or not p:
+            raise InvalidInputError(f"ignore: each entry must be a non-empty name or prim path (str); got {p!r} "
+                                    f"in {ignore!r}")
+    known = set()
+    scene = getattr(world, "scene", None)
+    for n in (scene.get_object_names() if hasattr(scene, "get_object_names") else []):
+        known.add(n)
+        known.add(getattr(scene.get_object(n), "prim_path", n))
+    stage = getattr(scene, "stage", None)
+    known.update(getattr(prim, "prim_path", "") for prim in (stage.prims() if hasattr(stage, "prims") else []))
+    known.update(o.name for o in scene.get_collision_objects())
+    known.update(o.prim_path for o in scene.get_collision_objects())
+    for p in entries:
+        if not any(k.startswith(p) for k in known if k):
+            raise UnknownNameError("ignore: object name or prim path", p,
+                                   sorted(k for k in known if k and not k.startswith("__")))
+    return entries
 
 
 def world_config_from_sim(world, robot, ignore: Sequence[str] = (), *, base_in_robot: Pose | None = None) -> WorldConfig:
@@ -43,7 +74,8 @@ def world_config_from_sim(world, robot, ignore: Sequence[str] = (), *, base_in_r
         robot: the planned robot (its own geoms are skipped; other robots are obstacles), or a
             list of the simulated robots that are its arms (a multi-arm robot, `manip.robot_arms`:
             all are skipped; the frame is the first one's, moved by `base_in_robot`).
-        ignore: names or prim-path prefixes to leave out (e.g. the object to pick).
+        ignore: names or prim-path prefixes to leave out (e.g. the object to pick); one
+            string or a sequence of them, each naming something in the World.
         base_in_robot: the planner's base frame in the (first) robot's frame (default: the same).
 
     Ellipsoids become their bounding sphere (conservative); cones and meshes become meshes;
@@ -52,9 +84,16 @@ def world_config_from_sim(world, robot, ignore: Sequence[str] = (), *, base_in_r
     links fixed to the base (`ObstacleTables.below_base`), only against the moving ones.
 
     Raises:
-        InvalidInputError: before the world's first `reset()` (the robot's pose is unknown).
+        InvalidInputError: before the world's first `reset()` (the robot's pose is unknown); a
+            `robot` that is not an articulation; an `ignore` entry that is not a non-empty string.
+        UnknownNameError: an `ignore` entry that starts no name or prim path in the World.
     """
     robots = list(robot) if isinstance(robot, (list, tuple)) else [robot]
+    for r in robots:
+        if not hasattr(r, "dof_names") or not callable(getattr(r, "get_world_pose", None)):
+            raise InvalidInputError(f"robot must be the simulated robot the planner plans for (an Articulation / "
+                                    f"Robot with joints), or a list of them; got {type(r).__name__} "
+                                    f"{getattr(r, 'name', r)!r}")
     robot = robots[0]
     robot_pose = robot.get_world_pose()
     if robot_pose is None or getattr(world, "model", True) is None:  # a robot's pose is known before, the world not
@@ -64,6 +103,7 @@ def world_config_from_sim(world, robot, ignore: Sequence[str] = (), *, base_in_r
     position, orientation = robot_pose
     T_world_robot = Pose(np.asarray(position, dtype=float), np.asarray(orientation, dtype=float))
     T_base_world = (T_world_robot if base_in_robot is None else T_world_robot @ base_in_robot).inverse()
+    ignore = _check_ignore(world, ignore)
     robot_paths = {getattr(r, "prim_path", None) for r in robots}
     cfg = WorldConfig()
     used: set[str] = set()

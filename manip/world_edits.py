@@ -111,10 +111,17 @@ class WorldEdits:
         motion moves; every moving link is checked against it.
 
         Raises:
-            InvalidInputError: called before the World's first `reset()`.
+            InvalidInputError: called before the World's first `reset()`; `robot` not the
+                articulation of this generator's robot; a malformed `ignore`.
+            UnknownNameError: an `ignore` entry that names nothing in the World.
         """
         arms = self.config.arms if isinstance(robot, (list, tuple)) else ()   # one simulated robot per arm
         cfg = world_config_from_sim(world, robot, ignore, base_in_robot=arms[0].base_pose.inverse() if arms else None)
+        dofs = None if isinstance(robot, (list, tuple)) else robot.dof_names
+        if dofs is not None and not set(self.joint_names) <= set(dofs):
+            raise InvalidInputError(
+                f"robot {getattr(robot, 'name', robot)!r} has the joints {list(dofs)}, not this generator's "
+                f"({self.config.name}: {self.joint_names}): read the World with the robot this generator plans for")
         self.update_world(cfg)
         return cfg
 

@@ -430,3 +430,15 @@ def test_a_linear_motion_to_a_goal_out_of_reach_says_so(mg):
     free = MotionGenerator("franka")   # within reach, in free space: unchanged
     r = free.plan_pose(READY, Pose([0.6, 0.0, 0.3], DOWN), linear=True)
     assert r.success, r.message
+
+
+def test_a_start_that_differs_from_the_goal_by_rounding_plans_a_still_motion():
+    """The arm parked at the goal with 1e-18 rad of drift in one joint (pick_and_place's
+    recovery to the wait pose): SUCCESS, not TRAJOPT_FAIL "endpoints differ"."""
+    mg = MotionGenerator("franka")
+    goal = mg.default_joint_positions
+    start = goal.copy()
+    start[4] += 1.4e-18
+    r = mg.plan_joints(start, goal)
+    assert r.success, (r.status, r.message)
+    assert np.abs(r.trajectory.positions[-1] - goal).max() < 1e-12

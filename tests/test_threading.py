@@ -195,3 +195,24 @@ def test_pose_goal_plans_from_two_threads(mg):
         assert a.success == b.success
         if a.success:
             assert np.array_equal(a.trajectory.positions, b.trajectory.positions)
+
+
+def test_separate_generators_of_different_robots_plan_in_threads_as_in_sequence():
+    """README: separate generators may plan in threads at once (round three: the Franka, UR5,
+    Kinova and xArm7 at once gave the sequential plans bit for bit; two of them here)."""
+    gens = {"franka": MotionGenerator("franka"), "ur5": MotionGenerator("ur5")}
+    problems = {}
+    for name, g in gens.items():
+        rng = np.random.default_rng([4001, len(name)])
+        while True:
+            a, b = rng.uniform(g.lower_limits, g.upper_limits, (2, g.robot_dof))
+            b = a + np.clip(b - a, -1.0, 1.0)
+            if not g.check_collision(a) and not g.check_collision(b):
+                break
+        problems[name] = (a, b)
+    ref = {n: gens[n].plan_joints(*problems[n], seed=5, time_budget=BUDGET) for n in gens}
+    assert all(r.success for r in ref.values())
+    out = {}
+    _run([lambda n=n: out.__setitem__(n, gens[n].plan_joints(*problems[n], seed=5, time_budget=BUDGET)) for n in gens])
+    for n in gens:
+        assert out[n].success and np.array_equal(out[n].trajectory.positions, ref[n].trajectory.positions), n

@@ -3,7 +3,8 @@
 This module shares no collision code with `manip`'s planner: it builds its own exact-mesh
 model of the robot (Pinocchio `buildGeomFromUrdf`, COLLISION meshes of the URDF, fingers at
 their planning opening) and of the world (coal Box / Cylinder / Sphere / Capsule / mesh),
-and asks `pinocchio.computeCollisions` (coal, no padding) whether any pair touches.
+and asks `pinocchio.computeCollisions` (coal, no padding) whether any pair touches; a part
+wholly inside another's closed mesh, which touches no triangle, is found by `verify_inside`.
 Self-collision pairs are all pairs of robot geometries minus the SRDF's disabled pairs.
 
 What `verify_trajectory` checks, and with which tolerance:
@@ -41,6 +42,7 @@ import numpy as np
 import pinocchio as pin
 
 from manip.benchmarking.mbm_problems import MBMProblem
+from manip.benchmarking.verify_inside import InsideTest
 from manip.errors import InvalidInputError
 from manip.pose import Pose
 from manip.robot_config import RobotConfig, load_robot_config
@@ -201,6 +203,7 @@ class _WorldModel:
     gm: pin.GeometryModel
     gd: pin.GeometryData
     bp: Any  # pin.BroadPhaseManager_DynamicAABBTreeCollisionManager over gm/gd
+    inside: InsideTest  # parts wholly inside another part's closed mesh (which coal does not see)
 
 
 class Verifier:
@@ -256,7 +259,8 @@ class Verifier:
         gd = gm.createData()
         # The broadphase manager keeps raw pointers to gm and gd: _WorldModel keeps them alive.
         bp = pin.BroadPhaseManager_DynamicAABBTreeCollisionManager(self.model, gm, gd)
-        return _WorldModel(gm, gd, bp)
+        inside = InsideTest(gm, [(cp.first, cp.second) for cp in gm.collisionPairs])
+        return _WorldModel(gm, gd, bp, inside)
 
     def _world(self, world: dict | None) -> _WorldModel:
         if not world:
@@ -293,7 +297,7 @@ class Verifier:
         w = self._world(world)
         if pin.computeCollisions(self.model, self.data, w.gm, w.gd, self._full_q(np.asarray(q, float)), True):
             return self._first_contact(w.gm, w.gd)
-        return None
+        return w.inside.first(w.gd)
 
     def first_collision(
         self, Q: np.ndarray, world: dict | None = None, broadphase: bool = True
@@ -313,10 +317,12 @@ class Verifier:
         model, data, cc = self.model, self.data, pin.computeCollisions
         gm, gd, bp = w.gm, w.gd, w.bp
         for i in range(len(Qf)):
-            if broadphase and not cc(model, data, bp, Qf[i], True):
-                continue
-            if cc(model, data, gm, gd, Qf[i], True):
+            if not (broadphase and not cc(model, data, bp, Qf[i], True)) and cc(model, data, gm, gd, Qf[i], True):
                 return i, self._first_contact(gm, gd)
+            pin.updateGeometryPlacements(model, data, gm, gd, Qf[i])
+            inside = w.inside.first(gd)
+            if inside is not None:
+                return i, inside
         return None
 
     # ------------------------------------------------------------------ helpers
@@ -369,6 +375,10 @@ class Verifier:
             if gd.collisionResults[k].isCollision():
                 a, b = gm.geometryObjects[cp.first].name, gm.geometryObjects[cp.second].name
                 (world_hits if b.startswith("world/") else self_hits).append(f"{a}-{b}")
+        inside = w.inside.first(gd)  # placements updated by computeCollisions
+        if inside is not None:
+            hits = world_hits if "world/" in inside[0] + inside[1] else self_hits
+            hits.append(f"{inside[0]}-{inside[1]} (wholly inside)")
         if self_hits:
             codes.append(f"{label}_self_collision")
             reasons.append(f"{label} in self collision: {', '.join(self_hits)}")

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import pinocchio as pin
@@ -36,10 +36,11 @@ import pinocchio as pin
 from manip.collision import CollisionChecker
 from manip.constraints import Constraint
 from manip.errors import InvalidInputError, UnknownNameError
-from manip.ik import IKSolver
+from manip.ik import IKSolver, IKStatus
 from manip.limits import JointLimits
 from manip.planning.constrained import with_constraints
 from manip.planning.context import PlanContext
+from manip.planning.goal_configurations import nearest_solution_problem
 from manip.planning.grasp_plan import GraspPlan, failure_message, join
 from manip.planning.linear_motion import plan_linear
 from manip.planning.path.goals import order_goals
@@ -126,12 +127,19 @@ def _touching(checker: CollisionChecker, q: np.ndarray, name: str) -> list[tuple
 
 def _ik(stages: Stages, goal: Pose, link: str, seed_q: np.ndarray, validity: Validity, ctx: PlanContext):
     """IK of `goal` from `seed_q` that `validity` accepts: first without the checks (the
-    solution nearest the seed is usually it), then searched with them."""
+    solution nearest the seed is usually it), then searched with them. When every solution
+    is rejected, the message names what the one nearest `seed_q` touches."""
     seed = int(ctx.rng.integers(2**31))
     r = _quick(stages.ik_solver).solve(goal, link, seed_q=seed_q, seed=seed)
     if r.success and validity.configs(r.q[None])[0]:
         return r
-    return stages.ik_solver.solve(goal, link, seed_q=seed_q, validity_fn=validity.configs, seed=seed)
+    r = stages.ik_solver.solve(goal, link, seed_q=seed_q, validity_fn=validity.configs, seed=seed)
+    if r.status is IKStatus.REJECTED_BY_VALIDITY:
+        problem = nearest_solution_problem(stages.ik_solver, goal, link, seed_q, validity, seed)
+        if problem:
+            r = replace(r, message=f"every solution found in {r.attempts} attempt(s) is rejected; the one nearest "
+                                   f"the start: {problem}")
+    return r
 
 
 def plan_grasp(stages: Stages, start_q: np.ndarray, grasps: Pose, object_name: str, *, approach: float, lift: float,

@@ -36,11 +36,16 @@ def play_trajectory(world, robot, trajectory) -> np.ndarray:
     drives jump to the first sample).
 
     Raises:
-        InvalidInputError: the trajectory's dt differs from the world's physics step.
+        InvalidInputError: not a Trajectory (e.g. None, a failed plan's); its dt differs from
+            the world's physics step.
         SimulationError: the world is not playing (paused or stopped: no step would move
             the robot, and every row would be the same).
         UnknownNameError: a joint of the trajectory is not a DoF of the robot.
     """
+    if not callable(getattr(trajectory, "to_articulation_actions", None)):
+        hint = " (a failed plan's result.trajectory is None: check result.success)" if trajectory is None else ""
+        raise InvalidInputError(f"trajectory must be a manip.Trajectory (e.g. PlanResult.trajectory); got "
+                                f"{type(trajectory).__name__}{hint}")
     dt = world.get_physics_dt()
     if abs(trajectory.dt - dt) > 1e-9:
         raise InvalidInputError(f"trajectory.dt ({trajectory.dt} s) must equal the world's physics step ({dt} s); "

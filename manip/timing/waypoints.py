@@ -339,6 +339,8 @@ def time_waypoints(
 
     # -- stretch to the requested duration and to a whole number of dt
     t_min = best.duration
+    if t_min == 0.0:  # ruckig resolves no motion (the points differ by rounding, e.g. 1e-15 rad): stay at the start
+        return still_result(wp[0], dt, names, mode, wp[:1], t_start)
     if msg := too_short(duration, t_min):
         return fail(TimingStatus.DURATION_TOO_SHORT, msg, t_min)
     profile = assemble(best.segments, wp[-1])

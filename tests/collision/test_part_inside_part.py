@@ -42,3 +42,16 @@ def test_parts_apart_or_touching_are_unchanged(mg):
     assert 0 < hits.sum() < 300
     # a part inside another without touching is rare: the same answers but for such rows
     assert all(mg.check_collision(q) == h for q, h in zip(Q[:60], hits[:60]))
+
+
+#: found by the independent verifier (round three: 2 of 5000 uniformly random configurations,
+#: seed [4000, 7]): a finger wholly inside panda_link5 where `solids.part_in_part` says inside,
+#: but the checker's self broadphase never makes (panda_link5, finger) a candidate, so the
+#: inside test (run on candidates whose surfaces do not touch) never sees the pair.
+MISSED = [np.array([2.237984, 0.386481, 1.831686, -1.353043, 2.881792, -0.011904, -0.720005]),
+          np.array([1.852394, -0.56329, 1.571227, -2.959354, 2.7396, -0.006162, 2.391773])]
+
+
+@pytest.mark.xfail(strict=True, reason="known gap: the inside test sees broadphase candidates only (checker.py)")
+def test_a_finger_inside_a_link_that_no_broadphase_candidate_covers(mg):
+    assert all(mg.check_collision(q) for q in MISSED)

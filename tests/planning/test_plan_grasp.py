@@ -128,3 +128,19 @@ def test_relative_pose_constraints_are_held_as_they_are_at_the_start_of_the_sequ
     placements = Pose.stack([Pose([0.4, -0.3, 0.025], quat.from_axis_angle([0, 0, 1], 0.0))])
     plan = mg.plan_place(grasp.segment("lift").goal_q, placements, constraints=(rigid,))
     assert plan.success, plan.message
+
+
+def test_a_grasp_whose_every_ik_solution_collides_says_what_it_touches():
+    """A cube behind a 35 cm box (round three: benchmarks/unseen_sim.py --random-obstacles,
+    episode 9): every grasp IK solution puts panda_link5 into the box. Before, the message
+    was "validity_fn rejected every solution found in 100 attempt(s)", naming nothing."""
+    cube = [0.645, 0.315, 0.027]
+    mg = MotionGenerator("franka", {"cuboid": {
+        "cube": {"dims": [0.054] * 3, "pose": cube + [1, 0, 0, 0]},
+        "box0": {"dims": [0.096, 0.117, 0.346], "pose": [0.419, 0.23, 0.173, 1, 0, 0, 0]}}}, padding=0.01)
+    grasps = Pose.stack([Pose(np.add(cube, [0, 0, 0.003]), down(k * np.pi / 2)) for k in range(4)])
+    plan = mg.plan_grasp(mg.default_joint_positions, grasps, "cube", link=TCP, approach=0.15, lift=0.15)
+    assert plan.status is PlanStatus.IK_FAIL
+    assert "validity_fn" not in plan.message
+    assert plan.message.count("the one nearest the start: goal in collision") == 4, plan.message
+    assert "touches box0" in plan.message, plan.message

@@ -48,3 +48,18 @@ def test_a_robot_away_from_the_start_is_warned_about(mg, caplog):
     with caplog.at_level(logging.WARNING, logger="manip.sim.playback"):
         play_trajectory(world, franka, plan.trajectory)
     assert "the robot is 0.2" in caplog.text and "from the trajectory's start at panda_joint" in caplog.text
+
+
+def test_the_trajectory_of_a_failed_plan_is_refused_by_name(mg):
+    """A failed plan's `trajectory` is None: before, AttributeError "'NoneType' object has no
+    attribute 'dt'"."""
+    from manip.errors import InvalidInputError
+
+    world = World()
+    franka = world.scene.add(Franka("/World/Franka", name="franka"))
+    world.reset()
+    failed = mg.plan_joints(mg.default_joint_positions, np.full(7, 10.0))
+    assert not failed.success and failed.trajectory is None
+    with pytest.raises(InvalidInputError, match=r"trajectory must be a manip.Trajectory .*got NoneType \(a failed "
+                                                r"plan's result.trajectory is None: check result.success\)"):
+        play_trajectory(world, franka, failed.trajectory)

@@ -228,3 +228,35 @@ def test_limits_stay_stiff_when_the_physics_step_changes():
     np.testing.assert_allclose(world.model.jnt_solref[joints, 0], 2 * world.model.opt.timestep)
     franka.apply_action(ArticulationAction(joint_positions=[0.1, 0.1], joint_indices=FINGERS))
     assert step_and_track(world, franka, 60) <= 0.0
+
+
+def test_reading_the_world_refuses_a_wrong_robot_and_ignore_entries_that_name_nothing():
+    """Round three (BENCHMARKS.md "Unseen problems, round three"). Before: `ignore="/World/cube"`
+    (one string, not in a list) was read letter by letter, and its "/" dropped every obstacle
+    (the wall too) silently; an ignore entry naming nothing (a typo) was dropped silently; a
+    cube passed as the robot made the Franka's links obstacles; a UR5 generator read the World
+    in a Franka's frame."""
+    from manip import MotionGenerator
+    from manip.errors import UnknownNameError
+    from manip.sim import DynamicCuboid, FixedCuboid
+
+    world = World()
+    world.scene.add_default_ground_plane()
+    cube = world.scene.add(DynamicCuboid("/World/cube", name="cube", position=[0.5, 0.0, 0.3], size=0.05))
+    world.scene.add(FixedCuboid("/World/wall", name="wall", position=[0.5, 0.3, 0.2], size=0.1))
+    franka = world.scene.add(Franka("/World/Franka", name="franka"))
+    world.reset()
+    mg = MotionGenerator("franka")
+    for ignore in ("/World/cube", "cube", ["cube"], ("/World/cube",)):
+        assert mg.update_world_from_sim(world, franka, ignore=ignore).names == ["default_ground_plane", "wall"]
+    with pytest.raises(UnknownNameError, match=r"ignore: object name or prim path 'cub3' not found; available: "
+                                               r"/World/Franka, /World/cube"):
+        mg.update_world_from_sim(world, franka, ignore=["cub3"])
+    for bad in ([3], [""], ["cube", None]):
+        with pytest.raises(InvalidInputError, match="ignore: each entry must be a non-empty name or prim path"):
+            mg.update_world_from_sim(world, franka, ignore=bad)
+    with pytest.raises(InvalidInputError, match="robot must be the simulated robot .* got DynamicCuboid 'cube'"):
+        mg.update_world_from_sim(world, cube)
+    with pytest.raises(InvalidInputError, match=r"robot 'franka' has the joints .* not this generator's \(ur5: "):
+        MotionGenerator("ur5").update_world_from_sim(world, franka)
+    assert mg.world.names == ["default_ground_plane", "wall"]   # a refused call changes nothing

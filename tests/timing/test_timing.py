@@ -240,6 +240,21 @@ def test_single_waypoint_gives_a_still_trajectory(cfg):
         np.testing.assert_array_equal(r.trajectory.positions[0], a)
 
 
+def test_points_apart_by_rounding_only_give_a_still_trajectory_at_the_start(cfg):
+    """A planning start 1e-18 to 1e-15 rad from its goal (a simulated arm parked at its wait
+    pose) is a move ruckig times at 0 s: a still trajectory at the start, not a failed
+    verification (before: LIMIT_VIOLATION "endpoints differ from the path's")."""
+    a = np.array(cfg.default_joint_positions)
+    for eps in (1e-18, 1e-15):
+        b = a.copy()
+        b[4] += eps
+        for mode in ("blend", "exact"):
+            r = time_parameterize_for_robot([b, a], cfg, mode=mode)
+            assert r.success, r.message
+            assert r.trajectory.num_samples == 1
+            np.testing.assert_array_equal(r.trajectory.positions[0], b)
+
+
 def test_speed_scales_and_duration(cfg):
     vmax, amax, jmax, lo, hi = limits(cfg)
     rng = np.random.default_rng(5)

@@ -22,7 +22,7 @@ from manip.sim.prims.geometry_prim import GeometryPrim, PhysicsMaterial
 from manip.sim.prims.rigid_prim import RigidPrim
 from manip.sim.utils.types import DynamicState
 from manip.validation import positive, scale3
-from manip.sim.utils.bounds import bounded_vec
+from manip.sim.utils.bounds import bounded_vec, check_object_size
 
 logger = logging.getLogger(__name__)
 
@@ -48,8 +48,7 @@ class _Cuboid:
 
     def set_size(self, size: float) -> None:
         """Change the edge length [m]; takes effect at the next `World.reset()`."""
-        self._size = positive(size, "size", "m")
-        self._mark_changed()
+        self._set_dimension("_size", positive(size, "size", "m"))
 
     def _geom_type_size(self):
         return mujoco.mjtGeom.mjGEOM_BOX, (0.5 * self._size * self._scale).tolist()
@@ -69,8 +68,7 @@ class _Radius:
 
     def set_radius(self, radius: float) -> None:
         """Change the radius [m]; takes effect at the next `World.reset()`."""
-        self._radius = positive(radius, "radius", "m")
-        self._mark_changed()
+        self._set_dimension("_radius", positive(radius, "radius", "m"))
 
 
 class _Sphere(_Radius):
@@ -113,8 +111,7 @@ class _RadiusHeight(_Radius):
 
     def set_height(self, height: float) -> None:
         """Change the height [m]; takes effect at the next `World.reset()`."""
-        self._height = positive(height, "height", "m")
-        self._mark_changed()
+        self._set_dimension("_height", positive(height, "height", "m"))
 
     def _rh(self) -> tuple[float, float]:
         return self._radius * self._scale[0], self._height * self._scale[2]
@@ -233,10 +230,37 @@ class _ShapePrim(GeometryPrim):
         self._scale = scale3(scale) if scale is not None else np.ones(3)
         self.prim_path = prim_path
         self._init_shape(size, radius, height)
+        self._check_size()
         body = self._check_body(mass, density, linear_velocity, angular_velocity)
         super().__init__(prim_path, name, position, translation, orientation, scale, visible, color=color,
                          physics_material=physics_material, visual_material=visual_material)
         self._init_body(*body)
+
+    def _check_size(self) -> None:
+        """Raise InvalidInputError when a dimension (scale included) exceeds MAX_OBJECT_SIZE."""
+        check_object_size(self.shape_dimensions(), self._shape_params, f"{self._title()} '{self.prim_path}'")
+
+    def _set_dimension(self, attr: str, value: float) -> None:
+        """Set a dimension (`_size`, `_radius`, `_height`) [m] if the shape stays within bounds."""
+        old = getattr(self, attr)
+        setattr(self, attr, value)
+        try:
+            self._check_size()
+        except InvalidInputError:
+            setattr(self, attr, old)
+            raise
+        self._mark_changed()
+
+    def set_local_scale(self, scale) -> None:
+        """Change the scale; it takes effect at the next `World.reset()` (the model is recompiled)."""
+        old = self._scale
+        self._scale = scale3(scale)
+        try:
+            self._check_size()
+        except InvalidInputError:
+            self._scale = old
+            raise
+        self._mark_changed()
 
     def _title(self, family: str | None = None) -> str:
         """E.g. "DynamicCuboid" (of this shape in `family`, default its own)."""

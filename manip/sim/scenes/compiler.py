@@ -50,7 +50,11 @@ def compile_stage(stage: Stage, *, timestep: float, gravity: np.ndarray) -> SimH
     try:
         model = compile_with_physx_friction(spec, modes)
     except ValueError as exc:
-        raise SimulationError(f"the stage does not compile into a MuJoCo model: {exc}") from exc
+        hint = ""
+        if "mjMINVAL" in str(exc):   # MuJoCo's bound on a moving body's mass and inertia (1e-15)
+            hint = ("\n(MuJoCo needs every moving body's mass and inertia above mjMINVAL = 1e-15: the named object "
+                    "is too small or too light; e.g. a DynamicCuboid of 0.02 kg compiles at size 1e-4 m, not at 1e-6 m)")
+        raise SimulationError(f"the stage does not compile into a MuJoCo model: {exc}{hint}") from exc
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
     sim = SimHandle(model, data)

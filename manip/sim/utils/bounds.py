@@ -7,6 +7,9 @@ stops meaning anything:
 
 - `MAX_WORLD_POSITION` = 1e4 m from the World's origin (a work cell is metres across; the
   viewer's float32 geometry loses millimetres beyond it).
+- `MAX_OBJECT_SIZE` = 1e4 m: an edge, radius or height of a shape (times its scale), so a
+  shape stays within the reach of `MAX_WORLD_POSITION` (a 1e6 m cube dropped on a robot
+  made MuJoCo diverge at the first step).
 - `MAX_LINEAR_SPEED` = 1e3 m/s of a free body (faster than a rifle bullet: 2 m per 2 ms
   physics substep, so contacts are missed anyway).
 - `MAX_ANGULAR_SPEED` = 1e3 rad/s of a free body (about 9,500 rpm: 2 rad per substep).
@@ -34,6 +37,8 @@ from manip.validation import as_real_array, vec
 MAX_WORLD_POSITION = 1e4
 #: Largest speed [m/s] of a free body.
 MAX_LINEAR_SPEED = 1e3
+#: Largest dimension [m] of a shape (edge, radius or height, scale included).
+MAX_OBJECT_SIZE = MAX_WORLD_POSITION
 #: Largest angular speed [rad/s] of a free body.
 MAX_ANGULAR_SPEED = 1e3
 #: Largest speed [rad/s] a revolute joint is set to.
@@ -103,3 +108,16 @@ def check_efforts(e: np.ndarray, inertia: np.ndarray, revolute: np.ndarray, name
                 f"{names[k]}={e[k]:.4g} {'N m' if revolute[k] else 'N'} (at most {bound[k]:.4g})" for k in bad)
             + f"; an effort may not accelerate its joint alone beyond manip.sim.utils.bounds.MAX_EFFORT_ACCELERATION = "
               f"{MAX_EFFORT_ACCELERATION:g} rad/s^2 (or m/s^2) on the joint's inertia")
+
+
+def check_object_size(dimensions, names: tuple[str, ...], what: str) -> None:
+    """Raise InvalidInputError when a shape's dimension (`dimensions` (K,) [m], scale
+    included, named by `names`) exceeds MAX_OBJECT_SIZE."""
+    d = np.asarray(dimensions, dtype=float).ravel()
+    bad = np.flatnonzero(~(d <= MAX_OBJECT_SIZE))
+    if bad.size:
+        k = int(bad[0])
+        raise InvalidInputError(
+            f"{what}: {names[min(k, len(names) - 1)]} (scale included) = {d[k]:.4g} m exceeds "
+            f"manip.sim.utils.bounds.MAX_OBJECT_SIZE = {MAX_OBJECT_SIZE:g} m (a shape must fit in the World: "
+            f"positions reach MAX_WORLD_POSITION = {MAX_WORLD_POSITION:g} m)")

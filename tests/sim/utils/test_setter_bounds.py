@@ -106,3 +106,28 @@ def test_joint_values_at_the_bounds_simulate_stably(sign) -> None:
     assert np.all(np.isfinite(franka.get_joint_positions()))
     franka.set_joint_efforts(np.r_[87.0, np.zeros(8)])   # the Franka's own torques are far inside
     steps(world)
+
+
+def test_absurd_shape_sizes_are_refused_at_construction_and_by_setters() -> None:
+    """A 1e6 m cube dropped beside the Franka made MuJoCo diverge at the first step
+    (SimulationInstabilityError naming only the cube's free joint); now the constructor and the
+    size, radius, height and scale setters name the dimension and MAX_OBJECT_SIZE, and a
+    refused setter changes nothing. A shape at the bound (a 1e4 m floor slab) simulates."""
+    world, cube, _ = scene()
+    with pytest.raises(InvalidInputError, match=r"DynamicCuboid '/World/big': size \(scale included\) = 1e\+06 m "
+                                                r"exceeds manip.sim.utils.bounds.MAX_OBJECT_SIZE = 10000 m"):
+        DynamicCuboid("/World/big", name="big", position=[0.5, 0.3, 2.0], size=1e6)
+    for call, word in ((lambda: cube.set_size(2e4), "size"), (lambda: cube.set_local_scale([1e6, 1.0, 1.0]), "size")):
+        with pytest.raises(InvalidInputError, match=f"{word} .*MAX_OBJECT_SIZE"):
+            call()
+    assert cube.get_size() == 0.05 and np.array_equal(cube.get_local_scale(), np.ones(3))
+    from manip.sim import DynamicSphere, FixedCuboid, FixedCylinder
+    with pytest.raises(InvalidInputError, match="radius .*MAX_OBJECT_SIZE"):
+        DynamicSphere("/World/s", name="s", radius=2e4)
+    with pytest.raises(InvalidInputError, match="height .*MAX_OBJECT_SIZE"):
+        FixedCylinder("/World/y", name="y", radius=0.1, height=3e4)
+    world.scene.add(FixedCuboid("/World/slab", name="slab", position=[0.0, 0.0, -0.6], size=1.0,
+                                scale=[bounds.MAX_OBJECT_SIZE, bounds.MAX_OBJECT_SIZE, 1.0]))
+    world.reset()
+    steps(world)
+    assert abs(cube.get_world_pose()[0][2] - 0.025) < 2e-3
