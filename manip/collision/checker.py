@@ -62,12 +62,10 @@ from manip.collision.robot_geometry import RobotGeometry
 from manip.collision.segments import SegmentChecks, consistent
 from manip.collision.shapes import Obstacle  # noqa: F401  (re-exported)
 from manip.collision.solids import (
-    closed_part_mesh,
-    inside_screen,
-    inside_table,
-    part_in_part,
+    containable_pairs,
+    obstacles_inside_parts,
     part_inside,
-    part_volume,
+    parts_inside_parts,
 )
 from manip.collision.state import CollisionState
 from manip.collision.tables import coal_transform
@@ -210,8 +208,7 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         tfb = tfs.get(key)
         if tfb is None:
             tfb = tfs[key] = self._part_tf(R, p, n, j)
-        return bool(coal.collide(self._parts[i].geometry, tfa, self._parts[j].geometry, tfb, self._req_self, res)) \
-            or self._part_in_part(i, j, tfa.getRotation(), tfa.getTranslation(), tfb.getRotation(), tfb.getTranslation())
+        return bool(coal.collide(self._parts[i].geometry, tfa, self._parts[j].geometry, tfb, self._req_self, res))
 
     def _check(self, Q: np.ndarray, stop_at_first: bool = False, group: np.ndarray | None = None,
                deepest_first: bool = True, inside: bool = False) -> np.ndarray:
@@ -224,7 +221,7 @@ class CollisionChecker(WorldEdits, SegmentChecks):
             deepest_first: with `stop_at_first` or `group`, try the most penetrating ball
                 pairs first (the likeliest collisions); else go in configuration order, so
                 that with `stop_at_first` the first True is the first colliding row.
-            inside: also find a part wholly inside another's closed mesh (`_part_in_part`), for
+            inside: also find a part or obstacle wholly inside a part's closed mesh (`_parts_inside`), for
                 configurations checked on their own. Motions need not: a motion that enters a
                 part from outside crosses its surface, which the checks along it see.
         """
@@ -251,9 +248,31 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         group: returns at the first collision found. Returns True when one was found."""
         R, p = self._fk(Q)
         n, kind, i, j = self._candidates(Q, R, p, deepest_first=deepest_first)
-        if n.size == 0:
+        found = bool(n.size) and self._narrowphase(R, p, n, kind, i, j, group, done, out)
+        if inside and not (found and group is None):
+            found = self._parts_inside(R, p, group, done, out) or found
+        return found
+
+    def _parts_inside(self, R: np.ndarray, p: np.ndarray, group: np.ndarray | None, done: set[int] | None,
+                      out: np.ndarray, hits: list | None = None) -> bool:
+        """`_check_chunk`'s configurations not found colliding where a part or an obstacle lies wholly
+        inside a part's closed mesh (coal sees surfaces; no sphere-cover candidate need reach a
+        finger inside panda_link5): sets `out` (and `done`) there; True when one was found. `hits`:
+        every such pair (kind, part, part or obstacle) is appended to it."""
+        rows = np.flatnonzero(~out)
+        if group is not None and done:
+            rows = rows[[group[r] not in done for r in rows.tolist()]]
+        if not rows.size:
             return False
-        return self._narrowphase(R, p, n, kind, i, j, group, done, out, inside)
+        R, p, allowed = R[rows], p[rows], self.__dict__.get("_allowed_world")
+        rows = rows[parts_inside_parts(self._parts, containable_pairs(self._parts, self._pairs), R, p, self._pj, self._gR,
+                                       self._gp, hits)
+                    | obstacles_inside_parts(self._parts, self._pj, self._gR, self._gp, self._world_tables, R, p, allowed,
+                                             hits)]
+        out[rows] = True
+        if group is not None:
+            done.update(group[rows].tolist())
+        return bool(rows.size)
 
     def _collides_given(self, R: np.ndarray, p: np.ndarray, kind: np.ndarray, i: np.ndarray, j: np.ndarray) -> bool:
         """True when the one configuration whose joint frames are R (1, J+1, 3, 3), p (1, J+1, 3)
@@ -270,8 +289,7 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         return self._narrowphase(R, p, np.zeros(i.size, dtype=np.int64), kind, i, j, None, None, np.zeros(1, dtype=bool))
 
     def _narrowphase(self, R: np.ndarray, p: np.ndarray, n: np.ndarray, kind: np.ndarray, i: np.ndarray,
-                     j: np.ndarray, group: np.ndarray | None, done: set[int] | None, out: np.ndarray,
-                     inside: bool = False) -> bool:
+                     j: np.ndarray, group: np.ndarray | None, done: set[int] | None, out: np.ndarray) -> bool:
         """Coal on the candidates (n, kind, i, j) (T,) of `_candidates`, in their order (see
         `_check_chunk` and `_check`, whose arguments the others are)."""
         # world placements of both geometries of every candidate pair, in one go
@@ -292,7 +310,6 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         keys = None if group is None else group[n].tolist()
         kind_l, i_l, j_l = kind.tolist(), i.tolist(), j.tolist()
         found = False
-        pending: list[int] = []
         for t in range(len(n_l)):
             if keys is not None and keys[t] in done:
                 continue
@@ -317,20 +334,7 @@ class CollisionChecker(WorldEdits, SegmentChecks):
                     continue
                 res.clear()
                 hit = collide(geoms[a], ta, geoms[b], tb, req_s, res)
-                if not hit and inside:
-                    pending.append(t)
             if hit:
-                out[n_l[t]] = True
-                if keys is None:
-                    return True
-                done.add(keys[t])
-                found = True
-        if pending:   # self pairs whose surfaces do not touch: one inside the other? (screened together)
-            P = np.array(pending)
-            for t in P[inside_screen(inside_table(self._parts), i[P], j[P], RA[P], pA[P], RB[P], pB[P])].tolist():
-                if (keys is not None and keys[t] in done) or not self._part_in_part(
-                        i_l[t], j_l[t], RA[t], pA[t], RB[t], pB[t]):
-                    continue
                 out[n_l[t]] = True
                 if keys is None:
                     return True
@@ -358,18 +362,6 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         if not getattr(ob, "solid", False):
             return False
         return part_inside(self._parts[g].geometry, np.asarray(R), np.asarray(p), ob, self._ogeom[o])
-
-    def _part_in_part(self, a: int, b: int, Ra, pa, Rb, pb) -> bool:
-        """True when part a, placed at (Ra, pa), or part b, at (Rb, pb) (base frame), touching
-        no surface of the other, lies inside the other's closed mesh (`solids.part_in_part`)."""
-        A, B = self._parts[a], self._parts[b]
-        sa, sb = closed_part_mesh(A.geometry, A.name), closed_part_mesh(B.geometry, B.name)
-        if sa is None and sb is None:
-            return False
-        va, vb = part_volume(A.geometry, sa), part_volume(B.geometry, sb)   # only the smaller fits in the larger
-        Ra, pa, Rb, pb = np.asarray(Ra), np.asarray(pa), np.asarray(Rb), np.asarray(pb)
-        return ((va < vb and part_in_part(A.geometry, Ra, pa, sb, B.geometry, Rb, pb))
-                or (vb < va and part_in_part(B.geometry, Rb, pb, sa, A.geometry, Ra, pa)))
 
     # ------------------------------------------------------------------ public checks
     def _one_q(self, q: np.ndarray, what: str = "q", note: str = "") -> np.ndarray:
@@ -425,7 +417,7 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         for a, b in self._pairs:
             if self._exact(R, p, 0, 1, int(a), int(b), tfs):
                 return True
-        return False
+        return self._parts_inside(R, p, None, None, np.zeros(1, dtype=bool))   # wholly inside a part
 
     # ------------------------------------------------------------------ reports and distances
     def _pair_distance(self, geom_a, tf_a, geom_b, tf_b) -> float:
@@ -464,6 +456,14 @@ class CollisionChecker(WorldEdits, SegmentChecks):
             else:
                 d = self._pair_distance(self._parts[a].hull, tfs[(0, a)], self._parts[b].hull, tfs[(0, b)])
             contacts.append(self._contact(k, a, b, d))
+        found: list = []   # parts and obstacles wholly inside a part's closed mesh
+        self._parts_inside(R, p, None, None, np.zeros(1, dtype=bool), found)
+        named = {(c.a, c.b) for c in contacts}
+        for k, a, b in found:
+            d = self._pair_distance(self._parts[a].hull, self._part_tf(R, p, 0, a), *(
+                (self._ogeom[b], self._otf[b]) if k == 0 else (self._parts[b].hull, self._part_tf(R, p, 0, b))))
+            c = self._contact(k, a, b, min(d, 0.0))
+            contacts += [] if (c.a, c.b) in named else [c]
         contacts.sort(key=lambda c: c.distance)
         return CollisionReport(bool(contacts), tuple(contacts))
 

@@ -24,6 +24,7 @@ import coal
 import numpy as np
 
 from manip.errors import InvalidInputError
+from manip.jit import kernel
 
 #: A probe point closer than this to the surface [m] counts as inside (touching).
 ON_SURFACE = 1e-9
@@ -280,7 +281,7 @@ def part_volume(geometry, solid: SolidData | None) -> float:
 
 @dataclass(frozen=True, eq=False)
 class InsideTable:
-    """The robot's parts for the vectorised screen of `part_in_part` (`inside_screen`).
+    """The robot's parts for the vectorised screen of `part_in_part` (`parts_inside_parts`).
 
     Attributes:
         lower, upper: (G, 3) the bounding box of each part's mesh, its frame [m] (nan: a
@@ -315,20 +316,6 @@ def inside_table(parts) -> InsideTable:
         _TABLES.clear()
     _TABLES[id(parts)] = (parts, tab)
     return tab
-
-
-def inside_screen(tab: InsideTable, a: np.ndarray, b: np.ndarray, Ra: np.ndarray, pa: np.ndarray, Rb: np.ndarray,
-                  pb: np.ndarray) -> np.ndarray:
-    """(K,) bool: for K pairs of parts a, b (K,) placed at (Ra (K, 3, 3), pa (K, 3)) and (Rb, pb),
-    whether one may have a probe point inside the other's mesh (inside its bounding box);
-    False rules `part_in_part` out for both orders."""
-    def fits(x, Rx, px, y, Ry, py):
-        X = np.einsum("kij,kj->ki", Rx, tab.centre[x]) + px
-        L = np.einsum("kji,kj->ki", Ry, X - py)   # in y's frame
-        r = tab.radius[x][:, None]
-        with np.errstate(invalid="ignore"):   # nan bounds: y is a primitive
-            return np.all((L >= tab.lower[y] - r) & (L <= tab.upper[y] + r), axis=1)
-    return fits(a, Ra, pa, b, Rb, pb) | fits(b, Rb, pb, a, Ra, pa)
 
 
 def part_in_part(geometry_a, Ra: np.ndarray, pa: np.ndarray, solid_b: SolidData | None, geometry_b,
@@ -368,3 +355,158 @@ def part_inside_a_solid(parts, obstacles, geometries, R: np.ndarray, p: np.ndarr
             if part_inside(part.geometry, Rg, pg, obstacles[o], geometries[o]):
                 return part.name, obstacles[o].name
     return None
+
+
+def containable_pairs(parts, pairs: np.ndarray) -> np.ndarray:
+    """(K, 2) ordered pairs (a, b) of the robot's checked self pairs `pairs` (P, 2) where part a
+    could lie wholly inside part b: b's mesh is closed and a's volume is smaller (as
+    `part_in_part` tests them). Cached per parts list and pairs."""
+    key = (id(parts), np.asarray(pairs).tobytes())
+    hit = _CONTAINABLE.get(key)
+    if hit is not None and hit[0] is parts:
+        return hit[1]
+    solid = [closed_part_mesh(part.geometry, part.name) for part in parts]
+    volume = [part_volume(part.geometry, s) for part, s in zip(parts, solid)]
+    out = []
+    for a, b in np.asarray(pairs, dtype=np.int64).reshape(-1, 2).tolist():
+        if solid[b] is not None and volume[a] < volume[b]:
+            out.append((a, b))
+        if solid[a] is not None and volume[b] < volume[a]:
+            out.append((b, a))
+    table = np.array(out, dtype=np.int64).reshape(-1, 2)
+    if len(_CONTAINABLE) > 64:
+        _CONTAINABLE.clear()
+    _CONTAINABLE[key] = (parts, table)
+    return table
+
+
+_CONTAINABLE: dict[tuple, tuple[object, np.ndarray]] = {}
+
+
+def parts_inside_parts(parts, pairs: np.ndarray, R: np.ndarray, p: np.ndarray, part_joint: np.ndarray,
+                       gR: np.ndarray, gp: np.ndarray, hits: list | None = None) -> np.ndarray:
+    """(N,) bool: the configurations, given by their joint frames R (N, J+1, 3, 3), p (N, J+1, 3)
+    (base frame), where a part a has a probe point inside part b's closed mesh, for the ordered
+    pairs (a, b) (K, 2) of `containable_pairs`. part_joint (G,), gR (G, 3, 3), gp (G, 3): each
+    part's joint and geometry frame in it. Screened by b's convex hull first (which holds b).
+    `hits`: when given, every pair found is appended to it as (1, a, b) (all pairs, not the first)."""
+    tab = inside_table(parts)
+    out = np.zeros(R.shape[0], dtype=bool)
+    pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
+    if not pairs.size or not R.shape[0]:
+        return out
+    a, b = pairs[:, 0], pairs[:, 1]
+    ja, jb = part_joint[a], part_joint[b]
+    centre = np.einsum("kij,kj->ki", gR[a], tab.centre[a]) + gp[a]   # (K, 3) a's probe centre, its joint frame
+    hulls = _hull_table(parts, b)
+    n_near, k_near = _centres_in_hulls(R, p, ja, jb, centre, gR[b], gp[b], tab.lower[b], tab.upper[b], hulls,
+                                       tab.radius[a])
+    for n, k in zip(n_near.tolist(), k_near.tolist()):
+        if out[n] and hits is None:
+            continue
+        A, B = parts[a[k]], parts[b[k]]
+        Ra, Rb = R[n, ja[k]] @ gR[a[k]], R[n, jb[k]] @ gR[b[k]]
+        if part_in_part(A.geometry, Ra, R[n, ja[k]] @ gp[a[k]] + p[n, ja[k]], closed_part_mesh(B.geometry, B.name),
+                        B.geometry, Rb, R[n, jb[k]] @ gp[b[k]] + p[n, jb[k]]):
+            out[n] = True
+            if hits is not None:
+                hits.append((1, int(a[k]), int(b[k])))
+    return out
+
+
+def obstacles_inside_parts(parts, part_joint: np.ndarray, gR: np.ndarray, gp: np.ndarray, tables, R: np.ndarray,
+                           p: np.ndarray, allowed: np.ndarray | None = None, hits: list | None = None) -> np.ndarray:
+    """(N,) bool: the configurations (joint frames R (N, J+1, 3, 3), p (N, J+1, 3)) where an
+    obstacle of `tables` (`collision.tables.ObstacleTables`) has a probe point inside a part's
+    closed mesh (a pebble wholly inside panda_link5: coal sees the link's triangles only).
+    part_joint, gR, gp: as `parts_inside_parts`; allowed: (G, O) bool, pairs not checked; `hits`:
+    when given, every (part g, obstacle o) found is appended to it as (0, g, o)."""
+    out = np.zeros(R.shape[0], dtype=bool)
+    closed = [g for g, part in enumerate(parts) if closed_part_mesh(part.geometry, part.name) is not None]
+    O = len(tables.obstacles)
+    if not closed or not O or not R.shape[0]:
+        return out
+    tab = inside_table(parts)
+    b = np.repeat(np.array(closed, dtype=np.int64), O)
+    o = np.tile(np.arange(O), len(closed))
+    radius = np.linalg.norm(tables.h, axis=1)[o] + tables.rho[o]   # the obstacles' bounding balls, base frame
+    n_near, k_near = _centres_in_hulls(R, p, np.zeros(b.size, dtype=np.int64), part_joint[b], tables.c[o], gR[b],
+                                       gp[b], tab.lower[b], tab.upper[b], _hull_table(parts, b), radius)
+    for n, k in zip(n_near.tolist(), k_near.tolist()):
+        g, ob = int(b[k]), int(o[k])
+        if (out[n] and hits is None) or (allowed is not None and allowed[g, ob]):
+            continue
+        tf = tables.transforms[ob]
+        X = probe_points(tables.geometries[ob]) @ np.asarray(tf.getRotation()).T + np.asarray(tf.getTranslation())
+        Rb = R[n, part_joint[g]] @ gR[g]
+        pb = R[n, part_joint[g]] @ gp[g] + p[n, part_joint[g]]
+        if contains(closed_part_mesh(parts[g].geometry, parts[g].name), parts[g].geometry, (X - pb) @ Rb):
+            out[n] = True
+            if hits is not None:
+                hits.append((0, g, ob))
+    return out
+
+
+def _hull_table(parts, b: np.ndarray) -> np.ndarray:
+    """(K, F, 4) the facets (n, d) of the convex hulls of parts b (K,) (n . x + d <= 0 inside,
+    each part's frame), padded with facets no point is outside of. Cached per part."""
+    E = []
+    for g in b.tolist():
+        geometry = parts[g].geometry
+        hit = _HULLS.get(id(geometry))
+        if hit is None or hit[0] is not geometry:
+            from scipy.spatial import ConvexHull
+
+            V = np.asarray(geometry.vertices(), dtype=float).reshape(-1, 3)
+            if len(_HULLS) > 4096:
+                _HULLS.clear()
+            hit = _HULLS[id(geometry)] = (geometry, ConvexHull(V).equations)
+        E.append(hit[1])
+    table = np.zeros((len(E), max((e.shape[0] for e in E), default=0), 4))
+    table[:, :, 3] = -np.inf
+    for k, e in enumerate(E):
+        table[k, :e.shape[0]] = e
+    return table
+
+
+_HULLS: dict[int, tuple[object, np.ndarray]] = {}
+
+
+@kernel
+def _centres_in_hulls(R, p, ja, jb, centre, gRb, gpb, lower, upper, hulls, radius):
+    """For configurations n (joint frames R (N, J+1, 3, 3), p (N, J+1, 3)) and pairs k (K,):
+    where the point `centre[k]` (joint ja[k]'s frame) lies within radius[k] of the box
+    [lower[k], upper[k]] and of the convex hull `hulls[k]` (F, 4) given in the frame (gRb[k],
+    gpb[k]) of joint jb[k]. Returns (M,) rows n and (M,) pairs k."""
+    N, K = R.shape[0], ja.shape[0]
+    rows = np.empty(N * K, dtype=np.int64)
+    ks = np.empty(N * K, dtype=np.int64)
+    m = 0
+    x = np.empty(3)
+    u = np.empty(3)
+    y = np.empty(3)
+    for n in range(N):
+        for k in range(K):
+            for i in range(3):   # the point, base frame, from joint jb's origin
+                x[i] = p[n, ja[k], i] - p[n, jb[k], i]
+                for j in range(3):
+                    x[i] += R[n, ja[k], i, j] * centre[k, j]
+            for j in range(3):   # in joint jb's frame, from the part's origin
+                u[j] = -gpb[k, j]
+                for i in range(3):
+                    u[j] += R[n, jb[k], i, j] * x[i]
+            near = True
+            for i in range(3):   # in the part's frame
+                y[i] = gRb[k, 0, i] * u[0] + gRb[k, 1, i] * u[1] + gRb[k, 2, i] * u[2]
+                if not (lower[k, i] - radius[k] <= y[i] <= upper[k, i] + radius[k]):
+                    near = False
+            if not near:
+                continue
+            for f in range(hulls.shape[1]):
+                if hulls[k, f, 0] * y[0] + hulls[k, f, 1] * y[1] + hulls[k, f, 2] * y[2] + hulls[k, f, 3] > radius[k]:
+                    near = False
+                    break
+            if near:
+                rows[m], ks[m] = n, k
+                m += 1
+    return rows[:m], ks[:m]

@@ -156,7 +156,9 @@ def test_padding_agrees_with_coal_security_margin(franka_config, franka_kinemati
     Q = random_q[:600]
     expected = np.array([ref(q) for q in Q])
     got = checker.in_collision_batch(Q)
-    np.testing.assert_array_equal(got, expected)
+    assert not (expected & ~got).any()
+    # coal misses a part wholly inside another's mesh: each extra hit must be one (found by trimesh)
+    assert all(ref.part_inside_part(Q[k]) for k in np.flatnonzero(got & ~expected))
     bare = CollisionChecker(franka_config, franka_kinematics, world, padding=0.0).in_collision_batch(Q)
     assert np.all(got >= bare) and got.sum() > bare.sum()
 
