@@ -9,7 +9,8 @@ way into a pocket no motion can enter.
 import numpy as np
 import pytest
 
-from manip import MotionGenerator, PlanStatus
+from manip import MotionGenerator, PlanStatus, WorldConfig
+from manip.collision import Sphere
 
 #: the left finger wholly inside panda_link5 (the hand too, a pair the SRDF disables)
 FINGER_IN_LINK5 = np.array([-0.7005, 0.9538, 1.6255, -1.1995, 1.0952, -0.0043, 2.5645])
@@ -59,3 +60,21 @@ def test_a_finger_inside_a_link_that_no_broadphase_candidate_covers(mg):
     for q in MISSED:
         names = {n for c in mg.checker.collision_report(q).contacts for n in (c.a, c.b)}
         assert "panda_link5" in names and any(n.endswith("finger") for n in names), names
+
+
+def test_an_obstacle_wholly_inside_a_link_collides():
+    """A pebble inside panda_link5's mesh touches none of its triangles (coal: free); the start
+    is refused with what touches what, and the same pebble beside the arm plans as before."""
+    ready = np.array([0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785])
+    part = next(p for p in MotionGenerator("franka").checker.robot.parts if p.name == "panda_link5_0")
+    V = np.asarray(part.geometry.vertices()).reshape(-1, 3)
+    frame = MotionGenerator("franka").fk(ready, "panda_link5")
+    centre = frame.rotation @ (part.R @ ((V.min(axis=0) + V.max(axis=0)) / 2) + part.p) + frame.position
+    inside = MotionGenerator("franka", WorldConfig([Sphere("pebble", 0.01, centre.tolist())]))
+    assert inside.check_collision(ready)
+    assert [(c.a, c.b) for c in inside.checker.collision_report(ready).contacts] == [("panda_link5", "pebble")]
+    r = inside.plan_joints(ready, ready + [0.3, 0, 0, 0, 0, 0, 0])
+    assert r.status is PlanStatus.INVALID_START_WORLD_COLLISION and "pebble" in r.message, r.message
+    beside = MotionGenerator("franka", WorldConfig([Sphere("pebble", 0.01, (centre + [0, 0, 0.4]).tolist())]))
+    assert not beside.check_collision(ready)
+    assert beside.plan_joints(ready, ready + [0.3, 0, 0, 0, 0, 0, 0]).success
