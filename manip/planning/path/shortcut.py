@@ -21,6 +21,7 @@ def path_length(path: np.ndarray) -> float:
 
 def remove_redundant(
     path: np.ndarray, segments_valid: SegmentsValid, screen: SegmentsValid | None = None,
+    screened: SegmentsValid | None = None,
 ) -> np.ndarray:
     """Greedy pruning: from each kept waypoint, jump to the farthest one reachable directly.
 
@@ -31,7 +32,10 @@ def remove_redundant(
             resolution): all jumps from a waypoint are screened in one batch, then only the
             screened ones get `segments_valid`, farthest first, until one passes (the same
             result as checking them all, for fewer checks).
+        screened: `segments_valid` of segments that passed `screen` (the rest of the check,
+            e.g. `Validity.screened`: the screen is not run twice); default `segments_valid`.
     """
+    screened = segments_valid if screened is None else screened
     path = np.asarray(path, dtype=float)
     out = [path[0]]
     i = 0
@@ -47,7 +51,7 @@ def remove_redundant(
                     j = int(targets[np.argmax(ok)])
             else:
                 for k in np.flatnonzero(screen(starts, path[targets])).tolist():
-                    if segments_valid(starts[k:k + 1], path[targets[k]][None])[0]:
+                    if screened(starts[k:k + 1], path[targets[k]][None])[0]:
                         j = int(targets[k])
                         break
         out.append(path[j])
@@ -69,6 +73,7 @@ def shortcut(
     rounds: int = 3,
     candidates: int = 16,
     screen: SegmentsValid | None = None,
+    screened: SegmentsValid | None = None,
 ) -> np.ndarray:
     """Shorten `path` (K, dof) by replacing sub-paths with straight segments.
 
@@ -83,8 +88,10 @@ def shortcut(
         segments_valid: the validity the result must have (e.g. a fine-resolution check).
         screen: an optional cheaper check run on every candidate first (e.g. a coarser
             resolution); only the most promising screened candidates get `segments_valid`.
+        screened: `segments_valid` of segments that passed `screen` (`remove_redundant`).
     """
-    path = remove_redundant(np.asarray(path, dtype=float), segments_valid, screen)
+    path = remove_redundant(np.asarray(path, dtype=float), segments_valid, screen, screened)
+    screened = segments_valid if screened is None else screened
     for _ in range(rounds):
         if len(path) <= 2 or time.perf_counter() > deadline:
             break
@@ -115,7 +122,7 @@ def shortcut(
         for k in np.argsort(-np.where(ok, saving, -np.inf), kind="stable"):
             if not ok[k]:
                 break
-            if screen is None or segments_valid(Q0a[k : k + 1], Q1a[k : k + 1])[0]:
+            if screen is None or screened(Q0a[k : k + 1], Q1a[k : k + 1])[0]:
                 best = int(k)
                 break
         if best is None:
@@ -124,4 +131,4 @@ def shortcut(
         path = np.concatenate([path[: i0 + 1], Q0[best][None], Q1[best][None], path[i1 + 1 :]])
         keep = np.concatenate([[True], np.linalg.norm(np.diff(path, axis=0), axis=1) > 1e-9])
         path = path[keep]
-    return remove_redundant(path, segments_valid, screen)
+    return remove_redundant(path, segments_valid, screen, screened)
