@@ -13,6 +13,10 @@ import numpy as np
 
 SegmentsValid = Callable[[np.ndarray, np.ndarray], np.ndarray]
 
+#: Candidates screened in the first batch of `remove_redundant` and of a shortcut round (then
+#: twice as many each time, until one passes); None: all at once. The same answers either way.
+SCREEN_BATCH: int | None = 4
+
 
 def path_length(path: np.ndarray) -> float:
     """Sum of joint-space L2 segment lengths [rad] of a (K, dof) path."""
@@ -50,13 +54,28 @@ def remove_redundant(
                 if ok.any():
                     j = int(targets[np.argmax(ok)])
             else:
-                for k in np.flatnonzero(screen(starts, path[targets])).tolist():
-                    if screened(starts[k:k + 1], path[targets[k]][None])[0]:
-                        j = int(targets[k])
-                        break
+                k = _first_passing(starts, path[targets], screen, screened)
+                if k is not None:
+                    j = int(targets[k])
         out.append(path[j])
         i = j
     return np.asarray(out)
+
+
+def _first_passing(Q0: np.ndarray, Q1: np.ndarray, screen: SegmentsValid, screened: SegmentsValid) -> int | None:
+    """The first m of the candidate segments Q0[m] -> Q1[m] (M, dof) in their order that passes
+    `screen` and then `screened` (None: none does). They are screened `SCREEN_BATCH` at a time
+    (growing), so candidates after the answer are mostly never checked; every candidate before
+    it is, so the answer is the one of screening them all at once."""
+    M = Q0.shape[0]
+    s, size = 0, SCREEN_BATCH or M
+    while s < M:
+        e = min(M, s + size)
+        for k in (s + np.flatnonzero(screen(Q0[s:e], Q1[s:e]))).tolist():
+            if screened(Q0[k:k + 1], Q1[k:k + 1])[0]:
+                return k
+        s, size = e, 2 * size
+    return None
 
 
 def _point_at(path: np.ndarray, cum: np.ndarray, seg: np.ndarray, s: float) -> tuple[int, np.ndarray]:
@@ -117,14 +136,13 @@ def shortcut(
         if not Q0:
             continue
         Q0a, Q1a = np.asarray(Q0), np.asarray(Q1)
-        ok = (screen or segments_valid)(Q0a, Q1a)
-        best = None
-        for k in np.argsort(-np.where(ok, saving, -np.inf), kind="stable"):
-            if not ok[k]:
-                break
-            if screen is None or screened(Q0a[k : k + 1], Q1a[k : k + 1])[0]:
-                best = int(k)
-                break
+        if screen is None:
+            ok = segments_valid(Q0a, Q1a)
+            best = int(np.argmax(np.where(ok, saving, -np.inf))) if ok.any() else None
+        else:   # the largest saving first (a stable order: the first of equal savings)
+            order = np.argsort(-np.asarray(saving), kind="stable")
+            k = _first_passing(Q0a[order], Q1a[order], screen, screened)
+            best = None if k is None else int(order[k])
         if best is None:
             continue
         i0, i1 = idx[best]
