@@ -80,12 +80,11 @@ def test_dropped_pairs_are_free_for_coal(checker):
 
 
 def _with_and_without(monkeypatch, f):
+    """f() with the screen on, then off."""
+    monkeypatch.setattr(hull_screen, "ENABLED", True)
     out = f()
     monkeypatch.setattr(hull_screen, "ENABLED", False)
-    try:
-        return out, f()
-    finally:
-        monkeypatch.setattr(hull_screen, "ENABLED", True)
+    return out, f()
 
 
 def test_checks_answer_the_same(checker, monkeypatch):
