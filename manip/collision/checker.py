@@ -285,11 +285,9 @@ class CollisionChecker(WorldEdits, SegmentChecks):
             keep = ~hull_screen.apart(kind, i, j, RA, pA, RB, pB, *self._hull_parts, self._hull_okind,
                                       *self._bp_obstacles[:4], self._padding + hull_screen.SLACK,
                                       self._self_padding + hull_screen.SLACK)
-            if not keep.all():
-                if not keep.any():
-                    return False
-                n, kind, i, j, RA, pA, RB, pB = n[keep], kind[keep], i[keep], j[keep], RA[keep], pA[keep], \
-                    RB[keep], pB[keep]
+            if not keep.any():
+                return False
+            n, kind, i, j, RA, pA, RB, pB = (x[keep] for x in (n, kind, i, j, RA, pA, RB, pB))
         geoms = self._geoms
         hulls, convex = self._screen_hulls, self._hulls
         ogeom, otf = self._ogeom, self._otf

@@ -11,8 +11,8 @@ from scipy.spatial import ConvexHull
 
 from manip.collision import broadphase, hull_screen
 from manip.collision.checker import CollisionChecker
-from manip.collision.solids import mesh_arrays
 from manip.collision.shapes import Capsule, Cuboid, Cylinder, Sphere
+from manip.collision.solids import mesh_arrays
 from manip.collision.world import WorldConfig
 from manip.pose import Pose
 

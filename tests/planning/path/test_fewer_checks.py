@@ -5,6 +5,7 @@ time (`shortcut.SCREEN_BATCH`) against all at once, `Validity.screened` after `s
 
 from __future__ import annotations
 
+import itertools
 import time
 
 import numpy as np
@@ -103,7 +104,7 @@ def test_motion_answers_the_same_with_a_short_first_batch(cases, monkeypatch):
         monkeypatch.setattr(segments_module, "MOTION_LEAD", lead)
         counted.configurations, out = 0, []
         for (v, start, goal, searched), E in zip(cases, ends):
-            out += [v.motion(start, q) for q in E] + [v.motion(a, b) for a, b in zip(searched[:-1], searched[1:])]
+            out += [v.motion(start, q) for q in E] + [v.motion(a, b) for a, b in itertools.pairwise(searched)]
         answers[lead], checked[lead] = out, counted.configurations
     assert answers[8] == answers[10**6] and 0 < sum(answers[8]) < len(answers[8])
     assert checked[8] < checked[10**6]
