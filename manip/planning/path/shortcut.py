@@ -78,9 +78,11 @@ def _first_passing(Q0: np.ndarray, Q1: np.ndarray, screen: SegmentsValid, screen
     return None
 
 
-def _point_at(path: np.ndarray, cum: np.ndarray, seg: np.ndarray, s: float) -> tuple[int, np.ndarray]:
-    i = int(min(np.searchsorted(cum, s, side="right") - 1, len(seg) - 1))
-    return i, path[i] + (path[i + 1] - path[i]) * ((s - cum[i]) / max(seg[i], 1e-12))
+def _points_at(path: np.ndarray, cum: np.ndarray, seg: np.ndarray, s: np.ndarray) -> tuple[list[int], np.ndarray]:
+    """The segments (C,) and points (C, dof) at arc lengths s (C,) [rad] along `path` (K, dof),
+    whose segment lengths are seg (K-1,) and their cumulative sums cum (K,)."""
+    i = np.minimum(np.searchsorted(cum, s, side="right") - 1, len(seg) - 1)
+    return i.tolist(), path[i] + (path[i + 1] - path[i]) * ((s - cum[i]) / np.maximum(seg[i], 1e-12))[:, None]
 
 
 def shortcut(
@@ -120,17 +122,17 @@ def shortcut(
         if total <= 1e-9:
             break
         pairs = np.sort(rng.uniform(0.0, total, (candidates, 2)), axis=1)
+        (I0, P0), (I1, P1) = _points_at(path, cum, seg, pairs[:, 0]), _points_at(path, cum, seg, pairs[:, 1])
         Q0, Q1, idx, saving = [], [], [], []
-        for s0, s1 in pairs:
-            i0, q0 = _point_at(path, cum, seg, s0)
-            i1, q1 = _point_at(path, cum, seg, s1)
+        for c, (s0, s1) in enumerate(pairs.tolist()):
+            i0, i1 = I0[c], I1[c]
             if i0 == i1:
                 continue
-            gain = (s1 - s0) - float(np.linalg.norm(q1 - q0))
+            gain = (s1 - s0) - float(np.linalg.norm(P1[c] - P0[c]))
             if gain <= 1e-6:
                 continue
-            Q0.append(q0)
-            Q1.append(q1)
+            Q0.append(P0[c])
+            Q1.append(P1[c])
             idx.append((i0, i1))
             saving.append(gain)
         if not Q0:
