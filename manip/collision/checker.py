@@ -46,7 +46,7 @@ import threading
 import coal
 import numpy as np
 
-from manip.collision import broadphase
+from manip.collision import broadphase, hull_screen
 from manip.collision.certify import MotionCertificate, certify_path
 from manip.collision.edits import WorldEdits
 from manip.collision.occupancy import geometry_collide, geometry_distance, occupancy_candidates
@@ -297,6 +297,15 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         selfp = kind == 1
         if selfp.any():
             RB, pB = broadphase.part_placements(R, p, n, np.where(selfp, j, 0), self._pj, self._gR, self._gp)
+        else:
+            RB, pB = RA, pA   # not read
+        if hull_screen.ENABLED:   # the pairs GJK keeps clearly apart: free for coal too (`hull_screen`)
+            keep = ~hull_screen.apart(kind, i, j, RA, pA, RB, pB, *self._hull_parts, self._hull_okind,
+                                      *self._bp_obstacles[:4], self._padding + hull_screen.SLACK,
+                                      self._self_padding + hull_screen.SLACK)
+            if not keep.any():
+                return False
+            n, kind, i, j, RA, pA, RB, pB = (x[keep] for x in (n, kind, i, j, RA, pA, RB, pB))
         geoms = self._geoms
         hulls, convex = self._screen_hulls, self._hulls
         ogeom, otf = self._ogeom, self._otf

@@ -21,6 +21,7 @@ from typing import Sequence
 import coal
 import numpy as np
 
+from manip.collision import hull_screen
 from manip.collision.certify import MotionBoundTables
 from manip.collision.results import AttachedObject
 from manip.collision.shapes import Obstacle, as_pose
@@ -246,6 +247,7 @@ class WorldEdits:
         self._screen_hulls = [h if h is not None and getattr(p.geometry, "num_tris", 0) > HULL_SCREEN_TRIANGLES
                               else None for h, p in zip(self._hulls, self._parts)]
         self._bp_world, self._bp_pairs, self._bp_self = t.bp_world, t.bp_pairs, t.bp_self
+        self._hull_parts = hull_screen.part_tables(self._parts)   # the narrowphase's GJK screen
         self._motion_bounds = MotionBoundTables(self._parts, t.fine, self.kinematics, t.bp_pairs)
         self._req_self = _request(self._self_padding)
         self._update_always_colliding()
@@ -267,6 +269,7 @@ class WorldEdits:
         self._world_tables = w
         self._obs, self._ogeom, self._otf, self._bp_obstacles = w.obstacles, w.geometries, w.transforms, w.broadphase
         self._occupancy = w.occupancy_maps
+        self._hull_okind = hull_screen.obstacle_kinds(w.obstacles)
         if static is None:
             self._update_always_colliding()
         else:

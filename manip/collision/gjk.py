@@ -165,17 +165,26 @@ def within(ka, Ra, ca, ha, rhoa, kb, Rb, cb, hb, rhob, V, sa, na, sb, nb, margin
     """APART when shapes a and b (module docstring: kind, R, c, h, rounding [m]; vertex rows
     V[sa:sa + na], V[sb:sb + nb] for `VERTICES`) keep more than `margin` [m] apart, WITHIN when
     they come within it (or overlap), UNSURE when GJK did not decide."""
+    v = np.empty(3)
+    for j in range(3):
+        v[j] = ca[j] - cb[j]
+    return within_from(ka, Ra, ca, ha, rhoa, kb, Rb, cb, hb, rhob, V, sa, na, sb, nb, margin, v)
+
+
+@kernel
+def within_from(ka, Ra, ca, ha, rhoa, kb, Rb, cb, hb, rhob, V, sa, na, sb, nb, margin, v):
+    """`within`, GJK starting from direction v (3,) (any; a separating direction of a nearby
+    placement decides an "apart" in one step), left holding GJK's last direction (the next
+    call's start). The answer does not depend on the start, only the iterations it takes, but
+    for a distance within ~1e-9 m of the margin (module docstring)."""
     thr = margin + rhoa + rhob
     Y = np.empty((4, 3))
-    v = np.empty(3)
     d = np.empty(3)
     pa = np.empty(3)
     pb = np.empty(3)
     G = np.empty((3, 3))
     bb = np.empty(3)
     lam = np.empty(3)
-    for j in range(3):
-        v[j] = ca[j] - cb[j]
     if v[0] == 0 and v[1] == 0 and v[2] == 0:
         v[0] = 1.0
     n = 0

@@ -23,6 +23,8 @@ _F = TypeVar("_F", bound=Callable)
 
 #: Samples of the first batch of `first_collision` (the rest go `chunk` at a time).
 FIRST_HIT_LEAD = 4
+#: Samples of the first batch of `motion_valid` (bisection order; then `chunk`, then the rest).
+MOTION_LEAD = 8
 
 
 def consistent(method: _F) -> _F:
@@ -100,14 +102,19 @@ class SegmentChecks:
         return self._motion_free(q0, q1, self.segment_steps(q0, q1, resolution), chunk)
 
     def _motion_free(self, q0: np.ndarray, q1: np.ndarray, steps: int, chunk: int = 32) -> bool:
-        """`motion_valid` of checked endpoints split into `steps` intervals (no input checks)."""
+        """`motion_valid` of checked endpoints split into `steps` intervals (no input checks):
+        the samples in bisection order, `MOTION_LEAD` first, then `chunk`, then the rest (a
+        batch of at most twice its size takes the rest with it)."""
         t = _fractions(steps)
         Q = q0[None] + t[:, None] * (q1 - q0)[None]
-        if Q.shape[0] <= 2 * chunk:
-            return not self._check(Q, stop_at_first=True).any()
-        if self._check(Q[:chunk], stop_at_first=True).any():
-            return False
-        return not self._check(Q[chunk:], stop_at_first=True).any()
+        s, N = 0, Q.shape[0]
+        for size in (min(MOTION_LEAD, chunk), chunk):
+            if N - s <= 2 * size:
+                break
+            if self._check(Q[s:s + size], stop_at_first=True).any():
+                return False
+            s += size
+        return not self._check(Q[s:], stop_at_first=True).any()
 
     @consistent
     def first_collision(self, q0: np.ndarray, q1: np.ndarray, resolution: float = 0.01, chunk: int = 48) -> float | None:

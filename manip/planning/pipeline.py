@@ -182,7 +182,8 @@ def _path(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: np.nda
     t = time.perf_counter()
     if len(path) > 2:
         def shorten(p: np.ndarray) -> np.ndarray:
-            return shortcut(p, validity.segments, ctx.rng, ctx.deadline, screen=validity.screen)
+            return shortcut(p, validity.segments, ctx.rng, ctx.deadline, screen=validity.screen,
+                            screened=validity.screened)
 
         path = shorten(path)
         ctx.add_time("optimize", t)

@@ -84,8 +84,18 @@ class Validity:
     def segments(self, Q0: np.ndarray, Q1: np.ndarray) -> np.ndarray:
         """(M,) validity of the segments Q0[i] -> Q1[i] at the fine resolution (screened coarsely first)."""
         ok = self.screen(Q0, Q1)
-        if ok.any() and self.search_resolution > self.resolution:
-            ok[ok] = self.checker.state.segments_free(Q0[ok], Q1[ok], self.resolution)
+        if ok.any():
+            ok[ok] = self.screened(np.asarray(Q0)[ok], np.asarray(Q1)[ok])
+        return ok
+
+    def screened(self, Q0: np.ndarray, Q1: np.ndarray) -> np.ndarray:
+        """(M,) `segments` of segments Q0[i] -> Q1[i] that passed `screen` (the rest of the
+        check: the fine resolution, and the certificate of a strict validity), for callers that
+        screened many and check a few (`planning.path.shortcut`)."""
+        Q0, Q1 = np.asarray(Q0, dtype=float), np.asarray(Q1, dtype=float)
+        ok = np.ones(Q0.shape[0], dtype=bool)
+        if ok.size and self.search_resolution > self.resolution:
+            ok = self.checker.state.segments_free(Q0, Q1, self.resolution)
         if self.certified:
             for i in np.flatnonzero(ok):
                 ok[i] = self._certified(Q0[i], Q1[i])

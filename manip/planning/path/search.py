@@ -96,10 +96,11 @@ def repair_path(
     lower, upper = validity.kinematics.lower, validity.kinematics.upper
     iterations = 0
     compiled = None
+    known: dict[bytes, bool] = {}   # the answers of segments checked before (the same endpoints: the same answer)
     for _ in range(MAX_REPAIRS):
         if path is None:
             return None, iterations
-        ok = validity.segments(path[:-1], path[1:])
+        ok = _segments_known(validity, path, known)
         if ok.all():
             return path, iterations
         if iterations >= max_iterations:
@@ -116,3 +117,15 @@ def repair_path(
     if path is not None and not validity.path(path):
         path = None
     return path, iterations
+
+
+def _segments_known(validity: Validity, path: np.ndarray, known: dict[bytes, bool]) -> np.ndarray:
+    """(K-1,) `validity.segments` of the segments of `path` (K, dof), those whose endpoints are
+    keys of `known` (their two rows' bytes) answered from it; the others checked and added."""
+    keys = [path[s:s + 2].tobytes() for s in range(len(path) - 1)]
+    ok = np.array([known.get(k, False) for k in keys], dtype=bool)
+    new = np.array([k not in known for k in keys], dtype=bool)
+    if new.any():
+        ok[new] = validity.segments(path[:-1][new], path[1:][new])
+        known.update((k, bool(v)) for k, v, n in zip(keys, ok.tolist(), new.tolist()) if n)
+    return ok
