@@ -28,6 +28,7 @@ from manip.limits import JointLimits
 from manip.planning.trajopt import bspline, qp
 from manip.planning.trajopt.settings import TrajOptSettings
 
+
 @lru_cache(maxsize=16)
 def _blocks(n: int, dof: int, samples_per_interval: int) -> dict:
     """The blocks of `SplineProblem` that depend only on N, the dof and the sampling (read-only,
@@ -54,11 +55,11 @@ def _blocks(n: int, dof: int, samples_per_interval: int) -> dict:
     # the limit rows come in runs of one slack (order, joint) each, every slack twice (+G, -G)
     runs = np.flatnonzero(np.diff(limit_slack, prepend=-1) != 0)
     run_slack = limit_slack[runs]
-    blocks = dict(free=free, fixed=fixed, D=D, B=B, sample_t=sample_t, B_free=B[:, free], B_fixed=B[:, fixed],
-                  limit_G=limit_G, limit_G_sparse=sp.csr_matrix(limit_G), limit_G_csc=limit_G_csc,
-                  limit_order=limit_order, limit_slack=limit_slack, limit_runs=runs,
-                  limit_run_pairs=np.stack([np.flatnonzero(run_slack == j) for j in range(3 * dof)]),
-                  per_order=per_order)
+    blocks = {"free": free, "fixed": fixed, "D": D, "B": B, "sample_t": sample_t, "B_free": B[:, free],
+              "B_fixed": B[:, fixed], "limit_G": limit_G, "limit_G_sparse": sp.csr_matrix(limit_G),
+              "limit_G_csc": limit_G_csc, "limit_order": limit_order, "limit_slack": limit_slack,
+              "limit_runs": runs, "limit_run_pairs": np.stack([np.flatnonzero(run_slack == j) for j in range(3 * dof)]),
+              "per_order": per_order}
     for a in [v for v in blocks.values() if isinstance(v, np.ndarray)] + [m for t in per_order.values() for m in t]:
         a.flags.writeable = False
     return blocks
@@ -146,7 +147,7 @@ class SplineProblem:
 
 def sco_fixed_step(prob: SplineProblem, c0: np.ndarray, h: float, radius: float, *, limits: JointLimits,
                    clearance: ClearanceModel, margin: float, settings: TrajOptSettings, deadline: float,
-                   max_solves: int | float = np.inf, iterations: int | None = None):
+                   max_solves: float = np.inf, iterations: int | None = None):
     """Sequential convex optimisation at step h (an L1 penalty method with a trust region).
 
     `limits`: the call's scaled limits (with position limits); `margin` [m]; `radius`: the
@@ -222,7 +223,7 @@ def sco_fixed_step(prob: SplineProblem, c0: np.ndarray, h: float, radius: float,
 
 def sco_free_step(prob: SplineProblem, c0: np.ndarray, *, limits: JointLimits, clearance: ClearanceModel,
                   margin: float, settings: TrajOptSettings, deadline: float, h_floor: float,
-                  max_solves: int | float = np.inf) -> tuple[np.ndarray, int]:
+                  max_solves: float = np.inf) -> tuple[np.ndarray, int]:
     """SCO over the control points and the knot step h together, from c0 (N + 3, dof).
 
     Minimises `s.time_weight` h / h0 (h0: c0's step) plus the regulariser of `_objective` at
@@ -305,9 +306,10 @@ def _polygon_step(c: np.ndarray, limits: JointLimits) -> float:
     """The shortest step h [s] at which the control points' differences (N + 3, dof) respect
     the limits as the QP rows count them (velocity by the control polygon, so h >=
     `bspline.limit_step`)."""
-    d1 = np.abs(np.diff(c, 1, axis=0)).max(axis=0)
-    d2 = np.abs(np.diff(c, 2, axis=0)).max(axis=0)
-    d3 = np.abs(np.diff(c, 3, axis=0)).max(axis=0)
+    e1 = c[1:] - c[:-1]  # np.diff's differences, each order from the previous one
+    e2 = e1[1:] - e1[:-1]
+    e3 = e2[1:] - e2[:-1]
+    d1, d2, d3 = np.abs(e1).max(axis=0), np.abs(e2).max(axis=0), np.abs(e3).max(axis=0)
     return float(max(np.max(d1 / limits.velocity), np.sqrt(np.max(d2 / limits.acceleration)),
                      np.cbrt(np.max(d3 / limits.jerk)), 1e-9))
 
@@ -341,7 +343,7 @@ def _solve_qp(prob: SplineProblem, P: sp.csc_matrix, q_lin, keep, extra_col, ext
     `sco_fixed_step` or the step h of `sco_free_step`.
     """
     nx, R = P.shape[0], len(prob.rays)
-    L, T = h_lim.size, h_col.size
+    T = h_col.size
     nz = nx + E + R + T
     G = qp.inequality_rows(prob.limit_G_csc, keep, extra_col, extra_val, E, R, terms.gradient, terms.config,
                            prob.B_free)
