@@ -19,15 +19,15 @@ from manip.jit import kernel
 SLACK_REGULARISATION = 1e-9
 
 #: PIQP's absolute tolerance (primal and dual residuals, duality gap; the relative ones a tenth
-#: of it). 1e-6 against PIQP's 1e-8 on 223 QPs recorded from MotionBenchMaker plans: 15.2
-#: interior-point iterations against 16.5 (-8 %), solutions within 2e-3 rad; whole plans
-#: (MBM 8/scene, joint and pose goals, ~50 each): the same mean motion time and QPs to 0.01 %
-#: (1e-5: -13 % iterations, but motion times move by up to 1.8 % on a set).
-PIQP_EPS = 1e-6
-#: PIQP's Ruiz equilibration also scales the objective (`preconditioner_scale_cost`; PIQP's default
-#: False) and its passes (`preconditioner_iter`; PIQP's default 10). BENCHMARKS.md, "Round eleven".
-PIQP_SCALE_COST = False
-PIQP_PRECONDITIONER_ITER = 10
+#: of it), and its Ruiz equilibration scaling the objective too (`preconditioner_scale_cost`;
+#: PIQP's default False) in 3 passes (PIQP's 10). Together against 1e-6 / False / 10 on 338 QPs
+#: recorded from MotionBenchMaker plans: 10.4 interior-point iterations against 13.5, 0.80 x the
+#: CPU per QP, control points within 4e-4 rad (median; max 9e-3); whole plans (MBM 20/scene, joint
+#: and pose goals, seeds 0 and 1, 250 plans each): QPs 1.00 / 0.98 x, mean motion time / lower
+#: bound -0.50 .. +0.02 %, path length -0.10 .. +0.15 %. BENCHMARKS.md, "Round eleven".
+PIQP_EPS = 1e-4
+PIQP_SCALE_COST = True
+PIQP_PRECONDITIONER_ITER = 3
 
 _SOLVER_OPTIONS = {"osqp": {"eps_abs": 1e-6, "eps_rel": 1e-6, "polish": True, "verbose": False}}
 
