@@ -385,19 +385,20 @@ def _row_limits(prob: SplineProblem, h: float, limits: JointLimits) -> np.ndarra
 
 def _objective(prob: SplineProblem, h: float, limits: JointLimits, s: TrajOptSettings):
     """P, q of 1/2 x^T P x + q^T x: weighted squared limit fractions of velocity, acceleration, jerk."""
-    m = prob.free.size
-    P = np.zeros((prob.dof * m, prob.dof * m))
-    q = np.zeros(prob.dof * m)
+    m, dof = prob.free.size, prob.dof
+    blocks = np.zeros((dof, m, m))  # P's diagonal block of each joint, the orders added in turn
+    q = np.zeros((dof, m))
     for order, lim, w in ((1, limits.velocity * h, s.velocity_weight),
                           (2, limits.acceleration * h**2, s.acceleration_weight),
                           (3, limits.jerk * h**3, s.jerk_weight)):
         DtD, Dtf = prob.cost[order]
-        for i in range(prob.dof):
-            k = 2 * w / lim[i] ** 2
-            P[i * m : (i + 1) * m, i * m : (i + 1) * m] += k * DtD
-            q[i * m : (i + 1) * m] += k * Dtf[:, i]
+        k = np.array([2 * w / lim[i] ** 2 for i in range(dof)])
+        blocks += k[:, None, None] * DtD
+        q += k[:, None] * Dtf.T
+    P = np.zeros((dof * m, dof * m))
+    P.reshape(dof, m, dof, m)[np.arange(dof), :, np.arange(dof), :] = blocks
     P[np.diag_indices_from(P)] += 1e-6
-    return P, q
+    return P, q.ravel()
 
 
 def _collision_rows(prob: SplineProblem, c: np.ndarray, terms, margin: float) -> np.ndarray:
