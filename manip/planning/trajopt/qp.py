@@ -20,14 +20,14 @@ SLACK_REGULARISATION = 1e-9
 
 #: PIQP's absolute tolerance (primal and dual residuals, duality gap; the relative ones a tenth
 #: of it), and its Ruiz equilibration scaling the objective too (`preconditioner_scale_cost`;
-#: PIQP's default False) in 3 passes (PIQP's 10). Together against 1e-6 / False / 10 on 338 QPs
-#: recorded from MotionBenchMaker plans: 10.4 interior-point iterations against 13.5, 0.80 x the
-#: CPU per QP, control points within 4e-4 rad (median; max 9e-3); whole plans (MBM 20/scene, joint
-#: and pose goals, seeds 0 and 1, 250 plans each): QPs 1.00 / 0.98 x, mean motion time / lower
-#: bound -0.50 .. +0.02 %, path length -0.10 .. +0.15 %. BENCHMARKS.md, "Round eleven".
-PIQP_EPS = 1e-4
+#: PIQP's default False) in one pass (PIQP's 10). Whole plans (MotionBenchMaker 20/scene, joint and
+#: pose goals, seeds 0 and 1, 250 plans each) against 1e-6 / False / 10: the same QPs and motions
+#: within noise (mean motion time / lower bound and path length within -0.5 .. +0.2 %), PIQP's
+#: CPU per QP 0.76 x (9.7 interior-point iterations against 13.5, a cheaper setup); on 338 recorded QPs
+#: the control points within 1.1e-3 rad of the 1e-6 solutions (median; max 1.5e-2). BENCHMARKS.md, "Round eleven".
+PIQP_EPS = 3e-4
 PIQP_SCALE_COST = True
-PIQP_PRECONDITIONER_ITER = 3
+PIQP_PRECONDITIONER_ITER = 1
 
 _SOLVER_OPTIONS = {"osqp": {"eps_abs": 1e-6, "eps_rel": 1e-6, "polish": True, "verbose": False}}
 
