@@ -19,11 +19,15 @@ from manip.jit import kernel
 SLACK_REGULARISATION = 1e-9
 
 #: PIQP's absolute tolerance (primal and dual residuals, duality gap; the relative ones a tenth
-#: of it). 1e-6 against PIQP's 1e-8 on 223 QPs recorded from MotionBenchMaker plans: 15.2
-#: interior-point iterations against 16.5 (-8 %), solutions within 2e-3 rad; whole plans
-#: (MBM 8/scene, joint and pose goals, ~50 each): the same mean motion time and QPs to 0.01 %
-#: (1e-5: -13 % iterations, but motion times move by up to 1.8 % on a set).
-PIQP_EPS = 1e-6
+#: of it), and its Ruiz equilibration scaling the objective too (`preconditioner_scale_cost`;
+#: PIQP's default False) in one pass (PIQP's 10). Whole plans (MotionBenchMaker 20/scene, joint and
+#: pose goals, seeds 0 and 1, 250 plans each) against 1e-6 / False / 10: the same QPs and motions
+#: within noise (mean motion time / lower bound and path length within -0.5 .. +0.2 %), PIQP's
+#: CPU per QP 0.76 x (9.7 interior-point iterations against 13.5, a cheaper setup); on 338 recorded QPs
+#: the control points within 1.1e-3 rad of the 1e-6 solutions (median; max 1.5e-2). BENCHMARKS.md, "Round eleven".
+PIQP_EPS = 3e-4
+PIQP_SCALE_COST = True
+PIQP_PRECONDITIONER_ITER = 1
 
 _SOLVER_OPTIONS = {"osqp": {"eps_abs": 1e-6, "eps_rel": 1e-6, "polish": True, "verbose": False}}
 
@@ -113,24 +117,57 @@ def inequality_rows(limit_G: sp.csc_matrix, keep: np.ndarray, extra_col: np.ndar
     config = np.ascontiguousarray(config, dtype=np.int64)
     data, indices, indptr, L = _inequality_rows(limit_G.indptr, limit_G.indices, limit_G.data, keep, extra_col,
                                                 extra_val, n_extra, n_rays, gradient, config, B_free)
-    return sp.csc_matrix((data, indices, indptr), shape=(L + gradient.shape[0], indptr.size - 1))
+    return csc(data, indices, indptr, (L + gradient.shape[0], indptr.size - 1))
 
 
 def with_columns(M: sp.csc_matrix, extra: int) -> sp.csc_matrix:
     """M (r, c) with `extra` empty columns appended (CSC)."""
     indptr = np.concatenate([M.indptr, np.full(extra, M.indptr[-1], dtype=M.indptr.dtype)])
-    return sp.csc_matrix((M.data, M.indices, indptr), shape=(M.shape[0], M.shape[1] + extra))
+    return csc(M.data, M.indices, indptr, (M.shape[0], M.shape[1] + extra))
 
 
 def regularised(P: sp.csc_matrix, extra: int) -> sp.csc_matrix:
     """The block-diagonal [[P, 0], [0, SLACK_REGULARISATION I (extra)]] (CSC)."""
     n = P.shape[0]
-    return sp.csc_matrix(
-        (np.concatenate([P.data, np.full(extra, SLACK_REGULARISATION)]),
-         np.concatenate([P.indices, n + np.arange(extra, dtype=P.indices.dtype)]),
-         np.concatenate([P.indptr, P.indptr[-1] + 1 + np.arange(extra, dtype=P.indptr.dtype)])),
-        shape=(n + extra, n + extra),
-    )
+    return csc(np.concatenate([P.data, np.full(extra, SLACK_REGULARISATION)]),
+               np.concatenate([P.indices, n + np.arange(extra, dtype=P.indices.dtype)]),
+               np.concatenate([P.indptr, P.indptr[-1] + 1 + np.arange(extra, dtype=P.indptr.dtype)]),
+               (n + extra, n + extra))
+
+
+def _unchecked_csc(data: np.ndarray, indices: np.ndarray, indptr: np.ndarray, shape: tuple) -> sp.csc_matrix:
+    """The CSC matrix of these arrays, taken as they are (scipy's constructor, ~40 us, checks the
+    index types and contents; a QP's assembly makes three)."""
+    M = sp.csc_matrix.__new__(sp.csc_matrix)
+    M.data, M.indices, M.indptr, M._shape, M._maxprint = data, indices, indptr, shape, 50
+    return M
+
+
+def _checked_csc(data: np.ndarray, indices: np.ndarray, indptr: np.ndarray, shape: tuple) -> sp.csc_matrix:
+    return sp.csc_matrix((data, indices, indptr), shape=shape)
+
+
+def _unchecked_works() -> bool:
+    """True when this scipy's csc_matrix built by `_unchecked_csc` behaves as the checked one
+    (it sets scipy's own attributes: a scipy release could rename them)."""
+    try:
+        args = (np.array([1.0, 2.0]), np.array([1, 0], np.int32), np.array([0, 1, 2], np.int32), (2, 2))
+        M, C = _unchecked_csc(*args), _checked_csc(*args)
+        return M.shape == C.shape and M.nnz == C.nnz and np.array_equal(M.toarray(), C.toarray()) and \
+            np.array_equal(M @ np.array([1.0, 3.0]), C @ np.array([1.0, 3.0]))
+    except Exception:  # noqa: BLE001 (any failure means: use the checked constructor)
+        return False
+
+
+def csc(data: np.ndarray, indices: np.ndarray, indptr: np.ndarray, shape: tuple) -> sp.csc_matrix:
+    """A CSC matrix (shape (r, c)) of data (nnz,), int32 row indices (nnz,) sorted within each
+    column and int32 column pointers (c + 1,), without copies; the caller guarantees the
+    structure (the QP's parts are built valid), so scipy's checks are skipped when this scipy
+    allows it."""
+    return _CSC(data, indices, indptr, shape)
+
+
+_CSC = _unchecked_csc if _unchecked_works() else _checked_csc
 
 
 def installed_solvers() -> list[str]:
@@ -164,6 +201,8 @@ def solve(P: sp.csc_matrix, q: np.ndarray, G: sp.csc_matrix, h: np.ndarray, A: s
         qp.settings.verbose = False
         qp.settings.eps_abs = qp.settings.eps_duality_gap_abs = PIQP_EPS
         qp.settings.eps_rel = qp.settings.eps_duality_gap_rel = PIQP_EPS * 0.1
+        qp.settings.preconditioner_scale_cost = PIQP_SCALE_COST
+        qp.settings.preconditioner_iter = PIQP_PRECONDITIONER_ITER
         qp.setup(P, q, A, b, G, None, h, lb, ub)
         return qp.result.x.copy() if qp.solve() == piqp.PIQP_SOLVED else None
     import qpsolvers  # only off the default path (its import costs ~70 ms per process)

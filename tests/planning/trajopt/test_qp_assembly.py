@@ -67,6 +67,32 @@ def test_the_objective_to_csc_keeps_scipy_s_nonzeros_and_order():
         assert np.array_equal(got.data, want.data)
 
 
+def test_the_qp_s_unchecked_csc_matrices_pass_scipy_s_full_check():
+    """`qp.csc` skips scipy's checks: the matrices it builds for a QP must be what the checks accept."""
+    assert qp._CSC is qp._unchecked_csc  # this scipy allows it (else `qp.csc` is scipy's constructor)
+    rng = np.random.default_rng(5)
+    s = TrajOptSettings()
+    prob = SplineProblem(s.intervals, 7, s, LEFT, RIGHT)
+    prob.set_rays(RIGHT - LEFT, LEFT - RIGHT, 1)
+    rows = prob.limit_G.shape[0]
+    T = 40
+    config = np.sort(rng.integers(0, prob.B.shape[0], T))
+    G = qp.inequality_rows(prob.limit_G_csc, rng.random(rows) < 0.5, np.zeros(rows, dtype=np.int64),
+                           rng.normal(size=rows), 1, 2, rng.normal(size=(T, 7)), config, prob.B_free)
+    P = _csc(np.diag(rng.random(prob.limit_G.shape[1]) + 1.0))
+    A, _ = prob.ray_rows(1)
+    for got, dense in ((G, None), (qp.regularised(P, 3 + T), np.diag(np.concatenate([np.diag(P.toarray()),
+                                                                                      np.full(3 + T, 1e-9)]))),
+                       (qp.with_columns(A, T), np.hstack([A.toarray(), np.zeros((A.shape[0], T))]))):
+        got.check_format(full_check=True)
+        want = sp.csc_matrix((got.data, got.indices, got.indptr), shape=got.shape)  # scipy's checked constructor
+        x = rng.normal(size=got.shape[1])
+        assert got.shape == want.shape and got.nnz == want.nnz
+        assert np.array_equal(got @ x, want @ x) and np.array_equal(got.toarray(), want.toarray())
+        if dense is not None:
+            assert np.array_equal(got.toarray(), dense)
+
+
 def reference_end_directions(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Walk the samples one by one: from each end to the last sample on the line through the first that moves."""
 
