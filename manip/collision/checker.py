@@ -49,6 +49,7 @@ import numpy as np
 from manip.collision import broadphase, hull_screen
 from manip.collision.certify import MotionCertificate, certify_path
 from manip.collision.edits import WorldEdits
+from manip.collision.inside import inside_table, wholly_inside
 from manip.collision.occupancy import geometry_collide, geometry_distance, occupancy_candidates
 from manip.collision.results import (  # noqa: F401  (re-exported: manip.collision.checker.X keeps working)
     AttachedObject,
@@ -61,12 +62,7 @@ from manip.collision.results import (  # noqa: F401  (re-exported: manip.collisi
 from manip.collision.robot_geometry import RobotGeometry
 from manip.collision.segments import SegmentChecks, consistent
 from manip.collision.shapes import Obstacle  # noqa: F401  (re-exported)
-from manip.collision.solids import (
-    containable_pairs,
-    obstacles_inside_parts,
-    part_inside,
-    parts_inside_parts,
-)
+from manip.collision.solids import part_inside
 from manip.collision.state import CollisionState
 from manip.collision.tables import coal_transform
 from manip.collision.world import WorldConfig
@@ -264,11 +260,12 @@ class CollisionChecker(WorldEdits, SegmentChecks):
             rows = rows[[group[r] not in done for r in rows.tolist()]]
         if not rows.size:
             return False
-        R, p, allowed = R[rows], p[rows], self.__dict__.get("_allowed_world")
-        rows = rows[parts_inside_parts(self._parts, containable_pairs(self._parts, self._pairs), R, p, self._pj, self._gR,
-                                       self._gp, hits)
-                    | obstacles_inside_parts(self._parts, self._pj, self._gR, self._gp, self._world_tables, R, p, allowed,
-                                             hits)]
+        tab = self.__dict__.get("_inside")
+        if tab is None or tab.parts is not self._parts:   # built once per parts list (`collision.inside`)
+            tab = self._inside = inside_table(self._parts, self._pairs, self._pj, self._gR, self._gp)
+        if rows.size < out.size:
+            R, p = R[rows], p[rows]
+        rows = rows[wholly_inside(tab, self._world_tables, R, p, self.__dict__.get("_allowed_world"), hits)]
         out[rows] = True
         if group is not None:
             done.update(group[rows].tolist())
