@@ -14,6 +14,7 @@ the checks along the motion see (`collision.checker`, `collision.certify`).
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -147,11 +148,11 @@ def wholly_inside(tab: InsideTable, obstacles, R: np.ndarray, p: np.ndarray, all
 def _candidates(tab: InsideTable, obstacles) -> tuple[np.ndarray, ...]:
     """The screen's candidates (K,): kind (1: part `other` in part b; 0: obstacle `other` in part
     b), other, b, and the point screened: its joint pj (0: the base frame), its place pc (K, 3) in
-    that frame [m], its radius pr [m]. Cached per table and obstacle tables."""
-    key = (id(tab), id(obstacles))
-    hit = _CANDIDATES.get(key)
-    if hit is not None and hit[0] is tab and hit[1] is obstacles:
-        return hit[2]
+    that frame [m], its radius pr [m]. Cached per obstacle tables (weakly) and table."""
+    per_world = _CANDIDATES.setdefault(obstacles, {})
+    hit = per_world.get(id(tab))
+    if hit is not None and hit[0] is tab:
+        return hit[1]
     O = len(obstacles.obstacles)
     b_obs, o = np.repeat(tab.closed, O), np.tile(np.arange(O), tab.closed.size)
     ball = np.linalg.norm(obstacles.h, axis=1) + obstacles.rho   # each obstacle's bounding ball, base frame
@@ -164,13 +165,14 @@ def _candidates(tab: InsideTable, obstacles) -> tuple[np.ndarray, ...]:
              np.r_[tab.joint[tab.a], np.zeros(o.size, dtype=np.int64)],
              np.ascontiguousarray(np.vstack([tab.centre[tab.a], obstacles.c[o].reshape(-1, 3)])),
              np.r_[tab.radius[tab.a], r_obs])
-    if len(_CANDIDATES) > 16:
-        _CANDIDATES.clear()
-    _CANDIDATES[key] = (tab, obstacles, table)
+    if len(per_world) > 8:
+        per_world.clear()
+    per_world[id(tab)] = (tab, table)
     return table
 
 
-_CANDIDATES: dict[tuple, tuple] = {}
+#: per obstacle tables (held weakly: an edited world's old tables are not kept alive), per robot table
+_CANDIDATES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 @kernel
