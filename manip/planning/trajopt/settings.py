@@ -32,7 +32,8 @@ class TrajOptSettings:
             most; it halves after a rejected step, and each duration round starts at twice
             the previous round's final radius.
         line_search: halvings of a step that does not lower the merit tried before the
-            trust region shrinks (each costs a clearance evaluation, not a QP).
+            trust region shrinks (each costs a clearance evaluation, not a QP; 3 against 1:
+            ~8 % fewer QPs, BENCHMARKS.md "Round thirteen").
         ray_points: control points tied to the seed's first / last segment at an end near
             an obstacle (each keeps one more piece of the motion on that segment).
         rounds: durations tried (the seed's first, then by bisection towards the lower bound).
@@ -74,7 +75,7 @@ class TrajOptSettings:
     duration_tolerance: float = 0.03
     penalty: float = 1e4
     second_chance: bool = True
-    line_search: int = 1
+    line_search: int = 3
     velocity_weight: float = 200.0
     acceleration_weight: float = 0.01
     jerk_weight: float = 0.001
@@ -111,6 +112,7 @@ class TrajOptSettings:
 
 #: `smoothness="smooth"`: a jerk objective at fixed durations (the free-duration SCO would
 #: trade the jerk for time; BENCHMARKS.md, "Constants"); its SCO stops at the `tolerance` its
-#: bisection was measured with (3e-3; the default's 5e-3 was measured on the free-duration SCO).
+#: bisection was measured with (3e-3; the default's 5e-3 was measured on the free-duration SCO), and
+#: halves a rejected step once (`line_search` 1; the default's 3 was measured on the free-duration SCO).
 SMOOTH = TrajOptSettings(velocity_weight=0.05, acceleration_weight=0.05, jerk_weight=1.0, free_duration=False,
-                         tolerance=3e-3)
+                         tolerance=3e-3, line_search=1)
