@@ -464,12 +464,12 @@ class CollisionChecker(WorldEdits, SegmentChecks):
             contacts.append(self._contact(k, a, b, d))
         found: list = []   # parts and obstacles wholly inside a part's closed mesh
         self._parts_inside(R, p, None, None, np.zeros(1, dtype=bool), found)
-        named = {(c.a, c.b) for c in contacts}
+        named = {frozenset((c.a, c.b)) for c in contacts}
         for k, a, b in found:
             d = self._pair_distance(self._parts[a].hull, self._part_tf(R, p, 0, a), *(
                 (self._ogeom[b], self._otf[b]) if k == 0 else (self._parts[b].hull, self._part_tf(R, p, 0, b))))
             c = self._contact(k, a, b, min(d, 0.0))
-            contacts += [] if (c.a, c.b) in named else [c]
+            contacts += [] if frozenset((c.a, c.b)) in named else [c]
         contacts.sort(key=lambda c: c.distance)
         return CollisionReport(bool(contacts), tuple(contacts))
 
