@@ -31,7 +31,7 @@ def test_a_finger_inside_a_link_collides(mg):
 def test_such_a_goal_or_start_is_refused_at_once(mg):
     r = mg.plan_joints(mg.default_joint_positions, FINGER_IN_LINK5, time_budget=5.0)
     assert r.status is PlanStatus.INVALID_GOAL and "panda_leftfinger" in r.message, r.message
-    assert r.timings.get("plan", 0.0) < 0.5
+    assert "plan" not in r.timings   # refused before any search (not a time: CI machines may be busy)
     r = mg.plan_joints(FINGER_IN_LINK5, mg.default_joint_positions)
     assert r.status is PlanStatus.INVALID_START_SELF_COLLISION and "panda_link5" in r.message, r.message
 
