@@ -15,13 +15,13 @@ one sees one world for a whole plan while other threads edit.
 from __future__ import annotations
 
 import threading
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Sequence
 
 import coal
 import numpy as np
 
-from manip.collision import hull_screen
+from manip.collision import convex_parts
 from manip.collision.certify import MotionBoundTables
 from manip.collision.results import AttachedObject
 from manip.collision.shapes import Obstacle, as_pose
@@ -247,10 +247,29 @@ class WorldEdits:
         self._screen_hulls = [h if h is not None and getattr(p.geometry, "num_tris", 0) > HULL_SCREEN_TRIANGLES
                               else None for h, p in zip(self._hulls, self._parts)]
         self._bp_world, self._bp_pairs, self._bp_self = t.bp_world, t.bp_pairs, t.bp_self
-        self._hull_parts = hull_screen.part_tables(self._parts)   # the narrowphase's GJK screen
+        self._hull_parts_lazy = []   # `_hull_parts`, built at the screen's first use
         self._motion_bounds = MotionBoundTables(self._parts, t.fine, self.kinematics, t.bp_pairs)
         self._req_self = _request(self._self_padding)
         self._update_always_colliding()
+
+    @property
+    def _hull_parts(self) -> tuple:
+        """The parts' `gjk` tables of the narrowphase's screen (`collision.hull_screen`,
+        `convex_parts.part_tables`), built at its first use for this parts list (the screen
+        is off by default: an edit does not build them)."""
+        lazy = self._hull_parts_lazy   # one per parts list, shared by its snapshots
+        if not lazy:
+            lazy.append(convex_parts.part_tables(self._parts))
+        return lazy[0]
+
+    @property
+    def _hull_okind(self) -> np.ndarray:
+        """(O,) the obstacles' `gjk` kinds of the narrowphase's screen (`convex_parts.obstacle_kinds`),
+        built at its first use for these obstacle tables (not at each edit)."""
+        lazy = self._hull_okind_lazy   # one per world state, shared by its snapshots
+        if not lazy:
+            lazy.append(convex_parts.obstacle_kinds(self._obs))
+        return lazy[0]
 
     def _proved_clear_pairs(self) -> frozenset[tuple[int, int]]:
         """The robot's self pairs proved to keep more than the self padding at every
@@ -269,7 +288,7 @@ class WorldEdits:
         self._world_tables = w
         self._obs, self._ogeom, self._otf, self._bp_obstacles = w.obstacles, w.geometries, w.transforms, w.broadphase
         self._occupancy = w.occupancy_maps
-        self._hull_okind = hull_screen.obstacle_kinds(w.obstacles)
+        self._hull_okind_lazy = []   # `_hull_okind`, built at the screen's first use
         if static is None:
             self._update_always_colliding()
         else:

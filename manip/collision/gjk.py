@@ -31,6 +31,7 @@ import numpy as np
 from manip.jit import kernel
 
 VERTICES, ROUNDED_BOX, CYLINDER = 0, 1, 2
+NO = -1   # a shape none of these kinds describes: its pairs are left to coal (`collision.convex_parts`)
 APART, WITHIN, UNSURE = 0, 1, 2
 
 _MAX_ITERATIONS = 64

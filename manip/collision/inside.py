@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from manip.collision.convex_parts import hull_planes
 from manip.collision.solids import closed_part_mesh, contains, part_in_part, part_volume, probe_points
 from manip.jit import kernel
 
@@ -79,7 +80,7 @@ def inside_table(parts, pairs: np.ndarray, part_joint: np.ndarray, gR: np.ndarra
         P = probe_points(part.geometry)
         c = P.mean(axis=0)
         centre[g], radius[g] = gR[g] @ c + gp[g], np.linalg.norm(P - c, axis=1).max()
-        facets.append(_hull_facets(part.geometry) if solid[g] is not None else np.zeros((0, 4)))
+        facets.append(hull_planes(part.geometry)[0] if solid[g] is not None else np.zeros((0, 4)))   # cached per mesh
     hulls = np.zeros((G, max(len(f) for f in facets) if G else 0, 4))
     hulls[:, :, 3] = -np.inf
     for g, f in enumerate(facets):
@@ -102,13 +103,6 @@ def inside_table(parts, pairs: np.ndarray, part_joint: np.ndarray, gR: np.ndarra
 
 
 _TABLES: dict[tuple, tuple[object, InsideTable]] = {}
-
-
-def _hull_facets(geometry) -> np.ndarray:
-    """(F, 4) the facets (n, d) of a mesh's convex hull, its frame: n . x + d <= 0 inside."""
-    from scipy.spatial import ConvexHull
-
-    return ConvexHull(np.asarray(geometry.vertices(), dtype=float).reshape(-1, 3)).equations
 
 
 def wholly_inside(tab: InsideTable, obstacles, R: np.ndarray, p: np.ndarray, allowed: np.ndarray | None = None,

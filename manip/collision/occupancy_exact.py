@@ -26,6 +26,7 @@ import math
 
 import numpy as np
 
+from manip.collision.convex_parts import hull_planes
 from manip.collision.occupancy_boxes import index_span
 from manip.collision.solids import mesh_arrays, solid_data, weld
 from manip.errors import InvalidInputError
@@ -91,14 +92,9 @@ def part_hull(geometry) -> tuple[np.ndarray, ...] | None:
         else:
             V = None
         if V is not None and V.shape[0] >= 4:
-            from scipy.spatial import ConvexHull, QhullError
-            try:
-                hull = ConvexHull(V)
-                eq = hull.equations   # n . x + d <= 0 inside
-            except (QhullError, ValueError):   # flat: the vertices' box and the 26-DOP alone
-                hull, eq = None, np.zeros((0, 4))
+            eq, area = hull_planes(geometry)   # n . x + d <= 0 inside; none when flat: the box and 26-DOP alone
             data = (np.ascontiguousarray(V), *_kdop(V), np.ascontiguousarray(eq[:, :3]), np.ascontiguousarray(-eq[:, 3]),
-                    np.inf if hull is None else _surface_depth(geometry, V, eq, hull.area))
+                    np.inf if not len(eq) else _surface_depth(geometry, V, eq, area))
     if len(_LOCAL) > 4096:
         _LOCAL.clear()
     _LOCAL[id(geometry)] = (geometry, data)

@@ -25,7 +25,7 @@ import numpy as np
 from scipy.spatial import ConvexHull
 
 from manip.collision import gjk
-from manip.collision.shapes import Capsule, Cuboid, Cylinder, Sphere
+from manip.collision.convex_parts import hull_planes, obstacle_kinds, part_tables
 from manip.collision.solids import closed_part_mesh, mesh_arrays
 from manip.jit import kernel
 
@@ -33,18 +33,19 @@ from manip.jit import kernel
 #: this depth of its hull's boundary (the Panda's collision meshes: 0.03-0.23 mm).
 CONVEX_TOLERANCE = 1e-3
 
-_NO = -1   # a shape kind this test does not decide
 _CONCAVITY: dict[int, tuple[object, float]] = {}   # id(mesh) -> (mesh, depth [m])
 _LAST_PARTS: tuple = (None, None)                    # (parts, their arrays): `_part_arrays`
 
 
-def concavity(mesh, hull_points: np.ndarray, limit: float = np.inf) -> float:
+def concavity(mesh, hull_points: np.ndarray | None = None, limit: float = np.inf) -> float:
     """The largest depth [m] of a triangle's vertex or centroid of coal mesh `mesh` inside the
-    convex hull of hull_points (K, 3) (0 for a convex mesh); once a depth exceeds `limit` [m],
-    that depth (the points are visited in blocks: a concave mesh stops early)."""
+    convex hull of hull_points (K, 3) (None: of the mesh's vertices, `convex_parts.hull_planes`)
+    (0 for a convex mesh); once a depth exceeds `limit` [m], that depth (the points are visited
+    in blocks: a concave mesh stops early)."""
     V, T = mesh_arrays(mesh)
     X = np.concatenate([V, V[T].mean(axis=1)])
-    eq = ConvexHull(hull_points).equations          # (F, 4): n . x + d <= 0 inside, |n| = 1
+    # (F, 4): n . x + d <= 0 inside, |n| = 1
+    eq = hull_planes(mesh)[0] if hull_points is None else ConvexHull(hull_points).equations
     worst = 0.0
     for s in range(0, X.shape[0], 512):
         depth = -(X[s:s + 512] @ eq[:, :3].T + eq[:, 3])    # (M, F) >= 0 inside
@@ -54,67 +55,42 @@ def concavity(mesh, hull_points: np.ndarray, limit: float = np.inf) -> float:
     return worst
 
 
-def _part_row(part):
-    """(kind, h (3,), rho, vertices (K, 3), convex) of one part (`collision.tables.Part`)."""
-    geom, hull = part.geometry, part.hull
-    name = type(geom).__name__
-    z = np.zeros((0, 3))
-    if name == "Box":
-        return gjk.ROUNDED_BOX, np.asarray(geom.halfSide, dtype=float), 0.0, z, True
-    if name == "Sphere":
-        return gjk.ROUNDED_BOX, np.zeros(3), float(geom.radius), z, True
-    if name == "Capsule":
-        return gjk.ROUNDED_BOX, np.array([0.0, 0.0, float(geom.halfLength)]), float(geom.radius), z, True
-    if name == "Cylinder":
-        r = float(geom.radius)
-        return gjk.CYLINDER, np.array([r, r, float(geom.halfLength)]), 0.0, z, True
-    if hull is None or hull is geom or not hasattr(hull, "points"):
-        return _NO, np.zeros(3), 0.0, z, False
-    P = np.ascontiguousarray(np.asarray(hull.points(), dtype=float))
-    if hasattr(geom, "num_tris"):
-        # an open mesh's hull fills what its surface leaves open (the Kinova's links): a hull
-        # within the padding says nothing there, coal decides (and its concavity is not computed:
-        # large meshes made that seconds of a first plan's budget)
-        convex = closed_part_mesh(geom, part.name) is not None
-        if convex:
-            cached = _CONCAVITY.get(id(geom))
-            if cached is None or cached[0] is not geom:
-                cached = _CONCAVITY[id(geom)] = (geom, concavity(geom, P, limit=CONVEX_TOLERANCE))
-            convex = cached[1] <= CONVEX_TOLERANCE
-    else:
-        convex = True
-    return gjk.VERTICES, np.zeros(3), 0.0, P, convex
-
-
-def _obstacle_kind(ob) -> int:
-    if type(ob) in (Cuboid, Sphere, Capsule):
-        return gjk.ROUNDED_BOX
-    if type(ob) is Cylinder:
-        return gjk.CYLINDER
-    return _NO
+def _convex(part, kind: int) -> bool:
+    """True when part (`collision.tables.Part`) of `convex_parts` kind `kind` is its convex
+    shape up to CONVEX_TOLERANCE: a primitive, or a closed mesh that shallow under its hull."""
+    geom = part.geometry
+    if kind == gjk.NO:
+        return False
+    if not hasattr(geom, "num_tris"):
+        return True
+    # an open mesh's hull fills what its surface leaves open (the Kinova's links): a hull
+    # within the padding says nothing there, coal decides (and its concavity is not computed:
+    # large meshes made that seconds of a first plan's budget)
+    if closed_part_mesh(geom, part.name) is None:
+        return False
+    cached = _CONCAVITY.get(id(geom))
+    if cached is None or cached[0] is not geom:
+        cached = _CONCAVITY[id(geom)] = (geom, concavity(geom, limit=CONVEX_TOLERANCE))
+    return cached[1] <= CONVEX_TOLERANCE
 
 
 def _part_arrays(parts) -> tuple:
-    """`NarrowTables`' part arrays, kept for the last parts seen (the same `Part` objects in every
-    state of a checker until its attachments change)."""
+    """`NarrowTables`' part arrays (`convex_parts.part_tables`, the joints and placements, the
+    convex flags), kept for the last parts seen (the same `Part` objects in every state of a
+    checker until its attachments change)."""
     global _LAST_PARTS
     last, arrays = _LAST_PARTS
     if last is not None and len(last) == len(parts) and all(a is b for a, b in zip(last, parts)):
         return arrays
-    rows = [_part_row(p) for p in parts]
-    G = len(rows)
-    count = np.array([len(r[3]) for r in rows], dtype=np.int64)
+    kind, h, rho, start, count, V = part_tables(parts)
+    G = len(parts)
     arrays = (
-        np.array([r[0] for r in rows], dtype=np.int64),
+        kind,
         np.array([p.joint for p in parts], dtype=np.int64),
         np.ascontiguousarray(np.array([p.R for p in parts], dtype=float).reshape(G, 3, 3)),
         np.ascontiguousarray(np.array([p.p for p in parts], dtype=float).reshape(G, 3)),
-        np.ascontiguousarray(np.array([r[1] for r in rows], dtype=float).reshape(G, 3)),
-        np.array([r[2] for r in rows], dtype=float),
-        np.cumsum(count) - count,
-        count,
-        np.ascontiguousarray(np.concatenate([r[3] for r in rows] + [np.zeros((0, 3))]).reshape(-1, 3)),
-        np.array([r[4] for r in rows], dtype=np.bool_),
+        h, rho, start, count, V,
+        np.array([_convex(p, int(k)) for p, k in zip(parts, kind)], dtype=np.bool_),
     )
     _LAST_PARTS = (tuple(parts), arrays)
     return arrays
@@ -134,7 +110,7 @@ class NarrowTables:
         (self.kind, self.joint, self.R, self.c, self.h, self.rho, self.start, self.count, self.V,
          self.convex) = _part_arrays(parts)
         G = len(parts)
-        self.okind = np.array([_obstacle_kind(ob) for ob in obstacles], dtype=np.int64)
+        self.okind = obstacle_kinds(obstacles)
         allowed = None if state is None else state.allowed_world
         self.allowed = (np.zeros((G, len(obstacles)), dtype=np.bool_) if allowed is None
                         else np.ascontiguousarray(allowed, dtype=np.bool_))
@@ -175,21 +151,21 @@ def decide(kind, a, b, R, p, nt, ot):
     unsure = False
     for t in range(T):
         g, o = a[t], b[t]
-        if pk[g] == _NO:
+        if pk[g] == gjk.NO:
             left[t] = unsure = True
             continue
         _place(g, R, p, nt, Ra, ca)
         if kind[t] == 0:
             if allowed[g, o]:
                 continue
-            if okind[o] == _NO:
+            if okind[o] == gjk.NO:
                 left[t] = unsure = True
                 continue
             r = gjk.within(pk[g], Ra, ca, ph[g], prho[g], okind[o], oR[o], oc[o], oh[o], orho[o], V, pst[g], pcn[g],
                            0, 0, margins[0])
             sure = convex[g]
         else:
-            if pk[o] == _NO:
+            if pk[o] == gjk.NO:
                 left[t] = unsure = True
                 continue
             _place(o, R, p, nt, Rb, cb)
