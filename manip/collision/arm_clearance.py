@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from manip.collision.broadphase import _distance, _place
-from manip.collision.clearance import ClearanceModel, ClearanceTerms, balls_by_body
+from manip.collision.clearance import ClearanceModel, ClearanceTerms, balls_by_body, joint_tables
 from manip.jit import kernel
 
 
@@ -35,18 +35,7 @@ class ArmClearance:
         self.checker = clearance.checker
         self.dof = clearance.dof
         self.arm_of_joint = np.asarray(arm_of_joint, dtype=np.int64)
-        kin = self.checker.kinematics
-        q_index, parent, _ = kin.fk_tables()
-        J = len(q_index)
-        self._q_index = np.asarray(q_index)
-        self._axes = np.asarray(kin.joint_axes)
-        self._revolute = np.asarray(kin.joint_revolute)
-        self._ancestors = np.zeros((J + 1, J + 1), dtype=bool)
-        for j in range(1, J + 1):
-            a = j
-            while a > 0:
-                self._ancestors[j, a] = True
-                a = int(parent[a - 1])
+        self._q_index, self._axes, self._revolute, self._ancestors = joint_tables(self.checker.kinematics)
         self._cache = None
 
     def bound_to(self, checker) -> ArmClearance:
@@ -63,7 +52,7 @@ class ArmClearance:
         alive here, so a rebuilt cover, e.g. after an attach, can never be mistaken for this
         one; world snapshots share the checker's cover), as `ClearanceModel`."""
         if self._cache is None or self._cache[0] is not fine:
-            joint, centres, radii, bodies, start, count, bc, br = balls_by_body(fine, np.flatnonzero(fine.joint != 0))
+            _joint, centres, radii, bodies, start, count, bc, br = balls_by_body(fine, np.flatnonzero(fine.joint != 0))
             arm = self.arm_of_joint[bodies]
             pa, pb = np.triu_indices(bodies.size, 1)
             cross = (arm[pa] != arm[pb]) & (arm[pa] >= 0) & (arm[pb] >= 0)

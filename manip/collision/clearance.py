@@ -42,6 +42,21 @@ class ClearanceTerms(NamedTuple):
     gradient: np.ndarray
 
 
+def joint_tables(kin) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The joints' tables of the clearance gradients of `Kinematics` kin: q_index (J,), axes,
+    revolute (of `kin.joint_axes`, `kin.joint_revolute`), ancestors (J + 1, J + 1) bool:
+    ancestors[j, k], joint k (1-based) moves the frame of joint j (1-based); row 0 = universe."""
+    q_index, parent, _ = kin.fk_tables()
+    J = len(q_index)
+    ancestors = np.zeros((J + 1, J + 1), dtype=bool)
+    for j in range(1, J + 1):
+        a = j
+        while a > 0:
+            ancestors[j, a] = True
+            a = int(parent[a - 1])
+    return np.asarray(q_index), np.asarray(kin.joint_axes), np.asarray(kin.joint_revolute), ancestors
+
+
 class ClearanceModel:
     """Clearance terms of a robot against its checker's current world (read at each call).
 
@@ -51,20 +66,8 @@ class ClearanceModel:
 
     def __init__(self, checker):
         self.checker = checker
-        kin = checker.kinematics
-        self.dof = kin.dof
-        q_index, parent, _ = kin.fk_tables()
-        self._q_index = np.asarray(q_index)
-        self._axes = np.asarray(kin.joint_axes)
-        self._revolute = np.asarray(kin.joint_revolute)
-        J = len(self._q_index)
-        # ancestors[j, k]: joint k (1-based) moves the frame of joint j (1-based); row 0 = universe
-        self._ancestors = np.zeros((J + 1, J + 1), dtype=bool)
-        for j in range(1, J + 1):
-            a = j
-            while a > 0:
-                self._ancestors[j, a] = True
-                a = int(parent[a - 1])
+        self.dof = checker.kinematics.dof
+        self._q_index, self._axes, self._revolute, self._ancestors = joint_tables(checker.kinematics)
 
     def bound_to(self, checker) -> ClearanceModel:
         """This model reading `checker` (e.g. a world snapshot of the same robot), sharing the
@@ -104,7 +107,7 @@ class ClearanceModel:
         if len(st.obstacles) == 0 or moving.size == 0:
             return empty
         tables = self._tables(fine, moving)
-        n_i, s_i, o_i, dist, x, normal = _nearest_terms(R, p, *tables, float(activation), *st.obstacle_tables)
+        n_i, s_i, _o_i, dist, x, normal = _nearest_terms(R, p, *tables, float(activation), *st.obstacle_tables)
         for o, grid in st.occupancy_maps:   # occupancy maps: their own distances (`collision.occupancy`)
             extra = map_nearest_terms(R, p, *tables, float(activation), *grid)
             n_i, s_i, dist, x, normal = (np.concatenate(c) for c in zip((n_i, s_i, dist, x, normal), extra))

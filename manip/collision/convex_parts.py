@@ -10,8 +10,8 @@ coarse search's own narrowphase), and for the hull planes of a mesh that `collis
   capsule or cylinder as itself, a triangle mesh as the vertices of its convex hull (which
   holds it), anything else `gjk.NO` (its pairs are left to coal);
 - `obstacle_kinds`: the `gjk` kind of each obstacle (boxes, spheres, capsules, cylinders);
-- `hull_planes`: the facet planes and area of the convex hull of a mesh's (or a convex's)
-  vertices, cached per geometry.
+- `vertices` / `hull_planes`: a mesh's (or a convex's) vertices, and the facet planes and area
+  of their convex hull, cached per geometry.
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ import numpy as np
 from manip.collision import gjk
 from manip.collision.shapes import Capsule, Cuboid, Cylinder, Sphere
 
-__all__ = ["hull_planes", "obstacle_kinds", "part_row", "part_tables"]
+__all__ = ["hull_planes", "obstacle_kinds", "part_row", "part_tables", "vertices"]
 
 _PLANES: dict[int, tuple[object, tuple[np.ndarray, float] | None]] = {}   # id(geometry) -> (geometry, planes)
 
@@ -80,6 +80,15 @@ def obstacle_kinds(obstacles) -> np.ndarray:
     return out
 
 
+def vertices(geometry) -> np.ndarray | None:
+    """(P, 3) the vertices [m] of a coal mesh or the points of a coal.Convex (its frame), else None."""
+    if hasattr(geometry, "num_tris") and hasattr(geometry, "vertices"):   # a BVH mesh
+        return np.asarray(geometry.vertices(), dtype=float).reshape(-1, 3)
+    if hasattr(geometry, "points") and hasattr(geometry, "num_points"):   # coal.Convex
+        return np.asarray(geometry.points(), dtype=float).reshape(-1, 3)
+    return None
+
+
 def hull_planes(geometry) -> tuple[np.ndarray, float] | None:
     """The convex hull of a coal mesh's vertices (or a coal.Convex's points), its frame:
     (equations (F, 4): (n, d) with n . x + d <= 0 inside, |n| = 1; area [m^2]); None for
@@ -88,12 +97,7 @@ def hull_planes(geometry) -> tuple[np.ndarray, float] | None:
     got = _PLANES.get(id(geometry))
     if got is not None and got[0] is geometry:
         return got[1]
-    if hasattr(geometry, "num_tris") and hasattr(geometry, "vertices"):   # a BVH mesh
-        V = np.asarray(geometry.vertices(), dtype=float).reshape(-1, 3)
-    elif hasattr(geometry, "points") and hasattr(geometry, "num_points"):   # coal.Convex
-        V = np.asarray(geometry.points(), dtype=float).reshape(-1, 3)
-    else:
-        V = None
+    V = vertices(geometry)
     planes = None
     if V is not None and V.shape[0] >= 4:
         from scipy.spatial import ConvexHull, QhullError

@@ -26,7 +26,7 @@ import math
 
 import numpy as np
 
-from manip.collision.convex_parts import hull_planes
+from manip.collision.convex_parts import hull_planes, vertices
 from manip.collision.occupancy_boxes import index_span
 from manip.collision.solids import mesh_arrays, solid_data, weld
 from manip.errors import InvalidInputError
@@ -85,12 +85,7 @@ def part_hull(geometry) -> tuple[np.ndarray, ...] | None:
         V = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float) * h
         data = (V, *_kdop(V), np.vstack([np.eye(3), -np.eye(3)]), np.concatenate([h, h]), 0.0)
     else:
-        if hasattr(geometry, "num_tris") and hasattr(geometry, "vertices"):   # a BVH mesh
-            V = np.asarray(geometry.vertices(), dtype=float).reshape(-1, 3)
-        elif hasattr(geometry, "points") and hasattr(geometry, "num_points"):   # coal.Convex
-            V = np.asarray(geometry.points(), dtype=float).reshape(-1, 3)
-        else:
-            V = None
+        V = vertices(geometry)   # a BVH mesh's, a coal.Convex's, else None
         if V is not None and V.shape[0] >= 4:
             eq, area = hull_planes(geometry)   # n . x + d <= 0 inside; none when flat: the box and 26-DOP alone
             data = (np.ascontiguousarray(V), *_kdop(V), np.ascontiguousarray(eq[:, :3]), np.ascontiguousarray(-eq[:, 3]),
