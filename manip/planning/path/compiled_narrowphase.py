@@ -57,7 +57,8 @@ def concavity(mesh, hull_points: np.ndarray | None = None, limit: float = np.inf
 
 def _convex(part, kind: int) -> bool:
     """True when part (`collision.tables.Part`) of `convex_parts` kind `kind` is its convex
-    shape up to CONVEX_TOLERANCE: a primitive, or a closed mesh that shallow under its hull."""
+    shape up to CONVEX_TOLERANCE: a primitive, or a closed mesh no deeper than that under its
+    hull's boundary (`concavity`)."""
     geom = part.geometry
     if kind == gjk.NO:
         return False
