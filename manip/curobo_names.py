@@ -169,8 +169,7 @@ KINEMATICS = {
 
 #: cuRobo `IKResult` member -> manip's `IKResult` equivalent.
 IK_RESULT = {
-    "solution": "q ((dof,) joints in joint_names order; (N, dof) for a batch)",
-    "js_solution": "q ((dof,) joints in joint_names order; (N, dof) for a batch)",
+    "js_solution": "solution (cuRobo's (batch, seeds, dof) array) or q ((dof,); (N, dof) for a batch)",
     "goalset_index": "nothing: IK takes one goal (MotionGenerator.batch_ik for several)",
     "error": "position_error [m] and rotation_error [rad]",
 }

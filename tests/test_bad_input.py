@@ -458,6 +458,6 @@ def test_a_results_truth_is_its_success_so_if_result_cannot_let_a_failure_throug
     assert [r.success for r in ok + failed] == [True, True, True, False, False]
     assert [bool(r) for r in ok + failed] == [True, True, True, False, False]
     batch = mg.batch_ik(Pose(np.array([mg.fk(q0).position, [3.0, 0.0, 0.5]]), np.array([[0, 1, 0, 0]] * 2)))
-    assert batch.success.tolist() == [True, False]
+    assert batch.solved.tolist() == [True, False] and batch.success.tolist() == [[True], [False]]
     with pytest.raises(TypeError, match=r"success"):
         bool(batch)
