@@ -297,14 +297,6 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
         "get_enabled_self_collisions": "self-collisions are the model's (MJCF contype/conaffinity, excludes)",
         "set_enabled_self_collisions": "self-collisions are the model's (MJCF contype/conaffinity, excludes)",
         "get_measured_joint_forces": "PhysX joint-frame 6-D forces: use get_measured_joint_efforts",
-        "get_sleep_threshold": "MuJoCo bodies never sleep",
-        "set_sleep_threshold": "MuJoCo bodies never sleep",
-        "get_solver_position_iteration_count": "PhysX's iteration counts: MuJoCo's solver is World.model.opt",
-        "set_solver_position_iteration_count": "PhysX's iteration counts: MuJoCo's solver is World.model.opt",
-        "get_solver_velocity_iteration_count": "PhysX's iteration counts: MuJoCo's solver is World.model.opt",
-        "set_solver_velocity_iteration_count": "PhysX's iteration counts: MuJoCo's solver is World.model.opt",
-        "get_stabilization_threshold": "a PhysX setting without a MuJoCo equivalent",
-        "set_stabilization_threshold": "a PhysX setting without a MuJoCo equivalent",
     },
     "Robot": {"get_sensors": "sensors are not attached to robots here (cameras: manip.sim sensors)"},
     "ArticulationView": {
@@ -371,7 +363,14 @@ DIFFERS: dict[str, dict[str, str]] = {
                      "set_joint_positions": "a position past a limit is set with a warning; the next step puts it "
                      "back on the limit (PhysX pushes it back too)",
                      "disable_gravity": "each body's weight cancelled at its centre of mass (was a no-op: MuJoCo's "
-                                        "gravcomp needs bodies compiled with it)"},
+                                        "gravcomp needs bodies compiled with it)",
+                     **{f"{verb}_{name}": f"{note}; kept for the getter, changes nothing (a warning says so)"
+                        for verb in ("set", "get") for name, note in (
+                            ("solver_position_iteration_count", "MuJoCo's iteration cap is the World's, not an "
+                             "articulation's: World.model.opt.iterations"),
+                            ("solver_velocity_iteration_count", "MuJoCo has no velocity iterations"),
+                            ("sleep_threshold", "MuJoCo's sleeping is left off: nothing sleeps"),
+                            ("stabilization_threshold", "no MuJoCo equivalent of PhysX's stabilization"))}},
     "ArticulationView": {"get_jacobians": "MuJoCo's body-origin Jacobians in Isaac's layout",
                          "set_world_poses": "after the reset, a pose inside another robot raises RobotsOverlapError "
                                             "and the robot stays where it was"},

@@ -18,8 +18,11 @@ from manip.sim.core.world import World
 from manip.sim.objects.shapes import VisualCapsule, VisualCone, VisualCuboid, VisualCylinder, VisualSphere
 from manip.sim.prims.views import compile_path_expression, path_matches
 from manip.sim.prims.xform_prim import XFormPrim
-from manip.sim.scenes.stage import add_reference_to_stage, get_current_stage
-from manip.sim.scenes.stage import get_prim_at_path  # noqa: F401 (re-exported: a robot's link is a prim there)
+from manip.sim.scenes.stage import (  # get_prim_at_path re-exported (a robot's link is a prim there)
+    add_reference_to_stage,
+    get_current_stage,
+    get_prim_at_path,  # noqa: F401
+)
 from manip.sim.utils import not_supported
 from manip.sim.utils.rotations import euler_angles_to_rot_matrix
 
