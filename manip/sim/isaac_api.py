@@ -366,8 +366,8 @@ DIFFERS: dict[str, dict[str, str]] = {
                                         "gravcomp needs bodies compiled with it)",
                      **{f"{verb}_{name}": f"{note}; kept for the getter, changes nothing (a warning says so)"
                         for verb in ("set", "get") for name, note in (
-                            ("solver_position_iteration_count", "MuJoCo's iteration cap is the World's, not an "
-                             "articulation's: World.model.opt.iterations"),
+                            ("solver_position_iteration_count", ("MuJoCo's iteration cap is the World's, not an "
+                                                                 "articulation's: World.model.opt.iterations")),
                             ("solver_velocity_iteration_count", "MuJoCo has no velocity iterations"),
                             ("sleep_threshold", "MuJoCo's sleeping is left off: nothing sleeps"),
                             ("stabilization_threshold", "no MuJoCo equivalent of PhysX's stabilization"))}},
