@@ -8,7 +8,7 @@ and without effect, with a warning saying so and where MuJoCo's counterpart live
   there: set the World's cap directly (it applies to every robot and object).
 - `set_sleep_threshold`: PhysX puts an articulation to sleep below a mass-normalised kinetic
   energy; manip.sim leaves MuJoCo's sleeping off (`mjENBL_SLEEP`), so nothing sleeps, as PhysX
-  with a threshold of 0.
+  with a threshold of 0 (which is therefore set without a warning).
 - `set_stabilization_threshold`: PhysX's stabilization pass has no MuJoCo equivalent.
 
 Getters return the last value set, PhysX's defaults (PhysxArticulationAPI) until then.
@@ -26,6 +26,9 @@ logger = logging.getLogger(__name__)
 #: PhysxArticulationAPI's defaults (what Isaac's getters read from a robot's USD without them).
 PHYSX_DEFAULTS = {"solver_position_iteration_count": 32, "solver_velocity_iteration_count": 1,
                   "sleep_threshold": 5e-3, "stabilization_threshold": 1e-3}
+
+#: Values that are what manip.sim simulates already (no warning): nothing sleeps, as PhysX's 0.
+AS_SIMULATED = {"sleep_threshold": 0.0}
 
 #: Why each setting changes nothing here (the warning's text).
 NO_EFFECT = {
@@ -58,7 +61,7 @@ class PhysxArticulationSettings:
     def _keep_physx(self, name: str, value) -> None:
         settings = self.__dict__.setdefault("_physx_settings", {})
         warned = self.__dict__.setdefault("_physx_warned", set())
-        if value != PHYSX_DEFAULTS[name] and name not in warned:
+        if value not in (PHYSX_DEFAULTS[name], AS_SIMULATED.get(name)) and name not in warned:
             warned.add(name)
             logger.warning("%s.set_%s(%r): kept for get_%s, changes nothing: %s", type(self).__name__, name, value,
                            name, NO_EFFECT[name])

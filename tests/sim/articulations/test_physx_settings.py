@@ -37,10 +37,12 @@ def test_articulation_solver_settings_are_kept_and_change_nothing(caplog):
         franka.set_solver_position_iteration_count(64)
         franka.set_solver_position_iteration_count(4)   # warned once per setting
         franka.set_solver_velocity_iteration_count(8)
-        franka.set_sleep_threshold(0.0)
+        franka.set_sleep_threshold(0.0)           # what manip simulates (nothing sleeps): no warning
+        franka.set_sleep_threshold(0.02)
         franka.set_stabilization_threshold(0.01)
     warned = [r.getMessage() for r in caplog.records]
     assert len(warned) == 4 and "World.model.opt.iterations" in warned[0] and "nothing sleeps" in warned[2]
+    franka.set_sleep_threshold(0.0)
     assert franka.get_solver_position_iteration_count() == 4 and franka.get_solver_velocity_iteration_count() == 8
     assert franka.get_sleep_threshold() == 0.0 and franka.get_stabilization_threshold() == 0.01
     after = _run(world, franka)   # the same motion, step for step: nothing changed in MuJoCo
