@@ -151,8 +151,9 @@ POSE = {
 #: cuRobo `IKSolver` member -> manip's `IKSolver` equivalent.
 IK_SOLVER = {
     "solve_single": "solve(goal, link, seed_q)",
-    "solve_goalset": "solve_batch(goals, link, seed_q) (each goal solved; MotionGenerator.plan_goalset picks the best)",
-    "solve_batch_goalset": "solve_batch(goals, link, seed_q)",
+    "solve_goalset": "solve_batch(goals, link, seed_q) (each goal solved, (N, 1) results, where cuRobo's gives "
+                     "the best goal's (1, 1) and goalset_index; MotionGenerator.plan_goalset picks the best)",
+    "solve_batch_goalset": "solve_batch(goals, link, seed_q) (one row per goal pose: (N, 1))",
     "sample_configs": "kinematics.limits (sample uniformly between lower and upper)",
     "fk": "kinematics.fk(q, link)",
 }

@@ -1,4 +1,4 @@
-"""Six tutorial-style scripts of our own, written as Isaac Sim 4.x users write them (only the
+"""Tutorial-style scripts of our own (and cuRobo examples), written as Isaac Sim 4.x users write them (only the
 imports differ: omni.isaac... / isaacsim... -> manip.sim), each run as a script and checked
 against the simulator's state it leaves (issue 32)."""
 
@@ -195,7 +195,7 @@ def test_a_task_of_ones_own_with_metrics_is_done_and_a_physics_callback():
     ns = run("reach_task_metrics.py")
     (steps0, done0, _, color0), (steps1, done1, _, color1) = ns["episodes"]
     assert done0 and done1 and steps0 == steps1 < 600   # the reset starts the same episode over
-    np.testing.assert_array_equal(color0, [0.0, 1.0, 0.0])   # turned green in pre_step
+    np.testing.assert_array_equal([color0, color1], [[0.0, 1.0, 0.0]] * 2)   # turned green in pre_step
     np.testing.assert_array_equal(ns["reset_color"], [1.0, 0.0, 0.0])   # post_reset: red again
     d = np.array(ns["distances"])
     assert len(d) == steps0 + steps1 and d[0] > 0.25 and d[steps0 - 1] < 0.01
