@@ -397,6 +397,7 @@ ISAAC_FUNCTIONS: dict[str, tuple[str, ...]] = {
                                     "get_prim_object_type", "get_all_matching_child_prims",
                                     "get_first_matching_child_prim"),
     "omni.isaac.core.utils.xforms": ("get_world_pose", "get_local_pose"),
+    "omni.isaac.core.utils.bounds": ("create_bbox_cache", "compute_aabb", "compute_combined_aabb"),
     "omni.isaac.core.utils.rotations": ("euler_angles_to_quat", "quat_to_euler_angles", "quat_to_rot_matrix",
                                         "rot_matrix_to_quat", "euler_to_rot_matrix", "rot_matrix_to_euler_angles",
                                         "gf_quat_to_np_array"),

@@ -79,3 +79,37 @@ def test_define_prim_and_bad_calls():
         get_all_matching_child_prims("/World/box", depth=-1)
     with pytest.raises(InvalidInputError, match="prim must be a prim"):
         get_prim_children(3)
+
+
+def test_isaacs_bounds_utilities_bound_objects_robots_and_links():
+    """`omni.isaac.core.utils.bounds` (ImportError before): a table's top to place a cube on, a robot
+    and its hand, tight in the current state."""
+    from manip.sim import FixedCuboid, compute_aabb, compute_combined_aabb, create_bbox_cache
+
+    world = World()
+    table = world.scene.add(FixedCuboid("/World/table", name="table", position=[0.6, 0.0, 0.2],
+                                        scale=[0.4, 0.6, 0.4], size=1.0))
+    world.scene.add(Franka("/World/Franka", name="franka"))
+    cache = create_bbox_cache()
+    box = compute_aabb(cache, "/World/table")   # before the reset: from the pose and size
+    np.testing.assert_allclose(box, [0.4, -0.3, 0.0, 0.8, 0.3, 0.4], atol=1e-9)
+    world.reset()
+    cube = world.scene.add(DynamicCuboid("/World/cube", name="cube", size=0.05,
+                                         position=[0.6, 0.0, compute_aabb(cache, "/World/table")[5] + 0.025]))
+    world.reset()
+    for _ in range(30):
+        world.step(render=False)
+    assert cube.get_world_pose()[0][2] == pytest.approx(0.425, abs=1e-3)   # it rests on the table's top
+    robot = compute_aabb(cache, "/World/Franka")
+    hand = compute_aabb(cache, "/World/Franka/panda_hand", include_children=True)
+    assert np.all(robot[:3] <= hand[:3] + 1e-12) and np.all(hand[3:] <= robot[3:] + 1e-12)
+    p, _ = get_world_pose("/World/Franka/panda_hand")
+    assert np.all(hand[:3] < p) and np.all(p < hand[3:])
+    assert robot[2] == pytest.approx(0.0, abs=5e-3)   # tight: the base stands on the floor
+    both = compute_combined_aabb(cache, ["/World/table", "/World/cube"])
+    np.testing.assert_allclose(both[[0, 1, 3, 4]], [0.4, -0.3, 0.8, 0.3], atol=1e-6)
+    assert both[5] == pytest.approx(0.45, abs=1e-3) and table.get_world_pose()[0][2] == pytest.approx(0.2)
+    with pytest.raises(InvalidInputError, match="no prim at '/World/nothing'"):
+        compute_aabb(cache, "/World/nothing")
+    with pytest.raises(InvalidInputError, match="non-empty list"):
+        compute_combined_aabb(cache, [])
