@@ -153,7 +153,7 @@ class BatchIKResult:
     @property
     def solution(self) -> HostArray:
         """(N, 1, dof) `q` as cuRobo's `solution` (batch, seeds, dof): `solution[success]` is (K, dof)."""
-        return host(self.q, shape=(len(self), 1, -1))
+        return host(self.q, shape=(len(self), 1, np.shape(self.q)[1]))
 
     def __len__(self) -> int:
         return self.q.shape[0]
