@@ -241,7 +241,6 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
         "device": "one device: the CPU",
     },
     "XFormPrim": {
-        "prim": "there is no USD prim (manip has no USD): use prim_path",
         "apply_visual_material": "a bare transform has no geometry to colour here: apply materials to shapes",
         "get_applied_visual_material": "a bare transform has no geometry to colour here: shapes carry materials",
         "is_visual_material_applied": "a bare transform has no geometry to colour here: shapes carry materials",
@@ -276,7 +275,6 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
         "set_com": "the centre of mass follows the shape (MuJoCo computes it when the World compiles)",
     },
     "XFormPrimView": {
-        "prims": "there are no USD prims (manip has no USD): use prim_paths",
         "apply_visual_materials": "apply a material to each object (GeometryPrim.apply_visual_material)",
         "get_applied_visual_materials": "read each object's material (GeometryPrim.get_applied_visual_material)",
         "set_local_scales": "a scale is fixed when the World compiles: set it on each object before a reset",
@@ -345,6 +343,11 @@ DIFFERS: dict[str, dict[str, str]] = {
                            "max_soft_body_contacts", "max_particle_contacts", "heap_capacity", "temp_buffer_capacity",
                            "max_num_partitions", "collision_stack_size"))},
     "SimulationApp": {"update": "steps physics only while a World plays, without the tasks' pre_step (as Kit)"},
+    "XFormPrim": {"prim": "the object itself (no Usd.Prim): it answers USD's IsValid, GetPath, GetName, GetTypeName, "
+                          "GetChildren, GetParent and the prim utilities take it; GetAttribute raises (no USD "
+                          "attributes)"},
+    "XFormPrimView": {"prims": "what get_prim_at_path returns for each path (the objects, or robots' link prims), "
+                               "answering USD's reading methods; no USD attributes"},
     "GeometryPrim": {"apply_physics_material": "combined frictions with other surfaces apply from the next reset",
                      "get_collision_approximation": "the token set (default 'none'); primitives collide exactly "
                                                     "whatever it says, as PhysX's primitive shapes do",

@@ -152,6 +152,18 @@ class UsdPrimMethods:
         """The prim one segment above (None at "/World", which is no object here)."""
         return get_prim_at_path(self.prim_path.rsplit("/", 1)[0])
 
+    def GetAttribute(self, name: str):
+        """Refused: manip has no USD attributes (the object's getters and setters hold its state)."""
+        raise NotImplementedError(f"{self.prim_path}.GetAttribute({name!r}): manip has no USD attributes; use the "
+                                  f"object's getters and setters ({type(self).__name__})")
+
+    @property
+    def prim(self) -> Any:
+        """Isaac's `Usd.Prim` of this object: here the object itself, which answers USD's reading
+        methods (`IsValid`, `GetPath`, `GetName`, `GetTypeName`, `GetChildren`, `GetParent`) and is
+        what the prim utilities take."""
+        return self
+
 
 class ReferencePrim(UsdPrimMethods):
     """A model file (MJCF or URDF) referenced on the stage under `prim_path`.

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import mujoco
 import numpy as np
+import pytest
 
 from manip.sim import (
     DynamicCuboid,
@@ -49,3 +50,20 @@ def test_a_robots_link_is_a_prim_whose_pose_follows_the_simulation():
     assert get_prim_at_path("/World/Franka/no_such_link") is None and get_prim_at_path("/World/nothing") is None
     world.scene.remove_object("franka")
     assert not hand.IsValid() and get_prim_at_path("/World/Franka/panda_hand") is None
+
+
+def test_prim_and_prims_are_the_objects_answering_usds_reading_methods():
+    """`cube.prim` / `view.prims` raised NotImplementedError; Isaac scripts pass them to the prim
+    utilities or read their path and validity."""
+    from manip.sim import RigidPrimView, get_prim_children, get_prim_path
+
+    world = World()
+    cube = world.scene.add(DynamicCuboid("/World/Cube_0", name="c0", position=[0.0, 0.0, 0.05], size=0.05))
+    world.scene.add(DynamicCuboid("/World/Cube_1", name="c1", position=[0.2, 0.0, 0.05], size=0.05))
+    view = world.scene.add(RigidPrimView("/World/Cube_.*", name="cubes"))
+    world.reset()
+    assert cube.prim is cube and cube.prim.IsValid() and get_prim_path(cube.prim) == "/World/Cube_0"
+    assert [p.GetPath() for p in view.prims] == ["/World/Cube_0", "/World/Cube_1"] and view.prims[0] is cube
+    assert get_prim_children(cube.prim) == []
+    with pytest.raises(NotImplementedError, match="GetAttribute\\('size'\\): manip has no USD attributes"):
+        cube.prim.GetAttribute("size")
