@@ -56,7 +56,7 @@ _ARTICULATION = (
     "set_stabilization_threshold", "get_world_pose", "set_world_pose", "get_local_pose", "set_local_pose",
     "handles_initialized", "initialize", "num_bodies", "num_dof", "post_reset", "set_angular_velocity",
     "set_linear_velocity", "set_joint_efforts", "set_joint_positions", "set_joint_velocities",
-    "set_joints_default_state", "get_default_state", "set_default_state", "name", "prim_path", "is_valid",
+    "set_joints_default_state", "get_default_state", "set_default_state", "name", "prim_path", "prim", "is_valid",
     "get_world_velocity", "set_world_velocity")
 _WORLD_INTERFACE = ("update_world", "add_obstacle", "add_cuboid", "add_sphere", "add_capsule", "add_cylinder",
                     "add_cone", "add_ground_plane", "disable_obstacle", "enable_obstacle", "remove_obstacle", "reset")
@@ -365,6 +365,8 @@ DIFFERS: dict[str, dict[str, str]] = {
                                        "and the robot stays where it was (PhysX would push them apart)",
                      "set_joint_positions": "a position past a limit is set with a warning; the next step puts it "
                      "back on the limit (PhysX pushes it back too)",
+                     "prim": "the referenced model's prim on the stage (no Usd.Prim): USD's reading methods, its "
+                             "links as children; no USD attributes",
                      "disable_gravity": "each body's weight cancelled at its centre of mass (was a no-op: MuJoCo's "
                                         "gravcomp needs bodies compiled with it)",
                      **{f"{verb}_{name}": f"{note}; kept for the getter, changes nothing (a warning says so)"

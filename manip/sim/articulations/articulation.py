@@ -52,7 +52,8 @@ from manip.sim.articulations.articulation_core import MAX_EFFORT, MAX_POSITION, 
 from manip.sim.articulations.articulation_view import ArticulationView
 from manip.sim.articulations.physx_settings import PhysxArticulationSettings
 from manip.sim.articulations.dof_properties import DOF_PROPERTIES_DTYPE, dof_properties  # noqa: F401 (DTYPE re-exported)
-from manip.sim.scenes.stage import ReferencePrim, SimHandle, SimulationError, get_current_stage, validate_prim_path
+from manip.sim.scenes.stage import (ReferencePrim, SimHandle, SimulationError, get_current_stage, get_prim_at_path,
+                                    validate_prim_path)
 from manip.sim.utils.types import DefaultPoseMixin, JointsState, XFormPrimState, position_or_translation
 from manip.validation import unit_quat
 from manip.sim.utils.bounds import bounded_vec
@@ -204,6 +205,12 @@ class Articulation(DefaultPoseMixin, PhysxArticulationSettings):
         return self._core
 
     # ------------------------------------------------------------------ description
+    @property
+    def prim(self):
+        """Isaac's Usd.Prim of the robot: the referenced model's prim on the stage (USD's reading
+        methods `IsValid`, `GetPath`, `GetChildren` (its links), ...; None once removed)."""
+        return get_prim_at_path(self.prim_path)
+
     @property
     def name(self) -> str:
         return self._name

@@ -45,6 +45,7 @@ def test_a_robots_link_is_a_prim_whose_pose_follows_the_simulation():
     names = [c.GetName() for c in robot.GetChildren()]
     assert {"panda_link0", "panda_link7", "panda_hand", "panda_leftfinger"} <= set(names)
     assert hand.GetParent() is robot and robot.IsValid() and robot.GetTypeName() == "Xform"
+    assert franka.prim is robot   # Isaac's Articulation.prim (an AttributeError before)
     assert cube.GetTypeName() == "Cube" and get_prim_at_path("/World/cube") is cube and cube.GetChildren() == []
     # what is not there is None (as Isaac's invalid prim tests False), a link of no model too
     assert get_prim_at_path("/World/Franka/no_such_link") is None and get_prim_at_path("/World/nothing") is None
