@@ -292,8 +292,6 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
         "disable_rigid_body_physics": "a body's kind is fixed when the World compiles",
     },
     "Articulation": {
-        "get_enabled_self_collisions": "self-collisions are the model's (MJCF contype/conaffinity, excludes)",
-        "set_enabled_self_collisions": "self-collisions are the model's (MJCF contype/conaffinity, excludes)",
         "get_measured_joint_forces": "PhysX joint-frame 6-D forces: use get_measured_joint_efforts",
     },
     "Robot": {"get_sensors": "sensors are not attached to robots here (cameras: manip.sim sensors)"},
@@ -365,6 +363,9 @@ DIFFERS: dict[str, dict[str, str]] = {
                                        "and the robot stays where it was (PhysX would push them apart)",
                      "set_joint_positions": "a position past a limit is set with a warning; the next step puts it "
                      "back on the limit (PhysX pushes it back too)",
+                     "set_enabled_self_collisions": "applies from the next world.reset() (the World recompiles); "
+                                                    "False excludes every pair of the robot's bodies from contact, "
+                                                    "True keeps the model's own filter (its MJCF excludes)",
                      "prim": "the referenced model's prim on the stage (no Usd.Prim): USD's reading methods, its "
                              "links as children; no USD attributes",
                      "disable_gravity": "each body's weight cancelled at its centre of mass (was a no-op: MuJoCo's "

@@ -10,6 +10,10 @@ and without effect, with a warning saying so and where MuJoCo's counterpart live
   energy; manip.sim leaves MuJoCo's sleeping off (`mjENBL_SLEEP`), so nothing sleeps, as PhysX
   with a threshold of 0 (which is therefore set without a warning).
 - `set_stabilization_threshold`: PhysX's stabilization pass has no MuJoCo equivalent.
+- `set_enabled_self_collisions(False)` does change the simulation, from the next `world.reset()`
+  (the World recompiles, as PhysX reads the flag when the articulation is created): every pair of
+  the model's bodies is excluded from contact (MuJoCo's `<exclude>`); True restores the model's own
+  filter (MuJoCo collides bodies that are not parent and child unless its MJCF excludes them).
 
 Getters return the last value set, PhysX's defaults (PhysxArticulationAPI) until then.
 """
@@ -19,7 +23,10 @@ from __future__ import annotations
 import logging
 import math
 
+import numpy as np
+
 from manip.errors import InvalidInputError
+from manip.sim.scenes.stage import get_current_stage
 
 logger = logging.getLogger(__name__)
 
@@ -69,6 +76,22 @@ class PhysxArticulationSettings:
 
     def _physx(self, name: str):
         return self.__dict__.get("_physx_settings", {}).get(name, PHYSX_DEFAULTS[name])
+
+    def set_enabled_self_collisions(self, flag: bool) -> None:
+        """Whether the robot's links collide with each other, from the next `world.reset()`."""
+        if not isinstance(flag, (bool, np.bool_)):
+            raise InvalidInputError(f"flag must be a bool (True: the links collide with each other); got {flag!r}")
+        self.reference.self_collisions = bool(flag)
+        stage = get_current_stage()
+        if stage.sim is not None:
+            stage.mark_changed(self.prim_path)
+            logger.info("%s.set_enabled_self_collisions(%s): applies from the next world.reset() (the World "
+                        "recompiles)", type(self).__name__, bool(flag))
+
+    def get_enabled_self_collisions(self) -> bool:
+        """The flag last set (True until then: the model's own filter lets non-adjacent links collide)."""
+        flag = self.reference.self_collisions
+        return True if flag is None else flag
 
     def set_solver_position_iteration_count(self, count: int) -> None:
         """PhysX's position iterations, 1..255: kept, no effect (MuJoCo's cap: World.model.opt.iterations)."""

@@ -187,6 +187,9 @@ class ReferencePrim(UsdPrimMethods):
         self._probe: tuple[mujoco.MjModel, mujoco.MjData] | None = None  # the file alone, for authored poses
         self._names: tuple[frozenset, frozenset] | None = None  # the file's (body, site) names
         self._variants: dict[str, str] = {}  # USD variant selections, kept (`GetVariantSet`)
+        #: PhysX's enabledSelfCollisions as set (`Articulation.set_enabled_self_collisions`): None keeps the
+        #: model's own filter, False excludes every pair of its bodies from contact when compiled.
+        self.self_collisions: bool | None = None
 
     def GetVariantSet(self, name: str) -> VariantSet:  # noqa: N802 (USD's name, as Isaac 5's examples call it)
         """The asset's variant set `name` (selections are kept and change nothing: `manip.sim.scenes.variants`)."""
@@ -287,8 +290,13 @@ class ReferencePrim(UsdPrimMethods):
                 act = child.add_actuator(name=joint.name, target=joint.name, trntype=mujoco.mjtTrn.mjTRN_JOINT)
                 if urdf:
                     _isaac_urdf_drive(act, efforts.get(joint.name))
+        bodies = [b.name for b in child.bodies if b.name and b.name != "world"]
         frame = spec.worldbody.add_frame(pos=self.position.tolist(), quat=self.orientation.tolist())
         spec.attach(child, prefix=self.prefix, frame=frame)
+        if self.self_collisions is False:  # no contact between any two of the model's bodies
+            for i, a in enumerate(bodies):
+                for b in bodies[i + 1:]:
+                    spec.add_exclude(bodyname1=self.prefix + a, bodyname2=self.prefix + b)
 
 
 def _urdf_with_mesh_paths(file_path: Path) -> str:

@@ -63,3 +63,47 @@ def test_bad_solver_settings_raise_saying_what_is_valid(call, value, match):
     franka = World().scene.add(Franka("/World/Franka", name="franka"))
     with pytest.raises(InvalidInputError, match=match):
         getattr(franka, call)(value)
+
+
+def _self_contacts(world: World) -> list[tuple[str, str]]:
+    """Pairs of the Franka's bodies in contact in the current state (MuJoCo's collision pass)."""
+    m, d = world.model, world.data
+    mujoco.mj_forward(m, d)
+    out = []
+    for c in d.contact[:d.ncon]:
+        a, b = m.body(m.geom_bodyid[c.geom1]).name, m.body(m.geom_bodyid[c.geom2]).name
+        if a.startswith("/World/Franka/") and b.startswith("/World/Franka/"):
+            out.append((a, b))
+    return out
+
+
+def test_self_collisions_turn_off_and_on_at_the_next_reset():
+    """`set_enabled_self_collisions` raised NotImplementedError; False now excludes every pair of the
+    robot's links from contact (from the next reset, as PhysX reads the flag at creation)."""
+    folded = np.array([0.794, -0.812, -2.66, -3.022, 1.815, 3.424, 0.618, 0.04, 0.04])  # the hand in the base
+    world = World()
+    franka = world.scene.add(Franka("/World/Franka", name="franka"))
+    assert franka.get_enabled_self_collisions() is True
+    world.reset()
+    franka.set_joint_positions(folded)
+    hits = _self_contacts(world)
+    assert ("/World/Franka/panda_link0", "/World/Franka/panda_hand") in hits   # the model's own filter
+    franka.set_enabled_self_collisions(False)
+    assert franka.get_enabled_self_collisions() is False and _self_contacts(world)   # not before the reset
+    world.reset()
+    franka.set_joint_positions(folded)
+    assert _self_contacts(world) == []
+    ground = world.scene.add_default_ground_plane()   # the links still collide with the rest of the world
+    world.reset()
+    franka.set_joint_positions(folded)
+    assert ground is not None and _self_contacts(world) == []
+    m, d = world.model, world.data
+    robot = [(m.body(m.geom_bodyid[c.geom1]).name.startswith("/World/Franka"),
+              m.body(m.geom_bodyid[c.geom2]).name.startswith("/World/Franka")) for c in d.contact[:d.ncon]]
+    assert (True, False) in robot or (False, True) in robot   # a link on the ground
+    franka.set_enabled_self_collisions(True)
+    world.reset()
+    franka.set_joint_positions(folded)
+    assert ("/World/Franka/panda_link0", "/World/Franka/panda_hand") in _self_contacts(world)
+    with pytest.raises(InvalidInputError, match="flag must be a bool"):
+        franka.set_enabled_self_collisions("no")
