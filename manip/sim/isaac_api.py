@@ -300,7 +300,6 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
         "get_body_coms": "read World.model.body_ipos (MuJoCo) for the bodies",
         "get_body_inertias": "read World.model.body_inertia (MuJoCo) for the bodies",
         "get_effort_modes": "effort limits are always force limits here",
-        "get_enabled_self_collisions": "self-collisions are the model's (MJCF contype/conaffinity, excludes)",
         "get_friction_coefficients": "joint friction is the model's (MJCF frictionloss)",
         "set_velocities": "a fixed base has no root velocity; set the joints' velocities",
     },

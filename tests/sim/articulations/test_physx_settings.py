@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from manip.errors import InvalidInputError
-from manip.sim import ArticulationAction, Franka, World
+from manip.sim import ArticulationAction, ArticulationView, Franka, World
 
 
 def _run(world: World, franka: Franka, steps: int = 40) -> np.ndarray:
@@ -101,9 +101,12 @@ def test_self_collisions_turn_off_and_on_at_the_next_reset():
     robot = [(m.body(m.geom_bodyid[c.geom1]).name.startswith("/World/Franka"),
               m.body(m.geom_bodyid[c.geom2]).name.startswith("/World/Franka")) for c in d.contact[:d.ncon]]
     assert (True, False) in robot or (False, True) in robot   # a link on the ground
+    view = ArticulationView("/World/Franka", name="franka_view")
+    assert view.get_enabled_self_collisions().tolist() == [False]   # the view reads the robot's flag
     franka.set_enabled_self_collisions(True)
     world.reset()
     franka.set_joint_positions(folded)
     assert ("/World/Franka/panda_link0", "/World/Franka/panda_hand") in _self_contacts(world)
+    assert view.get_enabled_self_collisions().tolist() == [True]
     with pytest.raises(InvalidInputError, match="flag must be a bool"):
         franka.set_enabled_self_collisions("no")
