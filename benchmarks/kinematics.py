@@ -127,7 +127,7 @@ def bench_ik(k: Kinematics, n: int, seed: int) -> dict:
     out.update(
         {
             "ik_batch_success_rate": float(result.success.mean()),
-            "ik_batch_wrong_claims": wrong_claims(k, result.q, result.success, goals, solver),
+            "ik_batch_wrong_claims": wrong_claims(k, result.q, result.solved, goals, solver),  # (N,) mask
             "ik_batch_solutions_per_s": float(result.success.sum() / best),
             "ik_batch_time_s": float(best),
         }

@@ -443,7 +443,8 @@ def test_an_empty_batch_of_goal_poses_is_refused(mg):
         mg.detach_object(READY)
     finally:
         mg.remove_obstacle("cube_e")
-    assert len(mg.batch_ik(empty).success) == 0 and mg.plan_batch(np.zeros((0, 7)), empty) == []  # batches of 0
+    assert len(mg.batch_ik(empty).success) == 0 and mg.batch_ik(empty).solution.shape == (0, 1, 7)  # batches of 0
+    assert mg.plan_batch(np.zeros((0, 7)), empty) == []
 
 
 def test_a_results_truth_is_its_success_so_if_result_cannot_let_a_failure_through(mg):
@@ -458,6 +459,6 @@ def test_a_results_truth_is_its_success_so_if_result_cannot_let_a_failure_throug
     assert [r.success for r in ok + failed] == [True, True, True, False, False]
     assert [bool(r) for r in ok + failed] == [True, True, True, False, False]
     batch = mg.batch_ik(Pose(np.array([mg.fk(q0).position, [3.0, 0.0, 0.5]]), np.array([[0, 1, 0, 0]] * 2)))
-    assert batch.success.tolist() == [True, False]
+    assert batch.solved.tolist() == [True, False] and batch.success.tolist() == [[True], [False]]
     with pytest.raises(TypeError, match=r"success"):
         bool(batch)

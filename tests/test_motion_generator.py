@@ -342,7 +342,8 @@ def test_curobo_names_of_the_world_pose_and_ik_point_to_manips(mg):
         (mg.ik_solver, "solve_single", "IKSolver.solve(goal"), (mg.ik_solver, "solve_goalset", "IKSolver."),
     ]
     result = mg.ik(Pose([0.45, -0.3, 0.3], DOWN), seed_q=READY)
-    cases += [(result, "solution", "IKResult.q"), (result, "js_solution", "IKResult.q")]
+    cases += [(result, "js_solution", "IKResult.solution")]
+    assert result.solution.shape == (1, 1, 7) and np.array_equal(result.solution[result.success], [result.q])
     for owner, name, where in cases:
         with pytest.raises(AttributeError, match=rf"no '{name}' \(cuRobo's name\); manip's equivalent: .*{re.escape(where)}"):
             getattr(owner, name)
@@ -386,7 +387,7 @@ def test_curobo_plan_config_kinematics_and_generator_names_point_to_manips(mg):
                                (kin, "get_state", "Kinematics.fk(q, link)"), (kin, "get_joint_limits", "Kinematics.limits"),
                                (mg.ik_solver, "fk", "IKSolver.kinematics.fk"),
                                (trajectory, "position", "Trajectory.positions ((T, dof)"),
-                               (mg.batch_ik(Pose.stack([goal, goal])), "js_solution", "BatchIKResult.q"),
+                               (mg.batch_ik(Pose.stack([goal, goal])), "js_solution", "BatchIKResult.solution"),
                                (trajectory, "velocity", "Trajectory.velocities"),
                                (trajectory, "get_ordered_joint_state", "Trajectory.positions[:, [t.joint_names.index(n)")):
         with pytest.raises(AttributeError, match=rf"no '{name}' \(cuRobo's name\); manip's equivalent: {re.escape(where)}"):

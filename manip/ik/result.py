@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from manip import curobo_names
+from manip.errors import InvalidInputError
 from manip.host_array import HostArray, host
 from manip.status import Status, no_truth_value, truth_is_success
 
@@ -64,6 +65,7 @@ class IKResult:
         position_error: distance [m] between the goal and the link's position at `q`, (1, 1) as
             cuRobo's (`float()`, `.item()` and `f"{...:.4f}"` read the number).
         rotation_error: angle [rad] between the goal and the link's orientation at `q`, (1, 1).
+        solution: (1, 1, dof) read-only `q` as cuRobo's `IKResult.solution` (batch, seeds, dof).
         status: why it succeeded or failed (see `IKStatus.hint`).
         iterations: solver iterations over all attempts.
         solve_time: wall time [s].
@@ -89,6 +91,11 @@ class IKResult:
         object.__setattr__(self, "position_error", host(float(self.position_error), np.float64, (1, 1)))
         object.__setattr__(self, "rotation_error", host(float(self.rotation_error), np.float64, (1, 1)))
 
+    @property
+    def solution(self) -> HostArray:
+        """`q` as cuRobo's (batch, seeds, dof) = (1, 1, dof) `solution` (`solution[success]` is (1, dof))."""
+        return host(self.q, shape=(1, 1, -1))
+
     def __getattr__(self, name: str):
         # only for missing names: cuRobo's (solution, js_solution, ...) say where manip has them
         if name.startswith("_"):
@@ -101,12 +108,13 @@ class BatchIKResult:
     """Result of a batched IK query (N goals). Index it to get one goal's `IKResult`.
 
     Attributes:
-        success: (N,) bool (a `HostArray`: `.cpu().numpy()` as cuRobo's tensor; so are the errors).
-            cuRobo's is (N, 1) (one seed returned per goal) with `solution` (N, 1, dof); manip's `q`
-            is (N, dof), so `q[success]` is cuRobo's `solution[success]`.
+        success: (N, 1) bool, as cuRobo's `solve_batch` (batch, return_seeds = 1): a `HostArray`
+            (`.cpu().numpy()` as cuRobo's tensor; so are the errors and `solution`).
+            `solution[success]` (cuRobo's) and `q[success[:, 0]]` are the (K, dof) solved rows;
+            `solved` is the same mask as (N,).
         q: (N, dof) solutions (the best configuration found where `success` is False).
-        position_error: (N,) [m].
-        rotation_error: (N,) [rad].
+        position_error: (N, 1) [m].
+        rotation_error: (N, 1) [rad].
         status: N `IKStatus` values.
         iterations: (N,) solver iterations spent on each goal.
         attempts: (N,) attempts made for each goal.
@@ -127,19 +135,35 @@ class BatchIKResult:
     message: tuple[str, ...] = ()
 
     def __post_init__(self):
-        # cuRobo's batch results hold tensors: `result.success.cpu().numpy()` runs as written
+        # cuRobo's batch results hold (batch, seeds) tensors: `result.success.cpu().numpy()` runs as
+        # written; (N,) or (N, 1) arrays are accepted, (N, 1) kept
+        n = np.shape(self.q)[0]
         for name in ("success", "position_error", "rotation_error"):
-            object.__setattr__(self, name, host(getattr(self, name)))
+            value = np.asarray(getattr(self, name))
+            if value.shape not in ((n,), (n, 1)):
+                raise InvalidInputError(f"BatchIKResult.{name} must be (N,) or (N, 1) with N = {n} (q's rows); "
+                                        f"got shape {value.shape}")
+            object.__setattr__(self, name, host(value, shape=(n, 1)))
+
+    @property
+    def solved(self) -> HostArray:
+        """(N,) bool: `success` as one flag per goal (`q[solved]` is the (K, dof) solved rows)."""
+        return host(self.success, shape=(-1,))
+
+    @property
+    def solution(self) -> HostArray:
+        """(N, 1, dof) `q` as cuRobo's `solution` (batch, seeds, dof): `solution[success]` is (K, dof)."""
+        return host(self.q, shape=(len(self), 1, np.shape(self.q)[1]))
 
     def __len__(self) -> int:
         return self.q.shape[0]
 
     def __getitem__(self, i: int) -> IKResult:
         return IKResult(
-            success=bool(self.success[i]),
+            success=bool(self.success[i, 0]),
             q=self.q[i],
-            position_error=float(self.position_error[i]),
-            rotation_error=float(self.rotation_error[i]),
+            position_error=float(self.position_error[i, 0]),
+            rotation_error=float(self.rotation_error[i, 0]),
             status=self.status[i],
             iterations=int(self.iterations[i]),
             solve_time=self.solve_time,

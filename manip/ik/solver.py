@@ -235,7 +235,7 @@ class IKSolver:
                 (cuRobo's `solve_batch` name) is its deprecated name.
 
         Returns:
-            BatchIKResult with (N,) arrays.
+            BatchIKResult: `q` (N, dof); `success` and the errors (N, 1) as cuRobo's.
 
         Raises:
             InvalidInputError: goals not a batched Pose, bad seed_q or max_attempts.

@@ -282,7 +282,7 @@ def _first_solutions(stages: Stages, goals: Pose, link: str, start: np.ndarray, 
     """(q (N, dof), ok (N,)): one batched IK of every candidate pose from `start`, without
     collision checks (most converge at once), then `valid` on the solutions."""
     r = _quick(stages.ik_solver).solve_batch(goals, link, seed_q=start, seed=int(ctx.rng.integers(2**31)))
-    q, ok = np.array(r.q), np.array(r.success)
+    q, ok = np.array(r.q), np.array(r.solved)
     if ok.any():
         ok[ok] = valid(q[ok])
     return q, ok

@@ -119,6 +119,19 @@ from manip.sim.utils.prims import (
     open_stage,
     save_stage,
 )
+from manip.sim.utils.prim_bounds import BBoxCache, compute_aabb, compute_combined_aabb, create_bbox_cache
+from manip.sim.utils.prim_tree import (
+    define_prim,
+    get_all_matching_child_prims,
+    get_first_matching_child_prim,
+    get_local_pose,
+    get_prim_children,
+    get_prim_object_type,
+    get_prim_parent,
+    get_prim_path,
+    get_prim_type_name,
+    get_world_pose,
+)
 from manip.sim.core.world import World, clear_stage
 from manip.sim.utils.extensions import disable_extension, enable_extension
 from manip.sim.utils.viewports import set_camera_view
@@ -196,7 +209,10 @@ __all__ = [
     "available_assets", "carb", "clear_stage", "create_new_stage", "create_new_stage_async", "create_prim",
     "delete_prim", "disable_extension", "enable_extension", "euler_angles_to_quat", "euler_angles_to_rot_matrix", "euler_to_rot_matrix",
     "find_matching_prim_paths", "find_unique_string_name", "franka_model_path", "get_assets_root_path",
-    "get_current_stage", "get_extension_path_from_name", "get_prim_at_path", "get_stage_units", "gf_quat_to_np_array", "is_prim_path_valid",
+    "get_current_stage", "get_extension_path_from_name", "get_prim_at_path", "get_stage_units",
+    "define_prim", "get_all_matching_child_prims", "get_first_matching_child_prim", "get_local_pose",
+    "get_prim_children", "get_prim_object_type", "get_prim_parent", "get_prim_path", "get_prim_type_name",
+    "get_world_pose", "BBoxCache", "compute_aabb", "compute_combined_aabb", "create_bbox_cache", "gf_quat_to_np_array", "is_prim_path_valid",
     "is_stage_loading", "jetbot_model_path", "open_stage", "quat_to_euler_angles", "quat_to_rot_matrix",
     "resolve_asset_path", "robot_model_path", "rot_matrix_to_euler_angles", "rot_matrix_to_quat", "save_stage",
     "set_camera_view",

@@ -56,7 +56,7 @@ _ARTICULATION = (
     "set_stabilization_threshold", "get_world_pose", "set_world_pose", "get_local_pose", "set_local_pose",
     "handles_initialized", "initialize", "num_bodies", "num_dof", "post_reset", "set_angular_velocity",
     "set_linear_velocity", "set_joint_efforts", "set_joint_positions", "set_joint_velocities",
-    "set_joints_default_state", "get_default_state", "set_default_state", "name", "prim_path", "is_valid",
+    "set_joints_default_state", "get_default_state", "set_default_state", "name", "prim_path", "prim", "is_valid",
     "get_world_velocity", "set_world_velocity")
 _WORLD_INTERFACE = ("update_world", "add_obstacle", "add_cuboid", "add_sphere", "add_capsule", "add_cylinder",
                     "add_cone", "add_ground_plane", "disable_obstacle", "enable_obstacle", "remove_obstacle", "reset")
@@ -241,7 +241,6 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
         "device": "one device: the CPU",
     },
     "XFormPrim": {
-        "prim": "there is no USD prim (manip has no USD): use prim_path",
         "apply_visual_material": "a bare transform has no geometry to colour here: apply materials to shapes",
         "get_applied_visual_material": "a bare transform has no geometry to colour here: shapes carry materials",
         "is_visual_material_applied": "a bare transform has no geometry to colour here: shapes carry materials",
@@ -276,7 +275,6 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
         "set_com": "the centre of mass follows the shape (MuJoCo computes it when the World compiles)",
     },
     "XFormPrimView": {
-        "prims": "there are no USD prims (manip has no USD): use prim_paths",
         "apply_visual_materials": "apply a material to each object (GeometryPrim.apply_visual_material)",
         "get_applied_visual_materials": "read each object's material (GeometryPrim.get_applied_visual_material)",
         "set_local_scales": "a scale is fixed when the World compiles: set it on each object before a reset",
@@ -294,17 +292,7 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
         "disable_rigid_body_physics": "a body's kind is fixed when the World compiles",
     },
     "Articulation": {
-        "get_enabled_self_collisions": "self-collisions are the model's (MJCF contype/conaffinity, excludes)",
-        "set_enabled_self_collisions": "self-collisions are the model's (MJCF contype/conaffinity, excludes)",
         "get_measured_joint_forces": "PhysX joint-frame 6-D forces: use get_measured_joint_efforts",
-        "get_sleep_threshold": "MuJoCo bodies never sleep",
-        "set_sleep_threshold": "MuJoCo bodies never sleep",
-        "get_solver_position_iteration_count": "PhysX's iteration counts: MuJoCo's solver is World.model.opt",
-        "set_solver_position_iteration_count": "PhysX's iteration counts: MuJoCo's solver is World.model.opt",
-        "get_solver_velocity_iteration_count": "PhysX's iteration counts: MuJoCo's solver is World.model.opt",
-        "set_solver_velocity_iteration_count": "PhysX's iteration counts: MuJoCo's solver is World.model.opt",
-        "get_stabilization_threshold": "a PhysX setting without a MuJoCo equivalent",
-        "set_stabilization_threshold": "a PhysX setting without a MuJoCo equivalent",
     },
     "Robot": {"get_sensors": "sensors are not attached to robots here (cameras: manip.sim sensors)"},
     "ArticulationView": {
@@ -312,7 +300,6 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
         "get_body_coms": "read World.model.body_ipos (MuJoCo) for the bodies",
         "get_body_inertias": "read World.model.body_inertia (MuJoCo) for the bodies",
         "get_effort_modes": "effort limits are always force limits here",
-        "get_enabled_self_collisions": "self-collisions are the model's (MJCF contype/conaffinity, excludes)",
         "get_friction_coefficients": "joint friction is the model's (MJCF frictionloss)",
         "set_velocities": "a fixed base has no root velocity; set the joints' velocities",
     },
@@ -353,6 +340,11 @@ DIFFERS: dict[str, dict[str, str]] = {
                            "max_soft_body_contacts", "max_particle_contacts", "heap_capacity", "temp_buffer_capacity",
                            "max_num_partitions", "collision_stack_size"))},
     "SimulationApp": {"update": "steps physics only while a World plays, without the tasks' pre_step (as Kit)"},
+    "XFormPrim": {"prim": "the object itself (no Usd.Prim): it answers USD's IsValid, GetPath, GetName, GetTypeName, "
+                          "GetChildren, GetParent and the prim utilities take it; GetAttribute raises (no USD "
+                          "attributes)"},
+    "XFormPrimView": {"prims": "what get_prim_at_path returns for each path (the objects, or robots' link prims), "
+                               "answering USD's reading methods; no USD attributes"},
     "GeometryPrim": {"apply_physics_material": "combined frictions with other surfaces apply from the next reset",
                      "get_collision_approximation": "the token set (default 'none'); primitives collide exactly "
                                                     "whatever it says, as PhysX's primitive shapes do",
@@ -370,8 +362,20 @@ DIFFERS: dict[str, dict[str, str]] = {
                                        "and the robot stays where it was (PhysX would push them apart)",
                      "set_joint_positions": "a position past a limit is set with a warning; the next step puts it "
                      "back on the limit (PhysX pushes it back too)",
+                     "set_enabled_self_collisions": "applies from the next world.reset() (the World recompiles); "
+                                                    "False excludes every pair of the robot's bodies from contact, "
+                                                    "True keeps the model's own filter (its MJCF excludes)",
+                     "prim": "the referenced model's prim on the stage (no Usd.Prim): USD's reading methods, its "
+                             "links as children; no USD attributes",
                      "disable_gravity": "each body's weight cancelled at its centre of mass (was a no-op: MuJoCo's "
-                                        "gravcomp needs bodies compiled with it)"},
+                                        "gravcomp needs bodies compiled with it)",
+                     **{f"{verb}_{name}": f"{note}; kept for the getter, changes nothing (a warning says so)"
+                        for verb in ("set", "get") for name, note in (
+                            ("solver_position_iteration_count", ("MuJoCo's iteration cap is the World's, not an "
+                                                                 "articulation's: World.model.opt.iterations")),
+                            ("solver_velocity_iteration_count", "MuJoCo has no velocity iterations"),
+                            ("sleep_threshold", "MuJoCo's sleeping is left off: nothing sleeps"),
+                            ("stabilization_threshold", "no MuJoCo equivalent of PhysX's stabilization"))}},
     "ArticulationView": {"get_jacobians": "MuJoCo's body-origin Jacobians in Isaac's layout",
                          "set_world_poses": "after the reset, a pose inside another robot raises RobotsOverlapError "
                                             "and the robot stays where it was"},
@@ -393,7 +397,12 @@ ISAAC_FUNCTIONS: dict[str, tuple[str, ...]] = {
                                     "is_stage_loading", "update_stage", "update_stage_async", "open_stage",
                                     "save_stage"),
     "omni.isaac.core.utils.prims": ("is_prim_path_valid", "get_prim_at_path", "delete_prim",
-                                    "find_matching_prim_paths", "create_prim"),
+                                    "find_matching_prim_paths", "create_prim", "define_prim", "get_prim_path",
+                                    "get_prim_children", "get_prim_parent", "get_prim_type_name",
+                                    "get_prim_object_type", "get_all_matching_child_prims",
+                                    "get_first_matching_child_prim"),
+    "omni.isaac.core.utils.xforms": ("get_world_pose", "get_local_pose"),
+    "omni.isaac.core.utils.bounds": ("create_bbox_cache", "compute_aabb", "compute_combined_aabb"),
     "omni.isaac.core.utils.rotations": ("euler_angles_to_quat", "quat_to_euler_angles", "quat_to_rot_matrix",
                                         "rot_matrix_to_quat", "euler_to_rot_matrix", "rot_matrix_to_euler_angles",
                                         "gf_quat_to_np_array"),

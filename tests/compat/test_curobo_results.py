@@ -83,12 +83,34 @@ def test_ik_results_read_as_curobos_tensors(mg):
     assert one.success[0][0] and one.success[0].item() is True and f"{one.position_error:.1f}" == "0.0"
     batch = mg.batch_ik(Pose.stack([REACHABLE, IN_TABLE]), collision_free=True)
     assert isinstance(batch.success, HostArray)
-    np.testing.assert_array_equal(batch.success.cpu().numpy(), [True, False])
+    np.testing.assert_array_equal(batch.success.cpu().numpy(), [[True], [False]])
     assert type(batch.success.cpu().numpy()) is np.ndarray
-    assert batch.success.tolist() == [True, False] and batch.position_error.cpu().numpy().shape == (2,)
+    assert batch.success.tolist() == [[True], [False]] and batch.position_error.cpu().numpy().shape == (2, 1)
     assert not batch.success.flags.writeable
     assert mg.ik_solver.solve_many(REACHABLE, n=2).success.item() is True
     assert batch[0].success.shape == (1, 1) and batch[1].success.item() is False
+
+
+def test_batch_ik_results_have_curobos_solve_batch_shapes(mg):
+    """cuRobo's `solve_batch` returns (batch, return_seeds) = (N, 1) `success` / `position_error` /
+    `rotation_error` and an (N, 1, dof) `solution`, so `solution[success]` is the (K, dof) solved
+    rows (manip's were (N,) with no `solution`: that line raised an AttributeError)."""
+    goals = Pose.stack([REACHABLE, IN_TABLE, Pose([0.4, -0.2, 0.4], DOWN)])
+    for batch in (mg.batch_ik(goals, collision_free=True), mg.ik_solver.solve_batch(goals)):
+        n = len(goals)
+        assert batch.success.shape == batch.position_error.shape == batch.rotation_error.shape == (n, 1)
+        assert batch.solution.shape == (n, 1, 7) and isinstance(batch.solution, HostArray)
+        good = batch.solution[batch.success]                   # cuRobo's line
+        assert good.shape == (int(batch.success.sum()), 7)
+        np.testing.assert_array_equal(good, batch.q[batch.solved])    # manip's (N,) mask
+        for i in np.flatnonzero(batch.solved):                # each solution reaches its goal
+            dp, _ = mg.fk(batch.q[i]).distance(goals[i])
+            assert dp == pytest.approx(float(batch.position_error[i, 0]), abs=1e-9) and dp < 5e-3
+        assert batch.success[0].item() is True and bool(batch[0].success) and batch[0].q.shape == (7,)
+    assert mg.batch_ik(goals, collision_free=True).solved.tolist() == [True, False, True]
+    assert float(mg.batch_ik(goals).success_rate) == pytest.approx(1.0)
+    with pytest.raises(InvalidInputError, match=r"success must be \(N,\) or \(N, 1\) with N = 3"):
+        replace(batch, success=np.ones(2, dtype=bool))
 
 
 def test_num_seeds_per_call_is_curobos_name_of_max_attempts(mg):
@@ -115,7 +137,7 @@ def test_collision_free_batch_ik_names_what_a_rejected_goal_touches(mg):
     """`batch_ik(collision_free=True)` says what the best solution of a goal in the table touches,
     as `ik(collision_free=True)` does (it said only that validity_fn rejected every solution)."""
     result = mg.batch_ik(Pose.stack([IN_TABLE, REACHABLE, IN_TABLE]), collision_free=True)
-    assert result.success.tolist() == [False, True, False]
+    assert result.success.tolist() == [[False], [True], [False]]
     for i in (0, 2):
         assert result.status[i].name == "REJECTED_BY_VALIDITY"
         assert re.search(r"in collision \(collision_free=True\); the best one found: goal in collision: "

@@ -50,8 +50,10 @@ from manip.errors import InvalidInputError, UnknownNameError
 from manip.sim.controllers.articulation_controller import CONTROL_MODES, ArticulationController  # noqa: F401 (CONTROL_MODES re-exported)
 from manip.sim.articulations.articulation_core import MAX_EFFORT, MAX_POSITION, MAX_VELOCITY, ArticulationCore
 from manip.sim.articulations.articulation_view import ArticulationView
+from manip.sim.articulations.physx_settings import PhysxArticulationSettings
 from manip.sim.articulations.dof_properties import DOF_PROPERTIES_DTYPE, dof_properties  # noqa: F401 (DTYPE re-exported)
-from manip.sim.scenes.stage import ReferencePrim, SimHandle, SimulationError, get_current_stage, validate_prim_path
+from manip.sim.scenes.stage import (ReferencePrim, SimHandle, SimulationError, get_current_stage, get_prim_at_path,
+                                    validate_prim_path)
 from manip.sim.utils.types import DefaultPoseMixin, JointsState, XFormPrimState, position_or_translation
 from manip.validation import unit_quat
 from manip.sim.utils.bounds import bounded_vec
@@ -60,7 +62,7 @@ from manip.sim.prims import isaac5_views
 
 logger = logging.getLogger(__name__)
 
-class Articulation(DefaultPoseMixin):
+class Articulation(DefaultPoseMixin, PhysxArticulationSettings):
     prim_path: str  # where the model is referenced
 
     """A model referenced on the stage, seen as an articulation (Isaac's `SingleArticulation`).
@@ -203,6 +205,12 @@ class Articulation(DefaultPoseMixin):
         return self._core
 
     # ------------------------------------------------------------------ description
+    @property
+    def prim(self):
+        """Isaac's Usd.Prim of the robot: the referenced model's prim on the stage (USD's reading
+        methods `IsValid`, `GetPath`, `GetChildren` (its links), ...; None once removed)."""
+        return get_prim_at_path(self.prim_path)
+
     @property
     def name(self) -> str:
         return self._name

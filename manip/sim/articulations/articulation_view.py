@@ -447,6 +447,14 @@ class ArticulationView:
         m = c.sim.model.body_mass[c.body_ids]
         return (m if body_indices is None else m[np.asarray(body_indices, dtype=int)])[None, :].copy()
 
+    def get_enabled_self_collisions(self, indices=None) -> np.ndarray:
+        """(1,) bool: whether the robot's links collide with each other (its
+        `Articulation.set_enabled_self_collisions` flag; True until set: the model's own filter)."""
+        self._check_indices(indices)
+        ref = get_current_stage().find_reference(self._articulation.prim_path)
+        flag = None if ref is None else ref.self_collisions
+        return np.array([True if flag is None else bool(flag)])
+
     def get_body_index(self, body_name: str) -> int:
         names = self.body_names
         if body_name not in names:

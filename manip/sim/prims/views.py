@@ -22,7 +22,7 @@ from manip.errors import InvalidInputError
 from manip.sim.prims import body_forces, isaac5_views
 from manip.sim.prims.rigid_prim import RigidPrim
 from manip.sim.prims.xform_prim import XFormPrim, model_frame_pose, relative_pose
-from manip.sim.scenes.stage import SimHandle, SimulationError, get_current_stage
+from manip.sim.scenes.stage import SimHandle, SimulationError, get_current_stage, get_prim_at_path
 from manip.sim.utils.bounds import check_bounded_rows
 from manip.sim.utils.not_supported import declare as declare_not_supported
 from manip.sim.utils.types import DynamicsViewState, XFormPrimViewState
@@ -181,6 +181,12 @@ class XFormPrimView:
     @property
     def prim_paths(self) -> list[str]:
         return list(self._paths)
+
+    @property
+    def prims(self) -> list:
+        """Isaac's Usd.Prims of the view: what `get_prim_at_path` returns for each of `prim_paths`
+        (the objects, or the XFormPrims of robots' links; each answers USD's reading methods)."""
+        return [get_prim_at_path(p) for p in self._paths]
 
     def _idx(self, indices) -> np.ndarray:
         if indices is None:

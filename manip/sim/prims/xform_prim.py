@@ -17,8 +17,8 @@ import numpy as np
 from manip import quaternion as quat
 from manip.errors import InvalidInputError
 from manip.pose import Pose
-from manip.sim.scenes.stage import (ReferencePrim, SimHandle, SimulationError, get_current_stage, is_prim_path_valid,
-                                    validate_prim_path)
+from manip.sim.scenes.stage import (ReferencePrim, SimHandle, SimulationError, Stage, UsdPrimMethods, get_current_stage,
+                                    is_prim_path_valid, validate_prim_path)
 from manip.sim.utils.types import DefaultPoseMixin, XFormPrimState, position_or_translation
 from manip.validation import scale3, unit_quat
 from manip.sim.utils.bounds import bounded_vec
@@ -30,7 +30,7 @@ logger = logging.getLogger(__name__)
 _IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])
 
 
-class XFormPrim(DefaultPoseMixin):
+class XFormPrim(DefaultPoseMixin, UsdPrimMethods):
     """A prim with a pose (Isaac's `SingleXFormPrim` / `XFormPrim`).
 
     Created at a free prim path, it is a new transform (a MuJoCo mocap body without
@@ -434,3 +434,15 @@ def relative_pose(a, b) -> tuple[np.ndarray, np.ndarray]:
     """(position, wxyz) of frame b in frame a, both given in one parent frame (a^-1 @ b)."""
     inv = Pose(*a).inverse()
     return compose_poses((inv.position, inv.quaternion), b)
+
+
+def link_prim(prim_path: str) -> XFormPrim:
+    """The prim of a referenced model's body or site at `prim_path` (`get_prim_at_path` of a
+    robot's link): an XFormPrim wrapping it, made once per path and reused."""
+    for wrapper in get_current_stage().wrappers():
+        if type(wrapper) is XFormPrim and wrapper.prim_path == prim_path:
+            return wrapper
+    return XFormPrim(prim_path, name=prim_path.rsplit("/", 1)[1])
+
+
+Stage.link_prim_maker = staticmethod(link_prim)

@@ -28,6 +28,13 @@ Differences from Isaac: `kp` / `kd` (the D6 joint's stiffness and damping in Isa
 used: the weld is MuJoCo's stiff constraint (`WELD_SOLREF`), so the pull-in takes a few 10 ms
 whatever they are, and a value other than Isaac's defaults (100, 100) is warned about (once per
 gripper); a gripper made after a `world.reset()` is in the model from the next reset.
+Why not map them (decided in round six): a MuJoCo weld does take a stiffness and a damping
+(solref's direct form (-k, -b)), but per unit of the constraint's effective mass [1/s^2, 1/s],
+where Isaac's are the D6 drive's (force per metre, applied on axes its documentation does not
+name). Dividing by the held object's mass would make Isaac's defaults (100, 100) an overdamped
+pull-in of about a second on a 1 kg box, and a 10 cm sag under its weight with
+`disable_gravity=False` - not what Isaac's suction tutorials show - so the weld stays stiff and
+the warning stays.
 """
 
 from __future__ import annotations

@@ -12,7 +12,8 @@ from __future__ import annotations
 import logging
 import xml.etree.ElementTree as ET
 from pathlib import Path
-from typing import Any, Protocol
+from collections.abc import Callable
+from typing import Any, ClassVar, Protocol
 
 import mujoco
 import numpy as np
@@ -111,7 +112,60 @@ class StagePrim(Protocol):
     def bind_simulation(self, sim: SimHandle) -> None: ...
 
 
-class ReferencePrim:
+#: manip's shape classes -> the USD prim type Isaac creates for them (`UsdPrimMethods.GetTypeName`).
+_USD_TYPES = (("Cuboid", "Cube"), ("Sphere", "Sphere"), ("Cylinder", "Cylinder"), ("Capsule", "Capsule"),
+              ("Cone", "Cone"), ("Camera", "Camera"))
+
+
+class UsdPrimMethods:
+    """`Usd.Prim`'s reading methods (USD's CamelCase names) on manip's prims: Isaac's
+    `get_prim_at_path` returns a `Usd.Prim`, manip's returns its object, which answers these.
+    Paths are flat as in Isaac's robot USD files: a referenced model's links are its children
+    ("/World/Franka/panda_hand"), a prim mounted below a link (a tool frame) the link's child."""
+
+    prim_path: str
+
+    def IsValid(self) -> bool:
+        """Whether a prim is at this path on the stage (False once removed)."""
+        return is_prim_path_valid(self.prim_path)
+
+    def GetPath(self) -> str:
+        """The prim path (a str; USD's Sdf.Path prints as the same string)."""
+        return self.prim_path
+
+    GetPrimPath = GetPath
+
+    def GetName(self) -> str:
+        """The last segment of the path ("panda_hand")."""
+        return self.prim_path.rsplit("/", 1)[1]
+
+    def GetTypeName(self) -> str:
+        """The USD type Isaac gives it: "Cube", "Sphere", ... for shapes, "Camera", else "Xform"."""
+        name = type(self).__name__
+        return next((usd for cls, usd in _USD_TYPES if cls in name), "Xform")
+
+    def GetChildren(self) -> list[Any]:
+        """The prims one segment below this one (a model's links; a link's mounted prims)."""
+        return [get_prim_at_path(p) for p in child_paths(self.prim_path)]
+
+    def GetParent(self) -> Any | None:
+        """The prim one segment above (None at "/World", which is no object here)."""
+        return get_prim_at_path(self.prim_path.rsplit("/", 1)[0])
+
+    def GetAttribute(self, name: str):
+        """Refused: manip has no USD attributes (the object's getters and setters hold its state)."""
+        raise NotImplementedError(f"{self.prim_path}.GetAttribute({name!r}): manip has no USD attributes; use the "
+                                  f"object's getters and setters ({type(self).__name__})")
+
+    @property
+    def prim(self) -> Any:
+        """Isaac's `Usd.Prim` of this object: here the object itself, which answers USD's reading
+        methods (`IsValid`, `GetPath`, `GetName`, `GetTypeName`, `GetChildren`, `GetParent`) and is
+        what the prim utilities take."""
+        return self
+
+
+class ReferencePrim(UsdPrimMethods):
     """A model file (MJCF or URDF) referenced on the stage under `prim_path`.
 
     Every MuJoCo name of the file is prefixed by `prim_path + "/"`. Before compiling, the
@@ -133,6 +187,9 @@ class ReferencePrim:
         self._probe: tuple[mujoco.MjModel, mujoco.MjData] | None = None  # the file alone, for authored poses
         self._names: tuple[frozenset, frozenset] | None = None  # the file's (body, site) names
         self._variants: dict[str, str] = {}  # USD variant selections, kept (`GetVariantSet`)
+        #: PhysX's enabledSelfCollisions as set (`Articulation.set_enabled_self_collisions`): None keeps the
+        #: model's own filter, False excludes every pair of its bodies from contact when compiled.
+        self.self_collisions: bool | None = None
 
     def GetVariantSet(self, name: str) -> VariantSet:  # noqa: N802 (USD's name, as Isaac 5's examples call it)
         """The asset's variant set `name` (selections are kept and change nothing: `manip.sim.scenes.variants`)."""
@@ -233,8 +290,13 @@ class ReferencePrim:
                 act = child.add_actuator(name=joint.name, target=joint.name, trntype=mujoco.mjtTrn.mjTRN_JOINT)
                 if urdf:
                     _isaac_urdf_drive(act, efforts.get(joint.name))
+        bodies = [b.name for b in child.bodies if b.name and b.name != "world"]
         frame = spec.worldbody.add_frame(pos=self.position.tolist(), quat=self.orientation.tolist())
         spec.attach(child, prefix=self.prefix, frame=frame)
+        if self.self_collisions is False:  # no contact between any two of the model's bodies
+            for i, a in enumerate(bodies):
+                for b in bodies[i + 1:]:
+                    spec.add_exclude(bodyname1=self.prefix + a, bodyname2=self.prefix + b)
 
 
 def _urdf_with_mesh_paths(file_path: Path) -> str:
@@ -296,6 +358,10 @@ def _isaac_urdf_drive(act, effort: float | None) -> None:
 
 class Stage:
     """The prims the World compiles, by prim path (insertion order is kept)."""
+
+    #: Makes the prim of a referenced model's body or site (path -> prim or None): set by
+    #: `manip.sim.prims.xform_prim` (an XFormPrim wrapping the link), read by `get_prim_at_path`.
+    link_prim_maker: ClassVar[Callable[[str], Any] | None] = None
 
     def __init__(self) -> None:
         self._prims: dict[str, Any] = {}
@@ -418,8 +484,30 @@ def is_prim_path_valid(prim_path: str, fabric: bool = False) -> bool:
         return True
     for path, prim in _STAGE._prims.items():
         if isinstance(prim, ReferencePrim) and prim_path.startswith(path + "/"):
-            return prim.has_element(prim_path)
+            return prim.has_element(prim_path) and prim_path != prim.prefix + "world"  # not MuJoCo's worldbody
     return False
+
+
+def get_prim_at_path(prim_path: str, fabric: bool = False) -> Any | None:
+    """The prim at `prim_path` (Isaac's `omni.isaac.core.utils.prims.get_prim_at_path`): the
+    object or referenced model there, the `XFormPrim` of a robot's link or site (one per path,
+    its pose read from MuJoCo), or None (`fabric` accepted for Isaac's signature). Each answers
+    USD's `IsValid()`, `GetPath()`, `GetName()`, `GetTypeName()`, `GetChildren()`, `GetParent()`."""
+    prim = _STAGE.get_prim(prim_path)
+    if prim is None and Stage.link_prim_maker is not None and is_prim_path_valid(prim_path):
+        prim = Stage.link_prim_maker(prim_path)
+    return prim
+
+
+def child_paths(prim_path: str) -> list[str]:
+    """Paths one segment below `prim_path`: prims on the stage and the links (bodies and sites)
+    of a referenced model at `prim_path`."""
+    paths = set(_STAGE.prim_paths())
+    ref = _STAGE.find_reference(prim_path)
+    if ref is not None:
+        bodies, sites = ref._element_names()
+        paths |= {ref.prefix + n for n in bodies | sites if n and n != "world" and "/" not in n}
+    return sorted(p for p in paths if p.rsplit("/", 1)[0] == prim_path)
 
 
 def add_reference_to_stage(usd_path: str | Path, prim_path: str, prim_type: str = "Xform") -> ReferencePrim:

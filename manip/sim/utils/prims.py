@@ -16,9 +16,13 @@ from typing import Any
 from manip.errors import InvalidInputError
 from manip.sim.core.world import World
 from manip.sim.objects.shapes import VisualCapsule, VisualCone, VisualCuboid, VisualCylinder, VisualSphere
-from manip.sim.prims.xform_prim import XFormPrim
 from manip.sim.prims.views import compile_path_expression, path_matches
-from manip.sim.scenes.stage import add_reference_to_stage, get_current_stage
+from manip.sim.prims.xform_prim import XFormPrim
+from manip.sim.scenes.stage import (  # get_prim_at_path re-exported (a robot's link is a prim there)
+    add_reference_to_stage,
+    get_current_stage,
+    get_prim_at_path,  # noqa: F401
+)
 from manip.sim.utils import not_supported
 from manip.sim.utils.rotations import euler_angles_to_rot_matrix
 
@@ -33,12 +37,6 @@ def get_stage_units() -> float:
 def is_stage_loading() -> bool:
     """False: the stage loads synchronously."""
     return False
-
-
-def get_prim_at_path(prim_path: str, fabric: bool = False) -> Any | None:
-    """The object (or referenced model) at `prim_path` on the stage, None if there is none
-    (`fabric` accepted for Isaac's signature)."""
-    return get_current_stage().get_prim(prim_path)
 
 
 def delete_prim(prim_path: str) -> None:

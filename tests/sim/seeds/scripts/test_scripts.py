@@ -1,4 +1,4 @@
-"""Six tutorial-style scripts of our own, written as Isaac Sim 4.x users write them (only the
+"""Tutorial-style scripts of our own (and cuRobo examples), written as Isaac Sim 4.x users write them (only the
 imports differ: omni.isaac... / isaacsim... -> manip.sim), each run as a script and checked
 against the simulator's state it leaves (issue 32)."""
 
@@ -166,3 +166,36 @@ def test_curobo_batch_plan_read_as_a_batch_and_played():
     assert ns["success"].tolist() == [True, True] and ns["result"].success.shape == (2,)
     assert len(ns["traj"]) == 2 and len(ns["reached"]) == 2
     assert max(ns["reached"]) < 0.005        # the simulated hand at each goal
+
+
+def test_curobos_batched_ik_example_reads_curobos_shapes_and_the_sim_reaches_each_goal():
+    """cuRobo's ik_example: `solution[success]` of (N, 1) `success` and (N, 1, dof) `solution`
+    (an AttributeError before: manip's batch result had no `solution`, and (N,) `success`)."""
+    ns = run("curobo_ik_reachability.py")
+    n = len(ns["q_sample"])
+    assert n == 40 and ns["result"].success.shape == (n, 1) and ns["success"].all()
+    assert ns["solutions"].shape == (n, 7)
+    assert float(ns["result"].position_error.max()) < 5e-3
+    assert len(ns["hand_errors"]) == 4 and max(ns["hand_errors"]) < 5e-3   # the simulated hand, via its prim
+
+
+def test_robot_setup_tunes_the_solver_walks_the_prims_and_drives_the_arm():
+    ns = run("franka_articulation_setup.py")
+    assert ns["solver_settings"] == (64, 4, 0.0)
+    assert {f"/World/Franka/panda_link{i}" for i in range(8)} | {"/World/Franka/panda_hand"} <= set(ns["links"])
+    assert ns["fingers"] == ["/World/Franka/panda_leftfinger", "/World/Franka/panda_rightfinger"]
+    assert ns["joint_error"] < 0.01
+    np.testing.assert_allclose(ns["hand_position"], ns["prim_position"], atol=1e-12)
+    from manip import MotionGenerator  # the planner's kinematics agree with the simulated hand
+    fk = MotionGenerator("franka").fk(ns["franka"].get_joint_positions()[:7], "panda_hand")
+    np.testing.assert_allclose(ns["hand_position"], fk.position, atol=1e-3)
+
+
+def test_a_task_of_ones_own_with_metrics_is_done_and_a_physics_callback():
+    ns = run("reach_task_metrics.py")
+    (steps0, done0, _, color0), (steps1, done1, _, color1) = ns["episodes"]
+    assert done0 and done1 and steps0 == steps1 < 600   # the reset starts the same episode over
+    np.testing.assert_array_equal([color0, color1], [[0.0, 1.0, 0.0]] * 2)   # turned green in pre_step
+    np.testing.assert_array_equal(ns["reset_color"], [1.0, 0.0, 0.0])   # post_reset: red again
+    d = np.array(ns["distances"])
+    assert len(d) == steps0 + steps1 and d[0] > 0.25 and d[steps0 - 1] < 0.01
