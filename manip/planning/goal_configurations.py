@@ -94,6 +94,25 @@ def nearest_turn(q: np.ndarray, start: np.ndarray, lower: np.ndarray, upper: np.
     return cand[np.arange(len(q)), np.argmin(cost, axis=1)]
 
 
+def note_whole_turns(result: PlanResult, start: np.ndarray, goal: np.ndarray, kinematics: Kinematics,
+                     names: list[str]) -> PlanResult:
+    """`result` of a joint goal (dof,); when no path was found (PLAN_FAIL, TIMEOUT), its message
+    also names the joints the goal turns more than pi from `start` (dof,) where whole turns less
+    give the same placements within the limits (a joint goal is reached as given: such a goal
+    asks the arm to wind round, which clutter may forbid). Other results unchanged."""
+    if result.status not in (PlanStatus.PLAN_FAIL, PlanStatus.TIMEOUT):
+        return result
+    near = nearest_turn(goal, start, kinematics.lower, kinematics.upper)
+    moved = np.flatnonzero(near != goal)
+    if not len(moved):
+        return result
+    turns = ", ".join(f"{names[j]} by {goal[j] - start[j]:+.2f} rad" for j in moved)
+    alt = ", ".join(f"{names[j]} at {near[j]:.3f} rad" for j in moved)
+    return replace(result, message=f"{result.message}; the goal turns {turns} from the start, which a joint goal "
+                                   f"asks as given; the same placements with {alt} (whole turns less) are a shorter "
+                                   f"motion: pass that goal if the turn is not needed")
+
+
 #: Whole turns `nearest_turn` considers each way (limits span at most 4 pi on the bundled arms).
 _MAX_TURNS = 2
 
