@@ -130,7 +130,7 @@ class SupportVerifier(Verifier):
             wm.gm.addCollisionPair(pin.CollisionPair(a, b))
         wm.gd = wm.gm.createData()
         wm.bp = pin.BroadPhaseManager_DynamicAABBTreeCollisionManager(self.model, wm.gm, wm.gd)
-        wm.inside = InsideTest(wm.gm, keep)
+        wm.inside = InsideTest(wm.gm, keep, surfaces=wm.surfaces)
         return wm
 
 
