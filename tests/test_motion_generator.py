@@ -432,6 +432,18 @@ def test_a_linear_motion_to_a_goal_out_of_reach_says_so(mg):
     assert r.success, r.message
 
 
+def test_a_linear_motion_through_an_obstacle_says_where_and_what_it_touches():
+    """benchmarks/unseen_sim.py --perturb-all seed 5500, episode 36: a grasp's approach failed with
+    "the straight line collides", naming neither where nor what."""
+    mg = MotionGenerator("franka")
+    hand = mg.fk(READY)
+    mg.update_world({"cuboid": {"block": {"dims": [0.1, 0.1, 0.05],
+                                          "pose": [*(hand.position - [0, 0, 0.25]), 1, 0, 0, 0]}}})
+    r = mg.plan_pose(READY, Pose(hand.position - [0, 0, 0.4], hand.quaternion), linear=True)
+    assert r.status is PlanStatus.LINEAR_PATH_FAIL
+    assert re.search(r"collides at \d+% of the line: in collision: panda_\w+ touches block", r.message), r.message
+
+
 def test_a_start_that_differs_from_the_goal_by_rounding_plans_a_still_motion():
     """The arm parked at the goal with 1e-18 rad of drift in one joint (pick_and_place's
     recovery to the wait pose): SUCCESS, not TRAJOPT_FAIL "endpoints differ"."""
