@@ -4,6 +4,7 @@
     python benchmarks/unseen.py tasks --n 30 --seed 2000 --json /tmp/t.json
     python benchmarks/unseen.py bad
     python benchmarks/unseen.py cost                                  # CPU of checks and 56 MBM plans
+    python benchmarks/unseen.py turns --n 20 --seed 5400              # pose goals of the +-2 pi arms
     python benchmarks/unseen.py table /tmp/a.json /tmp/t.json        # tabulate saved runs
 
 `arms`: problem i of a robot (seeded by (seed, robot index, i)) is a random world of 5-25
@@ -130,7 +131,7 @@ class SupportVerifier(Verifier):
             wm.gm.addCollisionPair(pin.CollisionPair(a, b))
         wm.gd = wm.gm.createData()
         wm.bp = pin.BroadPhaseManager_DynamicAABBTreeCollisionManager(self.model, wm.gm, wm.gd)
-        wm.inside = InsideTest(wm.gm, keep)
+        wm.inside = InsideTest(wm.gm, keep, surfaces=wm.surfaces)
         return wm
 
 
@@ -294,6 +295,38 @@ def cost() -> None:
     print(f"{len(cpu)} MBM plans: CPU {sum(cpu):.2f} s, median {1e3 * np.median(cpu):.1f} ms, durations sum {total:.4f} s")
 
 
+def turns(args) -> None:
+    """Pose goals of the arms whose joints turn +-2 pi, in `arms`' random worlds (problem i seeded as
+    there, goal the pose of a second free configuration): per robot, solved, the plans' CPU (median,
+    sum), the motions' durations (sum) and how many turn a joint more than pi where the other way is
+    within the limits. Run it with each tree on PYTHONPATH to compare."""
+    import manip
+
+    print(manip.__file__)
+    for robot in args.robots:
+        mg = MotionGenerator(robot)
+        reach = _reach(mg)
+        lo, hi = mg.lower_limits, mg.upper_limits
+        cpu, dur, far, ok = [], 0.0, 0, 0
+        for i in range(args.n):
+            rng = np.random.default_rng([args.seed, ROBOTS.index(robot), i])
+            mg.update_world(random_world(rng, reach, args.dense))
+            Q = [q for q in rng.uniform(lo, hi, (400, len(lo))) if not mg.check_collision(q)][:2]
+            if len(Q) < 2:
+                continue
+            t = time.process_time()
+            r = mg.plan_pose(Q[0], mg.fk(Q[1]))
+            cpu.append(time.process_time() - t)
+            if r.success:
+                ok += 1
+                dur += r.trajectory.duration
+                d = r.trajectory.positions[-1] - Q[0]
+                other = r.trajectory.positions[-1] - 2 * np.pi * np.sign(d)
+                far += bool(np.any((np.abs(d) > np.pi) & (other >= lo) & (other <= hi)))
+        print(f"{robot}: {ok}/{len(cpu)} solved, CPU median {1e3 * np.median(cpu):.1f} ms, sum {sum(cpu):.2f} s, "
+              f"durations sum {dur:.2f} s, {far} turning a joint more than pi where less would do", flush=True)
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = ap.add_subparsers(dest="cmd", required=True)
@@ -317,6 +350,11 @@ def main(argv: list[str] | None = None) -> int:
     b = sub.add_parser("bad", help="inputs users get wrong: each must raise clearly or fail clearly")
     b.add_argument("--json")
     sub.add_parser("cost", help="the collision checks' and MBM plans' CPU (compare trees via PYTHONPATH)")
+    u = sub.add_parser("turns", help="pose goals of the +-2 pi arms: CPU, durations, extra turns (compare trees)")
+    u.add_argument("--robots", nargs="+", default=["ur5", "ur10", "kinova", "xarm7"], choices=ROBOTS)
+    u.add_argument("--n", type=int, default=20)
+    u.add_argument("--seed", type=int, default=5400)
+    u.add_argument("--dense", action="store_true")
     t = sub.add_parser("table", help="tabulate saved runs")
     t.add_argument("files", nargs="+")
     args = ap.parse_args(argv)
@@ -326,6 +364,9 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     if args.cmd == "cost":
         cost()
+        return 0
+    if args.cmd == "turns":
+        turns(args)
         return 0
     if args.cmd == "bad":
         from benchmarks.unseen_bad import run_bad

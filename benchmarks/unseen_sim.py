@@ -4,7 +4,8 @@
 
 Episode i (seeded by seed + i): a cube of edge uniform in `--sizes` [m] at a random reachable
 pose and yaw (examples/pick_and_place.py's pick area), the example's obstacles on every other
-episode (every episode with `--perceive`: the planner sees them only through two depth cameras), a perturbation (the cube moved away after the place, picked again) on every third.
+episode (every episode with `--perceive`: the planner sees them only through two depth cameras), a perturbation (the cube moved away after the place, picked again) on every third
+(every episode with `--perturb-all`).
 Each episode builds its own World (`PickAndPlace(cube_size=...)`), so sizes differ. Prints one
 line per episode and a summary: placed, why the others failed (the example's reason:
 planning status, grasp check, controller), largest slip of the cube in the hand, obstacle
@@ -46,7 +47,7 @@ def random_boxes(ex, seed: int) -> list[tuple[str, np.ndarray, np.ndarray, float
 
 
 def run(n: int, seed: int, sizes: tuple[float, float], perceive: bool = False,
-        random_obstacles: bool = False) -> list[dict]:
+        random_obstacles: bool = False, perturb_all: bool = False) -> list[dict]:
     ex = load_example()
     if random_obstacles:
         ex.obstacle_boxes = lambda s: random_boxes(ex, s)
@@ -54,7 +55,7 @@ def run(n: int, seed: int, sizes: tuple[float, float], perceive: bool = False,
     for i in range(n):
         rng = np.random.default_rng([seed, i])
         size = float(rng.uniform(*sizes))
-        obstacles, perturb = i % 2 == 1 or perceive or random_obstacles, i % 3 == 2
+        obstacles, perturb = i % 2 == 1 or perceive or random_obstacles, perturb_all or i % 3 == 2
         t0 = time.perf_counter()
         try:
             demo = ex.PickAndPlace(seed=seed + i, obstacles=obstacles, verbose=False, cube_size=size,
@@ -90,10 +91,12 @@ def main(argv=None) -> int:
                     help="the planner sees the obstacles only through two depth cameras (obstacles in every episode)")
     ap.add_argument("--random-obstacles", action="store_true",
                     help="2-5 random boxes in every episode instead of the example's layout")
+    ap.add_argument("--perturb-all", action="store_true",
+                    help="every episode moves the cube away after the place (to a random pose) and picks it again")
     ap.add_argument("--out", help="write the rows (with each episode's log) as JSON")
     a = ap.parse_args(argv)
     lo, hi = (float(v) for v in a.sizes.split(","))
-    rows = run(a.n, a.seed, (lo, hi), a.perceive, a.random_obstacles)
+    rows = run(a.n, a.seed, (lo, hi), a.perceive, a.random_obstacles, a.perturb_all)
     ok = [r for r in rows if r["placed"]]
     print(f"\nplaced {len(ok)}/{len(rows)}; slip max {max([r.get('slip_mm', 0) for r in rows] or [0]):.1f} mm; "
           f"obstacle contact steps {sum(r.get('contacts', 0) for r in rows)}")

@@ -66,7 +66,12 @@ from manip.planning.arms import (
 )
 from manip.planning.constrained import with_constraints
 from manip.planning.context import START_LIMIT_TOLERANCE, PlanContext
-from manip.planning.goal_configurations import explain_rejected_batch_ik, explain_rejected_ik, plan_to_poses
+from manip.planning.goal_configurations import (
+    explain_rejected_batch_ik,
+    explain_rejected_ik,
+    note_whole_turns,
+    plan_to_poses,
+)
 from manip.planning.grasp import Stages, finger_links, plan_grasp, plan_place
 from manip.planning.grasp_plan import GraspPlan
 from manip.planning.linear_motion import (
@@ -433,7 +438,8 @@ class MotionGenerator(WorldEdits):
         if ctx.failed:
             return ctx.result()
         ctx.check_sample_count(start, goal, self.limits)
-        return plan_to_configs(ctx, validity, start, goal[None, :], limits=self.limits, clearance=self.clearance)
+        result = plan_to_configs(ctx, validity, start, goal[None, :], limits=self.limits, clearance=self.clearance)
+        return note_whole_turns(result, start, goal, self.kinematics, self.config.arm_joints)
 
     def plan_pose(self, start_q, goal: Pose, link: str | None = None, *, linear: bool = False, **options) -> PlanResult:
         """Plan a motion that brings `link` (default `ee_link`) to the pose `goal`.

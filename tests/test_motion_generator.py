@@ -433,6 +433,18 @@ def test_a_linear_motion_to_a_goal_out_of_reach_says_so(mg):
     assert r.success, r.message
 
 
+def test_a_linear_motion_through_an_obstacle_says_where_and_what_it_touches():
+    """benchmarks/unseen_sim.py --perturb-all seed 5500, episode 36: a grasp's approach failed with
+    "the straight line collides", naming neither where nor what."""
+    mg = MotionGenerator("franka")
+    hand = mg.fk(READY)
+    mg.update_world({"cuboid": {"block": {"dims": [0.1, 0.1, 0.05],
+                                          "pose": [*(hand.position - [0, 0, 0.25]), 1, 0, 0, 0]}}})
+    r = mg.plan_pose(READY, Pose(hand.position - [0, 0, 0.4], hand.quaternion), linear=True)
+    assert r.status is PlanStatus.LINEAR_PATH_FAIL
+    assert re.search(r"collides at \d+% of the line: in collision: panda_\w+ touches block", r.message), r.message
+
+
 def test_a_start_that_differs_from_the_goal_by_rounding_plans_a_still_motion():
     """The arm parked at the goal with 1e-18 rad of drift in one joint (pick_and_place's
     recovery to the wait pose): SUCCESS, not TRAJOPT_FAIL "endpoints differ"."""
@@ -443,3 +455,20 @@ def test_a_start_that_differs_from_the_goal_by_rounding_plans_a_still_motion():
     r = mg.plan_joints(start, goal)
     assert r.success, (r.status, r.message)
     assert np.abs(r.trajectory.positions[-1] - goal).max() < 1e-12
+
+
+def test_a_joint_goal_a_whole_turn_round_a_post_says_the_shorter_goal():
+    """A UR5 joint goal 2 pi - 0.3 rad round the base, a post behind the arm: no path (the arm would
+    wind through the post); the same placements 0.3 rad the other way plan at once. The failure
+    said only "no collision-free path found"; it now names the turn and the nearer goal."""
+    mg = MotionGenerator("ur5")
+    mg.update_world({"cuboid": {"post": {"dims": [0.2, 0.1, 1.6], "pose": [-0.25, 0, 0.7, 1, 0, 0, 0]}}})
+    start = np.array([0.0, -np.pi / 2, 0.0, -np.pi / 2, 0.0, 0.0])
+    goal = start.copy()
+    goal[0] = 2 * np.pi - 0.3
+    r = mg.plan_joints(start, goal, time_budget=1.0)
+    assert r.status in (PlanStatus.PLAN_FAIL, PlanStatus.TIMEOUT)
+    assert "turns shoulder_pan_joint by +5.98 rad" in r.message and "shoulder_pan_joint at -0.300 rad" in r.message
+    near = start.copy()
+    near[0] = -0.3
+    assert mg.plan_joints(start, near).success

@@ -4,7 +4,9 @@ This module shares no collision code with `manip`'s planner: it builds its own e
 model of the robot (Pinocchio `buildGeomFromUrdf`, COLLISION meshes of the URDF, fingers at
 their planning opening) and of the world (coal Box / Cylinder / Sphere / Capsule / mesh),
 and asks `pinocchio.computeCollisions` (coal, no padding) whether any pair touches; a part
-wholly inside another's closed mesh, which touches no triangle, is found by `verify_inside`.
+wholly inside another's closed mesh, which touches no triangle, is found by `verify_inside`
+(robot links' closed meshes and the world's `"solid": true` meshes; the world's other meshes,
+closed or open, are surfaces as manip reads them: only contacts with their triangles count).
 Self-collision pairs are all pairs of robot geometries minus the SRDF's disabled pairs.
 
 What `verify_trajectory` checks, and with which tolerance:
@@ -42,7 +44,7 @@ import numpy as np
 import pinocchio as pin
 
 from manip.benchmarking.mbm_problems import MBMProblem
-from manip.benchmarking.verify_inside import InsideTest
+from manip.benchmarking.verify_inside import InsideTest, inline_mesh, surface_meshes
 from manip.errors import InvalidInputError
 from manip.pose import Pose
 from manip.robot_config import RobotConfig, load_robot_config
@@ -188,8 +190,10 @@ def world_geometries(world: dict) -> list[tuple[str, Any, pin.SE3]]:
                     scale = np.asarray(o.get("scale", [1.0, 1.0, 1.0]), dtype=float).reshape(-1)
                     if scale.size == 1:
                         scale = np.repeat(scale, 3)
-                    path = str(Path(o["file_path"]).expanduser())
-                    bvh = coal.MeshLoader().load(path, scale)
+                    if "vertices" in o:  # given inline (`Mesh.to_dict` of a mesh built from arrays)
+                        bvh = inline_mesh(o["vertices"], o["faces"], scale, what)
+                    else:
+                        bvh = coal.MeshLoader().load(str(Path(o["file_path"]).expanduser()), scale)
                     out.append((name, bvh, _se3_from_pose7(o["pose"], what)))
             except (KeyError, TypeError, ValueError) as exc:
                 if isinstance(exc, InvalidInputError):
@@ -204,6 +208,7 @@ class _WorldModel:
     gd: pin.GeometryData
     bp: Any  # pin.BroadPhaseManager_DynamicAABBTreeCollisionManager over gm/gd
     inside: InsideTest  # parts wholly inside another part's closed mesh (which coal does not see)
+    surfaces: set[int]  # geometry ids of the world's surface meshes (nothing is inside them)
 
 
 class Verifier:
@@ -259,8 +264,9 @@ class Verifier:
         gd = gm.createData()
         # The broadphase manager keeps raw pointers to gm and gd: _WorldModel keeps them alive.
         bp = pin.BroadPhaseManager_DynamicAABBTreeCollisionManager(self.model, gm, gd)
-        inside = InsideTest(gm, [(cp.first, cp.second) for cp in gm.collisionPairs])
-        return _WorldModel(gm, gd, bp, inside)
+        surfaces = {gm.getGeometryId(f"world/{name}") for name in surface_meshes(world)}
+        inside = InsideTest(gm, [(cp.first, cp.second) for cp in gm.collisionPairs], surfaces=surfaces)
+        return _WorldModel(gm, gd, bp, inside, surfaces)
 
     def _world(self, world: dict | None) -> _WorldModel:
         if not world:

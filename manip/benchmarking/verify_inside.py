@@ -7,7 +7,9 @@ checker), takes one point of each part (a mesh's first vertex, a primitive's cen
 counts the crossings of rays from it with the other part's triangles: odd on all three
 rays = inside. A part that touches no triangle of a closed mesh is wholly inside it or
 wholly outside it, so one point decides. Open meshes (an edge not shared by exactly two
-triangles, e.g. the Kinova's) are not tested.
+triangles, e.g. the Kinova's) and meshes given as `surfaces` (the world's meshes not declared
+solid) hold nothing: only contacts with their triangles count, which coal sees
+(`surface_meshes`; `inline_mesh` builds a world mesh given by vertices and faces).
 """
 
 from __future__ import annotations
@@ -15,6 +17,8 @@ from __future__ import annotations
 import coal
 import numpy as np
 import pinocchio as pin
+
+from manip.errors import InvalidInputError
 
 #: Ray directions of the parity test (irrational-ish, so rays rarely graze edges).
 _RAYS = np.array([[0.5773, 0.5774, 0.5775], [-0.3141, 0.8660, 0.3891], [0.2718, -0.2236, 0.9360]])
@@ -65,16 +69,18 @@ class InsideTest:
     Args:
         gm: the geometry model (robot parts and obstacles).
         pairs: (i, j) geometry index pairs to test (both ways: i inside j and j inside i).
+        surfaces: geometry indices of meshes that are surfaces even when closed (the world's
+            meshes not declared solid): nothing is inside them; they may still lie inside a part.
     """
 
-    def __init__(self, gm: pin.GeometryModel, pairs):
+    def __init__(self, gm: pin.GeometryModel, pairs, surfaces=()):
         self.names = [g.name for g in gm.geometryObjects]
         self._tri: dict[int, tuple] = {}
         rep = []
         for k, g in enumerate(gm.geometryObjects):
             m = _mesh(g.geometry)
             rep.append(m[0][0] if m is not None else np.zeros(3))  # a mesh's vertex, a primitive's centre
-            if m is not None and _closed(*m):
+            if m is not None and k not in surfaces and _closed(*m):
                 V, F = m
                 A = V[F[:, 0]]
                 self._tri[k] = (A, V[F[:, 1]] - A, V[F[:, 2]] - A, V.min(axis=0), V.max(axis=0))
@@ -101,3 +107,25 @@ class InsideTest:
             if _inside(local[n], A, E1, E2):
                 return self.names[int(a[n])], self.names[int(b[n])]
         return None
+
+
+def inline_mesh(vertices, faces, scale: np.ndarray, what: str) -> coal.BVHModelOBBRSS:
+    """A coal mesh of (V, 3) vertices [m] (times `scale` (3,)) and (F, 3) vertex indices."""
+    V = np.asarray(vertices, dtype=float).reshape(-1, 3) * scale
+    F = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
+    if len(F) == 0 or F.min() < 0 or F.max() >= len(V):
+        raise InvalidInputError(f"{what}: faces must index its {len(V)} vertices; got {len(F)} faces")
+    bvh = coal.BVHModelOBBRSS()
+    bvh.beginModel(len(F), len(V))
+    bvh.addVertices(V)
+    bvh.addTriangles(F)
+    bvh.endModel()
+    return bvh
+
+
+def surface_meshes(world: dict) -> set[str]:
+    """Names of the world's meshes that are surfaces (not `"solid": true`): only contacts with
+    their triangles count; nothing is inside them (manip's convention, README "Worlds")."""
+    if hasattr(world, "to_dict") and not isinstance(world, dict):
+        world = world.to_dict()
+    return {name for name, o in ((world or {}).get("mesh") or {}).items() if not (o or {}).get("solid", False)}

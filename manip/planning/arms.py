@@ -38,7 +38,7 @@ from manip.ik.result import BatchIKResult
 from manip.kinematics import Kinematics
 from manip.planning.constrained import with_constraints
 from manip.planning.context import PlanContext
-from manip.planning.goal_configurations import IK_TOWARD_START
+from manip.planning.goal_configurations import IK_TOWARD_START, nearest_turn
 from manip.planning.linear_motion import plan_linear_links
 from manip.planning.path.goals import order_goals
 from manip.planning.pipeline import plan_to_configs
@@ -186,7 +186,11 @@ def _link_solutions(ctx: PlanContext, validity: Validity, kinematics: Kinematics
     if len(sols) == 0:  # perhaps blocked by another arm where it starts, which also moves
         sols = arm_solver.solve_many(goal, link, n=ctx.options.ik_solutions, seed_q=start,
                                      toward_seed=IK_TOWARD_START, seed=int(ctx.rng.integers(2**31)))
-    return np.asarray(sols.q, dtype=float).reshape(-1, kin.dof)
+    Q = np.asarray(sols.q, dtype=float).reshape(-1, kin.dof)
+    # the same placements turned nearest the start (`goal_configurations.nearest_turn`), first
+    near = np.array([nearest_turn(q, start, kin.lower, kin.upper) for q in Q]).reshape(-1, kin.dof)
+    moved = np.any(near != Q, axis=1)
+    return np.concatenate([near[moved], Q])
 
 
 def plan_link_poses(ctx: PlanContext, validity: Validity, start: np.ndarray, goals: dict[str, Pose], *,

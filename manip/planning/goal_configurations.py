@@ -2,7 +2,8 @@
 
 `goal_configurations` turns the poses of `plan_pose` / `plan_goalset` into joint goals for
 the planner: several collision-free IK solutions per pose (moved along the arm's self-motion
-towards the start), a many-start search for tight goals, and, when no pose has one, the most
+towards the start, and turned by whole turns of +-2 pi joints to the values nearest the start),
+a many-start search for tight goals, and, when no pose has one, the most
 telling reason found (out of reach; in collision, and with what; not converged).
 """
 
@@ -62,6 +63,10 @@ def goal_configurations(ik_solver: IKSolver, ctx: PlanContext, validity: Validit
             sols = ik_solver.solve_many(g, link, n=2, seed_q=start, validity_fn=validity.configs,
                                         attempts=IK_RETRY_ATTEMPTS, seed=int(ctx.rng.integers(2**31)))
         for q in sols:
+            near = nearest_turn(q, start, ik_solver.kinematics.lower, ik_solver.kinematics.upper)
+            if np.any(near != q):  # the same placements a whole turn of some joint nearer the start
+                configs.append(near)
+                owners.append(i)
             configs.append(q)
             owners.append(i)
         if len(sols) == 0:
@@ -74,6 +79,42 @@ def goal_configurations(ik_solver: IKSolver, ctx: PlanContext, validity: Validit
         which = "" if len(goals) == 1 else f" for any of the {len(goals)} poses"
         why = f"no collision-free IK solution within the joint limits{which}: {status.name}: {detail}"
     return np.asarray(configs).reshape(-1, ik_solver.kinematics.dof), owners, why
+
+
+def nearest_turn(q: np.ndarray, start: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
+    """`q` (dof,) with each joint moved by whole turns (2 pi) to the value nearest `start` (dof,)
+    within [lower, upper] [rad]: the same link placements (the same pose, the same contacts)
+    with the shortest turn of each joint. IK solutions of joints that turn +-2 pi (UR, Kinova,
+    xArm) may lie up to a turn further than needed: a longer motion, and in clutter a harder one."""
+    turns = np.arange(-_MAX_TURNS, _MAX_TURNS + 1) * (2.0 * np.pi)
+    cand = q[:, None] + turns[None, :]  # (dof, turns)
+    ok = (cand >= lower[:, None]) & (cand <= upper[:, None])
+    ok[:, _MAX_TURNS] = True  # q itself (inside its limits as an IK solution)
+    cost = np.where(ok, np.abs(cand - start[:, None]), np.inf)
+    return cand[np.arange(len(q)), np.argmin(cost, axis=1)]
+
+
+def note_whole_turns(result: PlanResult, start: np.ndarray, goal: np.ndarray, kinematics: Kinematics,
+                     names: list[str]) -> PlanResult:
+    """`result` of a joint goal (dof,); when no path was found (PLAN_FAIL, TIMEOUT), its message
+    also names the joints the goal turns more than pi from `start` (dof,) where whole turns less
+    give the same placements within the limits (a joint goal is reached as given: such a goal
+    asks the arm to wind round, which clutter may forbid). Other results unchanged."""
+    if result.status not in (PlanStatus.PLAN_FAIL, PlanStatus.TIMEOUT):
+        return result
+    near = nearest_turn(goal, start, kinematics.lower, kinematics.upper)
+    moved = np.flatnonzero(near != goal)
+    if not len(moved):
+        return result
+    turns = ", ".join(f"{names[j]} by {goal[j] - start[j]:+.2f} rad" for j in moved)
+    alt = ", ".join(f"{names[j]} at {near[j]:.3f} rad" for j in moved)
+    return replace(result, message=f"{result.message}; the goal turns {turns} from the start, which a joint goal "
+                                   f"asks as given; the same placements with {alt} (whole turns less) are a shorter "
+                                   f"motion: pass that goal if the turn is not needed")
+
+
+#: Whole turns `nearest_turn` considers each way (limits span at most 4 pi on the bundled arms).
+_MAX_TURNS = 2
 
 
 def _ik_failure(ik_solver: IKSolver, sols, goal: Pose, link: str, start: np.ndarray,

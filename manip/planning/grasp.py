@@ -33,7 +33,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 import pinocchio as pin
 
-from manip.collision import CollisionChecker
+from manip.collision import CollisionChecker, CollisionReport
 from manip.constraints import Constraint
 from manip.errors import InvalidInputError, UnknownNameError
 from manip.ik import IKSolver, IKStatus
@@ -46,7 +46,7 @@ from manip.planning.linear_motion import plan_linear
 from manip.planning.path.goals import order_goals
 from manip.planning.pipeline import plan_to_configs
 from manip.planning.result import PlanResult, PlanStatus
-from manip.planning.validity import Validity
+from manip.planning.validity import Validity, describe_contacts
 from manip.pose import Pose
 from manip.validation import positive
 
@@ -256,9 +256,18 @@ def plan_place(stages: Stages, start_q: np.ndarray, placements: Pose, *, retreat
         return r_above.q, seg_d, seg_r
 
     def search(i: int) -> np.ndarray | None:
-        r = stages.ik_solver.solve(goals[i], link, seed_q=start, validity_fn=placeable, seed=int(ctx.rng.integers(2**31)))
+        seed = int(ctx.rng.integers(2**31))
+        r = stages.ik_solver.solve(goals[i], link, seed_q=start, validity_fn=placeable, seed=seed)
         if not r.success:
-            failures.append((i, "placement IK", PlanStatus.IK_FAIL, r.message or r.status.name))
+            why = r.message or r.status.name
+            if r.status is IKStatus.REJECTED_BY_VALIDITY:  # name what the solution nearest the start touches
+                near = stages.ik_solver.solve_many(goals[i], link, n=1, seed_q=start, seed=seed)
+                if len(near):
+                    others = [c for c in world.collision_report(near[0]).contacts
+                              if not (c.kind == "attached_world" and c.a == name)]
+                    why = (f"every solution found in {r.attempts} attempt(s) is rejected; the one nearest the start "
+                           f"touches more than the placement's support: {describe_contacts(CollisionReport(True, tuple(others)))}")
+            failures.append((i, "placement IK", PlanStatus.IK_FAIL, why))
         return r.q if r.success else None
 
     return _two_passes(stages, {**options, "constraints": constraints}, carry, start, q, ok, search, stages_of,

@@ -87,6 +87,7 @@ def plan_linear_links(ctx: PlanContext, validity: Validity, start_q: np.ndarray,
     path, why = linear_paths(
         kinematics, targets, start, step=ctx.options.linear_step,
         valid_batch=validity.configs, motion_valid=validity.motion, carrier=carrier,
+        describe=lambda q: validity.goal_problem(q).removeprefix("goal ") or "refused",
     )
     if path is None and validity.constraints:
         why = _left_constraint(ctx, validity, targets, start, carrier) or why

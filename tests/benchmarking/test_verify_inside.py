@@ -57,3 +57,43 @@ def test_an_obstacle_inside_a_link_fails_the_trajectory(verifier):
     assert not r.valid and r.collision_pair == ("world/pebble", "panda_link5_0"), r.reasons
     far = {"sphere": {"pebble": {"radius": 0.01, "position": (c + [0.0, 0.0, 0.5]).tolist()}}}
     assert verifier.verify_trajectory(far, t, np.stack([READY, READY]), start_q=READY, goal_q=READY).valid
+
+
+def _box_mesh(edge: float, open_top: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """A cube of `edge` [m] centred on its frame as (8, 3) vertices, (12, 3) outward triangles
+    (10 without its top face)."""
+    V = (np.array([[x, y, z] for x in (0, 1) for y in (0, 1) for z in (0, 1)], dtype=float) - 0.5) * edge
+    F = np.array([[0, 2, 3], [0, 3, 1], [4, 5, 7], [4, 7, 6], [0, 1, 5], [0, 5, 4],
+                  [2, 6, 7], [2, 7, 3], [0, 4, 6], [0, 6, 2], [1, 3, 7], [1, 7, 5]])
+    if open_top:
+        F = F[[0, 1, 2, 3, 4, 5, 6, 7, 8, 9]]
+    return V, F
+
+
+def test_world_meshes_are_surfaces_unless_solid_as_manip_reads_them(verifier):
+    """manip reads a world mesh as a surface unless `"solid": true`: a robot inside a closed 3 m
+    mesh box is free, inside the solid one it collides (README "Worlds"). The verifier counted
+    every closed world mesh as a volume (the robot inside collided: a valid plan judged invalid)
+    and refused meshes given by vertices and faces (`Mesh.to_dict` of a mesh built from arrays)."""
+    from manip import MotionGenerator
+    from manip.collision import Mesh, WorldConfig
+
+    mg = MotionGenerator("franka")
+    for open_top in (False, True):
+        V, F = _box_mesh(3.0, open_top)
+        for solid in ((False, True) if not open_top else (False,)):
+            world = WorldConfig(mesh=[Mesh(name="room", vertices=V, faces=F, pose=[0.3, 0, 0.5, 1, 0, 0, 0],
+                                           solid=solid)])
+            mg.update_world(world)
+            ours = verifier.in_collision(READY, world.to_dict())
+            assert (ours is not None) == solid == mg.check_collision(READY), (open_top, solid, ours)
+    # a surface still collides where its triangles are touched, and lying inside a link
+    V, F = _box_mesh(0.3)
+    through = {"mesh": {"slab": {"vertices": V.tolist(), "faces": F.tolist(), "pose": [0.3, 0, 0.5, 1, 0, 0, 0]}}}
+    assert verifier.in_collision(READY, through) is not None
+    c = link5_centre(verifier, READY)
+    V, F = _box_mesh(0.01)
+    pebble = {"mesh": {"pebble": {"vertices": V.tolist(), "faces": F.tolist(), "pose": c.tolist() + [1, 0, 0, 0]}}}
+    assert verifier.in_collision(READY, pebble) == ("world/pebble", "panda_link5_0")
+    mg.update_world(pebble)
+    assert mg.check_collision(READY)

@@ -144,3 +144,23 @@ def test_a_grasp_whose_every_ik_solution_collides_says_what_it_touches():
     assert "validity_fn" not in plan.message
     assert plan.message.count("the one nearest the start: goal in collision") == 4, plan.message
     assert "touches box0" in plan.message, plan.message
+
+
+def test_a_placement_whose_every_ik_solution_collides_says_what_it_touches():
+    """A 6.9 cm cube to put at the example's place position beside a 34 cm box (round four:
+    benchmarks/unseen_sim.py --random-obstacles --perturb-all --seed 5500, episode 6): every
+    placement's IK solutions put panda_link5 into the box. The message said "validity_fn rejected
+    every solution found in 100 attempt(s)" for each of the 8 placements, naming nothing."""
+    size = 0.0685
+    held = [0.5, 0.2, 0.3]
+    box = {"dims": [0.067, 0.1318, 0.3385], "pose": [0.3227, -0.1588, 0.1692, *quat.from_axis_angle([0, 0, 1], 0.6076)]}
+    mg = MotionGenerator("franka", {"cuboid": {"cube": {"dims": [size] * 3, "pose": held + [1, 0, 0, 0]},
+                                               "box0": box}}, padding=0.01)
+    q = mg.ik(Pose(np.add(held, [0, 0, 0.01]), down(0.0)), TCP, seed_q=mg.default_joint_positions).q
+    mg.attach_object("cube", q=q, link=TCP)
+    placements = Pose.stack([Pose([0.4, -0.35, size / 2 + 0.002], quat.from_axis_angle([0, 0, 1], k * np.pi / 4))
+                             for k in range(8)])
+    plan = mg.plan_place(q, placements)
+    assert plan.status is PlanStatus.IK_FAIL
+    assert "validity_fn" not in plan.message
+    assert "panda_link5 touches box0" in plan.message, plan.message

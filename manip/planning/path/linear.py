@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Callable
 
 import numpy as np
@@ -61,6 +62,7 @@ def linear_paths(
     valid_batch: Callable[[np.ndarray], np.ndarray],
     motion_valid: Callable[[np.ndarray, np.ndarray], bool],
     carrier: tuple[Pose, Pose] | None = None,
+    describe: Callable[[np.ndarray], str] | None = None,
 ) -> tuple[np.ndarray | None, str]:
     """Joint path (M, dof) moving several links, each on the straight line from its pose at
     `start` to its goal, together: every link at the same fraction of its line at each point
@@ -75,6 +77,7 @@ def linear_paths(
             (a held object's) whose origin moves on the straight line and whose orientation is
             interpolated by slerp, each link keeping its start pose in that frame (its goal
             Pose is then where it ends up; give goals that keep the pose in the frame).
+        describe: what a refused configuration (dof,) touches, for the reason (optional).
 
     Returns:
         (path, "") or (None, reason).
@@ -122,10 +125,15 @@ def linear_paths(
         q = q_next
         path.append(q)
         if i % CHECK_EVERY == CHECK_EVERY - 1 or i == n - 1:  # fail early: the IK points so far
-            if not np.all(valid_batch(np.asarray(path[-CHECK_EVERY:] if i >= CHECK_EVERY else path[1:]))):
-                return None, "the straight line collides"
+            first = len(path) - CHECK_EVERY if i >= CHECK_EVERY else 1
+            ok = valid_batch(np.asarray(path[first:]))
+            if not np.all(ok):
+                k = first + int(np.argmin(ok))  # the first refused point
+                what = f": {describe(path[k])}" if describe is not None else ""
+                return None, f"the straight line collides at {s[k - 1] * 100:.0f}% of the line{what}"
     path = np.asarray(path)
-    for a, b in zip(path[:-1], path[1:]):
+    for k, (a, b) in enumerate(itertools.pairwise(path)):
         if not motion_valid(a, b):
-            return None, "the straight line collides"
+            at = f"{(s[k - 1] if k else 0.0) * 100:.0f}-{s[k] * 100:.0f}%"
+            return None, f"the straight line collides between its IK points at {at} of the line"
     return path, ""

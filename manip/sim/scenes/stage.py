@@ -33,13 +33,31 @@ class SimulationError(ManipError):
 
 
 def validate_prim_path(prim_path: str) -> str:
-    """Check that `prim_path` looks like `/World/name` (absolute, no empty or blank segment)."""
+    """Check that `prim_path` is an absolute USD prim path like `/World/cube_1`.
+
+    Every segment is a prim name as USD's Sdf paths allow: a letter or `_`, then letters, digits
+    or `_` (USD 24.03+ also takes Unicode letters: Python's `str.isidentifier`). Spaces, `-`,
+    `.`, `:` and a leading digit are refused, as Isaac Sim's stage refuses them.
+    """
     if not isinstance(prim_path, str) or not prim_path.startswith("/") or prim_path.endswith("/"):
         raise InvalidInputError(f"prim_path must be an absolute path like '/World/cube'; got {prim_path!r}")
     parts = prim_path[1:].split("/")
     if any(not p or p != p.strip() for p in parts):
         raise InvalidInputError(f"prim_path {prim_path!r} has an empty or blank segment")
+    bad = [p for p in parts if not p.isidentifier()]
+    if bad:
+        raise InvalidInputError(
+            f"prim_path {prim_path!r}: {bad[0]!r} is not a valid USD prim name; a prim name starts with a "
+            f"letter or '_' and has only letters, digits and '_' (no spaces, '-', '.' or ':'), e.g. "
+            f"{_valid_name(bad[0])!r}"
+        )
     return prim_path
+
+
+def _valid_name(name: str) -> str:
+    """`name` made a valid prim name (other characters as '_', '_' before a leading digit), for messages."""
+    out = "".join(c if (c == "_" or c.isalnum()) else "_" for c in name)
+    return out if out.isidentifier() else "_" + out
 
 
 class SimHandle:

@@ -275,6 +275,22 @@ def test_name_and_prim_path_errors():
         world.scene.remove_object("missing")
 
 
+def test_prim_names_that_usd_refuses_are_refused_with_the_rule():
+    """USD prim names are identifiers (a letter or '_', then letters, digits, '_'): Isaac's stage
+    refuses '/World/my cube'; manip accepted it (and '-', '.', a leading digit) silently."""
+    from manip.sim import XFormPrim, add_reference_to_stage
+
+    World()
+    for path in ("/World/my cube", "/World/cube-1", "/World/2cube", "/World/a.b", "/World/x:y"):
+        with pytest.raises(InvalidInputError, match="not a valid USD prim name.*letter or '_'"):
+            DynamicCuboid(path, name="c")
+    with pytest.raises(InvalidInputError, match="'my_robot'"):
+        add_reference_to_stage("Isaac/Robots/Franka/franka.usd", "/World/my robot")
+    with pytest.raises(InvalidInputError, match="'_1st'"):
+        XFormPrim("/World/1st")
+    assert DynamicCuboid("/World/_cube_2", name="ok").prim_path == "/World/_cube_2"
+
+
 def test_a_second_world_is_the_same_instance(caplog):
     w1 = World()
     with caplog.at_level(logging.WARNING):
