@@ -28,6 +28,8 @@ from manip.jit import kernel
 _NORMAL_STEP = 1e-5
 #: Rounding allowance [m] of the lower bounds `_nearest_terms` skips balls by.
 _BOUND_SLACK = 1e-9
+#: Consecutive configurations whose bodies' centres `_nearest_terms` bounds together.
+_GROUP = 8
 
 
 class ClearanceTerms(NamedTuple):
@@ -230,51 +232,70 @@ def _nearest_terms(R, p, centres, radii, joint, bodies, start, count, body_centr
     best_d = np.full((N, B, O), np.inf)
     best_s = np.zeros((N, B, O), dtype=np.int64)
     x = np.empty(3)
-    xb = np.empty(3)
     g = np.empty(3)
     gb = np.empty(3)
     low = np.empty(centres.shape[0])
+    XB = np.empty((N, B, 3))  # the bodies' centres
     for n in range(N):
         for b in range(B):
-            jb = bodies[b]
-            _place(R, p, n, jb, body_centre[b], xb)
+            _place(R, p, n, bodies[b], body_centre[b], XB[n, b])
+    gc = np.empty(3)
+    for b in range(B):
+        jb = bodies[b]
+        for n0 in range(0, N, _GROUP):
+            n1 = min(N, n0 + _GROUP)
+            # the ball holding the body's centres of configurations n0..n1-1: an obstacle farther
+            # than the activation from it (the distance is 1-Lipschitz) is far from all of them
+            for k in range(3):
+                lo_k, hi_k = XB[n0, b, k], XB[n0, b, k]
+                for n in range(n0 + 1, n1):
+                    lo_k, hi_k = min(lo_k, XB[n, b, k]), max(hi_k, XB[n, b, k])
+                gc[k] = 0.5 * (lo_k + hi_k)
+            gr = 0.0
+            for n in range(n0, n1):
+                e0, e1, e2 = XB[n, b, 0] - gc[0], XB[n, b, 1] - gc[1], XB[n, b, 2] - gc[2]
+                gr = max(gr, math.sqrt(e0 * e0 + e1 * e1 + e2 * e2))
             for o in range(O):
-                sd_b = _obstacle_sd(xb, o, oR, oc, oh, orho, ocyl)
-                if not sd_b - body_radius[b] < activation:
+                if _obstacle_sd(gc, o, oR, oc, oh, orho, ocyl) - gr - body_radius[b] > activation + _BOUND_SLACK:
                     continue
-                first, end = start[b], start[b] + count[b]
-                bound = activation + _BOUND_SLACK
-                t = -1
-                d_t = np.inf
-                if _sd_subgradient(xb, o, oR, oc, oh, orho, ocyl, g):
-                    for k in range(3):  # the subgradient in the body's frame
-                        gb[k] = R[n, jb, 0, k] * g[0] + R[n, jb, 1, k] * g[1] + R[n, jb, 2, k] * g[2]
-                    lowest = np.inf
-                    for s in range(first, end):
-                        low[s] = sd_b - radii[s] + (gb[0] * (centres[s, 0] - body_centre[b, 0])
-                                                    + gb[1] * (centres[s, 1] - body_centre[b, 1])
-                                                    + gb[2] * (centres[s, 2] - body_centre[b, 2]))
-                        if low[s] < lowest:
-                            lowest, t = low[s], s
-                    if lowest > bound:
-                        continue  # no ball within the activation distance
-                    _place(R, p, n, joint[t], centres[t], x)
-                    d_t = _obstacle_sd(x, o, oR, oc, oh, orho, ocyl) - radii[t]
-                    bound = min(bound, d_t + _BOUND_SLACK)
-                else:
-                    for s in range(first, end):
-                        low[s] = -np.inf
-                for s in range(first, end):
-                    if low[s] > bound:
-                        continue  # farther than a ball measured
-                    if s == t:
-                        d = d_t
+                for n in range(n0, n1):
+                    xb = XB[n, b]
+                    sd_b = _obstacle_sd(xb, o, oR, oc, oh, orho, ocyl)
+                    if not sd_b - body_radius[b] < activation:
+                        continue
+                    first, end = start[b], start[b] + count[b]
+                    bound = activation + _BOUND_SLACK
+                    t = -1
+                    d_t = np.inf
+                    if _sd_subgradient(xb, o, oR, oc, oh, orho, ocyl, g):
+                        for k in range(3):  # the subgradient in the body's frame
+                            gb[k] = R[n, jb, 0, k] * g[0] + R[n, jb, 1, k] * g[1] + R[n, jb, 2, k] * g[2]
+                        lowest = np.inf
+                        for s in range(first, end):
+                            low[s] = sd_b - radii[s] + (gb[0] * (centres[s, 0] - body_centre[b, 0])
+                                                        + gb[1] * (centres[s, 1] - body_centre[b, 1])
+                                                        + gb[2] * (centres[s, 2] - body_centre[b, 2]))
+                            if low[s] < lowest:
+                                lowest, t = low[s], s
+                        if lowest > bound:
+                            continue  # no ball within the activation distance
+                        _place(R, p, n, joint[t], centres[t], x)
+                        d_t = _obstacle_sd(x, o, oR, oc, oh, orho, ocyl) - radii[t]
+                        bound = min(bound, d_t + _BOUND_SLACK)
                     else:
-                        _place(R, p, n, joint[s], centres[s], x)
-                        d = _obstacle_sd(x, o, oR, oc, oh, orho, ocyl) - radii[s]
-                    if d < best_d[n, b, o]:
-                        best_d[n, b, o] = d
-                        best_s[n, b, o] = s
+                        for s in range(first, end):
+                            low[s] = -np.inf
+                    for s in range(first, end):
+                        if low[s] > bound:
+                            continue  # farther than a ball measured
+                        if s == t:
+                            d = d_t
+                        else:
+                            _place(R, p, n, joint[s], centres[s], x)
+                            d = _obstacle_sd(x, o, oR, oc, oh, orho, ocyl) - radii[s]
+                        if d < best_d[n, b, o]:
+                            best_d[n, b, o] = d
+                            best_s[n, b, o] = s
     T = 0
     for n in range(N):
         for b in range(B):
