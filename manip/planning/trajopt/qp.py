@@ -178,7 +178,7 @@ _local = threading.local()
 def _piqp_solver() -> piqp.SparseSolver:
     """This thread's PIQP solver with the module's settings (one object set up again for every QP:
     the same solutions bit for bit as a new object's, ~45 us a QP less; BENCHMARKS.md "Round fifteen")."""
-    wanted = (PIQP_EPS, PIQP_SCALE_COST, PIQP_PRECONDITIONER_ITER)
+    wanted = (piqp, PIQP_EPS, PIQP_SCALE_COST, PIQP_PRECONDITIONER_ITER)  # (a benchmark may wrap `piqp`)
     if getattr(_local, "settings", None) != wanted:
         qp = piqp.SparseSolver()
         qp.settings.verbose = False
