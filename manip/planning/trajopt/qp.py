@@ -9,8 +9,6 @@ conversions would cost more than the solve); any other solver is called through 
 
 from __future__ import annotations
 
-import threading
-
 import numpy as np
 import piqp
 import scipy.sparse as sp
@@ -172,24 +170,6 @@ def csc(data: np.ndarray, indices: np.ndarray, indptr: np.ndarray, shape: tuple)
 _CSC = _unchecked_csc if _unchecked_works() else _checked_csc
 
 
-_local = threading.local()
-
-
-def _piqp_solver() -> piqp.SparseSolver:
-    """This thread's PIQP solver with the module's settings (one object set up again for every QP:
-    the same solutions bit for bit as a new object's, ~45 us a QP less; BENCHMARKS.md "Round fifteen")."""
-    wanted = (piqp, PIQP_EPS, PIQP_SCALE_COST, PIQP_PRECONDITIONER_ITER)  # (a benchmark may wrap `piqp`)
-    if getattr(_local, "settings", None) != wanted:
-        qp = piqp.SparseSolver()
-        qp.settings.verbose = False
-        qp.settings.eps_abs = qp.settings.eps_duality_gap_abs = PIQP_EPS
-        qp.settings.eps_rel = qp.settings.eps_duality_gap_rel = PIQP_EPS * 0.1
-        qp.settings.preconditioner_scale_cost = PIQP_SCALE_COST
-        qp.settings.preconditioner_iter = PIQP_PRECONDITIONER_ITER
-        _local.solver, _local.settings = qp, wanted
-    return _local.solver
-
-
 def installed_solvers() -> list[str]:
     """The solvers `solve` can use: "piqp" (called directly) and those qpsolvers has installed."""
     import qpsolvers  # only off the default path (its import costs ~70 ms per process)
@@ -217,7 +197,12 @@ def solve(P: sp.csc_matrix, q: np.ndarray, G: sp.csc_matrix, h: np.ndarray, A: s
         solver: "piqp" (its sparse interface) or any `qpsolvers` solver name.
     """
     if solver == "piqp":
-        qp = _piqp_solver()
+        qp = piqp.SparseSolver()
+        qp.settings.verbose = False
+        qp.settings.eps_abs = qp.settings.eps_duality_gap_abs = PIQP_EPS
+        qp.settings.eps_rel = qp.settings.eps_duality_gap_rel = PIQP_EPS * 0.1
+        qp.settings.preconditioner_scale_cost = PIQP_SCALE_COST
+        qp.settings.preconditioner_iter = PIQP_PRECONDITIONER_ITER
         qp.setup(P, q, A, b, G, None, h, lb, ub)
         return qp.result.x.copy() if qp.solve() == piqp.PIQP_SOLVED else None
     import qpsolvers  # only off the default path (its import costs ~70 ms per process)
