@@ -26,6 +26,10 @@ from manip.jit import kernel
 
 #: Central-difference step [m] of the obstacle distance gradient at a ball centre.
 _NORMAL_STEP = 1e-5
+#: Rounding allowance [m] of the lower bounds `_nearest_terms` skips balls by.
+_BOUND_SLACK = 1e-9
+#: Consecutive configurations whose bodies' centres `_nearest_terms` bounds together.
+_GROUP = 8
 
 
 class ClearanceTerms(NamedTuple):
@@ -107,7 +111,7 @@ class ClearanceModel:
         if len(st.obstacles) == 0 or moving.size == 0:
             return empty
         tables = self._tables(fine, moving)
-        n_i, s_i, _o_i, dist, x, normal = _nearest_terms(R, p, *tables, float(activation), *st.obstacle_tables)
+        n_i, s_i, _, dist, x, normal = _nearest_terms(R, p, *tables, float(activation), *st.obstacle_tables)
         for o, grid in st.occupancy_maps:   # occupancy maps: their own distances (`collision.occupancy`)
             extra = map_nearest_terms(R, p, *tables, float(activation), *grid)
             n_i, s_i, dist, x, normal = (np.concatenate(c) for c in zip((n_i, s_i, dist, x, normal), extra))
@@ -164,12 +168,63 @@ def _term_gradients(R, p, n_i, body, x, normal, ancestors, axes, revolute, q_ind
     return grad
 
 
+@kernel(inline="always")
+def _sd_subgradient(x, o, oR, oc, oh, orho, ocyl, g):
+    """g (3,) = a subgradient of obstacle o's signed distance at the point x (3,) (base frame;
+    the shapes are convex, so sd(y) >= sd(x) + g . (y - x) for every y). False when none is at
+    hand (x on a cylinder's axis)."""
+    d0 = x[0] - oc[o, 0]
+    d1 = x[1] - oc[o, 1]
+    d2 = x[2] - oc[o, 2]
+    l0 = oR[o, 0, 0] * d0 + oR[o, 1, 0] * d1 + oR[o, 2, 0] * d2
+    l1 = oR[o, 0, 1] * d0 + oR[o, 1, 1] * d1 + oR[o, 2, 1] * d2
+    l2 = oR[o, 0, 2] * d0 + oR[o, 1, 2] * d1 + oR[o, 2, 2] * d2
+    s2 = 1.0 if l2 >= 0.0 else -1.0
+    z = abs(l2) - oh[o, 2]
+    if ocyl[o]:
+        rad = math.sqrt(l0 * l0 + l1 * l1)
+        if rad < 1e-12:
+            return False
+        u0, u1 = l0 / rad, l1 / rad
+        r = rad - oh[o, 0]
+        if r > 0.0 or z > 0.0:  # outside: the unit vector from the nearest surface point
+            rr, zz = max(r, 0.0), max(z, 0.0)
+            norm = math.sqrt(rr * rr + zz * zz)
+            k0, k1, k2 = rr / norm * u0, rr / norm * u1, zz / norm * s2
+        elif r > z:  # inside: the gradient of the larger of the two depths
+            k0, k1, k2 = u0, u1, 0.0
+        else:
+            k0, k1, k2 = 0.0, 0.0, s2
+    else:
+        s0 = 1.0 if l0 >= 0.0 else -1.0
+        s1 = 1.0 if l1 >= 0.0 else -1.0
+        a, b = abs(l0) - oh[o, 0], abs(l1) - oh[o, 1]
+        if a > 0.0 or b > 0.0 or z > 0.0:
+            aa, bb, zz = max(a, 0.0), max(b, 0.0), max(z, 0.0)
+            norm = math.sqrt(aa * aa + bb * bb + zz * zz)
+            k0, k1, k2 = aa / norm * s0, bb / norm * s1, zz / norm * s2
+        elif a >= b and a >= z:
+            k0, k1, k2 = s0, 0.0, 0.0
+        elif b >= z:
+            k0, k1, k2 = 0.0, s1, 0.0
+        else:
+            k0, k1, k2 = 0.0, 0.0, s2
+    for r_ in range(3):
+        g[r_] = oR[o, r_, 0] * k0 + oR[o, r_, 1] * k1 + oR[o, r_, 2] * k2
+    return True
+
+
 @kernel
 def _nearest_terms(R, p, centres, radii, joint, bodies, start, count, body_centre, body_radius, activation,
                    oR, oc, oh, orho, ocyl):
     """For each (configuration, body, obstacle) the nearest ball, kept when closer than `activation`.
 
-    A body whose bounding ball is farther than `activation` from an obstacle is skipped.
+    A body whose bounding ball is farther than `activation` from an obstacle is skipped. The
+    obstacles are convex, so a subgradient g of the distance at the body's centre x_b bounds
+    every ball's distance from below, sd(x_b) + g . (x_s - x_b) - r_s: the ball of the lowest
+    bound is measured first and only the balls whose bound is not above its distance (or the
+    activation) after it, in order (`_BOUND_SLACK` for rounding), so the nearest ball, the
+    first of equals, is the one a search of every ball finds.
 
     Returns:
         (n, s, o (T,) int64, distance (T,) [m], centre x (T, 3), unit normal (T, 3)).
@@ -180,21 +235,67 @@ def _nearest_terms(R, p, centres, radii, joint, bodies, start, count, body_centr
     best_d = np.full((N, B, O), np.inf)
     best_s = np.zeros((N, B, O), dtype=np.int64)
     x = np.empty(3)
-    near = np.empty(O, dtype=np.bool_)
+    g = np.empty(3)
+    gb = np.empty(3)
+    low = np.empty(centres.shape[0])
+    XB = np.empty((N, B, 3))  # the bodies' centres
     for n in range(N):
         for b in range(B):
-            _place(R, p, n, bodies[b], body_centre[b], x)
-            any_near = False
+            _place(R, p, n, bodies[b], body_centre[b], XB[n, b])
+    gc = np.empty(3)
+    for b in range(B):
+        jb = bodies[b]
+        for n0 in range(0, N, _GROUP):
+            n1 = min(N, n0 + _GROUP)
+            # the ball holding the body's centres of configurations n0..n1-1: an obstacle farther
+            # than the activation from it (the distance is 1-Lipschitz) is far from all of them
+            for k in range(3):
+                lo_k, hi_k = XB[n0, b, k], XB[n0, b, k]
+                for n in range(n0 + 1, n1):
+                    lo_k, hi_k = min(lo_k, XB[n, b, k]), max(hi_k, XB[n, b, k])
+                gc[k] = 0.5 * (lo_k + hi_k)
+            gr = 0.0
+            for n in range(n0, n1):
+                e0, e1, e2 = XB[n, b, 0] - gc[0], XB[n, b, 1] - gc[1], XB[n, b, 2] - gc[2]
+                gr = max(gr, math.sqrt(e0 * e0 + e1 * e1 + e2 * e2))
             for o in range(O):
-                near[o] = _obstacle_sd(x, o, oR, oc, oh, orho, ocyl) - body_radius[b] < activation
-                any_near = any_near or near[o]
-            if not any_near:
-                continue
-            for s in range(start[b], start[b] + count[b]):
-                _place(R, p, n, joint[s], centres[s], x)
-                for o in range(O):
-                    if near[o]:
-                        d = _obstacle_sd(x, o, oR, oc, oh, orho, ocyl) - radii[s]
+                if _obstacle_sd(gc, o, oR, oc, oh, orho, ocyl) - gr - body_radius[b] > activation + _BOUND_SLACK:
+                    continue
+                for n in range(n0, n1):
+                    xb = XB[n, b]
+                    sd_b = _obstacle_sd(xb, o, oR, oc, oh, orho, ocyl)
+                    if not sd_b - body_radius[b] < activation:
+                        continue
+                    first, end = start[b], start[b] + count[b]
+                    bound = activation + _BOUND_SLACK
+                    t = -1
+                    d_t = np.inf
+                    if _sd_subgradient(xb, o, oR, oc, oh, orho, ocyl, g):
+                        for k in range(3):  # the subgradient in the body's frame
+                            gb[k] = R[n, jb, 0, k] * g[0] + R[n, jb, 1, k] * g[1] + R[n, jb, 2, k] * g[2]
+                        lowest = np.inf
+                        for s in range(first, end):
+                            low[s] = sd_b - radii[s] + (gb[0] * (centres[s, 0] - body_centre[b, 0])
+                                                        + gb[1] * (centres[s, 1] - body_centre[b, 1])
+                                                        + gb[2] * (centres[s, 2] - body_centre[b, 2]))
+                            if low[s] < lowest:
+                                lowest, t = low[s], s
+                        if lowest > bound:
+                            continue  # no ball within the activation distance
+                        _place(R, p, n, joint[t], centres[t], x)
+                        d_t = _obstacle_sd(x, o, oR, oc, oh, orho, ocyl) - radii[t]
+                        bound = min(bound, d_t + _BOUND_SLACK)
+                    else:
+                        for s in range(first, end):
+                            low[s] = -np.inf
+                    for s in range(first, end):
+                        if low[s] > bound:
+                            continue  # farther than a ball measured
+                        if s == t:
+                            d = d_t
+                        else:
+                            _place(R, p, n, joint[s], centres[s], x)
+                            d = _obstacle_sd(x, o, oR, oc, oh, orho, ocyl) - radii[s]
                         if d < best_d[n, b, o]:
                             best_d[n, b, o] = d
                             best_s[n, b, o] = s
