@@ -46,7 +46,7 @@ import threading
 import coal
 import numpy as np
 
-from manip.collision import broadphase, hull_screen
+from manip.collision import broadphase, broadphase_soa, hull_screen
 from manip.collision.certify import MotionCertificate, certify_path
 from manip.collision.edits import WorldEdits
 from manip.collision.inside import inside_table, wholly_inside
@@ -160,7 +160,9 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         """
         found = []
         if world and len(self._obs) and self._l0_joint.size:
-            n, g, o, d = broadphase.world_candidates(R, p, self._padding + 1e-9, *self._bp_world, *self._bp_obstacles)
+            # the per-configuration kernel's answers, its first level over the batch at once
+            n, g, o, d = broadphase_soa.world_candidates(R, p, self._padding + 1e-9, *self._bp_world,
+                                                         *self._bp_obstacles, broadphase_soa.LANES)
             allowed = self.__dict__.get("_allowed_world")  # a view of `allowing`
             if allowed is not None and n.size:
                 keep = ~allowed[g, o]
