@@ -32,6 +32,19 @@ SLACK = 1e-6
 
 
 @kernel(inline="always")
+def _place_lanes(R, p, joint, centres, X):
+    """X (B, 3, N) = each ball b's centre centres[b] (joint joint[b]'s frame) placed in each
+    configuration n (`_place`'s arithmetic), visited configuration by configuration (each one's
+    frames stay in cache)."""
+    for n in range(R.shape[0]):
+        for b in range(joint.shape[0]):
+            j = joint[b]
+            c0, c1, c2 = centres[b, 0], centres[b, 1], centres[b, 2]
+            for r in range(3):
+                X[b, r, n] = R[n, j, r, 0] * c0 + R[n, j, r, 1] * c1 + R[n, j, r, 2] * c2 + p[n, j, r]
+
+
+@kernel(inline="always")
 def _lanes_near(X, oR, oc, oh, orho, ocyl, o, reach, near):
     """near (N,) bool: obstacle o's broadphase signed distance of the points X (3, N) [m] is not
     >= reach [m] (`broadphase._obstacle_sd`'s arithmetic, lane by lane, without branches)."""
@@ -108,14 +121,11 @@ def world_candidates(R, p, margin,
     KO = K * O
     trip = np.empty(64, dtype=np.int64)   # n * K * O + k * O + o of the triples the balls cannot clear
     nt = 0
-    X = np.empty((3, N))
+    XK = np.empty((K, 3, N))
+    _place_lanes(R, p, l0_joint, l0_c, XK)
     nk = np.empty(lanes, dtype=np.bool_)
     for k in range(K):
-        j = l0_joint[k]
-        c0, c1, c2 = l0_c[k, 0], l0_c[k, 1], l0_c[k, 2]
-        for n in range(N):   # `_place`, lane by lane
-            for r in range(3):
-                X[r, n] = R[n, j, r, 0] * c0 + R[n, j, r, 1] * c1 + R[n, j, r, 2] * c2 + p[n, j, r]
+        X = XK[k]
         reach = l0_r[k] + margin
         for s in range(0, N, lanes):
             e = min(s + lanes, N)
