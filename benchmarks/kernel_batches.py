@@ -8,9 +8,10 @@ Plans the first N valid MotionBenchMaker problems of each scene (Franka, seed 0)
 batch the checker's `_check_chunk` is given inside `_segments_valid` (the shortcut's,
 `remove_redundant`'s and the repairs' segment checks) with its checker (a snapshot); then replays
 the batches: each kernel alone (min over `--repeat` passes of the main thread's CPU), the
-structure-of-arrays kernels (`manip.collision.broadphase_soa`) next to the per-configuration ones
-with their answers compared (identical candidate triples and depths, or the script fails), and
-`_check` as the segment checks call it. CPU times depend on the machine: take the bench lock and
+structure-of-arrays kernels (`manip.collision.broadphase_soa`, `kinematics._joint_frames_lanes`
+through `joint_transforms`) next to the per-configuration ones, the world broadphase's answers
+compared (identical candidate triples and depths, or the script fails), and `_check_chunk` as the
+segment checks call it. CPU times depend on the machine: take the bench lock and
 note the load.
 """
 
@@ -33,6 +34,7 @@ from manip.collision import broadphase
 from manip.collision.checker import CollisionChecker
 from manip.collision.segments import SegmentChecks
 from manip.jit import kernel_array
+from manip.kinematics import _joint_frames
 
 
 def record(limit: int, kinds: list[str]) -> list[tuple]:
@@ -70,6 +72,21 @@ def record(limit: int, kinds: list[str]) -> list[tuple]:
     return batches
 
 
+def _old_kernels(fn):
+    """fn() with the checker on the per-configuration FK and world broadphase kernels."""
+    from manip import kinematics
+    from manip.collision import broadphase_soa
+
+    soa_world, lanes_from = broadphase_soa.world_candidates, kinematics.FK_LANES_FROM
+    broadphase_soa.world_candidates = lambda R, p, margin, *tables: broadphase.world_candidates(R, p, margin,
+                                                                                              *tables[:-1])
+    kinematics.FK_LANES_FROM = 1 << 62
+    try:
+        return fn()
+    finally:
+        broadphase_soa.world_candidates, kinematics.FK_LANES_FROM = soa_world, lanes_from
+
+
 def _cpu(fn, repeat: int) -> float:
     best = np.inf
     for _ in range(repeat):
@@ -103,6 +120,11 @@ def main(argv=None) -> int:
         for c, Q in fk:
             c._fk(Q)
 
+    def run_fk_old():
+        for c, Q in fk:
+            kin = c.kinematics
+            _joint_frames(Q, kin._sb_q, kin._sb_parent_a, kin._sb_table)
+
     def run_world():
         for c, R, p in world:
             broadphase.world_candidates(R, p, c._padding + 1e-9, *c._bp_world, *c._bp_obstacles)
@@ -119,7 +141,8 @@ def main(argv=None) -> int:
         for c, Q, g, deep in batches:
             c._check_chunk(Q, g, deep, set(), np.zeros(Q.shape[0], dtype=bool))
 
-    rows = [("FK (Kinematics.joint_transforms)", run_fk), ("world broadphase", run_world)]
+    rows = [("FK, per configuration (_joint_frames)", run_fk_old), ("FK (Kinematics.joint_transforms)", run_fk),
+            ("world broadphase", run_world)]
     if soa is not None:
         for c, R, p in world:   # identical answers, or no figures
             a = broadphase.world_candidates(R, p, c._padding + 1e-9, *c._bp_world, *c._bp_obstacles)
@@ -129,6 +152,8 @@ def main(argv=None) -> int:
         rows.append(("world broadphase, structure of arrays", run_world_soa))
     rows.append(("self broadphase", run_self))
     rows.append(("_check_chunk (all of it)", run_check))
+    if soa is not None:
+        rows.append(("_check_chunk, per-configuration kernels", lambda: _old_kernels(run_check)))
     for _, fn in rows:   # compile / load everything before timing
         fn()
     print(f"{'kernel':40s} {'CPU [s]':>9s} {'us / configuration':>19s}")
