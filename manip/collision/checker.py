@@ -9,8 +9,8 @@ broadphase, `manip.collision.broadphase`, that can only say "free", never "colli
 2. world: one bounding ball per moving joint (all its parts) against every obstacle
    (closed-form signed distances to boxes, spheres, capsules, cylinders; meshes through
    their bounding box), then the coarse sphere cover of each of that joint's parts, then
-   the fine cover of each part still flagged; parts fixed to the base are checked once per
-   world;
+   the fine cover of each part still flagged (the first level over the whole batch at once,
+   `manip.collision.broadphase_soa`); parts fixed to the base are checked once per world;
 3. self: one bounding ball per body (a link's parts, or an attached object) for the enabled
    pairs, then the pair's clearance map if it has one (`manip.collision.pair_maps`: a
    proved distance bound per cell of the few joints moving the pair), then the coarse
