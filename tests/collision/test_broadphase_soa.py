@@ -50,6 +50,9 @@ def _assert_same(cc: CollisionChecker, Q: np.ndarray, lanes_list=(1, 7, 32, 1024
     """Both kernels on Q in batches of 1, 67 and 1024; returns the candidates found."""
     found = 0
     margin = cc._padding + 1e-9
+    R, p = cc.kinematics.joint_transforms(Q[:0])   # an empty batch: empty answers
+    assert all(x.size == 0 for x in broadphase_soa.world_candidates(R, p, margin, *cc._bp_world,
+                                                                      *cc._bp_obstacles, 32))
     for size in (1, 67, 1024):
         for s in range(0, Q.shape[0], size if size > 1 else 97):
             R, p = cc.kinematics.joint_transforms(Q[s:s + size])
