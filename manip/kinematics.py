@@ -33,6 +33,10 @@ from manip.validation import as_real_array
 
 #: Batched evaluations run in chunks of this many configurations (temporaries stay in cache).
 _CHUNK = 2048
+#: `joint_transforms` of at least this many configurations runs `_joint_frames_lanes` (fewer: the
+#: per-configuration kernel, cheaper there), `FK_LANES` configurations at a time.
+FK_LANES_FROM = 16
+FK_LANES = 64
 
 _AXES = {"X": np.array([1.0, 0.0, 0.0]), "Y": np.array([0.0, 1.0, 0.0]), "Z": np.array([0.0, 0.0, 1.0])}
 
@@ -107,6 +111,63 @@ def _joint_frames(Q, q_index, parent, table):
     p = np.empty((N, J + 1, 3))
     for n in range(N):
         chain_frames(Q[n], q_index, parent, table, R[n], p[n])
+    return R, p
+
+
+@kernel
+def _joint_frames_lanes(Q, q_index, parent, table, lanes):
+    """`_joint_frames` (the same R, p bit for bit: the same operations on the same operands),
+    computed `lanes` configurations at a time with the configuration index innermost (each
+    joint's rotation and position as (9, lanes) and (3, lanes) arrays: loops the compiler
+    vectorises), then laid out as (N, J+1, ...)."""
+    N = Q.shape[0]
+    J = table.shape[0]
+    prismatic = table.shape[1] > 3
+    R = np.empty((N, J + 1, 3, 3))
+    p = np.empty((N, J + 1, 3))
+    RS = np.empty((J + 1, 9, lanes))
+    PS = np.empty((J + 1, 3, lanes))
+    for e in range(9):
+        RS[0, e, :] = 1.0 if e % 4 == 0 else 0.0
+    PS[0] = 0.0
+    cq = np.empty(lanes)
+    sq = np.empty(lanes)
+    B = np.empty((12, lanes))
+    for s in range(0, N, lanes):
+        L = min(lanes, N - s)
+        for j in range(J):
+            qi = q_index[j]
+            for n in range(L):
+                cq[n] = math.cos(Q[s + n, qi])
+                sq[n] = math.sin(Q[s + n, qi])
+            for e in range(12):   # the rows of the joint's 4x4 transform that are read
+                t0, t1, t2 = table[j, 0, e], table[j, 1, e], table[j, 2, e]
+                Be = B[e]
+                for n in range(L):
+                    Be[n] = t0 + cq[n] * t1 + sq[n] * t2
+                if prismatic:
+                    t3 = table[j, 3, e]
+                    for n in range(L):
+                        Be[n] += Q[s + n, qi] * t3
+            a = parent[j]
+            for r in range(3):
+                A0, A1, A2 = RS[a, 3 * r], RS[a, 3 * r + 1], RS[a, 3 * r + 2]
+                for c in range(3):
+                    out = RS[j + 1, 3 * r + c]
+                    Bc, B4, B8 = B[c], B[4 + c], B[8 + c]
+                    for n in range(L):
+                        out[n] = A0[n] * Bc[n] + A1[n] * B4[n] + A2[n] * B8[n]
+                out = PS[j + 1, r]
+                pa = PS[a, r]
+                B3, B7, B11 = B[3], B[7], B[11]
+                for n in range(L):
+                    out[n] = A0[n] * B3[n] + A1[n] * B7[n] + A2[n] * B11[n] + pa[n]
+        for n in range(L):
+            for j in range(J + 1):
+                for r in range(3):
+                    for c in range(3):
+                        R[s + n, j, r, c] = RS[j, 3 * r + c, n]
+                    p[s + n, j, r] = PS[j, r, n]
     return R, p
 
 
@@ -301,7 +362,10 @@ class Kinematics:
 
         Index 0 is the universe (identity). Q: (N, dof).
         """
-        return _joint_frames(kernel_array(Q), self._sb_q, self._sb_parent_a, self._sb_table)
+        Q = kernel_array(Q)
+        if Q.shape[0] >= FK_LANES_FROM:   # the same frames, bit for bit, cheaper per configuration
+            return _joint_frames_lanes(Q, self._sb_q, self._sb_parent_a, self._sb_table, FK_LANES)
+        return _joint_frames(Q, self._sb_q, self._sb_parent_a, self._sb_table)
 
     @property
     def joint_specs(self) -> tuple[JointSpec, ...]:

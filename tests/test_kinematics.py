@@ -173,3 +173,42 @@ def test_limits_helpers(franka_kinematics: Kinematics):
     assert k.limit_violations(inside) == []
     (msg,) = k.limit_violations(outside)
     assert "panda_joint4" in msg
+
+
+@pytest.mark.parametrize("robot", ["franka", "ur5", "kinova", "xarm7", "dual_franka"])
+def test_lanes_frames_are_the_per_configuration_frames(robot: str):
+    """`_joint_frames_lanes` (what `joint_transforms` runs for batches) gives `_joint_frames`'s
+    frames bit for bit, for every batch size around its block size, and `joint_transforms`
+    answers the same below and above `FK_LANES_FROM`."""
+    from manip import kinematics as km
+    from manip.robot_config import load_robot_config
+
+    k = Kinematics(load_robot_config(robot))
+    tables = (k._sb_q, k._sb_parent_a, k._sb_table)
+    Q = random_configs(k, 3000, seed=7)
+    for N in (1, 2, 15, 16, 63, 64, 65, 200, 3000):
+        ref = km._joint_frames(Q[:N], *tables)
+        for lanes in (1, 8, km.FK_LANES):
+            got = km._joint_frames_lanes(Q[:N], *tables, lanes)
+            np.testing.assert_array_equal(got[0], ref[0])
+            np.testing.assert_array_equal(got[1], ref[1])
+    few, many = k.joint_transforms(Q[:km.FK_LANES_FROM - 1]), k.joint_transforms(Q[:200])
+    np.testing.assert_array_equal(few[0], many[0][:km.FK_LANES_FROM - 1])
+    np.testing.assert_array_equal(few[1], many[1][:km.FK_LANES_FROM - 1])
+
+
+def test_lanes_frames_of_prismatic_joints():
+    """The prismatic term (a fourth table row, times q) too: random tables of a branching chain."""
+    from manip import kinematics as km
+
+    rng = np.random.default_rng(8)
+    J = 6
+    table = rng.normal(size=(J, 4, 16))
+    parent = np.array([0, 1, 2, 2, 4, 1], dtype=np.int64)
+    q_index = np.array([0, 1, 2, 3, 4, 5], dtype=np.int64)
+    Q = rng.uniform(-3.0, 3.0, (150, J))
+    ref = km._joint_frames(Q, q_index, parent, table)
+    got = km._joint_frames_lanes(Q, q_index, parent, table, 64)
+    np.testing.assert_array_equal(got[0], ref[0])
+    np.testing.assert_array_equal(got[1], ref[1])
+    assert not np.array_equal(ref[1], km._joint_frames(Q, q_index, parent, table[:, :3].copy())[1])

@@ -9,8 +9,8 @@ broadphase, `manip.collision.broadphase`, that can only say "free", never "colli
 2. world: one bounding ball per moving joint (all its parts) against every obstacle
    (closed-form signed distances to boxes, spheres, capsules, cylinders; meshes through
    their bounding box), then the coarse sphere cover of each of that joint's parts, then
-   the fine cover of each part still flagged; parts fixed to the base are checked once per
-   world;
+   the fine cover of each part still flagged (the first level over the whole batch at once,
+   `manip.collision.broadphase_soa`); parts fixed to the base are checked once per world;
 3. self: one bounding ball per body (a link's parts, or an attached object) for the enabled
    pairs, then the pair's clearance map if it has one (`manip.collision.pair_maps`: a
    proved distance bound per cell of the few joints moving the pair), then the coarse
@@ -46,7 +46,7 @@ import threading
 import coal
 import numpy as np
 
-from manip.collision import broadphase, hull_screen
+from manip.collision import broadphase, broadphase_soa, hull_screen
 from manip.collision.certify import MotionCertificate, certify_path
 from manip.collision.edits import WorldEdits
 from manip.collision.inside import inside_table, wholly_inside
@@ -160,7 +160,9 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         """
         found = []
         if world and len(self._obs) and self._l0_joint.size:
-            n, g, o, d = broadphase.world_candidates(R, p, self._padding + 1e-9, *self._bp_world, *self._bp_obstacles)
+            # the per-configuration kernel's answers, its first level over the batch at once
+            n, g, o, d = broadphase_soa.world_candidates(R, p, self._padding + 1e-9, *self._bp_world,
+                                                         *self._bp_obstacles, broadphase_soa.LANES)
             allowed = self.__dict__.get("_allowed_world")  # a view of `allowing`
             if allowed is not None and n.size:
                 keep = ~allowed[g, o]
