@@ -482,10 +482,9 @@ class CollisionChecker(WorldEdits, SegmentChecks):
         Meshes of the robot enter through their convex hulls (exact for convex link meshes
         such as the Panda's; otherwise a lower bound), which gives penetration depths (EPA)
         where mesh-vs-mesh queries cannot; obstacles are exact. Pairs whose bounding balls
-        prove them farther than the best found are skipped (branch and bound). A configuration
-        that collides without padding has a distance <= 0, a part or obstacle wholly inside a
-        closed mesh included (inside a link: inside its hull; inside a solid mesh obstacle: the
-        distance to its surface, negated).
+        prove them farther than the best found are skipped (branch and bound). A colliding
+        configuration has a distance <= 0, also with a part or obstacle wholly inside a closed mesh
+        (inside a link: inside its hull; inside a solid mesh obstacle: minus the distance to its surface).
         """
         R, p = self._fk(self._one_q(q)[None])
         pj = self._pj
