@@ -108,3 +108,25 @@ def test_the_constraint_check_of_a_failed_plan_reads_no_clock_of_its_own(jumping
     assert ref.status is PlanStatus.CONSTRAINT_INFEASIBLE, ref.message
     jumping_clock()
     _same(plan(), ref)
+
+
+def test_a_constraint_check_cut_by_the_clock_says_so(monkeypatch):
+    """When the clock runs past the plan's deadline during that check (a slow machine), the
+    check may stop early: the result (PLAN_FAIL instead of CONSTRAINT_INFEASIBLE) then ends with
+    SAFETY_NET, as every answer the clock may have changed does."""
+    from manip.planning import pipeline
+
+    world = {"cuboid": {"wall": {"dims": [0.5, 0.04, 0.6], "pose": [0.5, 0.0, 0.3, 1, 0, 0, 0]}}}
+    mg = MotionGenerator("franka", world, seed=0)
+    box = PositionConstraint(lower=(0.3, -0.5, 0.1), upper=(0.7, 0.5, 0.5), link=TCP)
+    q0 = mg.ik(Pose([0.45, 0.3, 0.3], DOWN), TCP, collision_free=True).q
+    real, late = time.perf_counter, itertools.count()
+    original = pipeline._constraint_failure
+
+    def slow_check(*args, **kwargs):   # from here on, every reading of the clock is 100 s later
+        monkeypatch.setattr(time, "perf_counter", lambda: real() + 100.0 * next(late))
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(pipeline, "_constraint_failure", slow_check)
+    r = mg.plan_pose(q0, Pose([0.45, -0.3, 0.3], DOWN), TCP, constraints=(box,), search_iterations=200)
+    assert r.status is PlanStatus.PLAN_FAIL and r.message.endswith(SAFETY_NET), (r.status, r.message)
