@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import gc
 import itertools
+import threading
 import time
 
 import numpy as np
@@ -88,6 +89,34 @@ def test_garbage_collection_at_other_points_gives_the_same_plans(cage):
     for a, b, c in zip(collected, uncollected, ref):
         _same(a, c)
         _same(b, c)
+
+
+def test_two_threads_on_separate_generators_under_collections_plan_as_in_sequence(cage):
+    """Two generators planning at once while a third thread collects garbage in a loop."""
+    mg, problems = cage
+    ref = _plans(mg, problems)
+    out: dict = {}
+    stop = threading.Event()
+
+    def collect():
+        while not stop.is_set():
+            gc.collect()
+
+    def plan(k: int):
+        out[k] = _plans(MotionGenerator("franka", seed=0), problems)
+
+    threads = [threading.Thread(target=plan, args=(k,)) for k in range(2)]
+    collector = threading.Thread(target=collect)
+    collector.start()
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    stop.set()
+    collector.join()
+    for k in range(2):
+        for a, b in zip(out[k], ref):
+            _same(a, b)
 
 
 def test_the_constraint_check_of_a_failed_plan_reads_no_clock_of_its_own(jumping_clock):
