@@ -268,8 +268,6 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
                                     "contact_filter_prim_paths_expr=...)",
     },
     "RigidPrim": {
-        "set_sleep_threshold": "MuJoCo bodies never sleep",
-        "get_sleep_threshold": "MuJoCo bodies never sleep",
         "enable_rigid_body_physics": "a body's kind is fixed when the World compiles: make a Dynamic or Fixed object",
         "disable_rigid_body_physics": "a body's kind is fixed when the World compiles: make a Dynamic or Fixed object",
         "set_com": "the centre of mass follows the shape (MuJoCo computes it when the World compiles)",
@@ -285,8 +283,6 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
         "set_inertias": "the inertia follows the shape (MuJoCo computes it when the World compiles)",
         "get_contact_force_data": "per-contact PhysX data: use get_contact_force_matrix / get_net_contact_forces",
         "get_friction_data": "per-contact PhysX data: use get_contact_force_matrix / get_net_contact_forces",
-        "get_sleep_thresholds": "MuJoCo bodies never sleep",
-        "set_sleep_thresholds": "MuJoCo bodies never sleep",
         "num_shapes": "one geom per object here",
         "enable_rigid_body_physics": "a body's kind is fixed when the World compiles",
         "disable_rigid_body_physics": "a body's kind is fixed when the World compiles",
@@ -357,7 +353,14 @@ DIFFERS: dict[str, dict[str, str]] = {
     "GeometryPrimView": {"set_collision_approximations": "kept for the getter; primitives collide exactly, as "
                                                          "PhysX's primitive shapes do"},
     "RigidPrimView": {"get_net_contact_forces": "contact impulses over the step / dt, as Isaac; MuJoCo's soft "
-                      "contacts, summed per body"},
+                      "contacts, summed per body",
+                      "set_sleep_thresholds": "checked (>= 0), kept for the getter, changes nothing: MuJoCo's "
+                                              "sleeping is left off, nothing sleeps (a warning says so once)",
+                      "get_sleep_thresholds": "the values set (PhysX's default 5e-05 m^2/s^2 until then); "
+                                              "nothing sleeps"},
+    "RigidPrim": {"set_sleep_threshold": "checked (>= 0), kept for the getter, changes nothing: MuJoCo's sleeping "
+                                         "is left off, nothing sleeps (a warning says so once)",
+                  "get_sleep_threshold": "the value set (PhysX's default 5e-05 m^2/s^2 until then); nothing sleeps"},
     "Articulation": {"set_world_pose": "after the reset, a pose inside another robot raises RobotsOverlapError "
                                        "and the robot stays where it was (PhysX would push them apart)",
                      "set_joint_positions": "a position past a limit is set with a warning; the next step puts it "
