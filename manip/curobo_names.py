@@ -151,9 +151,6 @@ POSE = {
 #: cuRobo `IKSolver` member -> manip's `IKSolver` equivalent.
 IK_SOLVER = {
     "solve_single": "solve(goal, link, seed_q)",
-    "solve_goalset": "solve_batch(goals, link, seed_q) (each goal solved, (N, 1) results, where cuRobo's gives "
-                     "the best goal's (1, 1) and goalset_index; MotionGenerator.plan_goalset picks the best)",
-    "solve_batch_goalset": "solve_batch(goals, link, seed_q) (one row per goal pose: (N, 1))",
     "sample_configs": "kinematics.limits (sample uniformly between lower and upper)",
     "fk": "kinematics.fk(q, link)",
 }
@@ -171,7 +168,7 @@ KINEMATICS = {
 #: cuRobo `IKResult` member -> manip's `IKResult` equivalent.
 IK_RESULT = {
     "js_solution": "solution (cuRobo's (batch, seeds, dof) array) or q ((dof,); (N, dof) for a batch)",
-    "goalset_index": "nothing: IK takes one goal (MotionGenerator.batch_ik for several)",
+    "goalset_index": "manip.IKSolver.solve_goalset(goals).goalset_index (a solve / solve_batch result has one goal per row)",
     "error": "position_error [m] and rotation_error [rad]",
 }
 

@@ -339,10 +339,10 @@ def test_curobo_names_of_the_world_pose_and_ik_point_to_manips(mg):
         (world, "cuboid", "WorldConfig.obstacles"), (world, "clone", "WorldConfig.copy()"),
         (Pose([0, 0, 0]), "to_list", "Pose.to_xyz_wxyz()"),
         (Pose([0, 0, 0]), "get_matrix", "Pose.as_matrix()"), (Pose([0, 0, 0]), "multiply", "@"),
-        (mg.ik_solver, "solve_single", "IKSolver.solve(goal"), (mg.ik_solver, "solve_goalset", "IKSolver."),
+        (mg.ik_solver, "solve_single", "IKSolver.solve(goal"),
     ]
     result = mg.ik(Pose([0.45, -0.3, 0.3], DOWN), seed_q=READY)
-    cases += [(result, "js_solution", "IKResult.solution")]
+    cases += [(result, "js_solution", "IKResult.solution"), (result, "goalset_index", "IKSolver.solve_goalset")]
     assert result.solution.shape == (1, 1, 7) and np.array_equal(result.solution[result.success], [result.q])
     for owner, name, where in cases:
         with pytest.raises(AttributeError, match=rf"no '{name}' \(cuRobo's name\); manip's equivalent: .*{re.escape(where)}"):

@@ -2,6 +2,8 @@
 
 - `IKSolver` (`manip.ik.solver`): `solve` (one goal), `solve_batch` (a batched Pose, in
   NumPy, `manip.ik.batch`) and `solve_many` (several distinct solutions of one goal).
+- `manip.ik.goalset`: cuRobo's `solve_goalset` / `solve_batch_goalset` (one pose of a set
+  reached, `goalset_index` says which), `GoalsetIKResult`.
 - Results (`manip.ik.result`): `IKResult`, `BatchIKResult`, `IKSolutions`, and `IKStatus`
   whose `hint` says what to change.
 - `manip.ik.kernels`: the compiled (numba) descent and the rotation logarithm.
@@ -11,8 +13,8 @@
 
 from __future__ import annotations
 
-from manip.ik.result import BatchIKResult, IKResult, IKSolutions, IKStatus
+from manip.ik.goalset import GoalsetIKResult
+from manip.ik.result import BatchIKResult, IKResult, IKSolutions, IKStatus, ValidityFn
 from manip.ik.solver import IKSolver
-from manip.ik.result import ValidityFn
 
-__all__ = ["BatchIKResult", "IKResult", "IKSolutions", "IKSolver", "IKStatus", "ValidityFn"]
+__all__ = ["BatchIKResult", "GoalsetIKResult", "IKResult", "IKSolutions", "IKSolver", "IKStatus", "ValidityFn"]

@@ -29,8 +29,10 @@ import pinocchio as pin
 
 from manip import curobo_names
 from manip.errors import InvalidInputError
+from manip.ik import goalset
 from manip.ik.attempts import LazyRng, at_least_one, call_attempts, renamed
 from manip.ik.batch import run_lanes
+from manip.ik.goalset import GoalsetIKResult
 from manip.ik.kernels import _INTERNAL_TOLERANCE, _MIN_DAMPING, _STALL_ITERATIONS, _lm_lanes, _slide_lanes
 from manip.ik.result import BatchIKResult, IKResult, IKSolutions, IKStatus, ValidityFn, _freeze
 from manip.kinematics import Kinematics
@@ -339,6 +341,15 @@ class IKSolver:
         status = IKStatus.REJECTED_BY_VALIDITY if verified else IKStatus.NOT_CONVERGED
         best = int(np.argmin(ep / self.position_tolerance + er / self.rotation_tolerance))
         return IKSolutions(sols, status, self._failure_message(status, m, ep[best], er[best], fid, p_goal, None), m)
+
+    def solve_goalset(self, goals: Pose, link: str | None = None, seed_q=None, **options) -> GoalsetIKResult:
+        """cuRobo's goal-set IK: reach one pose of `goals` (G poses); `goalset_index` says which
+        (`manip.ik.goalset`)."""
+        return goalset.solve_goalset(self, goals, link, seed_q, **options)
+
+    def solve_batch_goalset(self, goal_sets, link: str | None = None, seed_q=None, **options) -> GoalsetIKResult:
+        """B goal sets (B Poses of G poses) at once, one row each (`manip.ik.goalset`)."""
+        return goalset.solve_batch_goalset(self, goal_sets, link, seed_q, **options)
 
     def __getattr__(self, name: str):
         # only for missing names: cuRobo's (solve_single, ...) say where manip has them

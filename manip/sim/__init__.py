@@ -119,6 +119,7 @@ from manip.sim.utils.prims import (
     open_stage,
     save_stage,
 )
+from manip.sim.utils.semantics import add_update_semantics, get_semantics, remove_all_semantics
 from manip.sim.utils.prim_bounds import BBoxCache, compute_aabb, compute_combined_aabb, create_bbox_cache
 from manip.sim.utils.prim_tree import (
     define_prim,
@@ -222,6 +223,8 @@ __all__ = [
     "get_world_pose_from_relative", "pose_from_tf_matrix", "tf_matrices_from_poses", "tf_matrix_from_pose",
     "rotational_distance_angle", "rotational_distance_identity_matrix_deviation", "rotational_distance_single_axis",
     "weighted_translational_distance",
+    # omni.isaac.core.utils.semantics
+    "add_update_semantics", "get_semantics", "remove_all_semantics",
     # isaacsim.core.utils.numpy.rotations (batched)
     "deg2rad", "euler_angles_to_quats", "quats_to_euler_angles", "quats_to_rot_matrices", "quats_to_rotvecs",
     "rad2deg", "rot_matrices_to_quats", "rotvecs_to_quats", "wxyz2xyzw", "xyzw2wxyz",

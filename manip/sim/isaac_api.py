@@ -214,10 +214,11 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
             "distort_point_rational_polynomial", "distort_point_kannala_brandt2", "set_fisheye_polynomial_properties",
             "set_matching_fisheye_polynomial_properties", "set_rational_polynomial_properties",
             "set_kannala_brandt_properties", "get_fisheye_polynomial_properties")},
-        **{f"{verb}_{annotator}_{where}_frame": "no semantic labels or instance ids in manip: use get_depth, "
-           "get_pointcloud, get_rgba" for verb, where in (("add", "to"), ("remove", "from")) for annotator in (
+        **{f"{verb}_{annotator}_{where}_frame": "not computed here: the semantic_segmentation and "
+           "instance_id_segmentation annotators give each pixel's label and prim (labels: add_update_semantics)"
+           for verb, where in (("add", "to"), ("remove", "from")) for annotator in (
                "occlusion", "bounding_box_2d_tight", "bounding_box_2d_loose", "bounding_box_3d",
-               "semantic_segmentation", "instance_id_segmentation", "instance_segmentation")},
+               "instance_segmentation")},
         "set_shutter_properties": "rendering is instantaneous (no rolling shutter)",
         "get_shutter_properties": "rendering is instantaneous (no rolling shutter)",
         "get_render_product_path": "there are no Replicator render products: every getter renders the current state",
@@ -268,8 +269,6 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
                                     "contact_filter_prim_paths_expr=...)",
     },
     "RigidPrim": {
-        "set_sleep_threshold": "MuJoCo bodies never sleep",
-        "get_sleep_threshold": "MuJoCo bodies never sleep",
         "enable_rigid_body_physics": "a body's kind is fixed when the World compiles: make a Dynamic or Fixed object",
         "disable_rigid_body_physics": "a body's kind is fixed when the World compiles: make a Dynamic or Fixed object",
         "set_com": "the centre of mass follows the shape (MuJoCo computes it when the World compiles)",
@@ -285,8 +284,6 @@ NOT_SUPPORTED: dict[str, dict[str, str]] = {
         "set_inertias": "the inertia follows the shape (MuJoCo computes it when the World compiles)",
         "get_contact_force_data": "per-contact PhysX data: use get_contact_force_matrix / get_net_contact_forces",
         "get_friction_data": "per-contact PhysX data: use get_contact_force_matrix / get_net_contact_forces",
-        "get_sleep_thresholds": "MuJoCo bodies never sleep",
-        "set_sleep_thresholds": "MuJoCo bodies never sleep",
         "num_shapes": "one geom per object here",
         "enable_rigid_body_physics": "a body's kind is fixed when the World compiles",
         "disable_rigid_body_physics": "a body's kind is fixed when the World compiles",
@@ -357,7 +354,14 @@ DIFFERS: dict[str, dict[str, str]] = {
     "GeometryPrimView": {"set_collision_approximations": "kept for the getter; primitives collide exactly, as "
                                                          "PhysX's primitive shapes do"},
     "RigidPrimView": {"get_net_contact_forces": "contact impulses over the step / dt, as Isaac; MuJoCo's soft "
-                      "contacts, summed per body"},
+                      "contacts, summed per body",
+                      "set_sleep_thresholds": "checked (>= 0), kept for the getter, changes nothing: MuJoCo's "
+                                              "sleeping is left off, nothing sleeps (a warning says so once)",
+                      "get_sleep_thresholds": "the values set (PhysX's default 5e-05 m^2/s^2 until then); "
+                                              "nothing sleeps"},
+    "RigidPrim": {"set_sleep_threshold": "checked (>= 0), kept for the getter, changes nothing: MuJoCo's sleeping "
+                                         "is left off, nothing sleeps (a warning says so once)",
+                  "get_sleep_threshold": "the value set (PhysX's default 5e-05 m^2/s^2 until then); nothing sleeps"},
     "Articulation": {"set_world_pose": "after the reset, a pose inside another robot raises RobotsOverlapError "
                                        "and the robot stays where it was (PhysX would push them apart)",
                      "set_joint_positions": "a position past a limit is set with a warning; the next step puts it "
@@ -379,7 +383,11 @@ DIFFERS: dict[str, dict[str, str]] = {
     "ArticulationView": {"get_jacobians": "MuJoCo's body-origin Jacobians in Isaac's layout",
                          "set_world_poses": "after the reset, a pose inside another robot raises RobotsOverlapError "
                                             "and the robot stays where it was"},
-    "Camera": {"set_focus_distance": "kept, not rendered (no depth of field)",
+    "Camera": {"add_semantic_segmentation_to_frame": "labels from add_update_semantics (a prim's own or its "
+                                                     "nearest labelled ancestor's); ids only (colorize=False)",
+               "add_instance_id_segmentation_to_frame": "one id per MuJoCo body (a prim: an object or a robot "
+                                                        "link), not per mesh; ids only (colorize=False)",
+               "set_focus_distance": "kept, not rendered (no depth of field)",
                "set_lens_aperture": "kept, not rendered (no depth of field)",
                "set_stereo_role": "kept; the images are the same"},
     "Scene": {"disable_bounding_boxes_computations": "compute_object_AABB keeps working (bounds are computed on "
@@ -402,6 +410,7 @@ ISAAC_FUNCTIONS: dict[str, tuple[str, ...]] = {
                                     "get_prim_object_type", "get_all_matching_child_prims",
                                     "get_first_matching_child_prim"),
     "omni.isaac.core.utils.xforms": ("get_world_pose", "get_local_pose"),
+    "omni.isaac.core.utils.semantics": ("add_update_semantics", "remove_all_semantics", "get_semantics"),
     "omni.isaac.core.utils.bounds": ("create_bbox_cache", "compute_aabb", "compute_combined_aabb"),
     "omni.isaac.core.utils.rotations": ("euler_angles_to_quat", "quat_to_euler_angles", "quat_to_rot_matrix",
                                         "rot_matrix_to_quat", "euler_to_rot_matrix", "rot_matrix_to_euler_angles",

@@ -15,7 +15,8 @@ and without effect, with a warning saying so and where MuJoCo's counterpart live
   the model's bodies is excluded from contact (MuJoCo's `<exclude>`); True restores the model's own
   filter (MuJoCo collides bodies that are not parent and child unless its MJCF excludes them).
 
-Getters return the last value set, PhysX's defaults (PhysxArticulationAPI) until then.
+Getters return the last value set, PhysX's defaults until then (PhysxArticulationAPI's schema: 32, 1,
+5e-05 and 1e-05; round six had 0.005 and 0.001 for the thresholds).
 """
 
 from __future__ import annotations
@@ -32,7 +33,7 @@ logger = logging.getLogger(__name__)
 
 #: PhysxArticulationAPI's defaults (what Isaac's getters read from a robot's USD without them).
 PHYSX_DEFAULTS = {"solver_position_iteration_count": 32, "solver_velocity_iteration_count": 1,
-                  "sleep_threshold": 5e-3, "stabilization_threshold": 1e-3}
+                  "sleep_threshold": 5e-5, "stabilization_threshold": 1e-5}
 
 #: Values that are what manip.sim simulates already (no warning): nothing sleeps, as PhysX's 0.
 AS_SIMULATED = {"sleep_threshold": 0.0}
@@ -114,7 +115,7 @@ class PhysxArticulationSettings:
         self._keep_physx("sleep_threshold", _threshold(threshold, "threshold"))
 
     def get_sleep_threshold(self) -> float:
-        """The threshold last set (PhysX's default 0.005 until then)."""
+        """The threshold last set (PhysX's default 5e-05 until then)."""
         return self._physx("sleep_threshold")
 
     def set_stabilization_threshold(self, threshold: float) -> None:
@@ -122,5 +123,5 @@ class PhysxArticulationSettings:
         self._keep_physx("stabilization_threshold", _threshold(threshold, "threshold"))
 
     def get_stabilization_threshold(self) -> float:
-        """The threshold last set (PhysX's default 0.001 until then)."""
+        """The threshold last set (PhysX's default 1e-05 until then)."""
         return self._physx("stabilization_threshold")

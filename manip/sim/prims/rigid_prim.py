@@ -8,17 +8,18 @@ import mujoco
 import numpy as np
 
 from manip.errors import InvalidInputError
+from manip.sim.prims.sleep import RigidSleepThreshold
+from manip.sim.prims.xform_prim import XFormPrim
 from manip.sim.scenes.stage import SimulationError
+from manip.sim.utils.bounds import bounded_vec
 from manip.sim.utils.not_supported import declare as declare_not_supported
 from manip.sim.utils.types import DynamicState
-from manip.sim.prims.xform_prim import XFormPrim
 from manip.validation import positive
-from manip.sim.utils.bounds import bounded_vec
 
 logger = logging.getLogger(__name__)
 
 
-class RigidPrim(XFormPrim):
+class RigidPrim(RigidSleepThreshold, XFormPrim):
     """Velocity/mass API of a rigid body: the Dynamic* shapes (free bodies), or, created at
     a prim path inside a referenced model (e.g. "/World/Franka/panda_hand"), a link of it
     (velocities and mass readable, not settable: the joints move it)."""

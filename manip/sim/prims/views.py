@@ -21,6 +21,7 @@ from manip import quaternion as quat
 from manip.errors import InvalidInputError
 from manip.sim.prims import body_forces, isaac5_views
 from manip.sim.prims.rigid_prim import RigidPrim
+from manip.sim.prims.sleep import RigidViewSleepThresholds
 from manip.sim.prims.xform_prim import XFormPrim, model_frame_pose, relative_pose
 from manip.sim.scenes.stage import SimHandle, SimulationError, get_current_stage, get_prim_at_path
 from manip.sim.utils.bounds import check_bounded_rows
@@ -320,7 +321,7 @@ class XFormPrimView:
         self.set_world_poses(translations, orientations, indices)
 
 
-class RigidPrimView(XFormPrimView):
+class RigidPrimView(RigidViewSleepThresholds, XFormPrimView):
     """`XFormPrimView` plus velocities and masses of rigid bodies."""
 
     def __init__(self, prim_paths_expr: str, name: str = "rigid_prim_view", positions=None, translations=None,

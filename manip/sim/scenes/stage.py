@@ -388,6 +388,8 @@ class Stage:
         #: The stage-event callbacks (`World.add_stage_callback` adds to it).
         self.callbacks = CallbackTable("stage")
         self.sim: SimHandle | None = None  # set by the World while a compiled model exists
+        #: Semantic labels by prim path ({type: label}; `manip.sim.utils.semantics`).
+        self.semantics: dict[str, dict[str, str]] = {}
 
     def add_prim(self, prim: Any, inside_reference: bool = False) -> None:
         """Put `prim` on the stage; `inside_reference`: a prim fixed to a link of a referenced
@@ -419,6 +421,7 @@ class Stage:
             return isinstance(path, str) and (path == prim_path or path.startswith(prim_path + "/"))
 
         gone = [self._prims.pop(p) for p in list(self._prims) if below(p)]
+        self.semantics = {p: labels for p, labels in self.semantics.items() if not below(p)}
         gone += [w for w in self._wrappers if below(getattr(w, "prim_path", None))]
         self._wrappers = [w for w in self._wrappers if w not in gone]
         for obj in gone:
@@ -464,6 +467,7 @@ class Stage:
         self.sim = None
         self._prims.clear()
         self._wrappers.clear()
+        self.semantics.clear()
         self.notify_changed("CLEARED", "/")
 
 

@@ -34,7 +34,7 @@ from manip import quaternion as quat
 from manip.errors import InvalidInputError
 from manip.sim.prims.xform_prim import XFormPrim
 from manip.sim.scenes.stage import SimulationError
-from manip.sim.sensors import annotators
+from manip.sim.sensors import annotators, segmentation
 from manip.sim.utils.not_supported import declare as declare_not_supported
 from manip.validation import positive
 
@@ -116,6 +116,7 @@ class Camera(XFormPrim):
         self._lens = {"focus_distance": 400.0, "f_stop": 0.0, "stereo_role": "mono"}  # kept, not rendered
         self._renderers: dict[str, mujoco.Renderer] = {}   # by mode: "rgb", "depth", "segmentation"
         self._annotators: set[str] = set()   # the optional frame entries asked for ("normals", "motion_vectors")
+        self._segmentation_types: list[str] = ["class"]   # semantic_segmentation's semanticTypes
         self._paused_frame: dict | None = None
         self._renderer_model = None
         self._frame: dict[str, int] = {"rendering_frame": 0}
@@ -341,8 +342,8 @@ class Camera(XFormPrim):
         """`get_current_frame()["pointcloud"]`, Isaac's pointcloud annotator: {"data": (N, 3)
         float32 world points [m] of the pixels that hit a surface (row-major, as
         `get_pointcloud`), "info": {"pointRgb": (N, 4) uint8, "pointNormals": (N, 4) float32
-        world normals}}. manip has no semantic labels: every surface is in it, whatever
-        `include_unlabelled` (Isaac's default False keeps only labelled prims' points)."""
+        world normals}}. Every surface is in it, whatever `include_unlabelled` (Isaac's default
+        False keeps only labelled prims' points: mask with the semantic_segmentation annotator)."""
         self._annotators.add("pointcloud")
 
     def remove_pointcloud_from_frame(self) -> None:
@@ -363,6 +364,25 @@ class Camera(XFormPrim):
         (`manip.sim.sensors.annotators.motion_vectors`)."""
         self._annotators.add("motion_vectors")
 
+    def add_semantic_segmentation_to_frame(self, init_params: dict | None = None) -> None:
+        """`get_current_frame()["semantic_segmentation"]`: {"data": (H, W) uint32 label ids,
+        "info": {"idToLabels": ...}} from the prims' labels (`add_update_semantics`; layout:
+        `manip.sim.sensors.segmentation`). `init_params`: {"colorize": False, "semanticTypes"}."""
+        self._segmentation_types = segmentation.init_params(init_params, "semantic_segmentation")["semanticTypes"]
+        self._annotators.add("semantic_segmentation")
+
+    def remove_semantic_segmentation_from_frame(self) -> None:
+        self._annotators.discard("semantic_segmentation")
+
+    def add_instance_id_segmentation_to_frame(self, init_params: dict | None = None) -> None:
+        """`get_current_frame()["instance_id_segmentation"]`: {"data": (H, W) uint32 ids, "info":
+        {"idToLabels": {id: prim path}}}, one id per prim seen (`manip.sim.sensors.segmentation`)."""
+        segmentation.init_params(init_params, "instance_id_segmentation")
+        self._annotators.add("instance_id_segmentation")
+
+    def remove_instance_id_segmentation_from_frame(self) -> None:
+        self._annotators.discard("instance_id_segmentation")
+
     def remove_distance_to_image_plane_from_frame(self) -> None:
         """Nothing to remove: depth is always in the frame (`get_depth`)."""
 
@@ -371,9 +391,10 @@ class Camera(XFormPrim):
 
     @property
     def supported_annotators(self) -> list[str]:
-        """The annotators of `get_current_frame()` here (Isaac's semantic, bounding-box, instance
-        and occlusion annotators need semantic labels manip does not have)."""
-        return ["normals", "motion_vectors", "distance_to_image_plane", "distance_to_camera", "pointcloud"]
+        """The annotators of `get_current_frame()` here (not Isaac's bounding-box, instance
+        (by semantic class) and occlusion annotators)."""
+        return ["normals", "motion_vectors", "distance_to_image_plane", "distance_to_camera", "pointcloud",
+                "semantic_segmentation", "instance_id_segmentation"]
 
     def remove_normals_from_frame(self) -> None:
         self._annotators.discard("normals")
@@ -393,7 +414,8 @@ class Camera(XFormPrim):
 
     def get_current_frame(self, clone: bool = False) -> dict:
         """{"rgba", "distance_to_image_plane", "distance_to_camera", "rendering_frame"} of the
-        current state, plus "normals" / "motion_vectors" / "pointcloud" once added
+        current state, plus "normals" / "motion_vectors" / "pointcloud" / "semantic_segmentation" /
+        "instance_id_segmentation" once added
         (`add_..._to_frame`)."""
         return self._paused_frame if self._paused_frame is not None else self._current_frame()
 
@@ -413,10 +435,16 @@ class Camera(XFormPrim):
                 hit = np.isfinite(depth)
                 frame["pointcloud"] = {"data": (points[hit] @ R_cam.T + p_cam).astype(np.float32),
                                        "info": {"pointRgb": frame["rgba"][hit], "pointNormals": world_normals[hit]}}
-        if "motion_vectors" in self._annotators:
-            sim = self._sim
-            period = self.get_dt() if self._frequency > 0 else (sim.physics_dt or float(sim.model.opt.timestep))
+        sim = self._sim
+        if self._annotators & {"motion_vectors", "semantic_segmentation", "instance_id_segmentation"}:
             seg = self._render("segmentation")
+        if "semantic_segmentation" in self._annotators:
+            frame["semantic_segmentation"] = segmentation.semantic_segmentation(sim.model, seg,
+                                                                                self._segmentation_types)
+        if "instance_id_segmentation" in self._annotators:
+            frame["instance_id_segmentation"] = segmentation.instance_id_segmentation(sim.model, seg)
+        if "motion_vectors" in self._annotators:
+            period = self.get_dt() if self._frequency > 0 else (sim.physics_dt or float(sim.model.opt.timestep))
             geom_ids = np.where(seg[..., 1] == int(mujoco.mjtObj.mjOBJ_GEOM), seg[..., 0], -1)
             frame["motion_vectors"] = annotators.motion_vectors(sim.model, sim.data, points, geom_ids, K, p_cam,
                                                                 R_cam, period)

@@ -25,6 +25,7 @@ from manip.sim.scenes.stage import (  # get_prim_at_path re-exported (a robot's 
 )
 from manip.sim.utils import not_supported
 from manip.sim.utils.rotations import euler_angles_to_rot_matrix
+from manip.sim.utils.semantics import add_update_semantics
 
 logger = logging.getLogger(__name__)
 
@@ -101,7 +102,8 @@ def create_prim(prim_path: str, prim_type: str = "Xform", position=None, transla
         position / translation: (3,) [m] (the same here: no parent transforms); orientation
             (4,) (w, x, y, z); scale (3,).
         usd_path: a model file to reference there (an Isaac asset path, MJCF or URDF).
-        semantic_label, semantic_type: kept by Isaac for Replicator; not used here.
+        semantic_label, semantic_type: the prim's semantic label (`add_update_semantics`), read by
+            the Camera's semantic_segmentation annotator.
         attributes: USD attributes: a geometry's "size" / "radius" / "height" [m]; a light's
             (intensity, color, ...) are not drawn.
 
@@ -109,7 +111,13 @@ def create_prim(prim_path: str, prim_type: str = "Xform", position=None, transla
         InvalidInputError: a prim already at `prim_path`, an attribute the type does not have.
         NotImplementedError: another prim type (meshes, materials, cameras: use manip.sim's classes).
     """
-    attributes = dict(attributes or {})
+    prim = _create_prim(prim_path, prim_type, position, translation, orientation, scale, usd_path, dict(attributes or {}))
+    if semantic_label is not None:
+        add_update_semantics(prim_path, semantic_label, semantic_type)
+    return prim
+
+
+def _create_prim(prim_path, prim_type, position, translation, orientation, scale, usd_path, attributes) -> Any:
     existing = get_current_stage().get_prim(prim_path)
     if existing is not None:  # as Isaac's: create, never wrap
         raise InvalidInputError(f"create_prim: a prim already exists at {prim_path!r} ({type(existing).__name__})")

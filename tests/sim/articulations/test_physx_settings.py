@@ -30,7 +30,8 @@ def test_articulation_solver_settings_are_kept_and_change_nothing(caplog):
     world = World()
     franka = world.scene.add(Franka("/World/Franka", name="franka"))
     assert franka.get_solver_position_iteration_count() == 32 and franka.get_solver_velocity_iteration_count() == 1
-    assert franka.get_sleep_threshold() == 0.005 and franka.get_stabilization_threshold() == 0.001
+    # PhysxArticulationAPI's schema defaults (round six had 0.005 and 0.001 for the thresholds)
+    assert franka.get_sleep_threshold() == 5e-5 and franka.get_stabilization_threshold() == 1e-5
     before = _run(world, franka)
     iterations = world.model.opt.iterations
     with caplog.at_level(logging.WARNING, logger="manip.sim.articulations.physx_settings"):

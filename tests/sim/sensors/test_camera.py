@@ -116,7 +116,7 @@ def test_bad_input_names_the_argument():
 
 def test_view_matrix_ros_aspect_ratio_and_the_lens_settings_isaac_scripts_call():
     """get_view_matrix_ros, get_aspect_ratio, the projection, focus and stereo getters and setters
-    (they raised AttributeError); the annotators that need semantic labels raise saying so."""
+    (they raised AttributeError); the bounding-box annotators raise saying so."""
     q = quat.from_axis_angle(np.array([0.0, 0.0, 1.0]), math.radians(30.0))
     cam = Camera("/World/camera", position=[0.2, -0.1, 0.5], orientation=q, resolution=(320, 240))
     _, cam = _wall_world(camera=cam)
@@ -144,8 +144,8 @@ def test_view_matrix_ros_aspect_ratio_and_the_lens_settings_isaac_scripts_call()
     np.testing.assert_array_equal(cam.get_rgba(), before)  # kept, not rendered: the same image
     cam.remove_distance_to_image_plane_from_frame()
     assert "distance_to_image_plane" in cam.get_current_frame()
-    assert "pointcloud" in cam.supported_annotators and "semantic_segmentation" not in cam.supported_annotators
-    with pytest.raises(NotImplementedError, match="semantic labels"):
-        cam.add_semantic_segmentation_to_frame()
+    assert "pointcloud" in cam.supported_annotators and "bounding_box_2d_tight" not in cam.supported_annotators
+    with pytest.raises(NotImplementedError, match="not computed here: the semantic_segmentation"):
+        cam.add_bounding_box_2d_tight_to_frame()
     with pytest.raises(NotImplementedError, match="pinhole"):
         cam.set_fisheye_polynomial_properties(1920, 1080, 2.0, 0.0, 0.0, 3.0, [0.0, 0.0, 0.0, 0.0, 0.0])

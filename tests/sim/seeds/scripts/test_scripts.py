@@ -11,6 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from manip import Pose
+
 HERE = Path(__file__).resolve().parent
 
 
@@ -199,3 +201,17 @@ def test_a_task_of_ones_own_with_metrics_is_done_and_a_physics_callback():
     np.testing.assert_array_equal(ns["reset_color"], [1.0, 0.0, 0.0])   # post_reset: red again
     d = np.array(ns["distances"])
     assert len(d) == steps0 + steps1 and d[0] > 0.25 and d[steps0 - 1] < 0.01
+
+
+def test_a_segmented_cube_is_picked_through_a_goal_set_of_pre_grasps():
+    """Isaac's semantic_segmentation finds the labelled cube; cuRobo's goal-set IK reaches one of
+    four pre-grasp poses and says which; the Franka lifts the cube from there."""
+    ns = run("segmented_goalset_grasp.py")
+    assert ns["labels"][str(ns["cube_id"])] == {"class": "cube"} and ns["rows"].size > 100
+    np.testing.assert_allclose(ns["estimate"], [0.45, 0.12, 0.0515 / 2], atol=2e-3)   # where the cube was
+    assert ns["result"].success.shape == ns["result"].goalset_index.shape == (1, 1) and ns["result"].success.item()
+    chosen = ns["pre_grasps"][ns["chosen"]]
+    position, orientation = ns["hand_at_pre"]
+    assert np.linalg.norm(position - chosen.position) < 0.01          # the simulated hand at the chosen pose
+    assert Pose(position, orientation).distance(chosen)[1] < 0.05
+    assert ns["cube_after"][2] > 0.12                                  # lifted (from 0.026 m)
