@@ -100,7 +100,6 @@ RESULT = {
     "total_time": "plan_time",
     "valid_query": "status (INVALID_* members say what was wrong with the query)",
     "path_buffer_last_tstep": "trajectory.num_samples",
-    "goalset_index": "goal_index (which pose of plan_goalset's batch was reached)",
     "ik_time": 'timings["ik"] [s]',
     "trajopt_time": 'timings["trajopt"] [s]',
     "graph_time": 'timings["plan"] [s] (the path search)',

@@ -111,6 +111,15 @@ def test_linear_motion_keeps_a_straight_line_and_orientation(mg):
     assert r.position_error <= 1e-3
 
 
+def test_goalset_index_is_curobos_tensor_of_the_pose_reached(mg):
+    """cuRobo scripts read `result.goalset_index.item()` after plan_goalset."""
+    left, _ = _left_right(mg)
+    unreachable, reachable = Pose([2.0, 0.0, 0.3], DOWN), Pose([0.45, 0.3, 0.3], DOWN)
+    r = mg.plan_goalset(left, Pose.stack([unreachable, reachable]), seed=0)
+    assert r.success and r.goal_index == 1
+    assert r.goalset_index.shape == (1,) and r.goalset_index.item() == 1 and r.goalset_index.dtype == np.int64
+
+
 def test_goalset_picks_a_reachable_pose(mg):
     left, _ = _left_right(mg)
     unreachable = Pose([2.0, 0.0, 0.3], DOWN)
@@ -300,8 +309,7 @@ def test_curobo_names_point_to_manips():
     with pytest.raises(AttributeError, match="'PlanResult' object has no attribute 'no_such_field'"):
         result.no_such_field
     # a goal-set plan's index, and the stage timings, under cuRobo's MotionGenResult names
-    with pytest.raises(AttributeError, match=r"goalset_index' \(cuRobo's name\); manip's equivalent: PlanResult.goal_index"):
-        result.goalset_index
+    assert result.goalset_index is None   # a joint goal (cuRobo's default); goal sets: test_goalset_index
     for name, where in (("ik_time", 'timings["ik"]'), ("trajopt_time", 'timings["trajopt"]'),
                         ("graph_time", 'timings["plan"]'), ("used_graph", "source")):
         with pytest.raises(AttributeError, match=re.escape(f"PlanResult.{where}")):

@@ -130,6 +130,12 @@ class PlanResult:
         return self.timings.get("total", float("nan"))
 
     @property
+    def goalset_index(self) -> HostArray | None:
+        """cuRobo's name of `goal_index`: (1,) int64 (`.item()` reads it) for pose goals and goal
+        sets, None for joint goals (cuRobo's default)."""
+        return None if self.goal_index is None else host(int(self.goal_index), np.int64, (1,))
+
+    @property
     def motion_time(self) -> float:
         """Duration of the trajectory [s] (nan on failure)."""
         return self.trajectory.duration if self.trajectory is not None else float("nan")
