@@ -57,6 +57,7 @@ from manip.control.collision import CollisionLimit, robot_collision_geoms, self_
 from manip.control.limits import StepBounds
 from manip.control.model import ControlModel
 from manip.control.obstacles import geom_shape
+from manip.control.progress import ProgressMonitor
 from manip.control.results import StepResult, StepStatus
 from manip.control.solvers import DEFAULT_SOLVER, check_solver, solve_qp
 from manip.control.targets import as_target
@@ -107,6 +108,9 @@ class ReactiveController:
             instead of in one step at the joints' velocity limits.
         max_angular_speed: the same for the orientation [rad/s] (default 2.5).
         self_collision: also keep the robot's links apart (default True).
+        stall_time: steps towards a still target are reported `StepStatus.STALLED` once the
+            frame has not come 1 mm (or 0.01 rad) closer to it for this long [s] without
+            reaching it (default 1.0; None = never; `manip.control.progress`).
 
     Raises:
         UnknownNameError / RobotConfigError: bad robot.
@@ -132,6 +136,7 @@ class ReactiveController:
         max_speed: float = 1.0,
         max_angular_speed: float = 2.5,
         self_collision: bool = True,
+        stall_time: float | None = 1.0,
     ):
         self._config = robot if isinstance(robot, RobotConfig) else load_robot_config(robot)
         self._solver = check_solver(solver)
@@ -164,6 +169,7 @@ class ReactiveController:
         self._world = world.copy() if world is not None else WorldConfig()
         default_frame = cfg.tcp_link or cfg.ee_link
         self._frame_name = frame if frame is not None else default_frame
+        self._progress = None if stall_time is None else ProgressMonitor(stall_time)
         self._build()
 
     # ------------------------------------------------------------------ building
@@ -282,8 +288,11 @@ class ReactiveController:
         return self._limits.acceleration.copy() if self._use_acceleration else None
 
     def reset(self) -> None:
-        """Forget the previous step's velocities (the next step starts from rest)."""
+        """Forget the previous step's velocities (the next step starts from rest) and the
+        progress towards the target (`stall_time` counts again)."""
         self._v_prev = None
+        if self._progress is not None:
+            self._progress.reset()
 
     @property
     def safety_margin(self) -> float:
@@ -306,6 +315,12 @@ class ReactiveController:
     def collision_pair_counts(self) -> tuple[int, int]:
         """(robot-obstacle pairs, self-collision pairs) checked at every step."""
         return self._collision.n_obstacle_pairs, self._collision.n_pairs - self._collision.n_obstacle_pairs
+
+    def frame_pose(self, q) -> Pose:
+        """The controlled frame's pose at the joint positions q (dof,) [rad], base frame."""
+        self._conf.update(self._model.q_to_qpos(self._check_q(q, "q")))
+        T = self._conf.get_transform_frame_to_world(self._tasks.frame_id, self._tasks.frame_type)
+        return Pose(T.translation().copy(), T.rotation().wxyz.copy())
 
     @property
     def model(self):
@@ -485,6 +500,9 @@ class ReactiveController:
             dq = np.zeros(self.dof)
         else:
             dq = x[idx]
+            if self._progress is not None and self._progress.update(
+                    tgt.position, tgt.orientation, position_error, orientation_error, dt):
+                status = StepStatus.STALLED
         q_next = self._joint_limits.clamp(q, dq, dt)
         velocities = (q_next - q) / dt
         self._v_prev = velocities
