@@ -35,9 +35,9 @@ def targets(robot: str, n: int, seed: int):
     return out
 
 
-def run(robot: str, target, steps: int = 600, dt: float = 1 / 60, **weights) -> dict:
+def run(robot: str, target, steps: int = 600, dt: float = 1 / 60, self_collision: bool = True, **weights) -> dict:
     from manip.control import ReactiveController, StepStatus
-    ctrl = ReactiveController(robot)
+    ctrl = ReactiveController(robot, self_collision=self_collision)
     if weights:
         ctrl.set_weights(**weights)
     q = ctrl.rest_configuration
@@ -63,10 +63,11 @@ def main(argv=None) -> int:
     ap.add_argument("--seed", type=int, default=6100)
     ap.add_argument("--robots", nargs="+", default=list(ROBOTS), choices=ROBOTS)
     ap.add_argument("--posture", type=float, default=None, help="posture weight (default: the controller's)")
+    ap.add_argument("--no-self-collision", action="store_true", help="the controller without self-collision avoidance")
     a = ap.parse_args(argv)
     w = {} if a.posture is None else {"posture": a.posture}
     for robot in a.robots:
-        rows = [run(robot, tg, **w) for tg in targets(robot, a.n, a.seed)]
+        rows = [run(robot, tg, self_collision=not a.no_self_collision, **w) for tg in targets(robot, a.n, a.seed)]
         ok = [r for r in rows if r["status"] == "reached"]
         bad = [r for r in rows if r["status"] != "reached"]
         ms = np.mean([r["step_ms"] for r in rows])

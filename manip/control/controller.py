@@ -108,9 +108,10 @@ class ReactiveController:
             instead of in one step at the joints' velocity limits.
         max_angular_speed: the same for the orientation [rad/s] (default 2.5).
         self_collision: also keep the robot's links apart (default True).
-        stall_time: steps towards a still target are reported `StepStatus.STALLED` once the
-            frame has not come 1 mm (or 0.01 rad) closer to it for this long [s] without
-            reaching it (default 1.0; None = never; `manip.control.progress`).
+        stall_time: steps are reported `StepStatus.STALLED` once, over this long [s], the
+            steps together have not brought the frame 1 mm (or 0.01 rad; a tenth of the
+            error if less) closer to their targets, and the target is not reached (default
+            2.0; None = never; `manip.control.progress`).
 
     Raises:
         UnknownNameError / RobotConfigError: bad robot.
@@ -136,7 +137,7 @@ class ReactiveController:
         max_speed: float = 1.0,
         max_angular_speed: float = 2.5,
         self_collision: bool = True,
-        stall_time: float | None = 1.0,
+        stall_time: float | None = 2.0,
     ):
         self._config = robot if isinstance(robot, RobotConfig) else load_robot_config(robot)
         self._solver = check_solver(solver)
@@ -170,6 +171,7 @@ class ReactiveController:
         default_frame = cfg.tcp_link or cfg.ee_link
         self._frame_name = frame if frame is not None else default_frame
         self._progress = None if stall_time is None else ProgressMonitor(stall_time)
+        self._previous = None  # the previous step's (target, (position, orientation) errors, dt)
         self._build()
 
     # ------------------------------------------------------------------ building
@@ -291,6 +293,7 @@ class ReactiveController:
         """Forget the previous step's velocities (the next step starts from rest) and the
         progress towards the target (`stall_time` counts again)."""
         self._v_prev = None
+        self._previous = None
         if self._progress is not None:
             self._progress.reset()
 
@@ -500,10 +503,14 @@ class ReactiveController:
             dq = np.zeros(self.dof)
         else:
             dq = x[idx]
-            if self._progress is not None and self._progress.update(
-                    tgt.position, tgt.orientation, position_error, orientation_error, dt):
-                status = StepStatus.STALLED
         q_next = self._joint_limits.clamp(q, dq, dt)
+        if self._progress is not None:
+            # progress made since the previous step, towards the previous step's target: from the
+            # configuration this step starts at (the arm's, when it lags the command)
+            prev = self._previous
+            if prev is not None and self._progress.update(prev[1], self._errors(T, prev[0]), prev[2]) and x is not None:
+                status = StepStatus.STALLED
+            self._previous = (tgt, (position_error, orientation_error), dt)
         velocities = (q_next - q) / dt
         self._v_prev = velocities
         return StepResult(
@@ -517,6 +524,14 @@ class ReactiveController:
             active_collision_rows=int(self._collision.active_rows),
             solve_time=time.perf_counter() - t0,
         )
+
+    @staticmethod
+    def _errors(T, tgt) -> tuple[float, float]:
+        """(position [m], orientation [rad]) errors of the frame at pose T (mink.SE3) towards the target."""
+        p_err = float(np.linalg.norm(tgt.position - T.translation()))
+        if tgt.position_only:
+            return p_err, 0.0
+        return p_err, 2.0 * math.acos(min(abs(float(T.rotation().wxyz @ tgt.orientation)), 1.0))
 
     def _solve(self, H, c, con, q, dt, v0, idx) -> np.ndarray | None:
         lb, ub = self._joint_limits.bounds(q, dt, v0)
