@@ -4,7 +4,7 @@
 
 Each target is the controlled frame's pose (position and orientation) at a random configuration
 within the joint limits whose frame is 5 cm or more above the ground plane and whose links are
-2 x safety_margin (2 cm) or more apart (a pose the arm can take); the arm starts at its
+safety_margin (1 cm) or more apart (a pose the arm can take); the arm starts at its
 default joint positions, with no obstacles (self-collision avoidance on). One run is up to 10 s of
 60 Hz steps (it goes on after a STALLED report, to count false alarms); reached = position error
 < 5 mm and orientation error < 0.02 rad. Prints per arm: reached (and of those, reached after a
@@ -32,8 +32,8 @@ def targets(robot: str, n: int, seed: int):
     while len(out) < n:
         q = rng.uniform(cfg.limits.lower, cfg.limits.upper)
         pose = ctrl.frame_pose(q)
-        # a reachable target: the configuration keeps 2 x safety_margin between the robot's links
-        if pose.position[2] >= 0.05 and ctrl.step(q, pose, 1 / 60).self_clearance >= 2 * ctrl.safety_margin:
+        # a reachable target: the configuration keeps safety_margin between the robot's links
+        if pose.position[2] >= 0.05 and ctrl.step(q, pose, 1 / 60).self_clearance >= ctrl.safety_margin:
             out.append(pose)
     return out
 

@@ -19,7 +19,7 @@ obstacles, but it only descends locally. When the target cannot be reached (out 
 reach, or behind an obstacle) the arm moves as close as the limits allow and stops
 there, at `safety_margin` from the obstacle; when the target comes back it follows it
 again. It can get stuck behind an obstacle that a planner (`manip.MotionGenerator`) would
-go around.
+go around; such steps are reported `StepStatus.STALLED` (`stall_time`).
 
 Everything is in the robot base frame: targets, and obstacles (`manip.collision.WorldConfig`,
 the MotionGenerator's world; or read from a `manip.sim` World with `set_world(world,
