@@ -13,6 +13,7 @@ no simulator; `manip.sim.RMPFlowController` wraps it under Isaac Sim's name.
 - `manip.control.targets`: accepted target forms.
 - `manip.control.solvers`: the QP solve (qpsolvers; DAQP by default).
 - `manip.control.results`: `StepResult`, `StepStatus`.
+- `manip.control.progress`: stall detection (`StepStatus.STALLED`).
 """
 
 from __future__ import annotations

@@ -19,7 +19,7 @@ obstacles, but it only descends locally. When the target cannot be reached (out 
 reach, or behind an obstacle) the arm moves as close as the limits allow and stops
 there, at `safety_margin` from the obstacle; when the target comes back it follows it
 again. It can get stuck behind an obstacle that a planner (`manip.MotionGenerator`) would
-go around.
+go around; such steps are reported `StepStatus.STALLED` (`stall_time`).
 
 Everything is in the robot base frame: targets, and obstacles (`manip.collision.WorldConfig`,
 the MotionGenerator's world; or read from a `manip.sim` World with `set_world(world,
@@ -57,6 +57,7 @@ from manip.control.collision import CollisionLimit, robot_collision_geoms, self_
 from manip.control.limits import StepBounds
 from manip.control.model import ControlModel
 from manip.control.obstacles import geom_shape
+from manip.control.progress import ProgressMonitor
 from manip.control.results import StepResult, StepStatus
 from manip.control.solvers import DEFAULT_SOLVER, check_solver, solve_qp
 from manip.control.targets import as_target
@@ -107,6 +108,10 @@ class ReactiveController:
             instead of in one step at the joints' velocity limits.
         max_angular_speed: the same for the orientation [rad/s] (default 2.5).
         self_collision: also keep the robot's links apart (default True).
+        stall_time: steps are reported `StepStatus.STALLED` once, over this long [s], the
+            steps together have not brought the frame 1 mm (or 0.01 rad; a tenth of the
+            error if less) closer to their targets, and the target is not reached (default
+            2.0; None = never; `manip.control.progress`).
 
     Raises:
         UnknownNameError / RobotConfigError: bad robot.
@@ -132,6 +137,7 @@ class ReactiveController:
         max_speed: float = 1.0,
         max_angular_speed: float = 2.5,
         self_collision: bool = True,
+        stall_time: float | None = 2.0,
     ):
         self._config = robot if isinstance(robot, RobotConfig) else load_robot_config(robot)
         self._solver = check_solver(solver)
@@ -164,6 +170,8 @@ class ReactiveController:
         self._world = world.copy() if world is not None else WorldConfig()
         default_frame = cfg.tcp_link or cfg.ee_link
         self._frame_name = frame if frame is not None else default_frame
+        self._progress = None if stall_time is None else ProgressMonitor(stall_time)
+        self._previous = None  # the previous step's (target, (position, orientation) errors, dt)
         self._build()
 
     # ------------------------------------------------------------------ building
@@ -282,8 +290,12 @@ class ReactiveController:
         return self._limits.acceleration.copy() if self._use_acceleration else None
 
     def reset(self) -> None:
-        """Forget the previous step's velocities (the next step starts from rest)."""
+        """Forget the previous step's velocities (the next step starts from rest) and the
+        progress towards the target (`stall_time` counts again)."""
         self._v_prev = None
+        self._previous = None
+        if self._progress is not None:
+            self._progress.reset()
 
     @property
     def safety_margin(self) -> float:
@@ -306,6 +318,12 @@ class ReactiveController:
     def collision_pair_counts(self) -> tuple[int, int]:
         """(robot-obstacle pairs, self-collision pairs) checked at every step."""
         return self._collision.n_obstacle_pairs, self._collision.n_pairs - self._collision.n_obstacle_pairs
+
+    def frame_pose(self, q) -> Pose:
+        """The controlled frame's pose at the joint positions q (dof,) [rad], base frame."""
+        self._conf.update(self._model.q_to_qpos(self._check_q(q, "q")))
+        T = self._conf.get_transform_frame_to_world(self._tasks.frame_id, self._tasks.frame_type)
+        return Pose(T.translation().copy(), T.rotation().wxyz.copy())
 
     @property
     def model(self):
@@ -486,6 +504,13 @@ class ReactiveController:
         else:
             dq = x[idx]
         q_next = self._joint_limits.clamp(q, dq, dt)
+        if self._progress is not None:
+            # progress made since the previous step, towards the previous step's target: from the
+            # configuration this step starts at (the arm's, when it lags the command)
+            prev = self._previous
+            if prev is not None and self._progress.update(prev[1], self._errors(T, prev[0]), prev[2]) and x is not None:
+                status = StepStatus.STALLED
+            self._previous = (tgt, (position_error, orientation_error), dt)
         velocities = (q_next - q) / dt
         self._v_prev = velocities
         return StepResult(
@@ -499,6 +524,14 @@ class ReactiveController:
             active_collision_rows=int(self._collision.active_rows),
             solve_time=time.perf_counter() - t0,
         )
+
+    @staticmethod
+    def _errors(T, tgt) -> tuple[float, float]:
+        """(position [m], orientation [rad]) errors of the frame at pose T (mink.SE3) towards the target."""
+        p_err = float(np.linalg.norm(tgt.position - T.translation()))
+        if tgt.position_only:
+            return p_err, 0.0
+        return p_err, 2.0 * math.acos(min(abs(float(T.rotation().wxyz @ tgt.orientation)), 1.0))
 
     def _solve(self, H, c, con, q, dt, v0, idx) -> np.ndarray | None:
         lb, ub = self._joint_limits.bounds(q, dt, v0)

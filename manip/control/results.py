@@ -17,6 +17,11 @@ class StepStatus(enum.Enum):
     #: joint limits by more than one step can fix) or the solver failed: the arm holds
     #: (`q` equals the input, zero velocity).
     HELD = "held"
+    #: The QP was solved and the step applied, but the frame has not approached the still
+    #: target for the controller's `stall_time`: a local minimum (the arm against its own
+    #: margins or an obstacle, or the target out of reach). Stepping on does not help; plan
+    #: a motion (`manip.MotionGenerator`) or move the target.
+    STALLED = "stalled"
 
 
 @dataclass(frozen=True, eq=False)
@@ -27,7 +32,7 @@ class StepResult:
         q: (dof,) the next configuration [rad], `q_in + velocities * dt`, within the joint
             limits.
         velocities: (dof,) joint velocities over the step [rad/s], within the velocity limits.
-        status: SOLVED or HELD.
+        status: SOLVED, STALLED (solved, but no progress towards a still target) or HELD.
         position_error: distance from the controlled frame to the target at the input
             configuration [m] (before the step).
         orientation_error: angle between the frame's and the target's orientations at the
@@ -52,8 +57,13 @@ class StepResult:
 
     @property
     def solved(self) -> bool:
-        """True unless the arm was held because the QP failed."""
-        return self.status is StepStatus.SOLVED
+        """True unless the arm was held because the QP failed (SOLVED or STALLED)."""
+        return self.status is not StepStatus.HELD
+
+    @property
+    def stalled(self) -> bool:
+        """True if the frame no longer approaches the still target (`StepStatus.STALLED`)."""
+        return self.status is StepStatus.STALLED
 
     def __repr__(self) -> str:
         return (

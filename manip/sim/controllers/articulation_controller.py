@@ -83,7 +83,14 @@ class ArticulationController:
 
     def switch_control_mode(self, mode: str, joint_indices=None) -> None:
         """Switch drives to "position" (default gains), "velocity" (kp = 0, default kd; if
-        the default kd is 0, kd = 10 * default kp or 1e3) or "effort" (kp = kd = 0)."""
+        the default kd is 0, kd = 10 * default kp or 1e3) or "effort" (kp = kd = 0).
+
+        As in Isaac, only the gains change: the position and velocity targets stay as last
+        applied. After moving in velocity mode, switching back to "position" drives the joints
+        back to the old position target with the old velocity target still set (on the Franka
+        the drives then saturate at their 87 N m); apply the current positions and zero
+        velocities first: `apply_action(ArticulationAction(joint_positions=q, joint_velocities=zeros))`.
+        """
         if mode not in CONTROL_MODES:
             raise InvalidInputError(f"unknown control mode {mode!r}; valid: {list(CONTROL_MODES)}")
         c = self._core()

@@ -357,3 +357,41 @@ def test_single_manipulator_with_the_tutorials_gripper_opened_past_the_finger_li
     np.testing.assert_allclose(robot.gripper.get_joint_positions(), 0.04, atol=1e-4)
     with pytest.raises(InvalidInputError, match="exactly one"):
         SingleManipulator(prim_path="/World/Franka", name="other")
+
+
+def test_switching_back_from_velocity_mode_keeps_the_targets_as_isaac(franka_world):
+    """Isaac's switch_control_mode changes the gains only: after moving in velocity mode, the old
+    position target and the velocity target still drive the joints (Franka joints 2 and 4 saturate
+    at 87 N m); applying the current positions and zero velocities before switching holds the arm."""
+    world, franka = franka_world
+    ctrl = franka.get_articulation_controller()
+    kps, kds = ctrl.get_gains()
+    q_home = franka.get_joint_positions()
+    vel = np.array([0, 0.3, 0, 0.3, 0, 0, 0, 0, 0.0])
+
+    def move_in_velocity_mode():
+        ctrl.switch_control_mode("velocity", joint_indices=np.arange(7))
+        assert np.all(ctrl.get_gains()[0][:7] == 0)
+        ctrl.apply_action(ArticulationAction(joint_velocities=vel))
+        for _ in range(30):
+            world.step(render=False)
+        return franka.get_joint_positions()
+
+    q = move_in_velocity_mode()
+    assert q[1] - q_home[1] > 0.1
+    ctrl.switch_control_mode("position", joint_indices=np.arange(7))
+    assert np.allclose(ctrl.get_gains()[0], kps) and np.allclose(ctrl.get_gains()[1], kds)
+    applied = ctrl.get_applied_action()
+    assert np.allclose(applied.joint_positions, q_home) and np.allclose(applied.joint_velocities, vel)
+    world.step(render=False)
+    assert abs(franka.get_measured_joint_efforts()[1]) == pytest.approx(87.0)  # the drive's effort limit
+
+    world.reset()
+    q = move_in_velocity_mode()
+    ctrl.apply_action(ArticulationAction(joint_positions=q, joint_velocities=np.zeros(9)))
+    ctrl.switch_control_mode("position", joint_indices=np.arange(7))
+    peak = 0.0
+    for _ in range(30):
+        world.step(render=False)
+        peak = max(peak, float(np.abs(franka.get_measured_joint_efforts()[:7]).max()))
+    assert peak < 60.0 and np.abs(franka.get_joint_positions() - q)[:7].max() < 0.02
