@@ -96,7 +96,7 @@ class ClearanceModel:
         st = self.checker.state
         if len(st.obstacles) == 0:  # occupancy maps are obstacles too
             return self._empty()
-        return self.terms_at(*st.joint_transforms(Q), activation)
+        return self._terms_at(st, *st.joint_transforms(Q), activation)
 
     def _empty(self) -> ClearanceTerms:
         return ClearanceTerms(np.zeros(0, dtype=np.int64), np.zeros(0), np.zeros((0, self.dof)))
@@ -104,12 +104,17 @@ class ClearanceModel:
     def terms_at(self, R: np.ndarray, p: np.ndarray, activation: float) -> ClearanceTerms:
         """`terms` of the configurations whose joint frames are R (N, J+1, 3, 3), p (N, J+1, 3)
         (`CollisionState.joint_transforms`), for a caller that has them already."""
-        st = self.checker.state
+        return self._terms_at(self.checker.state, R, p, activation)
+
+    def _terms_at(self, st, R: np.ndarray, p: np.ndarray, activation: float) -> ClearanceTerms:
+        """`terms_at` on the checker's state st (read once by the caller: a checker's `state` costs
+        a few us)."""
         fine = st.fine
-        empty = self._empty()
-        moving = np.flatnonzero(fine.joint != 0)
+        if getattr(self, "_moving_of", None) is not fine:  # the moving balls, per cover (as `_tables`)
+            self._moving_of, self._moving = fine, np.flatnonzero(fine.joint != 0)
+        moving = self._moving
         if len(st.obstacles) == 0 or moving.size == 0:
-            return empty
+            return self._empty()
         tables = self._tables(fine, moving)
         n_i, s_i, _, dist, x, normal = _nearest_terms(R, p, *tables, float(activation), *st.obstacle_tables)
         for o, grid in st.occupancy_maps:   # occupancy maps: their own distances (`collision.occupancy`)
@@ -117,7 +122,7 @@ class ClearanceModel:
             n_i, s_i, dist, x, normal = (np.concatenate(c) for c in zip((n_i, s_i, dist, x, normal), extra))
         sj = tables[2]
         if n_i.size == 0:
-            return empty
+            return self._empty()
         grad = _term_gradients(R, p, n_i, sj[s_i], x, normal, self._ancestors, self._axes, self._revolute,
                                self._q_index, self.dof)
         return ClearanceTerms(n_i, dist, grad)

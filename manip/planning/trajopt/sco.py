@@ -17,6 +17,7 @@ a trust region; each iteration one QP, `planning.trajopt.qp`) share it:
 
 from __future__ import annotations
 
+import math
 import time
 from functools import lru_cache
 
@@ -25,7 +26,7 @@ import scipy.sparse as sp
 
 from manip.collision.clearance import ClearanceModel
 from manip.limits import JointLimits
-from manip.planning.trajopt import bspline, qp
+from manip.planning.trajopt import bspline, qp, sco_kernels
 from manip.planning.trajopt.settings import TrajOptSettings
 
 
@@ -110,13 +111,17 @@ class SplineProblem:
             if d_goal is not None:
                 self.rays.append((n - 1 - k, self.c_fixed[n], d_goal))
 
-    def ray_rows(self, gap: int) -> tuple[sp.csc_matrix | None, np.ndarray | None]:
-        """The end rays' equalities A z = b (A over the columns [x, `gap` others, R], `planning.trajopt.qp`),
-        or (None, None) without rays."""
+    def ray_rows(self, gap: int, after: int = 0) -> tuple[sp.csc_matrix | None, np.ndarray | None]:
+        """The end rays' equalities A z = b (A over the columns [x, `gap` others, R, `after` others],
+        `planning.trajopt.qp`), or (None, None) without rays."""
         if not self.rays:
             return None, None
-        if gap in self._ray_rows:
-            return self._ray_rows[gap]
+        if (gap, after) in self._ray_rows:
+            return self._ray_rows[gap, after]
+        if after:
+            A, b = self.ray_rows(gap)
+            self._ray_rows[gap, after] = qp.with_columns(A, after), b
+            return self._ray_rows[gap, after]
         m, dof = self.free.size, self.dof
         A = np.zeros((len(self.rays) * dof, dof * m + gap + len(self.rays)))
         b = np.zeros(len(self.rays) * dof)
@@ -125,10 +130,9 @@ class SplineProblem:
                 A[r * dof + i, i * m + (k - 3)] = 1.0
                 A[r * dof + i, dof * m + gap + r] = -d[i]
                 b[r * dof + i] = anchor[i]
-        A_csc = sp.csc_matrix(A)  # exact zeros left out, row indices sorted
-        A_csc.sort_indices()
-        self._ray_rows[gap] = A_csc, b
-        return self._ray_rows[gap]
+        A_csc = _csc(A)  # exact zeros left out, row indices sorted
+        self._ray_rows[gap, 0] = A_csc, b
+        return self._ray_rows[gap, 0]
 
     def project_rays(self, c: np.ndarray) -> np.ndarray:
         """c with the tied control points projected onto their rays."""
@@ -173,13 +177,13 @@ def sco_fixed_step(prob: SplineProblem, c0: np.ndarray, h: float, radius: float,
     S = 3 * prob.dof  # one slack per derivative order and joint, >= 0, L1-penalised (-1 in its limit rows)
     slack_col, slack_val = prob.limit_slack.copy(), np.full(prob.limit_slack.size, -1.0)
     slack_cost, slack_lb, slack_ub = np.full(S, s.penalty), np.zeros(S), np.full(S, np.inf)
-    P, q_lin = _objective(prob, h, limits, s)
-    P_sparse = _csc(P)
+    P_sparse, q_lin = _objective(prob, h, limits, s)
+    regularised: dict = {}  # `qp.regularised(P_sparse, extra)` by extra
     activation = margin + s.activation
     terms = clearance.terms(prob.B @ c, activation)
     floor = min(margin, _min_distance(terms, activation)) - 1e-3  # never worse than the seed
     merit = _merit(P_sparse, q_lin, c, prob, terms, margin, s.penalty, h_lim)
-    nx = P.shape[0]
+    nx = P_sparse.shape[0]
     for _ in range(s.iterations if iterations is None else iterations):
         if time.perf_counter() > deadline or solves >= max_solves:
             break
@@ -188,9 +192,9 @@ def sco_fixed_step(prob: SplineProblem, c0: np.ndarray, h: float, radius: float,
         # rows: limit rows in use (> 1 - LIMIT_ROW_SLACK of their limit; the others cannot
         # become active within the trust region's first steps, and limits are soft anyway: the
         # result is re-timed exactly), then collision rows, each with its own slack (L1)
-        keep = _matvec(prob.limit_G_sparse, x0.T.ravel()) - h_lim > -s.limit_row_slack * row_lim
+        keep, _ = _limit_rows(prob, x0, row_lim, s)
         z = _solve_qp(prob, P_sparse, q_lin, keep, slack_col, slack_val, S, h_lim[keep], terms, h_col, x0, radius,
-                      lower, upper, s, slack_cost, slack_lb, slack_ub)
+                      lower, upper, s, slack_cost, slack_lb, slack_ub, regularised)
         solves += 1
         if z is None:
             return False, c0, solves, "the QP solver failed", radius
@@ -241,9 +245,9 @@ def sco_free_step(prob: SplineProblem, c0: np.ndarray, *, limits: JointLimits, c
     n, dof = prob.n, prob.dof
     c = c0.copy()
     h_ref = _polygon_step(c, limits)
-    P, q_lin = _objective(prob, h_ref, limits, s)
-    P_sparse = _csc(P)
-    nx, R = P.shape[0], len(prob.rays)
+    P_sparse, q_lin = _objective(prob, h_ref, limits, s)
+    regularised: dict = {}  # `qp.regularised(P_sparse, extra)` by extra
+    nx, R = P_sparse.shape[0], len(prob.rays)
     order = prob.limit_slack // dof + 1  # (L,) the derivative order of each limit row
     h_column = np.zeros(order.size, dtype=np.int64)  # every limit row has h in extra column 0
     activation = margin + s.activation
@@ -255,7 +259,7 @@ def sco_free_step(prob: SplineProblem, c0: np.ndarray, *, limits: JointLimits, c
         """(the merit of c_, its `_polygon_step`)."""
         x = c_[3:n].T.ravel()
         h_ = _polygon_step(c_, limits)
-        return float(weight * h_ + 0.5 * x @ _matvec(P_sparse, x) + q_lin @ x + s.penalty * _violation(terms_, margin)), h_
+        return float(weight * h_ + 0.5 * x @ _csc_matvec(P_sparse, x) + q_lin @ x + s.penalty * _violation(terms_, margin)), h_
 
     merit, h_c = merit_of(c, terms)  # h_c: c's `_polygon_step`
     radius = s.trust_region
@@ -264,20 +268,19 @@ def sco_free_step(prob: SplineProblem, c0: np.ndarray, *, limits: JointLimits, c
         h = h_c
         x0 = c[3:n]
         row_lim = _row_limits(prob, h, limits)
-        h_lim = row_lim - prob.limit_fixed
-        keep = _matvec(prob.limit_G_sparse, x0.T.ravel()) - h_lim > -s.limit_row_slack * row_lim
+        keep, h_lim = _limit_rows(prob, x0, row_lim, s)
         # G x <= lim(h') - fixed share, with lim(h') >= lim(h) (k h' / h - (k - 1)) for order k
         k, lim = order[keep], row_lim[keep]
         h_col = _collision_rows(prob, c, terms, margin)
         h_col_of_rows = -row_lim * order / h  # the rows' entries in the h column
         z = _solve_qp(prob, P_sparse, q_lin, keep, h_column, h_col_of_rows, 1, h_lim[keep] - k * lim, terms, h_col,
                       x0, radius, lower, upper, s,
-                      np.array([weight]), np.array([max(h_floor, 0.5 * h)]), np.array([2.0 * h]))
+                      np.array([weight]), np.array([max(h_floor, 0.5 * h)]), np.array([2.0 * h]), regularised)
         solves += 1
         if z is None:
             break
         xz = z[:nx]
-        predicted = merit - float(0.5 * xz @ _matvec(P_sparse, xz) + q_lin @ xz + weight * z[nx] + s.penalty * z[nx + 1 + R:].sum())
+        predicted = merit - float(0.5 * xz @ _csc_matvec(P_sparse, xz) + q_lin @ xz + weight * z[nx] + s.penalty * z[nx + 1 + R:].sum())
         c_new = prob.control(np.clip(xz.reshape(dof, -1).T, lower, upper))
         step = float(np.max(np.abs(c_new - c)))
         for half in range(s.line_search + 1):
@@ -306,12 +309,16 @@ def _polygon_step(c: np.ndarray, limits: JointLimits) -> float:
     """The shortest step h [s] at which the control points' differences (N + 3, dof) respect
     the limits as the QP rows count them (velocity by the control polygon, so h >=
     `bspline.limit_step`)."""
-    e1 = c[1:] - c[:-1]  # np.diff's differences, each order from the previous one
-    e2 = e1[1:] - e1[:-1]
-    e3 = e2[1:] - e2[:-1]
-    d1, d2, d3 = np.abs(e1).max(axis=0), np.abs(e2).max(axis=0), np.abs(e3).max(axis=0)
-    return float(max(np.max(d1 / limits.velocity), np.sqrt(np.max(d2 / limits.acceleration)),
-                     np.cbrt(np.max(d3 / limits.jerk)), 1e-9))
+    r1, r2, r3 = sco_kernels.polygon_ratios(c, limits.velocity, limits.acceleration, limits.jerk)
+    return float(max(r1, math.sqrt(r2), np.cbrt(r3), 1e-9))
+
+
+def _limit_rows(prob: SplineProblem, x0: np.ndarray, row_lim: np.ndarray, s: TrajOptSettings):
+    """(keep (L,) bool: the limit rows in use at x0 (m, dof), more than 1 - `s.limit_row_slack`
+    of their limit `row_lim` (L,); h_lim (L,): their right-hand sides, row_lim - fixed share)."""
+    G = prob.limit_G_sparse
+    return sco_kernels.limit_rows(G.indptr, G.indices, G.data, x0.T.ravel(), row_lim, prob.limit_fixed,
+                                  float(s.limit_row_slack))
 
 
 def _merit(P: sp.csc_matrix, q_lin, c, prob: SplineProblem, terms, margin: float, penalty: float, h_lim) -> float:
@@ -319,10 +326,10 @@ def _merit(P: sp.csc_matrix, q_lin, c, prob: SplineProblem, terms, margin: float
     limits' excess: per derivative order and joint, the largest excess of its rows (in units
     of the limits' per-step values), as the QP's one slack per order and joint counts it."""
     x = c[3 : prob.n].T.ravel()
-    run_max = np.maximum.reduceat(_matvec(prob.limit_G_sparse, x) - h_lim, prob.limit_runs)
+    run_max = np.maximum.reduceat(_csr_matvec(prob.limit_G_sparse, x) - h_lim, prob.limit_runs)
     pairs = prob.limit_run_pairs
     largest = np.maximum(np.maximum(run_max[pairs[:, 0]], run_max[pairs[:, 1]]), 0.0)
-    return float(0.5 * x @ _matvec(P, x) + q_lin @ x + penalty * (_violation(terms, margin) + largest.sum()))
+    return float(0.5 * x @ _csc_matvec(P, x) + q_lin @ x + penalty * (_violation(terms, margin) + largest.sum()))
 
 
 def _violation(terms, margin: float) -> float:
@@ -331,7 +338,7 @@ def _violation(terms, margin: float) -> float:
 
 
 def _solve_qp(prob: SplineProblem, P: sp.csc_matrix, q_lin, keep, extra_col, extra_val, E: int, h_lim, terms, h_col,
-              x0, radius, lower, upper, s: TrajOptSettings, q_extra, lb_extra, ub_extra):
+              x0, radius, lower, upper, s: TrajOptSettings, q_extra, lb_extra, ub_extra, regularised: dict):
     """One SCO step's QP; the solution z = [x (dof * m), E extra variables, ray parameters (R),
     clearance slacks (T)] (`planning.trajopt.qp`), or None when the solver fails.
 
@@ -340,7 +347,8 @@ def _solve_qp(prob: SplineProblem, P: sp.csc_matrix, q_lin, keep, extra_col, ext
     <= h_lim (of the kept rows), the clearance rows of `terms` <= h_col (each with its slack
     >= 0), the trust region and the position limits around x0 (m, dof), lb_extra <= extra <=
     ub_extra (E,), and the end rays (equalities). The extra variables: the limit slacks of
-    `sco_fixed_step` or the step h of `sco_free_step`.
+    `sco_fixed_step` or the step h of `sco_free_step`. `regularised`: the caller's cache of
+    `qp.regularised(P, extra)` by extra (P is the same for all of one SCO loop's QPs).
     """
     nx, R = P.shape[0], len(prob.rays)
     T = h_col.size
@@ -349,19 +357,23 @@ def _solve_qp(prob: SplineProblem, P: sp.csc_matrix, q_lin, keep, extra_col, ext
                            prob.B_free)
     h = np.concatenate([h_lim, h_col])
     qz = np.concatenate([q_lin, q_extra, np.zeros(R), np.full(T, s.penalty)])
-    lb = np.concatenate([np.maximum(lower[None, :], x0 - radius).T.ravel(), lb_extra, np.zeros(R + T)])
-    ub = np.concatenate([np.minimum(upper[None, :], x0 + radius).T.ravel(), ub_extra, np.ones(R), np.full(T, np.inf)])
-    A, b = prob.ray_rows(E)
-    return qp.solve(qp.regularised(P, nz - nx), qz, G, h, qp.with_columns(A, T) if R else None, b, lb, ub, s.solver)
+    lb, ub = sco_kernels.bounds(x0, float(radius), lower, upper, lb_extra, ub_extra, R, T)
+    P_reg = regularised.get(nz - nx)
+    if P_reg is None:
+        P_reg = regularised[nz - nx] = qp.regularised(P, nz - nx)
+    A, b = prob.ray_rows(E, T)
+    return qp.solve(P_reg, qz, G, h, A, b, lb, ub, s.solver)
 
 
-def _matvec(M: sp.spmatrix, x: np.ndarray) -> np.ndarray:
-    """M @ x (M sparse (r, c), x (c,)), the same product without scipy's operator dispatch
-    (~13 of its ~18 us; a few per SCO iteration) when this scipy has it."""
-    return M._matmul_vector(x) if _HAS_MATMUL_VECTOR else M @ x
+def _csc_matvec(M: sp.csc_matrix, x: np.ndarray) -> np.ndarray:
+    """M @ x (M CSC (r, c), x (c,) contiguous), bit for bit SciPy's product without its dispatch
+    (~8 of its ~10 us; a few per SCO iteration)."""
+    return sco_kernels.csc_matvec(M.indptr, M.indices, M.data, x, M.shape[0])
 
 
-_HAS_MATMUL_VECTOR = callable(getattr(sp.csc_matrix, "_matmul_vector", None))
+def _csr_matvec(M: sp.csr_matrix, x: np.ndarray) -> np.ndarray:
+    """M @ x (M CSR (r, c), x (c,) contiguous), as `_csc_matvec`."""
+    return sco_kernels.csr_matvec(M.indptr, M.indices, M.data, x)
 
 
 def _min_distance(terms, activation: float) -> float:
@@ -374,7 +386,7 @@ def _csc(P: np.ndarray) -> sp.csc_matrix:
     cols, rows = np.nonzero(P.T)  # by column, rows ascending (exact zeros left out)
     indptr = np.zeros(P.shape[1] + 1, dtype=np.int32)
     np.cumsum(np.bincount(cols, minlength=P.shape[1]), out=indptr[1:])
-    return sp.csc_matrix((P.T[cols, rows], rows.astype(np.int32), indptr), shape=P.shape)
+    return qp.csc(P.T[cols, rows], rows.astype(np.int32), indptr, P.shape)  # valid by construction
 
 
 def _row_limits(prob: SplineProblem, h: float, limits: JointLimits) -> np.ndarray:
@@ -384,7 +396,8 @@ def _row_limits(prob: SplineProblem, h: float, limits: JointLimits) -> np.ndarra
 
 
 def _objective(prob: SplineProblem, h: float, limits: JointLimits, s: TrajOptSettings):
-    """P, q of 1/2 x^T P x + q^T x: weighted squared limit fractions of velocity, acceleration, jerk."""
+    """P (CSC (dof m, dof m)), q (dof m,) of 1/2 x^T P x + q^T x: weighted squared limit fractions of
+    velocity, acceleration, jerk (P block diagonal, one block per joint, plus 1e-6 I)."""
     m, dof = prob.free.size, prob.dof
     blocks = np.zeros((dof, m, m))  # P's diagonal block of each joint, the orders added in turn
     q = np.zeros((dof, m))
@@ -395,10 +408,14 @@ def _objective(prob: SplineProblem, h: float, limits: JointLimits, s: TrajOptSet
         k = np.array([2 * w / lim[i] ** 2 for i in range(dof)])
         blocks += k[:, None, None] * DtD
         q += k[:, None] * Dtf.T
-    P = np.zeros((dof * m, dof * m))
-    P.reshape(dof, m, dof, m)[np.arange(dof), :, np.arange(dof), :] = blocks
-    P[np.diag_indices_from(P)] += 1e-6
-    return P, q.ravel()
+    blocks.reshape(dof, m * m)[:, :: m + 1] += 1e-6  # the diagonal
+    # straight to CSC (the dense P's nonzeros by column, rows ascending, as `_csc` of it): per
+    # joint, per column, the block's nonzero rows
+    Bt = blocks.transpose(0, 2, 1)
+    joint, col, row = np.nonzero(Bt)
+    indptr = np.zeros(dof * m + 1, dtype=np.int32)
+    np.cumsum(np.bincount(joint * m + col, minlength=dof * m), out=indptr[1:])
+    return qp.csc(Bt[joint, col, row], (joint * m + row).astype(np.int32), indptr, (dof * m, dof * m)), q.ravel()
 
 
 def _collision_rows(prob: SplineProblem, c: np.ndarray, terms, margin: float) -> np.ndarray:
