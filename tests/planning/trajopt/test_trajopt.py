@@ -242,6 +242,14 @@ def test_a_motion_whose_repair_fails_too_is_retried_with_more_of_the_seed_ends(m
         assert ray_points == [1, 1] and r.source == "shortcut"
 
 
+def test_a_motion_whose_every_try_fails_takes_one_retry_and_falls_back_to_the_path(mg, monkeypatch):
+    """After the repair and one retry per `RETRY_RAY_POINTS` entry fail, the path's timing is returned."""
+    refine, calls, _ = _spy_on_refine(monkeypatch, failures=10, ends_tied=1)
+    r = mg.plan_joints(LEFT, RIGHT, seed=3)
+    assert r.success and r.source == "shortcut"
+    assert [s.ray_points for _, s in calls] == [1, 1, *refine.RETRY_RAY_POINTS] == [1, 1, 2]
+
+
 def test_the_optimiser_keeps_to_its_qp_budget(mg):
     """`max_solves` bounds the QPs (a count: the result does not depend on the machine's speed)."""
     cfg = mg.config
