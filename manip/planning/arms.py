@@ -188,7 +188,7 @@ def _link_solutions(ctx: PlanContext, validity: Validity, kinematics: Kinematics
                                      toward_seed=IK_TOWARD_START, seed=int(ctx.rng.integers(2**31)))
     Q = np.asarray(sols.q, dtype=float).reshape(-1, kin.dof)
     # the same placements turned nearest the start (`goal_configurations.nearest_turn`), first
-    near = np.array([nearest_turn(q, start, kin.lower, kin.upper) for q in Q]).reshape(-1, kin.dof)
+    near = np.array([nearest_turn(q, start, kin) for q in Q]).reshape(-1, kin.dof)
     moved = np.any(near != Q, axis=1)
     return np.concatenate([near[moved], Q])
 

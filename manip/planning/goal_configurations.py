@@ -63,7 +63,7 @@ def goal_configurations(ik_solver: IKSolver, ctx: PlanContext, validity: Validit
             sols = ik_solver.solve_many(g, link, n=2, seed_q=start, validity_fn=validity.configs,
                                         attempts=IK_RETRY_ATTEMPTS, seed=int(ctx.rng.integers(2**31)))
         for q in sols:
-            near = nearest_turn(q, start, ik_solver.kinematics.lower, ik_solver.kinematics.upper)
+            near = nearest_turn(q, start, ik_solver.kinematics)
             if np.any(near != q):  # the same placements a whole turn of some joint nearer the start
                 configs.append(near)
                 owners.append(i)
@@ -81,14 +81,16 @@ def goal_configurations(ik_solver: IKSolver, ctx: PlanContext, validity: Validit
     return np.asarray(configs).reshape(-1, ik_solver.kinematics.dof), owners, why
 
 
-def nearest_turn(q: np.ndarray, start: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
-    """`q` (dof,) with each joint moved by whole turns (2 pi) to the value nearest `start` (dof,)
-    within [lower, upper] [rad]: the same link placements (the same pose, the same contacts)
-    with the shortest turn of each joint. IK solutions of joints that turn +-2 pi (UR, Kinova,
-    xArm) may lie up to a turn further than needed: a longer motion, and in clutter a harder one."""
+def nearest_turn(q: np.ndarray, start: np.ndarray, kinematics: Kinematics) -> np.ndarray:
+    """`q` (dof,) with each revolute joint moved by whole turns (2 pi) to the value nearest `start`
+    (dof,) within the joint limits [rad]: the same link placements (the same pose, the same
+    contacts) with the shortest turn of each joint (a prismatic joint's 2 pi would be a
+    displacement: never moved). IK solutions of joints that turn +-2 pi (UR, Kinova, xArm) may
+    lie up to a turn further than needed: a longer motion, and in clutter a harder one."""
     turns = np.arange(-_MAX_TURNS, _MAX_TURNS + 1) * (2.0 * np.pi)
     cand = q[:, None] + turns[None, :]  # (dof, turns)
-    ok = (cand >= lower[:, None]) & (cand <= upper[:, None])
+    ok = (cand >= kinematics.lower[:, None]) & (cand <= kinematics.upper[:, None])
+    ok &= _revolute_dofs(kinematics)[:, None]
     ok[:, _MAX_TURNS] = True  # q itself (inside its limits as an IK solution)
     cost = np.where(ok, np.abs(cand - start[:, None]), np.inf)
     return cand[np.arange(len(q)), np.argmin(cost, axis=1)]
@@ -102,7 +104,7 @@ def note_whole_turns(result: PlanResult, start: np.ndarray, goal: np.ndarray, ki
     asks the arm to wind round, which clutter may forbid). Other results unchanged."""
     if result.status not in (PlanStatus.PLAN_FAIL, PlanStatus.TIMEOUT):
         return result
-    near = nearest_turn(goal, start, kinematics.lower, kinematics.upper)
+    near = nearest_turn(goal, start, kinematics)
     moved = np.flatnonzero(near != goal)
     if not len(moved):
         return result
@@ -111,6 +113,14 @@ def note_whole_turns(result: PlanResult, start: np.ndarray, goal: np.ndarray, ki
     return replace(result, message=f"{result.message}; the goal turns {turns} from the start, which a joint goal "
                                    f"asks as given; the same placements with {alt} (whole turns less) are a shorter "
                                    f"motion: pass that goal if the turn is not needed")
+
+
+def _revolute_dofs(kinematics: Kinematics) -> np.ndarray:
+    """(dof,) bool: the entries of q that only revolute joints read."""
+    q_index, _, _ = kinematics.fk_tables()
+    out = np.ones(kinematics.dof, dtype=bool)
+    np.logical_and.at(out, np.asarray(q_index), np.asarray(kinematics.joint_revolute, dtype=bool))
+    return out
 
 
 #: Whole turns `nearest_turn` considers each way (limits span at most 4 pi on the bundled arms).

@@ -89,3 +89,22 @@ def test_pose_goals_end_at_the_ik_solution_turned_nearest_the_start(robot):
         assert np.allclose(mg.fk(g).position, mg.fk(b).position, atol=1e-3)
         ends.append(np.any((np.abs(d) > np.pi) & (other_way >= lo) & (other_way <= hi)))
     assert not any(ends), f"{sum(ends)} of 12 plans turned a joint more than pi where less would do"
+
+
+def test_whole_turns_move_revolute_joints_only():
+    """A prismatic joint's "2 pi" is 6.28 m of travel, not the same placement: a rail with long
+    limits keeps its IK value; revolute joints of the same arm turn to the value nearest the start."""
+    from types import SimpleNamespace
+
+    from manip.planning.goal_configurations import nearest_turn
+
+    ur5 = MotionGenerator("ur5").kinematics
+    rail = SimpleNamespace(dof=ur5.dof + 1, lower=np.r_[-10.0, ur5.lower], upper=np.r_[10.0, ur5.upper],
+                           joint_revolute=np.r_[False, ur5.joint_revolute],
+                           fk_tables=lambda: (np.arange(ur5.dof + 1), None, None))
+    start = np.r_[-3.0, np.zeros(ur5.dof)]
+    q = np.r_[3.0, 5.0, np.zeros(ur5.dof - 1)]
+    near = nearest_turn(q, start, rail)
+    assert near[0] == 3.0                                    # the rail: 6 m away, but not a turn
+    assert np.isclose(near[1], 5.0 - 2 * np.pi)              # the UR5's base: the same placement nearer
+    assert np.array_equal(nearest_turn(q[1:], start[1:], ur5), near[1:])
