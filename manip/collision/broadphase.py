@@ -93,6 +93,30 @@ def _obstacle_sd(x, o, oR, oc, oh, orho, ocyl):
     return math.sqrt(a * a + b * b + z * z) + inside - orho[o]
 
 
+@kernel(inline="always")
+def cover_clearance(R, p, n, g, o, margin, part_joint, c_start, c_count, c_centres, c_radii,
+                    f_start, f_count, f_centres, f_radii, oR, oc, oh, orho, ocyl, x):
+    """Part g's smallest fine-ball clearance [m] to obstacle o in configuration n, or inf when
+    every ball of its coarse cover keeps `margin` [m] away (then no fine ball is placed); x (3,)
+    is work space. Arguments as in `world_candidates`."""
+    j = part_joint[g]
+    near = False
+    for b in range(c_start[g], c_start[g] + c_count[g]):
+        _place(R, p, n, j, c_centres[b], x)
+        if _obstacle_sd(x, o, oR, oc, oh, orho, ocyl) - c_radii[b] < margin:
+            near = True
+            break
+    m = np.inf
+    if not near:
+        return m
+    for b in range(f_start[g], f_start[g] + f_count[g]):
+        _place(R, p, n, j, f_centres[b], x)
+        s = _obstacle_sd(x, o, oR, oc, oh, orho, ocyl) - f_radii[b]
+        if s < m:  # noqa: PLR1730 (a NaN distance leaves m as it is)
+            m = s
+    return m
+
+
 @kernel
 def world_candidates(R, p, margin,
                      l0_joint, l0_c, l0_r, mem_start, mem_count, mem_parts,
@@ -129,21 +153,8 @@ def world_candidates(R, p, margin,
                     continue
                 for mi in range(mem_start[k], mem_start[k] + mem_count[k]):
                     g = mem_parts[mi]
-                    j = part_joint[g]
-                    near = False
-                    for b in range(c_start[g], c_start[g] + c_count[g]):
-                        _place(R, p, n, j, c_centres[b], x)
-                        if _obstacle_sd(x, o, oR, oc, oh, orho, ocyl) - c_radii[b] < margin:
-                            near = True
-                            break
-                    if not near:
-                        continue
-                    m = np.inf
-                    for b in range(f_start[g], f_start[g] + f_count[g]):
-                        _place(R, p, n, j, f_centres[b], x)
-                        s = _obstacle_sd(x, o, oR, oc, oh, orho, ocyl) - f_radii[b]
-                        if s < m:
-                            m = s
+                    m = cover_clearance(R, p, n, g, o, margin, part_joint, c_start, c_count, c_centres, c_radii,
+                                        f_start, f_count, f_centres, f_radii, oR, oc, oh, orho, ocyl, x)
                     if m < margin:
                         ids, depth = _push(ids, depth, T, n, g, o, m)
                         T += 1

@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from manip.collision.broadphase import _obstacle_sd, _place, _push
+from manip.collision.broadphase import _push, cover_clearance
 from manip.jit import kernel
 
 #: Configurations per block of the first level's bounding-box test.
@@ -169,21 +169,8 @@ def world_candidates(R, p, margin,
         o = trip[t] % O
         for mi in range(mem_start[k], mem_start[k] + mem_count[k]):
             g = mem_parts[mi]
-            j = part_joint[g]
-            hit = False
-            for b in range(c_start[g], c_start[g] + c_count[g]):
-                _place(R, p, n, j, c_centres[b], x)
-                if _obstacle_sd(x, o, oR, oc, oh, orho, ocyl) - c_radii[b] < margin:
-                    hit = True
-                    break
-            if not hit:
-                continue
-            m = np.inf
-            for b in range(f_start[g], f_start[g] + f_count[g]):
-                _place(R, p, n, j, f_centres[b], x)
-                s = _obstacle_sd(x, o, oR, oc, oh, orho, ocyl) - f_radii[b]
-                if s < m:  # noqa: PLR1730 (NaN: as `broadphase`)
-                    m = s
+            m = cover_clearance(R, p, n, g, o, margin, part_joint, c_start, c_count, c_centres, c_radii,
+                                f_start, f_count, f_centres, f_radii, oR, oc, oh, orho, ocyl, x)
             if m < margin:
                 ids, depth = _push(ids, depth, T, n, g, o, m)
                 T += 1
