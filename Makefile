@@ -3,7 +3,7 @@
 #               flagship pick-and-place headless (fresh clone, 2-core machine, no pip cache:
 #               1.7 min: install 40 s, prebuild 48 s, three episodes 10 s; 1.4 GB in .venv)
 #   make test   set up .venv with manip-robotics[dev,video,viz,ray,datagen], prebuild, run the test
-#               suite (fresh clone, 2-core machine, no pip cache: 17-18 min, of which 1509
+#               suite (fresh clone, 2-core machine, no pip cache: 17-18 min, of which 1603
 #               tests 10-13 min)
 # Both install into .venv only. `make wheel` builds the wheel (with the prebuilt kernels) and
 # the sdist into dist/ and checks them.
