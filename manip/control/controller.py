@@ -470,16 +470,13 @@ class ReactiveController:
         T = conf.get_transform_frame_to_world(fid, ftype)
         p_now = T.translation()
         R_now = T.rotation()
-        position_error = float(np.linalg.norm(tgt.position - p_now))
+        position_error, orientation_error = self._errors(T, tgt)
         reach = self._max_speed * dt
         p_goal = tgt.position if position_error <= reach else p_now + (tgt.position - p_now) * (reach / position_error)
         if tgt.position_only:
             R_goal = R_now
-            orientation_error = 0.0
         else:
             R_target = mink.SO3(wxyz=tgt.orientation)
-            cos_half = min(abs(float(R_now.wxyz @ tgt.orientation)), 1.0)
-            orientation_error = 2.0 * math.acos(cos_half)
             turn = self._max_angular_speed * dt
             if orientation_error <= turn:
                 R_goal = R_target
