@@ -68,15 +68,21 @@ def _distance(x, i, y, j):
 
 
 @kernel(inline="always")
-def _obstacle_sd(x, o, oR, oc, oh, orho, ocyl):
-    """Signed distance [m] of the point x (3,) (base frame) to obstacle o's broadphase shape."""
+def obstacle_local(x, o, oR, oc):
+    """The point x (3,) (base frame) in obstacle o's frame, oR^T (x - oc): (l0, l1, l2) [m]."""
     d0 = x[0] - oc[o, 0]
     d1 = x[1] - oc[o, 1]
     d2 = x[2] - oc[o, 2]
-    # local coordinates: oR^T (x - oc)
     l0 = oR[o, 0, 0] * d0 + oR[o, 1, 0] * d1 + oR[o, 2, 0] * d2
     l1 = oR[o, 0, 1] * d0 + oR[o, 1, 1] * d1 + oR[o, 2, 1] * d2
     l2 = oR[o, 0, 2] * d0 + oR[o, 1, 2] * d1 + oR[o, 2, 2] * d2
+    return l0, l1, l2
+
+
+@kernel(inline="always")
+def _obstacle_sd(x, o, oR, oc, oh, orho, ocyl):
+    """Signed distance [m] of the point x (3,) (base frame) to obstacle o's broadphase shape."""
+    l0, l1, l2 = obstacle_local(x, o, oR, oc)
     z = abs(l2) - oh[o, 2]
     if ocyl[o]:
         r = math.sqrt(l0 * l0 + l1 * l1) - oh[o, 0]

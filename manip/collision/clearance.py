@@ -20,7 +20,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from manip.collision.broadphase import _obstacle_sd, _place
+from manip.collision.broadphase import _obstacle_sd, _place, obstacle_local
 from manip.collision.occupancy_kernels import map_nearest_terms
 from manip.jit import kernel
 
@@ -178,12 +178,7 @@ def _sd_subgradient(x, o, oR, oc, oh, orho, ocyl, g):
     """g (3,) = a subgradient of obstacle o's signed distance at the point x (3,) (base frame;
     the shapes are convex, so sd(y) >= sd(x) + g . (y - x) for every y). False when none is at
     hand (x on a cylinder's axis)."""
-    d0 = x[0] - oc[o, 0]
-    d1 = x[1] - oc[o, 1]
-    d2 = x[2] - oc[o, 2]
-    l0 = oR[o, 0, 0] * d0 + oR[o, 1, 0] * d1 + oR[o, 2, 0] * d2
-    l1 = oR[o, 0, 1] * d0 + oR[o, 1, 1] * d1 + oR[o, 2, 1] * d2
-    l2 = oR[o, 0, 2] * d0 + oR[o, 1, 2] * d1 + oR[o, 2, 2] * d2
+    l0, l1, l2 = obstacle_local(x, o, oR, oc)
     s2 = 1.0 if l2 >= 0.0 else -1.0
     z = abs(l2) - oh[o, 2]
     if ocyl[o]:
